@@ -1,0 +1,247 @@
+/* SPDX-License-Identifier: MIT */
+/* render.h: sablier's renderer, the public API of render/. Reads sim's frame view (sim/sim.h),
+ * never the other way. Figures through Cairo (PNG via libpng, PDF, SVG); movie frames through
+ * OSMesa or Cairo; MP4 through libavcodec; an image diff for CI.
+ *
+ *     RenderStyle style = render_style_default();
+ *     style.color_by = RENDER_COLOR_FORCE;
+ *     RenderMeta meta = {.scene = "crater", .seed = 1};
+ *     render_figure_write(&frame, &style, &meta, "fig.png", err, sizeof err);
+ */
+#ifndef RENDER_H
+#define RENDER_H
+
+#include "render/render_image.h"
+#include "render/render_style.h"
+#include "sim/sim.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+/// Provenance written into PNG text chunks and PDF/SVG metadata.
+typedef struct RenderMeta {
+    const char *scene; ///< scene name
+    uint64_t seed;
+    const char *comment; ///< free text (e.g. the command line); NULL = none
+} RenderMeta;
+
+/* ---- figures (Cairo; owned by render_cairo.c, render_png.c) ---- */
+
+/// Draws one frame into a new BGRA image with Cairo (caller frees with render_image_free).
+int render_cairo_draw(const SimFrame *frame, const RenderStyle *style, RenderImage *out);
+/// Writes a figure of one frame; format from the extension: .png (libpng, with text chunks),
+/// .pdf, .svg. Written to a temporary name, renamed when complete. 0 on success, else -1 and a
+/// message in err.
+int render_figure_write(const SimFrame *frame, const RenderStyle *style, const RenderMeta *meta,
+                        const char *path, char *err, size_t err_size);
+/// Writes an image as PNG through libpng with provenance text chunks (key/value pairs, NULL ended).
+int render_png_write(const RenderImage *image, const char *path, const char *const *text, char *err,
+                     size_t err_size);
+/// Reads a PNG into an RGBA image; 0 on success.
+int render_png_read(const char *path, RenderImage *out, char *err, size_t err_size);
+
+/* ---- drawing helpers shared by the Cairo and OSMesa drawers (render_cairo.c, render_colormap.c),
+ * so both agree on layout and colours ---- */
+
+/// Where the world lands on the canvas. Pixel coordinates have their origin at the top-left
+/// corner, y down; world y is up.
+typedef struct RenderView {
+    double scale;              ///< pixels per metre
+    double center_x, center_y; ///< world point at the centre of the plot rectangle, m
+    double plot_x, plot_y;     ///< plot rectangle (grains are clipped to it), pixels
+    double plot_w, plot_h;
+    double font_size;     ///< pixels
+    double mean_diameter; ///< of mobile grains (all grains if none), m
+} RenderView;
+
+/// Lays out a frame: plot rectangle (room for title and colour bar) and world window.
+void render_view_fit(const SimFrame *frame, const RenderStyle *style, RenderView *view);
+/// World (m) to pixel coordinates.
+void render_view_to_pixel(const RenderView *view, double x, double y, double *px, double *py);
+/// 256-entry colour table of a map (the single source of colours: drawers look up, never compute).
+void render_colormap_lut(RenderColormap map, uint8_t lut[256][3]);
+/// Colour of t in [0, 1] (clamped; NaN = 0) as 0xRRGGBB: LUT entry round(255 t).
+uint32_t render_colormap_rgb(RenderColormap map, double t);
+/// Categorical colour of a species (colour-blind-safe palette, cycles after 8), 0xRRGGBB.
+uint32_t render_species_rgb(int species);
+/// Colour range of the style's quantity: the fixed range when range_min < range_max, else
+/// [0, max over the frame's mobile grains] (1 when that is 0).
+void render_color_range(const SimFrame *frame, const RenderStyle *style, double *lo, double *hi);
+/// Copy of a style with its automatic values resolved for this frame (band_height 0 = 5 mean
+/// diameters, chain_width_max 0 = half a mean diameter in pixels, font_size). Drawers call this
+/// once per frame; the per-grain helpers below are then O(1).
+RenderStyle render_style_resolve(const SimFrame *frame, const RenderStyle *style);
+/// The style's quantity for grain i (force N, speed m/s, species, height band index).
+double render_grain_value(const SimFrame *frame, const RenderStyle *style, int i);
+/// Fill colour of grain i, 0xRRGGBB (fixed grains get style->fixed_rgb).
+uint32_t render_grain_rgb(const SimFrame *frame, const RenderStyle *style, int i, double lo,
+                          double hi);
+/// Force-chain selection: returns the normal force above which a contact is drawn
+/// (chain_threshold * mean F_n over contacts with F_n > 0) and sets *f_max to the force drawn at
+/// full width (style->chain_force_max, or the frame's largest F_n).
+double render_chain_cut(const SimFrame *frame, const RenderStyle *style, double *f_max);
+
+/* ---- coarse-grained velocity field (render_field.c) ---- */
+
+typedef struct RenderFieldDef {
+    double x0, y0, x1, y1; ///< region, m; nodes at cell centres, x0 + (i + 1/2) cell
+    double cell;           ///< node spacing, m
+    double width;          ///< kernel cutoff radius, m
+    RenderKernel kernel;
+    int mass_power; ///< grain mass taken proportional to r^mass_power (2 disk, 3 sphere)
+} RenderFieldDef;
+
+/// Fields on a node grid, row-major, index j * nx + i, node (i, j) at (x0 + (i + 1/2) cell,
+/// y0 + (j + 1/2) cell).
+typedef struct RenderField {
+    int nx, ny;
+    double x0, y0, cell; ///< m
+    double *vx, *vy; ///< momentum-weighted mean velocity sum m v W / sum m W, m/s (0 where empty)
+    double *packing; ///< solid fraction sum pi r^2 W (kernel normalised over the plane)
+} RenderField;
+
+/// Coarse-grained velocity (MercuryCG: V = j / rho, j = sum m_i v_i W, rho = sum m_i W) over
+/// mobile grains; periodic frames wrap in x. 0 on success, -1 on bad definition or no memory.
+int render_velocity_field(const SimFrame *frame, const RenderFieldDef *def, RenderField *out);
+void render_field_free(RenderField *field);
+/// Kernel value W(r) for a cutoff radius `width`, normalised so its integral over the plane is 1.
+double render_kernel(RenderKernel kernel, double r, double width);
+
+/* ---- plots (render_plot.c): line and scatter plots in multi-panel layouts ---- */
+
+typedef enum RenderMarker {
+    RENDER_MARKER_NONE = 0,
+    RENDER_MARKER_CIRCLE = 1,
+    RENDER_MARKER_SQUARE = 2,
+    RENDER_MARKER_TRIANGLE = 3,
+    RENDER_MARKER_CROSS = 4,
+} RenderMarker;
+
+/// RenderSeries.rgb value meaning "next colour of the panel's palette".
+#define RENDER_RGB_AUTO 0xffffffffu
+
+typedef struct RenderSeries {
+    const char *label; ///< legend text; NULL = not in the legend
+    int count;
+    const double *x, *y; ///< data; non-finite points (and <= 0 on a log axis) break the line
+    const double *y_err; ///< symmetric error bars; NULL = none
+    uint32_t rgb;        ///< 0xRRGGBB or RENDER_RGB_AUTO
+    int line;            ///< 1: join points with a line
+    int dashed;          ///< 1: dashed line
+    RenderMarker marker;
+    double line_width;  ///< pixels (0 = font size / 8)
+    double marker_size; ///< diameter, pixels (0 = font size / 2)
+} RenderSeries;
+
+typedef struct RenderAxis {
+    const char *label; ///< e.g. "t* = t / sqrt(d / g)"; NULL = none
+    int log;           ///< 1: base-10 logarithmic
+    double min, max;   ///< min >= max = from the data, widened to nice numbers
+} RenderAxis;
+
+typedef enum RenderLegend {
+    RENDER_LEGEND_NONE = 0,
+    RENDER_LEGEND_UPPER_RIGHT = 1,
+    RENDER_LEGEND_UPPER_LEFT = 2,
+    RENDER_LEGEND_LOWER_LEFT = 3,
+    RENDER_LEGEND_LOWER_RIGHT = 4,
+} RenderLegend;
+
+typedef struct RenderPanel {
+    const char *title; ///< NULL = none; e.g. "(a) kinetic"
+    RenderAxis x, y;
+    int series_count;
+    const RenderSeries *series;
+    RenderLegend legend;
+} RenderPanel;
+
+typedef struct RenderPlot {
+    int width, height;         ///< pixels (1 pixel = 1/96 inch = 0.75 pt in PDF and SVG)
+    int rows, cols;            ///< panel grid (0 = 1)
+    const RenderPanel *panels; ///< rows * cols panels, row-major
+    const char *title;         ///< figure title; NULL = none
+    double font_size;          ///< pixels (0 = min(width, height) / 40, at least 10)
+} RenderPlot;
+
+/// Draws a plot into a new BGRA image (white background). 0, or -1 with a message in err.
+int render_plot_draw(const RenderPlot *plot, RenderImage *out, char *err, size_t err_size);
+/// Writes a plot: .png (libpng, text chunks), .pdf or .svg; temporary name then rename.
+int render_plot_write(const RenderPlot *plot, const RenderMeta *meta, const char *path, char *err,
+                      size_t err_size);
+/// Pixel position of data point (x, y) in a panel, as drawn. 0, or -1 if outside the axes'
+/// domain (e.g. x <= 0 on a log axis).
+int render_plot_map(const RenderPlot *plot, int panel, double x, double y, double *px, double *py);
+/// Nice axis ticks (1, 2, 5 x 10^k steps; decades on a log axis) covering [lo, hi] with about
+/// `target` ticks; writes at most `capacity` values inside [lo, hi] and returns how many.
+int render_axis_ticks(double lo, double hi, int log, int target, double *ticks, int capacity);
+/// Widens [*lo, *hi] outward to tick multiples (linear) or whole decades (log).
+void render_axis_nice_range(double *lo, double *hi, int log, int target);
+
+/* ---- movies (owned by render_video.c; drawer OSMesa or Cairo) ---- */
+
+typedef enum RenderDrawer {
+    RENDER_DRAWER_CAIRO = 0,
+    RENDER_DRAWER_OSMESA = 1,
+} RenderDrawer;
+
+typedef struct RenderMovieDef {
+    const char *path; ///< .mp4
+    RenderDrawer drawer;
+    double fps; ///< frames per second of video
+    int crf;    ///< quality (libx264 CRF, default 20)
+    int quiet;  ///< 1: no progress on stderr
+    RenderMeta meta;
+    /* Added by the movie side (render_video.c); zero keeps the default. */
+    long frames_expected; ///< frames the run will give, for the progress ETA (0 = unknown)
+    const char *preset;   ///< libx264 preset, NULL = "veryfast"
+    const char *encoder;  ///< libavcodec encoder; NULL = "libx264" ("mpeg4" + warning if absent)
+} RenderMovieDef;
+
+typedef struct RenderMovie RenderMovie;
+
+/// Opens a movie (encoder, muxer, drawer). NULL on failure with a message in err.
+RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *style, char *err,
+                               size_t err_size);
+/// Draws and encodes one frame. Errors are sticky: returned again by render_movie_close.
+int render_movie_frame(RenderMovie *movie, const SimFrame *frame);
+/// Flushes the encoder, writes the trailer, renames the temporary file. 0 on success.
+int render_movie_close(RenderMovie *movie, char *err, size_t err_size);
+/// A SimFrameSink that feeds render_movie_frame.
+SimFrameSink render_movie_sink(RenderMovie *movie);
+
+/* ---- image diff (owned by render_diff.c) ---- */
+
+typedef struct RenderDiffOptions {
+    int channel_threshold; ///< a pixel differs when a channel differs by more than this (0-255)
+    int shift_tolerance;   ///< pixels; a difference matched within this shift is ignored (1)
+    long max_pixels;       ///< images match when at most this many pixels differ (0)
+} RenderDiffOptions;
+
+typedef struct RenderDiffResult {
+    long differing_pixels; ///< after the shift test
+    long raw_pixels;       ///< before the shift test
+    int max_channel_diff;
+    double rms;
+    int width, height;
+    int verdict;               ///< 0 match, 1 differ, 2 bad input (the return value)
+    RenderDiffOptions options; ///< the options used
+} RenderDiffResult;
+
+RenderDiffOptions render_diff_options_default(void);
+/// Compares two PNG files. Returns 0 match, 1 differ, 2 bad input (message in err). Writes a diff
+/// image to diff_path when not NULL.
+int render_diff_files(const char *a, const char *b, const RenderDiffOptions *options,
+                      const char *diff_path, RenderDiffResult *result, char *err, size_t err_size);
+
+/// One JSON line (no newline) describing a comparison, e.g. {"verdict":"differ",
+/// "differing_pixels":22,...}. Returns the length snprintf would write.
+int render_diff_result_json(const RenderDiffResult *result, char *buf, size_t size);
+/// Compares two images in memory (any formats, same size required); same metric as
+/// render_diff_files. diff (optional) receives a new RGBA image.
+int render_diff_images(const RenderImage *a, const RenderImage *b, const RenderDiffOptions *options,
+                       RenderImage *diff, RenderDiffResult *result, char *err, size_t err_size);
+
+/// Versions of the linked libraries, e.g. "cairo 1.16.0, libpng 1.6.39, libavcodec 59.37.100".
+const char *render_library_versions(void);
+
+#endif

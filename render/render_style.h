@@ -1,0 +1,71 @@
+/* SPDX-License-Identifier: MIT */
+/* render_style.h: what a frame drawing shows and how; shared by the Cairo and OSMesa drawers so
+ * the two agree on the same frame. Start from render_style_default() and override. */
+#ifndef RENDER_STYLE_H
+#define RENDER_STYLE_H
+
+#include "sim/sim.h"
+
+typedef enum RenderColorBy {
+    RENDER_COLOR_FIXED = 0,   ///< one fill colour
+    RENDER_COLOR_FORCE = 1,   ///< per-grain contact-force magnitude (SimFrame.force), N
+    RENDER_COLOR_SPEED = 2,   ///< |v|, m/s
+    RENDER_COLOR_SPECIES = 3, ///< categorical, species index
+    RENDER_COLOR_HEIGHT = 4,  ///< height bands of initial y (band width in style), m
+} RenderColorBy;
+
+typedef enum RenderColormap {
+    RENDER_CMAP_VIRIDIS = 0,    ///< perceptually uniform (default)
+    RENDER_CMAP_YELLOW_RED = 1, ///< thesis 000 figs. 6.16-7.2 force map
+    RENDER_CMAP_GREYS = 2,      ///< black and white (thesis 004 snapshots)
+} RenderColormap;
+
+typedef enum RenderKernel {
+    RENDER_KERNEL_LUCY = 0,     ///< Lucy polynomial, compact support (MercuryCG default)
+    RENDER_KERNEL_GAUSSIAN = 1, ///< Gaussian, standard deviation width / 3, cut at width
+} RenderKernel;
+
+typedef struct RenderStyle {
+    int width, height;       ///< pixels (1 pixel = 1/96 inch = 0.75 pt in PDF and SVG)
+    double view_x0, view_y0; ///< world window, m; view_x1 <= view_x0 = fit all grains
+    double view_x1, view_y1;
+    RenderColorBy color_by;
+    RenderColormap colormap;
+    double range_min, range_max; ///< colour range in the quantity's unit; min >= max = auto
+    double band_height;          ///< RENDER_COLOR_HEIGHT band width, m (0 = 5 mean diameters)
+    uint32_t fill_rgb;           ///< RENDER_COLOR_FIXED fill (and even height bands), 0xRRGGBB
+    uint32_t fixed_rgb;          ///< fill of fixed grains (walls, base), 0xRRGGBB
+    uint32_t background_rgb;     ///< 0xRRGGBB
+    int outline;                 ///< 1: thin dark outline around each disk
+    int orientation_tick;        ///< 1: radius line showing the grain angle (000 fig. 5.26)
+    int force_chains;            ///< 1: draw contact segments (strong network)
+    double chain_threshold;      ///< draw contacts with F_n > threshold * mean F_n (default 1)
+    double chain_width_max;      ///< width of the strongest chain, pixels (0 = 0.5 mean d)
+    int velocity_arrows;         ///< 1: per-grain velocity arrows
+    int velocity_field;          ///< 1: coarse-grained mean velocity field on a grid
+    double field_cell;           ///< grid spacing of the velocity field, m (0 = 2 mean d)
+    double field_width;          ///< kernel cutoff radius, m (0 = 1.5 mean diameters)
+    int field_kernel;            ///< RenderKernel: 0 Lucy, 1 Gaussian
+    double arrow_scale;          ///< arrow length per speed, s (0 = auto: fastest = 2 mean d)
+    int colorbar;                ///< 1: colour bar with label and unit (species: a legend)
+    const char *colorbar_label;  ///< e.g. "contact force"; NULL = from color_by
+    const char *colorbar_unit;   ///< e.g. "N"; NULL = from color_by
+    int time_stamp;              ///< 1: "t = ... s, t* = ..."
+    int scale_bar;               ///< 1: scale bar in mean diameters
+    const char *title;           ///< NULL = none
+    const int *arch_ids;         ///< per-grain arch id (frame order), -1 none; NULL = no arches
+    int arch_inset;              ///< 1: zoomed inset around the arches
+    /* Later additions; always start from render_style_default(). */
+    uint32_t band_rgb;       ///< fill of odd height bands, 0xRRGGBB
+    const double *initial_y; ///< initial y per stable grain id, m; NULL = current y
+    int initial_y_count;     ///< entries in initial_y
+    double chain_force_max;  ///< F_n drawn at chain_width_max, N (0 = per-frame maximum)
+    uint32_t arch_rgb;       ///< arch highlight colour, 0xRRGGBB
+    double font_size;        ///< pixels (0 = height / 48, at least 10)
+} RenderStyle;
+
+/// Defaults: 1280x720, sand-coloured outlined disks on white, fit view, colour bar, time stamp
+/// and scale bar on; colour map viridis, chains off.
+RenderStyle render_style_default(void);
+
+#endif

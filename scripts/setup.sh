@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages sablier needs, only those missing. Run as root (or with sudo).
+set -euo pipefail
+packages=(gcc make cmake pkg-config libconfig-dev libcairo2-dev libpng-dev libosmesa6-dev
+          libavcodec-dev libavformat-dev libswscale-dev libavutil-dev fonts-dejavu-core clang-format-14)
+if [ "${SABLIER_SETUP_EXTRA:-}" != "" ]; then
+  read -r -a extra <<<"$SABLIER_SETUP_EXTRA"
+  packages+=("${extra[@]}")
+fi
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+echo "setup: installing ${missing[*]}" >&2
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -q >/dev/null
+$SUDO apt-get install -y -q --no-install-recommends "${missing[@]}" >/dev/null

@@ -1,0 +1,64 @@
+/* SPDX-License-Identifier: MIT */
+/* grains.c: the structure-of-arrays grain storage: growth, permutation (spatial sort), release. */
+#include "world.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+int sim_grains_reserve(SimWorld *world, int capacity)
+{
+    if (capacity <= world->capacity)
+        return 0;
+    size_t n = (size_t)capacity;
+#define GROW(name)                                                                                 \
+    {                                                                                              \
+        void *p = realloc(world->name, n * sizeof *world->name);                                   \
+        if (!p)                                                                                    \
+            return -1;                                                                             \
+        world->name = p;                                                                           \
+        memset(world->name + world->capacity, 0,                                                   \
+               (n - (size_t)world->capacity) * sizeof *world->name);                               \
+    }
+    SIM_GRAIN_DOUBLE_ARRAYS(GROW)
+    SIM_GRAIN_INT_ARRAYS(GROW)
+    GROW(flags)
+    GROW(id)
+#undef GROW
+    world->capacity = capacity;
+    return 0;
+}
+
+/* Reorders the first `count` grains so that new index k holds old index order[k]. Grains beyond
+ * `count` are dropped (used for removal as well as sorting). */
+void sim_grains_permute(SimWorld *world, const int *order, int count)
+{
+    size_t bytes = (size_t)(world->capacity > 0 ? world->capacity : 1) * sizeof(double);
+    void *scratch = malloc(bytes);
+    if (!scratch)
+        abort(); /* out of memory while permuting: nothing sensible to continue with */
+#define PERMUTE_AS(type, name)                                                                     \
+    {                                                                                              \
+        type *tmp = scratch;                                                                       \
+        for (int k = 0; k < count; ++k)                                                            \
+            tmp[k] = world->name[order[k]];                                                        \
+        memcpy(world->name, tmp, (size_t)count * sizeof *world->name);                             \
+    }
+#define PERMUTE_DOUBLE(name) PERMUTE_AS(double, name)
+#define PERMUTE_INT(name)    PERMUTE_AS(int, name)
+    SIM_GRAIN_DOUBLE_ARRAYS(PERMUTE_DOUBLE)
+    SIM_GRAIN_INT_ARRAYS(PERMUTE_INT)
+    PERMUTE_AS(unsigned, flags)
+    PERMUTE_AS(uint32_t, id)
+#undef PERMUTE_AS
+    free(scratch);
+}
+
+void sim_grains_free(SimWorld *world)
+{
+#define RELEASE(name) free(world->name);
+    SIM_GRAIN_DOUBLE_ARRAYS(RELEASE)
+    SIM_GRAIN_INT_ARRAYS(RELEASE)
+    RELEASE(flags)
+    RELEASE(id)
+#undef RELEASE
+}

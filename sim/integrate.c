@@ -1,0 +1,395 @@
+/* SPDX-License-Identifier: MIT */
+/* integrate.c: the five integrators behind one interface, each instantiated with and without
+ * rotation (rotation only when a declared effect makes torques), and the linear stability limit
+ * of each, used to refuse unstable time steps at set-up.
+ *
+ * Every step computes all forces before any grain moves on (the thesis's sequential update is
+ * not reproduced: 000 notes §2.1). Gravity is added here, fused into the kick. */
+#include "world.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Tracks the largest squared displacement since the last neighbour build. */
+static inline double displacement2(const SimWorld *w, int i)
+{
+    double dx = w->x[i] - w->x_ref[i], dy = w->y[i] - w->y_ref[i];
+    return dx * dx + dy * dy;
+}
+
+/* ---- velocity Verlet: kick-drift, forces, kick. Damping sees the half-step velocity. */
+static inline void velocity_verlet(SimWorld *w, const int rot)
+{
+    const int n = w->mobile_count;
+    const double dt = w->dt, half = 0.5 * dt, gx = w->def.gravity_x, gy = w->def.gravity_y;
+    double *restrict x = w->x, *restrict y = w->y, *restrict vx = w->vx, *restrict vy = w->vy;
+    const double *restrict fx = w->fx, *restrict fy = w->fy, *restrict im = w->inv_mass;
+    double disp = w->max_disp2;
+    for (int i = 0; i < n; ++i) {
+        vx[i] += half * (fx[i] * im[i] + gx);
+        vy[i] += half * (fy[i] * im[i] + gy);
+        x[i] += dt * vx[i];
+        y[i] += dt * vy[i];
+        double d2 = displacement2(w, i);
+        disp = d2 > disp ? d2 : disp;
+    }
+    if (rot) {
+        for (int i = 0; i < n; ++i) {
+            w->omega[i] += half * w->torque[i] * w->inv_inertia[i];
+            w->angle[i] += dt * w->omega[i];
+        }
+    }
+    w->max_disp2 = disp;
+    sim_world_forces_at(w, w->time + dt);
+    for (int i = 0; i < n; ++i) {
+        vx[i] += half * (fx[i] * im[i] + gx);
+        vy[i] += half * (fy[i] * im[i] + gy);
+    }
+    if (rot)
+        for (int i = 0; i < n; ++i)
+            w->omega[i] += half * w->torque[i] * w->inv_inertia[i];
+}
+
+/* ---- semi-implicit (symplectic) Euler, 000 eqs. 4.16-4.17: v += a dt, then x += v dt. */
+static inline void symplectic_euler(SimWorld *w, const int rot)
+{
+    const int n = w->mobile_count;
+    const double dt = w->dt, gx = w->def.gravity_x, gy = w->def.gravity_y;
+    double disp = w->max_disp2;
+    for (int i = 0; i < n; ++i) {
+        w->vx[i] += dt * (w->fx[i] * w->inv_mass[i] + gx);
+        w->vy[i] += dt * (w->fy[i] * w->inv_mass[i] + gy);
+        w->x[i] += dt * w->vx[i];
+        w->y[i] += dt * w->vy[i];
+        double d2 = displacement2(w, i);
+        disp = d2 > disp ? d2 : disp;
+    }
+    if (rot) {
+        for (int i = 0; i < n; ++i) {
+            w->omega[i] += dt * w->torque[i] * w->inv_inertia[i];
+            w->angle[i] += dt * w->omega[i];
+        }
+    }
+    w->max_disp2 = disp;
+    sim_world_forces_at(w, w->time + dt);
+}
+
+/* ---- position (Stormer) Verlet, 000 eq. 4.18: x' = 2x - x_prev + a dt^2. The velocity used by
+ * the dissipative forces and reported is the backward difference (x' - x) / dt: eq. 4.19's
+ * central difference needs x' before the forces that produce it (000 notes §2.2). Angles use
+ * explicit Euler for omega as in the thesis. aux0/aux1 hold the previous positions. */
+static inline void stormer_verlet(SimWorld *w, const int rot)
+{
+    const int n = w->mobile_count;
+    const double dt = w->dt, dt2 = dt * dt, gx = w->def.gravity_x, gy = w->def.gravity_y;
+    double *xp = w->aux0, *yp = w->aux1;
+    double disp = w->max_disp2;
+    for (int i = 0; i < n; ++i) {
+        double x = w->x[i], y = w->y[i];
+        double xn = 2.0 * x - xp[i] + (w->fx[i] * w->inv_mass[i] + gx) * dt2;
+        double yn = 2.0 * y - yp[i] + (w->fy[i] * w->inv_mass[i] + gy) * dt2;
+        xp[i] = x;
+        yp[i] = y;
+        w->x[i] = xn;
+        w->y[i] = yn;
+        w->vx[i] = (xn - x) / dt;
+        w->vy[i] = (yn - y) / dt;
+        double d2 = displacement2(w, i);
+        disp = d2 > disp ? d2 : disp;
+    }
+    if (rot) {
+        for (int i = 0; i < n; ++i) {
+            w->angle[i] += dt * w->omega[i];
+            w->omega[i] += dt * w->torque[i] * w->inv_inertia[i];
+        }
+    }
+    w->max_disp2 = disp;
+    sim_world_forces_at(w, w->time + dt);
+}
+
+/* ---- Gear predictor-corrector with four values (x, v, a, b = da/dt): third order (002).
+ * Corrector coefficients for second-order equations: 1/6, 5/6, 1, 1/3 on the scaled values
+ * (x, v dt, a dt^2/2, b dt^3/6). aux0..3 = ax, ay, bx, by; aux4..5 = angular a, b. */
+static inline void gear(SimWorld *w, const int rot)
+{
+    const int n = w->mobile_count;
+    const double dt = w->dt, dt2 = dt * dt, dt3 = dt2 * dt;
+    const double gx = w->def.gravity_x, gy = w->def.gravity_y;
+    double *ax = w->aux0, *ay = w->aux1, *bx = w->aux2, *by = w->aux3;
+    double *aw = w->aux4, *bw = w->aux5;
+    double disp = w->max_disp2;
+    for (int i = 0; i < n; ++i) {
+        w->x[i] += w->vx[i] * dt + ax[i] * dt2 / 2.0 + bx[i] * dt3 / 6.0;
+        w->y[i] += w->vy[i] * dt + ay[i] * dt2 / 2.0 + by[i] * dt3 / 6.0;
+        w->vx[i] += ax[i] * dt + bx[i] * dt2 / 2.0;
+        w->vy[i] += ay[i] * dt + by[i] * dt2 / 2.0;
+        ax[i] += bx[i] * dt;
+        ay[i] += by[i] * dt;
+        double d2 = displacement2(w, i);
+        disp = d2 > disp ? d2 : disp;
+    }
+    if (rot) {
+        for (int i = 0; i < n; ++i) {
+            w->angle[i] += w->omega[i] * dt + aw[i] * dt2 / 2.0 + bw[i] * dt3 / 6.0;
+            w->omega[i] += aw[i] * dt + bw[i] * dt2 / 2.0;
+            aw[i] += bw[i] * dt;
+        }
+    }
+    w->max_disp2 = disp;
+    sim_world_forces_at(w, w->time + dt);
+    for (int i = 0; i < n; ++i) {
+        double dax = w->fx[i] * w->inv_mass[i] + gx - ax[i];
+        double day = w->fy[i] * w->inv_mass[i] + gy - ay[i];
+        w->x[i] += dax * dt2 / 12.0;
+        w->y[i] += day * dt2 / 12.0;
+        w->vx[i] += dax * dt * 5.0 / 12.0;
+        w->vy[i] += day * dt * 5.0 / 12.0;
+        ax[i] += dax;
+        ay[i] += day;
+        bx[i] += dax / dt;
+        by[i] += day / dt;
+    }
+    if (rot) {
+        for (int i = 0; i < n; ++i) {
+            double da = w->torque[i] * w->inv_inertia[i] - aw[i];
+            w->angle[i] += da * dt2 / 12.0;
+            w->omega[i] += da * dt * 5.0 / 12.0;
+            aw[i] += da;
+            bw[i] += da / dt;
+        }
+    }
+}
+
+/* ---- classical Runge-Kutta of order 4 on (x, v). Four force evaluations per step (the last one
+ * serves the next step). aux0..5 = start state (x, y, vx, vy, angle, omega); aux6..11 = sums. */
+static void rk4_stage(SimWorld *w, const int rot, double position_step, double velocity_step,
+                      double weight, double time)
+{
+    const int n = w->mobile_count;
+    const double gx = w->def.gravity_x, gy = w->def.gravity_y;
+    double disp = w->max_disp2;
+    for (int i = 0; i < n; ++i) {
+        double ax = w->fx[i] * w->inv_mass[i] + gx, ay = w->fy[i] * w->inv_mass[i] + gy;
+        w->aux6[i] += weight * w->vx[i];
+        w->aux7[i] += weight * w->vy[i];
+        w->aux8[i] += weight * ax;
+        w->aux9[i] += weight * ay;
+        double vx = w->vx[i], vy = w->vy[i];
+        w->x[i] = w->aux0[i] + position_step * vx;
+        w->y[i] = w->aux1[i] + position_step * vy;
+        w->vx[i] = w->aux2[i] + velocity_step * ax;
+        w->vy[i] = w->aux3[i] + velocity_step * ay;
+        double d2 = displacement2(w, i);
+        disp = d2 > disp ? d2 : disp;
+    }
+    if (rot) {
+        for (int i = 0; i < n; ++i) {
+            double alpha = w->torque[i] * w->inv_inertia[i];
+            w->aux10[i] += weight * w->omega[i];
+            w->aux11[i] += weight * alpha;
+            double om = w->omega[i];
+            w->angle[i] = w->aux4[i] + position_step * om;
+            w->omega[i] = w->aux5[i] + velocity_step * alpha;
+        }
+    }
+    w->max_disp2 = disp;
+    sim_world_forces_at(w, time);
+}
+
+static inline void rk4(SimWorld *w, const int rot)
+{
+    const int n = w->mobile_count;
+    const double dt = w->dt, t = w->time;
+    memcpy(w->aux0, w->x, (size_t)n * sizeof(double));
+    memcpy(w->aux1, w->y, (size_t)n * sizeof(double));
+    memcpy(w->aux2, w->vx, (size_t)n * sizeof(double));
+    memcpy(w->aux3, w->vy, (size_t)n * sizeof(double));
+    memset(w->aux6, 0, (size_t)n * sizeof(double));
+    memset(w->aux7, 0, (size_t)n * sizeof(double));
+    memset(w->aux8, 0, (size_t)n * sizeof(double));
+    memset(w->aux9, 0, (size_t)n * sizeof(double));
+    if (rot) {
+        memcpy(w->aux4, w->angle, (size_t)n * sizeof(double));
+        memcpy(w->aux5, w->omega, (size_t)n * sizeof(double));
+        memset(w->aux10, 0, (size_t)n * sizeof(double));
+        memset(w->aux11, 0, (size_t)n * sizeof(double));
+    }
+    /* k1 at the start state (forces already there), k2, k3 at t + dt/2, k4 at t + dt. */
+    rk4_stage(w, rot, 0.5 * dt, 0.5 * dt, 1.0, t + 0.5 * dt);
+    rk4_stage(w, rot, 0.5 * dt, 0.5 * dt, 2.0, t + 0.5 * dt);
+    rk4_stage(w, rot, dt, dt, 2.0, t + dt);
+    const double gx = w->def.gravity_x, gy = w->def.gravity_y, sixth = dt / 6.0;
+    double disp = w->max_disp2;
+    for (int i = 0; i < n; ++i) {
+        double sx = w->aux6[i] + w->vx[i], sy = w->aux7[i] + w->vy[i];
+        double sax = w->aux8[i] + w->fx[i] * w->inv_mass[i] + gx;
+        double say = w->aux9[i] + w->fy[i] * w->inv_mass[i] + gy;
+        w->x[i] = w->aux0[i] + sixth * sx;
+        w->y[i] = w->aux1[i] + sixth * sy;
+        w->vx[i] = w->aux2[i] + sixth * sax;
+        w->vy[i] = w->aux3[i] + sixth * say;
+        double d2 = displacement2(w, i);
+        disp = d2 > disp ? d2 : disp;
+    }
+    if (rot) {
+        for (int i = 0; i < n; ++i) {
+            double so = w->aux10[i] + w->omega[i];
+            double sa = w->aux11[i] + w->torque[i] * w->inv_inertia[i];
+            w->angle[i] = w->aux4[i] + sixth * so;
+            w->omega[i] = w->aux5[i] + sixth * sa;
+        }
+    }
+    w->max_disp2 = disp;
+    sim_world_forces_at(w, t + dt);
+}
+
+#define DEFINE_INTEGRATOR(name)                                                                    \
+    static void name##_0(SimWorld *w)                                                              \
+    {                                                                                              \
+        name(w, 0);                                                                                \
+    }                                                                                              \
+    static void name##_1(SimWorld *w)                                                              \
+    {                                                                                              \
+        name(w, 1);                                                                                \
+    }
+DEFINE_INTEGRATOR(velocity_verlet)
+DEFINE_INTEGRATOR(symplectic_euler)
+DEFINE_INTEGRATOR(stormer_verlet)
+DEFINE_INTEGRATOR(gear)
+DEFINE_INTEGRATOR(rk4)
+
+StageFn *sim_integrator_select(SimIntegrator integrator, int rotation)
+{
+    static StageFn *const table[SIM_INTEGRATOR_COUNT][2] = {
+        [SIM_INTEGRATOR_VELOCITY_VERLET] = {velocity_verlet_0, velocity_verlet_1},
+        [SIM_INTEGRATOR_SYMPLECTIC_EULER] = {symplectic_euler_0, symplectic_euler_1},
+        [SIM_INTEGRATOR_STORMER_VERLET] = {stormer_verlet_0, stormer_verlet_1},
+        [SIM_INTEGRATOR_GEAR] = {gear_0, gear_1},
+        [SIM_INTEGRATOR_RK4] = {rk4_0, rk4_1},
+    };
+    if ((int)integrator < 0 || integrator >= SIM_INTEGRATOR_COUNT)
+        return NULL;
+    return table[integrator][rotation ? 1 : 0];
+}
+
+/* Initial integrator state from the forces at the start (create and after a state reload). */
+void sim_integrator_start(SimWorld *w)
+{
+    const int n = w->mobile_count;
+    const double dt = w->dt, gx = w->def.gravity_x, gy = w->def.gravity_y;
+    if (w->def.integrator == SIM_INTEGRATOR_STORMER_VERLET) {
+        for (int i = 0; i < n; ++i) { /* Taylor start: x_prev = x - v dt + a dt^2 / 2 */
+            double ax = w->fx[i] * w->inv_mass[i] + gx, ay = w->fy[i] * w->inv_mass[i] + gy;
+            w->aux0[i] = w->x[i] - w->vx[i] * dt + 0.5 * ax * dt * dt;
+            w->aux1[i] = w->y[i] - w->vy[i] * dt + 0.5 * ay * dt * dt;
+        }
+    } else if (w->def.integrator == SIM_INTEGRATOR_GEAR) {
+        for (int i = 0; i < n; ++i) {
+            w->aux0[i] = w->fx[i] * w->inv_mass[i] + gx;
+            w->aux1[i] = w->fy[i] * w->inv_mass[i] + gy;
+            w->aux2[i] = w->aux3[i] = 0.0;
+            w->aux4[i] = w->torque[i] * w->inv_inertia[i];
+            w->aux5[i] = 0.0;
+        }
+    }
+}
+
+/* ------------------------------------------------------------------ linear stability */
+
+/* One step of each integrator on the damped oscillator x'' = -w^2 x - 2 z w x' (h = w dt, time in
+ * units of 1/w), written on a state vector so the amplification matrix can be formed. */
+static void oscillator_step(SimIntegrator integrator, double h, double z, const double in[4],
+                            double out[4])
+{
+#define ACC(x, v) (-(x)-2.0 * z * (v))
+    double x = in[0], v = in[1];
+    switch (integrator) {
+    case SIM_INTEGRATOR_VELOCITY_VERLET:
+    case SIM_INTEGRATOR_SYMPLECTIC_EULER:
+    case SIM_INTEGRATOR_STORMER_VERLET: {
+        /* All three reduce to leapfrog with the damping on the lagged (half-step) velocity:
+         * state (x_n, v_{n-1/2}). */
+        double vn = v + h * ACC(x, v);
+        out[0] = x + h * vn;
+        out[1] = vn;
+        out[2] = out[3] = 0.0;
+        break;
+    }
+    case SIM_INTEGRATOR_GEAR: {
+        double a = in[2], b = in[3];
+        double xp = x + v * h + a * h * h / 2.0 + b * h * h * h / 6.0;
+        double vp = v + a * h + b * h * h / 2.0;
+        double ap = a + b * h;
+        double da = ACC(xp, vp) - ap;
+        out[0] = xp + da * h * h / 12.0;
+        out[1] = vp + da * h * 5.0 / 12.0;
+        out[2] = ap + da;
+        out[3] = b + da / h;
+        break;
+    }
+    case SIM_INTEGRATOR_RK4: {
+        double k1x = v, k1v = ACC(x, v);
+        double k2x = v + 0.5 * h * k1v, k2v = ACC(x + 0.5 * h * k1x, v + 0.5 * h * k1v);
+        double k3x = v + 0.5 * h * k2v, k3v = ACC(x + 0.5 * h * k2x, v + 0.5 * h * k2v);
+        double k4x = v + h * k3v, k4v = ACC(x + h * k3x, v + h * k3v);
+        out[0] = x + h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
+        out[1] = v + h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+        out[2] = out[3] = 0.0;
+        break;
+    }
+    default:
+        memset(out, 0, 4 * sizeof *out);
+    }
+#undef ACC
+}
+
+/* Spectral radius of the one-step matrix, from ||A^(2^k)||^(1/2^k) with renormalisation. */
+static double spectral_radius(SimIntegrator integrator, double h, double z)
+{
+    double a[4][4] = {{0}};
+    for (int c = 0; c < 4; ++c) {
+        double e[4] = {0}, out[4];
+        e[c] = 1.0;
+        oscillator_step(integrator, h, z, e, out);
+        for (int r = 0; r < 4; ++r)
+            a[r][c] = out[r];
+    }
+    double log_scale = 0.0;
+    const int squarings = 14;
+    for (int s = 0; s < squarings; ++s) {
+        double b[4][4] = {{0}}, norm = 0.0;
+        for (int r = 0; r < 4; ++r)
+            for (int c = 0; c < 4; ++c) {
+                for (int k = 0; k < 4; ++k)
+                    b[r][c] += a[r][k] * a[k][c];
+                norm = fabs(b[r][c]) > norm ? fabs(b[r][c]) : norm;
+            }
+        if (!(norm > 0.0) || !isfinite(norm))
+            return norm > 0.0 ? (double)INFINITY : 0.0;
+        log_scale = 2.0 * log_scale + log(norm);
+        for (int r = 0; r < 4; ++r)
+            for (int c = 0; c < 4; ++c)
+                a[r][c] = b[r][c] / norm;
+    }
+    return exp(log_scale / (double)(1 << squarings));
+}
+
+/* Largest dt with spectral radius <= 1 (plus a small margin for the norm estimate), for an
+ * oscillator of natural frequency omega (1/s) and damping ratio zeta. */
+double sim_stability_limit(SimIntegrator integrator, double omega, double zeta)
+{
+    if (!(omega > 0.0))
+        return INFINITY;
+    double lo = 0.0, hi = 8.0;
+    const double tolerance = 1.0 + 1e-3;
+    if (spectral_radius(integrator, hi, zeta) <= tolerance)
+        return hi / omega;
+    for (int k = 0; k < 60; ++k) {
+        double mid = 0.5 * (lo + hi);
+        if (spectral_radius(integrator, mid, zeta) <= tolerance)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo / omega;
+}

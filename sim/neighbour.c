@@ -1,0 +1,426 @@
+/* SPDX-License-Identifier: MIT */
+/* neighbour.c: linked cells plus a Verlet list with a skin. At each build the grains are re-sorted
+ * by cell (mobile first, then fixed), the half list is rebuilt in CSR form with per-pair constants,
+ * and contact history is carried over by stable grain ids, so it survives rebuilds, sorting and
+ * removal. O(N) time and memory. */
+#include "world.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct HistoryRecord {
+    uint64_t key; /* (low id << 32) | high id, or (id << 32) | wall for wall contacts */
+    double t, r;  /* tangential stretch; rolling torque oriented low id -> high id */
+} HistoryRecord;
+
+static uint64_t pair_key(uint32_t a, uint32_t b)
+{
+    return a < b ? ((uint64_t)a << 32) | b : ((uint64_t)b << 32) | a;
+}
+
+static int record_compare(const void *a, const void *b)
+{
+    uint64_t ka = ((const HistoryRecord *)a)->key, kb = ((const HistoryRecord *)b)->key;
+    return (ka > kb) - (ka < kb);
+}
+
+static const HistoryRecord *record_find(const HistoryRecord *records, int count, uint64_t key)
+{
+    int lo = 0, hi = count - 1;
+    while (lo <= hi) {
+        int mid = lo + (hi - lo) / 2;
+        if (records[mid].key == key)
+            return &records[mid];
+        if (records[mid].key < key)
+            lo = mid + 1;
+        else
+            hi = mid - 1;
+    }
+    return NULL;
+}
+
+static void *grow(void *p, size_t count, size_t size)
+{
+    void *q = realloc(p, (count ? count : 1) * size);
+    if (!q)
+        abort(); /* out of memory in the neighbour list: no way to continue the run */
+    return q;
+}
+
+static void list_reserve(SimWorld *world, int capacity)
+{
+    NeighbourList *nl = &world->nl;
+    if (capacity <= nl->capacity)
+        return;
+    size_t n = (size_t)capacity;
+    nl->j = grow(nl->j, n, sizeof *nl->j);
+    nl->gamma = grow(nl->gamma, n, sizeof *nl->gamma);
+    nl->pair = grow(nl->pair, n, sizeof *nl->pair);
+    if (world->effects & SIM_EFFECT_PERIODIC_X)
+        nl->shift = grow(nl->shift, n, sizeof *nl->shift);
+    if (world->has_history) {
+        nl->hist_t = grow(nl->hist_t, n, sizeof *nl->hist_t);
+        nl->hist_r = grow(nl->hist_r, n, sizeof *nl->hist_r);
+    }
+    nl->capacity = capacity;
+}
+
+static void wall_list_reserve(SimWorld *world, int capacity)
+{
+    WallList *wl = &world->wl;
+    if (capacity <= wl->capacity)
+        return;
+    size_t n = (size_t)capacity;
+    wl->grain = grow(wl->grain, n, sizeof *wl->grain);
+    wl->wall = grow(wl->wall, n, sizeof *wl->wall);
+    wl->gamma = grow(wl->gamma, n, sizeof *wl->gamma);
+    wl->pair = grow(wl->pair, n, sizeof *wl->pair);
+    if (world->has_history) {
+        wl->hist_t = grow(wl->hist_t, n, sizeof *wl->hist_t);
+        wl->hist_r = grow(wl->hist_r, n, sizeof *wl->hist_r);
+    }
+    wl->capacity = capacity;
+}
+
+void sim_neighbour_free(SimWorld *world)
+{
+    NeighbourList *nl = &world->nl;
+    free(nl->start);
+    free(nl->j);
+    free(nl->gamma);
+    free(nl->pair);
+    free(nl->shift);
+    free(nl->hist_t);
+    free(nl->hist_r);
+    WallList *wl = &world->wl;
+    free(wl->grain);
+    free(wl->wall);
+    free(wl->gamma);
+    free(wl->pair);
+    free(wl->hist_t);
+    free(wl->hist_r);
+    free(world->cell_start);
+    free(world->cell_items);
+    free(world->cell_of);
+}
+
+/* gamma_n of a pair from the two species' damping specifications, mean of the two.
+ * 000 eq. 3.25 with t_n = pi / omega_d solved for gamma: gamma = 2 zeta sqrt(k m_eff),
+ * zeta = -ln e / sqrt(pi^2 + ln^2 e); 004 eq. 1.11: gamma = 2 f sqrt(k m_eff). */
+double sim_pair_gamma(const SimWorld *world, int species_i, int species_j, double inv_mass_i,
+                      double inv_mass_j)
+{
+    const PairParams *p = &world->pairs[species_i * SIM_MAX_SPECIES + species_j];
+    double inv = inv_mass_i + inv_mass_j;
+    double m_eff = inv > 0.0 ? 1.0 / inv : 0.0;
+    double root = sqrt(p->k_n * m_eff);
+    int s[2] = {species_i, species_j};
+    double sum = 0.0;
+    for (int k = 0; k < 2; ++k) {
+        const SimMaterial *m = &world->def.materials[s[k]];
+        switch (m->damping_mode) {
+        case SIM_DAMPING_GAMMA:
+            sum += m->normal_damping;
+            break;
+        case SIM_DAMPING_RESTITUTION: {
+            double le = log(m->restitution);
+            sum += 2.0 * (-le / sqrt(M_PI * M_PI + le * le)) * root;
+            break;
+        }
+        case SIM_DAMPING_CRITICAL:
+            sum += 2.0 * m->critical_fraction * root;
+            break;
+        }
+    }
+    return 0.5 * sum;
+}
+
+static int cell_index(double t, int n)
+{
+    if (t >= 0.0 && t < (double)n)
+        return (int)t;
+    return t >= (double)n ? n - 1 : 0; /* also NaN -> 0 */
+}
+
+/* Grid over the grains; periodic x uses the domain. Cells are at least 2 r_max + skin wide, and
+ * the cell count is capped so that a stray grain far away cannot make the grid huge. */
+static void grid_setup(SimWorld *world)
+{
+    const int n = world->count;
+    const int periodic = (world->effects & SIM_EFFECT_PERIODIC_X) != 0;
+    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+    for (int i = 0; i < n; ++i) {
+        double x = world->x[i], y = world->y[i];
+        if (x < x0)
+            x0 = x;
+        if (x > x1)
+            x1 = x;
+        if (y < y0)
+            y0 = y;
+        if (y > y1)
+            y1 = y;
+    }
+    if (!(x1 >= x0) || !(y1 >= y0)) { /* no grains or NaN: one cell */
+        x0 = y0 = 0.0;
+        x1 = y1 = 1.0;
+    }
+    if (periodic) {
+        x0 = world->def.domain_x0;
+        x1 = world->def.domain_x1;
+    }
+    double cell = world->cell_size;
+    double max_cells = 4.0 * n + 1024.0;
+    double nx = periodic ? floor((x1 - x0) / cell) : floor((x1 - x0) / cell) + 1.0;
+    double ny = floor((y1 - y0) / cell) + 1.0;
+    if (nx < 1.0)
+        nx = 1.0;
+    while (!(nx * ny <= max_cells)) { /* coarsen */
+        cell *= 2.0;
+        nx = periodic ? floor((x1 - x0) / cell) : floor((x1 - x0) / cell) + 1.0;
+        ny = floor((y1 - y0) / cell) + 1.0;
+        if (nx < 1.0)
+            nx = 1.0;
+    }
+    world->ncx = (int)nx;
+    world->ncy = (int)ny;
+    world->grid_x0 = x0;
+    world->grid_y0 = y0;
+    world->cell_w = periodic ? (x1 - x0) / nx : cell;
+    world->cell_h = cell;
+    int cells = world->ncx * world->ncy;
+    if (cells + 1 > world->cell_capacity) {
+        world->cell_start = grow(world->cell_start, (size_t)cells + 1, sizeof(int));
+        world->cell_capacity = cells + 1;
+    }
+}
+
+static void grid_fill(SimWorld *world)
+{
+    const int n = world->count, cells = world->ncx * world->ncy;
+    int *start = world->cell_start;
+    memset(start, 0, (size_t)(cells + 1) * sizeof *start);
+    for (int i = 0; i < n; ++i) {
+        int cx = cell_index((world->x[i] - world->grid_x0) / world->cell_w, world->ncx);
+        int cy = cell_index((world->y[i] - world->grid_y0) / world->cell_h, world->ncy);
+        int c = cy * world->ncx + cx;
+        world->cell_of[i] = c;
+        ++start[c + 1];
+    }
+    for (int c = 0; c < cells; ++c)
+        start[c + 1] += start[c];
+    /* Fill in index order so each cell lists its grains ascending (deterministic). */
+    int *fill = world->cell_items; /* temporarily: running position per cell kept in start */
+    for (int i = 0; i < n; ++i)
+        fill[start[world->cell_of[i]]++] = i;
+    for (int c = cells; c > 0; --c)
+        start[c] = start[c - 1];
+    start[0] = 0;
+}
+
+/* Mobile grains in cell order, then fixed grains in cell order. */
+static void spatial_sort(SimWorld *world)
+{
+    const int n = world->count, mobile = world->mobile_count;
+    int *order = malloc((size_t)(n > 0 ? n : 1) * sizeof *order);
+    if (!order)
+        abort();
+    int m = 0, f = mobile;
+    for (int k = 0; k < n; ++k) {
+        int i = world->cell_items[k];
+        if (i < mobile)
+            order[m++] = i;
+        else
+            order[f++] = i;
+    }
+    sim_grains_permute(world, order, n);
+    free(order);
+}
+
+static HistoryRecord *collect_history(const SimWorld *world, int *count, HistoryRecord **walls,
+                                      int *wall_count)
+{
+    *count = *wall_count = 0;
+    *walls = NULL;
+    if (!world->has_history || !world->nl.start || world->drop_history)
+        return NULL;
+    const NeighbourList *nl = &world->nl;
+    int total = nl->start[world->mobile_count];
+    HistoryRecord *records = malloc((size_t)(total > 0 ? total : 1) * sizeof *records);
+    HistoryRecord *wr = malloc((size_t)(world->wl.count > 0 ? world->wl.count : 1) * sizeof *wr);
+    if (!records || !wr)
+        abort();
+    int c = 0;
+    for (int i = 0; i < world->mobile_count; ++i) {
+        for (int k = nl->start[i]; k < nl->start[i + 1]; ++k) {
+            if (nl->hist_t[k] == 0.0 && nl->hist_r[k] == 0.0)
+                continue;
+            uint32_t a = world->id[i], b = world->id[nl->j[k]];
+            records[c].key = pair_key(a, b);
+            records[c].t = nl->hist_t[k];
+            records[c].r = a < b ? nl->hist_r[k] : -nl->hist_r[k];
+            ++c;
+        }
+    }
+    int w = 0;
+    for (int k = 0; k < world->wl.count; ++k) {
+        if (world->wl.hist_t[k] == 0.0 && world->wl.hist_r[k] == 0.0)
+            continue;
+        wr[w].key = ((uint64_t)world->id[world->wl.grain[k]] << 32) | (uint32_t)world->wl.wall[k];
+        wr[w].t = world->wl.hist_t[k];
+        wr[w].r = world->wl.hist_r[k];
+        ++w;
+    }
+    qsort(records, (size_t)c, sizeof *records, record_compare);
+    qsort(wr, (size_t)w, sizeof *wr, record_compare);
+    *count = c;
+    *walls = wr;
+    *wall_count = w;
+    return records;
+}
+
+static void build_pairs(SimWorld *world, const HistoryRecord *records, int record_count)
+{
+    const int mobile = world->mobile_count;
+    const int periodic = (world->effects & SIM_EFFECT_PERIODIC_X) != 0;
+    const double span = world->def.domain_x1 - world->def.domain_x0;
+    const double skin = world->skin;
+    NeighbourList *nl = &world->nl;
+    nl->start = grow(nl->start, (size_t)mobile + 1, sizeof *nl->start);
+    if (nl->capacity < 4 * mobile + 16)
+        list_reserve(world, 4 * mobile + 16);
+    int k = 0;
+    for (int i = 0; i < mobile; ++i) {
+        nl->start[i] = k;
+        const double xi = world->x[i], yi = world->y[i], ri = world->radius[i];
+        const int c = world->cell_of[i];
+        const int cx = c % world->ncx, cy = c / world->ncx;
+        for (int oy = -1; oy <= 1; ++oy) {
+            int ny = cy + oy;
+            if (ny < 0 || ny >= world->ncy)
+                continue;
+            for (int ox = -1; ox <= 1; ++ox) {
+                int nx = cx + ox;
+                double shift = 0.0;
+                if (nx < 0 || nx >= world->ncx) {
+                    if (!periodic)
+                        continue;
+                    shift = nx < 0 ? -span : span;
+                    nx = nx < 0 ? world->ncx - 1 : 0;
+                }
+                int cell = ny * world->ncx + nx;
+                for (int q = world->cell_start[cell]; q < world->cell_start[cell + 1]; ++q) {
+                    int j = world->cell_items[q];
+                    if (j <= i)
+                        continue;
+                    double dx = world->x[j] + shift - xi, dy = world->y[j] - yi;
+                    double cut = ri + world->radius[j] + skin;
+                    if (dx * dx + dy * dy >= cut * cut)
+                        continue;
+                    if (k >= nl->capacity)
+                        list_reserve(world, 2 * nl->capacity);
+                    int si = world->species[i], sj = world->species[j];
+                    nl->j[k] = j;
+                    nl->pair[k] = (uint8_t)(si * SIM_MAX_SPECIES + sj);
+                    nl->gamma[k] =
+                        sim_pair_gamma(world, si, sj, world->inv_mass[i], world->inv_mass[j]);
+                    if (periodic)
+                        nl->shift[k] = shift;
+                    if (world->has_history) {
+                        const HistoryRecord *h =
+                            record_count ? record_find(records, record_count,
+                                                       pair_key(world->id[i], world->id[j]))
+                                         : NULL;
+                        nl->hist_t[k] = h ? h->t : 0.0;
+                        nl->hist_r[k] = h ? (world->id[i] < world->id[j] ? h->r : -h->r) : 0.0;
+                    }
+                    ++k;
+                }
+            }
+        }
+    }
+    nl->start[mobile] = k;
+}
+
+static double segment_distance2(const SimWall *w, double px, double py)
+{
+    double ex = w->x1 - w->x0, ey = w->y1 - w->y0;
+    double len2 = ex * ex + ey * ey;
+    double t = len2 > 0.0 ? ((px - w->x0) * ex + (py - w->y0) * ey) / len2 : 0.0;
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+    double dx = w->x0 + t * ex - px, dy = w->y0 + t * ey - py;
+    return dx * dx + dy * dy;
+}
+
+static void build_walls(SimWorld *world, const HistoryRecord *records, int record_count)
+{
+    WallList *wl = &world->wl;
+    wl->count = 0;
+    if (world->wall_count == 0)
+        return;
+    for (int i = 0; i < world->mobile_count; ++i) {
+        double cut = world->radius[i] + world->skin;
+        for (int w = 0; w < world->wall_count; ++w) {
+            if (segment_distance2(&world->walls[w], world->x[i], world->y[i]) >= cut * cut)
+                continue;
+            if (wl->count >= wl->capacity)
+                wall_list_reserve(world, 2 * wl->capacity + 64);
+            int k = wl->count++;
+            int sw = world->walls[w].species;
+            wl->grain[k] = i;
+            wl->wall[k] = w;
+            wl->pair[k] = (uint8_t)(world->species[i] * SIM_MAX_SPECIES + sw);
+            wl->gamma[k] = sim_pair_gamma(world, world->species[i], sw, world->inv_mass[i], 0.0);
+            if (world->has_history) {
+                uint64_t key = ((uint64_t)world->id[i] << 32) | (uint32_t)w;
+                const HistoryRecord *h =
+                    record_count ? record_find(records, record_count, key) : NULL;
+                wl->hist_t[k] = h ? h->t : 0.0;
+                wl->hist_r[k] = h ? h->r : 0.0;
+            }
+        }
+    }
+}
+
+void sim_neighbour_build(SimWorld *world)
+{
+    int record_count, wall_record_count;
+    HistoryRecord *wall_records;
+    HistoryRecord *records =
+        collect_history(world, &record_count, &wall_records, &wall_record_count);
+    world->drop_history = 0;
+    sim_world_compact(world);
+
+    if (world->effects & SIM_EFFECT_PERIODIC_X) { /* wrap mobile grains into [x0, x1) */
+        const double x0 = world->def.domain_x0, span = world->def.domain_x1 - x0;
+        for (int i = 0; i < world->mobile_count; ++i) {
+            double x = world->x[i];
+            if (x < x0 || x >= x0 + span) {
+                double wrapped = x - span * floor((x - x0) / span);
+                if (!(wrapped < x0 + span)) /* rounding at the upper edge */
+                    wrapped = x0;
+                world->x[i] = wrapped;
+            }
+        }
+    }
+
+    size_t n = (size_t)(world->count > 0 ? world->count : 1);
+    world->cell_items = grow(world->cell_items, n, sizeof(int));
+    world->cell_of = grow(world->cell_of, n, sizeof(int));
+    grid_setup(world);
+    grid_fill(world);
+    spatial_sort(world);
+    grid_fill(world); /* same cells, new indices */
+
+    build_pairs(world, records, record_count);
+    build_walls(world, wall_records, wall_record_count);
+    free(records);
+    free(wall_records);
+
+    memcpy(world->x_ref, world->x, (size_t)world->count * sizeof(double));
+    memcpy(world->y_ref, world->y, (size_t)world->count * sizeof(double));
+    world->max_disp2 = 0.0;
+    world->wall_shift = 0.0;
+    world->need_rebuild = 0;
+    ++world->rebuilds;
+}

@@ -1,0 +1,425 @@
+/* SPDX-License-Identifier: MIT */
+/* sim.h: the one public header of sablier's physics library (2D soft-disk DEM).
+ *
+ * Depends on the C library and libm only. Usage:
+ *
+ *     SimWorldDef def = sim_world_def_default();
+ *     def.time_step = 1e-5;
+ *     def.grains = my_grains;                  // SimGrainSet, copied at create
+ *     SimError err;
+ *     SimWorld *world = sim_world_create(&def, &err);
+ *     if (!world) { fprintf(stderr, "%s: %s\n", err.field, err.message); }
+ *     SimStatus s = sim_world_step(world, 1000, &err);
+ *     SimEnergy e = sim_world_energy(world);
+ *     sim_world_destroy(world);
+ *
+ * Units are SI unless a scene uses normalised units; every field names its unit.
+ * Conventions (000 eqs. 3.1-3.5): n points from i to j, s = (n_y, -n_x), omega is
+ * counter-clockwise positive, gravity points along -y.
+ */
+#ifndef SIM_H
+#define SIM_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#define SIM_VERSION "0.1.0"
+
+/* ---------------------------------------------------------------- effects */
+
+/// Physical effects a scene can declare; an undeclared effect costs nothing at run time.
+typedef enum SimEffect {
+    SIM_EFFECT_FRICTION = 1u << 0,   ///< tangential contact force (law in SimMaterial)
+    SIM_EFFECT_ROLLING = 1u << 1,    ///< rolling resistance torque (004 ch. 4)
+    SIM_EFFECT_PERIODIC_X = 1u << 2, ///< periodic boundary in x
+    SIM_EFFECT_VIBRATION = 1u << 3,  ///< walls and fixed grains with prescribed motion
+    SIM_EFFECT_FLUID_DRAG = 1u << 4, ///< user body-force stage (SimBodyForce)
+    SIM_EFFECT_REMOVAL = 1u << 5,    ///< sinks that remove grains
+} SimEffect;
+
+/// Parse an effect name ("friction", "rolling_resistance", "periodic_x", "vibration",
+/// "fluid_drag", "removal"); returns 0 when unknown.
+unsigned sim_effect_from_name(const char *name);
+/// Name of one effect bit, or NULL.
+const char *sim_effect_name(unsigned effect);
+
+/* ---------------------------------------------------------------- contact laws */
+
+typedef enum SimNormalLaw {
+    SIM_NORMAL_LINEAR = 0, ///< F_n = k_n xi + gamma_n dxi/dt (000 eq. 3.6; 004 eq. 1.9)
+    SIM_NORMAL_HERTZ = 1,  ///< F_n = sqrt(xi) (k_n xi + gamma_n dxi/dt), Hertz-type xi^{3/2}
+} SimNormalLaw;
+
+typedef enum SimTangentialLaw {
+    SIM_TANGENTIAL_NONE = 0,
+    SIM_TANGENTIAL_REGULARISED = 1, ///< F_t = -min(gamma_s|v_s|, mu|F_n|) sgn(v_s) (000 eq. 3.28)
+    SIM_TANGENTIAL_SPRING = 2, ///< Cundall-Strack spring, |F_t| <= mu k_n xi (004 eqs. 1.12-1.13)
+} SimTangentialLaw;
+
+typedef enum SimRollingLaw {
+    SIM_ROLLING_OFF = 0,
+    SIM_ROLLING_CHORD =
+        1, ///< k_r = k_n l_c^2, mu_r = mu l_c from the contact chord l_c (004 ch. 4)
+    SIM_ROLLING_FIXED = 2, ///< fixed rolling stiffness k_r (004 ch. 4)
+} SimRollingLaw;
+
+/// How normal damping is given.
+typedef enum SimDampingMode {
+    SIM_DAMPING_GAMMA = 0,       ///< gamma_n given directly, kg/s
+    SIM_DAMPING_RESTITUTION = 1, ///< e_n given; gamma_n per pair from m_eff (000 eq. 3.25)
+    SIM_DAMPING_CRITICAL = 2,    ///< fraction of critical damping, gamma_n = 2 f sqrt(k_n m_eff)
+} SimDampingMode;
+
+/// Material of one species; pair parameters are the arithmetic mean of the two species'.
+typedef struct SimMaterial {
+    double density;          ///< rho, kg/m^3 (disk mass model: kg/m^2)
+    double normal_stiffness; ///< k_n, N/m (Hertz: N/m^1.5)
+    SimDampingMode damping_mode;
+    double normal_damping;       ///< gamma_n, kg/s (when damping_mode is GAMMA)
+    double restitution;          ///< e_n in (0, 1] (when damping_mode is RESTITUTION)
+    double critical_fraction;    ///< fraction of critical damping (when damping_mode is CRITICAL)
+    double friction;             ///< mu, Coulomb coefficient, dimensionless
+    double tangential_damping;   ///< gamma_s, kg/s, regularised Coulomb (000 eq. 3.28)
+    double tangential_stiffness; ///< k_t, N/m, Cundall-Strack spring
+    double rolling_friction;     ///< mu_r, m: cap |M_r| <= mu_r k_n xi (004 eq. 4.1; FIXED law)
+    double rolling_stiffness;    ///< k_r, N m/rad (004 eq. 4.2; FIXED law)
+} SimMaterial;
+
+/// Contact model: one law per category, the same for all pairs.
+typedef struct SimContactModel {
+    SimNormalLaw normal;
+    SimTangentialLaw tangential; ///< used only with SIM_EFFECT_FRICTION
+    SimRollingLaw rolling;       ///< used only with SIM_EFFECT_ROLLING
+    int clip_tensile;            ///< 1: normal force never attractive (000 [GAP], our default 1)
+} SimContactModel;
+
+/* ---------------------------------------------------------------- grains, walls */
+
+typedef enum SimMassModel {
+    SIM_MASS_DISK = 0,   ///< m = rho pi r^2, I = m r^2 / 2 (2D native; rho in kg/m^2)
+    SIM_MASS_SPHERE = 1, ///< m = rho 4/3 pi r^3, I = 2/5 m r^2 (thesis 000 convention)
+} SimMassModel;
+
+/// Grain flags.
+enum {
+    SIM_GRAIN_FIXED = 1u << 0, ///< does not integrate; infinite mass in contacts
+};
+
+/// Input grains (structure of arrays; the arrays are copied by sim_world_create).
+/// Optional arrays may be NULL (zeros).
+typedef struct SimGrainSet {
+    int count;
+    const double *x, *y;   ///< centre, m
+    const double *radius;  ///< m
+    const double *vx, *vy; ///< m/s, optional
+    const double *angle;   ///< rad, optional
+    const double *omega;   ///< rad/s, optional
+    const int *species;    ///< index into materials, optional (0)
+    const unsigned *flags; ///< SIM_GRAIN_*, optional (0)
+    const int *motion;     ///< index into motions for fixed grains, -1 = still; optional
+    const uint32_t *id;    ///< stable ids; optional (0..count-1)
+} SimGrainSet;
+
+/// Prescribed sinusoidal motion: offset(t) = amplitude * sin(2 pi frequency t + phase) along
+/// direction.
+typedef struct SimMotion {
+    double amplitude;   ///< m
+    double frequency;   ///< Hz
+    double phase;       ///< rad
+    double direction_x; ///< unit vector, dimensionless
+    double direction_y;
+} SimMotion;
+
+/// A straight wall segment from (x0, y0) to (x1, y1); grains touch either side and the ends.
+typedef struct SimWall {
+    double x0, y0, x1, y1; ///< m
+    int species;           ///< material index
+    int motion;            ///< index into motions, -1 = still
+} SimWall;
+
+typedef enum SimSinkShape {
+    SIM_SINK_BELOW = 0, ///< remove grains with y < level
+    SIM_SINK_ABOVE = 1, ///< y > level
+    SIM_SINK_LEFT = 2,  ///< x < level
+    SIM_SINK_RIGHT = 3, ///< x > level
+    SIM_SINK_RECT = 4,  ///< centre inside [x0, x1] x [y0, y1]
+} SimSinkShape;
+
+/// A region where mobile grains are removed; the removed grains are counted per sink.
+typedef struct SimSink {
+    SimSinkShape shape;
+    double level;          ///< m (BELOW/ABOVE/LEFT/RIGHT)
+    double x0, y0, x1, y1; ///< m (RECT)
+} SimSink;
+
+/* ---------------------------------------------------------------- integrators */
+
+typedef enum SimIntegrator {
+    SIM_INTEGRATOR_VELOCITY_VERLET = 0,  ///< default, second order, symplectic
+    SIM_INTEGRATOR_SYMPLECTIC_EULER = 1, ///< 000 eqs. 4.16-4.17, first order
+    SIM_INTEGRATOR_STORMER_VERLET = 2,   ///< 000 eqs. 4.18-4.19 (position Verlet)
+    SIM_INTEGRATOR_GEAR = 3,             ///< Gear predictor-corrector, third order (002)
+    SIM_INTEGRATOR_RK4 = 4,              ///< classical Runge-Kutta
+    SIM_INTEGRATOR_COUNT
+} SimIntegrator;
+
+/// "velocity_verlet", "symplectic_euler", "stormer_verlet", "gear", "rk4"; -1 when unknown.
+int sim_integrator_from_name(const char *name);
+const char *sim_integrator_name(SimIntegrator integrator);
+
+/* ---------------------------------------------------------------- body-force extension */
+
+/// View handed to a body-force stage (fluid drag): mobile grains only, forces to add to.
+typedef struct SimBodyForceView {
+    int count;
+    double time;                                   ///< s
+    const double *x, *y, *vx, *vy, *radius, *mass; ///< m, m/s, m, kg
+    double *fx, *fy;                               ///< N, add to these
+} SimBodyForceView;
+
+/// A body-force stage, called once per force evaluation when SIM_EFFECT_FLUID_DRAG is declared.
+typedef struct SimBodyForce {
+    void (*apply)(void *context, const SimBodyForceView *view);
+    void *context;
+} SimBodyForce;
+
+/* ---------------------------------------------------------------- world definition */
+
+#define SIM_MAX_SPECIES 8
+#define SIM_MAX_MOTIONS 8
+#define SIM_MAX_SINKS   16
+
+typedef struct SimWorldDef {
+    unsigned effects; ///< SimEffect bits
+    SimContactModel contact;
+    SimMassModel mass_model;
+    int species_count;
+    SimMaterial materials[SIM_MAX_SPECIES];
+    double gravity_x, gravity_y; ///< m/s^2 (default 0, -9.806)
+    SimIntegrator integrator;
+    double time_step;         ///< dt, s; 0 = choose from steps_per_contact
+    double steps_per_contact; ///< used when time_step is 0 (default 50)
+    double max_dt_fraction;   ///< refuse dt > fraction * t_c,min; 0 = use the stability limit only
+    double skin;              ///< Verlet skin, m; 0 = 0.2 * mean diameter
+    double domain_x0, domain_x1; ///< periodic x range, m (SIM_EFFECT_PERIODIC_X)
+    SimGrainSet grains;
+    int wall_count;
+    const SimWall *walls;
+    int motion_count;
+    SimMotion motions[SIM_MAX_MOTIONS];
+    int sink_count;
+    SimSink sinks[SIM_MAX_SINKS];
+    SimBodyForce body_force;  ///< SIM_EFFECT_FLUID_DRAG
+    double guard_max_overlap; ///< stop when xi / d_min of a pair exceeds this (default 0.5)
+    double guard_max_speed;   ///< stop when a grain exceeds this speed, m/s; 0 = automatic
+    int guard_every;          ///< steps between guard checks (default 100)
+    double start_time;        ///< s
+} SimWorldDef;
+
+/// Defaults: every field physically valid (no grains).
+SimWorldDef sim_world_def_default(void);
+SimMaterial sim_material_default(void);
+
+/* ---------------------------------------------------------------- status and errors */
+
+typedef enum SimStatus {
+    SIM_OK = 0,
+    SIM_ERROR_INVALID = 2,  ///< bad definition (maps to exit status 2)
+    SIM_ERROR_UNSTABLE = 1, ///< NaN, overlap beyond bound, blow-up (exit status 1)
+    SIM_ERROR_IO = 3,       ///< file could not be read or written
+} SimStatus;
+
+/// Error report: field is a dotted path into SimWorldDef ("time_step", "materials[1].restitution",
+/// "grains[12]"), so a scene loader can map it back to a file line.
+typedef struct SimError {
+    SimStatus status;
+    char field[64];
+    char message[400];
+    long step;  ///< step at which a run failed, -1 if none
+    long grain; ///< stable id of the grain involved, -1 if none
+} SimError;
+
+/* ---------------------------------------------------------------- world */
+
+typedef struct SimWorld SimWorld;
+
+/// Contact-time figures of the declared laws, for the stiffest, lightest pair.
+typedef struct SimTiming {
+    double contact_time_min;  ///< t_c of the worst pair, s (000 eq. 3.22; Hertz at v = 1 m/s)
+    double stability_limit;   ///< largest stable dt for the chosen integrator, s
+    double time_step;         ///< dt in use, s
+    double steps_per_contact; ///< t_c,min / dt
+} SimTiming;
+
+/// Checks a definition without building a world (same checks as create).
+SimStatus sim_world_def_validate(const SimWorldDef *def, SimError *error);
+/// Timing figures of a definition (valid or not, as long as materials and grains are readable).
+SimTiming sim_world_def_timing(const SimWorldDef *def);
+
+SimWorld *sim_world_create(const SimWorldDef *def, SimError *error);
+void sim_world_destroy(SimWorld *world);
+
+/// Advance by `steps` time steps. Returns SIM_OK or SIM_ERROR_UNSTABLE (error filled, world left at
+/// the last good guard check: see sim_world_last_good_save).
+SimStatus sim_world_step(SimWorld *world, long steps, SimError *error);
+
+double sim_world_time(const SimWorld *world); ///< s
+long sim_world_step_count(const SimWorld *world);
+double sim_world_time_step(const SimWorld *world);
+unsigned sim_world_effects(const SimWorld *world);
+SimTiming sim_world_timing(const SimWorld *world);
+int sim_world_grain_count(const SimWorld *world); ///< all grains, mobile and fixed
+int sim_world_mobile_count(const SimWorld *world);
+
+/* ---------------------------------------------------------------- frame view */
+
+/// One contact, counted once.
+typedef struct SimContact {
+    int i, j;                ///< frame indices; j = -1 - wall index for a wall contact
+    double normal_force;     ///< F_n, N (positive = repulsive)
+    double tangential_force; ///< F_t along s, N
+    double overlap;          ///< xi, m
+    double x, y;             ///< contact point, m
+} SimContact;
+
+/// Transient read-only view of the state: valid until the next call that changes the world.
+/// Arrays have `count` entries in frame order (mobile grains first, then fixed grains).
+typedef struct SimFrame {
+    int count;
+    int mobile_count;
+    long step;
+    double time;                          ///< s
+    double time_scale;                    ///< sqrt(D/g) for t* = t / time_scale, s (0 if unknown)
+    const double *x, *y, *angle, *radius; ///< m, m, rad, m
+    const double *vx, *vy, *omega;        ///< m/s, rad/s
+    const int *species;
+    const unsigned *flags;
+    const uint32_t *id;
+    const double *force; ///< per-grain sum of contact-force magnitudes, N (000 figs. 6.16-7.2)
+    const double *fx,
+        *fy;              ///< per-grain contact + body force of the last evaluation (no gravity), N
+    const double *torque; ///< per-grain torque of the last evaluation, N m
+    int contact_count;
+    const SimContact *contacts;
+    int wall_count;
+    const SimWall *walls; ///< current positions (moving walls displaced)
+    int periodic;         ///< 1 when x is periodic over [domain_x0, domain_x1]
+    double domain_x0, domain_x1;
+} SimFrame;
+
+/// Fills a frame view; computes per-grain forces and the contact list.
+void sim_world_frame(SimWorld *world, SimFrame *frame);
+
+/// A consumer of frames (renderers, writers, hashers). Must copy what it keeps.
+typedef struct SimFrameSink {
+    int (*consume)(void *context, const SimFrame *frame); ///< nonzero = stop the run
+    void *context;
+} SimFrameSink;
+
+/* ---------------------------------------------------------------- diagnostics */
+
+typedef struct SimEnergy {
+    double kinetic;    ///< sum 1/2 m v^2, J
+    double potential;  ///< sum m g y (relative to y = 0), J
+    double rotational; ///< sum 1/2 I omega^2, J
+    double elastic;    ///< sum over contacts of the spring energy, J
+    double total;      ///< J
+    int mobile;        ///< grains counted
+    int contacts;      ///< contacts in force
+} SimEnergy;
+
+SimEnergy sim_world_energy(SimWorld *world);
+/// Mean coordination number of mobile grains (contacts per grain, wall contacts included).
+double sim_world_coordination(SimWorld *world);
+/// Packing fraction (area of disks in the region / area of the region), disks clipped exactly.
+double sim_world_packing_fraction(const SimWorld *world, double x0, double y0, double x1,
+                                  double y1);
+/// Largest xi / min(d_i, d_j) over current contacts.
+double sim_world_max_overlap_ratio(SimWorld *world);
+/// Total contact force exerted by mobile grains on the fixed grains of a species (species < 0: all
+/// fixed grains), N.
+void sim_world_fixed_load(SimWorld *world, int species, double *fx, double *fy);
+/// Mean diameter and mean mass of mobile grains (for t* and E*, 000 §6.2).
+void sim_world_means(const SimWorld *world, double *diameter, double *mass);
+/// Grains removed by each sink so far.
+long sim_world_removed_count(const SimWorld *world, int sink);
+/// Sum of mobile-grain momentum, kg m/s.
+void sim_world_momentum(const SimWorld *world, double *px, double *py);
+/// FNV-1a hash of positions, velocities and angles of all grains (determinism checks).
+uint64_t sim_world_hash(const SimWorld *world);
+
+/* ---------------------------------------------------------------- editing */
+
+/// Remove mobile grains whose centre lies in the rectangle; returns how many.
+int sim_world_remove_rect(SimWorld *world, double x0, double y0, double x1, double y1);
+/// Remove the grains with these stable ids (mobile or fixed); returns how many were found.
+int sim_world_remove_ids(SimWorld *world, const uint32_t *ids, int count);
+/// Set every velocity and angular velocity to zero.
+void sim_world_freeze(SimWorld *world);
+
+/* ---------------------------------------------------------------- checkpoints */
+
+/// Saves the whole state (grains, walls, time, contact history, sink counts) atomically
+/// (written to path.tmp, then renamed).
+SimStatus sim_world_save(SimWorld *world, const char *path, SimError *error);
+/// Reads the grains of a saved state into `grains` (arrays malloc'd; free with sim_grain_set_free),
+/// with its walls (malloc'd) and time. Used to start a stage from a previous stage's checkpoint.
+SimStatus sim_state_load(const char *path, SimGrainSet *grains, SimWall **walls, int *wall_count,
+                         double *time, SimError *error);
+void sim_grain_set_free(SimGrainSet *grains);
+
+/* ---------------------------------------------------------------- builders */
+
+/// Deterministic RNG (xoshiro256**), seeded by splitmix64.
+typedef struct SimRng {
+    uint64_t s[4];
+} SimRng;
+
+void sim_rng_seed(SimRng *rng, uint64_t seed);
+uint64_t sim_rng_next(SimRng *rng);
+double sim_rng_uniform(SimRng *rng); ///< [0, 1)
+
+/// A growable grain set owned by the caller (the arrays behind a SimGrainSet).
+typedef struct SimGrainBuffer {
+    int count, capacity;
+    double *x, *y, *radius, *vx, *vy, *angle, *omega;
+    int *species, *motion;
+    unsigned *flags;
+    uint32_t *id;
+} SimGrainBuffer;
+
+void sim_grain_buffer_init(SimGrainBuffer *buffer);
+void sim_grain_buffer_free(SimGrainBuffer *buffer);
+/// Append one grain (at rest); returns its index.
+int sim_grain_buffer_add(SimGrainBuffer *buffer, double x, double y, double radius, int species,
+                         unsigned flags, int motion);
+/// The buffer as a SimGrainSet (pointers into the buffer).
+SimGrainSet sim_grain_buffer_view(const SimGrainBuffer *buffer);
+
+/// A row of touching fixed grains of radius r from (x0, y) to (x1, y).
+void sim_build_fixed_row(SimGrainBuffer *buffer, double x0, double x1, double y, double radius,
+                         int species, int motion);
+/// A column of touching fixed grains of radius r from (x, y0) to (x, y1).
+void sim_build_fixed_column(SimGrainBuffer *buffer, double x, double y0, double y1, double radius,
+                            int species, int motion);
+
+/// Rain-like lattice (000 §6.1): rows and columns with mean gaps and random offsets.
+typedef struct SimRainDef {
+    double x0, x1, y0, y1; ///< region to fill, m
+    double radius_mean;    ///< r_med, m
+    double polydispersity; ///< uniform half-width as a fraction of r_med (0.08)
+    double pitch_radius;   ///< r used for the lattice pitch (000: r_max), m
+    double column_gap;     ///< mean gap between columns, m (000: 0.005 r_max)
+    double row_gap;        ///< mean gap between rows, m (000: 0.75 r_max)
+    double column_jitter;  ///< random offset, fraction of pitch (000: 0.05)
+    double row_jitter;     ///< random offset, fraction of pitch (000: 0.08)
+    int max_count;         ///< stop after this many grains (0 = fill)
+    int species;
+    double species_fraction[SIM_MAX_SPECIES]; ///< optional mixture (all zero = `species` only)
+    double species_radius[SIM_MAX_SPECIES]; ///< radius per species when mixing, m (0 = radius_mean)
+} SimRainDef;
+
+/// Fills the region; returns the number of grains added.
+int sim_build_rain(SimGrainBuffer *buffer, const SimRainDef *def, SimRng *rng);
+
+#endif /* SIM_H */

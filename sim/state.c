@@ -1,0 +1,170 @@
+/* SPDX-License-Identifier: MIT */
+/* state.c: checkpoints. A state file holds the grains (fixed ones included), the walls at rest,
+ * the time, the step and the sink counts, in native byte order (little-endian on x86-64).
+ * Written to PATH.tmp and renamed when complete. */
+#include "world.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char magic[16] = "SABLIER-STATE-1\n";
+
+static SimStatus io_fail(SimError *error, const char *path, const char *what)
+{
+    if (error) {
+        memset(error, 0, sizeof *error);
+        error->status = SIM_ERROR_IO;
+        snprintf(error->field, sizeof error->field, "state");
+        snprintf(error->message, sizeof error->message, "%.280s: %.60s%s%.50s", path, what,
+                 errno ? ": " : "", errno ? strerror(errno) : "");
+        error->step = error->grain = -1;
+    }
+    return SIM_ERROR_IO;
+}
+
+typedef struct StateHeader {
+    char magic[16];
+    int32_t count, mobile_count, wall_count, reserved;
+    double time;
+    int64_t step;
+    int64_t removed[SIM_MAX_SINKS];
+} StateHeader;
+
+SimStatus sim_world_save(SimWorld *w, const char *path, SimError *error)
+{
+    char tmp[4096];
+    if (snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp)
+        return io_fail(error, path, "path too long");
+    errno = 0;
+    FILE *f = fopen(tmp, "wb");
+    if (!f)
+        return io_fail(error, tmp, "cannot open for writing");
+    StateHeader h;
+    memset(&h, 0, sizeof h);
+    memcpy(h.magic, magic, sizeof magic);
+    h.count = w->count;
+    h.mobile_count = w->mobile_count;
+    h.wall_count = w->wall_count;
+    h.time = w->time;
+    h.step = w->step;
+    for (int s = 0; s < SIM_MAX_SINKS; ++s)
+        h.removed[s] = w->removed[s];
+    size_t n = (size_t)w->count;
+    int ok = fwrite(&h, sizeof h, 1, f) == 1;
+    const double *doubles[] = {w->x, w->y, w->vx, w->vy, w->angle, w->omega, w->radius};
+    for (size_t a = 0; ok && a < sizeof doubles / sizeof doubles[0]; ++a)
+        ok = fwrite(doubles[a], sizeof(double), n, f) == n;
+    /* Fixed grains with a motion are stored at their rest position. */
+    if (ok) {
+        for (size_t i = (size_t)w->mobile_count; i < n && ok; ++i) {
+            double rest[2] = {w->x_base[i], w->y_base[i]};
+            ok = fwrite(rest, sizeof rest, 1, f) == 1;
+        }
+    }
+    ok = ok && fwrite(w->species, sizeof(int), n, f) == n;
+    ok = ok && fwrite(w->motion, sizeof(int), n, f) == n;
+    ok = ok && fwrite(w->flags, sizeof(unsigned), n, f) == n;
+    ok = ok && fwrite(w->id, sizeof(uint32_t), n, f) == n;
+    if (w->wall_count > 0)
+        ok = ok && fwrite(w->walls_base, sizeof(SimWall), (size_t)w->wall_count, f) ==
+                       (size_t)w->wall_count;
+    if (fclose(f) != 0)
+        ok = 0;
+    if (!ok) {
+        remove(tmp);
+        return io_fail(error, tmp, "write failed");
+    }
+    if (rename(tmp, path) != 0) {
+        remove(tmp);
+        return io_fail(error, path, "cannot rename the temporary file");
+    }
+    return SIM_OK;
+}
+
+void sim_grain_set_free(SimGrainSet *g)
+{
+    free((void *)(uintptr_t)g->x);
+    free((void *)(uintptr_t)g->y);
+    free((void *)(uintptr_t)g->vx);
+    free((void *)(uintptr_t)g->vy);
+    free((void *)(uintptr_t)g->angle);
+    free((void *)(uintptr_t)g->omega);
+    free((void *)(uintptr_t)g->radius);
+    free((void *)(uintptr_t)g->species);
+    free((void *)(uintptr_t)g->motion);
+    free((void *)(uintptr_t)g->flags);
+    free((void *)(uintptr_t)g->id);
+    memset(g, 0, sizeof *g);
+}
+
+SimStatus sim_state_load(const char *path, SimGrainSet *grains, SimWall **walls, int *wall_count,
+                         double *time, SimError *error)
+{
+    memset(grains, 0, sizeof *grains);
+    *walls = NULL;
+    *wall_count = 0;
+    errno = 0;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return io_fail(error, path, "cannot open state file");
+    StateHeader h;
+    if (fread(&h, sizeof h, 1, f) != 1 || memcmp(h.magic, magic, sizeof magic) != 0 ||
+        h.count < 0 || h.mobile_count < 0 || h.mobile_count > h.count || h.wall_count < 0) {
+        fclose(f);
+        errno = 0;
+        return io_fail(error, path, "not a sablier state file (bad header)");
+    }
+    size_t n = (size_t)h.count, alloc = n ? n : 1;
+    double *d[7];
+    for (int a = 0; a < 7; ++a)
+        d[a] = malloc(alloc * sizeof(double));
+    int *species = malloc(alloc * sizeof(int)), *motion = malloc(alloc * sizeof(int));
+    unsigned *flags = malloc(alloc * sizeof(unsigned));
+    uint32_t *id = malloc(alloc * sizeof(uint32_t));
+    SimWall *wl = malloc((size_t)(h.wall_count ? h.wall_count : 1) * sizeof(SimWall));
+    int ok = species && motion && flags && id && wl;
+    for (int a = 0; a < 7; ++a)
+        ok = ok && d[a] && fread(d[a], sizeof(double), n, f) == n;
+    for (size_t i = (size_t)h.mobile_count; ok && i < n; ++i) {
+        double rest[2];
+        ok = fread(rest, sizeof rest, 1, f) == 1;
+        d[0][i] = rest[0];
+        d[1][i] = rest[1];
+    }
+    ok = ok && fread(species, sizeof(int), n, f) == n;
+    ok = ok && fread(motion, sizeof(int), n, f) == n;
+    ok = ok && fread(flags, sizeof(unsigned), n, f) == n;
+    ok = ok && fread(id, sizeof(uint32_t), n, f) == n;
+    if (h.wall_count > 0)
+        ok = ok && fread(wl, sizeof(SimWall), (size_t)h.wall_count, f) == (size_t)h.wall_count;
+    fclose(f);
+    if (!ok) {
+        for (int a = 0; a < 7; ++a)
+            free(d[a]);
+        free(species);
+        free(motion);
+        free(flags);
+        free(id);
+        free(wl);
+        errno = 0;
+        return io_fail(error, path, "truncated or unreadable state file");
+    }
+    *grains = (SimGrainSet){.count = h.count,
+                            .x = d[0],
+                            .y = d[1],
+                            .vx = d[2],
+                            .vy = d[3],
+                            .angle = d[4],
+                            .omega = d[5],
+                            .radius = d[6],
+                            .species = species,
+                            .flags = flags,
+                            .motion = motion,
+                            .id = id};
+    *walls = wl;
+    *wall_count = h.wall_count;
+    *time = h.time;
+    return SIM_OK;
+}

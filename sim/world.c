@@ -1,0 +1,972 @@
+/* SPDX-License-Identifier: MIT */
+/* world.c: definitions, validation, the step pipeline and the run guard.
+ *
+ * How to add an effect:
+ *   1. an effect bit and a params struct (or SimMaterial fields) in sim.h;
+ *   2. a stage function in its own file (or a bit of the contact key in contact.c when it changes
+ *      the per-contact arithmetic);
+ *   3. one line in build_pipeline() below;
+ *   4. the scene keys in app/scene.c, rejected when the effect is not declared;
+ *   5. a validation scene and a test.
+ */
+#include "world.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const struct {
+    unsigned bit;
+    const char *name;
+} effect_names[] = {
+    {SIM_EFFECT_FRICTION, "friction"},     {SIM_EFFECT_ROLLING, "rolling_resistance"},
+    {SIM_EFFECT_PERIODIC_X, "periodic_x"}, {SIM_EFFECT_VIBRATION, "vibration"},
+    {SIM_EFFECT_FLUID_DRAG, "fluid_drag"}, {SIM_EFFECT_REMOVAL, "removal"},
+};
+
+unsigned sim_effect_from_name(const char *name)
+{
+    for (size_t k = 0; k < sizeof effect_names / sizeof effect_names[0]; ++k)
+        if (strcmp(name, effect_names[k].name) == 0)
+            return effect_names[k].bit;
+    return 0;
+}
+
+const char *sim_effect_name(unsigned effect)
+{
+    for (size_t k = 0; k < sizeof effect_names / sizeof effect_names[0]; ++k)
+        if (effect == effect_names[k].bit)
+            return effect_names[k].name;
+    return NULL;
+}
+
+static const char *const integrator_names[SIM_INTEGRATOR_COUNT] = {
+    "velocity_verlet", "symplectic_euler", "stormer_verlet", "gear", "rk4"};
+
+int sim_integrator_from_name(const char *name)
+{
+    for (int k = 0; k < SIM_INTEGRATOR_COUNT; ++k)
+        if (strcmp(name, integrator_names[k]) == 0)
+            return k;
+    return -1;
+}
+
+const char *sim_integrator_name(SimIntegrator integrator)
+{
+    return (int)integrator >= 0 && integrator < SIM_INTEGRATOR_COUNT ? integrator_names[integrator]
+                                                                     : "unknown";
+}
+
+SimMaterial sim_material_default(void)
+{
+    return (SimMaterial){
+        .density = 1190.0,
+        .normal_stiffness = 7e5,
+        .damping_mode = SIM_DAMPING_GAMMA,
+        .normal_damping = 1.5e3,
+        .restitution = 0.5,
+        .critical_fraction = 0.95,
+        .friction = 0.5,
+        .tangential_damping = 5.0,
+        .tangential_stiffness = 5.25e5,
+        .rolling_friction = 0.0,
+        .rolling_stiffness = 0.0,
+    };
+}
+
+SimWorldDef sim_world_def_default(void)
+{
+    SimWorldDef def;
+    memset(&def, 0, sizeof def);
+    def.effects = 0;
+    def.contact =
+        (SimContactModel){SIM_NORMAL_LINEAR, SIM_TANGENTIAL_REGULARISED, SIM_ROLLING_OFF, 1};
+    def.mass_model = SIM_MASS_DISK;
+    def.species_count = 1;
+    for (int s = 0; s < SIM_MAX_SPECIES; ++s)
+        def.materials[s] = sim_material_default();
+    def.gravity_x = 0.0;
+    def.gravity_y = -9.806;
+    def.integrator = SIM_INTEGRATOR_VELOCITY_VERLET;
+    def.time_step = 0.0;
+    def.steps_per_contact = 50.0;
+    def.max_dt_fraction = 0.0;
+    def.skin = 0.0;
+    def.guard_max_overlap = 0.5;
+    def.guard_max_speed = 0.0;
+    def.guard_every = 100;
+    return def;
+}
+
+/* ------------------------------------------------------------------ errors */
+
+static SimStatus fail(SimError *error, SimStatus status, const char *field, const char *fmt, ...)
+{
+    if (!error)
+        return status;
+    error->status = status;
+    snprintf(error->field, sizeof error->field, "%s", field ? field : "");
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(error->message, sizeof error->message, fmt, ap);
+    va_end(ap);
+    error->step = -1;
+    error->grain = -1;
+    return status;
+}
+
+/* ------------------------------------------------------------------ masses and pairs */
+
+static void grain_mass(SimMassModel model, double density, double r, double *m, double *inertia)
+{
+    if (model == SIM_MASS_SPHERE) {
+        *m = density * 4.0 / 3.0 * M_PI * r * r * r;
+        *inertia = 0.4 * *m * r * r;
+    } else {
+        *m = density * M_PI * r * r;
+        *inertia = 0.5 * *m * r * r;
+    }
+}
+
+static void fill_pairs(PairParams *pairs, const SimWorldDef *def)
+{
+    for (int a = 0; a < SIM_MAX_SPECIES; ++a)
+        for (int b = 0; b < SIM_MAX_SPECIES; ++b) {
+            const SimMaterial *p = &def->materials[a], *q = &def->materials[b];
+            pairs[a * SIM_MAX_SPECIES + b] = (PairParams){
+                .k_n = 0.5 * (p->normal_stiffness + q->normal_stiffness),
+                .mu = 0.5 * (p->friction + q->friction),
+                .gamma_s = 0.5 * (p->tangential_damping + q->tangential_damping),
+                .k_t = 0.5 * (p->tangential_stiffness + q->tangential_stiffness),
+                .mu_r = 0.5 * (p->rolling_friction + q->rolling_friction),
+                .k_r = 0.5 * (p->rolling_stiffness + q->rolling_stiffness),
+            };
+        }
+}
+
+/* ------------------------------------------------------------------ timing */
+
+static double gamma_for(const SimMaterial *m, double k, double m_eff)
+{
+    switch (m->damping_mode) {
+    case SIM_DAMPING_RESTITUTION: {
+        double le = log(m->restitution);
+        return 2.0 * (-le / sqrt(M_PI * M_PI + le * le)) * sqrt(k * m_eff);
+    }
+    case SIM_DAMPING_CRITICAL:
+        return 2.0 * m->critical_fraction * sqrt(k * m_eff);
+    default:
+        return m->normal_damping;
+    }
+}
+
+/* One pair's contact time and stability limit. Linear: 000 eqs. 3.13-3.22 (overdamped pairs
+ * report pi / omega_n). Hertz: linearised at the overlap of a 1 m/s impact. */
+static void pair_timing(const SimWorldDef *def, int a, int b, double m_eff, double *t_c,
+                        double *limit)
+{
+    const SimMaterial *p = &def->materials[a], *q = &def->materials[b];
+    double k = 0.5 * (p->normal_stiffness + q->normal_stiffness);
+    double gamma = 0.5 * (gamma_for(p, k, m_eff) + gamma_for(q, k, m_eff));
+    double omega, zeta;
+    if (def->contact.normal == SIM_NORMAL_HERTZ) {
+        const double v = 1.0;
+        double xi_max = pow(1.25 * m_eff * v * v / k, 0.4);
+        double k_lin = 1.5 * k * sqrt(xi_max);
+        omega = sqrt(k_lin / m_eff);
+        zeta = gamma * sqrt(xi_max) / (2.0 * m_eff * omega);
+        *t_c = 2.868 * pow(m_eff * m_eff / (k * k * v), 0.2);
+    } else {
+        omega = sqrt(k / m_eff);
+        zeta = gamma / (2.0 * m_eff * omega);
+        *t_c = zeta < 1.0 ? M_PI / (omega * sqrt(1.0 - zeta * zeta)) : M_PI / omega;
+    }
+    *limit = sim_stability_limit(def->integrator, omega, zeta);
+}
+
+/* Worst pair over the species present: lightest mobile grain of each species against each other
+ * mobile species and against fixed grains and walls (infinite mass). */
+static SimTiming timing_of(const SimWorldDef *def)
+{
+    SimTiming t = {INFINITY, INFINITY, def->time_step, 0.0};
+    double light[SIM_MAX_SPECIES];
+    int present_fixed[SIM_MAX_SPECIES] = {0};
+    for (int s = 0; s < SIM_MAX_SPECIES; ++s)
+        light[s] = INFINITY;
+    const SimGrainSet *g = &def->grains;
+    for (int i = 0; i < g->count; ++i) {
+        int s = g->species ? g->species[i] : 0;
+        if (s < 0 || s >= SIM_MAX_SPECIES || !g->radius)
+            continue;
+        if (g->flags && (g->flags[i] & SIM_GRAIN_FIXED)) {
+            present_fixed[s] = 1;
+            continue;
+        }
+        double m, inertia;
+        grain_mass(def->mass_model, def->materials[s].density, g->radius[i], &m, &inertia);
+        if (m < light[s])
+            light[s] = m;
+    }
+    for (int w = 0; w < def->wall_count && def->walls; ++w)
+        if (def->walls[w].species >= 0 && def->walls[w].species < SIM_MAX_SPECIES)
+            present_fixed[def->walls[w].species] = 1;
+    for (int a = 0; a < SIM_MAX_SPECIES; ++a) {
+        if (!isfinite(light[a]))
+            continue;
+        for (int b = 0; b < SIM_MAX_SPECIES; ++b) {
+            double t_c, limit;
+            if (isfinite(light[b])) {
+                pair_timing(def, a, b, light[a] * light[b] / (light[a] + light[b]), &t_c, &limit);
+                t.contact_time_min = fmin(t.contact_time_min, t_c);
+                t.stability_limit = fmin(t.stability_limit, limit);
+            }
+            if (present_fixed[b]) {
+                pair_timing(def, a, b, light[a], &t_c, &limit);
+                t.contact_time_min = fmin(t.contact_time_min, t_c);
+                t.stability_limit = fmin(t.stability_limit, limit);
+            }
+        }
+    }
+    if (!(t.time_step > 0.0) && isfinite(t.contact_time_min))
+        t.time_step = fmin(t.contact_time_min / def->steps_per_contact, 0.5 * t.stability_limit);
+    t.steps_per_contact = t.contact_time_min / t.time_step;
+    return t;
+}
+
+SimTiming sim_world_def_timing(const SimWorldDef *def)
+{
+    return timing_of(def);
+}
+
+/* ------------------------------------------------------------------ validation */
+
+static double segment_distance(const SimWall *w, double px, double py)
+{
+    double ex = w->x1 - w->x0, ey = w->y1 - w->y0;
+    double len2 = ex * ex + ey * ey;
+    double t = len2 > 0.0 ? ((px - w->x0) * ex + (py - w->y0) * ey) / len2 : 0.0;
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+    return hypot(w->x0 + t * ex - px, w->y0 + t * ey - py);
+}
+
+#define CHECK(cond, field, ...)                                                                    \
+    do {                                                                                           \
+        if (!(cond))                                                                               \
+            return fail(error, SIM_ERROR_INVALID, field, __VA_ARGS__);                             \
+    } while (0)
+
+static SimStatus validate_materials(const SimWorldDef *def, SimError *error)
+{
+    char f[64];
+    CHECK(def->species_count >= 1 && def->species_count <= SIM_MAX_SPECIES, "species_count",
+          "species count %d outside 1..%d", def->species_count, SIM_MAX_SPECIES);
+    for (int s = 0; s < def->species_count; ++s) {
+        const SimMaterial *m = &def->materials[s];
+#define FIELD(name) (snprintf(f, sizeof f, "materials[%d].%s", s, name), f)
+        CHECK(m->density > 0.0 && isfinite(m->density), FIELD("density"),
+              "density must be positive (got %g)", m->density);
+        CHECK(m->normal_stiffness > 0.0 && isfinite(m->normal_stiffness), FIELD("normal_stiffness"),
+              "normal stiffness k_n must be positive (got %g)", m->normal_stiffness);
+        switch (m->damping_mode) {
+        case SIM_DAMPING_GAMMA:
+            CHECK(m->normal_damping >= 0.0 && isfinite(m->normal_damping), FIELD("normal_damping"),
+                  "normal damping gamma_n must be >= 0 (got %g)", m->normal_damping);
+            break;
+        case SIM_DAMPING_RESTITUTION:
+            CHECK(m->restitution > 0.0 && m->restitution <= 1.0, FIELD("restitution"),
+                  "restitution e_n must be in (0, 1] (got %g)", m->restitution);
+            CHECK(def->contact.normal == SIM_NORMAL_LINEAR, FIELD("restitution"),
+                  "restitution is defined for the linear normal law only; give gamma_n for hertz");
+            break;
+        case SIM_DAMPING_CRITICAL:
+            CHECK(m->critical_fraction >= 0.0 && isfinite(m->critical_fraction),
+                  FIELD("critical_fraction"), "critical damping fraction must be >= 0 (got %g)",
+                  m->critical_fraction);
+            break;
+        default:
+            return fail(error, SIM_ERROR_INVALID, FIELD("damping_mode"), "unknown damping mode");
+        }
+        CHECK(m->friction >= 0.0 && isfinite(m->friction), FIELD("friction"),
+              "friction coefficient mu must be >= 0 (got %g)", m->friction);
+        CHECK(m->tangential_damping >= 0.0, FIELD("tangential_damping"),
+              "tangential damping gamma_s must be >= 0 (got %g)", m->tangential_damping);
+        if ((def->effects & SIM_EFFECT_FRICTION) &&
+            def->contact.tangential == SIM_TANGENTIAL_SPRING)
+            CHECK(m->tangential_stiffness > 0.0, FIELD("tangential_stiffness"),
+                  "tangential stiffness k_t must be positive (got %g)", m->tangential_stiffness);
+        CHECK(m->rolling_friction >= 0.0, FIELD("rolling_friction"),
+              "rolling friction mu_r must be >= 0 (got %g)", m->rolling_friction);
+        CHECK(m->rolling_stiffness >= 0.0, FIELD("rolling_stiffness"),
+              "rolling stiffness k_r must be >= 0 (got %g)", m->rolling_stiffness);
+#undef FIELD
+    }
+    return SIM_OK;
+}
+
+static SimStatus validate_grains(const SimWorldDef *def, SimError *error)
+{
+    const SimGrainSet *g = &def->grains;
+    char f[64];
+    CHECK(g->count >= 0, "grains", "negative grain count");
+    CHECK(g->count == 0 || (g->x && g->y && g->radius), "grains", "grain arrays missing");
+    for (int i = 0; i < g->count; ++i) {
+        snprintf(f, sizeof f, "grains[%d]", i);
+        CHECK(isfinite(g->x[i]) && isfinite(g->y[i]), f, "grain %d has a non-finite position", i);
+        CHECK(g->radius[i] > 0.0 && isfinite(g->radius[i]), f,
+              "grain %d has radius %g; radii must be positive", i, g->radius[i]);
+        int s = g->species ? g->species[i] : 0;
+        CHECK(s >= 0 && s < def->species_count, f, "grain %d has species %d, not defined", i, s);
+        int mo = g->motion ? g->motion[i] : -1;
+        CHECK(mo < def->motion_count, f, "grain %d uses motion %d, not defined", i, mo);
+        if (mo >= 0)
+            CHECK(def->effects & SIM_EFFECT_VIBRATION, f,
+                  "grain %d has a prescribed motion but the vibration effect is not declared", i);
+    }
+    for (int w = 0; w < def->wall_count; ++w) {
+        const SimWall *wall = &def->walls[w];
+        snprintf(f, sizeof f, "walls[%d]", w);
+        CHECK(isfinite(wall->x0) && isfinite(wall->y0) && isfinite(wall->x1) && isfinite(wall->y1),
+              f, "wall %d has a non-finite end point", w);
+        CHECK(wall->species >= 0 && wall->species < def->species_count, f,
+              "wall %d has species %d, not defined", w, wall->species);
+        CHECK(wall->motion < def->motion_count, f, "wall %d uses motion %d, not defined", w,
+              wall->motion);
+        if (wall->motion >= 0)
+            CHECK(def->effects & SIM_EFFECT_VIBRATION, f,
+                  "wall %d has a prescribed motion but the vibration effect is not declared", w);
+        for (int i = 0; i < g->count; ++i) {
+            if (g->flags && (g->flags[i] & SIM_GRAIN_FIXED))
+                continue;
+            double d = segment_distance(wall, g->x[i], g->y[i]);
+            if (d < g->radius[i]) {
+                snprintf(f, sizeof f, "grains[%d]", i);
+                return fail(error, SIM_ERROR_INVALID, f,
+                            "grain %d at (%g, %g) overlaps wall %d at start (distance %g < "
+                            "radius %g)",
+                            i, g->x[i], g->y[i], w, d, g->radius[i]);
+            }
+        }
+    }
+    return SIM_OK;
+}
+
+SimStatus sim_world_def_validate(const SimWorldDef *def, SimError *error)
+{
+    SimStatus s;
+    if (error)
+        memset(error, 0, sizeof *error);
+    CHECK(!(def->effects & ~63u), "effects", "unknown effect bits 0x%x", def->effects);
+    CHECK((int)def->integrator >= 0 && def->integrator < SIM_INTEGRATOR_COUNT, "integrator",
+          "unknown integrator %d", (int)def->integrator);
+    CHECK(def->contact.normal == SIM_NORMAL_LINEAR || def->contact.normal == SIM_NORMAL_HERTZ,
+          "contact.normal", "unknown normal law");
+    CHECK((int)def->contact.tangential >= 0 && def->contact.tangential <= SIM_TANGENTIAL_SPRING,
+          "contact.tangential", "unknown tangential law");
+    CHECK((int)def->contact.rolling >= 0 && def->contact.rolling <= SIM_ROLLING_FIXED,
+          "contact.rolling", "unknown rolling law");
+    int history = ((def->effects & SIM_EFFECT_FRICTION) &&
+                   def->contact.tangential == SIM_TANGENTIAL_SPRING) ||
+                  ((def->effects & SIM_EFFECT_ROLLING) && def->contact.rolling != SIM_ROLLING_OFF);
+    CHECK(!(history && def->integrator == SIM_INTEGRATOR_RK4), "integrator",
+          "rk4 cannot integrate history-dependent contacts (tangential spring, rolling "
+          "resistance): choose velocity_verlet or gear");
+    CHECK(isfinite(def->gravity_x) && isfinite(def->gravity_y), "gravity", "gravity not finite");
+    CHECK(def->time_step >= 0.0 && isfinite(def->time_step), "time_step",
+          "time step must be positive (got %g)", def->time_step);
+    CHECK(def->time_step > 0.0 || def->steps_per_contact > 0.0, "steps_per_contact",
+          "steps per contact must be positive when no time step is given");
+    CHECK(def->max_dt_fraction >= 0.0, "max_dt_fraction", "max_dt_fraction must be >= 0");
+    CHECK(def->skin >= 0.0, "skin", "skin must be >= 0");
+    CHECK(def->guard_max_overlap > 0.0, "guard_max_overlap", "guard overlap bound must be > 0");
+    CHECK(def->guard_every >= 1, "guard_every", "guard_every must be >= 1");
+    CHECK(def->motion_count >= 0 && def->motion_count <= SIM_MAX_MOTIONS, "motions",
+          "too many motions (at most %d)", SIM_MAX_MOTIONS);
+    CHECK(def->sink_count >= 0 && def->sink_count <= SIM_MAX_SINKS, "sinks",
+          "too many sinks (at most %d)", SIM_MAX_SINKS);
+    CHECK(def->sink_count == 0 || (def->effects & SIM_EFFECT_REMOVAL), "sinks",
+          "sinks are defined but the removal effect is not declared");
+    CHECK(!(def->effects & SIM_EFFECT_FLUID_DRAG) || def->body_force.apply, "body_force",
+          "fluid_drag is declared but no body-force stage is attached");
+    for (int m = 0; m < def->motion_count; ++m) {
+        const SimMotion *mo = &def->motions[m];
+        CHECK(isfinite(mo->amplitude) && mo->frequency >= 0.0 && isfinite(mo->phase) &&
+                  isfinite(mo->direction_x) && isfinite(mo->direction_y),
+              "motions", "motion %d has invalid values", m);
+    }
+    if ((s = validate_materials(def, error)) != SIM_OK)
+        return s;
+    if ((s = validate_grains(def, error)) != SIM_OK)
+        return s;
+    if (def->effects & SIM_EFFECT_PERIODIC_X) {
+        double r_max = 0.0;
+        for (int i = 0; i < def->grains.count; ++i)
+            r_max = fmax(r_max, def->grains.radius[i]);
+        double span = def->domain_x1 - def->domain_x0;
+        CHECK(span > 0.0, "domain", "periodic domain needs x1 > x0");
+        CHECK(span >= 3.0 * (2.0 * r_max + fmax(def->skin, 0.4 * r_max)), "domain",
+              "periodic domain %g wide is narrower than three largest grains plus skin", span);
+    }
+    SimTiming t = timing_of(def);
+    if (def->grains.count > 0 && isfinite(t.contact_time_min)) {
+        CHECK(t.time_step <= t.stability_limit, "time_step",
+              "time step %g s exceeds the stability limit %g s of %s for the stiffest, lightest "
+              "pair (contact time %g s, %.3g steps per contact)",
+              t.time_step, t.stability_limit, sim_integrator_name(def->integrator),
+              t.contact_time_min, t.steps_per_contact);
+        CHECK(def->max_dt_fraction <= 0.0 ||
+                  t.time_step <= def->max_dt_fraction * t.contact_time_min,
+              "time_step",
+              "time step %g s is above %g of the contact time %g s (%.3g steps per contact; the "
+              "scene asks for at least %.3g)",
+              t.time_step, def->max_dt_fraction, t.contact_time_min, t.steps_per_contact,
+              1.0 / def->max_dt_fraction);
+    }
+    return SIM_OK;
+}
+
+/* ------------------------------------------------------------------ grains in and out */
+
+/* Loads grains into the world arrays: mobile first, then fixed, each in input order. */
+static int load_grains(SimWorld *w, const SimGrainSet *g)
+{
+    if (sim_grains_reserve(w, g->count + 1) != 0)
+        return -1;
+    int mobile = 0;
+    for (int i = 0; i < g->count; ++i)
+        if (!(g->flags && (g->flags[i] & SIM_GRAIN_FIXED)))
+            ++mobile;
+    int next_mobile = 0, next_fixed = mobile;
+    for (int i = 0; i < g->count; ++i) {
+        int fixed = g->flags && (g->flags[i] & SIM_GRAIN_FIXED);
+        int k = fixed ? next_fixed++ : next_mobile++;
+        w->x[k] = g->x[i];
+        w->y[k] = g->y[i];
+        w->radius[k] = g->radius[i];
+        w->vx[k] = g->vx && !fixed ? g->vx[i] : 0.0;
+        w->vy[k] = g->vy && !fixed ? g->vy[i] : 0.0;
+        w->angle[k] = g->angle ? g->angle[i] : 0.0;
+        w->omega[k] = g->omega && !fixed ? g->omega[i] : 0.0;
+        w->species[k] = g->species ? g->species[i] : 0;
+        w->flags[k] = g->flags ? (g->flags[i] & SIM_GRAIN_FIXED) : 0;
+        w->motion[k] = g->motion ? g->motion[i] : -1;
+        w->id[k] = g->id ? g->id[i] : (uint32_t)i;
+        w->x_base[k] = w->x[k];
+        w->y_base[k] = w->y[k];
+        double m, inertia;
+        grain_mass(w->def.mass_model, w->def.materials[w->species[k]].density, w->radius[k], &m,
+                   &inertia);
+        w->mass[k] = m;
+        w->inertia[k] = inertia;
+        w->inv_mass[k] = fixed ? 0.0 : 1.0 / m;
+        w->inv_inertia[k] = fixed || !w->rotation ? 0.0 : 1.0 / inertia;
+        w->fx[k] = w->fy[k] = w->torque[k] = 0.0;
+    }
+    w->count = g->count;
+    w->mobile_count = mobile;
+    return 0;
+}
+
+/* ------------------------------------------------------------------ prescribed motion */
+
+static double motion_offset(const SimMotion *m, double t, double *velocity)
+{
+    double phase = 2.0 * M_PI * m->frequency * t + m->phase;
+    *velocity = m->amplitude * 2.0 * M_PI * m->frequency * cos(phase);
+    return m->amplitude * sin(phase);
+}
+
+static void move_prescribed(SimWorld *w, double t)
+{
+    double offset[SIM_MAX_MOTIONS], speed[SIM_MAX_MOTIONS];
+    for (int m = 0; m < w->def.motion_count; ++m)
+        offset[m] = motion_offset(&w->def.motions[m], t, &speed[m]);
+    double disp = w->max_disp2;
+    for (int i = w->mobile_count; i < w->count; ++i) {
+        int m = w->motion[i];
+        if (m < 0)
+            continue;
+        const SimMotion *mo = &w->def.motions[m];
+        w->x[i] = w->x_base[i] + offset[m] * mo->direction_x;
+        w->y[i] = w->y_base[i] + offset[m] * mo->direction_y;
+        w->vx[i] = speed[m] * mo->direction_x;
+        w->vy[i] = speed[m] * mo->direction_y;
+        double dx = w->x[i] - w->x_ref[i], dy = w->y[i] - w->y_ref[i];
+        double d2 = dx * dx + dy * dy;
+        disp = d2 > disp ? d2 : disp;
+    }
+    w->max_disp2 = disp;
+    for (int k = 0; k < w->wall_count; ++k) {
+        int m = w->walls_base[k].motion;
+        if (m < 0)
+            continue;
+        const SimMotion *mo = &w->def.motions[m];
+        double dx = offset[m] * mo->direction_x, dy = offset[m] * mo->direction_y;
+        w->walls[k].x0 = w->walls_base[k].x0 + dx;
+        w->walls[k].y0 = w->walls_base[k].y0 + dy;
+        w->walls[k].x1 = w->walls_base[k].x1 + dx;
+        w->walls[k].y1 = w->walls_base[k].y1 + dy;
+        w->wall_vx[k] = speed[m] * mo->direction_x;
+        w->wall_vy[k] = speed[m] * mo->direction_y;
+        double shift = hypot(dx - w->wall_ref_dx[k], dy - w->wall_ref_dy[k]);
+        w->wall_shift = shift > w->wall_shift ? shift : w->wall_shift;
+    }
+}
+
+static void rebuild(SimWorld *w)
+{
+    sim_neighbour_build(w);
+    for (int k = 0; k < w->wall_count; ++k) {
+        w->wall_ref_dx[k] = w->walls[k].x0 - w->walls_base[k].x0;
+        w->wall_ref_dy[k] = w->walls[k].y0 - w->walls_base[k].y0;
+    }
+}
+
+void sim_world_forces_at(SimWorld *w, double t)
+{
+    if (w->effects & SIM_EFFECT_VIBRATION)
+        move_prescribed(w, t);
+    /* Rebuild when a grain may have moved half the skin: 004 §1.9, style notes 8.5. */
+    if (4.0 * w->max_disp2 > w->skin * w->skin || 2.0 * w->wall_shift > w->skin || w->need_rebuild)
+        rebuild(w);
+    memset(w->fx, 0, (size_t)w->count * sizeof(double));
+    memset(w->fy, 0, (size_t)w->count * sizeof(double));
+    if (w->rotation)
+        memset(w->torque, 0, (size_t)w->count * sizeof(double));
+    w->contact_pass(w);
+    if (w->wall_count > 0)
+        w->wall_pass(w);
+    if (w->effects & SIM_EFFECT_FLUID_DRAG) {
+        SimBodyForceView view = {w->mobile_count, t,         w->x,    w->y,  w->vx,
+                                 w->vy,           w->radius, w->mass, w->fx, w->fy};
+        w->body_force.apply(w->body_force.context, &view);
+    }
+}
+
+/* ------------------------------------------------------------------ create / destroy */
+
+static double default_skin(const SimGrainSet *g)
+{
+    double sum = 0.0;
+    int n = 0;
+    for (int i = 0; i < g->count; ++i)
+        if (!(g->flags && (g->flags[i] & SIM_GRAIN_FIXED))) {
+            sum += 2.0 * g->radius[i];
+            ++n;
+        }
+    if (n == 0)
+        for (int i = 0; i < g->count; ++i, ++n)
+            sum += 2.0 * g->radius[i];
+    return n ? 0.2 * sum / n : 0.1;
+}
+
+static void guard_snapshot(SimWorld *w);
+
+static void setup_guard(SimWorld *w)
+{
+    double vmax = w->def.guard_max_speed;
+    if (!(vmax > 0.0)) {
+        /* Automatic bound: far above any speed gravity, the initial state or prescribed motion
+         * can produce in the domain. */
+        double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY, v0 = 0.0;
+        for (int i = 0; i < w->count; ++i) {
+            x0 = fmin(x0, w->x[i]);
+            x1 = fmax(x1, w->x[i]);
+            y0 = fmin(y0, w->y[i]);
+            y1 = fmax(y1, w->y[i]);
+            v0 = fmax(v0, hypot(w->vx[i], w->vy[i]));
+        }
+        double size = w->count ? hypot(x1 - x0, y1 - y0) + 2.0 * w->max_radius : 1.0;
+        double g = hypot(w->def.gravity_x, w->def.gravity_y);
+        double vm = 0.0;
+        for (int m = 0; m < w->def.motion_count; ++m)
+            vm = fmax(vm,
+                      fabs(w->def.motions[m].amplitude) * 2.0 * M_PI * w->def.motions[m].frequency);
+        vmax = 100.0 * fmax(fmax(sqrt(2.0 * g * size), v0), vm);
+        if (!(vmax > 0.0))
+            vmax = INFINITY;
+    }
+    w->guard_speed2 = vmax * vmax;
+    w->guard_next = w->step + w->def.guard_every;
+}
+
+SimWorld *sim_world_create(const SimWorldDef *def, SimError *error)
+{
+    if (sim_world_def_validate(def, error) != SIM_OK)
+        return NULL;
+    SimWorld *w = calloc(1, sizeof *w);
+    if (!w) {
+        fail(error, SIM_ERROR_INVALID, "", "out of memory");
+        return NULL;
+    }
+    w->def = *def;
+    w->def.grains = (SimGrainSet){0};
+    w->effects = def->effects;
+    fill_pairs(w->pairs, def);
+    unsigned key = sim_contact_key(w);
+    w->rotation = sim_contact_key_rotation(key);
+    w->has_history = ((key & 3u) == SIM_TANGENTIAL_SPRING) || (key & 4u);
+    w->contact_pass = sim_contact_pass_select(key);
+    w->wall_pass = sim_wall_pass_select(key);
+    w->integrate = sim_integrator_select(def->integrator, w->rotation);
+    w->body_force = def->body_force;
+    w->time = def->start_time;
+    w->timing = timing_of(def);
+    w->dt = w->timing.time_step;
+
+    if (load_grains(w, &def->grains) != 0) {
+        sim_world_destroy(w);
+        fail(error, SIM_ERROR_INVALID, "", "out of memory");
+        return NULL;
+    }
+    w->wall_count = def->wall_count;
+    size_t nw = (size_t)(def->wall_count > 0 ? def->wall_count : 1);
+    w->walls_base = calloc(nw, sizeof *w->walls_base);
+    w->walls = calloc(nw, sizeof *w->walls);
+    w->wall_vx = calloc(nw, sizeof(double));
+    w->wall_vy = calloc(nw, sizeof(double));
+    w->wall_ref_dx = calloc(nw, sizeof(double));
+    w->wall_ref_dy = calloc(nw, sizeof(double));
+    if (!w->walls_base || !w->walls || !w->wall_vx || !w->wall_vy || !w->wall_ref_dx ||
+        !w->wall_ref_dy) {
+        sim_world_destroy(w);
+        fail(error, SIM_ERROR_INVALID, "", "out of memory");
+        return NULL;
+    }
+    if (def->wall_count > 0) {
+        memcpy(w->walls_base, def->walls, nw * sizeof *w->walls);
+        memcpy(w->walls, def->walls, nw * sizeof *w->walls);
+    }
+    for (int i = 0; i < w->count; ++i)
+        w->max_radius = fmax(w->max_radius, w->radius[i]);
+    w->skin = def->skin > 0.0 ? def->skin : default_skin(&def->grains);
+    w->cell_size = 2.0 * w->max_radius + w->skin;
+    if (!(w->cell_size > 0.0))
+        w->cell_size = 1.0;
+
+    if (w->effects & SIM_EFFECT_VIBRATION)
+        move_prescribed(w, w->time);
+    rebuild(w);
+    sim_world_forces_at(w, w->time);
+    sim_integrator_start(w);
+    setup_guard(w);
+    guard_snapshot(w);
+    return w;
+}
+
+void sim_world_destroy(SimWorld *w)
+{
+    if (!w)
+        return;
+    sim_grains_free(w);
+    sim_neighbour_free(w);
+    free(w->walls_base);
+    free(w->walls);
+    free(w->wall_vx);
+    free(w->wall_vy);
+    free(w->wall_ref_dx);
+    free(w->wall_ref_dy);
+    free(w->good.data);
+    free(w->good.ints);
+    free(w->contacts);
+    free(w);
+}
+
+/* ------------------------------------------------------------------ removal */
+
+static int in_sink(const SimSink *s, double x, double y)
+{
+    switch (s->shape) {
+    case SIM_SINK_BELOW:
+        return y < s->level;
+    case SIM_SINK_ABOVE:
+        return y > s->level;
+    case SIM_SINK_LEFT:
+        return x < s->level;
+    case SIM_SINK_RIGHT:
+        return x > s->level;
+    case SIM_SINK_RECT:
+        return x >= s->x0 && x <= s->x1 && y >= s->y0 && y <= s->y1;
+    }
+    return 0;
+}
+
+/* Drops flagged grains (keeping order) after contact history was collected; called from the
+ * neighbour build. */
+void sim_world_compact(SimWorld *w)
+{
+    if (!w->pending_removal)
+        return;
+    int *order = malloc((size_t)(w->count > 0 ? w->count : 1) * sizeof *order);
+    if (!order)
+        abort();
+    int k = 0, mobile = 0;
+    for (int i = 0; i < w->count; ++i)
+        if (!(w->flags[i] & SIM_GRAIN_REMOVED)) {
+            order[k++] = i;
+            if (i < w->mobile_count)
+                ++mobile;
+        }
+    sim_grains_permute(w, order, k);
+    free(order);
+    w->count = k;
+    w->mobile_count = mobile;
+    w->pending_removal = 0;
+}
+
+/* Flags grains for removal, then rebuilds (history is collected before compaction) and
+ * recomputes the forces without them. */
+static void apply_removal(SimWorld *w)
+{
+    w->pending_removal = 1;
+    rebuild(w);
+    sim_world_forces_at(w, w->time);
+}
+
+static void removal_stage(SimWorld *w)
+{
+    int any = 0;
+    for (int i = 0; i < w->mobile_count; ++i)
+        for (int s = 0; s < w->def.sink_count; ++s)
+            if (in_sink(&w->def.sinks[s], w->x[i], w->y[i])) {
+                w->flags[i] |= SIM_GRAIN_REMOVED;
+                ++w->removed[s];
+                any = 1;
+                break;
+            }
+    if (any)
+        apply_removal(w);
+}
+
+int sim_world_remove_rect(SimWorld *w, double x0, double y0, double x1, double y1)
+{
+    int n = 0;
+    for (int i = 0; i < w->mobile_count; ++i)
+        if (w->x[i] >= x0 && w->x[i] <= x1 && w->y[i] >= y0 && w->y[i] <= y1) {
+            w->flags[i] |= SIM_GRAIN_REMOVED;
+            ++n;
+        }
+    if (n)
+        apply_removal(w);
+    return n;
+}
+
+int sim_world_remove_ids(SimWorld *w, const uint32_t *ids, int count)
+{
+    int n = 0;
+    for (int i = 0; i < w->count; ++i)
+        for (int k = 0; k < count; ++k)
+            if (w->id[i] == ids[k] && !(w->flags[i] & SIM_GRAIN_REMOVED)) {
+                w->flags[i] |= SIM_GRAIN_REMOVED;
+                ++n;
+                break;
+            }
+    if (n)
+        apply_removal(w);
+    return n;
+}
+
+void sim_world_freeze(SimWorld *w)
+{
+    for (int i = 0; i < w->mobile_count; ++i)
+        w->vx[i] = w->vy[i] = w->omega[i] = 0.0;
+    sim_world_forces_at(w, w->time);
+    sim_integrator_start(w);
+}
+
+/* ------------------------------------------------------------------ guard */
+
+static void guard_snapshot(SimWorld *w)
+{
+    size_t n = (size_t)(w->count > 0 ? w->count : 1);
+    double *d = realloc(w->good.data, 7 * n * sizeof *d);
+    int *q = realloc(w->good.ints, 4 * n * sizeof *q);
+    if (!d || !q) {
+        w->good.data = d ? d : w->good.data;
+        w->good.ints = q ? q : w->good.ints;
+        w->good.valid = 0;
+        return;
+    }
+    w->good.data = d;
+    w->good.ints = q;
+    const double *src[7] = {w->x, w->y, w->vx, w->vy, w->angle, w->omega, w->radius};
+    for (int a = 0; a < 7; ++a)
+        memcpy(d + (size_t)a * n, src[a], (size_t)w->count * sizeof *d);
+    for (int i = 0; i < w->count; ++i) {
+        q[i] = w->species[i];
+        q[n + (size_t)i] = w->motion[i];
+        q[2 * n + (size_t)i] = (int)w->flags[i];
+        q[3 * n + (size_t)i] = (int)w->id[i];
+    }
+    w->good.count = w->count;
+    w->good.mobile_count = w->mobile_count;
+    w->good.time = w->time;
+    w->good.step = w->step;
+    w->good.valid = 1;
+}
+
+/* Puts the world back at the last good guard check (contact history restarts from zero). */
+static void guard_restore(SimWorld *w)
+{
+    if (!w->good.valid)
+        return;
+    size_t n = (size_t)(w->good.count > 0 ? w->good.count : 1);
+    const double *d = w->good.data;
+    const int *q = w->good.ints;
+    unsigned *flags = malloc(n * sizeof *flags);
+    uint32_t *ids = malloc(n * sizeof *ids);
+    if (!flags || !ids)
+        abort();
+    for (size_t i = 0; i < (size_t)w->good.count; ++i) {
+        flags[i] = (unsigned)q[2 * n + i];
+        ids[i] = (uint32_t)q[3 * n + i];
+    }
+    SimGrainSet g = {.count = w->good.count,
+                     .x = d,
+                     .y = d + n,
+                     .vx = d + 2 * n,
+                     .vy = d + 3 * n,
+                     .angle = d + 4 * n,
+                     .omega = d + 5 * n,
+                     .radius = d + 6 * n,
+                     .species = q,
+                     .motion = q + n,
+                     .flags = flags,
+                     .id = ids};
+    /* load_grains writes the world's arrays from the snapshot (separate storage). */
+    load_grains(w, &g);
+    free(flags);
+    free(ids);
+    w->time = w->good.time;
+    w->step = w->good.step;
+    w->need_rebuild = 1;
+    w->drop_history = 1; /* the old list refers to other indices */
+    w->max_disp2 = 0.0;
+    sim_world_forces_at(w, w->time);
+    sim_integrator_start(w);
+}
+
+typedef struct OverlapScan {
+    double worst;
+    int i, j;
+    const double *radius;
+} OverlapScan;
+
+static void overlap_visit(void *context, const SimContact *c, double energy)
+{
+    OverlapScan *scan = context;
+    (void)energy;
+    double d = 2.0 * scan->radius[c->i];
+    if (c->j >= 0)
+        d = fmin(d, 2.0 * scan->radius[c->j]);
+    double ratio = c->overlap / d;
+    if (ratio > scan->worst) {
+        scan->worst = ratio;
+        scan->i = c->i;
+        scan->j = c->j;
+    }
+}
+
+static SimStatus guard_check(SimWorld *w, SimError *error)
+{
+    const SimTiming *t = &w->timing;
+    char cause[200];
+    snprintf(cause, sizeof cause,
+             "likely cause: time step %g s is %.3g of the contact time %g s of the stiffest, "
+             "lightest pair (%.3g steps per contact; stability limit %g s)",
+             w->dt, w->dt / t->contact_time_min, t->contact_time_min, t->steps_per_contact,
+             t->stability_limit);
+    for (int i = 0; i < w->mobile_count; ++i) {
+        double v2 = w->vx[i] * w->vx[i] + w->vy[i] * w->vy[i];
+        if (!isfinite(w->x[i]) || !isfinite(w->y[i]) || !isfinite(v2) || !isfinite(w->omega[i])) {
+            fail(error, SIM_ERROR_UNSTABLE, "grains",
+                 "step %ld: grain %u has a non-finite state "
+                 "(NaN or infinity); %s",
+                 w->step, w->id[i], cause);
+            error->step = w->step;
+            error->grain = w->id[i];
+            return SIM_ERROR_UNSTABLE;
+        }
+        if (v2 > w->guard_speed2) {
+            fail(error, SIM_ERROR_UNSTABLE, "grains",
+                 "step %ld: grain %u at (%g, %g) moves at %g m/s, above the blow-up bound %g "
+                 "m/s (energy blow-up); %s",
+                 w->step, w->id[i], w->x[i], w->y[i], sqrt(v2), sqrt(w->guard_speed2), cause);
+            error->step = w->step;
+            error->grain = w->id[i];
+            return SIM_ERROR_UNSTABLE;
+        }
+    }
+    OverlapScan scan = {0.0, -1, -1, w->radius};
+    sim_contacts_visit(w, overlap_visit, &scan);
+    if (scan.worst > w->def.guard_max_overlap) {
+        fail(error, SIM_ERROR_UNSTABLE, "grains",
+             "step %ld: grain %u overlaps %s%d by %.3g of the smaller diameter (bound %g); %s",
+             w->step, w->id[scan.i], scan.j >= 0 ? "grain " : "wall ",
+             scan.j >= 0 ? (int)w->id[scan.j] : -1 - scan.j, scan.worst, w->def.guard_max_overlap,
+             cause);
+        error->step = w->step;
+        error->grain = w->id[scan.i];
+        return SIM_ERROR_UNSTABLE;
+    }
+    return SIM_OK;
+}
+
+/* ------------------------------------------------------------------ stepping */
+
+SimStatus sim_world_step(SimWorld *w, long steps, SimError *error)
+{
+    for (long s = 0; s < steps; ++s) {
+        w->integrate(w);
+        ++w->step;
+        w->time = w->def.start_time + (double)w->step * w->dt;
+        if (w->effects & SIM_EFFECT_REMOVAL)
+            removal_stage(w);
+        if (w->step >= w->guard_next) {
+            w->guard_next = w->step + w->def.guard_every;
+            SimError local;
+            if (guard_check(w, error ? error : &local) != SIM_OK) {
+                guard_restore(w);
+                return SIM_ERROR_UNSTABLE;
+            }
+            guard_snapshot(w);
+        }
+    }
+    return SIM_OK;
+}
+
+double sim_world_time(const SimWorld *w)
+{
+    return w->time;
+}
+
+long sim_world_step_count(const SimWorld *w)
+{
+    return w->step;
+}
+
+double sim_world_time_step(const SimWorld *w)
+{
+    return w->dt;
+}
+
+unsigned sim_world_effects(const SimWorld *w)
+{
+    return w->effects;
+}
+
+SimTiming sim_world_timing(const SimWorld *w)
+{
+    return w->timing;
+}
+
+int sim_world_grain_count(const SimWorld *w)
+{
+    return w->count;
+}
+
+int sim_world_mobile_count(const SimWorld *w)
+{
+    return w->mobile_count;
+}

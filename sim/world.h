@@ -1,0 +1,173 @@
+/* SPDX-License-Identifier: MIT */
+/* world.h: sim's private world layout, shared by the sim sources (never installed). */
+#ifndef SIM_WORLD_H
+#define SIM_WORLD_H
+
+#include "sim.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Per-pair constants (species pair p = s_i * SIM_MAX_SPECIES + s_j), mean of the two species. */
+typedef struct PairParams {
+    double k_n;     /* N/m */
+    double mu;      /* friction coefficient */
+    double gamma_s; /* kg/s */
+    double k_t;     /* N/m */
+    double mu_r;    /* m (fixed rolling law) */
+    double k_r;     /* N m/rad (fixed rolling law) */
+} PairParams;
+
+/* One stage of the step pipeline, chosen once at create from the declared effects. */
+typedef void StageFn(SimWorld *world);
+
+/* Half neighbour list in CSR form over mobile grains i: entries k in [start[i], start[i+1]) hold
+ * partners j > i (mobile or fixed). Per-entry constants are computed at the build. */
+typedef struct NeighbourList {
+    int capacity;
+    int *start; /* mobile_count + 1 */
+    int *j;
+    double *gamma;  /* gamma_n of the pair, kg/s */
+    uint8_t *pair;  /* species pair index */
+    double *shift;  /* periodic x shift added to x_j - x_i, m (periodic only) */
+    double *hist_t; /* tangential spring displacement xi_t, m (spring law only) */
+    double *hist_r; /* rolling torque M, N m (rolling only) */
+} NeighbourList;
+
+/* Grain-wall candidate list: entries (grain, wall). */
+typedef struct WallList {
+    int count, capacity;
+    int *grain;
+    int *wall;
+    double *gamma;
+    uint8_t *pair;
+    double *hist_t;
+    double *hist_r;
+} WallList;
+
+/* The per-grain arrays, permuted, compacted and grown together (X-macros). */
+#define SIM_GRAIN_DOUBLE_ARRAYS(X)                                                                 \
+    X(x)                                                                                           \
+    X(y) X(vx) X(vy) X(angle) X(omega) X(fx) X(fy) X(torque) X(radius) X(inv_mass) X(inv_inertia)  \
+        X(mass) X(inertia) X(x_ref) X(y_ref) X(x_base) X(y_base) X(force_mag) X(aux0) X(aux1)      \
+            X(aux2) X(aux3) X(aux4) X(aux5) X(aux6) X(aux7) X(aux8) X(aux9) X(aux10) X(aux11)
+#define SIM_GRAIN_INT_ARRAYS(X) X(species) X(motion)
+
+struct SimWorld {
+    SimWorldDef def; /* copy; def.grains and def.walls point into the world's own storage */
+    unsigned effects;
+    int rotation;     /* 1 when a declared effect makes torques */
+    int has_history;  /* tangential spring or rolling */
+    int count;        /* all grains */
+    int mobile_count; /* grains [0, mobile_count) integrate; the rest are fixed */
+    int capacity;
+
+    /* grain arrays (structure of arrays) */
+    double *x, *y, *vx, *vy, *angle, *omega;
+    double *fx, *fy, *torque;
+    double *radius, *inv_mass, *inv_inertia, *mass, *inertia;
+    double *x_ref, *y_ref;             /* positions at the last neighbour build */
+    double *x_base, *y_base;           /* rest positions of fixed grains with motion */
+    double *aux0, *aux1, *aux2, *aux3; /* integrator state (Gear, RK4, Stormer) */
+    double *aux4, *aux5, *aux6, *aux7, *aux8, *aux9, *aux10, *aux11;
+    int *species, *motion;
+    unsigned *flags;
+    uint32_t *id;
+    double *force_mag; /* frame: per-grain contact-force magnitude sum */
+
+    /* walls */
+    int wall_count;
+    SimWall *walls_base; /* as defined */
+    SimWall *walls;      /* current (moving) */
+    double *wall_vx, *wall_vy;
+    double *wall_ref_dx, *wall_ref_dy; /* motion offsets at the last build, m */
+    double wall_shift;                 /* largest wall displacement since the last build, m */
+    int pending_removal; /* grains flagged SIM_GRAIN_REMOVED wait for the next build */
+    int drop_history;    /* the list refers to a state that was replaced: carry nothing over */
+
+    PairParams pairs[SIM_MAX_SPECIES * SIM_MAX_SPECIES];
+    double log_e[SIM_MAX_SPECIES]; /* per-species damping factor, see pair_gamma */
+
+    double dt, time;
+    long step;
+    double skin, cell_size; /* cell_size: smallest cell side, 2 r_max + skin, m */
+    double cell_w, cell_h;  /* cell sides of the last build, m */
+    double max_radius;
+    double max_disp2; /* largest squared displacement since last build, m^2 */
+    int need_rebuild;
+    long rebuilds;
+
+    NeighbourList nl;
+    WallList wl;
+
+    /* cell grid of the last build */
+    int ncx, ncy, cell_capacity;
+    double grid_x0, grid_y0;
+    int *cell_start, *cell_items, *cell_of;
+
+    /* pipeline */
+    StageFn *contact_pass;
+    StageFn *wall_pass;
+    StageFn *integrate;
+    int stage_count;
+
+    /* sinks */
+    long removed[SIM_MAX_SINKS];
+
+    /* guard */
+    double guard_speed2;
+    long guard_next;
+
+    struct {
+        int valid, count, mobile_count;
+        double time;
+        long step;
+        double *data; /* x, y, vx, vy, angle, omega, radius per grain */
+        int *ints;    /* species, motion, flags, id per grain */
+    } good;
+
+    /* frame scratch */
+    SimContact *contacts;
+    int contact_count, contact_capacity;
+    double time_scale;
+
+    SimTiming timing;
+    SimBodyForce body_force;
+};
+
+/* Internal flag of grains waiting to be compacted away at the next build. */
+#define SIM_GRAIN_REMOVED (1u << 31)
+
+/* world.c */
+/* Moves prescribed grains and walls to `time`, rebuilds the lists when the skin is used up, and
+ * computes all forces: contacts, walls, body forces (no gravity: the integrators add it). */
+void sim_world_forces_at(SimWorld *world, double time);
+/* Drops grains flagged SIM_GRAIN_REMOVED (called by the neighbour build). */
+void sim_world_compact(SimWorld *world);
+
+/* neighbour.c */
+void sim_neighbour_build(SimWorld *world);
+void sim_neighbour_free(SimWorld *world);
+double sim_pair_gamma(const SimWorld *world, int species_i, int species_j, double inv_mass_i,
+                      double inv_mass_j);
+
+/* contact.c */
+StageFn *sim_contact_pass_select(unsigned key);
+StageFn *sim_wall_pass_select(unsigned key);
+unsigned sim_contact_key(const SimWorld *world);
+int sim_contact_key_rotation(unsigned key);
+/* Evaluates every contact without applying it (frame, energy, guard). Calls visit for each. */
+typedef void ContactVisit(void *context, const SimContact *contact, double elastic_energy);
+void sim_contacts_visit(SimWorld *world, ContactVisit *visit, void *context);
+
+/* integrate.c */
+StageFn *sim_integrator_select(SimIntegrator integrator, int rotation);
+void sim_integrator_start(SimWorld *world);
+double sim_stability_limit(SimIntegrator integrator, double omega, double zeta);
+
+/* grains.c */
+int sim_grains_reserve(SimWorld *world, int capacity);
+void sim_grains_permute(SimWorld *world, const int *order, int count);
+void sim_grains_free(SimWorld *world);
+
+#endif

@@ -1,0 +1,70 @@
+/* SPDX-License-Identifier: MIT */
+/* test.h: sablier's tiny test harness. Each test file defines `static int name(void)` functions
+ * returning 0 on success and lists them in TEST_MAIN; `prog NAME` runs one, `prog` runs all. */
+#ifndef SABLIER_TEST_H
+#define SABLIER_TEST_H
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#define TEST_ASSERT(cond)                                                                          \
+    do {                                                                                           \
+        if (!(cond)) {                                                                             \
+            fprintf(stderr, "%s:%d: assertion failed: %s\n", __FILE__, __LINE__, #cond);           \
+            return 1;                                                                              \
+        }                                                                                          \
+    } while (0)
+
+/* |actual - expected| <= tol, printing all three on failure. */
+#define TEST_NEAR(actual, expected, tol)                                                           \
+    do {                                                                                           \
+        double test_a_ = (actual), test_e_ = (expected), test_t_ = (tol);                          \
+        if (!(fabs(test_a_ - test_e_) <= test_t_)) {                                               \
+            fprintf(stderr, "%s:%d: %s = %.17g, expected %.17g within %.3g (off by %.3g)\n",       \
+                    __FILE__, __LINE__, #actual, test_a_, test_e_, test_t_,                        \
+                    fabs(test_a_ - test_e_));                                                      \
+            return 1;                                                                              \
+        }                                                                                          \
+    } while (0)
+
+/* Relative closeness: |a - e| <= rel * |e|. */
+#define TEST_REL(actual, expected, rel)                                                            \
+    TEST_NEAR(actual, expected, fabs((double)(expected)) * (rel))
+
+typedef struct TestCase {
+    const char *name;
+    int (*run)(void);
+} TestCase;
+
+#define TEST_CASE(fn)                                                                              \
+    {                                                                                              \
+#fn, fn                                                                                    \
+    }
+
+/* Runs the named case (argv[1]) or all; prints "N passed, N failed". */
+#define TEST_MAIN(...)                                                                             \
+    int main(int argc, char **argv)                                                                \
+    {                                                                                              \
+        static const TestCase cases[] = {__VA_ARGS__};                                             \
+        int passed = 0, failed = 0, found = 0;                                                     \
+        for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {                              \
+            if (argc > 1 && strcmp(argv[1], cases[k].name) != 0)                                   \
+                continue;                                                                          \
+            found = 1;                                                                             \
+            int rc = cases[k].run();                                                               \
+            printf("%s %s\n", rc == 0 ? "ok  " : "FAIL", cases[k].name);                           \
+            if (rc == 0)                                                                           \
+                ++passed;                                                                          \
+            else                                                                                   \
+                ++failed;                                                                          \
+        }                                                                                          \
+        if (!found) {                                                                              \
+            fprintf(stderr, "no test named %s\n", argc > 1 ? argv[1] : "(none)");                  \
+            return 2;                                                                              \
+        }                                                                                          \
+        printf("%d passed, %d failed\n", passed, failed);                                          \
+        return failed ? 1 : 0;                                                                     \
+    }
+
+#endif
