@@ -10,7 +10,8 @@
 #include <math.h>
 #include <string.h>
 
-/* Tracks the largest squared displacement since the last neighbour build. */
+/* Squared displacement since the last neighbour build; the loops OR the comparison with the
+ * rebuild threshold instead of tracking a maximum, so that they vectorise. */
 static inline double displacement2(const SimWorld *w, int i)
 {
     double dx = w->x[i] - w->x_ref[i], dy = w->y[i] - w->y_ref[i];
@@ -24,14 +25,14 @@ static inline void velocity_verlet(SimWorld *w, const int rot)
     const double dt = w->dt, half = 0.5 * dt, gx = w->def.gravity_x, gy = w->def.gravity_y;
     double *restrict x = w->x, *restrict y = w->y, *restrict vx = w->vx, *restrict vy = w->vy;
     const double *restrict fx = w->fx, *restrict fy = w->fy, *restrict im = w->inv_mass;
-    double disp = w->max_disp2;
+    int moved = 0;
+    const double limit2 = w->disp_limit2;
     for (int i = 0; i < n; ++i) {
         vx[i] += half * (fx[i] * im[i] + gx);
         vy[i] += half * (fy[i] * im[i] + gy);
         x[i] += dt * vx[i];
         y[i] += dt * vy[i];
-        double d2 = displacement2(w, i);
-        disp = d2 > disp ? d2 : disp;
+        moved |= displacement2(w, i) > limit2;
     }
     if (rot) {
         for (int i = 0; i < n; ++i) {
@@ -39,7 +40,7 @@ static inline void velocity_verlet(SimWorld *w, const int rot)
             w->angle[i] += dt * w->omega[i];
         }
     }
-    w->max_disp2 = disp;
+    w->need_rebuild |= moved;
     sim_world_forces_at(w, w->time + dt);
     for (int i = 0; i < n; ++i) {
         vx[i] += half * (fx[i] * im[i] + gx);
@@ -55,14 +56,14 @@ static inline void symplectic_euler(SimWorld *w, const int rot)
 {
     const int n = w->mobile_count;
     const double dt = w->dt, gx = w->def.gravity_x, gy = w->def.gravity_y;
-    double disp = w->max_disp2;
+    int moved = 0;
+    const double limit2 = w->disp_limit2;
     for (int i = 0; i < n; ++i) {
         w->vx[i] += dt * (w->fx[i] * w->inv_mass[i] + gx);
         w->vy[i] += dt * (w->fy[i] * w->inv_mass[i] + gy);
         w->x[i] += dt * w->vx[i];
         w->y[i] += dt * w->vy[i];
-        double d2 = displacement2(w, i);
-        disp = d2 > disp ? d2 : disp;
+        moved |= displacement2(w, i) > limit2;
     }
     if (rot) {
         for (int i = 0; i < n; ++i) {
@@ -70,7 +71,7 @@ static inline void symplectic_euler(SimWorld *w, const int rot)
             w->angle[i] += dt * w->omega[i];
         }
     }
-    w->max_disp2 = disp;
+    w->need_rebuild |= moved;
     sim_world_forces_at(w, w->time + dt);
 }
 
@@ -83,7 +84,8 @@ static inline void stormer_verlet(SimWorld *w, const int rot)
     const int n = w->mobile_count;
     const double dt = w->dt, dt2 = dt * dt, gx = w->def.gravity_x, gy = w->def.gravity_y;
     double *xp = w->aux0, *yp = w->aux1;
-    double disp = w->max_disp2;
+    int moved = 0;
+    const double limit2 = w->disp_limit2;
     for (int i = 0; i < n; ++i) {
         double x = w->x[i], y = w->y[i];
         double xn = 2.0 * x - xp[i] + (w->fx[i] * w->inv_mass[i] + gx) * dt2;
@@ -94,8 +96,7 @@ static inline void stormer_verlet(SimWorld *w, const int rot)
         w->y[i] = yn;
         w->vx[i] = (xn - x) / dt;
         w->vy[i] = (yn - y) / dt;
-        double d2 = displacement2(w, i);
-        disp = d2 > disp ? d2 : disp;
+        moved |= displacement2(w, i) > limit2;
     }
     if (rot) {
         for (int i = 0; i < n; ++i) {
@@ -103,7 +104,7 @@ static inline void stormer_verlet(SimWorld *w, const int rot)
             w->omega[i] += dt * w->torque[i] * w->inv_inertia[i];
         }
     }
-    w->max_disp2 = disp;
+    w->need_rebuild |= moved;
     sim_world_forces_at(w, w->time + dt);
 }
 
@@ -117,7 +118,8 @@ static inline void gear(SimWorld *w, const int rot)
     const double gx = w->def.gravity_x, gy = w->def.gravity_y;
     double *ax = w->aux0, *ay = w->aux1, *bx = w->aux2, *by = w->aux3;
     double *aw = w->aux4, *bw = w->aux5;
-    double disp = w->max_disp2;
+    int moved = 0;
+    const double limit2 = w->disp_limit2;
     for (int i = 0; i < n; ++i) {
         w->x[i] += w->vx[i] * dt + ax[i] * dt2 / 2.0 + bx[i] * dt3 / 6.0;
         w->y[i] += w->vy[i] * dt + ay[i] * dt2 / 2.0 + by[i] * dt3 / 6.0;
@@ -125,8 +127,7 @@ static inline void gear(SimWorld *w, const int rot)
         w->vy[i] += ay[i] * dt + by[i] * dt2 / 2.0;
         ax[i] += bx[i] * dt;
         ay[i] += by[i] * dt;
-        double d2 = displacement2(w, i);
-        disp = d2 > disp ? d2 : disp;
+        moved |= displacement2(w, i) > limit2;
     }
     if (rot) {
         for (int i = 0; i < n; ++i) {
@@ -135,7 +136,7 @@ static inline void gear(SimWorld *w, const int rot)
             aw[i] += bw[i] * dt;
         }
     }
-    w->max_disp2 = disp;
+    w->need_rebuild |= moved;
     sim_world_forces_at(w, w->time + dt);
     for (int i = 0; i < n; ++i) {
         double dax = w->fx[i] * w->inv_mass[i] + gx - ax[i];
@@ -167,7 +168,8 @@ static void rk4_stage(SimWorld *w, const int rot, double position_step, double v
 {
     const int n = w->mobile_count;
     const double gx = w->def.gravity_x, gy = w->def.gravity_y;
-    double disp = w->max_disp2;
+    int moved = 0;
+    const double limit2 = w->disp_limit2;
     for (int i = 0; i < n; ++i) {
         double ax = w->fx[i] * w->inv_mass[i] + gx, ay = w->fy[i] * w->inv_mass[i] + gy;
         w->aux6[i] += weight * w->vx[i];
@@ -179,8 +181,7 @@ static void rk4_stage(SimWorld *w, const int rot, double position_step, double v
         w->y[i] = w->aux1[i] + position_step * vy;
         w->vx[i] = w->aux2[i] + velocity_step * ax;
         w->vy[i] = w->aux3[i] + velocity_step * ay;
-        double d2 = displacement2(w, i);
-        disp = d2 > disp ? d2 : disp;
+        moved |= displacement2(w, i) > limit2;
     }
     if (rot) {
         for (int i = 0; i < n; ++i) {
@@ -192,7 +193,7 @@ static void rk4_stage(SimWorld *w, const int rot, double position_step, double v
             w->omega[i] = w->aux5[i] + velocity_step * alpha;
         }
     }
-    w->max_disp2 = disp;
+    w->need_rebuild |= moved;
     sim_world_forces_at(w, time);
 }
 
@@ -219,7 +220,8 @@ static inline void rk4(SimWorld *w, const int rot)
     rk4_stage(w, rot, 0.5 * dt, 0.5 * dt, 2.0, t + 0.5 * dt);
     rk4_stage(w, rot, dt, dt, 2.0, t + dt);
     const double gx = w->def.gravity_x, gy = w->def.gravity_y, sixth = dt / 6.0;
-    double disp = w->max_disp2;
+    int moved = 0;
+    const double limit2 = w->disp_limit2;
     for (int i = 0; i < n; ++i) {
         double sx = w->aux6[i] + w->vx[i], sy = w->aux7[i] + w->vy[i];
         double sax = w->aux8[i] + w->fx[i] * w->inv_mass[i] + gx;
@@ -228,8 +230,7 @@ static inline void rk4(SimWorld *w, const int rot)
         w->y[i] = w->aux1[i] + sixth * sy;
         w->vx[i] = w->aux2[i] + sixth * sax;
         w->vy[i] = w->aux3[i] + sixth * say;
-        double d2 = displacement2(w, i);
-        disp = d2 > disp ? d2 : disp;
+        moved |= displacement2(w, i) > limit2;
     }
     if (rot) {
         for (int i = 0; i < n; ++i) {
@@ -239,7 +240,7 @@ static inline void rk4(SimWorld *w, const int rot)
             w->omega[i] = w->aux5[i] + sixth * sa;
         }
     }
-    w->max_disp2 = disp;
+    w->need_rebuild |= moved;
     sim_world_forces_at(w, t + dt);
 }
 

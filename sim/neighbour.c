@@ -419,7 +419,6 @@ void sim_neighbour_build(SimWorld *world)
 
     memcpy(world->x_ref, world->x, (size_t)world->count * sizeof(double));
     memcpy(world->y_ref, world->y, (size_t)world->count * sizeof(double));
-    world->max_disp2 = 0.0;
     world->wall_shift = 0.0;
     world->need_rebuild = 0;
     ++world->rebuilds;

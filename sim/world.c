@@ -482,7 +482,7 @@ static void move_prescribed(SimWorld *w, double t)
     double offset[SIM_MAX_MOTIONS], speed[SIM_MAX_MOTIONS];
     for (int m = 0; m < w->def.motion_count; ++m)
         offset[m] = motion_offset(&w->def.motions[m], t, &speed[m]);
-    double disp = w->max_disp2;
+    int moved = 0;
     for (int i = w->mobile_count; i < w->count; ++i) {
         int m = w->motion[i];
         if (m < 0)
@@ -493,10 +493,9 @@ static void move_prescribed(SimWorld *w, double t)
         w->vx[i] = speed[m] * mo->direction_x;
         w->vy[i] = speed[m] * mo->direction_y;
         double dx = w->x[i] - w->x_ref[i], dy = w->y[i] - w->y_ref[i];
-        double d2 = dx * dx + dy * dy;
-        disp = d2 > disp ? d2 : disp;
+        moved |= dx * dx + dy * dy > w->disp_limit2;
     }
-    w->max_disp2 = disp;
+    w->need_rebuild |= moved;
     for (int k = 0; k < w->wall_count; ++k) {
         int m = w->walls_base[k].motion;
         if (m < 0)
@@ -528,7 +527,7 @@ void sim_world_forces_at(SimWorld *w, double t)
     if (w->effects & SIM_EFFECT_VIBRATION)
         move_prescribed(w, t);
     /* Rebuild when a grain may have moved half the skin: 004 §1.9, style notes 8.5. */
-    if (4.0 * w->max_disp2 > w->skin * w->skin || 2.0 * w->wall_shift > w->skin || w->need_rebuild)
+    if (w->need_rebuild || 2.0 * w->wall_shift > w->skin)
         rebuild(w);
     memset(w->fx, 0, (size_t)w->count * sizeof(double));
     memset(w->fy, 0, (size_t)w->count * sizeof(double));
@@ -641,6 +640,7 @@ SimWorld *sim_world_create(const SimWorldDef *def, SimError *error)
     for (int i = 0; i < w->count; ++i)
         w->max_radius = fmax(w->max_radius, w->radius[i]);
     w->skin = def->skin > 0.0 ? def->skin : default_skin(&def->grains);
+    w->disp_limit2 = 0.25 * w->skin * w->skin;
     w->cell_size = 2.0 * w->max_radius + w->skin;
     if (!(w->cell_size > 0.0))
         w->cell_size = 1.0;
@@ -842,7 +842,6 @@ static void guard_restore(SimWorld *w)
     w->step = w->good.step;
     w->need_rebuild = 1;
     w->drop_history = 1; /* the old list refers to other indices */
-    w->max_disp2 = 0.0;
     sim_world_forces_at(w, w->time);
     sim_integrator_start(w);
 }

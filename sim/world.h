@@ -93,7 +93,7 @@ struct SimWorld {
     double skin, cell_size; /* cell_size: smallest cell side, 2 r_max + skin, m */
     double cell_w, cell_h;  /* cell sides of the last build, m */
     double max_radius;
-    double max_disp2; /* largest squared displacement since last build, m^2 */
+    double disp_limit2; /* (skin / 2)^2: a grain moved this far triggers a rebuild, m^2 */
     int need_rebuild;
     long rebuilds;
 
