@@ -348,6 +348,42 @@ void sim_world_momentum(const SimWorld *world, double *px, double *py);
 /// FNV-1a hash of positions, velocities and angles of all grains (determinism checks).
 uint64_t sim_world_hash(const SimWorld *world);
 
+/* ---------------------------------------------------------------- analysis */
+
+/// Free surface: for each of `bins` equal bins over [x0, x1], the highest top (y + r) of a mobile
+/// grain whose centre lies in the bin, m; NAN for an empty bin (000 §5.4).
+void sim_world_surface_profile(const SimWorld *world, double x0, double x1, int bins,
+                               double *heights);
+/// Mean local hexatic order |psi_6| of mobile grains with at least two neighbours closer than
+/// 1.1 (r_i + r_j); about 1 for a triangular crystal, about 0.4-0.6 for a random packing.
+double sim_world_hexatic_order(SimWorld *world);
+
+/// Static-equilibrium test of thesis 004 §3.1 (all criteria must hold).
+typedef struct SimEquilibrium {
+    int equilibrium;      ///< 1 when every criterion holds
+    double kinetic_max;   ///< largest translational kinetic energy of a grain, J
+    double kinetic_bound; ///< tolerance * m_min g d, J
+    double base_force;    ///< vertical force of mobile grains on fixed grains and walls, N
+    double weight;        ///< total weight of mobile grains, N
+    double force_bound;   ///< tolerance * m_min g, N
+    int sliding_contacts; ///< contacts at the Coulomb cap (spring law)
+    int underconnected;   ///< mobile grains with fewer than two contacts
+} SimEquilibrium;
+
+/// Evaluates the criteria with the given relative tolerance (thesis: 1e-6).
+SimEquilibrium sim_world_equilibrium(SimWorld *world, double tolerance);
+
+/// Arch search of thesis 004 §2.5 over a frame's contact graph, with the one-sided bug fixed:
+/// the keystone is the lowest mobile grain with |x - center_x| < d_mean/2; each branch walks to
+/// the lowest grain within a window of one diameter beside and below the current grain, which
+/// must touch it, until a grain touching a fixed grain or wall; both branches must reach the base
+/// on their own and the arch must have at least three grains. With check_forces, every link
+/// between consecutive arch grains must carry a positive normal force.
+/// Writes the frame indices of the arch grains, left to right, into members (up to
+/// max_members) and returns their number, or 0 when there is no arch.
+int sim_frame_find_arch(const SimFrame *frame, double center_x, int check_forces, int *members,
+                        int max_members);
+
 /* ---------------------------------------------------------------- editing */
 
 /// Remove mobile grains whose centre lies in the rectangle; returns how many.
