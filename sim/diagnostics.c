@@ -54,7 +54,8 @@ void sim_world_frame(SimWorld *w, SimFrame *f)
     double d, m;
     sim_world_means(w, &d, &m);
     double g = hypot(w->def.gravity_x, w->def.gravity_y);
-    w->time_scale = g > 0.0 && d > 0.0 ? sqrt(d / g) : 0.0;
+    double length = w->def.length_scale > 0.0 ? w->def.length_scale : d;
+    w->time_scale = g > 0.0 && length > 0.0 ? sqrt(length / g) : 0.0;
     *f = (SimFrame){
         .count = w->count,
         .mobile_count = w->mobile_count,
@@ -93,8 +94,7 @@ SimEnergy sim_world_energy(SimWorld *w)
         double m = w->mass[i];
         e.kinetic += 0.5 * m * (w->vx[i] * w->vx[i] + w->vy[i] * w->vy[i]);
         e.potential -= m * (gx * w->x[i] + gy * w->y[i]);
-        if (w->rotation)
-            e.rotational += 0.5 * w->inertia[i] * w->omega[i] * w->omega[i];
+        e.rotational += 0.5 * w->inertia[i] * w->omega[i] * w->omega[i];
     }
     ContactSums sums = contact_sums(w, 0);
     e.elastic = sums.elastic;
@@ -141,7 +141,7 @@ static double disk_rect_area(double cx, double cy, double r, double x0, double y
     if (b <= a || cy - r >= y1 || cy + r <= y0)
         return 0.0;
     if (cx - r >= x0 && cx + r <= x1 && cy - r >= y0 && cy + r <= y1)
-        return M_PI * r * r;
+        return SIM_PI * r * r;
     const int n = 256; /* even */
     double h = (b - a) / n, sum = 0.0;
     for (int k = 0; k <= n; ++k) {
@@ -258,15 +258,35 @@ static uint64_t fnv_bytes(uint64_t h, const void *data, size_t size)
     return h;
 }
 
-/* Hash in stable-id order is not needed: the order itself is deterministic. */
+typedef struct IdIndex {
+    uint32_t id;
+    int index;
+} IdIndex;
+
+static int by_id(const void *a, const void *b)
+{
+    uint32_t ia = ((const IdIndex *)a)->id, ib = ((const IdIndex *)b)->id;
+    return (ia > ib) - (ia < ib);
+}
+
+/* In stable-id order, so that a state reloaded from a checkpoint (and stored in another order)
+ * hashes the same. */
 uint64_t sim_world_hash(const SimWorld *w)
 {
     uint64_t h = 1469598103934665603ull;
-    size_t n = (size_t)w->count;
+    IdIndex *order = malloc((size_t)(w->count > 0 ? w->count : 1) * sizeof *order);
+    if (!order)
+        abort();
+    for (int i = 0; i < w->count; ++i)
+        order[i] = (IdIndex){w->id[i], i};
+    qsort(order, (size_t)w->count, sizeof *order, by_id);
     h = fnv_bytes(h, &w->count, sizeof w->count);
-    h = fnv_bytes(h, w->id, n * sizeof *w->id);
-    const double *arrays[] = {w->x, w->y, w->vx, w->vy, w->angle, w->omega};
-    for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; ++a)
-        h = fnv_bytes(h, arrays[a], n * sizeof(double));
+    for (int k = 0; k < w->count; ++k) {
+        int i = order[k].index;
+        double state[6] = {w->x[i], w->y[i], w->vx[i], w->vy[i], w->angle[i], w->omega[i]};
+        h = fnv_bytes(h, &w->id[i], sizeof w->id[i]);
+        h = fnv_bytes(h, state, sizeof state);
+    }
+    free(order);
     return h;
 }

@@ -18,37 +18,51 @@ static inline double displacement2(const SimWorld *w, int i)
     return dx * dx + dy * dy;
 }
 
-/* ---- velocity Verlet: kick-drift, forces, kick. Damping sees the half-step velocity. */
+/* ---- velocity Verlet: kick-drift, forces, kick. The dissipative forces see the predicted
+ * velocity v(t + dt) ~ v(t + dt/2) + a(t) dt/2 (as thesis 004's code does), which keeps the
+ * scheme second order with damping; aux0..2 hold the half-step velocities. */
 static inline void velocity_verlet(SimWorld *w, const int rot)
 {
     const int n = w->mobile_count;
     const double dt = w->dt, half = 0.5 * dt, gx = w->def.gravity_x, gy = w->def.gravity_y;
     double *restrict x = w->x, *restrict y = w->y, *restrict vx = w->vx, *restrict vy = w->vy;
+    double *restrict hx = w->aux0, *restrict hy = w->aux1;
     const double *restrict fx = w->fx, *restrict fy = w->fy, *restrict im = w->inv_mass;
-    int moved = 0;
+    const double *restrict xr = w->x_ref, *restrict yr = w->y_ref;
     const double limit2 = w->disp_limit2;
+    int moved = 0;
     for (int i = 0; i < n; ++i) {
-        vx[i] += half * (fx[i] * im[i] + gx);
-        vy[i] += half * (fy[i] * im[i] + gy);
-        x[i] += dt * vx[i];
-        y[i] += dt * vy[i];
-        moved |= displacement2(w, i) > limit2;
+        double ax = fx[i] * im[i] + gx, ay = fy[i] * im[i] + gy;
+        double vhx = vx[i] + half * ax, vhy = vy[i] + half * ay;
+        hx[i] = vhx;
+        hy[i] = vhy;
+        x[i] += dt * vhx;
+        y[i] += dt * vhy;
+        vx[i] = vhx + half * ax;
+        vy[i] = vhy + half * ay;
+        double dx = x[i] - xr[i], dy = y[i] - yr[i];
+        moved |= dx * dx + dy * dy > limit2;
     }
     if (rot) {
+        double *restrict omega = w->omega, *restrict hw = w->aux2;
+        const double *restrict torque = w->torque, *restrict ii = w->inv_inertia;
         for (int i = 0; i < n; ++i) {
-            w->omega[i] += half * w->torque[i] * w->inv_inertia[i];
-            w->angle[i] += dt * w->omega[i];
+            double alpha = torque[i] * ii[i];
+            double wh = omega[i] + half * alpha;
+            hw[i] = wh;
+            w->angle[i] += dt * wh;
+            omega[i] = wh + half * alpha;
         }
     }
     w->need_rebuild |= moved;
     sim_world_forces_at(w, w->time + dt);
     for (int i = 0; i < n; ++i) {
-        vx[i] += half * (fx[i] * im[i] + gx);
-        vy[i] += half * (fy[i] * im[i] + gy);
+        vx[i] = hx[i] + half * (fx[i] * im[i] + gx);
+        vy[i] = hy[i] + half * (fy[i] * im[i] + gy);
     }
     if (rot)
         for (int i = 0; i < n; ++i)
-            w->omega[i] += half * w->torque[i] * w->inv_inertia[i];
+            w->omega[i] = w->aux2[i] + half * w->torque[i] * w->inv_inertia[i];
 }
 
 /* ---- semi-implicit (symplectic) Euler, 000 eqs. 4.16-4.17: v += a dt, then x += v dt. */
@@ -305,10 +319,21 @@ static void oscillator_step(SimIntegrator integrator, double h, double z, const 
 #define ACC(x, v) (-(x)-2.0 * z * (v))
     double x = in[0], v = in[1];
     switch (integrator) {
-    case SIM_INTEGRATOR_VELOCITY_VERLET:
+    case SIM_INTEGRATOR_VELOCITY_VERLET: {
+        /* state (x, v, a); damping on the predicted velocity */
+        double a = in[2];
+        double vh = v + 0.5 * h * a;
+        double xn = x + h * vh;
+        double an = ACC(xn, vh + 0.5 * h * a);
+        out[0] = xn;
+        out[1] = vh + 0.5 * h * an;
+        out[2] = an;
+        out[3] = 0.0;
+        break;
+    }
     case SIM_INTEGRATOR_SYMPLECTIC_EULER:
     case SIM_INTEGRATOR_STORMER_VERLET: {
-        /* All three reduce to leapfrog with the damping on the lagged (half-step) velocity:
+        /* Both reduce to leapfrog with the damping on the lagged (half-step) velocity:
          * state (x_n, v_{n-1/2}). */
         double vn = v + h * ACC(x, v);
         out[0] = x + h * vn;

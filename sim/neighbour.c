@@ -125,7 +125,7 @@ double sim_pair_gamma(const SimWorld *world, int species_i, int species_j, doubl
             break;
         case SIM_DAMPING_RESTITUTION: {
             double le = log(m->restitution);
-            sum += 2.0 * (-le / sqrt(M_PI * M_PI + le * le)) * root;
+            sum += 2.0 * (-le / sqrt(SIM_PI * SIM_PI + le * le)) * root;
             break;
         }
         case SIM_DAMPING_CRITICAL:
@@ -422,4 +422,81 @@ void sim_neighbour_build(SimWorld *world)
     world->wall_shift = 0.0;
     world->need_rebuild = 0;
     ++world->rebuilds;
+}
+
+/* Largest overlap ratio xi / d_min between two grains of a definition (set-up check), found with
+ * the same cell grid as the neighbour build. Coincident centres count as infinite overlap. */
+double sim_def_worst_overlap(const SimWorldDef *def, int *first, int *second)
+{
+    const SimGrainSet *g = &def->grains;
+    SimWorld t;
+    memset(&t, 0, sizeof t);
+    *first = *second = -1;
+    if (g->count < 2)
+        return 0.0;
+    size_t n = (size_t)g->count;
+    t.count = g->count;
+    t.effects = def->effects & SIM_EFFECT_PERIODIC_X;
+    t.def.domain_x0 = def->domain_x0;
+    t.def.domain_x1 = def->domain_x1;
+    t.x = grow(NULL, n, sizeof(double));
+    t.y = grow(NULL, n, sizeof(double));
+    t.cell_items = grow(NULL, n, sizeof(int));
+    t.cell_of = grow(NULL, n, sizeof(int));
+    double r_max = 0.0;
+    for (int i = 0; i < g->count; ++i) {
+        t.x[i] = g->x[i];
+        t.y[i] = g->y[i];
+        r_max = g->radius[i] > r_max ? g->radius[i] : r_max;
+    }
+    if (t.effects) { /* wrap into the domain as the build does */
+        const double x0 = def->domain_x0, span = def->domain_x1 - x0;
+        for (int i = 0; i < g->count; ++i)
+            t.x[i] = t.x[i] - span * floor((t.x[i] - x0) / span);
+    }
+    t.cell_size = 2.0 * r_max;
+    grid_setup(&t);
+    grid_fill(&t);
+    const double span = def->domain_x1 - def->domain_x0;
+    double worst = 0.0;
+    for (int i = 0; i < g->count; ++i) {
+        int fixed_i = g->flags && (g->flags[i] & SIM_GRAIN_FIXED);
+        int c = t.cell_of[i], cx = c % t.ncx, cy = c / t.ncx;
+        for (int oy = -1; oy <= 1; ++oy)
+            for (int ox = -1; ox <= 1; ++ox) {
+                int nx = cx + ox, ny = cy + oy;
+                double shift = 0.0;
+                if (ny < 0 || ny >= t.ncy)
+                    continue;
+                if (nx < 0 || nx >= t.ncx) {
+                    if (!t.effects)
+                        continue;
+                    shift = nx < 0 ? -span : span;
+                    nx = nx < 0 ? t.ncx - 1 : 0;
+                }
+                int cell = ny * t.ncx + nx;
+                for (int q = t.cell_start[cell]; q < t.cell_start[cell + 1]; ++q) {
+                    int j = t.cell_items[q];
+                    if (j <= i || (fixed_i && g->flags && (g->flags[j] & SIM_GRAIN_FIXED)))
+                        continue;
+                    double dx = t.x[j] + shift - t.x[i], dy = t.y[j] - t.y[i];
+                    double d = sqrt(dx * dx + dy * dy), rs = g->radius[i] + g->radius[j];
+                    if (d >= rs)
+                        continue;
+                    double dmin = 2.0 * (g->radius[i] < g->radius[j] ? g->radius[i] : g->radius[j]);
+                    double ratio = d > 0.0 ? (rs - d) / dmin : (double)INFINITY;
+                    if (ratio > worst) {
+                        worst = ratio;
+                        *first = i;
+                        *second = j;
+                    }
+                }
+            }
+    }
+    free(t.x);
+    free(t.y);
+    free(t.cell_items);
+    free(t.cell_of);
+    free(t.cell_start);
+    return worst;
 }

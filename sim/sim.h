@@ -209,11 +209,13 @@ typedef struct SimWorldDef {
     SimMotion motions[SIM_MAX_MOTIONS];
     int sink_count;
     SimSink sinks[SIM_MAX_SINKS];
-    SimBodyForce body_force;  ///< SIM_EFFECT_FLUID_DRAG
-    double guard_max_overlap; ///< stop when xi / d_min of a pair exceeds this (default 0.5)
-    double guard_max_speed;   ///< stop when a grain exceeds this speed, m/s; 0 = automatic
-    int guard_every;          ///< steps between guard checks (default 100)
-    double start_time;        ///< s
+    SimBodyForce body_force;    ///< SIM_EFFECT_FLUID_DRAG
+    double guard_max_overlap;   ///< stop when xi / d_min of a pair exceeds this (default 0.5)
+    double guard_max_speed;     ///< stop when a grain exceeds this speed, m/s; 0 = automatic
+    int guard_every;            ///< steps between guard checks (default 100)
+    double max_initial_overlap; ///< refuse start overlaps above this fraction of d_min (0.1)
+    double length_scale;        ///< D of t* = t / sqrt(D/g) and E* = E/(m g D), m (0 = mean d)
+    double start_time;          ///< s
 } SimWorldDef;
 
 /// Defaults: every field physically valid (no grains).
@@ -246,7 +248,7 @@ typedef struct SimWorld SimWorld;
 /// Contact-time figures of the declared laws, for the stiffest, lightest pair.
 typedef struct SimTiming {
     double contact_time_min;  ///< t_c of the worst pair, s (000 eq. 3.22; Hertz at v = 1 m/s)
-    double stability_limit;   ///< largest stable dt for the chosen integrator, s
+    double stability_limit;   ///< largest stable dt of the integrator in a dense packing, s
     double time_step;         ///< dt in use, s
     double steps_per_contact; ///< t_c,min / dt
 } SimTiming;
@@ -259,8 +261,8 @@ SimTiming sim_world_def_timing(const SimWorldDef *def);
 SimWorld *sim_world_create(const SimWorldDef *def, SimError *error);
 void sim_world_destroy(SimWorld *world);
 
-/// Advance by `steps` time steps. Returns SIM_OK or SIM_ERROR_UNSTABLE (error filled, world left at
-/// the last good guard check: see sim_world_last_good_save).
+/// Advance by `steps` time steps. Returns SIM_OK or SIM_ERROR_UNSTABLE (error filled; the world is
+/// rolled back to the last good guard check, so saving it then saves the last good state).
 SimStatus sim_world_step(SimWorld *world, long steps, SimError *error);
 
 double sim_world_time(const SimWorld *world); ///< s

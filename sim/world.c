@@ -97,6 +97,8 @@ SimWorldDef sim_world_def_default(void)
     def.guard_max_overlap = 0.5;
     def.guard_max_speed = 0.0;
     def.guard_every = 100;
+    def.max_initial_overlap = 0.1;
+    def.length_scale = 0.0;
     return def;
 }
 
@@ -122,10 +124,10 @@ static SimStatus fail(SimError *error, SimStatus status, const char *field, cons
 static void grain_mass(SimMassModel model, double density, double r, double *m, double *inertia)
 {
     if (model == SIM_MASS_SPHERE) {
-        *m = density * 4.0 / 3.0 * M_PI * r * r * r;
+        *m = density * 4.0 / 3.0 * SIM_PI * r * r * r;
         *inertia = 0.4 * *m * r * r;
     } else {
-        *m = density * M_PI * r * r;
+        *m = density * SIM_PI * r * r;
         *inertia = 0.5 * *m * r * r;
     }
 }
@@ -153,7 +155,7 @@ static double gamma_for(const SimMaterial *m, double k, double m_eff)
     switch (m->damping_mode) {
     case SIM_DAMPING_RESTITUTION: {
         double le = log(m->restitution);
-        return 2.0 * (-le / sqrt(M_PI * M_PI + le * le)) * sqrt(k * m_eff);
+        return 2.0 * (-le / sqrt(SIM_PI * SIM_PI + le * le)) * sqrt(k * m_eff);
     }
     case SIM_DAMPING_CRITICAL:
         return 2.0 * m->critical_fraction * sqrt(k * m_eff);
@@ -181,9 +183,13 @@ static void pair_timing(const SimWorldDef *def, int a, int b, double m_eff, doub
     } else {
         omega = sqrt(k / m_eff);
         zeta = gamma / (2.0 * m_eff * omega);
-        *t_c = zeta < 1.0 ? M_PI / (omega * sqrt(1.0 - zeta * zeta)) : M_PI / omega;
+        *t_c = zeta < 1.0 ? SIM_PI / (omega * sqrt(1.0 - zeta * zeta)) : SIM_PI / omega;
     }
-    *limit = sim_stability_limit(def->integrator, omega, zeta);
+    /* A grain in a packing vibrates faster than an isolated pair: the densest 2D packing (a
+     * triangular lattice, six contacts) has omega_max^2 = 3 omega_pair^2, and the damping
+     * ratio of that mode grows by the same sqrt(3) (damping and stiffness share geometry). */
+    const double packing = sqrt(3.0);
+    *limit = sim_stability_limit(def->integrator, packing * omega, packing * zeta);
 }
 
 /* Worst pair over the species present: lightest mobile grain of each species against each other
@@ -314,6 +320,9 @@ static SimStatus validate_grains(const SimWorldDef *def, SimError *error)
     for (int i = 0; i < g->count; ++i) {
         snprintf(f, sizeof f, "grains[%d]", i);
         CHECK(isfinite(g->x[i]) && isfinite(g->y[i]), f, "grain %d has a non-finite position", i);
+        CHECK((!g->vx || isfinite(g->vx[i])) && (!g->vy || isfinite(g->vy[i])) &&
+                  (!g->omega || isfinite(g->omega[i])) && (!g->angle || isfinite(g->angle[i])),
+              f, "grain %d has a non-finite velocity, angle or angular velocity", i);
         CHECK(g->radius[i] > 0.0 && isfinite(g->radius[i]), f,
               "grain %d has radius %g; radii must be positive", i, g->radius[i]);
         int s = g->species ? g->species[i] : 0;
@@ -340,12 +349,15 @@ static SimStatus validate_grains(const SimWorldDef *def, SimError *error)
             if (g->flags && (g->flags[i] & SIM_GRAIN_FIXED))
                 continue;
             double d = segment_distance(wall, g->x[i], g->y[i]);
-            if (d < g->radius[i]) {
+            /* A settled bed rests on its walls with a small overlap: refuse only above the
+             * initial-overlap bound, as for pairs of grains. */
+            if (g->radius[i] - d > def->max_initial_overlap * 2.0 * g->radius[i]) {
                 snprintf(f, sizeof f, "grains[%d]", i);
                 return fail(error, SIM_ERROR_INVALID, f,
-                            "grain %d at (%g, %g) overlaps wall %d at start (distance %g < "
-                            "radius %g)",
-                            i, g->x[i], g->y[i], w, d, g->radius[i]);
+                            "grain %d at (%g, %g) overlaps wall %d at start by %.3g of its "
+                            "diameter (bound %g)",
+                            i, g->x[i], g->y[i], w, (g->radius[i] - d) / (2.0 * g->radius[i]),
+                            def->max_initial_overlap);
             }
         }
     }
@@ -381,6 +393,10 @@ SimStatus sim_world_def_validate(const SimWorldDef *def, SimError *error)
     CHECK(def->skin >= 0.0, "skin", "skin must be >= 0");
     CHECK(def->guard_max_overlap > 0.0, "guard_max_overlap", "guard overlap bound must be > 0");
     CHECK(def->guard_every >= 1, "guard_every", "guard_every must be >= 1");
+    CHECK(def->max_initial_overlap >= 0.0, "max_initial_overlap",
+          "max_initial_overlap must be >= 0");
+    CHECK(def->length_scale >= 0.0 && isfinite(def->length_scale), "length_scale",
+          "length_scale must be >= 0");
     CHECK(def->motion_count >= 0 && def->motion_count <= SIM_MAX_MOTIONS, "motions",
           "too many motions (at most %d)", SIM_MAX_MOTIONS);
     CHECK(def->sink_count >= 0 && def->sink_count <= SIM_MAX_SINKS, "sinks",
@@ -399,6 +415,16 @@ SimStatus sim_world_def_validate(const SimWorldDef *def, SimError *error)
         return s;
     if ((s = validate_grains(def, error)) != SIM_OK)
         return s;
+    int a, b;
+    double worst = sim_def_worst_overlap(def, &a, &b);
+    if (worst > def->max_initial_overlap) {
+        char f[64];
+        snprintf(f, sizeof f, "grains[%d]", a);
+        return fail(error, SIM_ERROR_INVALID, f,
+                    "grains %d and %d overlap at start by %.3g of the smaller diameter (bound %g: "
+                    "max_initial_overlap)",
+                    a, b, worst, def->max_initial_overlap);
+    }
     if (def->effects & SIM_EFFECT_PERIODIC_X) {
         double r_max = 0.0;
         for (int i = 0; i < def->grains.count; ++i)
@@ -472,8 +498,8 @@ static int load_grains(SimWorld *w, const SimGrainSet *g)
 
 static double motion_offset(const SimMotion *m, double t, double *velocity)
 {
-    double phase = 2.0 * M_PI * m->frequency * t + m->phase;
-    *velocity = m->amplitude * 2.0 * M_PI * m->frequency * cos(phase);
+    double phase = 2.0 * SIM_PI * m->frequency * t + m->phase;
+    *velocity = m->amplitude * 2.0 * SIM_PI * m->frequency * cos(phase);
     return m->amplitude * sin(phase);
 }
 
@@ -513,12 +539,48 @@ static void move_prescribed(SimWorld *w, double t)
     }
 }
 
+static double segment_distance(const SimWall *w, double px, double py);
+
+/* Is any grain or wall closer to grain i than the two radii plus `reach` (rare: O(N))? */
+static int within_reach(const SimWorld *w, int i, double reach)
+{
+    if (!isfinite(reach))
+        return 1;
+    const double xi = w->x[i], yi = w->y[i], ri = w->radius[i];
+    const double span = w->def.domain_x1 - w->def.domain_x0;
+    const int periodic = (w->effects & SIM_EFFECT_PERIODIC_X) != 0;
+    for (int j = 0; j < w->count; ++j) {
+        if (j == i)
+            continue;
+        double dx = w->x[j] - xi, dy = w->y[j] - yi;
+        if (periodic)
+            dx -= span * floor(dx / span + 0.5);
+        double cut = ri + w->radius[j] + reach;
+        if (dx * dx + dy * dy < cut * cut)
+            return 1;
+    }
+    for (int k = 0; k < w->wall_count; ++k)
+        if (segment_distance(&w->walls[k], xi, yi) < ri + reach)
+            return 1;
+    return 0;
+}
+
 static void rebuild(SimWorld *w)
 {
     sim_neighbour_build(w);
     for (int k = 0; k < w->wall_count; ++k) {
         w->wall_ref_dx[k] = w->walls[k].x0 - w->walls_base[k].x0;
         w->wall_ref_dy[k] = w->walls[k].y0 - w->walls_base[k].y0;
+    }
+    /* A grain that moves more than half its radius in one step can pass through a partner
+     * between two force evaluations (004 §1.8). Such a grain has moved more than half the skin
+     * since the last build, so checking at builds sees every one of them; it is an error only
+     * when something lies within its reach (a free fall in empty space is harmless). */
+    const double dt2 = w->dt * w->dt;
+    for (int i = 0; i < w->mobile_count && w->jump_grain < 0; ++i) {
+        double v2 = w->vx[i] * w->vx[i] + w->vy[i] * w->vy[i];
+        if (!(v2 * dt2 <= 0.25 * w->radius[i] * w->radius[i]) && within_reach(w, i, sqrt(v2 * dt2)))
+            w->jump_grain = i;
     }
 }
 
@@ -580,8 +642,8 @@ static void setup_guard(SimWorld *w)
         double g = hypot(w->def.gravity_x, w->def.gravity_y);
         double vm = 0.0;
         for (int m = 0; m < w->def.motion_count; ++m)
-            vm = fmax(vm,
-                      fabs(w->def.motions[m].amplitude) * 2.0 * M_PI * w->def.motions[m].frequency);
+            vm = fmax(vm, fabs(w->def.motions[m].amplitude) * 2.0 * SIM_PI *
+                              w->def.motions[m].frequency);
         vmax = 100.0 * fmax(fmax(sqrt(2.0 * g * size), v0), vm);
         if (!(vmax > 0.0))
             vmax = INFINITY;
@@ -647,6 +709,7 @@ SimWorld *sim_world_create(const SimWorldDef *def, SimError *error)
 
     if (w->effects & SIM_EFFECT_VIBRATION)
         move_prescribed(w, w->time);
+    w->jump_grain = -1;
     rebuild(w);
     sim_world_forces_at(w, w->time);
     sim_integrator_start(w);
@@ -914,18 +977,40 @@ static SimStatus guard_check(SimWorld *w, SimError *error)
 
 /* ------------------------------------------------------------------ stepping */
 
+static SimStatus jump_failure(SimWorld *w, SimError *error)
+{
+    int i = w->jump_grain;
+    double v = hypot(w->vx[i], w->vy[i]);
+    fail(error, SIM_ERROR_UNSTABLE, "grains",
+         "step %ld: grain %u at (%g, %g) moves %g m in one step (speed %g m/s), more than half its "
+         "radius %g m: contacts would be missed; likely cause: time step %g s too large for this "
+         "speed (impact too fast or energy blow-up)",
+         w->step, w->id[i], w->x[i], w->y[i], v * w->dt, v, w->radius[i], w->dt);
+    error->step = w->step;
+    error->grain = w->id[i];
+    w->jump_grain = -1;
+    return SIM_ERROR_UNSTABLE;
+}
+
 SimStatus sim_world_step(SimWorld *w, long steps, SimError *error)
 {
+    SimError local;
+    if (!error)
+        error = &local;
     for (long s = 0; s < steps; ++s) {
         w->integrate(w);
         ++w->step;
         w->time = w->def.start_time + (double)w->step * w->dt;
+        if (w->jump_grain >= 0) {
+            jump_failure(w, error);
+            guard_restore(w);
+            return SIM_ERROR_UNSTABLE;
+        }
         if (w->effects & SIM_EFFECT_REMOVAL)
             removal_stage(w);
         if (w->step >= w->guard_next) {
             w->guard_next = w->step + w->def.guard_every;
-            SimError local;
-            if (guard_check(w, error ? error : &local) != SIM_OK) {
+            if (guard_check(w, error) != SIM_OK) {
                 guard_restore(w);
                 return SIM_ERROR_UNSTABLE;
             }

@@ -5,6 +5,8 @@
 
 #include "sim.h"
 
+#define SIM_PI 3.14159265358979323846 /* sim/ builds in strict C17: no M_PI */
+
 #include <stddef.h>
 #include <stdint.h>
 
@@ -48,9 +50,11 @@ typedef struct WallList {
 /* The per-grain arrays, permuted, compacted and grown together (X-macros). */
 #define SIM_GRAIN_DOUBLE_ARRAYS(X)                                                                 \
     X(x)                                                                                           \
-    X(y) X(vx) X(vy) X(angle) X(omega) X(fx) X(fy) X(torque) X(radius) X(inv_mass) X(inv_inertia)  \
-        X(mass) X(inertia) X(x_ref) X(y_ref) X(x_base) X(y_base) X(force_mag) X(aux0) X(aux1)      \
-            X(aux2) X(aux3) X(aux4) X(aux5) X(aux6) X(aux7) X(aux8) X(aux9) X(aux10) X(aux11)
+    X(y)                                                                                           \
+    X(vx)                                                                                          \
+    X(vy) X(angle) X(omega) X(fx) X(fy) X(torque) X(radius) X(inv_mass) X(inv_inertia) X(mass)     \
+        X(inertia) X(x_ref) X(y_ref) X(x_base) X(y_base) X(force_mag) X(aux0) X(aux1) X(aux2)      \
+            X(aux3) X(aux4) X(aux5) X(aux6) X(aux7) X(aux8) X(aux9) X(aux10) X(aux11)
 #define SIM_GRAIN_INT_ARRAYS(X) X(species) X(motion)
 
 struct SimWorld {
@@ -84,6 +88,7 @@ struct SimWorld {
     double wall_shift;                 /* largest wall displacement since the last build, m */
     int pending_removal; /* grains flagged SIM_GRAIN_REMOVED wait for the next build */
     int drop_history;    /* the list refers to a state that was replaced: carry nothing over */
+    int jump_grain;      /* index of a grain that moved over half its radius in a step, or -1 */
 
     PairParams pairs[SIM_MAX_SPECIES * SIM_MAX_SPECIES];
     double log_e[SIM_MAX_SPECIES]; /* per-species damping factor, see pair_gamma */
@@ -148,6 +153,7 @@ void sim_world_compact(SimWorld *world);
 /* neighbour.c */
 void sim_neighbour_build(SimWorld *world);
 void sim_neighbour_free(SimWorld *world);
+double sim_def_worst_overlap(const SimWorldDef *def, int *first, int *second);
 double sim_pair_gamma(const SimWorld *world, int species_i, int species_j, double inv_mass_i,
                       double inv_mass_j);
 

@@ -1,0 +1,604 @@
+/* SPDX-License-Identifier: MIT */
+/* run.c: the stage runner. For each stage: build or continue the world, dig and remove, then step
+ * in chunks that end on output times (energy rows, movie frames, trace rows, settle test), and
+ * save a checkpoint. Every output is written under path.tmp and renamed when complete, so an
+ * interrupted run never leaves a truncated file under a final name. */
+#include "run.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#define PATH_SIZE (SCENE_PATH_MAX + 2 * SCENE_NAME_MAX)
+
+typedef struct StageReport {
+    long steps;
+    double start_time, end_time; /* s */
+    double wall_seconds;
+    int settled;
+    int removed;
+    int mobile;
+} StageReport;
+
+typedef struct Run {
+    const Scene *scene;
+    const AppRunOptions *options;
+    SimWorld *world;
+    FILE *energy, *trace;
+    char energy_path[PATH_SIZE], trace_path[PATH_SIZE];
+    double time_scale; /* sqrt(D/g), s; 0 = unknown */
+    long steps;
+    double simulated, particle_steps, step_seconds;
+    double contacts_sum;
+    long contacts_samples;
+    StageReport stages[SCENE_MAX_STAGES];
+    int stages_done;
+    int status; /* exit status */
+    char message[4 * PATH_SIZE];
+    SimError error;
+    int render_warned;
+    int progress_tty;
+} Run;
+
+AppRunOptions app_run_options_default(void)
+{
+    AppRunOptions o;
+    memset(&o, 0, sizeof o);
+    o.threads = 1;
+    o.sablier_version = "unknown";
+    return o;
+}
+
+static double now_seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+int app_make_dirs(const char *path)
+{
+    char buffer[PATH_SIZE];
+    if (strlen(path) >= sizeof buffer || !path[0])
+        return -1;
+    strcpy(buffer, path);
+    for (char *p = buffer + 1; *p; ++p) {
+        if (*p != '/')
+            continue;
+        *p = '\0';
+        if (mkdir(buffer, 0777) != 0 && errno != EEXIST)
+            return -1;
+        *p = '/';
+    }
+    if (mkdir(buffer, 0777) != 0 && errno != EEXIST)
+        return -1;
+    struct stat st;
+    return stat(buffer, &st) == 0 && S_ISDIR(st.st_mode) ? 0 : -1;
+}
+
+static void out_path(const Run *run, char *out, const char *name, const char *suffix)
+{
+    snprintf(out, PATH_SIZE, "%s/%s%s", run->options->out_dir, name, suffix);
+}
+
+/* Writes `text` to path via path.tmp + rename. */
+static int write_file_atomic(const char *path, const char *text)
+{
+    char tmp[PATH_SIZE + 8];
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    FILE *f = fopen(tmp, "w");
+    if (!f)
+        return -1;
+    int ok = fputs(text, f) >= 0;
+    ok = (fclose(f) == 0) && ok;
+    if (!ok || rename(tmp, path) != 0) {
+        remove(tmp);
+        return -1;
+    }
+    return 0;
+}
+
+static int finish_csv(FILE **file, const char *path)
+{
+    if (!*file)
+        return 0;
+    int ok = fclose(*file) == 0;
+    *file = NULL;
+    char tmp[PATH_SIZE + 8];
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    return ok && rename(tmp, path) == 0 ? 0 : -1;
+}
+
+static FILE *open_csv(const char *path, const char *header)
+{
+    char tmp[PATH_SIZE + 8];
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    FILE *f = fopen(tmp, "w");
+    if (f)
+        fprintf(f, "%s\n", header);
+    return f;
+}
+
+/* ---------------------------------------------------------------- JSON */
+
+static void json_string(char *out, size_t size, const char *text)
+{
+    size_t n = 0;
+    if (size < 3)
+        return;
+    out[n++] = '"';
+    for (const unsigned char *c = (const unsigned char *)(text ? text : ""); *c && n + 8 < size;
+         ++c) {
+        if (*c == '"' || *c == '\\') {
+            out[n++] = '\\';
+            out[n++] = (char)*c;
+        } else if (*c < 0x20) {
+            n += (size_t)snprintf(out + n, size - n, "\\u%04x", *c);
+        } else {
+            out[n++] = (char)*c;
+        }
+    }
+    out[n++] = '"';
+    out[n] = '\0';
+}
+
+/* A double as JSON (NaN and infinities have no JSON form: null). */
+static void json_number(char *out, size_t size, double v)
+{
+    if (isfinite(v))
+        snprintf(out, size, "%.10g", v);
+    else
+        snprintf(out, size, "null");
+}
+
+static int write_summary(const Run *run, double wall_seconds)
+{
+    const Scene *scene = run->scene;
+    size_t size = 16384 + 512 * SCENE_MAX_STAGES;
+    char *text = malloc(size);
+    if (!text)
+        return -1;
+    char name[256], file[2 * SCENE_PATH_MAX], message[2200], render[600], effects[256],
+        effects_json[300], n1[40], n2[40], n3[40], n4[40];
+    json_string(name, sizeof name, scene->name);
+    json_string(file, sizeof file, scene->path);
+    json_string(message, sizeof message, run->message);
+    json_string(render, sizeof render,
+                run->options->render_versions ? run->options->render_versions : "not built");
+    scene_effect_names(scene->def.effects, effects, sizeof effects);
+    json_string(effects_json, sizeof effects_json, effects);
+    int grains = run->world ? sim_world_grain_count(run->world) : scene->grains.count;
+    int mobile =
+        run->world ? sim_world_mobile_count(run->world) : scene->grains.count - scene->fixed_count;
+    json_number(n1, sizeof n1, run->simulated);
+    json_number(n2, sizeof n2, wall_seconds);
+    json_number(n3, sizeof n3,
+                run->step_seconds > 0.0 ? run->particle_steps / run->step_seconds : 0.0);
+    json_number(n4, sizeof n4,
+                run->contacts_samples ? run->contacts_sum / (double)run->contacts_samples : 0.0);
+    const char *status = run->status == 0 ? "ok" : run->status == 1 ? "unstable" : "error";
+    size_t n = (size_t)snprintf(
+        text, size,
+        "{\n  \"scene\": %s,\n  \"scene_file\": %s,\n  \"seed\": %llu,\n  \"grains\": %d,\n"
+        "  \"mobile_grains\": %d,\n  \"steps\": %ld,\n  \"simulated_seconds\": %s,\n"
+        "  \"wall_seconds\": %s,\n  \"particle_steps_per_second\": %s,\n"
+        "  \"contacts_mean\": %s,\n  \"status\": \"%s\",\n  \"message\": %s,\n"
+        "  \"effects\": %s,\n  \"threads\": %d,\n",
+        name, file, (unsigned long long)scene->seed, grains, mobile, run->steps, n1, n2, n3, n4,
+        status, message, effects_json, run->options->threads);
+    n += (size_t)snprintf(text + n, size - n, "  \"stages\": [");
+    for (int k = 0; k < run->stages_done && n < size; ++k) {
+        const StageReport *s = &run->stages[k];
+        char stage_name[160], a[40], b[40], c[40];
+        json_string(stage_name, sizeof stage_name, scene->stages[k].name);
+        json_number(a, sizeof a, s->start_time);
+        json_number(b, sizeof b, s->end_time);
+        json_number(c, sizeof c, s->wall_seconds);
+        n += (size_t)snprintf(text + n, size - n,
+                              "%s\n    {\"name\": %s, \"steps\": %ld, \"start_time\": %s, "
+                              "\"end_time\": %s, \"wall_seconds\": %s, \"settled\": %s, "
+                              "\"removed\": %d, \"mobile_grains\": %d}",
+                              k ? "," : "", stage_name, s->steps, a, b, c,
+                              s->settled ? "true" : "false", s->removed, s->mobile);
+    }
+    if (n < size) {
+        char sablier[80];
+        json_string(sablier, sizeof sablier, run->options->sablier_version);
+        n += (size_t)snprintf(text + n, size - n,
+                              "\n  ],\n  \"versions\": {\"sablier\": %s, \"sim\": \"%s\", "
+                              "\"libconfig\": \"%s\", \"render\": %s}\n}\n",
+                              sablier, SIM_VERSION,
+                              scene_libconfig_version() + strlen("libconfig "), render);
+    }
+    char path[PATH_SIZE];
+    out_path(run, path, "summary", ".json");
+    int rc = n < size ? write_file_atomic(path, text) : -1;
+    free(text);
+    return rc;
+}
+
+/* ---------------------------------------------------------------- outputs during a stage */
+
+static void energy_row(Run *run, int stage)
+{
+    SimEnergy e = sim_world_energy(run->world);
+    double t = sim_world_time(run->world);
+    run->contacts_sum += e.contacts;
+    run->contacts_samples++;
+    if (!run->energy)
+        return;
+    double t_star = run->time_scale > 0.0 ? t / run->time_scale : 0.0;
+    fprintf(run->energy, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%d,%s\n", t, t_star, e.kinetic,
+            e.potential, e.rotational, e.elastic, e.total, e.mobile, e.contacts,
+            run->scene->stages[stage].name);
+}
+
+static void trace_rows(Run *run, const SimFrame *frame)
+{
+    const SceneOutput *out = &run->scene->output;
+    for (int k = 0; k < out->trace_count; ++k)
+        for (int i = 0; i < frame->count; ++i) {
+            if (frame->id[i] != out->trace_ids[k])
+                continue;
+            fprintf(run->trace, "%.9g,%u,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", frame->time,
+                    frame->id[i], frame->x[i], frame->y[i], frame->vx[i], frame->vy[i],
+                    frame->omega[i], frame->fx ? frame->fx[i] : 0.0, frame->fy ? frame->fy[i] : 0.0,
+                    frame->torque ? frame->torque[i] : 0.0);
+            break;
+        }
+}
+
+static int figures_at(Run *run, int stage, int at_end)
+{
+    const Scene *scene = run->scene;
+    const SceneOutput *out = &scene->output;
+    SimFrame frame;
+    int framed = 0;
+    for (int k = 0; k < out->figure_count; ++k) {
+        const SceneFigure *f = &out->figures[k];
+        if (f->stage != stage || f->at_end != at_end)
+            continue;
+        if (!run->options->render || !run->options->render->figure)
+            continue;
+        if (!framed) {
+            sim_world_frame(run->world, &frame);
+            framed = 1;
+        }
+        char path[PATH_SIZE], suffix[16], err[512] = "";
+        snprintf(suffix, sizeof suffix, ".%s", f->format);
+        out_path(run, path, f->name, suffix);
+        if (run->options->render->figure(run->options->render->context, scene, f, &frame, path, err,
+                                         sizeof err) != 0) {
+            snprintf(run->message, sizeof run->message, "figure %s: %s", path, err);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+int app_surface_height(const SimFrame *frame, double x, double half_width, double *top)
+{
+    int found = 0;
+    for (int i = 0; i < frame->mobile_count; ++i) {
+        if (fabs(frame->x[i] - x) > half_width)
+            continue;
+        double y = frame->y[i] + frame->radius[i];
+        if (!found || y > *top)
+            *top = y;
+        found = 1;
+    }
+    return found ? 0 : -1;
+}
+
+/* ---------------------------------------------------------------- world per stage */
+
+static SimWorld *world_from_state(Run *run, int stage, const char *path)
+{
+    const Scene *scene = run->scene;
+    SimGrainSet grains;
+    SimWall *walls = NULL;
+    int wall_count = 0;
+    double time = 0.0;
+    memset(&grains, 0, sizeof grains);
+    if (sim_state_load(path, &grains, &walls, &wall_count, &time, &run->error) != SIM_OK) {
+        snprintf(run->message, sizeof run->message, "%s: cannot load checkpoint %s: %s",
+                 scene_where_field(scene, stage, "grains"), path, run->error.message);
+        return NULL;
+    }
+    SimWorldDef def = scene_world_def(scene, stage);
+    def.grains = grains;
+    def.walls = walls;
+    def.wall_count = wall_count;
+    def.start_time = time;
+    SimWorld *world = sim_world_create(&def, &run->error);
+    if (!world)
+        snprintf(run->message, sizeof run->message, "%s: checkpoint %s: %s",
+                 scene_where_field(scene, stage, run->error.field), path, run->error.message);
+    sim_grain_set_free(&grains);
+    free(walls);
+    return world;
+}
+
+static int stage_world(Run *run, int k)
+{
+    const Scene *scene = run->scene;
+    const SceneStage *stage = &scene->stages[k];
+    if (stage->load == SCENE_LOAD_PREVIOUS && run->world &&
+        scene->stages[k - 1].time_step == stage->time_step)
+        return 0; /* continue in memory: contact history and exact state kept */
+    SimWorld *world = NULL;
+    if (stage->load == SCENE_LOAD_SCENE) {
+        SimWorldDef def = scene_world_def(scene, k);
+        world = sim_world_create(&def, &run->error);
+        if (!world)
+            snprintf(run->message, sizeof run->message, "%s: %s",
+                     scene_where_field(scene, k, run->error.field), run->error.message);
+    } else {
+        char path[PATH_SIZE];
+        if (stage->load == SCENE_LOAD_PREVIOUS)
+            out_path(run, path, scene->stages[k - 1].name, ".state");
+        else
+            snprintf(path, sizeof path, "%s", stage->load_path);
+        world = world_from_state(run, k, path);
+    }
+    if (!world)
+        return -1;
+    if (run->world)
+        sim_world_destroy(run->world);
+    run->world = world;
+    return 0;
+}
+
+/* Digging (000 §4.1 stage 2) and explicit removals, at the stage start. */
+static int stage_edit(Run *run, int k)
+{
+    const SceneStage *stage = &run->scene->stages[k];
+    StageReport *report = &run->stages[k];
+    if (stage->dig) {
+        SimFrame frame;
+        sim_world_frame(run->world, &frame);
+        double top = stage->dig_top;
+        if (stage->dig_top_surface &&
+            app_surface_height(&frame, stage->dig_center_x, 0.5 * stage->dig_width, &top) != 0) {
+            snprintf(run->message, sizeof run->message,
+                     "stage %s: dig: no mobile grain within width/2 of center_x = %g m",
+                     stage->name, stage->dig_center_x);
+            return -1;
+        }
+        double x0 = stage->dig_center_x - 0.5 * stage->dig_width;
+        double x1 = stage->dig_center_x + 0.5 * stage->dig_width;
+        report->removed += sim_world_remove_rect(run->world, x0, top - stage->dig_height, x1,
+                                                 top + stage->dig_height);
+    }
+    if (stage->remove_count > 0)
+        report->removed += sim_world_remove_ids(run->world, stage->remove_ids, stage->remove_count);
+    return 0;
+}
+
+static void progress(Run *run, int k, double elapsed, double duration, double rate, int final)
+{
+    const SceneStage *stage = &run->scene->stages[k];
+    if (final) {
+        const StageReport *r = &run->stages[k];
+        if (run->progress_tty)
+            fputs("\r\033[K", stderr);
+        fprintf(stderr,
+                "sablier: stage %s: %.4g s simulated (t = %.4g s) in %.3g s, %ld steps, %d "
+                "mobile grains%s%s\n",
+                stage->name, r->end_time - r->start_time, r->end_time, r->wall_seconds, r->steps,
+                r->mobile, r->settled ? ", settled" : "",
+                r->removed ? ", grains removed at start" : "");
+        return;
+    }
+    if (!run->progress_tty)
+        return;
+    double left = duration > elapsed && rate > 0.0 ? (duration - elapsed) / rate : 0.0;
+    fprintf(stderr, "\r\033[Ksablier: %s  t = %.3f / %.3f s  %.3g steps/s  ETA %.0f s", stage->name,
+            elapsed, duration, rate / sim_world_time_step(run->world), left);
+    fflush(stderr);
+}
+
+static void unstable_message(Run *run, int k)
+{
+    const SceneStage *stage = &run->scene->stages[k];
+    char path[PATH_SIZE];
+    out_path(run, path, stage->name, ".last_good.state");
+    SimError save_error;
+    int saved = sim_world_save(run->world, path, &save_error) == SIM_OK;
+    SimTiming timing = sim_world_timing(run->world);
+    const char *cause =
+        timing.steps_per_contact < 20.0
+            ? "the time step is too large for the contacts (fewer than 20 steps per contact): "
+              "lower time.dt"
+            : "a contact blew up (overlap or speed beyond the guard): check k_n against the "
+              "loads, the damping, and overlaps at the start";
+    /* sim's message may already name the cause */
+    int named = strstr(run->error.message, "likely cause") != NULL;
+    snprintf(run->message, sizeof run->message,
+             "stage %s: simulation failed at step %ld (t = %.6g s), grain %ld: %s%s%s "
+             "(dt = %g s, %.1f steps per contact); last good state %s %s",
+             stage->name, run->error.step, sim_world_time(run->world), run->error.grain,
+             run->error.message, named ? "" : "; likely cause: ", named ? "" : cause,
+             timing.time_step, timing.steps_per_contact,
+             saved ? "saved to" : "could not be saved to", path);
+}
+
+static int run_stage(Run *run, int k)
+{
+    const Scene *scene = run->scene;
+    const SceneStage *stage = &scene->stages[k];
+    const SceneOutput *out = &scene->output;
+    StageReport *report = &run->stages[k];
+    const AppRenderHooks *render = run->options->render;
+    double wall_start = now_seconds();
+    if (stage_world(run, k) != 0 || stage_edit(run, k) != 0)
+        return 2;
+    report->start_time = sim_world_time(run->world);
+    double dt = sim_world_time_step(run->world);
+    /* t* = t / sqrt(D/g) (000 eq. 6.1) */
+    double g = hypot(scene->def.gravity_x, scene->def.gravity_y);
+    SimFrame frame;
+    sim_world_frame(run->world, &frame);
+    run->time_scale =
+        out->t_star_length > 0.0 && g > 0.0 ? sqrt(out->t_star_length / g) : frame.time_scale;
+    if (figures_at(run, k, 0) != 0)
+        return 2;
+    int movie = stage->movie && render && render->movie_open;
+    if ((stage->movie || out->figure_count > 0) && !render && !run->render_warned) {
+        fprintf(stderr, "sablier: warning: rendering is not built: figures and movies are "
+                        "skipped\n");
+        run->render_warned = 1;
+    }
+    SimFrameSink sink = {0};
+    if (movie) {
+        char path[PATH_SIZE], err[512] = "";
+        out_path(run, path, stage->name, ".mp4");
+        if (render->movie_open(render->context, scene, k, path, &sink, err, sizeof err) != 0) {
+            snprintf(run->message, sizeof run->message, "movie %s: %s", path, err);
+            return 2;
+        }
+    }
+    /* Chunks end on output times, counted in steps from the stage start. */
+    long total = (long)llround(stage->duration / dt);
+    long every_energy = (long)fmax(1.0, (double)llround(out->energy_every / dt));
+    long every_frame = (long)fmax(1.0, (double)llround(1.0 / (out->frame_rate * dt)));
+    long every_trace = (long)fmax(1.0, (double)llround(out->trace_every / dt));
+    long done = 0;
+    int status = 0;
+    double last_progress = now_seconds(), step_wall = 0.0;
+    for (;;) {
+        int frame_due = movie && sink.consume && done % every_frame == 0;
+        int trace_due = run->trace && done % every_trace == 0;
+        if (done % every_energy == 0 || done == total)
+            energy_row(run, k);
+        if (frame_due || trace_due) {
+            sim_world_frame(run->world, &frame);
+            if (frame_due && sink.consume(sink.context, &frame) != 0)
+                sink.consume = NULL; /* the movie's sticky error is reported at close */
+            if (trace_due)
+                trace_rows(run, &frame);
+        }
+        if (done >= total)
+            break;
+        double elapsed = (double)done * dt;
+        if (stage->settle_kinetic > 0.0 && done % every_energy == 0 && done > 0 &&
+            elapsed >= stage->settle_after - 0.5 * dt) {
+            SimEnergy e = sim_world_energy(run->world);
+            if (e.kinetic + e.rotational < stage->settle_kinetic) {
+                report->settled = 1;
+                break;
+            }
+        }
+        long next = total;
+        long marks[3] = {every_energy, movie ? every_frame : total,
+                         run->trace ? every_trace : total};
+        for (int m = 0; m < 3; ++m) {
+            long candidate = (done / marks[m] + 1) * marks[m];
+            if (candidate < next)
+                next = candidate;
+        }
+        double t0 = now_seconds();
+        SimStatus s = sim_world_step(run->world, next - done, &run->error);
+        double t1 = now_seconds();
+        step_wall += t1 - t0;
+        run->particle_steps += (double)sim_world_mobile_count(run->world) * (double)(next - done);
+        report->steps += next - done;
+        done = next;
+        if (s != SIM_OK) {
+            unstable_message(run, k);
+            status = s == SIM_ERROR_UNSTABLE ? 1 : 2;
+            break;
+        }
+        if (t1 - last_progress > 0.25) {
+            progress(run, k, (double)done * dt, stage->duration, (double)done * dt / step_wall, 0);
+            last_progress = t1;
+        }
+    }
+    run->step_seconds += step_wall;
+    run->steps += report->steps;
+    report->end_time = sim_world_time(run->world);
+    report->mobile = sim_world_mobile_count(run->world);
+    run->simulated += report->end_time - report->start_time;
+    if (movie) {
+        char err[512] = "";
+        if (render->movie_close(render->context, err, sizeof err) != 0 && status == 0) {
+            snprintf(run->message, sizeof run->message, "movie of stage %s: %s", stage->name, err);
+            status = 2;
+        }
+    }
+    if (status != 0)
+        return status;
+    char path[PATH_SIZE];
+    out_path(run, path, stage->name, ".state");
+    if (sim_world_save(run->world, path, &run->error) != SIM_OK) {
+        snprintf(run->message, sizeof run->message, "checkpoint %s: %s", path, run->error.message);
+        return 2;
+    }
+    if (figures_at(run, k, 1) != 0)
+        return 2;
+    report->wall_seconds = now_seconds() - wall_start;
+    progress(run, k, 0.0, 0.0, 0.0, 1);
+    return 0;
+}
+
+int app_run(const Scene *scene, const AppRunOptions *options)
+{
+    Run *run = calloc(1, sizeof *run);
+    if (!run) {
+        fprintf(stderr, "sablier: out of memory\n");
+        return 2;
+    }
+    run->scene = scene;
+    run->options = options;
+    run->progress_tty = !options->quiet && isatty(STDERR_FILENO);
+    double wall_start = now_seconds();
+    if (app_make_dirs(options->out_dir) != 0) {
+        fprintf(stderr, "sablier: cannot create output folder %s: %s\n", options->out_dir,
+                strerror(errno));
+        free(run);
+        return 2;
+    }
+    out_path(run, run->energy_path, "energy", ".csv");
+    run->energy =
+        open_csv(run->energy_path, "t,t_star,e_kin,e_pot,e_rot,e_el,e_total,grains,contacts,stage");
+    if (scene->output.trace_count > 0) {
+        out_path(run, run->trace_path, "trace", ".csv");
+        run->trace = open_csv(run->trace_path, "t,id,x,y,vx,vy,omega,fx,fy,torque");
+    }
+    if (!run->energy || (scene->output.trace_count > 0 && !run->trace)) {
+        snprintf(run->message, sizeof run->message, "cannot write in %s: %s", options->out_dir,
+                 strerror(errno));
+        run->status = 2;
+    }
+    for (int k = 0; run->status == 0 && k < scene->stage_count; ++k) {
+        run->status = run_stage(run, k);
+        run->stages_done = k + 1;
+    }
+    /* The CSV files are complete records up to here, failure included. */
+    if (finish_csv(&run->energy, run->energy_path) != 0 ||
+        finish_csv(&run->trace, run->trace_path) != 0) {
+        if (run->status == 0) {
+            snprintf(run->message, sizeof run->message, "cannot finish the CSV files in %s",
+                     options->out_dir);
+            run->status = 2;
+        }
+    }
+    if (write_summary(run, now_seconds() - wall_start) != 0 && run->status == 0) {
+        snprintf(run->message, sizeof run->message, "cannot write %s/summary.json",
+                 options->out_dir);
+        run->status = 2;
+    }
+    if (run->status != 0)
+        fprintf(stderr, "sablier: %s\n", run->message);
+    int status = run->status;
+    if (run->world)
+        sim_world_destroy(run->world);
+    free(run);
+    return status;
+}

@@ -1,0 +1,169 @@
+/* SPDX-License-Identifier: MIT */
+/* scene.h: the declarative scene loader. Reads a libconfig scene file (docs/scenes.md), applies
+ * `--set KEY=VALUE` overrides, checks every key, and produces plain data: a SimWorldDef per
+ * stage, the stage list, and output/render settings (no render types: app/sablier.c maps
+ * SceneStyle onto RenderStyle).
+ *
+ *     Scene *scene = scene_load("scenes/crater/quick.scene", sets, set_count, err, sizeof err);
+ *     if (!scene) { fprintf(stderr, "%s\n", err); return 2; }   // err is "file:line: message"
+ *     SimWorldDef def = scene_world_def(scene, 0);
+ *     scene_free(scene);
+ */
+#ifndef SCENE_H
+#define SCENE_H
+
+#include "sim/sim.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+#define SCENE_MAX_STAGES  8
+#define SCENE_MAX_FIGURES 16
+#define SCENE_MAX_TRACE   64
+#define SCENE_NAME_MAX    64
+#define SCENE_PATH_MAX    1024
+
+/// Colour-by choices; same order as RenderColorBy (render_style.h).
+typedef enum SceneColorBy {
+    SCENE_COLOR_FIXED = 0,
+    SCENE_COLOR_FORCE = 1,
+    SCENE_COLOR_SPEED = 2,
+    SCENE_COLOR_SPECIES = 3,
+    SCENE_COLOR_HEIGHT = 4,
+} SceneColorBy;
+
+/// Colour maps; same order as RenderColormap.
+typedef enum SceneColormap {
+    SCENE_CMAP_VIRIDIS = 0,
+    SCENE_CMAP_YELLOW_RED = 1,
+    SCENE_CMAP_GREYS = 2,
+} SceneColormap;
+
+/// Drawing settings as written in the scene. Unset fields: ints -1, doubles NaN, strings "",
+/// colours -1; unset fields keep the renderer's defaults.
+typedef struct SceneStyle {
+    int width, height;                         ///< pixels
+    int color_by;                              ///< SceneColorBy
+    int colormap;                              ///< SceneColormap
+    double range_min, range_max;               ///< colour range in the quantity's unit
+    double band_height;                        ///< m
+    int outline, orientation_tick;             ///< 0/1
+    int force_chains;                          ///< 0/1
+    double chain_threshold;                    ///< multiple of the mean normal force
+    double chain_width_max;                    ///< pixels
+    int velocity_arrows, velocity_field;       ///< 0/1
+    int colorbar, time_stamp, scale_bar;       ///< 0/1
+    long background_rgb, fill_rgb, fixed_rgb;  ///< 0xRRGGBB
+    double view_x0, view_y0, view_x1, view_y1; ///< world window, m
+    char title[128];
+} SceneStyle;
+
+/// How a stage gets its grains.
+typedef enum SceneLoad {
+    SCENE_LOAD_SCENE = 0,    ///< build from the scene's `grains` (first stage default)
+    SCENE_LOAD_PREVIOUS = 1, ///< continue from the previous stage (later stages default)
+    SCENE_LOAD_FILE = 2,     ///< a checkpoint file (sim_world_save)
+} SceneLoad;
+
+typedef struct SceneStage {
+    char name[SCENE_NAME_MAX];
+    SceneLoad load;
+    char load_path[SCENE_PATH_MAX]; ///< resolved against the scene's folder (SCENE_LOAD_FILE)
+    double time_step;               ///< dt, s (0 = from steps_per_contact)
+    double duration;                ///< time.end: simulated time of the stage, s (the cap)
+    double settle_kinetic;          ///< stop once E_kin + E_rot < this, J; 0 = off
+    double settle_after;            ///< the settle test starts this long into the stage, s
+    int dig;                        ///< 1: remove a rectangle at the stage start
+    double dig_center_x, dig_width, dig_height; ///< m
+    int dig_top_surface; ///< 1: the cavity top is the free surface near center_x
+    double dig_top;      ///< m, when dig_top_surface is 0
+    int remove_count;
+    uint32_t *remove_ids; ///< stable ids removed at the stage start
+    int movie;            ///< 1: write <stage>.mp4
+} SceneStage;
+
+typedef struct SceneFigure {
+    char name[SCENE_NAME_MAX];
+    int stage;        ///< index into stages
+    int at_end;       ///< 1: at the stage end, 0: at its start (after load, dig, removals)
+    char format[8];   ///< "png", "pdf" or "svg"
+    SceneStyle style; ///< the scene's `render` style with the figure's own keys on top
+} SceneFigure;
+
+typedef enum SceneDragModel {
+    SCENE_DRAG_LINEAR = 0, ///< F = -c (v - u)
+    SCENE_DRAG_STOKES = 1, ///< F = -3 pi eta d (v - u)
+} SceneDragModel;
+
+/// Fluid drag parameters (effect fluid_drag), applied through SimBodyForce.
+typedef struct SceneDrag {
+    SceneDragModel model;
+    double coefficient;        ///< c, kg/s (linear)
+    double viscosity;          ///< eta, Pa s (stokes)
+    double fluid_vx, fluid_vy; ///< u, m/s
+} SceneDrag;
+
+typedef struct SceneOutput {
+    double frame_rate;   ///< movie frames per simulated second, 1/s
+    double fps;          ///< video frames per second of movie, 1/s
+    int crf;             ///< libx264 quality
+    int drawer;          ///< 0 cairo, 1 osmesa (RenderDrawer order)
+    double energy_every; ///< s of simulated time between energy.csv rows
+    int trace_count;
+    uint32_t trace_ids[SCENE_MAX_TRACE];
+    double trace_every;   ///< s between trace.csv rows
+    double t_star_length; ///< D of t* = t / sqrt(D/g), m (0 = the sim's time scale)
+    int figure_count;
+    SceneFigure figures[SCENE_MAX_FIGURES];
+} SceneOutput;
+
+typedef struct SceneWhere SceneWhere; /* private: field path -> file:line */
+
+typedef struct Scene {
+    char path[SCENE_PATH_MAX];
+    char name[SCENE_NAME_MAX];
+    uint64_t seed;
+    SimWorldDef def;       ///< grains and walls point into this scene (valid until scene_free)
+    SimGrainBuffer grains; ///< the scene's own grains (first stage)
+    int fixed_count;       ///< fixed grains among them
+    SimWall *walls;
+    char motion_names[SIM_MAX_MOTIONS][SCENE_NAME_MAX];
+    char species_names[SIM_MAX_SPECIES][SCENE_NAME_MAX];
+    SceneDrag drag;
+    int stage_count;
+    SceneStage stages[SCENE_MAX_STAGES];
+    SceneOutput output;
+    SceneStyle style; ///< `render` group
+    SceneWhere *where;
+} Scene;
+
+/// Loads, overrides and checks a scene. `sets` are "KEY=VALUE" strings. Returns NULL with
+/// "file:line: message" (or "--set KEY: message") in err when anything is wrong.
+Scene *scene_load(const char *path, const char *const *sets, int set_count, char *err,
+                  size_t err_size);
+void scene_free(Scene *scene);
+
+/// The world definition of one stage (its time step; the scene's own grains).
+SimWorldDef scene_world_def(const Scene *scene, int stage);
+
+/// Runs sim_world_def_validate on a definition derived from this scene and maps the reported
+/// field back to "file:line: message". Returns 0 when valid.
+int scene_validate_def(const Scene *scene, int stage, const SimWorldDef *def, char *err,
+                       size_t err_size);
+
+/// "file:line" of the scene key behind a SimError field ("materials[0].normal_stiffness").
+const char *scene_where_field(const Scene *scene, int stage, const char *field);
+
+/// Index of a stage by name, -1 when absent.
+int scene_stage_index(const Scene *scene, const char *name);
+
+/// Comma-separated names of declared effects ("friction, removal"; "none").
+void scene_effect_names(unsigned effects, char *out, size_t out_size);
+
+/// The style with every field unset.
+SceneStyle scene_style_unset(void);
+
+/// "libconfig 1.5.0"
+const char *scene_libconfig_version(void);
+
+#endif

@@ -1,0 +1,930 @@
+/* SPDX-License-Identifier: MIT */
+/* render_cairo.c: the reference drawer. One frame becomes flat antialiased disks coloured through
+ * a LUT, fixed grains and walls, force chains (strong network), velocity arrows and the
+ * coarse-grained field, arch highlights with an inset, and annotations (colour bar, time stamp,
+ * scale bar, title). Everything is drawn in pixel units; PDF/SVG scale pixels to points.
+ *
+ * Speed (anchors-render 2a): one new_path/arc/fill per disk, outlines as a dark disk under a
+ * smaller coloured one (a stroke per disk costs 3x), the source colour set only when it changes,
+ * batched paths for same-style strokes (ticks, arrows). */
+#include "render_cairo_util.h"
+
+#include "render/render.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+
+static const uint32_t outline_rgb = 0x2a2a2a;
+static const uint32_t wall_rgb = 0x3c3c3c;
+static const uint32_t arrow_rgb = 0x161616;
+static const uint32_t field_rgb = 0x0b3d91;
+static const uint32_t text_rgb = 0x111111;
+
+/* ---------------------------------------------------------------- layout */
+
+static int colorbar_kind(const RenderStyle *style)
+{
+    if (!style->colorbar)
+        return 0;
+    if (style->color_by == RENDER_COLOR_FORCE || style->color_by == RENDER_COLOR_SPEED)
+        return 1; /* continuous bar */
+    if (style->color_by == RENDER_COLOR_SPECIES)
+        return 2; /* categorical legend */
+    return 0;
+}
+
+static double font_size_of(const RenderStyle *style)
+{
+    if (style->font_size > 0)
+        return style->font_size;
+    return fmax(10.0, style->height / 48.0);
+}
+
+static int is_fixed(const SimFrame *frame, int i)
+{
+    return frame->flags && (frame->flags[i] & SIM_GRAIN_FIXED);
+}
+
+static double frame_mean_diameter(const SimFrame *frame)
+{
+    double sum = 0;
+    int n = 0;
+    for (int i = 0; i < frame->count; ++i) {
+        if (is_fixed(frame, i) && frame->mobile_count > 0)
+            continue;
+        sum += 2 * frame->radius[i];
+        ++n;
+    }
+    return n ? sum / n : 0;
+}
+
+void render_view_fit(const SimFrame *frame, const RenderStyle *style, RenderView *view)
+{
+    double fs = font_size_of(style);
+    double pad = 0.6 * fs;
+    double top = style->title ? 2.0 * fs : 0;
+    int bar = colorbar_kind(style);
+    double right = bar == 1 ? 7.5 * fs : bar == 2 ? 8.0 * fs : 0;
+    view->font_size = fs;
+    view->plot_x = pad;
+    view->plot_y = top + pad;
+    view->plot_w = fmax(1.0, style->width - 2 * pad - right);
+    view->plot_h = fmax(1.0, style->height - top - 2 * pad);
+    view->mean_diameter = frame_mean_diameter(frame);
+
+    double x0, y0, x1, y1;
+    if (style->view_x1 > style->view_x0 && style->view_y1 > style->view_y0) {
+        x0 = style->view_x0;
+        x1 = style->view_x1;
+        y0 = style->view_y0;
+        y1 = style->view_y1;
+    } else {
+        x0 = y0 = INFINITY;
+        x1 = y1 = -INFINITY;
+        for (int i = 0; i < frame->count; ++i) {
+            double r = frame->radius[i];
+            x0 = fmin(x0, frame->x[i] - r);
+            x1 = fmax(x1, frame->x[i] + r);
+            y0 = fmin(y0, frame->y[i] - r);
+            y1 = fmax(y1, frame->y[i] + r);
+        }
+        for (int k = 0; k < frame->wall_count; ++k) {
+            const SimWall *w = &frame->walls[k];
+            x0 = fmin(x0, fmin(w->x0, w->x1));
+            x1 = fmax(x1, fmax(w->x0, w->x1));
+            y0 = fmin(y0, fmin(w->y0, w->y1));
+            y1 = fmax(y1, fmax(w->y0, w->y1));
+        }
+        if (!(x1 > x0) || !(y1 > y0)) {
+            x0 = y0 = 0;
+            x1 = y1 = 1;
+        }
+        double margin = 0.02 * fmax(x1 - x0, y1 - y0);
+        y0 -= margin;
+        y1 += margin;
+        if (frame->periodic && frame->domain_x1 > frame->domain_x0) {
+            x0 = frame->domain_x0;
+            x1 = frame->domain_x1;
+        } else {
+            x0 -= margin;
+            x1 += margin;
+        }
+    }
+    view->scale = fmin(view->plot_w / (x1 - x0), view->plot_h / (y1 - y0));
+    view->center_x = 0.5 * (x0 + x1);
+    view->center_y = 0.5 * (y0 + y1);
+}
+
+void render_view_to_pixel(const RenderView *view, double x, double y, double *px, double *py)
+{
+    *px = view->plot_x + 0.5 * view->plot_w + (x - view->center_x) * view->scale;
+    *py = view->plot_y + 0.5 * view->plot_h - (y - view->center_y) * view->scale;
+}
+
+RenderStyle render_style_resolve(const SimFrame *frame, const RenderStyle *style)
+{
+    RenderStyle s = *style;
+    RenderView view;
+    render_view_fit(frame, style, &view);
+    double d = view.mean_diameter;
+    s.font_size = view.font_size;
+    if (!(s.band_height > 0))
+        s.band_height = d > 0 ? 5 * d : 1;
+    if (!(s.chain_width_max > 0))
+        s.chain_width_max = fmax(1.5, 0.5 * d * view.scale);
+    if (!(s.field_cell > 0))
+        s.field_cell = d > 0 ? 2 * d : 1;
+    if (!(s.field_width > 0))
+        s.field_width = d > 0 ? 1.5 * d : 1;
+    if (!(s.arrow_scale > 0)) {
+        double vmax = 0;
+        for (int i = 0; i < frame->count; ++i)
+            if (!is_fixed(frame, i) && frame->vx && frame->vy)
+                vmax = fmax(vmax, hypot(frame->vx[i], frame->vy[i]));
+        s.arrow_scale = vmax > 0 ? 2 * d / vmax : 0;
+    }
+    return s;
+}
+
+/* ---------------------------------------------------------------- the scene */
+
+typedef struct Scene {
+    const SimFrame *frame;
+    RenderStyle style; /* resolved */
+    RenderView view;
+    double lo, hi; /* colour range */
+    double chain_cut, chain_fmax;
+    int *chains; /* selected contacts, weakest first */
+    int chain_count;
+    RenderField field;
+    int has_field;
+    double field_arrow_scale; /* s; auto: the fastest node gets an arrow of 0.9 cell */
+    int *arch_order;          /* arch grains sorted by (arch id, x) */
+    int arch_count;
+    double period;
+} Scene;
+
+/* Merge sort (stable, deterministic) with a context argument, which qsort lacks; no global state,
+ * so two threads may draw two frames at once. */
+static void sort_indices(int *v, int n, int *tmp, const Scene *sc,
+                         int (*cmp)(const Scene *, int, int))
+{
+    if (n < 2)
+        return;
+    int h = n / 2;
+    sort_indices(v, h, tmp, sc, cmp);
+    sort_indices(v + h, n - h, tmp, sc, cmp);
+    int i = 0, j = h, k = 0;
+    while (i < h && j < n)
+        tmp[k++] = cmp(sc, v[j], v[i]) < 0 ? v[j++] : v[i++];
+    while (i < h)
+        tmp[k++] = v[i++];
+    while (j < n)
+        tmp[k++] = v[j++];
+    memcpy(v, tmp, (size_t)n * sizeof *v);
+}
+
+static int cmp_chain(const Scene *sc, int a, int b)
+{
+    double fa = sc->frame->contacts[a].normal_force, fb = sc->frame->contacts[b].normal_force;
+    if (fa != fb)
+        return fa < fb ? -1 : 1;
+    return a < b ? -1 : a > b;
+}
+
+static int cmp_arch(const Scene *sc, int a, int b)
+{
+    const int *ids = sc->style.arch_ids;
+    const double *x = sc->frame->x;
+    if (ids[a] != ids[b])
+        return ids[a] < ids[b] ? -1 : 1;
+    if (x[a] != x[b])
+        return x[a] < x[b] ? -1 : 1;
+    return a < b ? -1 : a > b;
+}
+
+static void scene_free(Scene *sc)
+{
+    free(sc->chains);
+    free(sc->arch_order);
+    render_field_free(&sc->field);
+}
+
+static int scene_init(Scene *sc, const SimFrame *frame, const RenderStyle *style)
+{
+    memset(sc, 0, sizeof *sc);
+    sc->frame = frame;
+    sc->style = render_style_resolve(frame, style);
+    render_view_fit(frame, &sc->style, &sc->view);
+    render_color_range(frame, &sc->style, &sc->lo, &sc->hi);
+    sc->period = frame->periodic ? frame->domain_x1 - frame->domain_x0 : 0;
+    int n = frame->count > frame->contact_count ? frame->count : frame->contact_count;
+    int *tmp = malloc((size_t)(n > 0 ? n : 1) * sizeof *tmp);
+    if (!tmp)
+        return -1;
+    if (sc->style.force_chains && frame->contact_count > 0) {
+        sc->chain_cut = render_chain_cut(frame, &sc->style, &sc->chain_fmax);
+        sc->chains = malloc((size_t)frame->contact_count * sizeof *sc->chains);
+        if (!sc->chains) {
+            free(tmp);
+            return -1;
+        }
+        for (int c = 0; c < frame->contact_count; ++c) {
+            double f = frame->contacts[c].normal_force;
+            if (f > 0 && f > sc->chain_cut)
+                sc->chains[sc->chain_count++] = c;
+        }
+        /* Weakest first, so strong chains are drawn on top. */
+        sort_indices(sc->chains, sc->chain_count, tmp, sc, cmp_chain);
+    }
+    if (sc->style.arch_ids && frame->count > 0) {
+        sc->arch_order = malloc((size_t)frame->count * sizeof *sc->arch_order);
+        if (!sc->arch_order) {
+            free(tmp);
+            return -1;
+        }
+        for (int i = 0; i < frame->count; ++i)
+            if (sc->style.arch_ids[i] >= 0)
+                sc->arch_order[sc->arch_count++] = i;
+        sort_indices(sc->arch_order, sc->arch_count, tmp, sc, cmp_arch);
+    }
+    free(tmp);
+    if (sc->style.velocity_field) {
+        const RenderView *v = &sc->view;
+        RenderFieldDef def = {
+            .x0 = v->center_x - 0.5 * v->plot_w / v->scale,
+            .x1 = v->center_x + 0.5 * v->plot_w / v->scale,
+            .y0 = v->center_y - 0.5 * v->plot_h / v->scale,
+            .y1 = v->center_y + 0.5 * v->plot_h / v->scale,
+            .cell = sc->style.field_cell,
+            .width = sc->style.field_width,
+            .kernel = (RenderKernel)sc->style.field_kernel,
+            .mass_power = 2,
+        };
+        if (render_velocity_field(frame, &def, &sc->field) == 0) {
+            sc->has_field = 1;
+            sc->field_arrow_scale = style->arrow_scale;
+            if (!(sc->field_arrow_scale > 0)) {
+                double vmax = 0;
+                size_t nodes = (size_t)sc->field.nx * (size_t)sc->field.ny;
+                for (size_t k = 0; k < nodes; ++k)
+                    if (sc->field.packing[k] >= 0.1)
+                        vmax = fmax(vmax, hypot(sc->field.vx[k], sc->field.vy[k]));
+                sc->field_arrow_scale = vmax > 0 ? 0.9 * def.cell / vmax : 0;
+            }
+        }
+    }
+    return 0;
+}
+
+/* ---------------------------------------------------------------- world layer */
+
+/* x offsets (m) of the copies of a shape spanning [x - r, x + r] that a periodic frame shows. */
+static int periodic_copies(const Scene *sc, double x, double r, double offsets[3])
+{
+    int n = 0;
+    offsets[n++] = 0;
+    if (sc->period > 0) {
+        if (x - r < sc->frame->domain_x0)
+            offsets[n++] = sc->period;
+        if (x + r > sc->frame->domain_x1)
+            offsets[n++] = -sc->period;
+    }
+    return n;
+}
+
+static void clip_world(cairo_t *cr, const Scene *sc, const RenderView *v)
+{
+    double x0 = v->plot_x, x1 = v->plot_x + v->plot_w;
+    if (sc->period > 0) {
+        double px0, px1, py;
+        render_view_to_pixel(v, sc->frame->domain_x0, 0, &px0, &py);
+        render_view_to_pixel(v, sc->frame->domain_x1, 0, &px1, &py);
+        x0 = fmax(x0, px0);
+        x1 = fmin(x1, px1);
+    }
+    cairo_rectangle(cr, x0, v->plot_y, fmax(0, x1 - x0), v->plot_h);
+    cairo_clip(cr);
+}
+
+static void draw_disks(cairo_t *cr, const Scene *sc, const RenderView *v)
+{
+    const SimFrame *f = sc->frame;
+    const RenderStyle *s = &sc->style;
+    uint32_t current = 0xffffffffu;
+    double xmin = v->plot_x, xmax = v->plot_x + v->plot_w;
+    double ymin = v->plot_y, ymax = v->plot_y + v->plot_h;
+    for (int i = 0; i < f->count; ++i) {
+        uint32_t rgb = render_grain_rgb(f, s, i, sc->lo, sc->hi);
+        double r = f->radius[i] * v->scale;
+        double offsets[3];
+        int copies = periodic_copies(sc, f->x[i], f->radius[i], offsets);
+        for (int k = 0; k < copies; ++k) {
+            double px, py;
+            render_view_to_pixel(v, f->x[i] + offsets[k], f->y[i], &px, &py);
+            if (px + r < xmin || px - r > xmax || py + r < ymin || py - r > ymax)
+                continue;
+            double inner = r;
+            if ((s->outline || is_fixed(f, i)) && r >= 1.5) {
+                double w = fmin(1.5, fmax(0.6, 0.07 * r));
+                if (current != outline_rgb)
+                    render_set_rgb(cr, current = outline_rgb);
+                cairo_new_path(cr);
+                cairo_arc(cr, px, py, r, 0, 2 * PI);
+                cairo_fill(cr);
+                inner = r - w;
+            }
+            if (current != rgb)
+                render_set_rgb(cr, current = rgb);
+            cairo_new_path(cr);
+            cairo_arc(cr, px, py, inner, 0, 2 * PI);
+            cairo_fill(cr);
+        }
+    }
+}
+
+static void draw_ticks(cairo_t *cr, const Scene *sc, const RenderView *v)
+{
+    const SimFrame *f = sc->frame;
+    if (!sc->style.orientation_tick || !f->angle)
+        return;
+    double width = fmin(2.5, fmax(0.8, 0.12 * sc->view.mean_diameter * 0.5 * v->scale));
+    cairo_new_path(cr);
+    for (int i = 0; i < f->count; ++i) {
+        double r = f->radius[i] * v->scale;
+        if (r < 2)
+            continue;
+        double offsets[3];
+        int copies = periodic_copies(sc, f->x[i], f->radius[i], offsets);
+        for (int k = 0; k < copies; ++k) {
+            double px, py;
+            render_view_to_pixel(v, f->x[i] + offsets[k], f->y[i], &px, &py);
+            double len = r - fmin(1.5, fmax(0.6, 0.07 * r));
+            cairo_move_to(cr, px, py);
+            /* Counter-clockwise angle in a y-down pixel frame. */
+            cairo_line_to(cr, px + len * cos(f->angle[i]), py - len * sin(f->angle[i]));
+        }
+    }
+    render_set_rgb(cr, outline_rgb);
+    cairo_set_line_width(cr, width);
+    cairo_set_line_cap(cr, CAIRO_LINE_CAP_BUTT);
+    cairo_stroke(cr);
+}
+
+static void draw_walls(cairo_t *cr, const Scene *sc, const RenderView *v)
+{
+    const SimFrame *f = sc->frame;
+    if (f->wall_count <= 0 || !f->walls)
+        return;
+    cairo_new_path(cr);
+    for (int k = 0; k < f->wall_count; ++k) {
+        double ax, ay, bx, by;
+        render_view_to_pixel(v, f->walls[k].x0, f->walls[k].y0, &ax, &ay);
+        render_view_to_pixel(v, f->walls[k].x1, f->walls[k].y1, &bx, &by);
+        cairo_move_to(cr, ax, ay);
+        cairo_line_to(cr, bx, by);
+    }
+    render_set_rgb(cr, wall_rgb);
+    cairo_set_line_width(cr, fmax(3.0, 0.3 * sc->view.mean_diameter * v->scale));
+    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+    cairo_stroke(cr);
+}
+
+static void draw_chains(cairo_t *cr, const Scene *sc, const RenderView *v)
+{
+    const SimFrame *f = sc->frame;
+    /* Widths are scaled with the view so the inset magnifies chains like the grains. */
+    double zoom = v->scale / sc->view.scale;
+    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+    for (int k = 0; k < sc->chain_count; ++k) {
+        const SimContact *c = &f->contacts[sc->chains[k]];
+        if (c->i < 0 || c->i >= f->count || c->j >= f->count)
+            continue;
+        double t = sc->chain_fmax > 0 ? fmin(1.0, c->normal_force / sc->chain_fmax) : 1.0;
+        double ax = f->x[c->i], ay = f->y[c->i], bx, by;
+        if (c->j >= 0) {
+            bx = f->x[c->j];
+            by = f->y[c->j];
+        } else { /* wall contact: to the contact point */
+            bx = c->x;
+            by = c->y;
+        }
+        double dx = bx - ax;
+        if (sc->period > 0) /* minimum image across the seam */
+            dx -= sc->period * floor(dx / sc->period + 0.5);
+        /* Chains use the upper 65 % of the map: the pale end would vanish on light grains. */
+        render_set_rgb(cr, render_colormap_rgb(RENDER_CMAP_YELLOW_RED, 0.35 + 0.65 * t));
+        cairo_set_line_width(cr, fmax(0.8, sc->style.chain_width_max * t) * zoom);
+        double px, py, qx, qy;
+        render_view_to_pixel(v, ax, ay, &px, &py);
+        render_view_to_pixel(v, ax + dx, by, &qx, &qy);
+        cairo_move_to(cr, px, py);
+        cairo_line_to(cr, qx, qy);
+        if (sc->period > 0 && (ax + dx < f->domain_x0 || ax + dx > f->domain_x1)) {
+            /* The other half, seen from the partner's side of the seam. */
+            double rx, ry, sx, sy;
+            render_view_to_pixel(v, bx, by, &rx, &ry);
+            render_view_to_pixel(v, bx - dx, ay, &sx, &sy);
+            cairo_move_to(cr, rx, ry);
+            cairo_line_to(cr, sx, sy);
+        }
+        cairo_stroke(cr);
+    }
+}
+
+/* Adds an arrow from (x, y) along (dx, dy) pixels: shaft into `cr`'s path, head into `heads`. */
+static void arrow_path(cairo_t *cr, double x, double y, double dx, double dy, double lw,
+                       double *heads, int *head_count)
+{
+    double len = hypot(dx, dy);
+    double ux = dx / len, uy = dy / len;
+    double h = fmin(0.4 * len, fmax(3.0, 3.0 * lw));
+    cairo_move_to(cr, x, y);
+    cairo_line_to(cr, x + dx - ux * h * 0.8, y + dy - uy * h * 0.8);
+    double *p = heads + 6 * (*head_count)++;
+    p[0] = x + dx;
+    p[1] = y + dy;
+    p[2] = x + dx - ux * h - uy * 0.45 * h;
+    p[3] = y + dy - uy * h + ux * 0.45 * h;
+    p[4] = x + dx - ux * h + uy * 0.45 * h;
+    p[5] = y + dy - uy * h - ux * 0.45 * h;
+}
+
+static void stroke_arrows(cairo_t *cr, const double *heads, int n, double lw, uint32_t rgb,
+                          int halo)
+{
+    /* The shafts are the current path. A white halo keeps arrows readable on dark grains. */
+    cairo_set_line_cap(cr, CAIRO_LINE_CAP_BUTT);
+    cairo_set_line_join(cr, CAIRO_LINE_JOIN_MITER);
+    if (halo) {
+        cairo_set_source_rgba(cr, 1, 1, 1, 0.85);
+        cairo_set_line_width(cr, lw + 2);
+        cairo_stroke_preserve(cr);
+    }
+    render_set_rgb(cr, rgb);
+    cairo_set_line_width(cr, lw);
+    cairo_stroke(cr);
+    for (int k = 0; k < n; ++k) {
+        const double *p = heads + 6 * k;
+        cairo_move_to(cr, p[0], p[1]);
+        cairo_line_to(cr, p[2], p[3]);
+        cairo_line_to(cr, p[4], p[5]);
+        cairo_close_path(cr);
+    }
+    if (halo) {
+        cairo_set_source_rgba(cr, 1, 1, 1, 0.85);
+        cairo_set_line_width(cr, 2);
+        cairo_stroke_preserve(cr);
+        render_set_rgb(cr, rgb);
+    }
+    cairo_fill(cr);
+}
+
+static void draw_grain_arrows(cairo_t *cr, const Scene *sc, const RenderView *v)
+{
+    const SimFrame *f = sc->frame;
+    if (!sc->style.velocity_arrows || !f->vx || !f->vy || !(sc->style.arrow_scale > 0))
+        return;
+    double *heads = malloc((size_t)(f->count > 0 ? f->count : 1) * 6 * sizeof *heads);
+    if (!heads)
+        return;
+    int n = 0;
+    double lw = fmin(2.0, fmax(0.8, 0.08 * sc->view.mean_diameter * v->scale));
+    cairo_new_path(cr);
+    for (int i = 0; i < f->count; ++i) {
+        if (is_fixed(f, i))
+            continue;
+        double dx = sc->style.arrow_scale * f->vx[i] * v->scale;
+        double dy = -sc->style.arrow_scale * f->vy[i] * v->scale;
+        if (hypot(dx, dy) < 1.0)
+            continue;
+        double px, py;
+        render_view_to_pixel(v, f->x[i], f->y[i], &px, &py);
+        arrow_path(cr, px, py, dx, dy, lw, heads, &n);
+    }
+    stroke_arrows(cr, heads, n, lw, arrow_rgb, 0);
+    free(heads);
+}
+
+static void draw_field(cairo_t *cr, const Scene *sc, const RenderView *v)
+{
+    const RenderField *fd = &sc->field;
+    double scale = sc->field_arrow_scale;
+    if (!sc->has_field || !(scale > 0))
+        return;
+    double *heads = malloc((size_t)fd->nx * (size_t)fd->ny * 6 * sizeof *heads);
+    if (!heads)
+        return;
+    int n = 0;
+    double lw = fmin(2.5, fmax(1.0, 0.1 * sc->view.mean_diameter * v->scale));
+    cairo_new_path(cr);
+    for (int j = 0; j < fd->ny; ++j) {
+        for (int i = 0; i < fd->nx; ++i) {
+            size_t k = (size_t)j * (size_t)fd->nx + (size_t)i;
+            /* Mask nearly empty nodes where V = j / rho is ill-defined (anchors-render 1.7). */
+            if (fd->packing[k] < 0.1)
+                continue;
+            double dx = scale * fd->vx[k] * v->scale;
+            double dy = -scale * fd->vy[k] * v->scale;
+            if (hypot(dx, dy) < 1.0)
+                continue;
+            double px, py;
+            render_view_to_pixel(v, fd->x0 + (i + 0.5) * fd->cell, fd->y0 + (j + 0.5) * fd->cell,
+                                 &px, &py);
+            /* Centred on the node. */
+            arrow_path(cr, px - 0.5 * dx, py - 0.5 * dy, dx, dy, lw, heads, &n);
+        }
+    }
+    stroke_arrows(cr, heads, n, lw, field_rgb, 1);
+    free(heads);
+}
+
+static void draw_arches(cairo_t *cr, const Scene *sc, const RenderView *v)
+{
+    const SimFrame *f = sc->frame;
+    if (sc->arch_count == 0)
+        return;
+    double ring = fmin(5.0, fmax(2.0, 0.12 * sc->view.mean_diameter * v->scale));
+    const int *ids = sc->style.arch_ids;
+    for (int pass = 0; pass < 2; ++pass) {
+        /* Pass 0: white halos under everything; pass 1: the highlight colour. */
+        if (pass == 0)
+            cairo_set_source_rgb(cr, 1, 1, 1);
+        else
+            render_set_rgb(cr, sc->style.arch_rgb);
+        cairo_new_path(cr);
+        for (int k = 0; k < sc->arch_count; ++k) {
+            int i = sc->arch_order[k];
+            double px, py, r = f->radius[i] * v->scale;
+            render_view_to_pixel(v, f->x[i], f->y[i], &px, &py);
+            cairo_new_sub_path(cr);
+            cairo_arc(cr, px, py, fmax(1.0, r - 0.5 * ring), 0, 2 * PI);
+        }
+        cairo_set_line_width(cr, pass == 0 ? ring + 2 : ring);
+        cairo_stroke(cr);
+        /* Polyline through the centres of each arch, in x order. */
+        cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+        cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+        for (int k = 0; k < sc->arch_count; ++k) {
+            int i = sc->arch_order[k];
+            double px, py;
+            render_view_to_pixel(v, f->x[i], f->y[i], &px, &py);
+            if (k == 0 || ids[sc->arch_order[k - 1]] != ids[i])
+                cairo_move_to(cr, px, py);
+            else
+                cairo_line_to(cr, px, py);
+        }
+        cairo_set_line_width(cr, pass == 0 ? 0.6 * ring + 2 : 0.6 * ring);
+        cairo_stroke(cr);
+        for (int k = 0; k < sc->arch_count; ++k) {
+            double px, py;
+            render_view_to_pixel(v, f->x[sc->arch_order[k]], f->y[sc->arch_order[k]], &px, &py);
+            cairo_new_sub_path(cr);
+            cairo_arc(cr, px, py, pass == 0 ? 0.9 * ring + 1 : 0.9 * ring, 0, 2 * PI);
+        }
+        cairo_fill(cr);
+    }
+}
+
+static void draw_world(cairo_t *cr, const Scene *sc, const RenderView *v)
+{
+    cairo_save(cr);
+    clip_world(cr, sc, v);
+    draw_disks(cr, sc, v);
+    draw_ticks(cr, sc, v);
+    draw_walls(cr, sc, v);
+    draw_chains(cr, sc, v);
+    draw_field(cr, sc, v);
+    draw_grain_arrows(cr, sc, v);
+    draw_arches(cr, sc, v);
+    cairo_restore(cr);
+}
+
+/* Zoomed copy of the arches' neighbourhood in the top-right corner of the plot. */
+static void draw_inset(cairo_t *cr, const Scene *sc)
+{
+    const SimFrame *f = sc->frame;
+    if (!sc->style.arch_inset || sc->arch_count == 0)
+        return;
+    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+    for (int k = 0; k < sc->arch_count; ++k) {
+        int i = sc->arch_order[k];
+        x0 = fmin(x0, f->x[i] - f->radius[i]);
+        x1 = fmax(x1, f->x[i] + f->radius[i]);
+        y0 = fmin(y0, f->y[i] - f->radius[i]);
+        y1 = fmax(y1, f->y[i] + f->radius[i]);
+    }
+    double pad = sc->view.mean_diameter;
+    x0 -= pad;
+    x1 += pad;
+    y0 -= pad;
+    y1 += pad;
+    const RenderView *mv = &sc->view;
+    double iw = 0.4 * mv->plot_w, ih = iw * (y1 - y0) / (x1 - x0);
+    if (ih > 0.5 * mv->plot_h) {
+        ih = 0.5 * mv->plot_h;
+        iw = ih * (x1 - x0) / (y1 - y0);
+    }
+    double gap = 0.6 * mv->font_size;
+    RenderView inset = *mv;
+    inset.plot_x = mv->plot_x + mv->plot_w - iw - gap;
+    inset.plot_y = mv->plot_y + gap;
+    inset.plot_w = iw;
+    inset.plot_h = ih;
+    inset.scale = iw / (x1 - x0);
+    inset.center_x = 0.5 * (x0 + x1);
+    inset.center_y = 0.5 * (y0 + y1);
+    if (inset.scale <= mv->scale)
+        return; /* no magnification to show */
+    /* Mark the zoomed region in the main view. */
+    double ax, ay, bx, by;
+    render_view_to_pixel(mv, x0, y1, &ax, &ay);
+    render_view_to_pixel(mv, x1, y0, &bx, &by);
+    cairo_save(cr);
+    cairo_rectangle(cr, mv->plot_x, mv->plot_y, mv->plot_w, mv->plot_h);
+    cairo_clip(cr);
+    render_set_rgb(cr, text_rgb);
+    cairo_set_line_width(cr, 1.2);
+    cairo_rectangle(cr, ax, ay, bx - ax, by - ay);
+    cairo_stroke(cr);
+    cairo_restore(cr);
+
+    render_set_rgb(cr, sc->style.background_rgb);
+    cairo_rectangle(cr, inset.plot_x, inset.plot_y, iw, ih);
+    cairo_fill(cr);
+    draw_world(cr, sc, &inset);
+    render_set_rgb(cr, text_rgb);
+    cairo_set_line_width(cr, 1.5);
+    cairo_rectangle(cr, inset.plot_x, inset.plot_y, iw, ih);
+    cairo_stroke(cr);
+    char label[32];
+    snprintf(label, sizeof label, "\xc3\x97%.3g", inset.scale / mv->scale);
+    render_text_font(cr, 0.8 * mv->font_size, 0);
+    render_text_draw(cr, inset.plot_x + 0.4 * mv->font_size,
+                     inset.plot_y + ih - 0.4 * mv->font_size, label, 0, 1);
+}
+
+/* ---------------------------------------------------------------- annotations */
+
+static void label_box(cairo_t *cr, double x, double y, double w, double h)
+{
+    cairo_set_source_rgba(cr, 1, 1, 1, 0.82);
+    cairo_rectangle(cr, x, y, w, h);
+    cairo_fill(cr);
+}
+
+static void default_label(const RenderStyle *s, const char **label, const char **unit)
+{
+    *label = s->colorbar_label;
+    *unit = s->colorbar_unit;
+    if (!*label)
+        *label = s->color_by == RENDER_COLOR_FORCE   ? "contact force"
+                 : s->color_by == RENDER_COLOR_SPEED ? "speed"
+                                                     : "species";
+    if (!*unit)
+        *unit = s->color_by == RENDER_COLOR_FORCE   ? "N"
+                : s->color_by == RENDER_COLOR_SPEED ? "m/s"
+                                                    : "";
+}
+
+static void draw_colorbar(cairo_t *cr, const Scene *sc)
+{
+    const RenderView *v = &sc->view;
+    const RenderStyle *s = &sc->style;
+    int kind = colorbar_kind(s);
+    if (!kind)
+        return;
+    double fs = v->font_size;
+    const char *label, *unit;
+    default_label(s, &label, &unit);
+    char title[160];
+    if (unit && *unit)
+        snprintf(title, sizeof title, "%s (%s)", label, unit);
+    else
+        snprintf(title, sizeof title, "%s", label);
+    double x = round(v->plot_x + v->plot_w + 1.2 * fs);
+    render_text_font(cr, fs, 0);
+    if (kind == 2) {
+        int top = 0;
+        for (int i = 0; i < sc->frame->count; ++i)
+            if (!is_fixed(sc->frame, i) && sc->frame->species && sc->frame->species[i] > top)
+                top = sc->frame->species[i];
+        if (top > 15)
+            top = 15;
+        double y = v->plot_y + fs;
+        render_set_rgb(cr, text_rgb);
+        render_text_draw(cr, x, y, title, 0, 0);
+        for (int k = 0; k <= top; ++k) {
+            double cy = y + (k + 1.6) * 1.6 * fs;
+            render_set_rgb(cr, outline_rgb);
+            cairo_arc(cr, x + 0.5 * fs, cy, 0.5 * fs, 0, 2 * PI);
+            cairo_fill(cr);
+            render_set_rgb(cr, render_species_rgb(k));
+            cairo_arc(cr, x + 0.5 * fs, cy, 0.5 * fs - 1, 0, 2 * PI);
+            cairo_fill(cr);
+            char text[32];
+            snprintf(text, sizeof text, "%d", k);
+            render_set_rgb(cr, text_rgb);
+            render_text_draw(cr, x + 1.5 * fs, cy, text, 0, 0.5);
+        }
+        return;
+    }
+    double w = round(1.1 * fs);
+    double h = round(0.8 * v->plot_h);
+    double top = round(v->plot_y + 0.5 * (v->plot_h - h));
+    uint8_t lut[256][3];
+    render_colormap_lut(s->colormap, lut);
+    for (int row = 0; row < (int)h; ++row) {
+        double t = 1.0 - (row + 0.5) / h;
+        const uint8_t *c = lut[(int)floor(t * 255.0 + 0.5)];
+        cairo_set_source_rgb(cr, c[0] / 255.0, c[1] / 255.0, c[2] / 255.0);
+        cairo_rectangle(cr, x, top + row, w, 1);
+        cairo_fill(cr);
+    }
+    render_set_rgb(cr, text_rgb);
+    cairo_set_line_width(cr, 1);
+    cairo_rectangle(cr, x + 0.5, top + 0.5, w - 1, h - 1);
+    cairo_stroke(cr);
+    double ticks[16];
+    int n = render_axis_ticks(sc->lo, sc->hi, 0, 5, ticks, 16);
+    double step = n > 1 ? ticks[1] - ticks[0] : sc->hi - sc->lo;
+    double widest = 0;
+    for (int k = 0; k < n; ++k) {
+        double y = top + h - (ticks[k] - sc->lo) / (sc->hi - sc->lo) * h;
+        cairo_move_to(cr, x + w, y);
+        cairo_line_to(cr, x + w + 0.35 * fs, y);
+        cairo_stroke(cr);
+        char text[32];
+        render_format_tick(ticks[k], step, 0, text, sizeof text);
+        widest = fmax(widest, render_text_draw(cr, x + w + 0.55 * fs, y, text, 0, 0.5));
+    }
+    /* Rotated label along the bar. */
+    cairo_save(cr);
+    cairo_translate(cr, x + w + 0.9 * fs + widest, top + 0.5 * h);
+    cairo_rotate(cr, -0.5 * PI);
+    render_text_draw(cr, 0, 0, title, 0.5, 0);
+    cairo_restore(cr);
+}
+
+static void format_time(double t, char *buf, size_t size)
+{
+    if (t == 0 || fabs(t) >= 0.01)
+        snprintf(buf, size, "%.4f", t);
+    else
+        snprintf(buf, size, "%.3e", t);
+}
+
+static void draw_time_stamp(cairo_t *cr, const Scene *sc)
+{
+    if (!sc->style.time_stamp)
+        return;
+    const RenderView *v = &sc->view;
+    double fs = v->font_size;
+    char t[32], text[96];
+    format_time(sc->frame->time, t, sizeof t);
+    if (sc->frame->time_scale > 0)
+        snprintf(text, sizeof text, "t = %s s    t* = %.2f", t,
+                 sc->frame->time / sc->frame->time_scale);
+    else
+        snprintf(text, sizeof text, "t = %s s", t);
+    render_text_font(cr, fs, 0);
+    double x = v->plot_x + 0.5 * fs, y = v->plot_y + 0.5 * fs;
+    label_box(cr, x, y, render_text_width(cr, text) + fs, 1.6 * fs);
+    render_set_rgb(cr, text_rgb);
+    render_text_draw(cr, x + 0.5 * fs, y + 0.8 * fs, text, 0, 0.5);
+}
+
+static void format_length(double d, char *buf, size_t size)
+{
+    if (d >= 0.1)
+        snprintf(buf, size, "%.3g m", d);
+    else if (d >= 1e-4)
+        snprintf(buf, size, "%.3g mm", d * 1e3);
+    else
+        snprintf(buf, size, "%.3g \xc2\xb5m", d * 1e6);
+}
+
+static void draw_scale_bar(cairo_t *cr, const Scene *sc)
+{
+    const RenderView *v = &sc->view;
+    double d = v->mean_diameter;
+    if (!sc->style.scale_bar || !(d > 0))
+        return;
+    static const double steps[] = {1, 2, 5, 10, 20, 50, 100, 200, 500, 1000};
+    double k = 0;
+    for (size_t s = 0; s < sizeof steps / sizeof steps[0]; ++s)
+        if (steps[s] * d * v->scale <= 0.2 * v->plot_w)
+            k = steps[s];
+    if (k == 0)
+        return;
+    double fs = v->font_size, len = k * d * v->scale;
+    char dtext[32], text[96];
+    format_length(d, dtext, sizeof dtext);
+    snprintf(text, sizeof text, "%g d   (d = %s)", k, dtext);
+    render_text_font(cr, fs, 0);
+    double tw = render_text_width(cr, text);
+    double x = v->plot_x + 0.5 * fs, y = v->plot_y + v->plot_h - 0.5 * fs - 2.6 * fs;
+    label_box(cr, x, y, fmax(len, tw) + fs, 2.6 * fs);
+    render_set_rgb(cr, text_rgb);
+    render_text_draw(cr, x + 0.5 * fs, y + 0.8 * fs, text, 0, 0.5);
+    cairo_rectangle(cr, x + 0.5 * fs, y + 1.7 * fs, len, 0.4 * fs);
+    cairo_fill(cr);
+}
+
+static void draw_title(cairo_t *cr, const Scene *sc)
+{
+    if (!sc->style.title)
+        return;
+    double fs = sc->view.font_size;
+    render_text_font(cr, 1.15 * fs, 0);
+    render_set_rgb(cr, text_rgb);
+    render_text_draw(cr, 0.5 * sc->style.width, 0.6 * fs + 0.5 * fs, sc->style.title, 0.5, 0.5);
+}
+
+static void draw_scene(cairo_t *cr, void *context)
+{
+    const Scene *sc = context;
+    cairo_set_antialias(cr, CAIRO_ANTIALIAS_GOOD);
+    render_set_rgb(cr, sc->style.background_rgb);
+    cairo_rectangle(cr, 0, 0, sc->style.width, sc->style.height);
+    cairo_fill(cr);
+    draw_world(cr, sc, &sc->view);
+    draw_inset(cr, sc);
+    draw_time_stamp(cr, sc);
+    draw_scale_bar(cr, sc);
+    draw_colorbar(cr, sc);
+    draw_title(cr, sc);
+}
+
+/* ---------------------------------------------------------------- public entry points */
+
+int render_cairo_draw(const SimFrame *frame, const RenderStyle *style, RenderImage *out)
+{
+    out->pixels = NULL;
+    if (!frame || !style || style->width <= 0 || style->height <= 0)
+        return -1;
+    Scene sc;
+    if (scene_init(&sc, frame, style) != 0) {
+        scene_free(&sc);
+        return -1;
+    }
+    int rc = render_cairo_image(style->width, style->height, draw_scene, &sc, out, NULL, 0);
+    scene_free(&sc);
+    return rc;
+}
+
+int render_figure_write(const SimFrame *frame, const RenderStyle *style, const RenderMeta *meta,
+                        const char *path, char *err, size_t err_size)
+{
+    if (!frame || !style || style->width <= 0 || style->height <= 0) {
+        snprintf(err, err_size, "%s: bad frame or style", path);
+        return -1;
+    }
+    Scene sc;
+    if (scene_init(&sc, frame, style) != 0) {
+        scene_free(&sc);
+        snprintf(err, err_size, "%s: out of memory", path);
+        return -1;
+    }
+    char seed[32], time[48], step[32], renderer[64];
+    snprintf(seed, sizeof seed, "%llu", (unsigned long long)(meta ? meta->seed : 0));
+    snprintf(time, sizeof time, "%.9g s", frame->time);
+    snprintf(step, sizeof step, "%ld", frame->step);
+    snprintf(renderer, sizeof renderer, "cairo %s", cairo_version_string());
+    const char *text[20];
+    int n = 0;
+    text[n++] = "Software";
+    text[n++] = "sablier";
+    text[n++] = "Sablier version";
+    text[n++] = SIM_VERSION;
+    if (meta && meta->scene) {
+        text[n++] = "Scene";
+        text[n++] = meta->scene;
+    }
+    text[n++] = "Seed";
+    text[n++] = seed;
+    text[n++] = "Simulated time";
+    text[n++] = time;
+    text[n++] = "Step";
+    text[n++] = step;
+    text[n++] = "Renderer";
+    text[n++] = renderer;
+    if (style->title) {
+        text[n++] = "Title";
+        text[n++] = style->title;
+    }
+    if (meta && meta->comment) {
+        text[n++] = "Comment";
+        text[n++] = meta->comment;
+    }
+    text[n++] = NULL;
+    text[n++] = NULL;
+    int rc =
+        render_cairo_write(path, style->width, style->height, draw_scene, &sc, text, err, err_size);
+    scene_free(&sc);
+    return rc;
+}

@@ -1,0 +1,42 @@
+/* SPDX-License-Identifier: MIT */
+/* render_cairo_util.h: Cairo helpers shared inside render/ by the frame drawer (render_cairo.c)
+ * and the plots (render_plot.c): text, colours, writing a drawing to PNG, PDF or SVG. Not part
+ * of the public API. */
+#ifndef RENDER_CAIRO_UTIL_H
+#define RENDER_CAIRO_UTIL_H
+
+#include "render/render_image.h"
+
+#include <cairo.h>
+#include <stddef.h>
+#include <stdint.h>
+
+/// Points per pixel of PDF and SVG output: 1 pixel = 1/96 inch (the CSS pixel).
+#define RENDER_PT_PER_PX 0.75
+
+/// Selects DejaVu Sans at `size` pixels, unhinted with grey antialiasing, so glyph positions
+/// scale linearly and do not depend on the hinting defaults of the machine.
+void render_text_font(cairo_t *cr, double size, int bold);
+/// Draws text with its anchor at (x, y): halign 0 left, 0.5 centre, 1 right; valign 0 top of
+/// the capitals, 0.5 middle of the capitals, 1 baseline. Returns the advance width.
+double render_text_draw(cairo_t *cr, double x, double y, const char *text, double halign,
+                        double valign);
+/// Advance width of text in the current font, pixels.
+double render_text_width(cairo_t *cr, const char *text);
+/// Sets the source colour from 0xRRGGBB.
+void render_set_rgb(cairo_t *cr, uint32_t rgb);
+/// Formats a tick value given the tick spacing (no "-0", no trailing noise like 0.30000000004).
+void render_format_tick(double value, double step, int log, char *buf, size_t size);
+
+typedef void (*RenderDrawFn)(cairo_t *cr, void *context);
+
+/// Draws with `draw` (in pixel units) into path: .png through libpng with text chunks
+/// (key/value pairs, NULL ended), .pdf (fixed dates: byte-identical reruns) or .svg, at
+/// width x height pixels. Temporary name, then rename. 0, or -1 with a message in err.
+int render_cairo_write(const char *path, int width, int height, RenderDrawFn draw, void *context,
+                       const char *const *text, char *err, size_t err_size);
+/// Draws with `draw` into a new BGRA image. 0, or -1 with a message in err.
+int render_cairo_image(int width, int height, RenderDrawFn draw, void *context, RenderImage *out,
+                       char *err, size_t err_size);
+
+#endif

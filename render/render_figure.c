@@ -1,0 +1,276 @@
+/* SPDX-License-Identifier: MIT */
+/* render_figure.c: writing Cairo drawings to PNG (libpng), PDF and SVG, text helpers, provenance
+ * and library versions. */
+#include "render_cairo_util.h"
+
+#include "render/render.h"
+
+#include <cairo-pdf.h>
+#include <cairo-svg.h>
+#include <ctype.h>
+#include <errno.h>
+#include <libavcodec/version.h>
+#include <libavformat/version.h>
+#include <libavutil/version.h>
+#include <libswscale/version.h>
+#include <math.h>
+#include <png.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Pinned PDF dates: cairo 1.16 ignores SOURCE_DATE_EPOCH and would write the wall clock
+ * (anchors-render 2a), which breaks byte-identical reruns. */
+#define PDF_FIXED_DATE "2000-01-01T00:00:00Z"
+
+static void set_err(char *err, size_t size, const char *fmt, ...)
+{
+    if (!err || size == 0)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, size, fmt, ap);
+    va_end(ap);
+}
+
+void render_text_font(cairo_t *cr, double size, int bold)
+{
+    cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL,
+                           bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr, size);
+    cairo_font_options_t *options = cairo_font_options_create();
+    cairo_font_options_set_antialias(options, CAIRO_ANTIALIAS_GRAY);
+    cairo_font_options_set_hint_style(options, CAIRO_HINT_STYLE_NONE);
+    cairo_font_options_set_hint_metrics(options, CAIRO_HINT_METRICS_OFF);
+    cairo_set_font_options(cr, options);
+    cairo_font_options_destroy(options);
+}
+
+double render_text_width(cairo_t *cr, const char *text)
+{
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, text, &e);
+    return e.x_advance;
+}
+
+double render_text_draw(cairo_t *cr, double x, double y, const char *text, double halign,
+                        double valign)
+{
+    /* Capital height of DejaVu Sans is 0.729 em: anchoring on it (not on ink extents) keeps
+     * baselines steady whatever the string, so labels do not jitter between movie frames. */
+    cairo_matrix_t m;
+    cairo_get_font_matrix(cr, &m);
+    double cap = 0.729 * m.yy;
+    double w = render_text_width(cr, text);
+    cairo_move_to(cr, x - halign * w, y + cap * (1.0 - valign));
+    cairo_show_text(cr, text);
+    cairo_new_path(cr);
+    return w;
+}
+
+void render_set_rgb(cairo_t *cr, uint32_t rgb)
+{
+    cairo_set_source_rgb(cr, ((rgb >> 16) & 255) / 255.0, ((rgb >> 8) & 255) / 255.0,
+                         (rgb & 255) / 255.0);
+}
+
+void render_format_tick(double value, double step, int log, char *buf, size_t size)
+{
+    if (log) {
+        double e = floor(log10(value) + 0.5);
+        if (e >= -3 && e <= 4)
+            snprintf(buf, size, "%g", pow(10, e));
+        else
+            snprintf(buf, size, "1e%d", (int)e);
+        return;
+    }
+    if (fabs(value) < 1e-9 * step)
+        value = 0; /* no "-0" or 1e-17 */
+    double mag = fmax(fabs(value), step);
+    if (mag >= 1e5 || mag < 1e-3) {
+        int digits = (int)fmax(0, floor(log10(mag)) - floor(log10(step)));
+        snprintf(buf, size, "%.*e", digits > 6 ? 6 : digits, value);
+        /* Tidy "1.0e+04" to "1e4" style only in the exponent: drop '+' and leading zeros. */
+        char *e = strchr(buf, 'e');
+        if (e) {
+            char *q = e + 1, *w = e + 1;
+            if (*q == '+')
+                ++q;
+            if (*q == '-')
+                *w++ = *q++;
+            while (*q == '0' && q[1])
+                ++q;
+            memmove(w, q, strlen(q) + 1);
+        }
+        return;
+    }
+    int decimals = (int)ceil(-log10(step) - 1e-9);
+    if (decimals < 0)
+        decimals = 0;
+    snprintf(buf, size, "%.*f", decimals, value);
+}
+
+static int has_extension(const char *path, const char *ext)
+{
+    const char *dot = strrchr(path, '.');
+    if (!dot)
+        return 0;
+    ++dot;
+    size_t n = strlen(ext);
+    if (strlen(dot) != n)
+        return 0;
+    for (size_t k = 0; k < n; ++k)
+        if (tolower((unsigned char)dot[k]) != ext[k])
+            return 0;
+    return 1;
+}
+
+int render_cairo_image(int width, int height, RenderDrawFn draw, void *context, RenderImage *out,
+                       char *err, size_t err_size)
+{
+    if (render_image_alloc(out, width, height, RENDER_PIXEL_BGRA_PREMUL) != 0) {
+        set_err(err, err_size, "cannot allocate a %dx%d image", width, height);
+        return -1;
+    }
+    if (cairo_format_stride_for_width(CAIRO_FORMAT_ARGB32, width) != out->stride) {
+        set_err(err, err_size, "unexpected Cairo stride");
+        render_image_free(out);
+        return -1;
+    }
+    cairo_surface_t *surface = cairo_image_surface_create_for_data(out->pixels, CAIRO_FORMAT_ARGB32,
+                                                                   width, height, out->stride);
+    cairo_t *cr = cairo_create(surface);
+    draw(cr, context);
+    cairo_status_t status = cairo_status(cr);
+    cairo_destroy(cr);
+    cairo_surface_flush(surface);
+    cairo_surface_destroy(surface);
+    if (status != CAIRO_STATUS_SUCCESS) {
+        set_err(err, err_size, "cairo: %s", cairo_status_to_string(status));
+        render_image_free(out);
+        return -1;
+    }
+    return 0;
+}
+
+/* PDF metadata value from the text chunks: "key: value; key: value". */
+static void join_text(const char *const *text, char *buf, size_t size)
+{
+    buf[0] = 0;
+    size_t used = 0;
+    for (int k = 0; text && text[2 * k] && text[2 * k + 1]; ++k) {
+        int n = snprintf(buf + used, size - used, "%s%s: %s", k ? "; " : "", text[2 * k],
+                         text[2 * k + 1]);
+        if (n < 0 || (size_t)n >= size - used)
+            break;
+        used += (size_t)n;
+    }
+}
+
+static const char *text_value(const char *const *text, const char *key)
+{
+    for (int k = 0; text && text[2 * k] && text[2 * k + 1]; ++k)
+        if (strcmp(text[2 * k], key) == 0)
+            return text[2 * k + 1];
+    return NULL;
+}
+
+int render_cairo_write(const char *path, int width, int height, RenderDrawFn draw, void *context,
+                       const char *const *text, char *err, size_t err_size)
+{
+    int png = has_extension(path, "png"), pdf = has_extension(path, "pdf"),
+        svg = has_extension(path, "svg");
+    if (!png && !pdf && !svg) {
+        set_err(err, err_size, "%s: unknown figure format (use .png, .pdf or .svg)", path);
+        return -1;
+    }
+    if (width <= 0 || height <= 0) {
+        set_err(err, err_size, "%s: bad size %dx%d", path, width, height);
+        return -1;
+    }
+    if (png) {
+        RenderImage image;
+        if (render_cairo_image(width, height, draw, context, &image, err, err_size) != 0)
+            return -1;
+        int rc = render_png_write(&image, path, text, err, err_size);
+        render_image_free(&image);
+        return rc;
+    }
+    size_t plen = strlen(path);
+    char *tmp = malloc(plen + 5);
+    if (!tmp) {
+        set_err(err, err_size, "%s: out of memory", path);
+        return -1;
+    }
+    memcpy(tmp, path, plen);
+    memcpy(tmp + plen, ".tmp", 5);
+    double w_pt = width * RENDER_PT_PER_PX, h_pt = height * RENDER_PT_PER_PX;
+    cairo_surface_t *surface =
+        pdf ? cairo_pdf_surface_create(tmp, w_pt, h_pt) : cairo_svg_surface_create(tmp, w_pt, h_pt);
+    if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) {
+        set_err(err, err_size, "%s: %s", tmp,
+                cairo_status_to_string(cairo_surface_status(surface)));
+        cairo_surface_destroy(surface);
+        remove(tmp);
+        free(tmp);
+        return -1;
+    }
+    if (pdf) {
+        char subject[1024];
+        join_text(text, subject, sizeof subject);
+        const char *title = text_value(text, "Title");
+        if (!title)
+            title = text_value(text, "Scene");
+        if (title)
+            cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_TITLE, title);
+        cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_SUBJECT, subject);
+        cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATOR, "sablier " SIM_VERSION);
+        cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATE_DATE, PDF_FIXED_DATE);
+        cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_MOD_DATE, PDF_FIXED_DATE);
+    } else {
+        cairo_svg_surface_restrict_to_version(surface, CAIRO_SVG_VERSION_1_1);
+        cairo_svg_surface_set_document_unit(surface, CAIRO_SVG_UNIT_PT);
+    }
+    cairo_t *cr = cairo_create(surface);
+    cairo_scale(cr, RENDER_PT_PER_PX, RENDER_PT_PER_PX);
+    draw(cr, context);
+    cairo_show_page(cr);
+    cairo_status_t status = cairo_status(cr);
+    cairo_destroy(cr);
+    cairo_surface_finish(surface);
+    if (status == CAIRO_STATUS_SUCCESS)
+        status = cairo_surface_status(surface);
+    cairo_surface_destroy(surface);
+    if (status != CAIRO_STATUS_SUCCESS) {
+        set_err(err, err_size, "%s: cairo: %s", tmp, cairo_status_to_string(status));
+        remove(tmp);
+        free(tmp);
+        return -1;
+    }
+    if (rename(tmp, path) != 0) {
+        set_err(err, err_size, "%s: cannot rename to %s: %s", tmp, path, strerror(errno));
+        remove(tmp);
+        free(tmp);
+        return -1;
+    }
+    free(tmp);
+    return 0;
+}
+
+const char *render_library_versions(void)
+{
+    static char buf[256];
+    /* Rebuilt on every call from constants: same text each time, no first-call race. */
+    char local[256];
+    snprintf(local, sizeof local,
+             "cairo %s, libpng %s, libavcodec %d.%d.%d, libavformat %d.%d.%d, libavutil %d.%d.%d, "
+             "libswscale %d.%d.%d",
+             cairo_version_string(), PNG_LIBPNG_VER_STRING, LIBAVCODEC_VERSION_MAJOR,
+             LIBAVCODEC_VERSION_MINOR, LIBAVCODEC_VERSION_MICRO, LIBAVFORMAT_VERSION_MAJOR,
+             LIBAVFORMAT_VERSION_MINOR, LIBAVFORMAT_VERSION_MICRO, LIBAVUTIL_VERSION_MAJOR,
+             LIBAVUTIL_VERSION_MINOR, LIBAVUTIL_VERSION_MICRO, LIBSWSCALE_VERSION_MAJOR,
+             LIBSWSCALE_VERSION_MINOR, LIBSWSCALE_VERSION_MICRO);
+    memcpy(buf, local, sizeof buf);
+    return buf;
+}

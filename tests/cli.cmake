@@ -1,0 +1,93 @@
+# SPDX-License-Identifier: MIT
+# CLI tests of `sablier` (included by tests/CMakeLists.txt). Label `cli`.
+set(CLI_DIR ${PROJECT_SOURCE_DIR}/tests/cli)
+set(CLI_WORK ${CMAKE_CURRENT_BINARY_DIR}/cli_work)
+set(CLI_TINY ${PROJECT_SOURCE_DIR}/scenes/validation/drop_elastic.scene)
+
+function(sablier_cli_test name args rc)
+  cmake_parse_arguments(T "" "OUT;ERR" "" ${ARGN})
+  set(defs -DSABLIER=$<TARGET_FILE:sablier> "-DARGS=${args}" -DRC=${rc})
+  if(DEFINED T_OUT)
+    list(APPEND defs "-DOUT=${T_OUT}")
+  endif()
+  if(DEFINED T_ERR)
+    list(APPEND defs "-DERR=${T_ERR}")
+  endif()
+  add_test(NAME cli.${name} COMMAND ${CMAKE_COMMAND} ${defs} -P ${CLI_DIR}/expect.cmake
+           WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  set_tests_properties(cli.${name} PROPERTIES LABELS cli)
+endfunction()
+
+# help, version, usage errors
+sablier_cli_test(help "--help" 0 OUT "usage: sablier COMMAND")
+foreach(command run check diff render)
+  sablier_cli_test(help_${command} "${command}|--help" 0 OUT "usage: sablier ${command}")
+endforeach()
+sablier_cli_test(version "--version" 0 OUT "sablier [0-9]+\\.[0-9]+\\.[0-9]+\nsim [0-9.]+\nlibconfig 1\\.[0-9.]+\nrender: ")
+sablier_cli_test(no_command "" 2 ERR "usage: sablier")
+sablier_cli_test(unknown_command "frobnicate" 2 ERR "unknown command `frobnicate`")
+sablier_cli_test(unknown_option "check|${CLI_TINY}|--frob" 2 ERR "unknown option --frob")
+sablier_cli_test(run_no_scene "run" 2 ERR "missing SCENE")
+sablier_cli_test(run_bad_threads "run|${CLI_TINY}|--threads|0" 2 ERR "--threads")
+sablier_cli_test(missing_scene_file "check|no_such.scene" 2 ERR "no_such.scene: cannot read")
+
+# --set overrides, visible in `check`
+sablier_cli_test(set_dt "check|${CLI_TINY}|--set|time.dt=2e-5" 0 OUT "time step +2e-05 s")
+sablier_cli_test(set_species_index "check|${CLI_TINY}|--set|species.0.k_n=2e6" 0
+                 OUT "k_n 2e\\+06")
+sablier_cli_test(set_species_bracket "check|${CLI_TINY}|--set|species[0].density=1000" 0
+                 OUT "density 1000,")
+sablier_cli_test(set_stage_by_name
+                 "check|${PROJECT_SOURCE_DIR}/scenes/crater/quick.scene|--set|stages.collapse.time.end=1.5"
+                 0 OUT "stage collapse: [^\n]*time.end 1.5 s")
+sablier_cli_test(set_effects_array
+                 "check|${CLI_TINY}|--set|effects=[friction]|--set|species.0.mu=0.3|--set|species.0.gamma_s=1"
+                 0 OUT "effects +friction")
+sablier_cli_test(set_unknown_path "check|${CLI_TINY}|--set|nope.key=1" 2
+                 ERR "--set nope.key: unknown key `nope`")
+sablier_cli_test(set_bad_value "check|${CLI_TINY}|--set|time.dt=fast" 2
+                 ERR "--set time.dt: `fast` is not a number")
+sablier_cli_test(set_bad_index "check|${CLI_TINY}|--set|species.3.k_n=1" 2
+                 ERR "--set species.3.k_n: no such element")
+sablier_cli_test(set_no_value "check|${CLI_TINY}|--set|time.dt" 2 ERR "--set time.dt: expected KEY=VALUE")
+sablier_cli_test(set_undeclared_effect "check|${CLI_TINY}|--set|species.0.mu=0.5" 2
+                 ERR "--set species.0.mu: `mu` needs effect \"friction\"")
+sablier_cli_test(set_int_key "check|${CLI_TINY}|--set|seed=1.5" 2 ERR "--set seed: `seed` must be an integer")
+
+# every shipped scene passes `check`
+file(GLOB_RECURSE shipped CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/scenes/*.scene)
+foreach(scene ${shipped})
+  file(RELATIVE_PATH rel ${PROJECT_SOURCE_DIR}/scenes ${scene})
+  string(REGEX REPLACE "\\.scene$" "" rel ${rel})
+  string(REPLACE "/" "." rel ${rel})
+  sablier_cli_test(check.${rel} "check|${scene}" 0 OUT "\nok\n")
+endforeach()
+
+# every broken scene: exit 2, exact file:line, no output folder
+file(GLOB broken CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/tests/scenes_bad/*.scene)
+foreach(scene ${broken})
+  get_filename_component(name ${scene} NAME_WE)
+  add_test(NAME cli.bad.${name}
+           COMMAND ${CMAKE_COMMAND} -DSABLIER=$<TARGET_FILE:sablier> -DSCENE=${scene}
+                   -DWORK=${CLI_WORK}/bad_${name} -P ${CLI_DIR}/bad_scene.cmake)
+  set_tests_properties(cli.bad.${name} PROPERTIES LABELS cli)
+endforeach()
+
+# a run writes its outputs; render and diff work on them
+add_test(NAME cli.run_outputs
+         COMMAND ${CMAKE_COMMAND} -DSABLIER=$<TARGET_FILE:sablier> -DSCENE=${CLI_TINY}
+                 -DWORK=${CLI_WORK}/run_outputs -DRENDER=${SABLIER_WITH_RENDER}
+                 -P ${CLI_DIR}/run_outputs.cmake)
+set_tests_properties(cli.run_outputs PROPERTIES LABELS cli
+                     ENVIRONMENT "LSAN_OPTIONS=suppressions=${CLI_DIR}/lsan.supp")
+# a run that blows up: exit 1, message with step and grain, last good state saved
+add_test(NAME cli.run_unstable
+         COMMAND ${CMAKE_COMMAND} -DSABLIER=$<TARGET_FILE:sablier>
+                 "-DARGS=run|${CLI_TINY}|--quiet|--out|${CLI_WORK}/unstable|--set|guard.max_overlap=1e-4"
+                 -DRC=1 "-DERR=simulation failed at step [0-9]+ .*grain 0.*run.last_good.state"
+                 -P ${CLI_DIR}/expect.cmake)
+set_tests_properties(cli.run_unstable PROPERTIES LABELS cli)
+if(NOT SABLIER_WITH_RENDER)
+  sablier_cli_test(diff_not_built "diff|a.png|b.png" 2 ERR "rendering is not built")
+  sablier_cli_test(render_not_built "render|a.state|-o|a.png" 2 ERR "rendering is not built")
+endif()

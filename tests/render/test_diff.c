@@ -1,0 +1,212 @@
+/* SPDX-License-Identifier: MIT */
+/* Image diff: what it must catch (a recoloured grain, a missing force-chain segment) and what it
+ * must forgive (a one-pixel shift of the whole drawing), and bad input. */
+#include "fixture.h"
+#include "test.h"
+
+#define DIR "out/render-tests/diff"
+
+static RenderStyle diff_style(void)
+{
+    RenderStyle s = render_style_default();
+    s.width = 320;
+    s.height = 240;
+    s.colorbar = 0;
+    s.time_stamp = 0;
+    s.scale_bar = 0;
+    s.color_by = RENDER_COLOR_SPECIES;
+    s.force_chains = 1;
+    s.chain_threshold = 0; /* every contact drawn: removing one changes nothing else */
+    s.chain_force_max = 6; /* fixed width scale */
+    s.chain_width_max = 5;
+    return s;
+}
+
+static int write_frame(const Fixture *f, const RenderStyle *s, const char *path)
+{
+    RenderImage image;
+    char err[256];
+    if (render_cairo_draw(&f->frame, s, &image) != 0)
+        return -1;
+    int rc = render_png_write(&image, path, NULL, err, sizeof err);
+    render_image_free(&image);
+    return rc;
+}
+
+static void make_dirs(void)
+{
+    fixture_mkdirs();
+    mkdir(DIR, 0777);
+}
+
+static int identical(void)
+{
+    make_dirs();
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 10, 6, 0.01, 21) == 0);
+    RenderStyle s = diff_style();
+    TEST_ASSERT(write_frame(&f, &s, DIR "/a.png") == 0);
+    TEST_ASSERT(write_frame(&f, &s, DIR "/a2.png") == 0);
+    RenderDiffResult r;
+    char err[256];
+    TEST_ASSERT(render_diff_files(DIR "/a.png", DIR "/a2.png", NULL, NULL, &r, err, sizeof err) ==
+                0);
+    TEST_ASSERT(r.differing_pixels == 0 && r.raw_pixels == 0 && r.max_channel_diff == 0);
+    TEST_NEAR(r.rms, 0, 0);
+    TEST_ASSERT(r.width == 320 && r.height == 240 && r.verdict == 0);
+    char json[512];
+    int n = render_diff_result_json(&r, json, sizeof json);
+    TEST_ASSERT(n > 0 && (size_t)n < sizeof json);
+    TEST_ASSERT(strstr(json, "\"verdict\":\"match\"") && strstr(json, "\"differing_pixels\":0"));
+    TEST_ASSERT(json[0] == '{' && json[n - 1] == '}' && !strchr(json, '\n'));
+    fixture_free(&f);
+    return 0;
+}
+
+static int recoloured_grain(void)
+{
+    make_dirs();
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 10, 6, 0.01, 22) == 0);
+    RenderStyle s = diff_style();
+    TEST_ASSERT(write_frame(&f, &s, DIR "/b.png") == 0);
+    int g = 25;
+    f.species[g] = f.species[g] == 0 ? 2 : 0;
+    TEST_ASSERT(write_frame(&f, &s, DIR "/b_recoloured.png") == 0);
+    RenderDiffResult r;
+    char err[256];
+    int rc = render_diff_files(DIR "/b.png", DIR "/b_recoloured.png", NULL, DIR "/b.diff.png", &r,
+                               err, sizeof err);
+    TEST_ASSERT(rc == 1 && r.verdict == 1);
+    TEST_ASSERT(r.differing_pixels > 50);
+    TEST_ASSERT(strstr(err, "pixels differ"));
+    /* The diff image marks the grain's centre in red. */
+    RenderImage d;
+    TEST_ASSERT(render_png_read(DIR "/b.diff.png", &d, err, sizeof err) == 0);
+    RenderView v;
+    render_view_fit(&f.frame, &s, &v);
+    double px, py;
+    render_view_to_pixel(&v, f.x[g], f.y[g], &px, &py);
+    TEST_ASSERT(fixture_pixel(&d, px, py) == 0xe60000);
+    TEST_ASSERT(fixture_pixel(&d, 2, 2) != 0xe60000); /* background: grey */
+    render_image_free(&d);
+    fixture_free(&f);
+    return 0;
+}
+
+static int missing_chain_segment(void)
+{
+    make_dirs();
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 10, 6, 0.01, 23) == 0);
+    RenderStyle s = diff_style();
+    TEST_ASSERT(write_frame(&f, &s, DIR "/c.png") == 0);
+    /* Drop one mid-strength contact between two mobile grains. */
+    int drop = -1;
+    for (int c = 0; c < f.frame.contact_count && drop < 0; ++c)
+        if (f.contacts[c].normal_force > 1.0 && f.contacts[c].normal_force < 2.0 &&
+            !f.flags[f.contacts[c].i] && !f.flags[f.contacts[c].j])
+            drop = c;
+    TEST_ASSERT(drop >= 0);
+    f.contacts[drop] = f.contacts[--f.frame.contact_count];
+    TEST_ASSERT(write_frame(&f, &s, DIR "/c_missing.png") == 0);
+    RenderDiffResult r;
+    char err[256];
+    TEST_ASSERT(render_diff_files(DIR "/c.png", DIR "/c_missing.png", NULL, NULL, &r, err,
+                                  sizeof err) == 1);
+    TEST_ASSERT(r.differing_pixels > 0);
+    /* RMS alone would not flag it (pytest-mpl's default tolerance is 2). */
+    TEST_ASSERT(r.rms < 2.0);
+    fixture_free(&f);
+    return 0;
+}
+
+/* The whole drawing moved by one pixel (view window shifted by 1 / scale): explained by the
+ * shift test, so a match; without the shift tolerance it differs. */
+static int one_pixel_shift(void)
+{
+    make_dirs();
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 10, 6, 0.01, 24) == 0);
+    RenderStyle s = diff_style();
+    RenderView v;
+    render_view_fit(&f.frame, &s, &v);
+    s.view_x0 = v.center_x - 0.5 * v.plot_w / v.scale;
+    s.view_x1 = v.center_x + 0.5 * v.plot_w / v.scale;
+    s.view_y0 = v.center_y - 0.5 * v.plot_h / v.scale;
+    s.view_y1 = v.center_y + 0.5 * v.plot_h / v.scale;
+    TEST_ASSERT(write_frame(&f, &s, DIR "/d.png") == 0);
+    RenderStyle t = s;
+    t.view_x0 += 1.0 / v.scale;
+    t.view_x1 += 1.0 / v.scale;
+    t.view_y0 -= 1.0 / v.scale;
+    t.view_y1 -= 1.0 / v.scale;
+    TEST_ASSERT(write_frame(&f, &t, DIR "/d_shift.png") == 0);
+    RenderDiffResult r;
+    char err[256];
+    TEST_ASSERT(
+        render_diff_files(DIR "/d.png", DIR "/d_shift.png", NULL, NULL, &r, err, sizeof err) == 0);
+    TEST_ASSERT(r.raw_pixels > 100 && r.differing_pixels == 0);
+    RenderDiffOptions strict = render_diff_options_default();
+    strict.shift_tolerance = 0;
+    TEST_ASSERT(render_diff_files(DIR "/d.png", DIR "/d_shift.png", &strict, NULL, &r, err,
+                                  sizeof err) == 1);
+    fixture_free(&f);
+    return 0;
+}
+
+static int bad_input(void)
+{
+    make_dirs();
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 6, 4, 0.01, 25) == 0);
+    RenderStyle s = diff_style();
+    TEST_ASSERT(write_frame(&f, &s, DIR "/e.png") == 0);
+    s.width = 322;
+    TEST_ASSERT(write_frame(&f, &s, DIR "/e_wide.png") == 0);
+    RenderDiffResult r;
+    char err[512];
+    TEST_ASSERT(
+        render_diff_files(DIR "/e.png", DIR "/e_wide.png", NULL, NULL, &r, err, sizeof err) == 2);
+    TEST_ASSERT(r.verdict == 2 && strstr(err, "different sizes") && strstr(err, "322x240"));
+    TEST_ASSERT(render_diff_files(DIR "/e.png", DIR "/nope.png", NULL, NULL, &r, err, sizeof err) ==
+                2);
+    TEST_ASSERT(strstr(err, "nope.png"));
+    FILE *text = fopen(DIR "/text.png", "w");
+    TEST_ASSERT(text);
+    fputs("this is not an image\n", text);
+    fclose(text);
+    TEST_ASSERT(render_diff_files(DIR "/text.png", DIR "/e.png", NULL, NULL, &r, err, sizeof err) ==
+                2);
+    TEST_ASSERT(strstr(err, "not a PNG"));
+    char json[512];
+    render_diff_result_json(&r, json, sizeof json);
+    TEST_ASSERT(strstr(json, "\"verdict\":\"error\""));
+    fixture_free(&f);
+    return 0;
+}
+
+/* In-memory comparison accepts mixed formats: a BGRA drawing equals its RGBA read-back. */
+static int mixed_formats(void)
+{
+    make_dirs();
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 6, 4, 0.01, 26) == 0);
+    RenderStyle s = diff_style();
+    RenderImage a, b;
+    char err[256];
+    TEST_ASSERT(render_cairo_draw(&f.frame, &s, &a) == 0);
+    TEST_ASSERT(render_png_write(&a, DIR "/g.png", NULL, err, sizeof err) == 0);
+    TEST_ASSERT(render_png_read(DIR "/g.png", &b, err, sizeof err) == 0);
+    TEST_ASSERT(b.format == RENDER_PIXEL_RGBA);
+    RenderDiffResult r;
+    TEST_ASSERT(render_diff_images(&a, &b, NULL, NULL, &r, err, sizeof err) == 0);
+    TEST_ASSERT(r.max_channel_diff == 0);
+    render_image_free(&a);
+    render_image_free(&b);
+    fixture_free(&f);
+    return 0;
+}
+
+TEST_MAIN(TEST_CASE(identical), TEST_CASE(recoloured_grain), TEST_CASE(missing_chain_segment),
+          TEST_CASE(one_pixel_shift), TEST_CASE(bad_input), TEST_CASE(mixed_formats))

@@ -1,0 +1,335 @@
+/* SPDX-License-Identifier: MIT */
+/* Cairo frame drawing: reference images for each drawing feature (compared with our own diff),
+ * plus pixel probes that pin colours and positions numerically. */
+#include "fixture.h"
+#include "test.h"
+
+static RenderStyle quiet_style(int w, int h)
+{
+    RenderStyle s = render_style_default();
+    s.width = w;
+    s.height = h;
+    s.colorbar = 0;
+    s.time_stamp = 0;
+    s.scale_bar = 0;
+    return s;
+}
+
+static int draw_and_check(const char *name, const Fixture *f, const RenderStyle *s)
+{
+    RenderImage image;
+    TEST_ASSERT(render_cairo_draw(&f->frame, s, &image) == 0);
+    TEST_ASSERT(image.format == RENDER_PIXEL_BGRA_PREMUL);
+    TEST_ASSERT(image.width == s->width && image.height == s->height);
+    int rc = fixture_check_reference(name, &image);
+    render_image_free(&image);
+    return rc;
+}
+
+/* Flat disks with outlines and orientation ticks, fixed base grains, side walls. */
+static int grains_fixed(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 10, 6, 0.01, 1) == 0);
+    RenderStyle s = quiet_style(320, 240);
+    s.orientation_tick = 1;
+    int rc = draw_and_check("grains_fixed", &f, &s);
+    fixture_free(&f);
+    return rc;
+}
+
+/* Grain fill = colour map of the per-grain force, fixed range, viridis. */
+static int grains_force_viridis(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 10, 6, 0.01, 2) == 0);
+    RenderStyle s = quiet_style(320, 240);
+    s.color_by = RENDER_COLOR_FORCE;
+    s.range_min = 0;
+    s.range_max = 8;
+    int rc = draw_and_check("grains_force_viridis", &f, &s);
+    fixture_free(&f);
+    return rc;
+}
+
+/* Strong force network on grey grains, including wall contacts drawn to the contact point. */
+static int force_chains(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 10, 6, 0.01, 3) == 0);
+    int top = 0;
+    for (int i = 0; i < f.frame.mobile_count; ++i)
+        if (f.y[i] < f.y[top] || (f.y[i] == f.y[top] && f.x[i] < f.x[top]))
+            top = i;
+    fixture_contact(&f, top, -1, 4.0, 0, f.y[top]); /* left wall */
+    RenderStyle s = quiet_style(320, 240);
+    s.color_by = RENDER_COLOR_FORCE;
+    s.colormap = RENDER_CMAP_GREYS;
+    s.range_min = 0;
+    s.range_max = 12;
+    s.force_chains = 1;
+    int rc = draw_and_check("force_chains", &f, &s);
+    fixture_free(&f);
+    return rc;
+}
+
+/* Per-grain velocity arrows and the coarse-grained field. */
+static int velocity_arrows(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 10, 6, 0.01, 4) == 0);
+    RenderStyle s = quiet_style(320, 240);
+    s.velocity_arrows = 1;
+    s.arrow_scale = 0; /* auto: the fastest grain gets an arrow of 2 mean diameters */
+    int rc = draw_and_check("velocity_arrows", &f, &s);
+    s.velocity_arrows = 0;
+    s.velocity_field = 1;
+    s.fill_rgb = 0xe8e0cc;
+    rc |= draw_and_check("velocity_field", &f, &s);
+    fixture_free(&f);
+    return rc;
+}
+
+/* Two arches outlined, polylines through their centres, zoomed inset. */
+static int arches(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 30, 10, 0.01, 5) == 0);
+    int *ids = malloc((size_t)f.frame.count * sizeof *ids);
+    TEST_ASSERT(ids);
+    double h = 0.02 * sqrt(3.0) / 2;
+    for (int i = 0; i < f.frame.count; ++i) {
+        ids[i] = -1;
+        if (f.flags[i])
+            continue;
+        int row = (int)((f.y[i] - 0.02) / h + 0.5);
+        double x = f.x[i];
+        if (row == 3 && x > 0.25 && x < 0.33)
+            ids[i] = 0; /* a flat arch on two lower feet */
+        if (row == 2 && ((x > 0.225 && x < 0.245) || (x > 0.325 && x < 0.345)))
+            ids[i] = 0;
+        if (row == 5 && x > 0.27 && x < 0.32)
+            ids[i] = 1;
+    }
+    RenderStyle s = quiet_style(480, 200);
+    s.arch_ids = ids;
+    s.arch_inset = 1;
+    s.fill_rgb = 0xcfcfcf;
+    int rc = draw_and_check("arches", &f, &s);
+    free(ids);
+    fixture_free(&f);
+    return rc;
+}
+
+/* Periodic in x: grains crossing the seam appear on both sides, clipped to the domain, and a
+ * contact across the seam is drawn as two half segments. */
+static int periodic_seam(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_init(&f, 16, 16, 6) == 0);
+    f.frame.periodic = 1;
+    f.frame.domain_x0 = 0;
+    f.frame.domain_x1 = 0.2;
+    int a = fixture_add(&f, 0.003, 0.05, 0.012, 0);  /* crosses the left edge */
+    int b = fixture_add(&f, 0.1955, 0.06, 0.012, 0); /* crosses the right edge */
+    int c = fixture_add(&f, 0.1, 0.05, 0.02, 0);
+    fixture_add(&f, 0.1, 0.01, 0.01, SIM_GRAIN_FIXED);
+    fixture_contact(&f, a, b, 5.0, 0.0, 0.055);
+    fixture_contact(&f, a, c, 1.0, 0.05, 0.05);
+    f.species[b] = 1;
+    RenderStyle s = quiet_style(320, 160);
+    s.color_by = RENDER_COLOR_SPECIES;
+    s.force_chains = 1;
+    s.chain_threshold = 0;
+    s.chain_width_max = 4;
+    s.view_x0 = -0.02;
+    s.view_x1 = 0.22;
+    s.view_y0 = 0;
+    s.view_y1 = 0.1;
+    RenderImage image;
+    TEST_ASSERT(render_cairo_draw(&f.frame, &s, &image) == 0);
+    RenderView v;
+    render_view_fit(&f.frame, &s, &v);
+    double px, py;
+    /* The right grain's copy at x - L = -0.0045 shows inside the domain. */
+    render_view_to_pixel(&v, 0.002, 0.066, &px, &py);
+    TEST_ASSERT(fixture_pixel(&image, px, py) == render_species_rgb(1));
+    /* Outside the domain (x < 0) nothing is drawn: background. */
+    render_view_to_pixel(&v, -0.004, 0.05, &px, &py);
+    TEST_ASSERT(fixture_pixel(&image, px, py) == 0xffffff);
+    /* The left grain's copy shows near the right edge. */
+    render_view_to_pixel(&v, 0.1995, 0.042, &px, &py);
+    TEST_ASSERT(fixture_pixel(&image, px, py) == render_species_rgb(0));
+    render_image_free(&image);
+    int rc = draw_and_check("periodic_seam", &f, &s);
+    fixture_free(&f);
+    return rc;
+}
+
+/* Categorical species legend and height bands. */
+static int species_and_bands(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 10, 6, 0.01, 7) == 0);
+    RenderStyle s = quiet_style(360, 240);
+    s.color_by = RENDER_COLOR_SPECIES;
+    s.colorbar = 1;
+    int rc = draw_and_check("species_legend", &f, &s);
+    s = quiet_style(320, 240);
+    s.color_by = RENDER_COLOR_HEIGHT;
+    s.band_height = 0.035;
+    rc |= draw_and_check("height_bands", &f, &s);
+    fixture_free(&f);
+    return rc;
+}
+
+/* Colour bar with label and unit, time stamp with t*, scale bar, title, yellow-red map. */
+static int annotations(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 16, 8, 0.01, 8) == 0);
+    RenderStyle s = render_style_default();
+    s.width = 640;
+    s.height = 360;
+    s.color_by = RENDER_COLOR_FORCE;
+    s.colormap = RENDER_CMAP_YELLOW_RED;
+    s.range_min = 0;
+    s.range_max = 10;
+    s.title = "Packed bed, contact forces";
+    int rc = draw_and_check("annotations", &f, &s);
+    fixture_free(&f);
+    return rc;
+}
+
+/* Flat disks: the centre pixel of a grain is exactly its LUT colour; fixed grains use fixed_rgb;
+ * the background is untouched; two renders are identical. */
+static int disk_colours_exact(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 8, 5, 0.01, 9) == 0);
+    RenderStyle s = quiet_style(400, 300);
+    s.color_by = RENDER_COLOR_FORCE;
+    s.range_min = 0;
+    s.range_max = 6;
+    RenderImage a, b;
+    TEST_ASSERT(render_cairo_draw(&f.frame, &s, &a) == 0);
+    TEST_ASSERT(render_cairo_draw(&f.frame, &s, &b) == 0);
+    TEST_ASSERT(memcmp(a.pixels, b.pixels, (size_t)a.stride * (size_t)a.height) == 0);
+    RenderView v;
+    render_view_fit(&f.frame, &s, &v);
+    for (int i = 0; i < f.frame.count; i += 3) {
+        double px, py;
+        render_view_to_pixel(&v, f.x[i], f.y[i], &px, &py);
+        uint32_t want =
+            f.flags[i] ? s.fixed_rgb : render_colormap_rgb(s.colormap, f.force[i] / s.range_max);
+        TEST_ASSERT(fixture_pixel(&a, px, py) == want);
+    }
+    TEST_ASSERT(fixture_pixel(&a, 1, 1) == 0xffffff);
+    /* Every grain lies inside the plot rectangle of the fitted view. */
+    for (int i = 0; i < f.frame.count; ++i) {
+        double px, py;
+        render_view_to_pixel(&v, f.x[i], f.y[i], &px, &py);
+        TEST_ASSERT(px - f.radius[i] * v.scale >= v.plot_x);
+        TEST_ASSERT(px + f.radius[i] * v.scale <= v.plot_x + v.plot_w);
+        TEST_ASSERT(py - f.radius[i] * v.scale >= v.plot_y);
+        TEST_ASSERT(py + f.radius[i] * v.scale <= v.plot_y + v.plot_h);
+    }
+    render_image_free(&a);
+    render_image_free(&b);
+    fixture_free(&f);
+    return 0;
+}
+
+/* A strong chain is drawn (its midpoint pixel is chain-coloured, not the grain fill); a weak one
+ * (below the mean) is not. */
+static int chain_selection(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_init(&f, 8, 8, 10) == 0);
+    int a = fixture_add(&f, 0.0, 0.0, 0.01, 0);
+    int b = fixture_add(&f, 0.02, 0.0, 0.01, 0);
+    int c = fixture_add(&f, 0.0, 0.02, 0.01, 0);
+    fixture_contact(&f, a, b, 9.0, 0.01, 0.0);
+    fixture_contact(&f, a, c, 1.0, 0.0, 0.01);
+    RenderStyle s = quiet_style(300, 300);
+    s.force_chains = 1;
+    s.fill_rgb = 0xffffff;
+    double fmax;
+    TEST_NEAR(render_chain_cut(&f.frame, &s, &fmax), 5.0, 1e-12);
+    TEST_NEAR(fmax, 9.0, 0);
+    RenderImage image;
+    TEST_ASSERT(render_cairo_draw(&f.frame, &s, &image) == 0);
+    RenderView v;
+    render_view_fit(&f.frame, &s, &v);
+    double px, py;
+    render_view_to_pixel(&v, 0.005, 0.0, &px, &py); /* on the strong a-b segment */
+    TEST_ASSERT(fixture_pixel(&image, px, py) == render_colormap_rgb(RENDER_CMAP_YELLOW_RED, 1.0));
+    /* On the weak a-c segment, past the strong chain's round cap (radius 0.25 d = 0.005). */
+    render_view_to_pixel(&v, 0.0, 0.0075, &px, &py);
+    TEST_ASSERT(fixture_pixel(&image, px, py) == 0xffffff);
+    render_image_free(&image);
+    fixture_free(&f);
+    return 0;
+}
+
+/* Colour maps: known viridis entries, monotone lightness, clamping, categorical palette. */
+static int colormaps(void)
+{
+    TEST_ASSERT(render_colormap_rgb(RENDER_CMAP_VIRIDIS, 0) == 0x440154);
+    TEST_ASSERT(render_colormap_rgb(RENDER_CMAP_VIRIDIS, 1) == 0xfde725);
+    /* matplotlib viridis(128/255) = (0.127568, 0.566949, 0.550556) = #21918c */
+    TEST_ASSERT(render_colormap_rgb(RENDER_CMAP_VIRIDIS, 128.0 / 255.0) == 0x21918c);
+    TEST_ASSERT(render_colormap_rgb(RENDER_CMAP_VIRIDIS, -3) == 0x440154);
+    TEST_ASSERT(render_colormap_rgb(RENDER_CMAP_VIRIDIS, 7) == 0xfde725);
+    TEST_ASSERT(render_colormap_rgb(RENDER_CMAP_VIRIDIS, NAN) == 0x440154);
+    for (int m = 0; m < 3; ++m) {
+        uint8_t lut[256][3];
+        render_colormap_lut((RenderColormap)m, lut);
+        double last = m == 0 ? -1 : 1e9;
+        for (int k = 0; k < 256; ++k) {
+            double lum = 0.2126 * lut[k][0] + 0.7152 * lut[k][1] + 0.0722 * lut[k][2];
+            /* viridis brightens, yellow-red and greys darken with force */
+            if (m == 0)
+                TEST_ASSERT(lum >= last - 0.5);
+            else
+                TEST_ASSERT(lum <= last + 0.5);
+            last = lum;
+            uint32_t rgb = (uint32_t)lut[k][0] << 16 | (uint32_t)lut[k][1] << 8 | lut[k][2];
+            TEST_ASSERT(render_colormap_rgb((RenderColormap)m, k / 255.0) == rgb);
+        }
+    }
+    TEST_ASSERT(render_species_rgb(0) != render_species_rgb(1));
+    TEST_ASSERT(render_species_rgb(8) == render_species_rgb(0));
+    return 0;
+}
+
+/* Automatic colour range: [0, max over mobile grains]; a fixed range is kept. */
+static int color_range(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_init(&f, 4, 4, 11) == 0);
+    fixture_add(&f, 0, 0, 0.01, 0);
+    fixture_add(&f, 0.02, 0, 0.01, 0);
+    fixture_add(&f, 0.04, 0, 0.01, SIM_GRAIN_FIXED);
+    f.vx[0] = 3;
+    f.vy[0] = 4;
+    f.vx[2] = 100; /* fixed grains do not set the range */
+    RenderStyle s = render_style_default();
+    s.color_by = RENDER_COLOR_SPEED;
+    double lo, hi;
+    render_color_range(&f.frame, &s, &lo, &hi);
+    TEST_NEAR(lo, 0, 0);
+    TEST_NEAR(hi, 5, 1e-15);
+    s.range_min = 1;
+    s.range_max = 2;
+    render_color_range(&f.frame, &s, &lo, &hi);
+    TEST_ASSERT(lo == 1 && hi == 2);
+    TEST_ASSERT(render_grain_rgb(&f.frame, &s, 2, lo, hi) == s.fixed_rgb);
+    fixture_free(&f);
+    return 0;
+}
+
+TEST_MAIN(TEST_CASE(grains_fixed), TEST_CASE(grains_force_viridis), TEST_CASE(force_chains),
+          TEST_CASE(velocity_arrows), TEST_CASE(arches), TEST_CASE(periodic_seam),
+          TEST_CASE(species_and_bands), TEST_CASE(annotations), TEST_CASE(disk_colours_exact),
+          TEST_CASE(chain_selection), TEST_CASE(colormaps), TEST_CASE(color_range))

@@ -1,0 +1,467 @@
+/* SPDX-License-Identifier: MIT */
+/* test_mp4.c: MP4 movies read back with libavformat/libavcodec: codec, frame count, duration,
+ * size, yuv420p, BT.709 tags and colours, faststart, odd sizes, path.tmp then rename, sticky
+ * errors, the mpeg4 encoder, both drawers. Outputs under out/render-tests/. */
+#include "test.h"
+
+#include "render/render.h"
+
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <sys/stat.h>
+
+#define OUT_DIR "out/render-tests"
+
+static void make_out_dir(void)
+{
+    mkdir("out", 0755);
+    mkdir(OUT_DIR, 0755);
+}
+
+static int file_exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+/* A small frame: three disks in a row, one of them fixed, touching pairs with contacts. */
+typedef struct Scene {
+    double x[3], y[3], r[3], angle[3], vx[3], vy[3], omega[3], force[3];
+    int species[3];
+    unsigned flags[3];
+    uint32_t id[3];
+    SimContact contacts[2];
+    SimFrame frame;
+} Scene;
+
+static void scene_init(Scene *s, double shift)
+{
+    memset(s, 0, sizeof *s);
+    for (int i = 0; i < 3; ++i) {
+        s->x[i] = 0.3 + 0.2 * i + shift;
+        s->y[i] = 0.5;
+        s->r[i] = 0.1;
+        s->force[i] = 1.0 + i;
+        s->species[i] = i;
+        s->id[i] = (uint32_t)i;
+    }
+    s->flags[2] = SIM_GRAIN_FIXED;
+    s->contacts[0] = (SimContact){.i = 0, .j = 1, .normal_force = 1.0, .x = 0.4, .y = 0.5};
+    s->contacts[1] = (SimContact){.i = 1, .j = 2, .normal_force = 2.0, .x = 0.6, .y = 0.5};
+    s->frame = (SimFrame){.count = 3,
+                          .mobile_count = 2,
+                          .x = s->x,
+                          .y = s->y,
+                          .angle = s->angle,
+                          .radius = s->r,
+                          .vx = s->vx,
+                          .vy = s->vy,
+                          .omega = s->omega,
+                          .species = s->species,
+                          .flags = s->flags,
+                          .id = s->id,
+                          .force = s->force,
+                          .contact_count = 2,
+                          .contacts = s->contacts};
+}
+
+/* A style showing the grain layer only, over a fixed world window [0, 1] x [0, 0.75]. */
+static RenderStyle small_style(int width, int height)
+{
+    RenderStyle style = render_style_default();
+    style.width = width;
+    style.height = height;
+    style.view_x0 = 0.0;
+    style.view_y0 = 0.0;
+    style.view_x1 = 1.0;
+    style.view_y1 = 0.75;
+    style.colorbar = 0;
+    style.time_stamp = 0;
+    style.scale_bar = 0;
+    style.title = NULL;
+    return style;
+}
+
+static RenderMovieDef movie_def(const char *path, RenderDrawer drawer)
+{
+    RenderMovieDef def = {0};
+    def.path = path;
+    def.drawer = drawer;
+    def.fps = 25.0;
+    def.crf = 18;
+    def.quiet = 1;
+    def.meta.scene = "test";
+    def.meta.seed = 7;
+    return def;
+}
+
+/* What a movie file holds, read back through libavformat and libavcodec. */
+typedef struct Probe {
+    enum AVCodecID codec;
+    int width, height;
+    int pix_fmt;
+    enum AVColorSpace space;
+    enum AVColorPrimaries primaries;
+    enum AVColorTransferCharacteristic transfer;
+    enum AVColorRange range;
+    double duration;           ///< s, from the stream
+    double fps;                ///< average frame rate
+    int frames;                ///< decoded
+    int sample_count;          ///< frames sampled into sample_yuv
+    uint8_t sample_yuv[64][3]; ///< Y, U, V at the image centre of decoded frames 0..63
+} Probe;
+
+static int probe_movie(const char *path, Probe *probe)
+{
+    memset(probe, 0, sizeof *probe);
+    AVFormatContext *format = NULL;
+    AVCodecContext *codec = NULL;
+    AVPacket *packet = av_packet_alloc();
+    AVFrame *frame = av_frame_alloc();
+    int ok = 0;
+    if (!packet || !frame || avformat_open_input(&format, path, NULL, NULL) < 0)
+        goto done;
+    if (avformat_find_stream_info(format, NULL) < 0)
+        goto done;
+    int index = av_find_best_stream(format, AVMEDIA_TYPE_VIDEO, -1, -1, NULL, 0);
+    if (index < 0)
+        goto done;
+    AVStream *stream = format->streams[index];
+    AVCodecParameters *par = stream->codecpar;
+    probe->codec = par->codec_id;
+    probe->width = par->width;
+    probe->height = par->height;
+    probe->pix_fmt = par->format;
+    probe->space = par->color_space;
+    probe->primaries = par->color_primaries;
+    probe->transfer = par->color_trc;
+    probe->range = par->color_range;
+    probe->duration = stream->duration > 0 ? (double)stream->duration * av_q2d(stream->time_base)
+                                           : (double)format->duration / AV_TIME_BASE;
+    probe->fps = av_q2d(stream->avg_frame_rate);
+    const AVCodec *decoder = avcodec_find_decoder(par->codec_id);
+    codec = decoder ? avcodec_alloc_context3(decoder) : NULL;
+    if (!codec || avcodec_parameters_to_context(codec, par) < 0 ||
+        avcodec_open2(codec, decoder, NULL) < 0)
+        goto done;
+    int draining = 0;
+    for (;;) {
+        if (!draining) {
+            int rc = av_read_frame(format, packet);
+            if (rc < 0) {
+                draining = 1;
+                avcodec_send_packet(codec, NULL);
+            } else {
+                if (packet->stream_index == index)
+                    avcodec_send_packet(codec, packet);
+                av_packet_unref(packet);
+            }
+        }
+        int rc;
+        while ((rc = avcodec_receive_frame(codec, frame)) == 0) {
+            if (probe->sample_count < 64 && frame->format == AV_PIX_FMT_YUV420P) {
+                int cx = frame->width / 2, cy = frame->height / 2;
+                uint8_t *yuv = probe->sample_yuv[probe->sample_count++];
+                yuv[0] = frame->data[0][cy * frame->linesize[0] + cx];
+                yuv[1] = frame->data[1][(cy / 2) * frame->linesize[1] + cx / 2];
+                yuv[2] = frame->data[2][(cy / 2) * frame->linesize[2] + cx / 2];
+            }
+            probe->frames += 1;
+            av_frame_unref(frame);
+        }
+        if (rc == AVERROR_EOF || (draining && rc != AVERROR(EAGAIN)))
+            break;
+    }
+    ok = 1;
+done:
+    avcodec_free_context(&codec);
+    avformat_close_input(&format);
+    av_packet_free(&packet);
+    av_frame_free(&frame);
+    return ok ? 0 : -1;
+}
+
+/* Top-level MP4 boxes in file order: 1 when "moov" comes before "mdat" (+faststart). */
+static int moov_before_mdat(const char *path)
+{
+    FILE *file = fopen(path, "rb");
+    if (!file)
+        return 0;
+    int moov = -1, mdat = -1, k = 0;
+    unsigned char head[16];
+    while (fread(head, 1, 8, file) == 8) {
+        uint64_t size =
+            (uint64_t)head[0] << 24 | (uint64_t)head[1] << 16 | (uint64_t)head[2] << 8 | head[3];
+        long skip = 8;
+        if (size == 1) {
+            if (fread(head + 8, 1, 8, file) != 8)
+                break;
+            size = 0;
+            for (int b = 8; b < 16; ++b)
+                size = size << 8 | head[b];
+            skip = 16;
+        }
+        if (!memcmp(head + 4, "moov", 4))
+            moov = k;
+        if (!memcmp(head + 4, "mdat", 4))
+            mdat = k;
+        if (size < (uint64_t)skip || fseek(file, (long)size - skip, SEEK_CUR) != 0)
+            break;
+        ++k;
+    }
+    fclose(file);
+    return moov >= 0 && mdat >= 0 && moov < mdat;
+}
+
+/* Writes `count` frames of the little scene moving right. */
+static int write_movie(const RenderMovieDef *def, const RenderStyle *style, int count)
+{
+    char err[512];
+    RenderMovie *movie = render_movie_open(def, style, err, sizeof err);
+    if (!movie) {
+        fprintf(stderr, "open: %s\n", err);
+        return -1;
+    }
+    Scene scene;
+    for (int k = 0; k < count; ++k) {
+        scene_init(&scene, 0.005 * k);
+        if (render_movie_frame(movie, &scene.frame) != 0)
+            break;
+    }
+    if (render_movie_close(movie, err, sizeof err) != 0) {
+        fprintf(stderr, "close: %s\n", err);
+        return -1;
+    }
+    return 0;
+}
+
+static int mp4_properties(void)
+{
+    make_out_dir();
+    const char *path = OUT_DIR "/mp4_properties.mp4";
+    RenderStyle style = small_style(320, 240);
+    RenderMovieDef def = movie_def(path, RENDER_DRAWER_OSMESA);
+    TEST_ASSERT(write_movie(&def, &style, 40) == 0);
+    Probe p;
+    TEST_ASSERT(probe_movie(path, &p) == 0);
+    TEST_ASSERT(p.codec == AV_CODEC_ID_H264);
+    TEST_ASSERT(p.width == 320 && p.height == 240);
+    TEST_ASSERT(p.pix_fmt == AV_PIX_FMT_YUV420P);
+    TEST_ASSERT(p.space == AVCOL_SPC_BT709);
+    TEST_ASSERT(p.primaries == AVCOL_PRI_BT709);
+    TEST_ASSERT(p.transfer == AVCOL_TRC_BT709);
+    TEST_ASSERT(p.range == AVCOL_RANGE_MPEG);
+    TEST_ASSERT(p.frames == 40); /* the encoder was flushed: no tail lost */
+    TEST_NEAR(p.duration, 40 / 25.0, 1e-3);
+    TEST_NEAR(p.fps, 25.0, 1e-6);
+    TEST_ASSERT(moov_before_mdat(path));
+    return 0;
+}
+
+/* Limited-range BT.709 of 8-bit sRGB values (ITU-R BT.709-6 table 3, 8-bit quantisation). */
+static void bt709_of(uint32_t rgb, double yuv[3])
+{
+    double r = (rgb >> 16 & 255) / 255.0, g = (rgb >> 8 & 255) / 255.0, b = (rgb & 255) / 255.0;
+    double y = 0.2126 * r + 0.7152 * g + 0.0722 * b;
+    yuv[0] = 16.0 + 219.0 * y;
+    yuv[1] = 128.0 + 224.0 * (b - y) / 1.8556;
+    yuv[2] = 128.0 + 224.0 * (r - y) / 1.5748;
+}
+
+/* Back to 8-bit RGB, as a player honouring the BT.709 tag does. */
+static void rgb_of_bt709(const uint8_t yuv[3], double rgb[3])
+{
+    double y = (yuv[0] - 16.0) / 219.0, u = (yuv[1] - 128.0) / 224.0, v = (yuv[2] - 128.0) / 224.0;
+    double r = y + 1.5748 * v;
+    double b = y + 1.8556 * u;
+    double g = (y - 0.2126 * r - 0.0722 * b) / 0.7152;
+    rgb[0] = 255.0 * r;
+    rgb[1] = 255.0 * g;
+    rgb[2] = 255.0 * b;
+}
+
+/* Frames filled with known colours decode back within a few levels: the conversion is BT.709
+ * (BT.601 would miss viridis yellow's U/V by 5-6 levels and teal's by 12 after decoding). */
+static int mp4_colour_roundtrip(void)
+{
+    make_out_dir();
+    static const uint32_t colours[] = {0xfde725, 0x21918c, 0xd62728, 0x440154, 0x808080};
+
+    enum { COLOURS = 5, PER = 6 };
+
+    /* One movie per colour: the background is part of the movie's style. */
+    for (int drawer = 0; drawer < 2; ++drawer) {
+        for (int c = 0; c < COLOURS; ++c) {
+            char path[128];
+            snprintf(path, sizeof path, OUT_DIR "/mp4_colour_%s_%06x.mp4",
+                     drawer ? "cairo" : "osmesa", (unsigned)colours[c]);
+            RenderStyle style = small_style(128, 96);
+            style.background_rgb = colours[c];
+            RenderMovieDef def =
+                movie_def(path, drawer ? RENDER_DRAWER_CAIRO : RENDER_DRAWER_OSMESA);
+            char err[512];
+            RenderMovie *movie = render_movie_open(&def, &style, err, sizeof err);
+            TEST_ASSERT(movie != NULL);
+            SimFrame empty = {0};
+            for (int k = 0; k < PER; ++k)
+                TEST_ASSERT(render_movie_frame(movie, &empty) == 0);
+            TEST_ASSERT(render_movie_close(movie, err, sizeof err) == 0);
+            Probe p;
+            TEST_ASSERT(probe_movie(path, &p) == 0);
+            TEST_ASSERT(p.frames == PER && p.sample_count == PER);
+            double want[3], got[3];
+            bt709_of(colours[c], want);
+            for (int k = 0; k < PER; ++k) {
+                for (int q = 0; q < 3; ++q)
+                    TEST_NEAR(p.sample_yuv[k][q], want[q], 1.5);
+                rgb_of_bt709(p.sample_yuv[k], got);
+                TEST_NEAR(got[0], (double)(colours[c] >> 16 & 255), 4.0);
+                TEST_NEAR(got[1], (double)(colours[c] >> 8 & 255), 4.0);
+                TEST_NEAR(got[2], (double)(colours[c] & 255), 4.0);
+            }
+        }
+    }
+    return 0;
+}
+
+static int mp4_odd_size_rejected(void)
+{
+    make_out_dir();
+    const char *path = OUT_DIR "/mp4_odd.mp4";
+    remove(path);
+    char err[512] = "";
+    RenderMovieDef def = movie_def(path, RENDER_DRAWER_OSMESA);
+    RenderStyle style = small_style(321, 240);
+    TEST_ASSERT(render_movie_open(&def, &style, err, sizeof err) == NULL);
+    TEST_ASSERT(strstr(err, "321x240") != NULL && strstr(err, "even") != NULL);
+    style = small_style(320, 239);
+    TEST_ASSERT(render_movie_open(&def, &style, err, sizeof err) == NULL);
+    TEST_ASSERT(strstr(err, "320x239") != NULL);
+    TEST_ASSERT(!file_exists(path));
+    TEST_ASSERT(!file_exists(OUT_DIR "/mp4_odd.mp4.tmp"));
+    return 0;
+}
+
+static int mp4_bad_settings_rejected(void)
+{
+    char err[512] = "";
+    RenderStyle style = small_style(64, 64);
+    RenderMovieDef def = movie_def(OUT_DIR "/mp4_bad.mp4", RENDER_DRAWER_OSMESA);
+    def.fps = -1.0;
+    TEST_ASSERT(render_movie_open(&def, &style, err, sizeof err) == NULL);
+    TEST_ASSERT(strstr(err, "frame rate") != NULL);
+    def = movie_def(OUT_DIR "/mp4_bad.mp4", RENDER_DRAWER_OSMESA);
+    def.crf = 60;
+    TEST_ASSERT(render_movie_open(&def, &style, err, sizeof err) == NULL);
+    TEST_ASSERT(strstr(err, "CRF") != NULL);
+    def = movie_def(OUT_DIR "/mp4_bad.mp4", RENDER_DRAWER_OSMESA);
+    def.encoder = "no-such-encoder";
+    TEST_ASSERT(render_movie_open(&def, &style, err, sizeof err) == NULL);
+    TEST_ASSERT(strstr(err, "no-such-encoder") != NULL);
+    def = movie_def(OUT_DIR "/mp4_bad.mp4", RENDER_DRAWER_OSMESA);
+    def.preset = "warp-speed";
+    TEST_ASSERT(render_movie_open(&def, &style, err, sizeof err) == NULL);
+    TEST_ASSERT(!file_exists(OUT_DIR "/mp4_bad.mp4.tmp"));
+    TEST_ASSERT(render_movie_close(NULL, err, sizeof err) != 0);
+    return 0;
+}
+
+/* The movie is written to path.tmp; the final name appears only at close. */
+static int mp4_temp_then_rename(void)
+{
+    make_out_dir();
+    const char *path = OUT_DIR "/mp4_rename.mp4";
+    const char *temp = OUT_DIR "/mp4_rename.mp4.tmp";
+    remove(path);
+    RenderStyle style = small_style(160, 120);
+    RenderMovieDef def = movie_def(path, RENDER_DRAWER_OSMESA);
+    char err[512];
+    RenderMovie *movie = render_movie_open(&def, &style, err, sizeof err);
+    TEST_ASSERT(movie != NULL);
+    Scene scene;
+    scene_init(&scene, 0.0);
+    SimFrameSink sink = render_movie_sink(movie);
+    for (int k = 0; k < 10; ++k)
+        TEST_ASSERT(sink.consume(sink.context, &scene.frame) == 0);
+    TEST_ASSERT(file_exists(temp));
+    TEST_ASSERT(!file_exists(path));
+    TEST_ASSERT(render_movie_close(movie, err, sizeof err) == 0);
+    TEST_ASSERT(file_exists(path));
+    TEST_ASSERT(!file_exists(temp));
+    Probe p;
+    TEST_ASSERT(probe_movie(path, &p) == 0 && p.frames == 10);
+    return 0;
+}
+
+/* The first error is kept; later frames do nothing; close returns it and leaves no file. */
+static int mp4_errors_sticky(void)
+{
+    make_out_dir();
+    const char *path = OUT_DIR "/mp4_sticky.mp4";
+    remove(path);
+    RenderStyle style = small_style(160, 120);
+    RenderMovieDef def = movie_def(path, RENDER_DRAWER_OSMESA);
+    char err[512];
+    RenderMovie *movie = render_movie_open(&def, &style, err, sizeof err);
+    TEST_ASSERT(movie != NULL);
+    Scene scene;
+    scene_init(&scene, 0.0);
+    TEST_ASSERT(render_movie_frame(movie, &scene.frame) == 0);
+    TEST_ASSERT(render_movie_frame(movie, NULL) != 0);
+    TEST_ASSERT(render_movie_frame(movie, &scene.frame) != 0);
+    TEST_ASSERT(render_movie_close(movie, err, sizeof err) != 0);
+    TEST_ASSERT(strstr(err, "no frame") != NULL);
+    TEST_ASSERT(!file_exists(path));
+    TEST_ASSERT(!file_exists(OUT_DIR "/mp4_sticky.mp4.tmp"));
+    /* A movie without frames is an error too, and leaves nothing behind. */
+    movie = render_movie_open(&def, &style, err, sizeof err);
+    TEST_ASSERT(movie != NULL);
+    TEST_ASSERT(render_movie_close(movie, err, sizeof err) != 0);
+    TEST_ASSERT(strstr(err, "no frames") != NULL);
+    TEST_ASSERT(!file_exists(path));
+    return 0;
+}
+
+/* The encoder used when libx264 is absent still gives a playable, tagged MP4. */
+static int mp4_mpeg4_encoder(void)
+{
+    make_out_dir();
+    const char *path = OUT_DIR "/mp4_mpeg4.mp4";
+    RenderStyle style = small_style(160, 120);
+    RenderMovieDef def = movie_def(path, RENDER_DRAWER_OSMESA);
+    def.encoder = "mpeg4";
+    def.fps = 30.0;
+    TEST_ASSERT(write_movie(&def, &style, 12) == 0);
+    Probe p;
+    TEST_ASSERT(probe_movie(path, &p) == 0);
+    TEST_ASSERT(p.codec == AV_CODEC_ID_MPEG4);
+    TEST_ASSERT(p.frames == 12);
+    TEST_ASSERT(p.pix_fmt == AV_PIX_FMT_YUV420P);
+    TEST_NEAR(p.duration, 12 / 30.0, 1e-3);
+    return 0;
+}
+
+/* The Cairo drawer feeds the same writer. */
+static int mp4_cairo_drawer(void)
+{
+    make_out_dir();
+    const char *path = OUT_DIR "/mp4_cairo.mp4";
+    RenderStyle style = small_style(320, 240);
+    style.force_chains = 1;
+    RenderMovieDef def = movie_def(path, RENDER_DRAWER_CAIRO);
+    def.fps = 24.0;
+    TEST_ASSERT(write_movie(&def, &style, 20) == 0);
+    Probe p;
+    TEST_ASSERT(probe_movie(path, &p) == 0);
+    TEST_ASSERT(p.codec == AV_CODEC_ID_H264 && p.frames == 20);
+    TEST_ASSERT(p.width == 320 && p.height == 240 && p.space == AVCOL_SPC_BT709);
+    TEST_NEAR(p.duration, 20 / 24.0, 1e-3);
+    return 0;
+}
+
+TEST_MAIN(TEST_CASE(mp4_properties), TEST_CASE(mp4_colour_roundtrip),
+          TEST_CASE(mp4_odd_size_rejected), TEST_CASE(mp4_bad_settings_rejected),
+          TEST_CASE(mp4_temp_then_rename), TEST_CASE(mp4_errors_sticky),
+          TEST_CASE(mp4_mpeg4_encoder), TEST_CASE(mp4_cairo_drawer))
