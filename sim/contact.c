@@ -115,7 +115,7 @@ static inline double disk_chord(double d, double ri, double rj)
 static inline void grain_pass(SimWorld *world, const unsigned key)
 {
     const int mobile = world->mobile_count;
-    const double dt = world->dt;
+    const double dt = world->contact_dt;
     const double *restrict x = world->x, *restrict y = world->y;
     const double *restrict vx = world->vx, *restrict vy = world->vy;
     const double *restrict omega = world->omega, *restrict radius = world->radius;
@@ -224,7 +224,7 @@ static inline double wall_geometry(const SimWall *w, double px, double py, doubl
 static inline void wall_pass(SimWorld *world, const unsigned key)
 {
     const WallList *wl = &world->wl;
-    const double dt = world->dt;
+    const double dt = world->contact_dt;
     const unsigned law = key & KEY_TANGENTIAL;
     for (int k = 0; k < wl->count; ++k) {
         const int i = wl->grain[k], w = wl->wall[k];
@@ -275,9 +275,10 @@ static inline void wall_pass(SimWorld *world, const unsigned key)
     KEYS_LOW(X, 0)                                                                                 \
     KEYS_LOW(X, 1)                                                                                 \
     KEYS_LOW(X, 2)                                                                                 \
-    KEYS_LOW(X, 3) KEYS_LOW(X, 4) KEYS_LOW(X, 5) KEYS_LOW(X, 6) KEYS_LOW(X, 7) KEYS_ROLL(X, 8)     \
-        KEYS_ROLL(X, 9) KEYS_ROLL(X, 10) KEYS_ROLL(X, 11) KEYS_ROLL(X, 12) KEYS_ROLL(X, 13)        \
-            KEYS_ROLL(X, 14) KEYS_ROLL(X, 15)
+    KEYS_LOW(X, 3)                                                                                 \
+    KEYS_LOW(X, 4)                                                                                 \
+    KEYS_LOW(X, 5) KEYS_LOW(X, 6) KEYS_LOW(X, 7) KEYS_ROLL(X, 8) KEYS_ROLL(X, 9) KEYS_ROLL(X, 10)  \
+        KEYS_ROLL(X, 11) KEYS_ROLL(X, 12) KEYS_ROLL(X, 13) KEYS_ROLL(X, 14) KEYS_ROLL(X, 15)
 
 #define DEFINE_PASS(h, l)                                                                          \
     static void grain_pass_##h##_##l(SimWorld *world)                                              \

@@ -14,6 +14,11 @@ typedef struct HistoryRecord {
     double t, r;  /* tangential stretch; rolling torque oriented low id -> high id */
 } HistoryRecord;
 
+struct HistoryStash {
+    HistoryRecord *records, *walls;
+    int count, wall_count;
+};
+
 static uint64_t pair_key(uint32_t a, uint32_t b)
 {
     return a < b ? ((uint64_t)a << 32) | b : ((uint64_t)b << 32) | a;
@@ -103,6 +108,11 @@ void sim_neighbour_free(SimWorld *world)
     free(world->cell_start);
     free(world->cell_items);
     free(world->cell_of);
+    if (world->stash) {
+        free(world->stash->records);
+        free(world->stash->walls);
+        free(world->stash);
+    }
 }
 
 /* gamma_n of a pair from the two species' damping specifications, mean of the two.
@@ -382,12 +392,34 @@ static void build_walls(SimWorld *world, const HistoryRecord *records, int recor
     }
 }
 
+void sim_neighbour_stash_history(SimWorld *world)
+{
+    struct HistoryStash *s = calloc(1, sizeof *s);
+    if (!s)
+        abort();
+    s->records = collect_history(world, &s->count, &s->walls, &s->wall_count);
+    if (world->stash) { /* an older stash is superseded */
+        free(world->stash->records);
+        free(world->stash->walls);
+        free(world->stash);
+    }
+    world->stash = s;
+}
+
 void sim_neighbour_build(SimWorld *world)
 {
     int record_count, wall_record_count;
-    HistoryRecord *wall_records;
-    HistoryRecord *records =
-        collect_history(world, &record_count, &wall_records, &wall_record_count);
+    HistoryRecord *wall_records, *records;
+    if (world->stash) {
+        records = world->stash->records;
+        record_count = world->stash->count;
+        wall_records = world->stash->walls;
+        wall_record_count = world->stash->wall_count;
+        free(world->stash);
+        world->stash = NULL;
+    } else {
+        records = collect_history(world, &record_count, &wall_records, &wall_record_count);
+    }
     world->drop_history = 0;
     sim_world_compact(world);
 

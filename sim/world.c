@@ -623,6 +623,7 @@ static double default_skin(const SimGrainSet *g)
 }
 
 static void guard_snapshot(SimWorld *w);
+static void reevaluate_forces(SimWorld *w);
 
 static void setup_guard(SimWorld *w)
 {
@@ -675,6 +676,7 @@ SimWorld *sim_world_create(const SimWorldDef *def, SimError *error)
     w->time = def->start_time;
     w->timing = timing_of(def);
     w->dt = w->timing.time_step;
+    w->contact_dt = w->dt;
 
     if (load_grains(w, &def->grains) != 0) {
         sim_world_destroy(w);
@@ -784,7 +786,16 @@ static void apply_removal(SimWorld *w)
 {
     w->pending_removal = 1;
     rebuild(w);
+    reevaluate_forces(w);
+}
+
+/* Forces at the current state after an edit (removal, addition, freeze): the step's contact
+ * history increments are already in, so this evaluation adds none. */
+static void reevaluate_forces(SimWorld *w)
+{
+    w->contact_dt = 0.0;
     sim_world_forces_at(w, w->time);
+    w->contact_dt = w->dt;
 }
 
 static void removal_stage(SimWorld *w)
@@ -830,11 +841,110 @@ int sim_world_remove_ids(SimWorld *w, const uint32_t *ids, int count)
     return n;
 }
 
+SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *error)
+{
+    if (g->count <= 0)
+        return SIM_OK;
+    /* Validate the newcomers alone (positions, radii, species, walls), then against the grains
+     * in place through a combined definition. */
+    SimWorldDef check = w->def;
+    check.grains = *g;
+    check.wall_count = w->wall_count;
+    check.walls = w->walls;
+    check.time_step = w->dt;
+    check.max_dt_fraction = 0.0;
+    SimStatus s = sim_world_def_validate(&check, error);
+    if (s != SIM_OK)
+        return s;
+    const double span = w->def.domain_x1 - w->def.domain_x0;
+    for (int k = 0; k < g->count; ++k)
+        for (int i = 0; i < w->count; ++i) {
+            double dx = g->x[k] - w->x[i], dy = g->y[k] - w->y[i];
+            if (w->effects & SIM_EFFECT_PERIODIC_X)
+                dx -= span * floor(dx / span + 0.5);
+            double d = sqrt(dx * dx + dy * dy), rs = g->radius[k] + w->radius[i];
+            double ratio = (rs - d) / (2.0 * fmin(g->radius[k], w->radius[i]));
+            if (ratio > w->def.max_initial_overlap) {
+                char f[64];
+                snprintf(f, sizeof f, "grains[%d]", k);
+                return fail(error, SIM_ERROR_INVALID, f,
+                            "new grain %d overlaps grain %u by %.3g of the smaller diameter "
+                            "(bound %g: max_initial_overlap)",
+                            k, w->id[i], ratio, w->def.max_initial_overlap);
+            }
+        }
+    uint32_t next_id = 0;
+    for (int i = 0; i < w->count; ++i)
+        next_id = w->id[i] >= next_id ? w->id[i] + 1 : next_id;
+    for (int k = 0; k < g->count && g->id; ++k)
+        for (int i = 0; i < w->count; ++i)
+            if (w->id[i] == g->id[k]) {
+                char f[64];
+                snprintf(f, sizeof f, "grains[%d]", k);
+                return fail(error, SIM_ERROR_INVALID, f, "grain id %u is already in use", g->id[k]);
+            }
+    int old = w->count, old_mobile = w->mobile_count;
+    if (sim_grains_reserve(w, old + g->count + 1) != 0)
+        return fail(error, SIM_ERROR_INVALID, "grains", "out of memory");
+    /* Write the newcomers after the grains in place, then reorder. */
+    for (int k = 0; k < g->count; ++k) {
+        int i = old + k, fixed = g->flags && (g->flags[k] & SIM_GRAIN_FIXED);
+        w->x[i] = w->x_base[i] = w->x_ref[i] = g->x[k];
+        w->y[i] = w->y_base[i] = w->y_ref[i] = g->y[k];
+        w->radius[i] = g->radius[k];
+        w->vx[i] = g->vx && !fixed ? g->vx[k] : 0.0;
+        w->vy[i] = g->vy && !fixed ? g->vy[k] : 0.0;
+        w->angle[i] = g->angle ? g->angle[k] : 0.0;
+        w->omega[i] = g->omega && !fixed ? g->omega[k] : 0.0;
+        w->species[i] = g->species ? g->species[k] : 0;
+        w->flags[i] = fixed ? SIM_GRAIN_FIXED : 0;
+        w->motion[i] = g->motion ? g->motion[k] : -1;
+        w->id[i] = g->id ? g->id[k] : next_id++;
+        double m, inertia;
+        grain_mass(w->def.mass_model, w->def.materials[w->species[i]].density, w->radius[i], &m,
+                   &inertia);
+        w->mass[i] = m;
+        w->inertia[i] = inertia;
+        w->inv_mass[i] = fixed ? 0.0 : 1.0 / m;
+        w->inv_inertia[i] = fixed || !w->rotation ? 0.0 : 1.0 / inertia;
+        w->fx[i] = w->fy[i] = w->torque[i] = 0.0;
+        for (double *aux[] = {w->aux0, w->aux1, w->aux2, w->aux3, w->aux4, w->aux5}, **a = aux;
+             a < aux + 6; ++a)
+            (*a)[i] = 0.0;
+        w->max_radius = fmax(w->max_radius, w->radius[i]);
+    }
+    /* Mobile grains first: old mobile, new mobile, old fixed, new fixed. */
+    int total = old + g->count, *order = malloc((size_t)total * sizeof *order), n = 0;
+    if (!order)
+        abort();
+    for (int i = 0; i < old_mobile; ++i)
+        order[n++] = i;
+    for (int i = old; i < total; ++i)
+        if (!(w->flags[i] & SIM_GRAIN_FIXED))
+            order[n++] = i;
+    int mobile = n;
+    for (int i = old_mobile; i < old; ++i)
+        order[n++] = i;
+    for (int i = old; i < total; ++i)
+        if (w->flags[i] & SIM_GRAIN_FIXED)
+            order[n++] = i;
+    /* Contact history is keyed by ids: stash it before the indices move. */
+    sim_neighbour_stash_history(w);
+    sim_grains_permute(w, order, total);
+    free(order);
+    w->count = total;
+    w->mobile_count = mobile;
+    w->cell_size = 2.0 * w->max_radius + w->skin;
+    rebuild(w);
+    reevaluate_forces(w);
+    return SIM_OK;
+}
+
 void sim_world_freeze(SimWorld *w)
 {
     for (int i = 0; i < w->mobile_count; ++i)
         w->vx[i] = w->vy[i] = w->omega[i] = 0.0;
-    sim_world_forces_at(w, w->time);
+    reevaluate_forces(w);
     sim_integrator_start(w);
 }
 

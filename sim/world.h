@@ -52,9 +52,11 @@ typedef struct WallList {
     X(x)                                                                                           \
     X(y)                                                                                           \
     X(vx)                                                                                          \
-    X(vy) X(angle) X(omega) X(fx) X(fy) X(torque) X(radius) X(inv_mass) X(inv_inertia) X(mass)     \
-        X(inertia) X(x_ref) X(y_ref) X(x_base) X(y_base) X(force_mag) X(aux0) X(aux1) X(aux2)      \
-            X(aux3) X(aux4) X(aux5) X(aux6) X(aux7) X(aux8) X(aux9) X(aux10) X(aux11)
+    X(vy)                                                                                          \
+    X(angle)                                                                                       \
+    X(omega) X(fx) X(fy) X(torque) X(radius) X(inv_mass) X(inv_inertia) X(mass) X(inertia)         \
+        X(x_ref) X(y_ref) X(x_base) X(y_base) X(force_mag) X(aux0) X(aux1) X(aux2) X(aux3) X(aux4) \
+            X(aux5) X(aux6) X(aux7) X(aux8) X(aux9) X(aux10) X(aux11)
 #define SIM_GRAIN_INT_ARRAYS(X) X(species) X(motion)
 
 struct SimWorld {
@@ -89,11 +91,14 @@ struct SimWorld {
     int pending_removal; /* grains flagged SIM_GRAIN_REMOVED wait for the next build */
     int drop_history;    /* the list refers to a state that was replaced: carry nothing over */
     int jump_grain;      /* index of a grain that moved over half its radius in a step, or -1 */
+    struct HistoryStash
+        *stash; /* history collected before a reorder (sim_neighbour_stash_history) */
 
     PairParams pairs[SIM_MAX_SPECIES * SIM_MAX_SPECIES];
     double log_e[SIM_MAX_SPECIES]; /* per-species damping factor, see pair_gamma */
 
     double dt, time;
+    double contact_dt; /* dt of contact-history increments: dt, or 0 when re-evaluating */
     long step;
     double skin, cell_size; /* cell_size: smallest cell side, 2 r_max + skin, m */
     double cell_w, cell_h;  /* cell sides of the last build, m */
@@ -154,6 +159,8 @@ void sim_world_compact(SimWorld *world);
 void sim_neighbour_build(SimWorld *world);
 void sim_neighbour_free(SimWorld *world);
 double sim_def_worst_overlap(const SimWorldDef *def, int *first, int *second);
+/* Collects contact history by ids now, for the next build (before grains are reordered). */
+void sim_neighbour_stash_history(SimWorld *world);
 double sim_pair_gamma(const SimWorld *world, int species_i, int species_j, double inv_mass_i,
                       double inv_mass_j);
 
