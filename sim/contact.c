@@ -269,16 +269,15 @@ static inline void wall_pass(SimWorld *world, const unsigned key)
 
 /* One instantiation per key = 8 * high + low: low = tangential law (0..2) | rolling (4);
  * high = periodic | hertz << 1 | clip << 2 | chord << 3, chord only with rolling. */
+/* clang-format off */
 #define KEYS_LOW(X, h)  X(h, 0) X(h, 1) X(h, 2) X(h, 4) X(h, 5) X(h, 6)
 #define KEYS_ROLL(X, h) X(h, 4) X(h, 5) X(h, 6)
-#define KEYS_ALL(X)                                                                                \
-    KEYS_LOW(X, 0)                                                                                 \
-    KEYS_LOW(X, 1)                                                                                 \
-    KEYS_LOW(X, 2)                                                                                 \
-    KEYS_LOW(X, 3)                                                                                 \
-    KEYS_LOW(X, 4)                                                                                 \
-    KEYS_LOW(X, 5) KEYS_LOW(X, 6) KEYS_LOW(X, 7) KEYS_ROLL(X, 8) KEYS_ROLL(X, 9) KEYS_ROLL(X, 10)  \
-        KEYS_ROLL(X, 11) KEYS_ROLL(X, 12) KEYS_ROLL(X, 13) KEYS_ROLL(X, 14) KEYS_ROLL(X, 15)
+#define KEYS_ALL(X)                                                                     \
+    KEYS_LOW(X, 0) KEYS_LOW(X, 1) KEYS_LOW(X, 2) KEYS_LOW(X, 3) KEYS_LOW(X, 4)         \
+    KEYS_LOW(X, 5) KEYS_LOW(X, 6) KEYS_LOW(X, 7) KEYS_ROLL(X, 8) KEYS_ROLL(X, 9)       \
+    KEYS_ROLL(X, 10) KEYS_ROLL(X, 11) KEYS_ROLL(X, 12) KEYS_ROLL(X, 13)                \
+    KEYS_ROLL(X, 14) KEYS_ROLL(X, 15)
+/* clang-format on */
 
 #define DEFINE_PASS(h, l)                                                                          \
     static void grain_pass_##h##_##l(SimWorld *world)                                              \

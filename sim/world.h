@@ -48,15 +48,13 @@ typedef struct WallList {
 } WallList;
 
 /* The per-grain arrays, permuted, compacted and grown together (X-macros). */
-#define SIM_GRAIN_DOUBLE_ARRAYS(X)                                                                 \
-    X(x)                                                                                           \
-    X(y)                                                                                           \
-    X(vx)                                                                                          \
-    X(vy)                                                                                          \
-    X(angle)                                                                                       \
-    X(omega) X(fx) X(fy) X(torque) X(radius) X(inv_mass) X(inv_inertia) X(mass) X(inertia)         \
-        X(x_ref) X(y_ref) X(x_base) X(y_base) X(force_mag) X(aux0) X(aux1) X(aux2) X(aux3) X(aux4) \
-            X(aux5) X(aux6) X(aux7) X(aux8) X(aux9) X(aux10) X(aux11)
+/* clang-format off */
+#define SIM_GRAIN_DOUBLE_ARRAYS(X)                                                      \
+    X(x) X(y) X(vx) X(vy) X(angle) X(omega) X(fx) X(fy) X(torque) X(radius)            \
+    X(inv_mass) X(inv_inertia) X(mass) X(inertia) X(x_ref) X(y_ref) X(x_base)           \
+    X(y_base) X(force_mag) X(aux0) X(aux1) X(aux2) X(aux3) X(aux4) X(aux5) X(aux6)     \
+    X(aux7) X(aux8) X(aux9) X(aux10) X(aux11)
+/* clang-format on */
 #define SIM_GRAIN_INT_ARRAYS(X) X(species) X(motion)
 
 struct SimWorld {
