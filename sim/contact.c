@@ -43,6 +43,18 @@ unsigned sim_contact_key(const SimWorld *world)
     return key;
 }
 
+/* min/max that compile to single instructions: libm's fmin is a function call unless NaN
+ * semantics are relaxed, and it spills every register around the kernel's hot loop. */
+static inline double min_d(double a, double b)
+{
+    return a < b ? a : b;
+}
+
+static inline double max_d(double a, double b)
+{
+    return a > b ? a : b;
+}
+
 /* Normal force magnitude (positive = repulsive) and its elastic part. 000 eq. 3.6 (linear),
  * Hertz-type sqrt(xi) (k_n xi + gamma_n dxi/dt). dxi/dt = -v_n. */
 static inline double normal_force(const unsigned key, double k_n, double gamma_n, double xi,
@@ -58,7 +70,7 @@ static inline double normal_force(const unsigned key, double k_n, double gamma_n
         f = *elastic - gamma_n * v_n;
     }
     if (key & KEY_CLIP)
-        f = f > 0.0 ? f : 0.0;
+        f = max_d(f, 0.0);
     return f;
 }
 
@@ -68,21 +80,16 @@ static inline double tangential_force(const unsigned key, const PairParams *p, d
                                       double f_n, double f_el, double dt, double *xi_t)
 {
     unsigned law = key & KEY_TANGENTIAL;
-    if (law == SIM_TANGENTIAL_REGULARISED) {
-        double viscous = p->gamma_s * fabs(v_s);
-        double coulomb = p->mu * fabs(f_n);
-        return copysign(viscous < coulomb ? viscous : coulomb, v_s);
-    }
+    /* Written without data-dependent branches: sticking and sliding contacts mix at random. */
+    if (law == SIM_TANGENTIAL_REGULARISED)
+        return copysign(min_d(p->gamma_s * fabs(v_s), p->mu * fabs(f_n)), v_s);
     if (law == SIM_TANGENTIAL_SPRING) {
         double stretch = *xi_t + v_s * dt;
         double f = p->k_t * stretch;
         double cap = p->mu * f_el;
-        if (fabs(f) > cap) {
-            f = copysign(cap, f);
-            stretch = f / p->k_t;
-        }
-        *xi_t = stretch;
-        return f;
+        double capped = copysign(min_d(fabs(f), cap), f);
+        *xi_t = capped != f ? capped / p->k_t : stretch; /* slip: keep the spring at the cap */
+        return capped;
     }
     return 0.0;
 }

@@ -565,8 +565,12 @@ static int within_reach(const SimWorld *w, int i, double reach)
     return 0;
 }
 
+static void removal_stage(SimWorld *w);
+
 static void rebuild(SimWorld *w)
 {
+    if (w->effects & SIM_EFFECT_REMOVAL)
+        removal_stage(w);
     sim_neighbour_build(w);
     for (int k = 0; k < w->wall_count; ++k) {
         w->wall_ref_dx[k] = w->walls[k].x0 - w->walls_base[k].x0;
@@ -798,19 +802,19 @@ static void reevaluate_forces(SimWorld *w)
     w->contact_dt = w->dt;
 }
 
+/* Sinks are checked at every neighbour build, not every step: a grain has to move to enter a
+ * sink, and a grain that moved half a skin triggers a build, so a grain is removed within about
+ * half a skin of entering (and costs nothing in between). The build then compacts it away. */
 static void removal_stage(SimWorld *w)
 {
-    int any = 0;
     for (int i = 0; i < w->mobile_count; ++i)
         for (int s = 0; s < w->def.sink_count; ++s)
             if (in_sink(&w->def.sinks[s], w->x[i], w->y[i])) {
                 w->flags[i] |= SIM_GRAIN_REMOVED;
                 ++w->removed[s];
-                any = 1;
+                w->pending_removal = 1;
                 break;
             }
-    if (any)
-        apply_removal(w);
 }
 
 int sim_world_remove_rect(SimWorld *w, double x0, double y0, double x1, double y1)
@@ -1116,8 +1120,6 @@ SimStatus sim_world_step(SimWorld *w, long steps, SimError *error)
             guard_restore(w);
             return SIM_ERROR_UNSTABLE;
         }
-        if (w->effects & SIM_EFFECT_REMOVAL)
-            removal_stage(w);
         if (w->step >= w->guard_next) {
             w->guard_next = w->step + w->def.guard_every;
             if (guard_check(w, error) != SIM_OK) {

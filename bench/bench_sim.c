@@ -1,0 +1,528 @@
+/* SPDX-License-Identifier: MIT */
+/* bench_sim: physics speed benchmark. Reports particle-steps per second of the step pipeline on a
+ * settled pile of about 7000 polydisperse disks (thesis 000 standard case: 100p x 100p container
+ * of fixed boundary grains of radius r_max, rain-like deposition, 000 §4.3 material), one thread,
+ * for three contact laws: regularised Coulomb (000 eq. 3.28), the tangential spring (004 eqs.
+ * 1.12-1.13) and frictionless. It also reports contacts per grain, neighbour-list rebuilds and
+ * memory per grain and per contact.
+ *
+ * A benchmark reports; it asserts nothing about time. Particle-steps count MOBILE grains only
+ * (fixed boundary grains are not integrated and own no list entries, but mobile-fixed contacts
+ * are computed and so are part of the work).
+ *
+ * The settled pile is built once and cached with sim_world_save (default
+ * /tmp/sablier-bench-pile-<N>.state); later runs reload it with sim_state_load. --lammps-data
+ * writes the same settled pile as a LAMMPS data file (atom_style sphere) so that the LAMMPS peer
+ * (bench/lammps/pile.in) times the very same grains.
+ *
+ * Memory is reported two ways: measured (heap growth, mallinfo2, from before sim_world_create to
+ * after the warm-up) and accounted from the array layout of sim/world.h. This file reads that
+ * private header on purpose (white-box benchmark): the rebuild counter and the list capacities
+ * are not in the public API.
+ *
+ * Usage: bench_sim [--grains N] [--steps M] [--repeats K] [--warmup W] [--csv PATH]
+ *                  [--cache PATH] [--fresh] [--settle-time S] [--lammps-data PATH]
+ *                  [--only regularised,spring,frictionless] [--machine NAME] */
+#include "sim/sim.h"
+#include "sim/world.h"
+
+#include <malloc.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+/* Thesis 000 geometry: boundary grains of r_max, grains r_med +- 8 %, 100p x 100p for 7284. */
+static const double r_max = 0.105;     /* m, 000 §1.6 */
+static const double r_med = 0.08;      /* m */
+static const double standard_n = 7284; /* 000 standard initial condition */
+
+typedef struct Options {
+    int grains, repeats, warmup, fresh;
+    long steps;
+    double settle_time; /* s, cap on the deposition */
+    const char *csv, *lammps_data, *only, *machine;
+    char cache[512];
+} Options;
+
+typedef struct Variant {
+    const char *name;
+    unsigned effects;
+    SimTangentialLaw law;
+} Variant;
+
+static const Variant variants[] = {
+    {"regularised", SIM_EFFECT_FRICTION, SIM_TANGENTIAL_REGULARISED},
+    {"spring", SIM_EFFECT_FRICTION, SIM_TANGENTIAL_SPRING},
+    {"frictionless", 0u, SIM_TANGENTIAL_NONE},
+};
+
+enum { VARIANT_COUNT = (int)(sizeof variants / sizeof variants[0]) };
+
+typedef struct Result {
+    const char *name;
+    int mobile, fixed;
+    long steps;
+    int repeats;
+    double best_s, median_s, best_cpu_s;
+    double mps_best, mps_median; /* million particle-steps per second of wall time */
+    double mps_cpu;              /* same per second of process CPU time (best repeat) */
+    double contacts_per_grain, coordination, entries_per_grain;
+    double rebuilds_per_1000;
+    double layout_bytes_per_grain, layout_bytes_per_entry, layout_bytes_per_contact;
+    double heap_bytes, heap_bytes_per_grain;
+    double time_step;
+} Result;
+
+static double clock_s(clockid_t clock)
+{
+    struct timespec ts;
+    clock_gettime(clock, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static double now_s(void)
+{
+    return clock_s(CLOCK_MONOTONIC);
+}
+
+/* CPU time of this process: on a shared machine it is less disturbed than wall time. */
+static double cpu_s(void)
+{
+    return clock_s(CLOCK_PROCESS_CPUTIME_ID);
+}
+
+/* Bytes the allocator has handed out (small blocks plus mmapped large ones). */
+static double heap_in_use(void)
+{
+    struct mallinfo2 mi = mallinfo2();
+    return (double)mi.uordblks + (double)mi.hblkhd;
+}
+
+static SimWorldDef base_def(void)
+{
+    SimWorldDef def = sim_world_def_default(); /* 000 §4.3 material: k_n 7e5, gamma_n 1.5e3 */
+    def.mass_model = SIM_MASS_SPHERE;          /* thesis 000 convention */
+    def.time_step = 0.0;                       /* t_c,min / 50: sablier's default rule */
+    return def;
+}
+
+static int usage(const char *msg)
+{
+    fprintf(stderr,
+            "bench_sim: %s\n"
+            "usage: bench_sim [--grains N] [--steps M] [--repeats K] [--warmup W] [--csv PATH]\n"
+            "                 [--cache PATH] [--fresh] [--settle-time S] [--lammps-data PATH]\n"
+            "                 [--only NAME[,NAME]] [--machine NAME]\n",
+            msg);
+    return 2;
+}
+
+static int parse_options(int argc, char **argv, Options *o)
+{
+    *o = (Options){.grains = 7000, .repeats = 5, .warmup = 500, .steps = 2000, .settle_time = 8.0};
+    for (int a = 1; a < argc; ++a) {
+        const char *arg = argv[a];
+        const char *val = a + 1 < argc ? argv[a + 1] : NULL;
+        int takes = 1;
+        if (!strcmp(arg, "--fresh")) {
+            o->fresh = 1;
+            takes = 0;
+        } else if (!val) {
+            return usage("missing value or unknown option");
+        } else if (!strcmp(arg, "--grains")) {
+            o->grains = atoi(val);
+        } else if (!strcmp(arg, "--steps")) {
+            o->steps = atol(val);
+        } else if (!strcmp(arg, "--repeats")) {
+            o->repeats = atoi(val);
+        } else if (!strcmp(arg, "--warmup")) {
+            o->warmup = atoi(val);
+        } else if (!strcmp(arg, "--settle-time")) {
+            o->settle_time = atof(val);
+        } else if (!strcmp(arg, "--csv")) {
+            o->csv = val;
+        } else if (!strcmp(arg, "--cache")) {
+            snprintf(o->cache, sizeof o->cache, "%s", val);
+        } else if (!strcmp(arg, "--lammps-data")) {
+            o->lammps_data = val;
+        } else if (!strcmp(arg, "--only")) {
+            o->only = val;
+        } else if (!strcmp(arg, "--machine")) {
+            o->machine = val;
+        } else {
+            return usage("unknown option");
+        }
+        a += takes;
+    }
+    if (o->grains < 10 || o->steps < 1 || o->repeats < 1 || o->warmup < 0 ||
+        !(o->settle_time > 0.0))
+        return usage("grains >= 10, steps >= 1, repeats >= 1, warmup >= 0, settle-time > 0");
+    if (!o->cache[0])
+        snprintf(o->cache, sizeof o->cache, "/tmp/sablier-bench-pile-%d.state", o->grains);
+    return 0;
+}
+
+/* Deposits the grains (000 §6.1 rain-like lattice) into a box of fixed boundary grains and lets
+ * them settle under regularised Coulomb friction until the kinetic energy per grain is below
+ * 1e-6 m g d (the thesis stops on a total-energy tolerance) or the time cap, then saves. */
+static int build_pile(const Options *o)
+{
+    /* Width scales with sqrt(N) so that other N keep the standard case's aspect. */
+    int columns = (int)lround(100.0 * sqrt((double)o->grains / standard_n));
+    if (columns < 8)
+        columns = 8;
+    const double width = columns * 2.0 * r_max;
+    SimGrainBuffer buffer;
+    sim_grain_buffer_init(&buffer);
+    SimRainDef rain = {.x0 = 1.5 * r_max,
+                       .x1 = width - 1.5 * r_max,
+                       .y0 = 1.5 * r_max,
+                       .y1 = 4000.0 * r_max,
+                       .radius_mean = r_med,
+                       .polydispersity = 0.08,
+                       .pitch_radius = r_max,
+                       .column_gap = 0.005 * r_max,
+                       .row_gap = 0.75 * r_max,
+                       .column_jitter = 0.05,
+                       .row_jitter = 0.08,
+                       .max_count = o->grains};
+    SimRng rng;
+    sim_rng_seed(&rng, 2024);
+    int added = sim_build_rain(&buffer, &rain, &rng);
+    double top = 0.0;
+    for (int i = 0; i < buffer.count; ++i)
+        top = fmax(top, buffer.y[i] + buffer.radius[i]);
+    double wall_top = fmax(top, width);
+    sim_build_fixed_row(&buffer, 0.0, width, 0.0, r_max, 0, -1);
+    sim_build_fixed_column(&buffer, 0.0, 2 * r_max, wall_top, r_max, 0, -1);
+    sim_build_fixed_column(&buffer, width, 2 * r_max, wall_top, r_max, 0, -1);
+
+    SimWorldDef def = base_def();
+    def.effects = SIM_EFFECT_FRICTION;
+    def.contact.tangential = SIM_TANGENTIAL_REGULARISED;
+    def.grains = sim_grain_buffer_view(&buffer);
+    SimError err;
+    SimWorld *world = sim_world_create(&def, &err);
+    if (!world) {
+        fprintf(stderr, "bench_sim: %s: %s\n", err.field, err.message);
+        sim_grain_buffer_free(&buffer);
+        return 2;
+    }
+    double d_mean, m_mean;
+    sim_world_means(world, &d_mean, &m_mean);
+    const double threshold = 1e-6 * m_mean * 9.806 * d_mean; /* J per grain */
+    const double dt = sim_world_time_step(world);
+    fprintf(stderr,
+            "bench_sim: depositing %d grains (%d fixed) in a %d p wide box, dt %.4g s; settle "
+            "until E_kin/N < %.3g J or t = %g s\n",
+            added, sim_world_grain_count(world) - added, columns, dt, threshold, o->settle_time);
+    const long chunk = (long)ceil(0.1 / dt);
+    double t0 = now_s(), per_grain = 0.0;
+    while (sim_world_time(world) < o->settle_time) {
+        if (sim_world_step(world, chunk, &err) != SIM_OK) {
+            fprintf(stderr, "bench_sim: deposition failed: %s\n", err.message);
+            sim_world_destroy(world);
+            sim_grain_buffer_free(&buffer);
+            return 1;
+        }
+        SimEnergy e = sim_world_energy(world);
+        per_grain = (e.kinetic + e.rotational) / e.mobile;
+        if (sim_world_time(world) > 2.0 && per_grain < threshold)
+            break;
+    }
+    fprintf(stderr,
+            "bench_sim: deposition reached t = %.2f s (%ld steps, %.1f s wall), E_kin/N = %.3g J "
+            "(%s)\n",
+            sim_world_time(world), sim_world_step_count(world), now_s() - t0, per_grain,
+            per_grain < threshold ? "below threshold" : "time cap");
+    SimStatus s = sim_world_save(world, o->cache, &err);
+    if (s != SIM_OK)
+        fprintf(stderr, "bench_sim: %s\n", err.message);
+    sim_world_destroy(world);
+    sim_grain_buffer_free(&buffer);
+    return s == SIM_OK ? 0 : 1;
+}
+
+/* The settled pile as a LAMMPS data file: type 1 mobile, type 2 fixed boundary grains; columns
+ * of atom_style sphere: id type diameter density x y z. */
+static int write_lammps_data(const char *path, const SimGrainSet *g, double density)
+{
+    char tmp[600];
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    FILE *f = fopen(tmp, "w");
+    if (!f) {
+        perror(tmp);
+        return 1;
+    }
+    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+    for (int i = 0; i < g->count; ++i) {
+        x0 = fmin(x0, g->x[i] - g->radius[i]);
+        x1 = fmax(x1, g->x[i] + g->radius[i]);
+        y0 = fmin(y0, g->y[i] - g->radius[i]);
+        y1 = fmax(y1, g->y[i] + g->radius[i]);
+    }
+    fprintf(
+        f, "sablier settled pile for bench/lammps/pile.in (SI units)\n\n%d atoms\n2 atom types\n\n",
+        g->count);
+    fprintf(f, "%.10g %.10g xlo xhi\n%.10g %.10g ylo yhi\n-0.5 0.5 zlo zhi\n\nAtoms # sphere\n\n",
+            x0 - 0.5, x1 + 0.5, y0 - 0.5, y1 + 0.5);
+    for (int i = 0; i < g->count; ++i) {
+        int fixed = g->flags && (g->flags[i] & SIM_GRAIN_FIXED);
+        fprintf(f, "%d %d %.17g %.17g %.17g %.17g 0\n", i + 1, fixed ? 2 : 1, 2.0 * g->radius[i],
+                density, g->x[i], g->y[i]);
+    }
+    fprintf(f, "\nVelocities\n\n");
+    for (int i = 0; i < g->count; ++i)
+        fprintf(f, "%d %.17g %.17g 0 0 0 %.17g\n", i + 1, g->vx ? g->vx[i] : 0.0,
+                g->vy ? g->vy[i] : 0.0, g->omega ? g->omega[i] : 0.0);
+    int ok = fclose(f) == 0;
+    if (!ok || rename(tmp, path) != 0) {
+        perror(path);
+        return 1;
+    }
+    return 0;
+}
+
+/* Grain-proportional and contact-proportional storage from the layout of sim/world.h. */
+#define COUNT_ONE(name) +1
+
+static void layout_bytes(const SimWorld *w, double *per_grain, double *per_entry,
+                         double *list_total)
+{
+    const size_t doubles = 0 SIM_GRAIN_DOUBLE_ARRAYS(COUNT_ONE);
+    const size_t ints = 0 SIM_GRAIN_INT_ARRAYS(COUNT_ONE);
+    /* SoA arrays (capacity), flags + id, cells (items, of), guard snapshot (7 doubles, 4 ints) */
+    double grain =
+        (double)w->capacity * (double)(doubles * sizeof(double) + ints * sizeof(int) +
+                                       sizeof(unsigned) + sizeof(uint32_t)) +
+        (double)w->count * (2.0 * sizeof(int) + 7.0 * sizeof(double) + 4.0 * sizeof(int)) +
+        (double)w->cell_capacity * sizeof(int) + (double)(w->mobile_count + 1) * sizeof(int);
+    double entry = sizeof(int) + sizeof(double) + sizeof(uint8_t);
+    if (w->effects & SIM_EFFECT_PERIODIC_X)
+        entry += sizeof(double);
+    if (w->has_history)
+        entry += 2.0 * sizeof(double);
+    double wall_entry = 2.0 * sizeof(int) + sizeof(double) + sizeof(uint8_t) +
+                        (w->has_history ? 2.0 * sizeof(double) : 0.0);
+    *per_grain = grain / w->count;
+    *per_entry = entry;
+    *list_total = (double)w->nl.capacity * entry + (double)w->wl.capacity * wall_entry;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static int run_variant(const Options *o, const Variant *v, Result *r)
+{
+    SimGrainSet grains;
+    SimWall *walls = NULL;
+    int wall_count = 0;
+    double time = 0.0;
+    SimError err;
+    if (sim_state_load(o->cache, &grains, &walls, &wall_count, &time, &err) != SIM_OK) {
+        fprintf(stderr, "bench_sim: %s\n", err.message);
+        return 1;
+    }
+    SimWorldDef def = base_def();
+    def.effects = v->effects;
+    def.contact.tangential = v->law;
+    def.grains = grains;
+    def.walls = walls;
+    def.wall_count = wall_count;
+    def.start_time = time;
+
+    const double heap0 = heap_in_use();
+    SimWorld *w = sim_world_create(&def, &err);
+    if (!w) {
+        fprintf(stderr, "bench_sim: %s: %s\n", err.field, err.message);
+        sim_grain_set_free(&grains);
+        free(walls);
+        return 2;
+    }
+    /* Warm-up: spring history builds up, caches and the branch predictor settle. */
+    if (sim_world_step(w, o->warmup, &err) != SIM_OK) {
+        fprintf(stderr, "bench_sim: %s: warm-up failed: %s\n", v->name, err.message);
+        sim_world_destroy(w);
+        sim_grain_set_free(&grains);
+        free(walls);
+        return 1;
+    }
+    const double heap1 = heap_in_use();
+
+    double *times = malloc(2 * (size_t)o->repeats * sizeof *times);
+    if (!times)
+        abort();
+    double *cpu = times + o->repeats;
+    const long rebuilds0 = w->rebuilds;
+    for (int k = 0; k < o->repeats; ++k) {
+        double t0 = now_s(), c0 = cpu_s();
+        SimStatus s = sim_world_step(w, o->steps, &err);
+        times[k] = now_s() - t0;
+        cpu[k] = cpu_s() - c0;
+        if (s != SIM_OK) {
+            fprintf(stderr, "bench_sim: %s: run failed: %s\n", v->name, err.message);
+            free(times);
+            sim_world_destroy(w);
+            sim_grain_set_free(&grains);
+            free(walls);
+            return 1;
+        }
+    }
+    const long rebuilds = w->rebuilds - rebuilds0;
+    qsort(times, (size_t)o->repeats, sizeof *times, cmp_double);
+    qsort(cpu, (size_t)o->repeats, sizeof *cpu, cmp_double);
+
+    SimEnergy e = sim_world_energy(w);
+    const int mobile = sim_world_mobile_count(w);
+    const double work = (double)mobile * (double)o->steps;
+    double per_grain, per_entry, list_total;
+    layout_bytes(w, &per_grain, &per_entry, &list_total);
+    *r = (Result){
+        .name = v->name,
+        .mobile = mobile,
+        .fixed = sim_world_grain_count(w) - mobile,
+        .steps = o->steps,
+        .repeats = o->repeats,
+        .best_s = times[0],
+        .median_s = times[o->repeats / 2],
+        .best_cpu_s = cpu[0],
+        .mps_cpu = work / cpu[0] / 1e6,
+        .mps_best = work / times[0] / 1e6,
+        .mps_median = work / times[o->repeats / 2] / 1e6,
+        .contacts_per_grain = (double)e.contacts / mobile,
+        .coordination = sim_world_coordination(w),
+        .entries_per_grain = (double)(w->nl.start[mobile] + w->wl.count) / mobile,
+        .rebuilds_per_1000 = 1000.0 * (double)rebuilds / ((double)o->steps * o->repeats),
+        .layout_bytes_per_grain = per_grain,
+        .layout_bytes_per_entry = per_entry,
+        .layout_bytes_per_contact = e.contacts > 0 ? list_total / e.contacts : 0.0,
+        .heap_bytes = heap1 - heap0,
+        .heap_bytes_per_grain = (heap1 - heap0) / mobile,
+        .time_step = sim_world_time_step(w),
+    };
+    free(times);
+    sim_world_destroy(w);
+    sim_grain_set_free(&grains);
+    free(walls);
+    return 0;
+}
+
+static int write_csv(const char *path, const char *machine, const Result *r, int n)
+{
+    char tmp[600];
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    FILE *f = fopen(tmp, "w");
+    if (!f) {
+        perror(tmp);
+        return 1;
+    }
+    fprintf(
+        f,
+        "machine,code,law,mobile,fixed,steps,repeats,best_s,median_s,mps_best,mps_median,mps_cpu,"
+        "contacts_per_grain,coordination,list_entries_per_grain,rebuilds_per_1000_steps,"
+        "bytes_per_grain,bytes_per_contact,bytes_per_list_entry,heap_bytes_per_grain,dt_s\n");
+    for (int k = 0; k < n; ++k)
+        fprintf(f,
+                "%s,sablier,%s,%d,%d,%ld,%d,%.6f,%.6f,%.3f,%.3f,%.3f,%.4f,%.4f,%.4f,%.3f,%.1f,%.1f,"
+                "%.1f,"
+                "%.1f,%.6g\n",
+                machine, r[k].name, r[k].mobile, r[k].fixed, r[k].steps, r[k].repeats, r[k].best_s,
+                r[k].median_s, r[k].mps_best, r[k].mps_median, r[k].mps_cpu,
+                r[k].contacts_per_grain, r[k].coordination, r[k].entries_per_grain,
+                r[k].rebuilds_per_1000, r[k].layout_bytes_per_grain, r[k].layout_bytes_per_contact,
+                r[k].layout_bytes_per_entry, r[k].heap_bytes_per_grain, r[k].time_step);
+    if (fclose(f) != 0 || rename(tmp, path) != 0) {
+        perror(path);
+        return 1;
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    Options o;
+    if (parse_options(argc, argv, &o) != 0)
+        return 2;
+    char host[256] = "unknown";
+    if (!o.machine) {
+        gethostname(host, sizeof host - 1);
+        o.machine = host;
+    }
+
+    int cached = 0;
+    if (!o.fresh) {
+        FILE *f = fopen(o.cache, "rb");
+        if (f) {
+            cached = 1;
+            fclose(f);
+        }
+    }
+    if (!cached) {
+        int s = build_pile(&o);
+        if (s != 0)
+            return s;
+    } else {
+        fprintf(stderr, "bench_sim: reusing settled pile %s (--fresh rebuilds it)\n", o.cache);
+    }
+
+    if (o.lammps_data) {
+        SimGrainSet g;
+        SimWall *walls = NULL;
+        int wc = 0;
+        double t = 0.0;
+        SimError err;
+        if (sim_state_load(o.cache, &g, &walls, &wc, &t, &err) != SIM_OK) {
+            fprintf(stderr, "bench_sim: %s\n", err.message);
+            return 1;
+        }
+        int s = write_lammps_data(o.lammps_data, &g, base_def().materials[0].density);
+        sim_grain_set_free(&g);
+        free(walls);
+        if (s != 0)
+            return 1;
+    }
+
+    Result results[VARIANT_COUNT];
+    int n = 0;
+    for (int k = 0; k < VARIANT_COUNT; ++k) {
+        if (o.only && !strstr(o.only, variants[k].name))
+            continue;
+        int s = run_variant(&o, &variants[k], &results[n]);
+        if (s != 0)
+            return s;
+        ++n;
+    }
+
+    printf("# sablier %s, one thread; %d mobile + %d fixed grains, dt %.4g s, %d x %ld steps "
+           "after %d warm-up steps; M/s = million particle-steps per second (mobile grains "
+           "only; best and median repeat of wall time, best of CPU time); rebuild/k = list "
+           "rebuilds per 1000 steps; B/grain, B/contact from the array layout\n",
+           SIM_VERSION, n ? results[0].mobile : 0, n ? results[0].fixed : 0,
+           n ? results[0].time_step : 0.0, o.repeats, o.steps, o.warmup);
+    printf("%-13s %9s %9s %9s %9s %8s %8s %9s %9s %9s %9s\n", "law", "best_M/s", "median",
+           "cpu_M/s", "best_s", "cont/gr", "z", "list/gr", "rebuild/k", "B/grain", "B/contact");
+    for (int k = 0; k < n; ++k)
+        printf("%-13s %9.2f %9.2f %9.2f %9.4f %8.3f %8.3f %9.3f %9.2f %9.0f %9.0f\n",
+               results[k].name, results[k].mps_best, results[k].mps_median, results[k].mps_cpu,
+               results[k].best_s, results[k].contacts_per_grain, results[k].coordination,
+               results[k].entries_per_grain, results[k].rebuilds_per_1000,
+               results[k].layout_bytes_per_grain, results[k].layout_bytes_per_contact);
+    for (int k = 0; k < n; ++k) {
+        if (results[k].heap_bytes > 0.0)
+            printf("# %s: heap grown by create + warm-up: %.0f B (%.0f B per mobile grain)\n",
+                   results[k].name, results[k].heap_bytes, results[k].heap_bytes_per_grain);
+        else
+            printf("# %s: heap growth not measurable (mallinfo2 reports nothing, e.g. under "
+                   "ASan)\n",
+                   results[k].name);
+    }
+    if (o.csv && write_csv(o.csv, o.machine, results, n) != 0)
+        return 3;
+    return 0;
+}

@@ -1,0 +1,157 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# run_sim_bench.sh: the physics speed benchmark in one command.
+#
+#   bench/run_sim_bench.sh [--with-lammps] [--grains N] [--steps M] [--repeats K]
+#                          [--warmup W] [--machine NAME] [--build-dir DIR] [--fresh]
+#
+# 1. Builds bench_sim in Release (default build dir: build-bench).
+# 2. Runs bench_sim: settled pile of N polydisperse disks (built once, cached in /tmp), one
+#    thread, regularised Coulomb / tangential spring / frictionless; K repeats of M steps.
+# 3. When `lmp` is installed, runs LAMMPS (bench/lammps/pile.in, one MPI rank) on the very same
+#    settled pile with gran/hooke, gran/hooke/history and frictionless gran/hooke. With
+#    --with-lammps, installs the Debian package `lammps` first if `lmp` is missing.
+# 4. Prints one table with both codes and their ratio, and writes
+#    bench/results/<machine>.csv (machine: --machine, default from /proc/cpuinfo + CPU count).
+#
+# Figures are million particle-steps per second, counting mobile grains only, best of K repeats
+# (wall clock); the "cpu" columns divide by CPU time instead (less disturbed on a shared
+# machine); ratio = sablier / LAMMPS. The 1-minute load average before and after is printed and stored: other work on
+# the machine lowers the figures.
+set -euo pipefail
+
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+with_lammps=0
+grains=7000
+steps=2000
+repeats=5
+warmup=500
+machine=""
+build_dir="$root/build-bench"
+fresh=()
+
+while [ $# -gt 0 ]; do
+    case "$1" in
+    --with-lammps) with_lammps=1 ;;
+    --grains) grains=$2; shift ;;
+    --steps) steps=$2; shift ;;
+    --repeats) repeats=$2; shift ;;
+    --warmup) warmup=$2; shift ;;
+    --machine) machine=$2; shift ;;
+    --build-dir) build_dir=$2; shift ;;
+    --fresh) fresh=(--fresh) ;;
+    -h | --help) sed -n '3,21p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    *) echo "run_sim_bench.sh: unknown option $1" >&2; exit 2 ;;
+    esac
+    shift
+done
+
+if [ -z "$machine" ]; then
+    model=$(awk -F: '/^model name/ { print $2; exit }' /proc/cpuinfo)
+    machine=$(echo "$model" | tr 'A-Z' 'a-z' | sed -e 's/([^)]*)//g' -e 's/[^a-z0-9]\+/-/g' \
+        -e 's/^-//' -e 's/-$//')-$(nproc)cpu
+fi
+load() { cut -d' ' -f1 /proc/loadavg; }
+
+echo "== build ($build_dir, Release)"
+cmake -S "$root" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build_dir" -j2 --target bench_sim >/dev/null
+
+work=$(mktemp -d /tmp/sablier-bench.XXXXXX)
+trap 'rm -rf "$work"' EXIT
+load_before=$(load)
+echo "== sablier bench_sim (load $load_before)"
+"$build_dir/bench/bench_sim" --grains "$grains" --steps "$steps" --repeats "$repeats" \
+    --warmup "$warmup" --machine "$machine" --csv "$work/sablier.csv" \
+    --lammps-data "$work/pile.data" "${fresh[@]}" | tee "$work/sablier.txt"
+dt=$(awk -F, 'NR == 2 { print $NF }' "$work/sablier.csv")
+
+if ! command -v lmp >/dev/null 2>&1 && [ "$with_lammps" = 1 ]; then
+    echo "== installing LAMMPS (apt-get install -y lammps)"
+    if [ "$(id -u)" = 0 ]; then
+        apt-get install -y lammps >/dev/null
+    else
+        sudo apt-get install -y lammps >/dev/null
+    fi
+fi
+
+# LAMMPS rows in bench_sim's CSV columns: best and median Loop time of the timed runs (the first
+# run is the warm-up), CPU-time figure from the "% CPU use" line, neighbour builds, memory per
+# atom from "Per MPI rank memory allocation" (LAMMPS Mbytes = 2^20 B).
+lammps_row() { # model law log
+    awk -v machine="$machine" -v law="$2" -v steps="$steps" -v repeats="$repeats" -v dt="$dt" '
+        /^BENCH model/ { mobile = $5; fixed = $7 }
+        /^Loop time of/ { n++; t[n] = $4 }
+        /% CPU use with/ { c[n] = $1 + 0 }
+        /^Neighbor list builds/ { b[n] = $5 }
+        /^Per MPI rank memory allocation/ { mem = $(NF - 1) }
+        $1 ~ /^[0-9]+$/ && NF == 4 { cpg = $3 }
+        END {
+            if (n < 2) exit 1
+            best = -1; bestcpu = -1; builds = 0; k = 0
+            for (i = 2; i <= n; i++) {
+                s[++k] = t[i]; builds += b[i]
+                if (best < 0 || t[i] < best) best = t[i]
+                cpu = t[i] * c[i] / 100.0
+                if (bestcpu < 0 || cpu < bestcpu) bestcpu = cpu
+            }
+            for (i = 1; i <= k; i++) for (j = i + 1; j <= k; j++) if (s[j] < s[i]) { x = s[i]; s[i] = s[j]; s[j] = x }
+            median = s[int(k / 2) + 1]
+            work = mobile * steps
+            printf "%s,lammps,%s,%d,%d,%d,%d,%.6f,%.6f,%.3f,%.3f,%.3f,%.4f,,,%.3f,,,,%.1f,%s\n",
+                machine, law, mobile, fixed, steps, k, best, median, work / best / 1e6,
+                work / median / 1e6, work / bestcpu / 1e6, cpg, 1000.0 * builds / (steps * k),
+                mem * 1048576.0 / (mobile + fixed), dt
+        }' "$3"
+}
+
+cp "$work/sablier.csv" "$work/all.csv"
+have_lammps=0
+if command -v lmp >/dev/null 2>&1; then
+    have_lammps=1
+    version=$( (lmp -h 2>/dev/null || true) | sed -n 's/^Large-scale[^-]* - //p')
+    echo "== LAMMPS $version, 1 MPI rank (load $(load))"
+    for pair in hooke:regularised hist:spring nofric:frictionless; do
+        model=${pair%%:*}
+        law=${pair##*:}
+        (cd "$work" && lmp -in "$root/bench/lammps/pile.in" -var data "$work/pile.data" \
+            -var model "$model" -var dt "$dt" -var steps "$steps" -var repeats "$repeats" \
+            -var warmup "$warmup" -log "$work/lammps-$model.log" -screen none)
+        lammps_row "$model" "$law" "$work/lammps-$model.log" >>"$work/all.csv"
+        cp "$work/lammps-$model.log" "$build_dir/bench/lammps-$model.log"
+    done
+    echo "== LAMMPS logs (timing breakdown): $build_dir/bench/lammps-*.log"
+else
+    echo "== LAMMPS: lmp not installed (pass --with-lammps to install the Debian package)"
+fi
+load_after=$(load)
+
+echo
+echo "== physics speed, million particle-steps/s, one core (machine $machine, load $load_before -> $load_after)"
+awk -F, -v have="$have_lammps" '
+    NR == 1 { next }
+    $2 == "sablier" { law[++n] = $3; s[$3] = $10; sc[$3] = $12; cs[$3] = $13; bg[$3] = $17; bc[$3] = $18 }
+    $2 == "lammps" { l[$3] = $10; lc[$3] = $12; cl[$3] = $13; lb[$3] = $20 }
+    END {
+        printf "%-13s %8s %8s %8s %8s %7s %7s %8s %8s %9s %10s\n", "law", "sablier", "sab_cpu",
+            "lammps", "lmp_cpu", "ratio", "r_cpu", "cont/gr", "lmp_c/gr", "sab_B/gr", "sab_B/cont"
+        for (i = 1; i <= n; i++) {
+            k = law[i]
+            if (have && (k in l))
+                printf "%-13s %8.2f %8.2f %8.2f %8.2f %6.2fx %6.2fx %8.3f %8.3f %9.0f %10.0f\n", k,
+                    s[k], sc[k], l[k], lc[k], s[k] / l[k], sc[k] / lc[k], cs[k], cl[k], bg[k], bc[k]
+            else
+                printf "%-13s %8.2f %8.2f %8s %8s %7s %7s %8.3f %8s %9.0f %10.0f\n", k, s[k],
+                    sc[k], "-", "-", "-", "-", cs[k], "-", bg[k], bc[k]
+        }
+        if (have)
+            for (k in lb) printf "# LAMMPS %s: %.0f B per atom (Per MPI rank memory allocation)\n", k, lb[k]
+    }' "$work/all.csv"
+
+mkdir -p "$root/bench/results"
+out="$root/bench/results/$machine.csv"
+awk -F, -v OFS=, -v a="$load_before" -v b="$load_after" \
+    'NR == 1 { print $0, "load_before", "load_after"; next } { print $0, a, b }' \
+    "$work/all.csv" >"$out.tmp"
+mv "$out.tmp" "$out"
+echo "== wrote $out"
