@@ -5,6 +5,10 @@
  * interrupted run never leaves a truncated file under a final name. */
 #include "run.h"
 
+#include "bne.h"
+#include "observe.h"
+#include "sediment.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdint.h>
@@ -44,6 +48,8 @@ typedef struct Run {
     SimError error;
     int render_warned;
     int progress_tty;
+    AppObserver *observer; /* crater observables (observe.c); NULL when the scene has none */
+    char observed[1024];   /* its summary.json members */
 } Run;
 
 AppRunOptions app_run_options_default(void)
@@ -192,7 +198,7 @@ static int write_summary(const Run *run, double wall_seconds)
         "  \"effects\": %s,\n  \"threads\": %d,\n",
         name, file, (unsigned long long)scene->seed, grains, mobile, run->steps, n1, n2, n3, n4,
         status, message, effects_json, run->options->threads);
-    n += (size_t)snprintf(text + n, size - n, "  \"stages\": [");
+    n += (size_t)snprintf(text + n, size - n, "%s  \"stages\": [", run->observed);
     for (int k = 0; k < run->stages_done && n < size; ++k) {
         const StageReport *s = &run->stages[k];
         char stage_name[160], a[40], b[40], c[40];
@@ -231,6 +237,10 @@ static void energy_row(Run *run, int stage)
     double t = sim_world_time(run->world);
     run->contacts_sum += e.contacts;
     run->contacts_samples++;
+    if (run->scene->sediment) /* 002 measures ride on the energy rows */
+        app_sediment_row(run->scene->sediment, run->world);
+    if (run->scene->bne)
+        app_bne_row(run->scene->bne, run->world);
     if (!run->energy)
         return;
     double t_star = run->time_scale > 0.0 ? t / run->time_scale : 0.0;
@@ -282,6 +292,47 @@ static int figures_at(Run *run, int stage, int at_end)
     return 0;
 }
 
+/* Figures with `at` = a time after the stage start, due at step `done` of the stage. */
+static int figures_at_step(Run *run, int stage, long done, double dt)
+{
+    const SceneOutput *out = &run->scene->output;
+    SimFrame frame;
+    int framed = 0;
+    for (int k = 0; k < out->figure_count; ++k) {
+        const SceneFigure *f = &out->figures[k];
+        if (f->stage != stage || f->at_end != 2 || llround(f->at_time / dt) != done ||
+            !run->options->render || !run->options->render->figure)
+            continue;
+        if (!framed) {
+            sim_world_frame(run->world, &frame);
+            framed = 1;
+        }
+        char path[PATH_SIZE], suffix[16], err[512] = "";
+        snprintf(suffix, sizeof suffix, ".%s", f->format);
+        out_path(run, path, f->name, suffix);
+        if (run->options->render->figure(run->options->render->context, run->scene, f, &frame, path,
+                                         err, sizeof err) != 0) {
+            snprintf(run->message, sizeof run->message, "figure %s: %s", path, err);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* The next step after `done` at which a timed figure of the stage is due, else `total`. */
+static long next_figure_step(const Run *run, int stage, long done, double dt, long total)
+{
+    const SceneOutput *out = &run->scene->output;
+    long next = total;
+    for (int k = 0; k < out->figure_count; ++k) {
+        const SceneFigure *f = &out->figures[k];
+        long step = llround(f->at_time / dt);
+        if (f->stage == stage && f->at_end == 2 && step > done && step < next)
+            next = step;
+    }
+    return next;
+}
+
 int app_surface_height(const SimFrame *frame, double x, double half_width, double *top)
 {
     int found = 0;
@@ -330,7 +381,7 @@ static int stage_world(Run *run, int k)
     const Scene *scene = run->scene;
     const SceneStage *stage = &scene->stages[k];
     if (stage->load == SCENE_LOAD_PREVIOUS && run->world &&
-        scene->stages[k - 1].time_step == stage->time_step)
+        scene->stages[k - 1].time_step == stage->time_step && !app_bne_restart(scene->bne, k))
         return 0; /* continue in memory: contact history and exact state kept */
     SimWorld *world = NULL;
     if (stage->load == SCENE_LOAD_SCENE) {
@@ -437,9 +488,18 @@ static int run_stage(Run *run, int k)
     StageReport *report = &run->stages[k];
     const AppRenderHooks *render = run->options->render;
     double wall_start = now_seconds();
-    if (stage_world(run, k) != 0 || stage_edit(run, k) != 0)
+    if (stage_world(run, k) != 0)
+        return 2;
+    app_observer_before_edit(run->observer, run->world, k);
+    if (stage_edit(run, k) != 0)
         return 2;
     report->start_time = sim_world_time(run->world);
+    if (scene->sediment)
+        app_sediment_stage(scene->sediment, scene, k, report->start_time);
+    if (scene->bne)
+        app_bne_stage(scene->bne, scene, k, run->world);
+    app_observer_stage_start(run->observer, run->world, k);
+    app_observer_sample(run->observer, run->world, k, report->start_time);
     double dt = sim_world_time_step(run->world);
     /* t* = t / sqrt(D/g) (000 eq. 6.1) */
     double g = hypot(scene->def.gravity_x, scene->def.gravity_y);
@@ -469,6 +529,9 @@ static int run_stage(Run *run, int k)
     long every_energy = (long)fmax(1.0, (double)llround(out->energy_every / dt));
     long every_frame = (long)fmax(1.0, (double)llround(1.0 / (out->frame_rate * dt)));
     long every_trace = (long)fmax(1.0, (double)llround(out->trace_every / dt));
+    long every_profile = out->profile_every > 0.0 && run->observer
+                             ? (long)fmax(1.0, (double)llround(out->profile_every / dt))
+                             : total + 1;
     long done = 0;
     int status = 0;
     double last_progress = now_seconds(), step_wall = 0.0;
@@ -483,6 +546,12 @@ static int run_stage(Run *run, int k)
                 sink.consume = NULL; /* the movie's sticky error is reported at close */
             if (trace_due)
                 trace_rows(run, &frame);
+        }
+        if (done > 0 && done < total && done % every_profile == 0)
+            app_observer_sample(run->observer, run->world, k, report->start_time);
+        if (figures_at_step(run, k, done, dt) != 0) {
+            status = 2;
+            break;
         }
         if (done >= total)
             break;
@@ -503,6 +572,9 @@ static int run_stage(Run *run, int k)
             if (candidate < next)
                 next = candidate;
         }
+        if (every_profile <= total && (done / every_profile + 1) * every_profile < next)
+            next = (done / every_profile + 1) * every_profile;
+        next = next_figure_step(run, k, done, dt, next);
         double t0 = now_seconds();
         SimStatus s = sim_world_step(run->world, next - done, &run->error);
         double t1 = now_seconds();
@@ -522,6 +594,8 @@ static int run_stage(Run *run, int k)
     }
     run->step_seconds += step_wall;
     run->steps += report->steps;
+    if (status == 0 && report->steps > 0)
+        app_observer_sample(run->observer, run->world, k, report->start_time);
     report->end_time = sim_world_time(run->world);
     report->mobile = sim_world_mobile_count(run->world);
     run->simulated += report->end_time - report->start_time;
@@ -540,6 +614,10 @@ static int run_stage(Run *run, int k)
         snprintf(run->message, sizeof run->message, "checkpoint %s: %s", path, run->error.message);
         return 2;
     }
+    if (scene->sediment &&
+        app_sediment_stage_end(scene->sediment, run->world, run->options->out_dir, stage->name,
+                               run->message, sizeof run->message) != 0)
+        return 2;
     if (figures_at(run, k, 1) != 0)
         return 2;
     report->wall_seconds = now_seconds() - wall_start;
@@ -576,9 +654,49 @@ int app_run(const Scene *scene, const AppRunOptions *options)
                  strerror(errno));
         run->status = 2;
     }
+    int observe = scene->output.profile_every > 0.0;
+    for (int k = 0; k < scene->stage_count; ++k)
+        observe |= scene->stages[k].dig && !scene->stages[k].skip;
+    if (run->status == 0 && observe) {
+        char err[512] = "";
+        run->observer = app_observer_open(scene, options->out_dir, err, sizeof err);
+        if (!run->observer) {
+            snprintf(run->message, sizeof run->message, "%s", err);
+            run->status = 2;
+        }
+    }
+    if (run->status == 0 && scene->sediment &&
+        app_sediment_begin(scene->sediment, options->out_dir, run->message, sizeof run->message))
+        run->status = 2;
+    if (run->status == 0 && scene->bne &&
+        app_bne_begin(scene->bne, options->out_dir, run->message, sizeof run->message) != 0)
+        run->status = 2;
     for (int k = 0; run->status == 0 && k < scene->stage_count; ++k) {
-        run->status = run_stage(run, k);
         run->stages_done = k + 1;
+        if (scene->stages[k].skip)
+            continue; /* e.g. a sweep member that starts from a saved bed */
+        run->status = run_stage(run, k);
+    }
+    if (run->observer) {
+        char err[512] = "";
+        app_observer_json(run->observer, run->observed, sizeof run->observed);
+        if (app_observer_close(run->observer, run->world, err, sizeof err) != 0 &&
+            run->status == 0) {
+            snprintf(run->message, sizeof run->message, "%s", err);
+            run->status = 2;
+        }
+        run->observer = NULL;
+    }
+    {
+        char err[512] = "";
+        if ((scene->sediment && app_sediment_end(scene->sediment, run->status == 0, err,
+                                                 sizeof err) != 0) ||
+            (scene->bne && app_bne_end(scene->bne, run->status == 0, err, sizeof err) != 0)) {
+            if (run->status == 0) {
+                snprintf(run->message, sizeof run->message, "%s", err);
+                run->status = 2;
+            }
+        }
     }
     /* The CSV files are complete records up to here, failure included. */
     if (finish_csv(&run->energy, run->energy_path) != 0 ||

@@ -3,8 +3,11 @@
  * both sim/ and render/: it maps the scene's plain style data onto RenderStyle and hands the
  * runner its figure and movie hooks. Built without render/ (SABLIER_WITH_RENDER=OFF), figures
  * and movies are skipped with a warning and `diff`/`render` exit 2. */
+#include "observe.h"
 #include "run.h"
 #include "scene.h"
+#include "study.h"
+#include "sweep.h"
 
 #include "sim/sim.h"
 
@@ -32,6 +35,9 @@ static const char USAGE[] =
     "  check SCENE    validate a scene and print what it would run\n"
     "  diff A B       compare two PNG images (exit 0 match, 1 differ, 2 bad input)\n"
     "  render STATE   draw a saved checkpoint without simulating\n"
+    "  sweep SWEEP    run sweep members from one settled bed (crater studies)\n"
+    "  discharge SCENE  build an open pile and discharge it through an orifice (004)\n"
+    "  study SCENE    jamming statistics over base lengths and widths (004)\n"
     "\n"
     "  sablier COMMAND --help   options of one command\n"
     "  sablier --version        versions of sablier and its libraries\n"
@@ -46,6 +52,24 @@ static const char USAGE_RUN[] =
     "                     species.0.k_n=1e6, stages.collapse.time.end=2 (see docs/scenes.md)\n"
     "  --threads N        threads for encoding and rendering (results do not depend on N)\n"
     "  --quiet            one line per stage, no progress\n";
+
+static const char USAGE_SWEEP[] =
+    "usage: sablier sweep FILE.sweep [options]\n"
+    "       sablier sweep SCENE --vary KEY=v1,v2,... [--vary KEY2=...] [options]\n"
+    "\n"
+    "Runs one member per value (or combination) from one settled bed: the scene's stages up to\n"
+    "the bed stage run once (or --from gives the bed), then each member runs the later stages\n"
+    "with its --set overrides, as a separate `sablier run` process; then sweep.csv and the\n"
+    "comparison figures energy_panels.png, crater_height.png and profiles.png.\n"
+    "\n"
+    "  --vary KEY=v1,v2   one member per value (several --vary: every combination)\n"
+    "  --from STATE       the bed checkpoint (default: run the bed stages into DIR/bed)\n"
+    "  --bed-stage NAME   the stage whose checkpoint is the bed (default: the one before a dig)\n"
+    "  --set KEY=VALUE    override a key for the bed and every member\n"
+    "  --jobs N           members at a time (default 2; results do not depend on N)\n"
+    "  --out DIR          output folder (default out/sweep-<file name> or out/<scene>-sweep)\n"
+    "  --dry-run          print the member commands, run nothing\n"
+    "  --quiet            no per-member lines\n";
 
 static const char USAGE_CHECK[] =
     "usage: sablier check SCENE [--set KEY=VALUE]...\n"
@@ -226,7 +250,115 @@ static int hook_figure(void *context, const Scene *scene, const SceneFigure *fig
     RenderMeta meta = {.scene = scene->name, .seed = scene->seed};
     return render_figure_write(frame, &style, &meta, path, err, err_size) == 0 ? 0 : -1;
 }
+
+/* AppChart (observe.h, plain data) onto RenderPlot. */
+static int hook_chart(void *context, const AppChart *plot, const char *path, char *err,
+                      size_t err_size)
+{
+    (void)context;
+    RenderSeries series[APP_CHART_MAX_PANELS][APP_CHART_MAX_SERIES];
+    RenderPanel panels[APP_CHART_MAX_PANELS];
+    int count = plot->rows * plot->cols;
+    memset(panels, 0, sizeof panels);
+    for (int p = 0; p < count && p < APP_CHART_MAX_PANELS; ++p) {
+        const AppChartPanel *a = &plot->panels[p];
+        for (int s = 0; s < a->series_count; ++s) {
+            const AppChartSeries *in = &a->series[s];
+            RenderSeries *out = &series[p][s];
+            memset(out, 0, sizeof *out);
+            out->label = in->label[0] ? in->label : NULL;
+            out->count = in->count;
+            out->x = in->x;
+            out->y = in->y;
+            out->rgb = RENDER_RGB_AUTO;
+            out->line = in->line;
+            out->marker = in->marker ? RENDER_MARKER_CIRCLE : RENDER_MARKER_NONE;
+        }
+        panels[p].title = a->title[0] ? a->title : NULL;
+        panels[p].x.label = a->x_label[0] ? a->x_label : NULL;
+        panels[p].y.label = a->y_label[0] ? a->y_label : NULL;
+        panels[p].series_count = a->series_count;
+        panels[p].series = series[p];
+        panels[p].legend = a->series_count > 1 ? RENDER_LEGEND_UPPER_RIGHT : RENDER_LEGEND_NONE;
+    }
+    RenderPlot r = {.width = plot->width,
+                    .height = plot->height,
+                    .rows = plot->rows,
+                    .cols = plot->cols,
+                    .panels = panels,
+                    .title = plot->title[0] ? plot->title : NULL};
+    RenderMeta meta = {.scene = "", .seed = 0};
+    return render_plot_write(&r, &meta, path, err, err_size) == 0 ? 0 : -1;
+}
 #endif
+
+#ifdef SABLIER_HAVE_RENDER
+/* ---- thesis 004 (app/study.c): pile snapshots with the arch, and statistics plots ---- */
+static int hook_discharge_figure(void *context, const Scene *scene, const SimFrame *frame,
+                                 const int *arch_marks, const char *title, const char *path,
+                                 char *err, size_t err_size)
+{
+    (void)context;
+    RenderStyle style = render_style_from_scene(&scene->style);
+    style.title = title;
+    style.arch_ids = arch_marks;
+    style.arch_inset = arch_marks != NULL;
+    style.force_chains = arch_marks != NULL; /* force chains through the arch */
+    RenderMeta meta = {.scene = scene->name, .seed = scene->seed};
+    return render_figure_write(frame, &style, &meta, path, err, err_size) == 0 ? 0 : -1;
+}
+
+static int hook_discharge_plot(void *context, const Scene *scene, const AppPlot *plot,
+                               const char *path, char *err, size_t err_size)
+{
+    (void)context;
+    RenderSeries series[64];
+    int n = plot->series_count < 64 ? plot->series_count : 64;
+    for (int k = 0; k < n; ++k) {
+        const AppPlotSeries *in = &plot->series[k];
+        series[k] = (RenderSeries){.label = in->label,
+                                   .count = in->count,
+                                   .x = in->x,
+                                   .y = in->y,
+                                   .y_err = in->y_err,
+                                   .rgb = RENDER_RGB_AUTO,
+                                   .line = in->line,
+                                   .dashed = in->dashed,
+                                   .marker = (RenderMarker)in->marker};
+    }
+    RenderPanel panel = {.x = {.label = plot->x_label},
+                         .y = {.label = plot->y_label, .log = plot->y_log},
+                         .series_count = n,
+                         .series = series,
+                         .legend = RENDER_LEGEND_UPPER_RIGHT};
+    RenderPlot r = {.width = 1000, .height = 700, .panels = &panel, .title = plot->title};
+    RenderMeta meta = {.scene = scene->name, .seed = scene->seed};
+    return render_plot_write(&r, &meta, path, err, err_size) == 0 ? 0 : -1;
+}
+#endif
+
+static int command_discharge_or_study(int argc, char **argv, int study)
+{
+#ifdef SABLIER_HAVE_RENDER
+    Renderer renderer = {.quiet = 1};
+    AppRenderHooks movie = {&renderer, hook_movie_open, hook_movie_close, hook_figure};
+    AppDischargeRender render = {NULL, hook_discharge_figure, hook_discharge_plot, &movie};
+    const AppDischargeRender *hooks = &render;
+#else
+    const AppDischargeRender *hooks = NULL;
+#endif
+    return study ? app_study_command(argc, argv, hooks) : app_discharge_command(argc, argv, hooks);
+}
+
+static int command_discharge(int argc, char **argv)
+{
+    return command_discharge_or_study(argc, argv, 0);
+}
+
+static int command_study(int argc, char **argv)
+{
+    return command_discharge_or_study(argc, argv, 1);
+}
 
 static const char *render_versions(void)
 {
@@ -299,8 +431,82 @@ static int command_run(int argc, char **argv)
     options.render = &hooks;
 #endif
     int status = app_run(scene, &options);
+#ifdef SABLIER_HAVE_RENDER
+    if (status == 0) { /* crater figures from the run's CSV files (energy panels, profiles) */
+        char plot_err[512] = "";
+        if (app_crater_plots(scene, options.out_dir, hook_chart, NULL, plot_err, sizeof plot_err) !=
+            0) {
+            fprintf(stderr, "sablier: figures: %s\n", plot_err);
+            status = 2;
+        }
+    }
+#endif
     scene_free(scene);
     return status;
+}
+
+static int command_sweep(int argc, char **argv)
+{
+    const char *path = NULL, *value, *sets[MAX_SETS], *vary[8];
+    int set_count = 0, vary_count = 0;
+    long jobs = 2;
+    AppSweepOptions o = app_sweep_options_default();
+    for (int i = 2; i < argc; ++i) {
+        int m;
+        if ((m = option(argc, argv, &i, "--out", &value)) != 0) {
+            if (m < 0)
+                return 2;
+            o.out_dir = value;
+        } else if ((m = option(argc, argv, &i, "--from", &value)) != 0) {
+            if (m < 0)
+                return 2;
+            o.from = value;
+        } else if ((m = option(argc, argv, &i, "--bed-stage", &value)) != 0) {
+            if (m < 0)
+                return 2;
+            o.bed_stage = value;
+        } else if ((m = option(argc, argv, &i, "--set", &value)) != 0) {
+            if (m < 0 || collect_set(sets, &set_count, value) < 0)
+                return 2;
+        } else if ((m = option(argc, argv, &i, "--vary", &value)) != 0) {
+            if (m < 0)
+                return 2;
+            if (vary_count >= 8)
+                return usage_error(USAGE_SWEEP, "too many --vary options", NULL);
+            vary[vary_count++] = value;
+        } else if ((m = option(argc, argv, &i, "--jobs", &value)) != 0) {
+            if (m < 0 || parse_count(value, 1, 64, &jobs) < 0)
+                return usage_error(USAGE_SWEEP, "--jobs needs a count in [1, 64], got",
+                                   m < 0 ? "nothing" : value);
+        } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
+            o.quiet = 1;
+        } else if (strcmp(argv[i], "--dry-run") == 0) {
+            o.dry_run = 1;
+        } else if (argv[i][0] == '-' && argv[i][1]) {
+            return usage_error(USAGE_SWEEP, "unknown option", argv[i]);
+        } else if (!path) {
+            path = argv[i];
+        } else {
+            return usage_error(USAGE_SWEEP, "one sweep at a time; extra argument", argv[i]);
+        }
+    }
+    if (!path)
+        return usage_error(USAGE_SWEEP, "missing FILE.sweep or SCENE", NULL);
+    size_t n = strlen(path);
+    if (n > 6 && strcmp(path + n - 6, ".sweep") == 0)
+        o.definition = path;
+    else
+        o.scene_path = path;
+    o.self = "/proc/self/exe";
+    o.jobs = (int)jobs;
+    o.sets = sets;
+    o.set_count = set_count;
+    o.vary = vary;
+    o.vary_count = vary_count;
+#ifdef SABLIER_HAVE_RENDER
+    o.plot = hook_chart;
+#endif
+    return app_sweep(&o);
 }
 
 static void print_timing(const Scene *scene, int k)
@@ -389,8 +595,13 @@ static int command_check(int argc, char **argv)
            "grains\n",
            o->energy_every, o->frame_rate, o->figure_count, o->trace_count);
     for (int k = 0; k < o->figure_count; ++k)
-        printf("figure %s.%s: stage %s, at %s\n", o->figures[k].name, o->figures[k].format,
-               scene->stages[o->figures[k].stage].name, o->figures[k].at_end ? "end" : "start");
+        if (o->figures[k].at_end == 2)
+            printf("figure %s.%s: stage %s, at %g s after its start\n", o->figures[k].name,
+                   o->figures[k].format, scene->stages[o->figures[k].stage].name,
+                   o->figures[k].at_time);
+        else
+            printf("figure %s.%s: stage %s, at %s\n", o->figures[k].name, o->figures[k].format,
+                   scene->stages[o->figures[k].stage].name, o->figures[k].at_end ? "end" : "start");
     printf("ok\n");
     scene_free(scene);
     return 0;
@@ -746,6 +957,9 @@ int main(int argc, char **argv)
         {"check", command_check, USAGE_CHECK},
         {"diff", command_diff, USAGE_DIFF},
         {"render", command_render, USAGE_RENDER},
+        {"sweep", command_sweep, USAGE_SWEEP},
+        {"discharge", command_discharge, APP_DISCHARGE_USAGE},
+        {"study", command_study, APP_STUDY_USAGE},
     };
 
     for (size_t k = 0; k < sizeof commands / sizeof commands[0]; ++k) {

@@ -8,6 +8,10 @@
  * to sim_world_def_validate and maps the reported field path back to the key that set it. */
 #include "scene.h"
 
+#include "discharge.h"
+#include "bne.h"
+#include "sediment.h"
+
 #include <ctype.h>
 #include <errno.h>
 #include <libconfig.h>
@@ -1007,7 +1011,8 @@ static int parse_grains(Loader *L, const config_setting_t *root)
     scene->fixed_count = 0;
     for (int i = 0; i < scene->grains.count; ++i)
         scene->fixed_count += (scene->grains.flags[i] & SIM_GRAIN_FIXED) != 0;
-    if (scene->grains.count == scene->fixed_count)
+    /* a `discharge` scene rains its grains during the run (app/discharge.c) */
+    if (scene->grains.count == scene->fixed_count && !member(root, "discharge"))
         return fail(L, grains, "the scene has no mobile grains");
     return 0;
 }
@@ -1113,14 +1118,18 @@ static int parse_effect_groups(Loader *L, const config_setting_t *root)
     Scene *scene = L->scene;
     const config_setting_t *g;
     if (gate(L, root, "periodic", SIM_EFFECT_PERIODIC_X) < 0 ||
-        gate(L, root, "drag", SIM_EFFECT_FLUID_DRAG) < 0)
+        gate(L, root, "drag", SIM_EFFECT_FLUID_DRAG) < 0 ||
+        gate(L, root, "fluid", SIM_EFFECT_FLUID_DRAG) < 0)
         return -1;
     if ((L->effects & SIM_EFFECT_PERIODIC_X) && !member(root, "periodic"))
         return fail(L, L->effects_setting,
                     "effect periodic_x needs a group `periodic = { x0 = ...; x1 = ...; }`");
-    if ((L->effects & SIM_EFFECT_FLUID_DRAG) && !member(root, "drag"))
+    if ((L->effects & SIM_EFFECT_FLUID_DRAG) && !member(root, "drag") && !member(root, "fluid"))
         return fail(L, L->effects_setting,
-                    "effect fluid_drag needs a group `drag = { model = ...; ... }`");
+                    "effect fluid_drag needs a group `drag = { model = ...; ... }` or a fluid "
+                    "column `fluid = { ... }`");
+    if (member(root, "drag") && member(root, "fluid"))
+        return fail(L, member(root, "fluid"), "`fluid` and `drag` both drag the grains: keep one");
     static const char *const periodic_keys[] = {"x0", "x1", NULL};
     if (group_of(L, root, "periodic", &g) < 0)
         return -1;
@@ -1175,7 +1184,7 @@ static int parse_effect_groups(Loader *L, const config_setting_t *root)
 static const char *const ROOT_KEYS[] = {
     "name",     "seed",  "units",   "effects", "mass_model", "gravity", "integrator", "time",
     "skin",     "guard", "contact", "species", "grains",     "walls",   "motions",    "sinks",
-    "periodic", "drag",  "stages",  "output",  "render",     NULL};
+    "periodic", "drag",  "stages",  "output",  "render",     "discharge", "fluid", "bne", NULL};
 
 static int parse_effects(Loader *L, const config_setting_t *root)
 {
@@ -1351,8 +1360,8 @@ static int parse_stage_time(Loader *L, const config_setting_t *time, SceneStage 
 
 static int parse_stage(Loader *L, const config_setting_t *g, int k, const config_setting_t *time)
 {
-    static const char *const keys[] = {"name", "load",       "time",  "settle",
-                                       "dig",  "remove_ids", "movie", NULL};
+    static const char *const keys[] = {"name",       "load",  "time", "settle", "dig",
+                                       "remove_ids", "movie", "skip", NULL};
     static const char *const settle_keys[] = {"kinetic_below", "after", NULL};
     static const char *const dig_keys[] = {"center_x", "width", "height", "top", NULL};
     Scene *scene = L->scene;
@@ -1464,7 +1473,7 @@ static int parse_stage(Loader *L, const config_setting_t *g, int k, const config
         stage->remove_count = n;
     }
     stage->movie = -1; /* unset: output.movie decides */
-    if (get_bool(L, g, "movie", &stage->movie) < 0)
+    if (get_bool(L, g, "movie", &stage->movie) < 0 || get_bool(L, g, "skip", &stage->skip) < 0)
         return -1;
     return 0;
 }
@@ -1664,9 +1673,21 @@ static int parse_figures(Loader *L, const config_setting_t *output)
         SceneStyle own = scene_style_unset();
         if (check_keys(L, g, what, keys, STYLE_KEYS) < 0 || need(L, g, "name", what) < 0 ||
             get_string(L, g, "name", &name) < 0 || check_file_name(L, g, "name", name) < 0 ||
-            get_string(L, g, "stage", &stage) < 0 || get_choice(L, g, "at", at_names, &at) < 0 ||
+            get_string(L, g, "stage", &stage) < 0 ||
             get_choice(L, g, "format", formats, &format) < 0 || parse_style(L, g, &own) < 0)
             return -1;
+        /* at = "start" | "end" | seconds after the stage start (000 figs. 7.2, 7.9-7.23) */
+        const config_setting_t *at_setting = member(g, "at");
+        double at_time = 0.0;
+        if (at_setting && config_setting_type(at_setting) != CONFIG_TYPE_STRING) {
+            if (number_of(L, at_setting, "at", &at_time) < 0)
+                return -1;
+            if (!(at_time >= 0.0))
+                return fail(L, at_setting, "`at` must be \"start\", \"end\" or a time >= 0 s");
+            at = 2;
+        } else if (get_choice(L, g, "at", at_names, &at) < 0) {
+            return -1;
+        }
         snprintf(f->name, sizeof f->name, "%s", name);
         for (int j = 0; j < k; ++j)
             if (strcmp(scene->output.figures[j].name, name) == 0 &&
@@ -1679,6 +1700,7 @@ static int parse_figures(Loader *L, const config_setting_t *output)
                 return fail(L, member(g, "stage"), "no stage named `%s`", stage);
         }
         f->at_end = at;
+        f->at_time = at_time;
         snprintf(f->format, sizeof f->format, "%s", formats[format]);
         f->style = scene->style;
         style_merge(&f->style, &own);
@@ -1689,9 +1711,10 @@ static int parse_figures(Loader *L, const config_setting_t *output)
 
 static int parse_output(Loader *L, const config_setting_t *root)
 {
-    static const char *const keys[] = {"frame_rate",    "fps",          "crf",   "movie",
-                                       "drawer",        "energy_every", "trace", "trace_every",
-                                       "t_star_length", "figures",      NULL};
+    static const char *const keys[] = {
+        "frame_rate",    "fps",         "crf",         "movie",         "drawer",
+        "energy_every",  "trace",       "trace_every", "t_star_length", "figures",
+        "profile_every", "profile_bin", NULL};
     static const char *const drawers[] = {"cairo", "osmesa", NULL};
     Scene *scene = L->scene;
     SceneOutput *out = &scene->output;
@@ -1720,7 +1743,11 @@ static int parse_output(Loader *L, const config_setting_t *root)
         (member(output, "trace_every") &&
          check_positive(L, output, "trace_every", out->trace_every) < 0) ||
         get_number(L, output, "t_star_length", &out->t_star_length) < 0 ||
-        check_non_negative(L, output, "t_star_length", out->t_star_length) < 0)
+        check_non_negative(L, output, "t_star_length", out->t_star_length) < 0 ||
+        get_number(L, output, "profile_every", &out->profile_every) < 0 ||
+        check_non_negative(L, output, "profile_every", out->profile_every) < 0 ||
+        get_number(L, output, "profile_bin", &out->profile_bin) < 0 ||
+        check_non_negative(L, output, "profile_bin", out->profile_bin) < 0)
         return -1;
     if (crf < 0 || crf > 51)
         return fail(L, member(output, "crf"), "`crf` must be in [0, 51]");
@@ -1981,6 +2008,20 @@ Scene *scene_load(const char *path, const char *const *sets, int set_count, char
              parse_motions(L, root) == 0 && parse_effect_groups(L, root) == 0 &&
              parse_grains(L, root) == 0 && parse_walls(L, root) == 0 && parse_sinks(L, root) == 0 &&
              parse_stages(L, root) == 0 && parse_output(L, root) == 0;
+    if (ok && member(root, "discharge")) { /* thesis 004 protocol, parsed by app/discharge.c */
+        scene->discharge = calloc(1, sizeof *scene->discharge);
+        ok = scene->discharge &&
+             app_discharge_parse(member(root, "discharge"), path, scene->def.species_count,
+                                 scene->discharge, err, err_size) == 0;
+    }
+    if (ok && member(root, "fluid")) { /* thesis 002 fluid column, parsed by app/sediment.c */
+        scene->sediment = app_sediment_parse(member(root, "fluid"), scene, err, err_size);
+        ok = scene->sediment != NULL;
+    }
+    if (ok && member(root, "bne")) { /* thesis 002 Brazil-nut measures, app/bne.c */
+        scene->bne = app_bne_parse(member(root, "bne"), scene, err, err_size);
+        ok = scene->bne != NULL;
+    }
     if (ok) {
         /* t* = t / sqrt(D/g) with D the container height (000 eq. 6.1) */
         if (scene->output.t_star_length == 0.0)
@@ -2025,6 +2066,9 @@ void scene_free(Scene *scene)
         free(scene->stages[k].remove_ids);
     sim_grain_buffer_free(&scene->grains);
     free(scene->walls);
+    free(scene->discharge);
+    app_sediment_free(scene->sediment);
+    app_bne_free(scene->bne);
     if (scene->where) {
         free(scene->where->items);
         free(scene->where->grain_item);
@@ -2038,6 +2082,8 @@ SimWorldDef scene_world_def(const Scene *scene, int stage)
     SimWorldDef def = scene->def;
     def.grains = sim_grain_buffer_view(&scene->grains);
     def.time_step = scene->stages[stage].time_step;
+    if (scene->bne)
+        app_bne_adjust_def(scene->bne, stage, &def);
     return def;
 }
 

@@ -80,12 +80,14 @@ typedef struct SceneStage {
     int remove_count;
     uint32_t *remove_ids; ///< stable ids removed at the stage start
     int movie;            ///< 1: write <stage>.mp4
+    int skip;             ///< 1: not run (a sweep member starts from a saved bed)
 } SceneStage;
 
 typedef struct SceneFigure {
     char name[SCENE_NAME_MAX];
-    int stage;        ///< index into stages
-    int at_end;       ///< 1: at the stage end, 0: at its start (after load, dig, removals)
+    int stage;  ///< index into stages
+    int at_end; ///< 1: at the stage end, 0: at its start (after load, dig, removals), 2: at_time
+    double at_time;   ///< s after the stage start (at_end == 2)
     char format[8];   ///< "png", "pdf" or "svg"
     SceneStyle style; ///< the scene's `render` style with the figure's own keys on top
 } SceneFigure;
@@ -113,6 +115,8 @@ typedef struct SceneOutput {
     uint32_t trace_ids[SCENE_MAX_TRACE];
     double trace_every;   ///< s between trace.csv rows
     double t_star_length; ///< D of t* = t / sqrt(D/g), m (0 = the sim's time scale)
+    double profile_every; ///< s between free-surface profiles in profile.csv (0 = stage ends)
+    double profile_bin;   ///< bin width of the profile, m (0 = the mean diameter)
     int figure_count;
     SceneFigure figures[SCENE_MAX_FIGURES];
 } SceneOutput;
@@ -135,6 +139,9 @@ typedef struct Scene {
     SceneOutput output;
     SceneStyle style; ///< `render` group
     SceneWhere *where;
+    struct AppDischargeDef *discharge; ///< `discharge` group (app/discharge.h), NULL if absent
+    struct AppSediment *sediment; ///< `fluid` column (app/sediment.h), NULL if absent
+    struct AppBne *bne;           ///< `bne` measures (app/bne.h), NULL if absent
 } Scene;
 
 /// Loads, overrides and checks a scene. `sets` are "KEY=VALUE" strings. Returns NULL with

@@ -177,6 +177,10 @@ static RenderStyle bench_style(void)
     style.range_min = 0.0; /* a fixed range, as movies should have */
     style.range_max = 8.0;
     style.chain_force_max = 4.0;
+    if (getenv("BENCH_NO_CHAINS"))
+        style.force_chains = 0;
+    if (getenv("BENCH_NO_OUTLINE"))
+        style.outline = 0;
     return style;
 }
 
@@ -271,6 +275,10 @@ int main(int argc, char **argv)
            bench.contact_count, WIDTH, HEIGHT, frames, sysconf(_SC_NPROCESSORS_ONLN),
            render_library_versions());
     Rate gl = draw_rate(&bench, RENDER_DRAWER_OSMESA, frames);
+    if (argc > 2 && strcmp(argv[2], "gl") == 0) {
+        printf("OSMesa draw: %.1f frames/s, %.1f CPU ms/frame\n", gl.fps, gl.cpu_ms);
+        return 0;
+    }
     Rate cairo = draw_rate(&bench, RENDER_DRAWER_CAIRO, frames / 4 > 10 ? frames / 4 : 10);
     long gl_bytes = 0, cairo_bytes = 0, fast_bytes = 0;
     Rate gl_movie = movie_rate(&bench, RENDER_DRAWER_OSMESA, frames,

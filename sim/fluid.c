@@ -10,9 +10,10 @@
  *     tau = rho_f (nu + l^2 |g|) g,  g = du/dy                                   (002 eqs. 35-36)
  *
  * with u = 0 at y0 (wall half a layer below the first centre) and tau = rho_f u*^2 at y1.
- * Time stepping is backward Euler; the mixing-length stress is linearised around the old gradient
- * g_o by one Newton step, tau ~ rho_f (nu + 2 l^2 |g_o|) g - rho_f l^2 |g_o| g_o, which converges
- * to the steady law even at huge steps (a plain lagged viscosity oscillates there). The thesis
+ * Time stepping is backward Euler, fully implicit: the mixing-length stress is linearised by
+ * Newton, tau ~ rho_f (nu + 2 l^2 |g_o|) g - rho_f l^2 |g_o| g_o, and iterated to convergence in
+ * each step; this reaches the steady law even at huge steps (a plain lagged viscosity
+ * oscillates there) and keeps start-ups monotone (a single linearised solve does not). The thesis
  * used an explicit scheme (002 eq. 39) whose step limit dy^2 / (2 (nu + nu_t)) falls below the
  * DEM step at small Galileo numbers (notes 002 §7.11); this scheme has none.
  *
@@ -27,9 +28,15 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FLUID_PI           3.14159265358979323846
+#define FLUID_PI             3.14159265358979323846
 /* 1 - phi never below this: a layer packed full of grains keeps a little fluid inertia. */
-#define MIN_FLUID_FRACTION 0.02
+#define MIN_FLUID_FRACTION   0.02
+/* Newton iterations per turbulent step (2-4 are typical at DEM steps). */
+#define SIM_FLUID_NEWTON_MAX 30
+/* Largest velocity change per step a drag may impose, as a fraction of the slip. */
+#define DRAG_STEP_CAP        (2.0 / 3.0)
+/* Layer weights kept per grain. */
+#define WEIGHTS_MAX          64
 
 struct SimFluid {
     SimFluidDef def;
@@ -42,7 +49,7 @@ struct SimFluid {
     /* grain coupling recorded at the last force evaluation, used by the next step */
     double *rate, *source, *phi_next, *area_v, *area;
     /* Thomas work arrays */
-    double *a, *b, *c, *r;
+    double *a, *b, *c, *r, *u_old, *u_next;
     double last_eval; /* time of the last force evaluation, s (NAN before the first) */
     double limit_dt;  /* dt of the drag limiter, s */
     int coupled;      /* 1 once a force evaluation recorded grains */
@@ -135,20 +142,10 @@ SimFluid *sim_fluid_create(const SimFluidDef *def, SimError *error)
     f->last_eval = NAN;
     f->limit_dt = def->time_step;
     size_t n = (size_t)f->n;
-    double **arrays[] = {&f->y,
-                         &f->u,
-                         &f->phi,
-                         &f->grain_force,
-                         &f->grain_velocity,
-                         &f->rate,
-                         &f->source,
-                         &f->phi_next,
-                         &f->area_v,
-                         &f->area,
-                         &f->a,
-                         &f->b,
-                         &f->c,
-                         &f->r};
+    double **arrays[] = {&f->y,     &f->u,      &f->phi,      &f->grain_force, &f->grain_velocity,
+                         &f->rate,  &f->source, &f->phi_next, &f->area_v,      &f->area,
+                         &f->a,     &f->b,      &f->c,        &f->r,           &f->u_old,
+                         &f->u_next};
     for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; ++k)
         if (!(*arrays[k] = calloc(n, sizeof(double)))) {
             sim_fluid_destroy(f);
@@ -185,6 +182,8 @@ void sim_fluid_destroy(SimFluid *f)
     free(f->b);
     free(f->c);
     free(f->r);
+    free(f->u_old);
+    free(f->u_next);
     free(f);
 }
 
@@ -243,15 +242,14 @@ static void compute_stress(SimFluid *f)
     f->stress[f->n] = rho * f->u_star * f->u_star;
 }
 
-void sim_fluid_step(SimFluid *f, double dt, const double *phi, const double *rate,
-                    const double *source)
+/* One linear solve of backward Euler with the mixing-length stress linearised around the
+ * iterate `it` (velocities at the start of the step in f->u_old); result in `out`. */
+static void solve_linearised(SimFluid *f, double dt, const double *phi, const double *rate,
+                             const double *source, const double *it, double *out)
 {
     const SimFluidDef *d = &f->def;
     const int n = f->n;
     const double rho = d->density, h = f->h, nu = d->viscosity;
-    if (!(dt > 0.0))
-        return;
-    f->bed_level = find_bed(f, phi);
     double *a = f->a, *b = f->b, *c = f->c, *r = f->r;
     /* Face k+1/2 between layers k and k+1 is face index k+1 (at y0 + (k+1) h). */
     double d_lo = 2.0 * rho * nu / h, e_lo = 0.0; /* bottom face: no slip, l = 0 */
@@ -263,16 +261,16 @@ void sim_fluid_step(SimFluid *f, double dt, const double *phi, const double *rat
         double rk = rate ? rate[k] : 0.0, sk = source ? source[k] : 0.0;
         double d_hi = 0.0, e_hi = 0.0;
         if (k < n - 1) {
-            double g = (f->u[k + 1] - f->u[k]) / h;
+            double g = (it[k + 1] - it[k]) / h;
             double l = mixing_length(d, f->u_star, f->bed_level, d->y0 + (k + 1) * h);
             double lg = l * l * fabs(g);
-            d_hi = rho * (nu + 2.0 * lg) / h; /* Newton linearisation of tau(g) at g_o */
+            d_hi = rho * (nu + 2.0 * lg) / h; /* Newton: tau(g) ~ tau(g_o) + tau'(g_o) (g - g_o) */
             e_hi = rho * lg * g;
         }
         a[k] = -d_lo;
         c[k] = -d_hi;
         b[k] = m + d_lo + d_hi + h * rk;
-        r[k] = m * f->u[k] - e_hi + e_lo + h * sk;
+        r[k] = m * f->u_old[k] - e_hi + e_lo + h * sk;
         if (k == n - 1)
             r[k] += rho * f->u_star * f->u_star; /* imposed top stress */
         d_lo = d_hi;
@@ -284,9 +282,35 @@ void sim_fluid_step(SimFluid *f, double dt, const double *phi, const double *rat
         b[k] -= w * c[k - 1];
         r[k] -= w * r[k - 1];
     }
-    f->u[n - 1] = r[n - 1] / b[n - 1];
+    out[n - 1] = r[n - 1] / b[n - 1];
     for (int k = n - 2; k >= 0; --k)
-        f->u[k] = (r[k] - c[k] * f->u[k + 1]) / b[k];
+        out[k] = (r[k] - c[k] * out[k + 1]) / b[k];
+}
+
+void sim_fluid_step(SimFluid *f, double dt, const double *phi, const double *rate,
+                    const double *source)
+{
+    const int n = f->n;
+    if (!(dt > 0.0))
+        return;
+    f->bed_level = find_bed(f, phi);
+    memcpy(f->u_old, f->u, (size_t)n * sizeof(double));
+    /* Fully implicit (the nonlinear backward-Euler equations solved by Newton iterations): the
+     * converged step keeps the comparison principle of the exact equation, so a start-up never
+     * overshoots, whatever dt; one linearised solve alone can (the tangent of the convex stress
+     * lies below it). Laminar: one solve is exact. */
+    int iterations = f->def.turbulent ? SIM_FLUID_NEWTON_MAX : 1;
+    for (int it = 0; it < iterations; ++it) {
+        solve_linearised(f, dt, phi, rate, source, f->u, f->u_next);
+        double change = 0.0, size = 0.0;
+        for (int k = 0; k < n; ++k) {
+            change = fmax(change, fabs(f->u_next[k] - f->u[k]));
+            size = fmax(size, fabs(f->u_next[k]));
+        }
+        memcpy(f->u, f->u_next, (size_t)n * sizeof(double));
+        if (change <= 1e-13 * size)
+            break;
+    }
     for (int k = 0; k < n; ++k) {
         f->phi[k] = phi ? phi[k] : 0.0;
         /* the force on the grains as the fluid saw it: exact steady budget */
@@ -346,17 +370,6 @@ double sim_fluid_drag_coefficient(const SimFluidDef *d, double reynolds)
     return s * s;
 }
 
-/* Area of a disk (centre yc, radius r) below height y. */
-static double disk_area_below(double yc, double r, double y)
-{
-    double s = (y - yc) / r;
-    if (s <= -1.0)
-        return 0.0;
-    if (s >= 1.0)
-        return FLUID_PI * r * r;
-    return r * r * (acos(-s) + s * sqrt(1.0 - s * s));
-}
-
 /* The body-force stage (see sim.h). */
 static void fluid_apply(void *context, const SimBodyForceView *view)
 {
@@ -390,11 +403,23 @@ static void fluid_apply(void *context, const SimBodyForceView *view)
         int k0 = (int)floor((yc - r - d->y0) / h), k1 = (int)floor((yc + r - d->y0) / h);
         double inside = 0.0, uw = 0.0;
         int lo = k0 < 0 ? 0 : k0, hi = k1 >= n ? n - 1 : k1;
-        double below = disk_area_below(yc, r, d->y0 + lo * h);
+        /* The grain's area in each layer: chord at the middle of the covered span times the
+         * span (one sqrt per layer instead of the exact segment areas' acos), rescaled so the
+         * layers of a grain inside the column sum to its area exactly. Kept for the reaction
+         * below; grains spanning more than WEIGHTS_MAX layers recompute. */
+        double weights[WEIGHTS_MAX], raw = 0.0;
+        for (int k = k0; k <= k1; ++k) {
+            double a = fmax(d->y0 + k * h, yc - r), b = fmin(d->y0 + (k + 1) * h, yc + r);
+            double m = 0.5 * (a + b) - yc, chord = 2.0 * sqrt(fmax(r * r - m * m, 0.0));
+            raw += chord * (b - a);
+        }
+        double scale = raw > 0.0 ? area / raw : 0.0;
         for (int k = lo; k <= hi; ++k) {
-            double top = disk_area_below(yc, r, d->y0 + (k + 1) * h);
-            double w = top - below;
-            below = top;
+            double a = fmax(d->y0 + k * h, yc - r), b = fmin(d->y0 + (k + 1) * h, yc + r);
+            double m = 0.5 * (a + b) - yc;
+            double w = scale * 2.0 * sqrt(fmax(r * r - m * m, 0.0)) * (b - a);
+            if (k - lo < WEIGHTS_MAX)
+                weights[k - lo] = w;
             inside += w;
             uw += w * f->u[k];
         }
@@ -414,8 +439,13 @@ static void fluid_apply(void *context, const SimBodyForceView *view)
         if (d->drag_limit && f->limit_dt > 0.0 && mass > 0.0) {
             /* exact relaxation over one step: no overshoot however small tau_p = m / coef */
             double x = coef * f->limit_dt / mass;
-            if (x > 1e-8)
-                coef = mass * (-expm1(-x)) / f->limit_dt;
+            if (x > 1e-8) {
+                /* Velocity Verlet hands the stage a predicted velocity v_half + a dt / 2; with
+                 * c = coef dt / m that recursion has eigenvalues of (1 - 3c/2) +- ..., one negative
+                 * and reaching -1 as c -> 1. Capping c at 2/3 keeps both within 0.58. */
+                double c = -expm1(-x);
+                coef = mass * (c < DRAG_STEP_CAP ? c : DRAG_STEP_CAP) / f->limit_dt;
+            }
         }
         view->fx[i] += coef * rel_x;
         view->fy[i] += coef * rel_y;
@@ -425,11 +455,15 @@ static void fluid_apply(void *context, const SimBodyForceView *view)
             view->fy[i] -= rho * volume * g_y;
         }
         /* reaction: f_k += w_k / A (coef v - coef u_k) / V_layer, implicit in u_k */
-        below = disk_area_below(yc, r, d->y0 + lo * h);
         for (int k = lo; k <= hi; ++k) {
-            double top = disk_area_below(yc, r, d->y0 + (k + 1) * h);
-            double w = top - below;
-            below = top;
+            double w;
+            if (k - lo < WEIGHTS_MAX) {
+                w = weights[k - lo];
+            } else {
+                double a = fmax(d->y0 + k * h, yc - r), b = fmin(d->y0 + (k + 1) * h, yc + r);
+                double m = 0.5 * (a + b) - yc;
+                w = scale * 2.0 * sqrt(fmax(r * r - m * m, 0.0)) * (b - a);
+            }
             double share = w / area;
             f->rate[k] += share * coef / layer_volume;
             f->source[k] += share * coef * view->vx[i] / layer_volume;

@@ -174,7 +174,8 @@ static int gl_disk_colours(void)
     style.fixed_rgb = 0x505050;
     RenderImage image = {0};
     TEST_ASSERT(render_gl_draw(&t.frame, &style, &image) == 0);
-    TEST_ASSERT(image.width == 400 && image.height == 300 && image.format == RENDER_PIXEL_RGBA);
+    TEST_ASSERT(image.width == 400 && image.height == 300 &&
+                image.format == RENDER_PIXEL_BGRA_PREMUL);
     RenderStyle resolved = render_style_resolve(&t.frame, &style);
     RenderView view;
     render_view_fit(&t.frame, &resolved, &view);

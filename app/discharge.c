@@ -1,0 +1,623 @@
+/* SPDX-License-Identifier: MIT */
+/* discharge.c: thesis 004's open pile (docs/discharge.md). Deposition: a base of touching fixed
+ * grains of 0.1 d, rows of grains released at rest from H every free-fall time over one d_max
+ * (004 §3.1), relaxation to the static-equilibrium criteria of 004 §3.1. Discharge: the base
+ * grains under the orifice are removed (004 §3.2), the pile runs to a new equilibrium, and the
+ * grains that fell through the orifice (|x| < 4 d_max, the thesis code's rule) or over the edges
+ * are counted by two sinks. Measures: h (004 §3.3), the arch (004 §2.5 with the one-sided fix,
+ * sim_frame_find_arch) and the species composition (004 §3.4). */
+#include "discharge.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#define PI 3.14159265358979323846
+
+static double now_seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* ---------------------------------------------------------------- parsing */
+
+typedef struct Parse {
+    const char *path;
+    char *err;
+    size_t err_size;
+} Parse;
+
+__attribute__((format(printf, 3, 4))) static int bad(Parse *p, const config_setting_t *s,
+                                                     const char *format, ...)
+{
+    char message[400];
+    va_list args;
+    va_start(args, format);
+    vsnprintf(message, sizeof message, format, args);
+    va_end(args);
+    const char *file = s ? config_setting_source_file(s) : NULL;
+    snprintf(p->err, p->err_size, "%s:%u: discharge: %s", file ? file : p->path,
+             s ? config_setting_source_line(s) : 1u, message);
+    return -1;
+}
+
+static int number(Parse *p, const config_setting_t *g, const char *key, double min, double *out)
+{
+    const config_setting_t *s = config_setting_get_member(g, key);
+    if (!s)
+        return 0;
+    int type = config_setting_type(s);
+    if (type == CONFIG_TYPE_INT || type == CONFIG_TYPE_INT64)
+        *out = (double)config_setting_get_int64(s);
+    else if (type == CONFIG_TYPE_FLOAT)
+        *out = config_setting_get_float(s);
+    else
+        return bad(p, s, "`%s` must be a number", key);
+    if (!isfinite(*out) || *out < min)
+        return bad(p, s, "`%s` must be a finite number >= %g, got %g", key, min, *out);
+    return 1;
+}
+
+static int integer(Parse *p, const config_setting_t *g, const char *key, long min, int *out)
+{
+    const config_setting_t *s = config_setting_get_member(g, key);
+    if (!s)
+        return 0;
+    int type = config_setting_type(s);
+    if (type != CONFIG_TYPE_INT && type != CONFIG_TYPE_INT64)
+        return bad(p, s, "`%s` must be an integer", key);
+    long long v = config_setting_get_int64(s);
+    if (v < min || v > 1000000000LL)
+        return bad(p, s, "`%s` must be an integer in [%ld, 1e9], got %lld", key, min, v);
+    *out = (int)v;
+    return 1;
+}
+
+static int numbers(Parse *p, const config_setting_t *g, const char *key, int max, double *out,
+                   int *count)
+{
+    const config_setting_t *s = config_setting_get_member(g, key);
+    if (!s)
+        return 0;
+    if (config_setting_type(s) != CONFIG_TYPE_ARRAY && config_setting_type(s) != CONFIG_TYPE_LIST)
+        return bad(p, s, "`%s` must be an array of numbers", key);
+    int n = config_setting_length(s);
+    if (n < 1 || n > max)
+        return bad(p, s, "`%s` must have 1 to %d entries", key, max);
+    for (int k = 0; k < n; ++k) {
+        const config_setting_t *e = config_setting_get_elem(s, (unsigned)k);
+        int type = config_setting_type(e);
+        if (type == CONFIG_TYPE_FLOAT)
+            out[k] = config_setting_get_float(e);
+        else if (type == CONFIG_TYPE_INT || type == CONFIG_TYPE_INT64)
+            out[k] = (double)config_setting_get_int64(e);
+        else
+            return bad(p, s, "`%s` must be an array of numbers", key);
+        if (!isfinite(out[k]) || out[k] < 0.0)
+            return bad(p, s, "`%s` entries must be finite and >= 0", key);
+    }
+    *count = n;
+    return 1;
+}
+
+int app_discharge_parse(const config_setting_t *g, const char *scene_path, int species_count,
+                        AppDischargeDef *def, char *err, size_t err_size)
+{
+    Parse p = {scene_path, err, err_size};
+    static const char *const keys[] = {
+        "base_length",      "base_diameter", "gravity",     "release_height",  "row_period",
+        "row_fill",         "row_jitter",    "max_rows",    "stationary_rows", "stationary_gain",
+        "dt_divisor",       "tolerance",     "check_every", "relax_time",      "discharge_time",
+        "polydispersity",   "fractions",     "diameters",   "base_species",    "exit_half_width",
+        "arch_force_check", "widths",        NULL};
+    memset(def, 0, sizeof *def);
+    def->base_diameter = 0.1;
+    def->thesis_gravity = 1;
+    def->row_fill = 0.5;
+    def->row_jitter = 0.95;
+    def->stationary_rows = 10;
+    def->stationary_gain = 0.1;
+    def->dt_divisor = 50.0;
+    def->tolerance = 1e-6;
+    def->check_every = 500;
+    def->polydispersity = 0.025;
+    def->species_count = species_count;
+    def->fractions[0] = 1.0;
+    for (int k = 0; k < SIM_MAX_SPECIES; ++k)
+        def->diameters[k] = 1.0;
+    if (config_setting_type(g) != CONFIG_TYPE_GROUP)
+        return bad(&p, g, "`discharge` must be a group { ... }");
+    for (int k = 0; k < config_setting_length(g); ++k) {
+        const config_setting_t *s = config_setting_get_elem(g, (unsigned)k);
+        const char *name = config_setting_name(s);
+        int known = 0;
+        for (int j = 0; keys[j] && !known; ++j)
+            known = strcmp(keys[j], name) == 0;
+        if (!known)
+            return bad(&p, s, "unknown key `%s`", name);
+    }
+    const config_setting_t *s = config_setting_get_member(g, "base_length");
+    if (!s)
+        return bad(&p, g, "`base_length` (L, in grain diameters) is required");
+    if (number(&p, g, "base_length", 2.0, &def->base_length) < 0 ||
+        number(&p, g, "base_diameter", 1e-3, &def->base_diameter) < 0 ||
+        number(&p, g, "release_height", 0.0, &def->release_height) < 0 ||
+        number(&p, g, "row_period", 0.0, &def->row_period) < 0 ||
+        number(&p, g, "row_fill", 1e-3, &def->row_fill) < 0 ||
+        number(&p, g, "row_jitter", 0.0, &def->row_jitter) < 0 ||
+        integer(&p, g, "max_rows", 0, &def->max_rows) < 0 ||
+        integer(&p, g, "stationary_rows", 0, &def->stationary_rows) < 0 ||
+        number(&p, g, "stationary_gain", 0.0, &def->stationary_gain) < 0 ||
+        number(&p, g, "dt_divisor", 1.0, &def->dt_divisor) < 0 ||
+        number(&p, g, "tolerance", 0.0, &def->tolerance) < 0 ||
+        integer(&p, g, "check_every", 1, &def->check_every) < 0 ||
+        number(&p, g, "relax_time", 0.0, &def->relax_time) < 0 ||
+        number(&p, g, "discharge_time", 0.0, &def->discharge_time) < 0 ||
+        number(&p, g, "polydispersity", 0.0, &def->polydispersity) < 0 ||
+        integer(&p, g, "base_species", 0, &def->base_species) < 0 ||
+        number(&p, g, "exit_half_width", 0.0, &def->exit_half_width) < 0)
+        return -1;
+    if (def->row_fill > 1.0 || def->row_jitter > 1.0 || def->polydispersity >= 0.5) {
+        s = config_setting_get_member(g, def->row_fill > 1.0     ? "row_fill"
+                                         : def->row_jitter > 1.0 ? "row_jitter"
+                                                                 : "polydispersity");
+        return bad(&p, s, "row_fill and row_jitter must be <= 1, polydispersity < 0.5");
+    }
+    if (def->base_species >= species_count)
+        return bad(&p, config_setting_get_member(g, "base_species"),
+                   "`base_species` %d is not a species (0 to %d)", def->base_species,
+                   species_count - 1);
+    const char *gravity = NULL;
+    if ((s = config_setting_get_member(g, "gravity")) != NULL) {
+        if (config_setting_type(s) != CONFIG_TYPE_STRING)
+            return bad(&p, s, "`gravity` must be \"thesis\" or \"scene\"");
+        gravity = config_setting_get_string(s);
+        if (strcmp(gravity, "thesis") != 0 && strcmp(gravity, "scene") != 0)
+            return bad(&p, s, "`gravity` must be \"thesis\" or \"scene\", got \"%s\"", gravity);
+        def->thesis_gravity = strcmp(gravity, "thesis") == 0;
+    }
+    if ((s = config_setting_get_member(g, "arch_force_check")) != NULL) {
+        if (config_setting_type(s) != CONFIG_TYPE_BOOL)
+            return bad(&p, s, "`arch_force_check` must be true or false");
+        def->arch_force_check = config_setting_get_bool(s);
+    }
+    int n = 0;
+    int got = numbers(&p, g, "fractions", SIM_MAX_SPECIES, def->fractions, &n);
+    if (got < 0)
+        return -1;
+    if (got > 0) {
+        double sum = 0.0;
+        for (int k = 0; k < n; ++k)
+            sum += def->fractions[k];
+        if (n > species_count || !(sum > 0.0))
+            return bad(&p, config_setting_get_member(g, "fractions"),
+                       "`fractions` needs one entry per species (%d) and a positive sum",
+                       species_count);
+        for (int k = 0; k < n; ++k)
+            def->fractions[k] /= sum;
+    }
+    got = numbers(&p, g, "diameters", SIM_MAX_SPECIES, def->diameters, &n);
+    if (got < 0)
+        return -1;
+    for (int k = 0; got > 0 && k < n; ++k)
+        if (!(def->diameters[k] > 0.0) || n > species_count)
+            return bad(&p, config_setting_get_member(g, "diameters"),
+                       "`diameters` needs one positive entry per species (%d)", species_count);
+    got = numbers(&p, g, "widths", 64, def->widths, &def->width_count);
+    if (got < 0)
+        return -1;
+    return 0;
+}
+
+/* ---------------------------------------------------------------- geometry */
+
+void app_discharge_geometry(const Scene *scene, AppDischargeGeometry *geo)
+{
+    const AppDischargeDef *def = scene->discharge;
+    const double L = def->base_length, p = def->polydispersity;
+    memset(geo, 0, sizeof *geo);
+    geo->d_min = INFINITY;
+    geo->m_min = INFINITY;
+    for (int k = 0; k < def->species_count; ++k) {
+        if (!(def->fractions[k] > 0.0))
+            continue;
+        double d_lo = def->diameters[k] * (1.0 - p), d_hi = def->diameters[k] * (1.0 + p);
+        geo->d_max = fmax(geo->d_max, d_hi);
+        geo->d_min = fmin(geo->d_min, d_lo);
+        geo->d_mean += def->fractions[k] * def->diameters[k];
+        double rho = scene->def.materials[k].density, r = 0.5 * d_lo;
+        double m = scene->def.mass_model == SIM_MASS_SPHERE ? rho * 4.0 / 3.0 * PI * r * r * r
+                                                            : rho * PI * r * r;
+        geo->m_min = fmin(geo->m_min, m);
+    }
+    /* g = 2/(L(L+1)) in the thesis code's length unit L/2 is 1/(L+1) in diameters: the
+     * stiffness ratio k_n d/(m g) = 1000 (L+1) of the thesis (notes §1.10) is kept. */
+    geo->g =
+        def->thesis_gravity ? 1.0 / (L + 1.0) : hypot(scene->def.gravity_x, scene->def.gravity_y);
+    double k_n = scene->def.materials[0].normal_stiffness;
+    for (int k = 1; k < scene->def.species_count; ++k)
+        k_n = fmax(k_n, scene->def.materials[k].normal_stiffness);
+    geo->dt = sqrt(geo->m_min / k_n) / def->dt_divisor; /* the thesis code's dt (notes §1.8) */
+    geo->row_period = def->row_period > 0.0 ? def->row_period : sqrt(2.0 * geo->d_max / geo->g);
+    geo->height = def->release_height > 0.0 ? def->release_height : L;
+    geo->row_size = (int)fmax(1.0, floor(def->row_fill * L / geo->d_mean + 0.5));
+    geo->max_rows = def->max_rows > 0 ? def->max_rows : (int)ceil(1.5 * (L + 1.0));
+    if (geo->max_rows > 1024)
+        geo->max_rows = 1024;
+    /* Caps: many times the free-fall time over the pile and the fall from H. */
+    double fall = sqrt(2.0 * geo->height / geo->g);
+    geo->relax_time = def->relax_time > 0.0 ? def->relax_time : 20.0 * fall;
+    geo->discharge_time = def->discharge_time > 0.0 ? def->discharge_time : 20.0 * fall;
+    geo->exit_half_width = def->exit_half_width > 0.0 ? def->exit_half_width : 4.0 * geo->d_max;
+}
+
+/* The scene's definition with the protocol's gravity, time step, sinks and skin. */
+static SimWorldDef protocol_def(const Scene *scene, const AppDischargeGeometry *geo)
+{
+    SimWorldDef def = scene_world_def(scene, 0);
+    def.gravity_x = 0.0;
+    def.gravity_y = -geo->g;
+    def.time_step = geo->dt;
+    def.max_dt_fraction = 0.0;
+    def.effects |= SIM_EFFECT_REMOVAL;
+    if (def.skin <= 0.0)
+        def.skin = 0.2 * geo->d_mean;
+    def.length_scale = geo->d_mean;
+    /* Sinks are tested in order, first match wins: the orifice column first, then the edges. */
+    def.sink_count = 2;
+    def.sinks[0] = (SimSink){.shape = SIM_SINK_RECT,
+                             .x0 = -geo->exit_half_width,
+                             .y0 = -1e9,
+                             .x1 = geo->exit_half_width,
+                             .y1 = -1e-12};
+    def.sinks[1] = (SimSink){.shape = SIM_SINK_BELOW, .level = 0.0};
+    return def;
+}
+
+/* ---------------------------------------------------------------- running */
+
+static int step_frames(SimWorld *world, long steps, const AppFrames *frames, long *done, char *err,
+                       size_t err_size)
+{
+    SimError error;
+    while (steps > 0) {
+        long chunk = steps;
+        if (frames && frames->sink.consume && frames->every > 0) {
+            long to_frame = frames->every - sim_world_step_count(world) % frames->every;
+            if (to_frame < chunk)
+                chunk = to_frame;
+        }
+        if (sim_world_step(world, chunk, &error) != SIM_OK) {
+            snprintf(err, err_size, "simulation failed at step %ld (t = %g), grain %ld: %s",
+                     error.step, sim_world_time(world), error.grain, error.message);
+            return -1;
+        }
+        steps -= chunk;
+        if (done)
+            *done += chunk;
+        if (frames && frames->sink.consume && frames->every > 0 &&
+            sim_world_step_count(world) % frames->every == 0) {
+            SimFrame frame;
+            sim_world_frame(world, &frame);
+            frames->sink.consume(frames->sink.context, &frame);
+        }
+    }
+    return 0;
+}
+
+int app_relax(SimWorld *world, const AppDischargeDef *def, double cap, const AppFrames *frames,
+              long *steps, char *err, size_t err_size)
+{
+    double dt = sim_world_time_step(world);
+    long total = (long)ceil(cap / dt), done = 0;
+    for (;;) {
+        if (sim_world_mobile_count(world) == 0)
+            return 1;
+        SimEquilibrium q = sim_world_equilibrium(world, def->tolerance);
+        if (q.equilibrium)
+            return 1;
+        if (done >= total)
+            return 0;
+        long chunk = def->check_every < total - done ? def->check_every : total - done;
+        if (step_frames(world, chunk, frames, &done, err, err_size) != 0)
+            return -1;
+        if (steps)
+            *steps += chunk;
+    }
+}
+
+/* Contacts per mobile grain from a frame; returns the grains with at least one. */
+static int pile_population(SimWorld *world)
+{
+    SimFrame frame;
+    sim_world_frame(world, &frame);
+    unsigned char *touch = calloc((size_t)frame.mobile_count + 1, 1);
+    if (!touch)
+        abort();
+    for (int c = 0; c < frame.contact_count; ++c) {
+        const SimContact *k = &frame.contacts[c];
+        if (k->i >= 0 && k->i < frame.mobile_count)
+            touch[k->i] = 1;
+        if (k->j >= 0 && k->j < frame.mobile_count)
+            touch[k->j] = 1;
+    }
+    int n = 0;
+    for (int i = 0; i < frame.mobile_count; ++i)
+        n += touch[i];
+    free(touch);
+    return n;
+}
+
+static int draw_species(const AppDischargeDef *def, SimRng *rng)
+{
+    double u = sim_rng_uniform(rng), acc = 0.0;
+    int last = 0;
+    for (int k = 0; k < def->species_count; ++k) {
+        if (!(def->fractions[k] > 0.0))
+            continue;
+        last = k;
+        acc += def->fractions[k];
+        if (u < acc)
+            return k;
+    }
+    return last;
+}
+
+/* One row at rest at height H: equal slots over the base, each grain jittered within its slot by
+ * at most row_jitter x (half slot - r_max), so no two grains of a row can overlap (the listing's
+ * jitter could: notes §2.7). */
+static int rain_row(SimWorld *world, const AppDischargeDef *def, const AppDischargeGeometry *geo,
+                    SimRng *rng, char *err, size_t err_size)
+{
+    SimGrainBuffer row;
+    sim_grain_buffer_init(&row);
+    const double L = def->base_length, slot = L / geo->row_size;
+    const double room = fmax(0.0, 0.5 * slot - 0.5 * geo->d_max) * def->row_jitter;
+    for (int k = 0; k < geo->row_size; ++k) {
+        int species = draw_species(def, rng);
+        double r = 0.5 * def->diameters[species] *
+                   (1.0 + def->polydispersity * (2.0 * sim_rng_uniform(rng) - 1.0));
+        double x = -0.5 * L + (k + 0.5) * slot + room * (2.0 * sim_rng_uniform(rng) - 1.0);
+        sim_grain_buffer_add(&row, x, geo->height, r, species, 0u, -1);
+    }
+    SimGrainSet set = sim_grain_buffer_view(&row);
+    set.id = NULL; /* fresh ids above every id in use */
+    SimError error;
+    SimStatus s = sim_world_add_grains(world, &set, &error);
+    sim_grain_buffer_free(&row);
+    if (s != SIM_OK) {
+        snprintf(err, err_size, "cannot release a row: %s: %s", error.field, error.message);
+        return -1;
+    }
+    return geo->row_size;
+}
+
+SimWorld *app_deposit(const Scene *scene, uint64_t seed, const AppFrames *frames, FILE *trace,
+                      AppDeposit *out, char *err, size_t err_size)
+{
+    const AppDischargeDef *def = scene->discharge;
+    memset(out, 0, sizeof *out);
+    if (!def) {
+        snprintf(err, err_size, "%s: the scene has no `discharge` group", scene->path);
+        return NULL;
+    }
+    double wall0 = now_seconds();
+    AppDischargeGeometry geo;
+    app_discharge_geometry(scene, &geo);
+    /* The base and the first row: a world needs a mobile grain to size its time step checks. */
+    SimGrainBuffer base;
+    sim_grain_buffer_init(&base);
+    const double L = def->base_length, rb = 0.5 * def->base_diameter;
+    int n_base = (int)floor(L / def->base_diameter + 0.5);
+    for (int k = 0; k < n_base; ++k)
+        sim_grain_buffer_add(&base, -0.5 * L + rb + def->base_diameter * k, 0.0, rb,
+                             def->base_species, SIM_GRAIN_FIXED, -1);
+    SimRng rng;
+    sim_rng_seed(&rng, seed);
+    SimWorldDef wdef = protocol_def(scene, &geo);
+    wdef.grains = sim_grain_buffer_view(&base);
+    SimError error;
+    SimWorld *world = sim_world_create(&wdef, &error);
+    sim_grain_buffer_free(&base);
+    if (!world) {
+        snprintf(err, err_size, "%s: cannot build the base: %s: %s", scene->path, error.field,
+                 error.message);
+        return NULL;
+    }
+    const long row_steps = (long)fmax(1.0, floor(geo.row_period / geo.dt + 0.5));
+    const int window = def->stationary_rows;
+    int status = 0;
+    for (int row = 0; row < geo.max_rows && status == 0; ++row) {
+        if (rain_row(world, def, &geo, &rng, err, err_size) < 0) {
+            status = -1;
+            break;
+        }
+        out->released += geo.row_size;
+        out->rows = row + 1;
+        if (step_frames(world, row_steps, frames, &out->steps, err, err_size) != 0) {
+            status = -1;
+            break;
+        }
+        int pile = pile_population(world);
+        if (row < (int)(sizeof out->pile_count / sizeof out->pile_count[0])) {
+            out->pile_count[row] = pile;
+            out->pile_count_rows = row + 1;
+        }
+        if (trace)
+            fprintf(trace, "%.9g,%d,%d,%d,%d\n", sim_world_time(world), row + 1, out->released,
+                    pile, sim_world_mobile_count(world));
+        /* 004 fig. 2.8: construction ends when the pile population is stationary. */
+        if (window > 0 && row >= window && row < out->pile_count_rows &&
+            out->pile_count[row] - out->pile_count[row - window] <
+                def->stationary_gain * window * geo.row_size)
+            break;
+    }
+    if (status == 0) {
+        int r = app_relax(world, def, geo.relax_time + sqrt(2.0 * geo.height / geo.g), frames,
+                          &out->steps, err, err_size);
+        if (r < 0)
+            status = -1;
+        out->equilibrium = r == 1;
+    }
+    if (status != 0) {
+        sim_world_destroy(world);
+        return NULL;
+    }
+    out->pile = sim_world_mobile_count(world);
+    out->lost = sim_world_removed_count(world, 0) + sim_world_removed_count(world, 1);
+    out->time = sim_world_time(world);
+    SimFrame frame;
+    sim_world_frame(world, &frame);
+    out->height = app_central_height(&frame, 0.0, 0.5 * geo.d_mean);
+    out->wall_seconds = now_seconds() - wall0;
+    return world;
+}
+
+int app_open_orifice(SimWorld *world, double width, double center_x)
+{
+    SimFrame frame;
+    sim_world_frame(world, &frame);
+    int n = 0;
+    uint32_t *ids = malloc((size_t)(frame.count + 1) * sizeof *ids);
+    if (!ids)
+        abort();
+    for (int i = frame.mobile_count; i < frame.count; ++i)
+        if ((frame.flags[i] & SIM_GRAIN_FIXED) && fabs(frame.x[i] - center_x) < 0.5 * width)
+            ids[n++] = frame.id[i];
+    int removed = n ? sim_world_remove_ids(world, ids, n) : 0;
+    free(ids);
+    return removed;
+}
+
+double app_central_height(const SimFrame *frame, double center_x, double half_width)
+{
+    double h = 0.0;
+    for (int i = 0; i < frame->mobile_count; ++i)
+        if (fabs(frame->x[i] - center_x) < half_width && frame->y[i] > h)
+            h = frame->y[i];
+    return h;
+}
+
+void app_discharge_measure(SimWorld *world, const AppDischargeDef *def, AppDischarge *out)
+{
+    SimFrame frame;
+    sim_world_frame(world, &frame);
+    out->through = sim_world_removed_count(world, 0);
+    out->edges = sim_world_removed_count(world, 1);
+    out->pile = frame.mobile_count;
+    memset(out->pile_species, 0, sizeof out->pile_species);
+    memset(out->arch_species, 0, sizeof out->arch_species);
+    double d_sum = 0.0;
+    for (int i = 0; i < frame.mobile_count; ++i) {
+        if (frame.species[i] >= 0 && frame.species[i] < SIM_MAX_SPECIES)
+            ++out->pile_species[frame.species[i]];
+        d_sum += 2.0 * frame.radius[i];
+    }
+    double d_mean = frame.mobile_count ? d_sum / frame.mobile_count : 1.0;
+    out->height = app_central_height(&frame, 0.0, 0.5 * d_mean);
+    int members[APP_ARCH_MAX];
+    out->arch = sim_frame_find_arch(&frame, 0.0, def->arch_force_check, members, APP_ARCH_MAX);
+    for (int k = 0; k < out->arch; ++k) {
+        int i = members[k];
+        out->arch_ids[k] = frame.id[i];
+        if (frame.species[i] >= 0 && frame.species[i] < SIM_MAX_SPECIES)
+            ++out->arch_species[frame.species[i]];
+    }
+}
+
+SimWorld *app_discharge(const Scene *scene, const char *pile_path, double width,
+                        const AppFrames *frames, AppDischarge *out, char *err, size_t err_size)
+{
+    const AppDischargeDef *def = scene->discharge;
+    memset(out, 0, sizeof *out);
+    out->width = width;
+    if (!def) {
+        snprintf(err, err_size, "%s: the scene has no `discharge` group", scene->path);
+        return NULL;
+    }
+    double wall0 = now_seconds();
+    AppDischargeGeometry geo;
+    app_discharge_geometry(scene, &geo);
+    SimGrainSet grains;
+    SimWall *walls = NULL;
+    int wall_count = 0;
+    double time = 0.0;
+    SimError error;
+    if (sim_state_load(pile_path, &grains, &walls, &wall_count, &time, &error) != SIM_OK) {
+        snprintf(err, err_size, "cannot load pile %s: %s", pile_path, error.message);
+        return NULL;
+    }
+    SimWorldDef wdef = protocol_def(scene, &geo);
+    wdef.grains = grains;
+    wdef.walls = walls;
+    wdef.wall_count = wall_count;
+    wdef.start_time = time;
+    SimWorld *world = sim_world_create(&wdef, &error);
+    sim_grain_set_free(&grains);
+    free(walls);
+    if (!world) {
+        snprintf(err, err_size, "pile %s does not fit scene %s: %s: %s", pile_path, scene->path,
+                 error.field, error.message);
+        return NULL;
+    }
+    /* A checkpoint has no contact history: let the tangential springs rebuild with the base
+     * intact, so every width starts from the same static pile. */
+    int r = app_relax(world, def, geo.relax_time, NULL, &out->steps, err, err_size);
+    if (r < 0) {
+        sim_world_destroy(world);
+        return NULL;
+    }
+    out->settled_before = r == 1;
+    double t0 = sim_world_time(world);
+    if (frames && frames->sink.consume) {
+        SimFrame frame;
+        sim_world_frame(world, &frame);
+        frames->sink.consume(frames->sink.context, &frame);
+    }
+    long before0 = sim_world_removed_count(world, 0), before1 = sim_world_removed_count(world, 1);
+    out->opened = app_open_orifice(world, width, 0.0);
+    r = app_relax(world, def, geo.discharge_time, frames, &out->steps, err, err_size);
+    if (r < 0) {
+        sim_world_destroy(world);
+        return NULL;
+    }
+    out->equilibrium = r == 1;
+    app_discharge_measure(world, def, out);
+    out->through -= before0;
+    out->edges -= before1;
+    out->time = sim_world_time(world) - t0;
+    out->wall_seconds = now_seconds() - wall0;
+    return world;
+}
+
+void app_arch_marks(const SimFrame *frame, const AppDischarge *result, int *marks)
+{
+    for (int i = 0; i < frame->count; ++i) {
+        marks[i] = -1;
+        for (int k = 0; k < result->arch; ++k)
+            if (frame->id[i] == result->arch_ids[k]) {
+                marks[i] = 0;
+                break;
+            }
+    }
+}
+
+const char *app_discharge_csv_header(void)
+{
+    return "sample,L,w,s,edges,h,pile,arch,arch_sp0,arch_sp1,pile_sp0,pile_sp1,equilibrium,"
+           "settled_before,time,steps,wall_seconds";
+}
+
+void app_discharge_csv_row(const AppDischarge *r, long sample, double base_length, char *out,
+                           size_t size)
+{
+    snprintf(out, size, "%ld,%.10g,%.10g,%ld,%ld,%.10g,%d,%d,%d,%d,%d,%d,%d,%d,%.10g,%ld,%.4g",
+             sample, base_length, r->width, r->through, r->edges, r->height, r->pile, r->arch,
+             r->arch_species[0], r->arch_species[1], r->pile_species[0], r->pile_species[1],
+             r->equilibrium, r->settled_before, r->time, r->steps, r->wall_seconds);
+}

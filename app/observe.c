@@ -1,0 +1,630 @@
+/* SPDX-License-Identifier: MIT */
+/* observe.c: crater observables (000 §5.4) and plot descriptions read back from a run's CSV
+ * files. The profile is the thesis's free surface: per x-bin about one mean diameter wide, the
+ * highest top of a grain centred in it (notes §5.4 [D]). The crater height is measured as the
+ * depth of the crater below the settled free surface (docs/physics.md, "crater height"). */
+#include "observe.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define OBS_PATH 2200
+
+/* ---------------------------------------------------------------- measures */
+
+/* Interior between the container's side columns, and the floor top. */
+static void container_interior(const SimFrame *f, double *x0, double *x1, double *floor_top)
+{
+    double mx0 = INFINITY, mx1 = -INFINITY, mean = 0.0, my0 = INFINITY;
+    for (int i = 0; i < f->mobile_count; ++i) {
+        mx0 = fmin(mx0, f->x[i] - f->radius[i]);
+        mx1 = fmax(mx1, f->x[i] + f->radius[i]);
+        my0 = fmin(my0, f->y[i] - f->radius[i]);
+        mean += f->x[i];
+    }
+    mean /= f->mobile_count > 0 ? f->mobile_count : 1;
+    double floor_y = INFINITY, floor_r = 0.0;
+    for (int i = f->mobile_count; i < f->count; ++i)
+        if (f->y[i] < floor_y) {
+            floor_y = f->y[i];
+            floor_r = f->radius[i];
+        }
+    *floor_top = isfinite(floor_y) ? floor_y + floor_r : my0;
+    double left = -INFINITY, right = INFINITY;
+    for (int i = f->mobile_count; i < f->count; ++i) {
+        if (f->y[i] <= floor_y + 0.5 * f->radius[i]) /* the floor row is no side wall */
+            continue;
+        if (f->x[i] < mean)
+            left = fmax(left, f->x[i] + f->radius[i]);
+        else
+            right = fmin(right, f->x[i] - f->radius[i]);
+    }
+    *x0 = isfinite(left) ? left : mx0;
+    *x1 = isfinite(right) ? right : mx1;
+}
+
+int app_profile_measure(SimWorld *world, double bin_width, AppProfile *p)
+{
+    memset(p, 0, sizeof *p);
+    SimFrame frame;
+    sim_world_frame(world, &frame);
+    if (frame.mobile_count == 0)
+        return -1;
+    container_interior(&frame, &p->x0, &p->x1, &p->floor_top);
+    double diameter, mass;
+    sim_world_means(world, &diameter, &mass);
+    if (!(bin_width > 0.0))
+        bin_width = diameter;
+    double width = p->x1 - p->x0;
+    if (!(width > 0.0) || !(bin_width > 0.0))
+        return -1;
+    p->bins = (int)fmax(1.0, floor(width / bin_width + 0.5));
+    p->bin = width / p->bins;
+    p->x = malloc((size_t)p->bins * sizeof *p->x);
+    p->y = malloc((size_t)p->bins * sizeof *p->y);
+    if (!p->x || !p->y) {
+        app_profile_free(p);
+        return -1;
+    }
+    sim_world_surface_profile(world, p->x0, p->x1, p->bins, p->y);
+    for (int b = 0; b < p->bins; ++b) {
+        p->x[b] = p->x0 + (b + 0.5) * p->bin;
+        if (isnan(p->y[b]))
+            p->y[b] = p->floor_top;
+    }
+    return 0;
+}
+
+void app_profile_free(AppProfile *p)
+{
+    free(p->x);
+    free(p->y);
+    p->x = p->y = NULL;
+    p->bins = 0;
+}
+
+double app_profile_level(const AppProfile *p, int margin)
+{
+    if (2 * margin >= p->bins)
+        margin = 0;
+    double sum = 0.0;
+    for (int b = margin; b < p->bins - margin; ++b)
+        sum += p->y[b];
+    return p->bins > 2 * margin ? sum / (p->bins - 2 * margin) : (double)NAN;
+}
+
+AppCrater app_crater_measure(const AppProfile *p, double x0, double x1, double level)
+{
+    AppCrater c = {(double)NAN, (double)NAN, (double)NAN};
+    double centre = 0.5 * (x0 + x1), nearest = INFINITY;
+    int near_bin = -1;
+    for (int b = 0; b < p->bins; ++b) {
+        if (fabs(p->x[b] - centre) < nearest) {
+            nearest = fabs(p->x[b] - centre);
+            near_bin = b;
+        }
+        if (p->x[b] < x0 || p->x[b] > x1)
+            continue;
+        if (!(p->y[b] >= c.surface_min)) {
+            c.surface_min = p->y[b];
+            c.x_min = p->x[b];
+        }
+    }
+    if (isnan(c.surface_min) && near_bin >= 0) {
+        c.surface_min = p->y[near_bin];
+        c.x_min = p->x[near_bin];
+    }
+    c.height = level - c.surface_min;
+    return c;
+}
+
+AppBed app_bed_measure(SimWorld *world, const AppProfile *p)
+{
+    AppBed bed;
+    double diameter, mass;
+    sim_world_means(world, &diameter, &mass);
+    bed.coordination = sim_world_coordination(world);
+    bed.hexatic_order = sim_world_hexatic_order(world);
+    bed.level = app_profile_level(p, 2);
+    double lowest = INFINITY;
+    for (int b = 0; b < p->bins; ++b)
+        lowest = fmin(lowest, p->y[b]);
+    bed.window[0] = p->x0 + diameter;
+    bed.window[1] = p->floor_top + diameter;
+    bed.window[2] = p->x1 - diameter;
+    bed.window[3] = lowest - 3.0 * diameter;
+    bed.packing_fraction = bed.window[3] > bed.window[1] && bed.window[2] > bed.window[0]
+                               ? sim_world_packing_fraction(world, bed.window[0], bed.window[1],
+                                                            bed.window[2], bed.window[3])
+                               : (double)NAN;
+    return bed;
+}
+
+/* ---------------------------------------------------------------- observer */
+
+struct AppObserver {
+    const Scene *scene;
+    char out_dir[OBS_PATH];
+    FILE *profile, *crater_csv;
+    char profile_path[OBS_PATH], crater_path[OBS_PATH];
+    int bed_measured;
+    AppBed bed;
+    int mobile_before_dig, removed;
+    int have_cavity;
+    double cavity_x0, cavity_x1; /* m */
+    int have_crater;
+    AppCrater crater;
+    double stage_start;  /* s, start of the last stage begun */
+    double time_scale;   /* sqrt(D/g), s */
+    double energy_scale; /* N m g D, J */
+    double diameter, mass;
+    int mobile;
+};
+
+static FILE *open_tmp(const char *path, const char *header)
+{
+    char tmp[2 * OBS_PATH];
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    FILE *f = fopen(tmp, "w");
+    if (f)
+        fprintf(f, "%s\n", header);
+    return f;
+}
+
+static int close_tmp(FILE **f, const char *path)
+{
+    if (!*f)
+        return 0;
+    int ok = fclose(*f) == 0;
+    *f = NULL;
+    char tmp[2 * OBS_PATH];
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    return ok && rename(tmp, path) == 0 ? 0 : -1;
+}
+
+AppObserver *app_observer_open(const Scene *scene, const char *out_dir, char *err, size_t err_size)
+{
+    AppObserver *o = calloc(1, sizeof *o);
+    if (!o) {
+        snprintf(err, err_size, "out of memory");
+        return NULL;
+    }
+    o->scene = scene;
+    snprintf(o->out_dir, sizeof o->out_dir, "%s", out_dir);
+    snprintf(o->profile_path, sizeof o->profile_path, "%s/profile.csv", out_dir);
+    snprintf(o->crater_path, sizeof o->crater_path, "%s/crater.csv", out_dir);
+    o->profile = open_tmp(o->profile_path, "t,t_stage,stage,x,y");
+    o->crater_csv =
+        open_tmp(o->crater_path, "t,t_stage,stage,surface_min,x_min,crater_height,surface_level");
+    if (!o->profile || !o->crater_csv) {
+        snprintf(err, err_size, "cannot write in %s: %s", out_dir, strerror(errno));
+        if (o->profile)
+            fclose(o->profile);
+        if (o->crater_csv)
+            fclose(o->crater_csv);
+        free(o);
+        return NULL;
+    }
+    return o;
+}
+
+void app_observer_before_edit(AppObserver *o, SimWorld *world, int stage)
+{
+    if (!o || !o->scene->stages[stage].dig)
+        return;
+    const SceneStage *s = &o->scene->stages[stage];
+    AppProfile p;
+    if (app_profile_measure(world, o->scene->output.profile_bin, &p) != 0)
+        return;
+    if (!o->bed_measured) {
+        o->bed = app_bed_measure(world, &p);
+        o->bed_measured = 1;
+    } else {
+        o->bed.level = app_profile_level(&p, 2);
+    }
+    app_profile_free(&p);
+    o->mobile_before_dig = sim_world_mobile_count(world);
+    o->have_cavity = 1;
+    o->cavity_x0 = s->dig_center_x - 0.5 * s->dig_width;
+    o->cavity_x1 = s->dig_center_x + 0.5 * s->dig_width;
+}
+
+void app_observer_stage_start(AppObserver *o, SimWorld *world, int stage)
+{
+    (void)stage;
+    if (!o)
+        return;
+    if (o->have_cavity && o->removed == 0)
+        o->removed = o->mobile_before_dig - sim_world_mobile_count(world);
+    const Scene *scene = o->scene;
+    double g = hypot(scene->def.gravity_x, scene->def.gravity_y);
+    SimFrame frame;
+    sim_world_frame(world, &frame);
+    double length = scene->output.t_star_length > 0.0 ? scene->output.t_star_length
+                                                      : frame.time_scale * frame.time_scale * g;
+    sim_world_means(world, &o->diameter, &o->mass);
+    o->mobile = sim_world_mobile_count(world);
+    o->stage_start = sim_world_time(world);
+    o->time_scale = g > 0.0 ? sqrt(length / g) : 0.0;
+    o->energy_scale = o->mobile * o->mass * g * length; /* N m g D (000 eq. 6.6, per particle) */
+}
+
+void app_observer_sample(AppObserver *o, SimWorld *world, int stage, double stage_start)
+{
+    if (!o)
+        return;
+    AppProfile p;
+    if (app_profile_measure(world, o->scene->output.profile_bin, &p) != 0)
+        return;
+    double t = sim_world_time(world);
+    const char *name = o->scene->stages[stage].name;
+    for (int b = 0; b < p.bins; ++b)
+        fprintf(o->profile, "%.9g,%.9g,%s,%.6g,%.6g\n", t, t - stage_start, name, p.x[b], p.y[b]);
+    if (o->have_cavity && o->bed_measured) {
+        o->crater = app_crater_measure(&p, o->cavity_x0, o->cavity_x1, o->bed.level);
+        o->have_crater = 1;
+        fprintf(o->crater_csv, "%.9g,%.9g,%s,%.6g,%.6g,%.6g,%.6g\n", t, t - stage_start, name,
+                o->crater.surface_min, o->crater.x_min, o->crater.height, o->bed.level);
+    }
+    app_profile_free(&p);
+}
+
+static void number(char *out, size_t size, double v)
+{
+    if (isfinite(v))
+        snprintf(out, size, "%.8g", v);
+    else
+        snprintf(out, size, "null");
+}
+
+void app_observer_json(const AppObserver *o, char *out, size_t size)
+{
+    out[0] = '\0';
+    if (!o || !o->bed_measured)
+        return;
+    char a[32], b[32], c[32], d[32];
+    number(a, sizeof a, o->bed.coordination);
+    number(b, sizeof b, o->bed.packing_fraction);
+    number(c, sizeof c, o->bed.hexatic_order);
+    number(d, sizeof d, o->bed.level);
+    size_t n = (size_t)snprintf(out, size,
+                                "  \"bed\": {\"coordination\": %s, \"packing_fraction\": %s, "
+                                "\"hexatic_order\": %s, \"surface_level\": %s},\n",
+                                a, b, c, d);
+    if (!o->have_crater || n >= size)
+        return;
+    number(a, sizeof a, o->crater.height);
+    number(b, sizeof b, o->crater.surface_min);
+    number(c, sizeof c, o->crater.x_min);
+    snprintf(out + n, size - n,
+             "  \"crater\": {\"crater_height\": %s, \"surface_min\": %s, \"x_min\": %s, "
+             "\"cavity_x0\": %.8g, \"cavity_x1\": %.8g, \"removed\": %d},\n",
+             a, b, c, o->cavity_x0, o->cavity_x1, o->removed);
+}
+
+int app_observer_close(AppObserver *o, SimWorld *world, char *err, size_t err_size)
+{
+    if (!o)
+        return 0;
+    int rc = 0;
+    if (close_tmp(&o->profile, o->profile_path) != 0 ||
+        close_tmp(&o->crater_csv, o->crater_path) != 0)
+        rc = -1;
+    char path[OBS_PATH + 32];
+    snprintf(path, sizeof path, "%s/observables.csv", o->out_dir);
+    FILE *f = open_tmp(path, "key,value");
+    if (!f) {
+        rc = -1;
+    } else {
+        const double nan = (double)NAN;
+        SimEnergy e = {0};
+        if (world)
+            e = sim_world_energy(world);
+
+        const struct {
+            const char *key;
+            double value;
+        } rows[] = {
+            {"bed_coordination", o->bed_measured ? o->bed.coordination : nan},
+            {"bed_packing_fraction", o->bed_measured ? o->bed.packing_fraction : nan},
+            {"bed_hexatic_order", o->bed_measured ? o->bed.hexatic_order : nan},
+            {"surface_level_m", o->bed_measured ? o->bed.level : nan},
+            {"cavity_x0_m", o->have_cavity ? o->cavity_x0 : nan},
+            {"cavity_x1_m", o->have_cavity ? o->cavity_x1 : nan},
+            {"removed", o->have_cavity ? (double)o->removed : nan},
+            {"crater_height_m", o->have_crater ? o->crater.height : nan},
+            {"surface_min_m", o->have_crater ? o->crater.surface_min : nan},
+            {"crater_x_m", o->have_crater ? o->crater.x_min : nan},
+            {"stage_start_s", o->stage_start},
+            {"time_scale_s", o->time_scale},
+            {"energy_scale_J", o->energy_scale},
+            {"mean_diameter_m", o->diameter},
+            {"mean_mass_kg", o->mass},
+            {"mobile_grains", (double)o->mobile},
+            {"final_time_s", world ? sim_world_time(world) : nan},
+            {"e_kin_J", world ? e.kinetic : nan},
+            {"e_pot_J", world ? e.potential : nan},
+            {"e_rot_J", world ? e.rotational : nan},
+            {"e_el_J", world ? e.elastic : nan},
+        };
+
+        for (size_t k = 0; k < sizeof rows / sizeof rows[0]; ++k)
+            fprintf(f, "%s,%.10g\n", rows[k].key, rows[k].value);
+        if (close_tmp(&f, path) != 0)
+            rc = -1;
+    }
+    if (rc != 0)
+        snprintf(err, err_size, "cannot finish the observables in %s: %s", o->out_dir,
+                 strerror(errno));
+    free(o);
+    return rc;
+}
+
+/* ---------------------------------------------------------------- plots */
+
+void app_chart_init(AppChart *plot, int rows, int cols, const char *title)
+{
+    memset(plot, 0, sizeof *plot);
+    plot->rows = rows;
+    plot->cols = cols;
+    plot->width = cols > 1 ? 1400 : 900;
+    plot->height = rows > 1 ? 1000 : 640;
+    snprintf(plot->title, sizeof plot->title, "%s", title ? title : "");
+}
+
+void app_chart_free(AppChart *plot)
+{
+    for (int p = 0; p < APP_CHART_MAX_PANELS; ++p)
+        for (int s = 0; s < plot->panels[p].series_count; ++s) {
+            free(plot->panels[p].series[s].x);
+            free(plot->panels[p].series[s].y);
+        }
+    memset(plot, 0, sizeof *plot);
+}
+
+int app_chart_add(AppChart *plot, int panel, const char *label, const double *x, const double *y,
+                  int count, int line, int marker)
+{
+    AppChartPanel *p = &plot->panels[panel];
+    if (panel < 0 || panel >= APP_CHART_MAX_PANELS || p->series_count >= APP_CHART_MAX_SERIES ||
+        count < 0)
+        return -1;
+    AppChartSeries *s = &p->series[p->series_count];
+    size_t n = (size_t)(count > 0 ? count : 1);
+    s->x = malloc(n * sizeof *s->x);
+    s->y = malloc(n * sizeof *s->y);
+    if (!s->x || !s->y) {
+        free(s->x);
+        free(s->y);
+        s->x = s->y = NULL;
+        return -1;
+    }
+    memcpy(s->x, x, (size_t)count * sizeof *x);
+    memcpy(s->y, y, (size_t)count * sizeof *y);
+    s->count = count;
+    s->line = line;
+    s->marker = marker;
+    snprintf(s->label, sizeof s->label, "%s", label ? label : "");
+    p->series_count++;
+    return 0;
+}
+
+double app_observable(const char *run_dir, const char *key)
+{
+    char path[OBS_PATH + 32], line[256];
+    snprintf(path, sizeof path, "%s/observables.csv", run_dir);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return (double)NAN;
+    double value = (double)NAN;
+    size_t n = strlen(key);
+    while (fgets(line, sizeof line, f))
+        if (strncmp(line, key, n) == 0 && line[n] == ',') {
+            value = strtod(line + n + 1, NULL);
+            break;
+        }
+    fclose(f);
+    return value;
+}
+
+/* A growable column store of CSV rows. */
+typedef struct Columns {
+    int count, capacity, width;
+    double *v;                   /* count x width */
+    char (*tag)[SCENE_NAME_MAX]; /* the `stage` column */
+} Columns;
+
+static int columns_push(Columns *c, const double *row, const char *tag)
+{
+    if (c->count == c->capacity) {
+        int capacity = c->capacity ? 2 * c->capacity : 1024;
+        double *v = realloc(c->v, (size_t)capacity * (size_t)c->width * sizeof *v);
+        if (!v)
+            return -1;
+        c->v = v;
+        char(*t)[SCENE_NAME_MAX] = realloc(c->tag, (size_t)capacity * sizeof *t);
+        if (!t)
+            return -1;
+        c->tag = t;
+        c->capacity = capacity;
+    }
+    memcpy(c->v + (size_t)c->count * (size_t)c->width, row, (size_t)c->width * sizeof *row);
+    snprintf(c->tag[c->count], SCENE_NAME_MAX, "%s", tag);
+    c->count++;
+    return 0;
+}
+
+static void columns_free(Columns *c)
+{
+    free(c->v);
+    free(c->tag);
+    memset(c, 0, sizeof *c);
+}
+
+/* Reads a CSV whose column `tag_column` is text and the others numbers. */
+static int read_csv(const char *path, int width, int tag_column, Columns *out)
+{
+    memset(out, 0, sizeof *out);
+    out->width = width;
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return -1;
+    char line[1024];
+    int rc = fgets(line, sizeof line, f) ? 0 : -1; /* header */
+    double row[16];
+    while (rc == 0 && fgets(line, sizeof line, f)) {
+        char tag[SCENE_NAME_MAX] = "", *save = NULL;
+        int k = 0, v = 0;
+        for (char *item = strtok_r(line, ",\n", &save); item && k <= width;
+             item = strtok_r(NULL, ",\n", &save), ++k) {
+            if (k == tag_column)
+                snprintf(tag, sizeof tag, "%s", item);
+            else if (v < width && v < 16)
+                row[v++] = strtod(item, NULL);
+        }
+        if (v == width && columns_push(out, row, tag) != 0)
+            rc = -1;
+    }
+    fclose(f);
+    if (rc != 0)
+        columns_free(out);
+    return rc;
+}
+
+int app_chart_energy_run(AppChart *plot, const char *run_dir, const char *label)
+{
+    char path[OBS_PATH + 32];
+    snprintf(path, sizeof path, "%s/energy.csv", run_dir);
+    double t0 = app_observable(run_dir, "stage_start_s");
+    double ts = app_observable(run_dir, "time_scale_s");
+    double es = app_observable(run_dir, "energy_scale_J");
+    Columns c;
+    /* t,t_star,e_kin,e_pot,e_rot,e_el,e_total,grains,contacts,stage */
+    if (!isfinite(t0) || !(ts > 0.0) || !(es > 0.0) || read_csv(path, 9, 9, &c) != 0)
+        return -1;
+    if (c.count == 0) {
+        columns_free(&c);
+        return -1;
+    }
+    const char *last = c.tag[c.count - 1];
+    double *x = malloc((size_t)c.count * sizeof *x), *y[4];
+    for (int k = 0; k < 4; ++k)
+        y[k] = malloc((size_t)c.count * sizeof *y[k]);
+    int n = 0, rc = x && y[0] && y[1] && y[2] && y[3] ? 0 : -1;
+    double pot0 = (double)NAN;
+    for (int r = 0; rc == 0 && r < c.count; ++r) {
+        const double *v = c.v + (size_t)r * 9;
+        if (strcmp(c.tag[r], last) != 0 || v[0] < t0 - 1e-9)
+            continue;
+        if (isnan(pot0))
+            pot0 = v[3];
+        x[n] = (v[0] - t0) / ts;
+        y[0][n] = v[2] / es;
+        y[1][n] = (v[3] - pot0) / es;
+        y[2][n] = v[4] / es;
+        y[3][n] = v[5] / es;
+        ++n;
+    }
+    static const char *const titles[4] = {"(a) kinetic", "(b) potential - start", "(c) rotational",
+                                          "(d) elastic"};
+    static const char *const ylabels[4] = {"E*_kin", "E*_pot - E*_pot(0)", "E*_rot", "E*_el"};
+    for (int k = 0; rc == 0 && k < 4; ++k) {
+        AppChartPanel *p = &plot->panels[k];
+        snprintf(p->title, sizeof p->title, "%s", titles[k]);
+        snprintf(p->x_label, sizeof p->x_label, "t* = (t - t0) / sqrt(D/g)");
+        snprintf(p->y_label, sizeof p->y_label, "%s", ylabels[k]);
+        rc = app_chart_add(plot, k, label, x, y[k], n, 1, 0);
+    }
+    free(x);
+    for (int k = 0; k < 4; ++k)
+        free(y[k]);
+    columns_free(&c);
+    return rc;
+}
+
+int app_chart_profiles_run(AppChart *plot, int panel, const char *run_dir, int curves,
+                           const char *label)
+{
+    char path[OBS_PATH + 32];
+    snprintf(path, sizeof path, "%s/profile.csv", run_dir);
+    Columns c;
+    /* t,t_stage,stage,x,y */
+    if (read_csv(path, 4, 2, &c) != 0)
+        return -1;
+    if (c.count == 0) {
+        columns_free(&c);
+        return -1;
+    }
+    const char *last = c.tag[c.count - 1];
+    /* distinct sample times of the last stage, in file order */
+    int first = c.count - 1;
+    while (first > 0 && strcmp(c.tag[first - 1], last) == 0)
+        --first;
+    int *starts = malloc((size_t)(c.count - first + 1) * sizeof *starts), samples = 0;
+    if (!starts) {
+        columns_free(&c);
+        return -1;
+    }
+    for (int r = first; r < c.count; ++r)
+        if (r == first || c.v[(size_t)r * 4] != c.v[(size_t)(r - 1) * 4])
+            starts[samples++] = r;
+    starts[samples] = c.count;
+    if (curves < 1)
+        curves = 1;
+    if (curves > samples)
+        curves = samples;
+    int rc = 0;
+    AppChartPanel *p = &plot->panels[panel];
+    snprintf(p->x_label, sizeof p->x_label, "x (m)");
+    snprintf(p->y_label, sizeof p->y_label, "free surface y (m)");
+    double *x = malloc((size_t)c.count * sizeof *x), *y = malloc((size_t)c.count * sizeof *y);
+    rc = x && y ? 0 : -1;
+    for (int k = 0; rc == 0 && k < curves; ++k) {
+        int s = curves == 1 ? samples - 1 : (int)lround((double)k * (samples - 1) / (curves - 1));
+        int n = 0;
+        for (int r = starts[s]; r < starts[s + 1]; ++r, ++n) {
+            x[n] = c.v[(size_t)r * 4 + 2];
+            y[n] = c.v[(size_t)r * 4 + 3];
+        }
+        char text[64];
+        if (curves == 1 && label)
+            snprintf(text, sizeof text, "%s", label);
+        else
+            snprintf(text, sizeof text, "t - t0 = %.2f s", c.v[(size_t)starts[s] * 4 + 1]);
+        rc = app_chart_add(plot, panel, text, x, y, n, 1, 0);
+    }
+    free(x);
+    free(y);
+    free(starts);
+    columns_free(&c);
+    return rc;
+}
+
+int app_crater_plots(const Scene *scene, const char *out_dir, AppChartWriter writer, void *context,
+                     char *err, size_t err_size)
+{
+    if (!(scene->output.profile_every > 0.0) || !writer)
+        return 0;
+    char path[OBS_PATH + 32], title[160];
+    AppChart plot;
+    snprintf(title, sizeof title, "%s: dimensionless energies of the last stage", scene->name);
+    app_chart_init(&plot, 2, 2, title);
+    int rc = 0;
+    if (app_chart_energy_run(&plot, out_dir, scene->name) == 0) {
+        snprintf(path, sizeof path, "%s/energy_panels.png", out_dir);
+        rc = writer(context, &plot, path, err, err_size);
+    }
+    app_chart_free(&plot);
+    snprintf(title, sizeof title, "%s: free-surface profile evolution (000 fig. 7.30)",
+             scene->name);
+    app_chart_init(&plot, 1, 1, title);
+    if (rc == 0 && app_chart_profiles_run(&plot, 0, out_dir, 8, NULL) == 0) {
+        snprintf(path, sizeof path, "%s/profiles.png", out_dir);
+        rc = writer(context, &plot, path, err, err_size);
+    }
+    app_chart_free(&plot);
+    return rc;
+}

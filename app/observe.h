@@ -1,0 +1,137 @@
+/* SPDX-License-Identifier: MIT */
+/* observe.h: crater observables of a run (thesis 000 §5.4, Ch. 7): the free-surface profile over
+ * time (profile.csv), the crater height (crater.csv), the settled bed's structure (coordination,
+ * packing fraction, hexatic order) and a key/value summary (observables.csv); plus plain plot
+ * descriptions (AppChart) built from those CSV files, which app/sablier.c draws with render/.
+ * Knows nothing about rendering.
+ *
+ *     AppObserver *obs = app_observer_open(scene, "out/quick", err, sizeof err);
+ *     app_observer_before_edit(obs, world, stage);  // bed measures before a dig
+ *     app_observer_sample(obs, world, stage, t0);   // one profile + crater row
+ *     app_observer_close(obs, world, err, sizeof err);
+ */
+#ifndef APP_OBSERVE_H
+#define APP_OBSERVE_H
+
+#include "scene.h"
+
+#include "sim/sim.h"
+
+#include <stddef.h>
+
+/* ---------------------------------------------------------------- measures */
+
+/// Free-surface profile: `bins` equal bins over the container interior [x0, x1].
+typedef struct AppProfile {
+    int bins;
+    double x0, x1, bin; ///< interior and bin width, m
+    double floor_top;   ///< top of the floor (lowest fixed grain's y + r), m
+    double *x;          ///< bin centres, m
+    double *y;          ///< highest top (y + r) of a mobile grain centred in the bin, m; an empty
+                        ///< bin is at floor_top (the cavity reaches the floor there)
+} AppProfile;
+
+/// Measures the profile with bins about `bin_width` wide (0 = the mean diameter). The interior is
+/// the span between the innermost edges of the fixed grains left and right of the mobile grains'
+/// centre (the container's side columns), else the mobile grains' extent. 0, or -1 (no grains).
+int app_profile_measure(SimWorld *world, double bin_width, AppProfile *profile);
+void app_profile_free(AppProfile *profile);
+
+/// Mean profile height over the interior without the `margin` bins next to each wall, m.
+double app_profile_level(const AppProfile *profile, int margin);
+
+/// Crater of a profile over the cavity span [x0, x1] (000 §5.4, fig. 7.28).
+typedef struct AppCrater {
+    double surface_min; ///< lowest profile height in the span, m
+    double x_min;       ///< where, m
+    double height;      ///< crater height h = level - surface_min, m
+} AppCrater;
+
+/// Lowest bin whose centre lies in [x0, x1] (at least the bin nearest the span's centre).
+AppCrater app_crater_measure(const AppProfile *profile, double x0, double x1, double level);
+
+/// Structure of a settled bed (000 §4.2: polydispersity against crystallisation).
+typedef struct AppBed {
+    double coordination;     ///< mean contacts per mobile grain (walls included)
+    double packing_fraction; ///< disk area / area in the bulk window
+    double hexatic_order;    ///< mean local |psi_6|
+    double level;            ///< mean free-surface height, m
+    double window[4];        ///< bulk window x0, y0, x1, y1 (m): one diameter from the walls and
+                             ///< the floor, three below the lowest surface bin
+} AppBed;
+
+/// Measures the bed (the profile `profile` of the same world gives the window).
+AppBed app_bed_measure(SimWorld *world, const AppProfile *profile);
+
+/* ---------------------------------------------------------------- observer of a run */
+
+typedef struct AppObserver AppObserver;
+
+/// Opens profile.csv and crater.csv in out_dir. NULL with a message on error.
+AppObserver *app_observer_open(const Scene *scene, const char *out_dir, char *err, size_t err_size);
+/// Before a stage's edits: a stage that digs first measures the bed it digs into.
+void app_observer_before_edit(AppObserver *observer, SimWorld *world, int stage);
+/// After a stage's edits: records the scales of t* and E* at the start of the last stage.
+void app_observer_stage_start(AppObserver *observer, SimWorld *world, int stage);
+/// One profile.csv block and one crater.csv row (after a dig) at the world's time; stage_start
+/// is the stage's start time, s.
+void app_observer_sample(AppObserver *observer, SimWorld *world, int stage, double stage_start);
+/// JSON members `"bed": {...}, "crater": {...}, ` for summary.json (empty when not measured).
+void app_observer_json(const AppObserver *observer, char *out, size_t size);
+/// Finishes the CSV files and writes observables.csv (world may be NULL). 0, or -1 with err.
+int app_observer_close(AppObserver *observer, SimWorld *world, char *err, size_t err_size);
+
+/* ---------------------------------------------------------------- plots from the CSV files */
+
+#define APP_CHART_MAX_SERIES 24
+#define APP_CHART_MAX_PANELS 4
+
+typedef struct AppChartSeries {
+    char label[64];
+    int count;
+    double *x, *y; ///< owned
+    int line;      ///< 1: joined
+    int marker;    ///< 1: circles
+} AppChartSeries;
+
+typedef struct AppChartPanel {
+    char title[64], x_label[64], y_label[64];
+    int series_count;
+    AppChartSeries series[APP_CHART_MAX_SERIES];
+} AppChartPanel;
+
+typedef struct AppChart {
+    char title[160];
+    int rows, cols, width, height; ///< panel grid, pixels
+    AppChartPanel panels[APP_CHART_MAX_PANELS];
+} AppChart;
+
+/// Draws and writes a plot (format from the extension); 0, or -1 with a message.
+typedef int (*AppChartWriter)(void *context, const AppChart *plot, const char *path, char *err,
+                              size_t err_size);
+
+void app_chart_init(AppChart *plot, int rows, int cols, const char *title);
+void app_chart_free(AppChart *plot);
+/// Adds a series (copies the data) to a panel; returns 0, -1 when full or out of memory.
+int app_chart_add(AppChart *plot, int panel, const char *label, const double *x, const double *y,
+                  int count, int line, int marker);
+
+/// Adds the 2x2 dimensionless energy curves of a run folder (E* = E / (N m g D) against
+/// t* = (t - t0) / sqrt(D/g) over the last stage; potential relative to its start; 000 eqs.
+/// 6.1-6.6) to a plot made with app_chart_init(plot, 2, 2, ...). 0, or -1 when unreadable.
+int app_chart_energy_run(AppChart *plot, const char *run_dir, const char *label);
+/// Adds profiles of a run folder's last stage: `curves` evenly spaced times (curves = 1: the
+/// final profile only, labelled `label`). 0, or -1 when unreadable.
+int app_chart_profiles_run(AppChart *plot, int panel, const char *run_dir, int curves,
+                           const char *label);
+
+/// Reads one value of a run folder's observables.csv; NAN when absent.
+double app_observable(const char *run_dir, const char *key);
+
+/// The figures of a crater run, written when the scene writes profiles (output.profile_every >
+/// 0): energy_panels.png (E* against t*) and profiles.png (profile evolution, fig. 7.30).
+/// 0, or -1 with a message.
+int app_crater_plots(const Scene *scene, const char *out_dir, AppChartWriter writer, void *context,
+                     char *err, size_t err_size);
+
+#endif

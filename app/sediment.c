@@ -1,0 +1,474 @@
+/* SPDX-License-Identifier: MIT */
+/* sediment.c: the `fluid` group (thesis 002 ch. 6: 1D mixing-length fluid over a periodic bed)
+ * and the bed-load measures (002 ch. 7: flux q(t), saturated flux, saturation time).
+ *
+ * Control numbers (002 eqs. 40-42; d = grain diameter, g = |gravity|, rho_p = grain density):
+ *   D_R = rho_p / rho_f,  R = (d / nu) sqrt((D_R - 1) g d),  Theta = u*^2 / ((D_R - 1) g d).
+ * A scene gives either these three or rho_f, nu and u* directly. */
+#include "sediment.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SEDIMENT_PI 3.14159265358979323846
+
+struct AppSediment {
+    SimFluid *fluid;
+    AppSedimentNumbers numbers;
+    double width;          /* periodic bed width, m */
+    double shear_velocity; /* u* once the flow stage starts, m/s */
+    char flow_stage[SCENE_NAME_MAX];
+    int flowing;              /* 1 once the flow stage started (or no flow stage named) */
+    double flow_start;        /* s */
+    SimBodyForce fluid_force; /* the fluid's stage, applied from the flow stage on */
+    FILE *csv;
+    char csv_path[SCENE_PATH_MAX + 32];
+    char json_path[SCENE_PATH_MAX + 32];
+    double *t, *q;
+    int count, capacity;
+};
+
+/* ---------------------------------------------------------------- parsing */
+
+typedef struct Parse {
+    const char *path;
+    char *err;
+    size_t err_size;
+} Parse;
+
+__attribute__((format(printf, 3, 4))) static int bad(Parse *p, const config_setting_t *s,
+                                                     const char *format, ...)
+{
+    char message[512];
+    va_list args;
+    va_start(args, format);
+    vsnprintf(message, sizeof message, format, args);
+    va_end(args);
+    const char *file = s ? config_setting_source_file(s) : NULL;
+    unsigned line = s ? config_setting_source_line(s) : 0;
+    if (s && config_setting_get_hook(s))
+        snprintf(p->err, p->err_size, "--set %s: %s", (const char *)config_setting_get_hook(s),
+                 message);
+    else
+        snprintf(p->err, p->err_size, "%s:%u: fluid: %s", file ? file : p->path, line ? line : 1,
+                 message);
+    return -1;
+}
+
+/* 1 found, 0 absent, -1 bad. */
+static int number(Parse *p, const config_setting_t *g, const char *key, double *out)
+{
+    const config_setting_t *s = config_setting_get_member(g, key);
+    if (!s)
+        return 0;
+    int type = config_setting_type(s);
+    if (type == CONFIG_TYPE_FLOAT)
+        *out = config_setting_get_float(s);
+    else if (type == CONFIG_TYPE_INT || type == CONFIG_TYPE_INT64)
+        *out = (double)config_setting_get_int64(s);
+    else
+        return bad(p, s, "`%s` must be a number", key);
+    if (!isfinite(*out))
+        return bad(p, s, "`%s` must be finite", key);
+    return 1;
+}
+
+static int positive(Parse *p, const config_setting_t *g, const char *key, double *out)
+{
+    int found = number(p, g, key, out);
+    if (found > 0 && !(*out > 0.0))
+        return bad(p, config_setting_get_member(g, key), "`%s` must be > 0, got %g", key, *out);
+    return found;
+}
+
+static int boolean(Parse *p, const config_setting_t *g, const char *key, int *out)
+{
+    const config_setting_t *s = config_setting_get_member(g, key);
+    if (!s)
+        return 0;
+    if (config_setting_type(s) != CONFIG_TYPE_BOOL)
+        return bad(p, s, "`%s` must be true or false", key);
+    *out = config_setting_get_bool(s);
+    return 1;
+}
+
+/* Before the flow stage the grains settle dry (a viscous fluid at small Galileo numbers would
+ * take thousands of time units to let a rain settle); from it on the fluid acts. */
+static void sediment_force(void *context, const SimBodyForceView *view)
+{
+    AppSediment *s = context;
+    if (s->flowing)
+        s->fluid_force.apply(s->fluid_force.context, view);
+}
+
+AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *err, size_t err_size)
+{
+    Parse p = {scene->path, err, err_size};
+    if (err_size)
+        err[0] = '\0';
+    if (!g)
+        return NULL;
+    static const char *const keys[] = {
+        "density_ratio", "galileo",      "shields", "density",    "viscosity", "shear_velocity",
+        "diameter",      "y0",           "y1",      "cells",      "turbulent", "kappa",
+        "van_driest",    "bed_fraction", "c_inf",   "reynolds_c", "buoyancy",  "geometry",
+        "flow_stage",    "drag_limit",   NULL};
+    if (config_setting_type(g) != CONFIG_TYPE_GROUP) {
+        bad(&p, g, "`fluid` must be a group { ... }");
+        return NULL;
+    }
+    for (int k = 0; k < config_setting_length(g); ++k) {
+        const config_setting_t *s = config_setting_get_elem(g, (unsigned)k);
+        int known = 0;
+        for (int j = 0; keys[j] && !known; ++j)
+            known = strcmp(keys[j], config_setting_name(s)) == 0;
+        if (!known) {
+            bad(&p, s, "unknown key `%s`", config_setting_name(s));
+            return NULL;
+        }
+    }
+    if (!(scene->def.effects & SIM_EFFECT_PERIODIC_X)) {
+        bad(&p, g, "the fluid column is horizontally averaged: it needs effect periodic_x");
+        return NULL;
+    }
+    SimFluidDef fd = sim_fluid_def_default();
+    AppSedimentNumbers num = {0};
+    const SimWorldDef *def = &scene->def;
+    double gravity = hypot(def->gravity_x, def->gravity_y);
+    double rho_p = def->materials[0].density;
+    /* d: mean diameter of the scene's mobile grains unless given */
+    double sum = 0.0;
+    int mobile = 0;
+    for (int i = 0; i < scene->grains.count; ++i)
+        if (!(scene->grains.flags[i] & SIM_GRAIN_FIXED)) {
+            sum += 2.0 * scene->grains.radius[i];
+            ++mobile;
+        }
+    num.diameter = mobile ? sum / mobile : 1.0;
+    int has_dr = 0, has_ga = 0, has_sh = 0, has_rho = 0, has_nu = 0, has_us = 0, cells = 0;
+    double y0 = 0.0, y1 = 0.0;
+    const char *geometry = NULL, *flow_stage = NULL;
+    if ((has_dr = positive(&p, g, "density_ratio", &num.density_ratio)) < 0 ||
+        (has_ga = positive(&p, g, "galileo", &num.galileo)) < 0 ||
+        (has_sh = number(&p, g, "shields", &num.shields)) < 0 ||
+        (has_rho = positive(&p, g, "density", &fd.density)) < 0 ||
+        (has_nu = positive(&p, g, "viscosity", &fd.viscosity)) < 0 ||
+        (has_us = number(&p, g, "shear_velocity", &fd.shear_velocity)) < 0 ||
+        positive(&p, g, "diameter", &num.diameter) < 0 || positive(&p, g, "kappa", &fd.kappa) < 0 ||
+        positive(&p, g, "van_driest", &fd.van_driest) < 0 ||
+        positive(&p, g, "bed_fraction", &fd.bed_fraction) < 0 ||
+        number(&p, g, "c_inf", &fd.drag_c_inf) < 0 ||
+        number(&p, g, "reynolds_c", &fd.drag_reynolds) < 0 ||
+        boolean(&p, g, "turbulent", &fd.turbulent) < 0 ||
+        boolean(&p, g, "buoyancy", &fd.buoyancy) < 0 ||
+        boolean(&p, g, "drag_limit", &fd.drag_limit) < 0)
+        return NULL;
+    const config_setting_t *s;
+    if (!(s = config_setting_get_member(g, "y0")) || number(&p, g, "y0", &y0) < 0 ||
+        !(s = config_setting_get_member(g, "y1")) || number(&p, g, "y1", &y1) < 0) {
+        if (!err[0])
+            bad(&p, g, "`y0` and `y1` (the column's bottom and top, m) are required");
+        return NULL;
+    }
+    s = config_setting_get_member(g, "cells");
+    if (!s || (config_setting_type(s) != CONFIG_TYPE_INT &&
+               config_setting_type(s) != CONFIG_TYPE_INT64)) {
+        bad(&p, s ? s : g, "`cells` (number of fluid layers, an integer) is required");
+        return NULL;
+    }
+    cells = config_setting_get_int(s);
+    if (config_setting_lookup_string(g, "geometry", &geometry)) {
+        if (strcmp(geometry, "disk") && strcmp(geometry, "sphere")) {
+            bad(&p, config_setting_get_member(g, "geometry"),
+                "unknown geometry `%s` (expected disk or sphere)", geometry);
+            return NULL;
+        }
+        fd.geometry = strcmp(geometry, "sphere") == 0 ? SIM_FLUID_SPHERE : SIM_FLUID_DISK;
+    } else {
+        fd.geometry = def->mass_model == SIM_MASS_SPHERE ? SIM_FLUID_SPHERE : SIM_FLUID_DISK;
+    }
+    if ((fd.geometry == SIM_FLUID_SPHERE) != (def->mass_model == SIM_MASS_SPHERE)) {
+        bad(&p, config_setting_get_member(g, "geometry"),
+            "geometry `%s` disagrees with mass_model: buoyancy and the density ratio would not "
+            "match the grains' masses",
+            geometry);
+        return NULL;
+    }
+    int dimensionless = has_dr || has_ga || has_sh, dimensional = has_rho || has_nu || has_us;
+    if (dimensionless == dimensional) {
+        bad(&p, g,
+            dimensionless ? "give either density_ratio, galileo and shields or density, "
+                            "viscosity and shear_velocity, not both"
+                          : "give density_ratio, galileo and shields (002 eqs. 40-42) or density, "
+                            "viscosity and shear_velocity");
+        return NULL;
+    }
+    const double d = num.diameter;
+    if (dimensionless) {
+        if (!(has_dr && has_ga && has_sh)) {
+            bad(&p, g, "density_ratio, galileo and shields go together");
+            return NULL;
+        }
+        if (!(num.density_ratio > 1.0) || num.shields < 0.0) {
+            bad(&p, config_setting_get_member(g, "density_ratio"),
+                "density_ratio must be > 1 and shields >= 0");
+            return NULL;
+        }
+        double scale = sqrt((num.density_ratio - 1.0) * gravity * d);
+        fd.density = rho_p / num.density_ratio;
+        fd.viscosity = d * scale / num.galileo;
+        fd.shear_velocity = sqrt(num.shields) * scale;
+    } else {
+        if (!(has_rho && has_nu && has_us)) {
+            bad(&p, g, "density, viscosity and shear_velocity go together");
+            return NULL;
+        }
+        num.density_ratio = rho_p / fd.density;
+        double scale = sqrt(fmax(num.density_ratio - 1.0, 0.0) * gravity * d);
+        num.galileo = d * scale / fd.viscosity;
+        num.shields =
+            scale > 0.0 ? fd.shear_velocity * fd.shear_velocity / (scale * scale) : (double)NAN;
+    }
+    num.flux_scale = d * sqrt(fmax(num.density_ratio - 1.0, 0.0) * gravity * d);
+    fd.y0 = y0;
+    fd.y1 = y1;
+    fd.cells = cells;
+    fd.width = def->domain_x1 - def->domain_x0;
+    fd.depth = fd.geometry == SIM_FLUID_SPHERE ? 2.0 * d / 3.0 : 1.0;
+    fd.gravity_x = def->gravity_x;
+    fd.gravity_y = def->gravity_y;
+    SimTiming timing = sim_world_def_timing(def);
+    fd.time_step = scene->stages[0].time_step > 0.0 ? scene->stages[0].time_step : timing.time_step;
+    if (config_setting_lookup_string(g, "flow_stage", &flow_stage) &&
+        scene_stage_index(scene, flow_stage) < 0) {
+        bad(&p, config_setting_get_member(g, "flow_stage"), "no stage named `%s`", flow_stage);
+        return NULL;
+    }
+    SimError e;
+    if (sim_fluid_def_validate(&fd, &e) != SIM_OK) {
+        const char *key = strchr(e.field, '.') ? strchr(e.field, '.') + 1 : e.field;
+        bad(&p, config_setting_get_member(g, key) ? config_setting_get_member(g, key) : g, "%s",
+            e.message);
+        return NULL;
+    }
+    AppSediment *sed = calloc(1, sizeof *sed);
+    if (!sed || !(sed->fluid = sim_fluid_create(&fd, &e))) {
+        free(sed);
+        bad(&p, g, "cannot create the fluid: out of memory");
+        return NULL;
+    }
+    sed->numbers = num;
+    sed->width = fd.width;
+    sed->shear_velocity = fd.shear_velocity;
+    if (flow_stage)
+        snprintf(sed->flow_stage, sizeof sed->flow_stage, "%s", flow_stage);
+    sed->flowing = flow_stage == NULL;
+    sed->fluid_force = sim_fluid_body_force(sed->fluid);
+    scene->def.body_force.apply = sediment_force;
+    scene->def.body_force.context = sed;
+    return sed;
+}
+
+void app_sediment_free(AppSediment *s)
+{
+    if (!s)
+        return;
+    if (s->csv) {
+        fclose(s->csv);
+        char tmp[SCENE_PATH_MAX + 40];
+        snprintf(tmp, sizeof tmp, "%s.tmp", s->csv_path);
+        remove(tmp);
+    }
+    sim_fluid_destroy(s->fluid);
+    free(s->t);
+    free(s->q);
+    free(s);
+}
+
+SimFluid *app_sediment_fluid(const AppSediment *s)
+{
+    return s->fluid;
+}
+
+AppSedimentNumbers app_sediment_numbers(const AppSediment *s)
+{
+    return s->numbers;
+}
+
+/* ---------------------------------------------------------------- measures */
+
+double app_sediment_flux(const SimFrame *frame, double width)
+{
+    double q = 0.0;
+    for (int i = 0; i < frame->mobile_count; ++i)
+        q += SEDIMENT_PI * frame->radius[i] * frame->radius[i] * frame->vx[i];
+    return q / width;
+}
+
+double app_sediment_saturation(const double *t, const double *q, int count, double t_start,
+                               double *t_sat)
+{
+    *t_sat = NAN;
+    if (count < 1)
+        return NAN;
+    double t_end = t[count - 1], cut = t_end - (t_end - t_start) / 3.0, sum = 0.0;
+    int n = 0;
+    for (int k = 0; k < count; ++k)
+        if (t[k] >= cut) {
+            sum += q[k];
+            ++n;
+        }
+    double q_sat = n ? sum / n : (double)NAN;
+    for (int k = 0; k < count && isfinite(q_sat); ++k)
+        if (t[k] >= t_start && fabs(q[k]) >= (1.0 - exp(-1.0)) * fabs(q_sat) && q_sat != 0.0) {
+            *t_sat = t[k] - t_start;
+            break;
+        }
+    return q_sat;
+}
+
+int app_sediment_begin(AppSediment *s, const char *out_dir, char *err, size_t err_size)
+{
+    snprintf(s->csv_path, sizeof s->csv_path, "%s/sediment.csv", out_dir);
+    snprintf(s->json_path, sizeof s->json_path, "%s/sediment.json", out_dir);
+    char tmp[SCENE_PATH_MAX + 40];
+    snprintf(tmp, sizeof tmp, "%s.tmp", s->csv_path);
+    s->csv = fopen(tmp, "w");
+    if (!s->csv) {
+        snprintf(err, err_size, "cannot write %s", tmp);
+        return -1;
+    }
+    fprintf(s->csv, "t,q,q_star,grain_vx_mean,bed_level,u_top,shear_velocity\n");
+    s->count = 0;
+    return 0;
+}
+
+void app_sediment_stage(AppSediment *s, const Scene *scene, int stage, double time)
+{
+    if (!s->flowing && strcmp(scene->stages[stage].name, s->flow_stage) == 0) {
+        s->flowing = 1;
+        s->flow_start = time;
+    }
+}
+
+void app_sediment_row(AppSediment *s, SimWorld *world)
+{
+    SimFrame frame;
+    sim_world_frame(world, &frame);
+    double q = app_sediment_flux(&frame, s->width), vx = 0.0;
+    for (int i = 0; i < frame.mobile_count; ++i)
+        vx += frame.vx[i];
+    vx = frame.mobile_count ? vx / frame.mobile_count : 0.0;
+    SimFluidProfile p;
+    sim_fluid_profile(s->fluid, &p);
+    double q_star = s->numbers.flux_scale > 0.0 ? q / s->numbers.flux_scale : (double)NAN;
+    if (s->csv)
+        fprintf(s->csv, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", frame.time, q, q_star, vx,
+                p.bed_level, p.u[p.cells - 1], sim_fluid_def(s->fluid)->shear_velocity);
+    if (!s->flowing)
+        return;
+    if (s->count == s->capacity) {
+        int capacity = s->capacity ? 2 * s->capacity : 256;
+        double *t = realloc(s->t, (size_t)capacity * sizeof *t);
+        if (!t)
+            return;
+        s->t = t;
+        double *qq = realloc(s->q, (size_t)capacity * sizeof *qq);
+        if (!qq)
+            return;
+        s->q = qq;
+        s->capacity = capacity;
+    }
+    s->t[s->count] = frame.time;
+    s->q[s->count] = q;
+    s->count++;
+}
+
+/* Fluid, concentration, grain-velocity and stress profiles: y, u, phi, grain_vx, tau_fluid (at the
+ * layer's top face), grain_load (x-force per bed area the fluid exerts on the grains above that
+ * face), tau_total = tau_fluid + grain_load (uniform at steady state, 002 fig. 34). */
+int app_sediment_stage_end(AppSediment *s, SimWorld *world, const char *out_dir,
+                           const char *stage_name, char *err, size_t err_size)
+{
+    (void)world;
+    char path[SCENE_PATH_MAX + 2 * SCENE_NAME_MAX], tmp[SCENE_PATH_MAX + 2 * SCENE_NAME_MAX + 8];
+    snprintf(path, sizeof path, "%s/%s.fluid.csv", out_dir, stage_name);
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    FILE *f = fopen(tmp, "w");
+    if (!f) {
+        snprintf(err, err_size, "cannot write %s", tmp);
+        return -1;
+    }
+    SimFluidProfile p;
+    sim_fluid_profile(s->fluid, &p);
+    double *load = calloc((size_t)p.cells + 1, sizeof *load);
+    if (!load) {
+        fclose(f);
+        remove(tmp);
+        snprintf(err, err_size, "out of memory");
+        return -1;
+    }
+    for (int k = p.cells - 1; k >= 0; --k)
+        load[k] = load[k + 1] + p.grain_force[k] * p.dy;
+    fprintf(f, "y,u,phi,grain_vx,tau_fluid,grain_load,tau_total\n");
+    for (int k = 0; k < p.cells; ++k)
+        fprintf(f, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", p.y[k], p.u[k], p.solid_fraction[k],
+                p.grain_velocity[k], p.stress[k + 1], load[k + 1], p.stress[k + 1] + load[k + 1]);
+    free(load);
+    int ok = fclose(f) == 0;
+    if (!ok || rename(tmp, path) != 0) {
+        remove(tmp);
+        snprintf(err, err_size, "cannot write %s", path);
+        return -1;
+    }
+    return 0;
+}
+
+int app_sediment_end(AppSediment *s, int ok, char *err, size_t err_size)
+{
+    int rc = 0;
+    if (s->csv) {
+        int closed = fclose(s->csv) == 0;
+        s->csv = NULL;
+        char tmp[SCENE_PATH_MAX + 40];
+        snprintf(tmp, sizeof tmp, "%s.tmp", s->csv_path);
+        if (!closed || rename(tmp, s->csv_path) != 0) {
+            snprintf(err, err_size, "cannot write %s", s->csv_path);
+            rc = -1;
+        }
+    }
+    if (!ok || rc != 0)
+        return rc;
+    double t_sat = NAN;
+    double q_sat = app_sediment_saturation(s->t, s->q, s->count, s->flow_start, &t_sat);
+    const AppSedimentNumbers *n = &s->numbers;
+    char tmp[SCENE_PATH_MAX + 40];
+    snprintf(tmp, sizeof tmp, "%s.tmp", s->json_path);
+    FILE *f = fopen(tmp, "w");
+    if (!f) {
+        snprintf(err, err_size, "cannot write %s", tmp);
+        return -1;
+    }
+    const SimFluidDef *fd = sim_fluid_def(s->fluid);
+    char qs[32], qss[32], ts[32];
+    snprintf(qs, sizeof qs, isfinite(q_sat) ? "%.9g" : "null", q_sat);
+    snprintf(qss, sizeof qss, isfinite(q_sat) && n->flux_scale > 0 ? "%.9g" : "null",
+             q_sat / n->flux_scale);
+    snprintf(ts, sizeof ts, isfinite(t_sat) ? "%.9g" : "null", t_sat);
+    fprintf(f,
+            "{\n  \"diameter\": %.9g,\n  \"density_ratio\": %.9g,\n  \"galileo\": %.9g,\n"
+            "  \"shields\": %.9g,\n  \"fluid_density\": %.9g,\n  \"viscosity\": %.9g,\n"
+            "  \"shear_velocity\": %.9g,\n  \"turbulent\": %s,\n  \"flow_start\": %.9g,\n"
+            "  \"q_sat\": %s,\n  \"q_sat_star\": %s,\n  \"t_sat\": %s,\n  \"samples\": %d\n}\n",
+            n->diameter, n->density_ratio, n->galileo, n->shields, fd->density, fd->viscosity,
+            s->shear_velocity, fd->turbulent ? "true" : "false", s->flow_start, qs, qss, ts,
+            s->count);
+    if (fclose(f) != 0 || rename(tmp, s->json_path) != 0) {
+        remove(tmp);
+        snprintf(err, err_size, "cannot write %s", s->json_path);
+        return -1;
+    }
+    return 0;
+}

@@ -1,0 +1,63 @@
+/* SPDX-License-Identifier: MIT */
+/* sediment.h: bed-load transport under the 1D fluid column of thesis 002 ch. 6-7 (sim/fluid.c).
+ * Parses a scene's `fluid` group (effect fluid_drag), owns the SimFluid whose body-force stage
+ * drags the grains, and measures during a run: sediment.csv (flux q(t), bed level, fluid
+ * velocity at the top), <stage>.fluid.csv (fluid, concentration, grain-velocity and stress
+ * profiles) and sediment.json (q_sat, T_sat, the control numbers).
+ *
+ *     // in scene_load, after grains and stages:
+ *     scene->sediment = app_sediment_parse(member(root, "fluid"), scene, err, sizeof err);
+ *     // in the runner: app_sediment_begin / _stage / _row / _stage_end / _end
+ */
+#ifndef APP_SEDIMENT_H
+#define APP_SEDIMENT_H
+
+#include "scene.h"
+
+#include "sim/sim.h"
+
+#include <libconfig.h>
+#include <stddef.h>
+#include <stdio.h>
+
+/// Control numbers of the column (002 eqs. 40-42) and what a run measured.
+typedef struct AppSedimentNumbers {
+    double diameter;      ///< d, m
+    double density_ratio; ///< D_R = rho_p / rho_f
+    double galileo;       ///< R = (d / nu) sqrt((D_R - 1) g d) (the thesis's "Reynolds")
+    double shields;       ///< Theta = u*^2 / ((D_R - 1) g d)
+    double flux_scale;    ///< d sqrt((D_R - 1) g d): q* = q / this, m^2/s
+} AppSedimentNumbers;
+
+typedef struct AppSediment AppSediment;
+
+/// Parses `fluid` (NULL when absent: returns NULL with err empty) and creates the fluid; sets the
+/// scene's body force. NULL with "file:line: message" in err on bad input.
+AppSediment *app_sediment_parse(const config_setting_t *group, Scene *scene, char *err,
+                                size_t err_size);
+void app_sediment_free(AppSediment *sediment);
+
+SimFluid *app_sediment_fluid(const AppSediment *sediment);
+AppSedimentNumbers app_sediment_numbers(const AppSediment *sediment);
+
+/// Runner hooks. begin opens sediment.csv in out_dir; stage is called at each stage start (the
+/// fluid acts from the `flow_stage` on; before it the grains settle dry); row after every energy row; stage_end writes
+/// <stage>.fluid.csv; end closes the CSV and writes sediment.json. Each returns 0 or -1 with a
+/// message in err.
+int app_sediment_begin(AppSediment *s, const char *out_dir, char *err, size_t err_size);
+void app_sediment_stage(AppSediment *s, const Scene *scene, int stage, double time);
+void app_sediment_row(AppSediment *s, SimWorld *world);
+int app_sediment_stage_end(AppSediment *s, SimWorld *world, const char *out_dir,
+                           const char *stage_name, char *err, size_t err_size);
+int app_sediment_end(AppSediment *s, int ok, char *err, size_t err_size);
+
+/// Volume (2D area) flux per unit bed width of a frame's mobile grains, sum pi r^2 v_x / L_x,
+/// m^2/s.
+double app_sediment_flux(const SimFrame *frame, double width);
+
+/// Saturation of a flux record: q_sat = mean over the last third of [t_start, t_end]; T_sat = first
+/// time after t_start where q reaches (1 - 1/e) q_sat, minus t_start (NAN if never). Returns q_sat.
+double app_sediment_saturation(const double *t, const double *q, int count, double t_start,
+                               double *t_sat);
+
+#endif

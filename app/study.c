@@ -1,0 +1,1241 @@
+/* SPDX-License-Identifier: MIT */
+/* study.c: `sablier discharge` (one pile, a few widths, figures and movies) and `sablier study`
+ * (thesis 004 statistics: independent samples over L and w, run in parallel processes,
+ * resumable, reduced to tables, fits and plots). The same pile of a sample is discharged at every
+ * width (004 §3.1: "the same samples are discharged at every w"). */
+#include "study.h"
+
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#define PATH        2048
+#define MAX_SETS    64
+#define MAX_LENGTHS 16
+#define MAX_WIDTHS  128
+#define NOTHING     ((double)NAN)
+
+const char APP_DISCHARGE_USAGE[] =
+    "usage: sablier discharge SCENE [--out DIR] [--width W]... [--pile STATE] [--seed N]\n"
+    "                         [--set KEY=VALUE]... [--figures] [--movie] [--quiet]\n"
+    "\n"
+    "Builds an open pile (rows rained on the base, relaxed to static equilibrium; thesis 004)\n"
+    "and discharges it through a central orifice of each width W (in grain diameters).\n"
+    "  --out DIR      output folder (default out/<scene name>/)\n"
+    "  --width W      orifice width, d (repeatable; default the scene's discharge.widths)\n"
+    "  --pile STATE   discharge this saved pile instead of building one\n"
+    "  --seed N       deposition seed (default the scene's seed)\n"
+    "  --figures      pile.png and w<W>.png (species colours, arch highlighted with an inset)\n"
+    "  --movie        deposition.mp4 and w<W>.mp4\n"
+    "Writes pile.state, deposition.csv, discharge.csv (s, h, arch, composition) and\n"
+    "w<W>.state.\n";
+
+const char APP_STUDY_USAGE[] =
+    "usage: sablier study SCENE [--L 25,50,...] [--widths 1.0:7.0:0.2] [--samples N]\n"
+    "                     [--jobs J] [--out DIR] [--set KEY=VALUE]... [--reduce-only]\n"
+    "\n"
+    "Thesis 004 statistics. Each sample (seed = scene seed + sample index) is one pile per L,\n"
+    "discharged at every width; samples run in J parallel processes and an interrupted study\n"
+    "resumes where it stopped. Writes DIR/L<L>/w<W>.csv (one row per sample), DIR/study.csv\n"
+    "(<h>, sigma_h, <s>, arch composition per L and w), DIR/fits.csv (w_t per L from a\n"
+    "Gaussian fit of sigma_h, w_c from the linear fit of w_t against 1/L), DIR/L<L>/Fs.csv,\n"
+    "DIR/L<L>/profile.csv and plots.\n"
+    "  --L LIST        base lengths, d (default the scene's discharge.base_length)\n"
+    "  --widths SPEC   A:B:STEP or a comma list, d (default 1.0:7.0:0.2)\n"
+    "  --samples N     samples per L (default 10)\n"
+    "  --jobs J        parallel processes (default 2)\n"
+    "  --reduce-only   only rebuild tables and plots from finished runs\n";
+
+static double now_seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* "--name VALUE" or "--name=VALUE"; 1 matched, 0 not, -1 missing value. */
+static int option(int argc, char **argv, int *i, const char *name, const char **value)
+{
+    size_t n = strlen(name);
+    if (strncmp(argv[*i], name, n) != 0)
+        return 0;
+    if (argv[*i][n] == '=') {
+        *value = argv[*i] + n + 1;
+        return 1;
+    }
+    if (argv[*i][n] != '\0')
+        return 0;
+    if (*i + 1 >= argc) {
+        fprintf(stderr, "sablier: %s needs a value\n", name);
+        return -1;
+    }
+    *value = argv[++*i];
+    return 1;
+}
+
+static int usage(const char *text, const char *message, const char *arg)
+{
+    fprintf(stderr, "sablier: %s%s%s\n\n%s", message, arg ? " " : "", arg ? arg : "", text);
+    return 2;
+}
+
+static int parse_real(const char *text, double *out)
+{
+    char *end;
+    errno = 0;
+    *out = strtod(text, &end);
+    return end != text && !*end && !errno && isfinite(*out) ? 0 : -1;
+}
+
+/* "1.0:7.0:0.2" or "1,2.5,3"; widths rounded to 1e-9 so names and matches are exact. */
+static int parse_list(const char *text, double *out, int max)
+{
+    char buffer[1024];
+    snprintf(buffer, sizeof buffer, "%s", text);
+    int n = 0;
+    if (strchr(buffer, ':')) {
+        double a, b, step;
+        char *p1 = strchr(buffer, ':'), *p2;
+        *p1 = '\0';
+        p2 = strchr(p1 + 1, ':');
+        if (!p2)
+            return -1;
+        *p2 = '\0';
+        if (parse_real(buffer, &a) || parse_real(p1 + 1, &b) || parse_real(p2 + 1, &step) ||
+            !(step > 0.0) || b < a)
+            return -1;
+        for (long k = 0; n < max; ++k) {
+            double v = a + (double)k * step;
+            if (v > b + 1e-9 * step)
+                break;
+            out[n++] = floor(v * 1e9 + 0.5) / 1e9;
+        }
+        return n;
+    }
+    for (char *tok = strtok(buffer, ","); tok && n < max; tok = strtok(NULL, ",")) {
+        if (parse_real(tok, &out[n]))
+            return -1;
+        out[n] = floor(out[n] * 1e9 + 0.5) / 1e9;
+        ++n;
+    }
+    return n;
+}
+
+static int make_dirs(const char *path)
+{
+    return app_make_dirs(path);
+}
+
+static int write_atomic(const char *path, const char *text)
+{
+    char tmp[PATH + 200];
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    FILE *f = fopen(tmp, "w");
+    if (!f)
+        return -1;
+    int ok = fputs(text, f) >= 0;
+    ok = fclose(f) == 0 && ok;
+    if (!ok || rename(tmp, path) != 0) {
+        remove(tmp);
+        return -1;
+    }
+    return 0;
+}
+
+static void width_name(double w, char *out, size_t size)
+{
+    snprintf(out, size, "w%.1f", w);
+    if (fabs(w * 10.0 - floor(w * 10.0 + 0.5)) > 1e-6)
+        snprintf(out, size, "w%g", w);
+}
+
+static Scene *load_scene(const char *path, const char *const *sets, int set_count, double L,
+                         char *err, size_t err_size)
+{
+    const char *all[MAX_SETS + 1];
+    char length[64];
+    int n = 0;
+    for (int k = 0; k < set_count && n < MAX_SETS; ++k)
+        all[n++] = sets[k];
+    if (L > 0.0) {
+        snprintf(length, sizeof length, "discharge.base_length=%.10g", L);
+        all[n++] = length;
+    }
+    Scene *scene = scene_load(path, all, n, err, err_size);
+    if (scene && !scene->discharge) {
+        snprintf(err, err_size, "%s:1: the scene has no `discharge` group (docs/discharge.md)",
+                 path);
+        scene_free(scene);
+        return NULL;
+    }
+    return scene;
+}
+
+/* ---------------------------------------------------------------- movies and figures */
+
+typedef struct Movie {
+    const AppDischargeRender *render;
+    int open;
+} Movie;
+
+static int movie_start(Movie *m, const Scene *scene, const char *path, AppFrames *frames,
+                       double frame_time, double dt)
+{
+    memset(frames, 0, sizeof *frames);
+    if (!m->render || !m->render->movie || !m->render->movie->movie_open)
+        return 0;
+    char err[512] = "";
+    if (m->render->movie->movie_open(m->render->movie->context, scene, 0, path, &frames->sink, err,
+                                     sizeof err) != 0) {
+        fprintf(stderr, "sablier: movie %s: %s\n", path, err);
+        return -1;
+    }
+    frames->every = (long)fmax(1.0, floor(frame_time / dt + 0.5));
+    m->open = 1;
+    return 0;
+}
+
+static int movie_finish(Movie *m)
+{
+    if (!m->open)
+        return 0;
+    m->open = 0;
+    char err[512] = "";
+    if (m->render->movie->movie_close(m->render->movie->context, err, sizeof err) != 0) {
+        fprintf(stderr, "sablier: movie: %s\n", err);
+        return -1;
+    }
+    return 0;
+}
+
+static int figure(const AppDischargeRender *render, const Scene *scene, SimWorld *world,
+                  const AppDischarge *result, const char *title, const char *path)
+{
+    if (!render || !render->figure)
+        return 0;
+    SimFrame frame;
+    sim_world_frame(world, &frame);
+    int *marks = NULL;
+    if (result && result->arch > 0) {
+        marks = malloc((size_t)(frame.count + 1) * sizeof *marks);
+        if (!marks)
+            return -1;
+        app_arch_marks(&frame, result, marks);
+    }
+    char err[512] = "";
+    int rc = render->figure(render->context, scene, &frame, marks, title, path, err, sizeof err);
+    if (rc != 0)
+        fprintf(stderr, "sablier: figure %s: %s\n", path, err);
+    free(marks);
+    return rc;
+}
+
+/* ---------------------------------------------------------------- sablier discharge */
+
+int app_discharge_command(int argc, char **argv, const AppDischargeRender *render)
+{
+    const char *scene_path = NULL, *out = NULL, *pile = NULL, *value, *sets[MAX_SETS];
+    int set_count = 0, figures = 0, movies = 0, quiet = 0, width_count = 0, seed_given = 0;
+    double widths[MAX_WIDTHS];
+    unsigned long long seed = 0;
+    for (int i = 2; i < argc; ++i) {
+        int m;
+        if ((m = option(argc, argv, &i, "--out", &value)) != 0) {
+            if (m < 0)
+                return 2;
+            out = value;
+        } else if ((m = option(argc, argv, &i, "--pile", &value)) != 0) {
+            if (m < 0)
+                return 2;
+            pile = value;
+        } else if ((m = option(argc, argv, &i, "--set", &value)) != 0) {
+            if (m < 0 || set_count >= MAX_SETS)
+                return usage(APP_DISCHARGE_USAGE, "bad --set", NULL);
+            sets[set_count++] = value;
+        } else if ((m = option(argc, argv, &i, "--width", &value)) != 0) {
+            double w;
+            if (m < 0 || parse_real(value, &w) != 0 || !(w >= 0.0) || width_count >= MAX_WIDTHS)
+                return usage(APP_DISCHARGE_USAGE, "--width needs a width >= 0 (d), got",
+                             m < 0 ? "nothing" : value);
+            widths[width_count++] = w;
+        } else if ((m = option(argc, argv, &i, "--seed", &value)) != 0) {
+            char *end;
+            if (m < 0)
+                return 2;
+            seed = strtoull(value, &end, 10);
+            if (end == value || *end)
+                return usage(APP_DISCHARGE_USAGE, "--seed needs an integer, got", value);
+            seed_given = 1;
+        } else if (strcmp(argv[i], "--figures") == 0) {
+            figures = 1;
+        } else if (strcmp(argv[i], "--movie") == 0) {
+            movies = 1;
+        } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
+            quiet = 1;
+        } else if (argv[i][0] == '-' && argv[i][1]) {
+            return usage(APP_DISCHARGE_USAGE, "unknown option", argv[i]);
+        } else if (!scene_path) {
+            scene_path = argv[i];
+        } else {
+            return usage(APP_DISCHARGE_USAGE, "one scene at a time; extra argument", argv[i]);
+        }
+    }
+    if (!scene_path)
+        return usage(APP_DISCHARGE_USAGE, "missing SCENE", NULL);
+    char err[4096] = "";
+    Scene *scene = load_scene(scene_path, sets, set_count, 0.0, err, sizeof err);
+    if (!scene) {
+        fprintf(stderr, "%s\n", err);
+        return 2;
+    }
+    const AppDischargeDef *def = scene->discharge;
+    if (width_count == 0)
+        for (int k = 0; k < def->width_count; ++k)
+            widths[width_count++] = def->widths[k];
+    char dir[PATH], path[PATH + 64];
+    snprintf(dir, sizeof dir, "%s%s", out ? "" : "out/", out ? out : scene->name);
+    if (make_dirs(dir) != 0) {
+        fprintf(stderr, "sablier: cannot create output folder %s: %s\n", dir, strerror(errno));
+        scene_free(scene);
+        return 2;
+    }
+    AppDischargeGeometry geo;
+    app_discharge_geometry(scene, &geo);
+    Movie movie = {movies ? render : NULL, 0};
+    const double frame_time = geo.row_period / 4.0;
+    int status = 0;
+    char pile_path[PATH + 64];
+    size_t summary_size = 4096 + 512 * (size_t)width_count;
+    char *summary = malloc(summary_size);
+    if (!summary)
+        abort();
+    size_t used = 0;
+    if (!pile) {
+        AppFrames frames;
+        snprintf(path, sizeof path, "%s/deposition.mp4", dir);
+        if (movie_start(&movie, scene, path, &frames, frame_time, geo.dt) != 0)
+            status = 2;
+        snprintf(path, sizeof path, "%s/deposition.csv", dir);
+        char tmp[PATH + 80];
+        snprintf(tmp, sizeof tmp, "%s.tmp", path);
+        FILE *trace = fopen(tmp, "w");
+        if (trace)
+            fprintf(trace, "t,row,released,pile,mobile\n");
+        AppDeposit dep;
+        SimWorld *world = status ? NULL
+                                 : app_deposit(scene, seed_given ? seed : scene->seed, &frames,
+                                               trace, &dep, err, sizeof err);
+        if (movie_finish(&movie) != 0)
+            status = 2;
+        if (trace && (fclose(trace) != 0 || rename(tmp, path) != 0))
+            status = 2;
+        if (!world) {
+            if (!status)
+                fprintf(stderr, "sablier: deposition: %s\n", err);
+            status = status ? status : 1;
+        } else {
+            snprintf(pile_path, sizeof pile_path, "%s/pile.state", dir);
+            SimError error;
+            if (sim_world_save(world, pile_path, &error) != SIM_OK) {
+                fprintf(stderr, "sablier: %s\n", error.message);
+                status = 2;
+            }
+            if (figures) {
+                snprintf(path, sizeof path, "%s/pile.png", dir);
+                char title[128];
+                snprintf(title, sizeof title, "pile L = %g d, %d grains", def->base_length,
+                         dep.pile);
+                if (figure(render, scene, world, NULL, title, path) != 0)
+                    status = 2;
+            }
+            if (!quiet)
+                fprintf(stderr,
+                        "sablier: deposition L = %g d: %d rows, %d released, %d in the pile, %ld "
+                        "lost, %s at t = %.6g (%ld steps, %.3g s)\n",
+                        def->base_length, dep.rows, dep.released, dep.pile, dep.lost,
+                        dep.equilibrium ? "static equilibrium" : "NOT at equilibrium (cap)",
+                        dep.time, dep.steps, dep.wall_seconds);
+            used += (size_t)snprintf(
+                summary + used, summary_size - used,
+                "{\n  \"scene\": \"%s\",\n  \"base_length\": %.10g,\n  \"seed\": %llu,\n"
+                "  \"g\": %.10g,\n  \"dt\": %.10g,\n  \"row_period\": %.10g,\n  \"row_size\": %d,\n"
+                "  \"deposition\": {\"rows\": %d, \"released\": %d, \"pile\": %d, \"lost\": %ld, "
+                "\"equilibrium\": %s, \"height\": %.10g, \"time\": %.10g, \"steps\": %ld, "
+                "\"wall_seconds\": %.4g},\n  \"discharges\": [",
+                scene->name, def->base_length, seed_given ? seed : (unsigned long long)scene->seed,
+                geo.g, geo.dt, geo.row_period, geo.row_size, dep.rows, dep.released, dep.pile,
+                dep.lost, dep.equilibrium ? "true" : "false", dep.height, dep.time, dep.steps,
+                dep.wall_seconds);
+            sim_world_destroy(world);
+        }
+        pile = pile_path;
+    } else {
+        used += (size_t)snprintf(
+            summary + used, summary_size - used,
+            "{\n  \"scene\": \"%s\",\n  \"pile\": \"%s\",\n  \"discharges\": [", scene->name, pile);
+    }
+    size_t csv_size = 512 + 256 * (size_t)width_count;
+    char *csv = malloc(csv_size);
+    if (!csv)
+        abort();
+    size_t csv_used = (size_t)snprintf(csv, csv_size, "%s\n", app_discharge_csv_header());
+    for (int k = 0; status == 0 && k < width_count; ++k) {
+        char wname[32];
+        width_name(widths[k], wname, sizeof wname);
+        AppFrames frames;
+        snprintf(path, sizeof path, "%s/%s.mp4", dir, wname);
+        if (movie_start(&movie, scene, path, &frames, frame_time, geo.dt) != 0) {
+            status = 2;
+            break;
+        }
+        AppDischarge r;
+        SimWorld *world = app_discharge(scene, pile, widths[k], &frames, &r, err, sizeof err);
+        if (movie_finish(&movie) != 0)
+            status = 2;
+        if (!world) {
+            fprintf(stderr, "sablier: discharge w = %g d: %s\n", widths[k], err);
+            status = 1;
+            break;
+        }
+        snprintf(path, sizeof path, "%s/%s.state", dir, wname);
+        SimError error;
+        if (sim_world_save(world, path, &error) != SIM_OK)
+            status = 2;
+        if (figures) {
+            char title[160];
+            snprintf(title, sizeof title, "w = %g d: s = %ld, h = %.3g d, arch of %d grains",
+                     widths[k], r.through, r.height, r.arch);
+            snprintf(path, sizeof path, "%s/%s.png", dir, wname);
+            if (figure(render, scene, world, &r, title, path) != 0)
+                status = 2;
+        }
+        sim_world_destroy(world);
+        char row[512];
+        app_discharge_csv_row(&r, 0, def->base_length, row, sizeof row);
+        csv_used += (size_t)snprintf(csv + csv_used, csv_size - csv_used, "%s\n", row);
+        used += (size_t)snprintf(
+            summary + used, summary_size - used,
+            "%s\n    {\"w\": %.10g, \"s\": %ld, \"edges\": %ld, \"h\": %.10g, \"pile\": %d, "
+            "\"arch\": %d, \"arch_species\": [%d, %d], \"equilibrium\": %s, \"time\": %.10g, "
+            "\"wall_seconds\": %.4g}",
+            k ? "," : "", r.width, r.through, r.edges, r.height, r.pile, r.arch, r.arch_species[0],
+            r.arch_species[1], r.equilibrium ? "true" : "false", r.time, r.wall_seconds);
+        if (!quiet)
+            fprintf(stderr,
+                    "sablier: discharge w = %g d: s = %ld through, %ld over the edges, h = %.4g d, "
+                    "arch %d grains, %s (%.3g s)\n",
+                    widths[k], r.through, r.edges, r.height, r.arch,
+                    r.equilibrium ? "static equilibrium" : "NOT at equilibrium (cap)",
+                    r.wall_seconds);
+    }
+    snprintf(path, sizeof path, "%s/discharge.csv", dir);
+    if (width_count > 0 && status == 0 && write_atomic(path, csv) != 0)
+        status = 2;
+    if (used > 0) {
+        snprintf(summary + used, summary_size - used, "\n  ],\n  \"status\": \"%s\"\n}\n",
+                 status == 0 ? "ok" : "error");
+        snprintf(path, sizeof path, "%s/summary.json", dir);
+        if (write_atomic(path, summary) != 0 && status == 0)
+            status = 2;
+    }
+    free(csv);
+    free(summary);
+    scene_free(scene);
+    return status;
+}
+
+/* ---------------------------------------------------------------- study: one sample */
+
+typedef struct Study {
+    const char *scene_path;
+    const char *const *sets;
+    int set_count;
+    const char *dir;
+    double lengths[MAX_LENGTHS];
+    int length_count;
+    double widths[MAX_WIDTHS];
+    int width_count;
+    int samples, jobs;
+} Study;
+
+static void sample_paths(const char *dir, double L, int sample, char *csv, char *dep, char *pile)
+{
+    snprintf(csv, PATH, "%s/L%g/samples/s%06d.csv", dir, L, sample);
+    snprintf(dep, PATH, "%s/L%g/samples/s%06d.dep", dir, L, sample);
+    snprintf(pile, PATH, "%s/L%g/samples/s%06d.state", dir, L, sample);
+}
+
+/* Widths already done in a sample file (column 3 of each data row). */
+static int read_done(const char *path, const double *widths, int count, unsigned char *done,
+                     char **text)
+{
+    *text = NULL;
+    memset(done, 0, (size_t)count);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return 0;
+    size_t cap = 4096, len = 0;
+    char *buffer = malloc(cap), line[1024];
+    int n = 0;
+    if (!buffer)
+        abort();
+    buffer[0] = '\0';
+    while (fgets(line, sizeof line, f)) {
+        long sample;
+        double L, w;
+        if (sscanf(line, "%ld,%lf,%lf", &sample, &L, &w) != 3)
+            continue;
+        for (int k = 0; k < count; ++k)
+            if (fabs(widths[k] - w) < 1e-6 && !done[k]) {
+                done[k] = 1;
+                ++n;
+            }
+        size_t l = strlen(line);
+        if (len + l + 1 > cap) {
+            cap = 2 * (len + l + 1);
+            char *grown = realloc(buffer, cap);
+            if (!grown)
+                abort();
+            buffer = grown;
+        }
+        memcpy(buffer + len, line, l + 1);
+        len += l;
+    }
+    fclose(f);
+    *text = buffer;
+    return n;
+}
+
+static int run_sample(const Scene *scene, const Study *st, double L, int sample)
+{
+    char csv[PATH], dep_path[PATH], pile[PATH], err[4096] = "";
+    sample_paths(st->dir, L, sample, csv, dep_path, pile);
+    unsigned char done[MAX_WIDTHS];
+    char *text = NULL;
+    int n_done = read_done(csv, st->widths, st->width_count, done, &text);
+    if (n_done == st->width_count) {
+        free(text);
+        return 0;
+    }
+    struct stat sb;
+    if (stat(pile, &sb) != 0) {
+        AppDeposit dep;
+        SimWorld *world =
+            app_deposit(scene, scene->seed + (uint64_t)sample, NULL, NULL, &dep, err, sizeof err);
+        if (!world) {
+            fprintf(stderr, "sablier: study L = %g sample %d: deposition: %s\n", L, sample, err);
+            free(text);
+            return 1;
+        }
+        /* deposition record: fixed fields, then the profile of the top per d-wide strip */
+        int bins = (int)floor(L + 0.5);
+        double *heights = malloc((size_t)(bins + 1) * sizeof *heights);
+        size_t size = 512 + 24 * (size_t)bins;
+        char *line = malloc(size);
+        if (!heights || !line)
+            abort();
+        sim_world_surface_profile(world, -0.5 * L, 0.5 * L, bins, heights);
+        size_t used =
+            (size_t)snprintf(line, size, "%d,%g,%d,%d,%d,%ld,%d,%.10g,%.10g,%ld,%.4g", sample, L,
+                             dep.rows, dep.released, dep.pile, dep.lost, dep.equilibrium,
+                             dep.height, dep.time, dep.steps, dep.wall_seconds);
+        for (int b = 0; b < bins; ++b)
+            used += (size_t)snprintf(line + used, size - used, ",%.6g",
+                                     isfinite(heights[b]) ? heights[b] : 0.0);
+        snprintf(line + used, size - used, "\n");
+        SimError error;
+        int bad = sim_world_save(world, pile, &error) != SIM_OK || write_atomic(dep_path, line);
+        sim_world_destroy(world);
+        free(heights);
+        free(line);
+        if (bad) {
+            fprintf(stderr, "sablier: study: cannot write %s\n", pile);
+            free(text);
+            return 2;
+        }
+    }
+    size_t cap = (text ? strlen(text) : 0) + 256 * (size_t)st->width_count + 512;
+    char *out = malloc(cap);
+    if (!out)
+        abort();
+    snprintf(out, cap, "%s", text ? text : "");
+    free(text);
+    int status = 0;
+    for (int k = 0; k < st->width_count; ++k) {
+        if (done[k])
+            continue;
+        AppDischarge r;
+        SimWorld *world = app_discharge(scene, pile, st->widths[k], NULL, &r, err, sizeof err);
+        if (!world) {
+            fprintf(stderr, "sablier: study L = %g sample %d w = %g: %s\n", L, sample,
+                    st->widths[k], err);
+            status = 1;
+            break;
+        }
+        sim_world_destroy(world);
+        char row[512];
+        app_discharge_csv_row(&r, sample, L, row, sizeof row);
+        size_t len = strlen(out);
+        snprintf(out + len, cap - len, "%s\n", row);
+        if (write_atomic(csv, out) != 0) { /* each width is kept as soon as it is done */
+            status = 2;
+            break;
+        }
+    }
+    free(out);
+    if (status == 0)
+        remove(pile); /* every width done: the pile is no longer needed */
+    return status;
+}
+
+/* ---------------------------------------------------------------- study: scheduling */
+
+typedef struct Task {
+    int length, sample;
+} Task;
+
+static int run_study(const Study *st, Scene **scenes)
+{
+    int total = st->length_count * st->samples, next = 0, running = 0, failed = 0, finished = 0;
+    Task *tasks = calloc((size_t)total + 1, sizeof *tasks);
+    pid_t *pids = calloc((size_t)st->jobs, sizeof *pids);
+    Task *slots = calloc((size_t)st->jobs, sizeof *slots);
+    if (!tasks || !pids || !slots)
+        abort();
+    int n = 0;
+    for (int s = 0; s < st->samples; ++s) /* samples outer: every L advances together */
+        for (int l = 0; l < st->length_count; ++l) {
+            char csv[PATH], dep[PATH], pile[PATH];
+            sample_paths(st->dir, st->lengths[l], s, csv, dep, pile);
+            unsigned char done[MAX_WIDTHS];
+            char *text;
+            int k = read_done(csv, st->widths, st->width_count, done, &text);
+            free(text);
+            if (k == st->width_count)
+                continue;
+            tasks[n++] = (Task){l, s};
+        }
+    fprintf(stderr, "sablier: study: %d of %d samples to run (%d jobs)\n", n, total, st->jobs);
+    double start = now_seconds();
+    fflush(NULL);
+    while (next < n || running > 0) {
+        while (running < st->jobs && next < n) {
+            int slot = 0;
+            while (pids[slot] != 0)
+                ++slot;
+            Task t = tasks[next++];
+            pid_t pid = fork();
+            if (pid < 0) {
+                fprintf(stderr, "sablier: study: fork failed: %s\n", strerror(errno));
+                failed = 1;
+                next = n;
+                break;
+            }
+            if (pid == 0) {
+                int rc = run_sample(scenes[t.length], st, st->lengths[t.length], t.sample);
+                fflush(NULL);
+                _exit(rc);
+            }
+            pids[slot] = pid;
+            slots[slot] = t;
+            ++running;
+        }
+        if (running == 0)
+            break;
+        int wstatus;
+        pid_t pid = wait(&wstatus);
+        if (pid < 0)
+            break;
+        for (int slot = 0; slot < st->jobs; ++slot) {
+            if (pids[slot] != pid)
+                continue;
+            pids[slot] = 0;
+            --running;
+            ++finished;
+            int ok = WIFEXITED(wstatus) && WEXITSTATUS(wstatus) == 0;
+            failed |= !ok;
+            double elapsed = now_seconds() - start;
+            fprintf(stderr, "sablier: study: L = %g sample %d %s (%d/%d, %.0f s, ETA %.0f s)\n",
+                    st->lengths[slots[slot].length], slots[slot].sample, ok ? "done" : "FAILED",
+                    finished, n, elapsed, elapsed / finished * (n - finished));
+        }
+    }
+    free(tasks);
+    free(pids);
+    free(slots);
+    return failed ? 1 : 0;
+}
+
+/* ---------------------------------------------------------------- reduction */
+
+static void gaussian_fit(const double *w, const double *sigma, int n, double *peak, double *A,
+                         double *B, double *C)
+{
+    int best = -1;
+    for (int k = 0; k < n; ++k)
+        if (isfinite(sigma[k]) && (best < 0 || sigma[k] > sigma[best]))
+            best = k;
+    *peak = best >= 0 ? w[best] : NOTHING;
+    *A = *B = *C = NAN;
+    if (best < 0 || !(sigma[best] > 0.0))
+        return;
+    /* least squares of log sigma = A + B w + C w^2 over the points above half the maximum */
+    double s[5] = {0}, t[3] = {0};
+    int m = 0;
+    for (int k = 0; k < n; ++k) {
+        if (!(sigma[k] > 0.5 * sigma[best]))
+            continue;
+        double x = w[k] - w[best], y = log(sigma[k]), p = 1.0;
+        for (int j = 0; j < 5; ++j, p *= x)
+            s[j] += p;
+        t[0] += y;
+        t[1] += x * y;
+        t[2] += x * x * y;
+        ++m;
+    }
+    if (m < 3)
+        return;
+    double M[3][4] = {{s[0], s[1], s[2], t[0]}, {s[1], s[2], s[3], t[1]}, {s[2], s[3], s[4], t[2]}};
+    for (int c = 0; c < 3; ++c) { /* Gaussian elimination with partial pivoting */
+        int piv = c;
+        for (int r = c + 1; r < 3; ++r)
+            if (fabs(M[r][c]) > fabs(M[piv][c]))
+                piv = r;
+        if (!(fabs(M[piv][c]) > 1e-300))
+            return;
+        for (int j = 0; j < 4; ++j) {
+            double tmp = M[c][j];
+            M[c][j] = M[piv][j];
+            M[piv][j] = tmp;
+        }
+        for (int r = 0; r < 3; ++r) {
+            if (r == c)
+                continue;
+            double f = M[r][c] / M[c][c];
+            for (int j = c; j < 4; ++j)
+                M[r][j] -= f * M[c][j];
+        }
+    }
+    double a = M[0][3] / M[0][0], b = M[1][3] / M[1][1], c2 = M[2][3] / M[2][2];
+    if (!(c2 < 0.0))
+        return;
+    double x0 = -b / (2.0 * c2);
+    if (fabs(x0) > 2.0 * (w[n - 1] - w[0]) + 1.0)
+        return;
+    *peak = w[best] + x0;
+    /* in absolute w: log sigma = A + B w + C w^2 */
+    double o = w[best];
+    *C = c2;
+    *B = b - 2.0 * c2 * o;
+    *A = a - b * o + c2 * o * o;
+}
+
+double app_gaussian_peak(const double *w, const double *sigma, int n)
+{
+    double peak, A, B, C;
+    gaussian_fit(w, sigma, n, &peak, &A, &B, &C);
+    return peak;
+}
+
+void app_linear_fit(const double *x, const double *y, int n, double *a, double *b, double *a_err)
+{
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (int k = 0; k < n; ++k) {
+        sx += x[k];
+        sy += y[k];
+        sxx += x[k] * x[k];
+        sxy += x[k] * y[k];
+    }
+    double det = n * sxx - sx * sx;
+    *a = *b = NAN;
+    *a_err = 0.0;
+    if (n < 2 || !(fabs(det) > 0.0)) {
+        if (n >= 1)
+            *a = sy / n;
+        return;
+    }
+    *b = (n * sxy - sx * sy) / det;
+    *a = (sy - *b * sx) / n;
+    if (n >= 3) {
+        double rss = 0.0;
+        for (int k = 0; k < n; ++k) {
+            double r = y[k] - *a - *b * x[k];
+            rss += r * r;
+        }
+        *a_err = sqrt(rss / (n - 2) * sxx / det);
+    }
+}
+
+typedef struct Cell {
+    int n, jammed, catastrophic;
+    double h, h2, s, s2, edges, arch;
+    double pile0, pile_all, arch0, arch_all, arch_ratio; /* species 0 fractions */
+    int arch_ratio_n;
+    long *sizes;
+    int size_count, size_cap;
+} Cell;
+
+static int compare_long(const void *a, const void *b)
+{
+    long x = *(const long *)a, y = *(const long *)b;
+    return (x > y) - (x < y);
+}
+
+int app_study_reduce(const Scene *scene, const char *dir, const double *lengths, int length_count,
+                     const double *widths, int width_count, int samples,
+                     const AppDischargeRender *render, char *err, size_t err_size)
+{
+    char path[PATH + 64];
+    size_t cells_n = (size_t)length_count * (size_t)width_count;
+    Cell *cells = calloc(cells_n + 1, sizeof *cells);
+    double *h_mean = calloc(cells_n + 1, sizeof(double)),
+           *h_sd = calloc(cells_n + 1, sizeof(double));
+    double *h_err = calloc(cells_n + 1, sizeof(double)),
+           *qs_pile = calloc(cells_n + 1, sizeof(double));
+    double *qs_arch = calloc(cells_n + 1, sizeof(double));
+    double w_t[MAX_LENGTHS], fitA[MAX_LENGTHS], fitB[MAX_LENGTHS], fitC[MAX_LENGTHS];
+    if (!cells || !h_mean || !h_sd || !h_err || !qs_pile || !qs_arch)
+        abort();
+    int status = 0;
+    size_t study_cap = 256 + 256 * cells_n, study_used = 0;
+    char *study = malloc(study_cap);
+    if (!study)
+        abort();
+    study_used += (size_t)snprintf(study, study_cap,
+                                   "L,w,samples,h_mean,h_sd,h_err,s_mean,s_sd,edges_mean,jammed,"
+                                   "catastrophic,arch_mean,qs_pile,qs_arch,qs_arch_mean\n");
+    for (int l = 0; l < length_count; ++l) {
+        double L = lengths[l];
+        /* per-(L, w) tables: every sample's row */
+        size_t *table_cap = calloc((size_t)width_count, sizeof *table_cap);
+        char **tables = calloc((size_t)width_count, sizeof *tables);
+        if (!tables || !table_cap)
+            abort();
+        for (int k = 0; k < width_count; ++k) {
+            table_cap[k] = 4096;
+            tables[k] = malloc(table_cap[k]);
+            if (!tables[k])
+                abort();
+            snprintf(tables[k], table_cap[k], "%s\n", app_discharge_csv_header());
+        }
+        /* mean profile over the piles' deposition records */
+        int bins = (int)floor(L + 0.5), profiles = 0;
+        double *profile = calloc((size_t)bins + 1, sizeof(double));
+        double *profile2 = calloc((size_t)bins + 1, sizeof(double));
+        if (!profile || !profile2)
+            abort();
+        for (int s = 0; s < samples; ++s) {
+            char csv[PATH], dep[PATH], pile[PATH];
+            sample_paths(dir, L, s, csv, dep, pile);
+            FILE *f = fopen(dep, "r");
+            if (f) {
+                static char line[1 << 16];
+                if (fgets(line, sizeof line, f)) {
+                    char *p = line;
+                    for (int field = 0; field < 11 && p; ++field) {
+                        p = strchr(p, ',');
+                        p = p ? p + 1 : NULL;
+                    }
+                    for (int b = 0; b < bins && p; ++b) {
+                        double v = strtod(p, NULL);
+                        profile[b] += v;
+                        profile2[b] += v * v;
+                        p = strchr(p, ',');
+                        p = p ? p + 1 : NULL;
+                    }
+                    ++profiles;
+                }
+                fclose(f);
+            }
+            f = fopen(csv, "r");
+            if (!f)
+                continue;
+            char line[1024];
+            while (fgets(line, sizeof line, f)) {
+                long sample, through, edges;
+                double Lr, w, h;
+                int pile_n, arch, a0, a1, p0, p1;
+                if (sscanf(line, "%ld,%lf,%lf,%ld,%ld,%lf,%d,%d,%d,%d,%d,%d", &sample, &Lr, &w,
+                           &through, &edges, &h, &pile_n, &arch, &a0, &a1, &p0, &p1) != 12)
+                    continue;
+                int k = 0;
+                while (k < width_count && fabs(widths[k] - w) > 1e-6)
+                    ++k;
+                if (k == width_count)
+                    continue;
+                size_t len = strlen(tables[k]), add = strlen(line);
+                if (len + add + 1 > table_cap[k]) {
+                    table_cap[k] = 2 * (len + add + 1);
+                    char *grown = realloc(tables[k], table_cap[k]);
+                    if (!grown)
+                        abort();
+                    tables[k] = grown;
+                }
+                memcpy(tables[k] + len, line, add + 1);
+                Cell *c = &cells[(size_t)l * (size_t)width_count + (size_t)k];
+                ++c->n;
+                c->h += h;
+                c->h2 += h * h;
+                c->s += (double)through;
+                c->s2 += (double)through * (double)through;
+                c->edges += (double)edges;
+                c->jammed += arch > 0;
+                c->catastrophic += h == 0.0;
+                c->arch += arch;
+                c->pile0 += p0;
+                c->pile_all += pile_n;
+                if (arch > 0) {
+                    c->arch0 += a0;
+                    c->arch_all += arch;
+                    c->arch_ratio += (double)a0 / arch;
+                    ++c->arch_ratio_n;
+                }
+                if (c->size_count == c->size_cap) {
+                    c->size_cap = c->size_cap ? 2 * c->size_cap : 64;
+                    long *grown = realloc(c->sizes, (size_t)c->size_cap * sizeof *grown);
+                    if (!grown)
+                        abort();
+                    c->sizes = grown;
+                }
+                c->sizes[c->size_count++] = through;
+            }
+            fclose(f);
+        }
+        /* tables, stats, F(s) */
+        size_t fs_cap = 64, fs_used = 0;
+        char *fs = malloc(fs_cap);
+        if (!fs)
+            abort();
+        fs_used = (size_t)snprintf(fs, fs_cap, "w,s,F\n");
+        for (int k = 0; k < width_count; ++k) {
+            char wname[32];
+            width_name(widths[k], wname, sizeof wname);
+            snprintf(path, sizeof path, "%s/L%g/%s.csv", dir, L, wname);
+            if (write_atomic(path, tables[k]) != 0)
+                status = -1;
+            free(tables[k]);
+            size_t i = (size_t)l * (size_t)width_count + (size_t)k;
+            Cell *c = &cells[i];
+            double n = c->n;
+            h_mean[i] = n > 0 ? c->h / n : NOTHING;
+            h_sd[i] = n > 1 ? sqrt(fmax(0.0, (c->h2 - c->h * c->h / n) / (n - 1.0))) : NOTHING;
+            h_err[i] = n > 1 ? h_sd[i] / sqrt(n) : NOTHING;
+            qs_pile[i] = c->pile_all > 0 ? c->pile0 / c->pile_all : NOTHING;
+            qs_arch[i] = c->arch_all > 0 ? c->arch0 / c->arch_all : NOTHING;
+            double s_mean = n > 0 ? c->s / n : NOTHING;
+            double s_sd = n > 1 ? sqrt(fmax(0.0, (c->s2 - c->s * c->s / n) / (n - 1.0))) : NOTHING;
+            study_used += (size_t)snprintf(
+                study + study_used, study_cap - study_used,
+                "%g,%.10g,%d,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", L,
+                widths[k], c->n, h_mean[i], h_sd[i], h_err[i], s_mean, s_sd,
+                n > 0 ? c->edges / n : NOTHING, n > 0 ? c->jammed / n : NOTHING,
+                n > 0 ? c->catastrophic / n : NOTHING, n > 0 ? c->arch / n : NOTHING, qs_pile[i],
+                qs_arch[i], c->arch_ratio_n ? c->arch_ratio / c->arch_ratio_n : NOTHING);
+            /* F(s) = P(size >= s) (004 fig. 2.16) */
+            if (c->size_count > 0) {
+                qsort(c->sizes, (size_t)c->size_count, sizeof *c->sizes, compare_long);
+                for (int j = 0; j < c->size_count; ++j) {
+                    if (j > 0 && c->sizes[j] == c->sizes[j - 1])
+                        continue;
+                    if (fs_used + 96 > fs_cap) {
+                        fs_cap = 2 * fs_cap + 96;
+                        char *grown = realloc(fs, fs_cap);
+                        if (!grown)
+                            abort();
+                        fs = grown;
+                    }
+                    fs_used += (size_t)snprintf(fs + fs_used, fs_cap - fs_used, "%.10g,%ld,%.8g\n",
+                                                widths[k], c->sizes[j],
+                                                (double)(c->size_count - j) / c->size_count);
+                }
+            }
+        }
+        snprintf(path, sizeof path, "%s/L%g/Fs.csv", dir, L);
+        if (write_atomic(path, fs) != 0)
+            status = -1;
+        free(fs);
+        free(tables);
+        free(table_cap);
+        /* mean profile and local slope over l = 10 d (004 figs. 2.9-2.10) */
+        if (profiles > 0) {
+            size_t cap = 64 + 96 * (size_t)bins, used = 0;
+            char *text = malloc(cap);
+            if (!text)
+                abort();
+            used += (size_t)snprintf(text, cap, "x,h_mean,h_sd,slope\n");
+            for (int b = 0; b < bins; ++b) {
+                double m = profile[b] / profiles;
+                double sd = profiles > 1
+                                ? sqrt(fmax(0.0, (profile2[b] - profile[b] * m) / (profiles - 1.0)))
+                                : 0.0;
+                int lo = b - 5, hi = b + 5;
+                double slope =
+                    lo >= 0 && hi < bins ? (profile[hi] - profile[lo]) / profiles / 10.0 : NOTHING;
+                used += (size_t)snprintf(text + used, cap - used, "%.6g,%.8g,%.8g,%.8g\n",
+                                         -0.5 * L + b + 0.5, m, sd, slope);
+            }
+            snprintf(path, sizeof path, "%s/L%g/profile.csv", dir, L);
+            if (write_atomic(path, text) != 0)
+                status = -1;
+            free(text);
+        }
+        free(profile);
+        free(profile2);
+        gaussian_fit(widths, h_sd + (size_t)l * (size_t)width_count, width_count, &w_t[l], &fitA[l],
+                     &fitB[l], &fitC[l]);
+    }
+    snprintf(path, sizeof path, "%s/study.csv", dir);
+    if (write_atomic(path, study) != 0)
+        status = -1;
+    free(study);
+    /* w_t against 1/L, w_c the intercept (004 fig. 2.15) */
+    double inv[MAX_LENGTHS], wc = NAN, slope = NAN, wc_err = 0.0;
+    int fit_n = 0;
+    double fit_x[MAX_LENGTHS] = {0}, fit_y[MAX_LENGTHS] = {0};
+    for (int l = 0; l < length_count; ++l) {
+        inv[l] = 1.0 / lengths[l];
+        if (isfinite(w_t[l])) {
+            fit_x[fit_n] = inv[l];
+            fit_y[fit_n++] = w_t[l];
+        }
+    }
+    app_linear_fit(fit_x, fit_y, fit_n, &wc, &slope, &wc_err);
+    {
+        char text[4096];
+        size_t used = (size_t)snprintf(text, sizeof text, "L,inv_L,w_t\n");
+        for (int l = 0; l < length_count; ++l)
+            used += (size_t)snprintf(text + used, sizeof text - used, "%g,%.8g,%.8g\n", lengths[l],
+                                     inv[l], w_t[l]);
+        snprintf(text + used, sizeof text - used, "# w_c = %.6g +- %.3g d, slope %.6g d^2\n", wc,
+                 wc_err, slope);
+        snprintf(path, sizeof path, "%s/fits.csv", dir);
+        if (write_atomic(path, text) != 0)
+            status = -1;
+        fprintf(stderr, "sablier: study: w_t =");
+        for (int l = 0; l < length_count; ++l)
+            fprintf(stderr, " %.3g (L = %g)", w_t[l], lengths[l]);
+        fprintf(stderr, "; w_c = %.3g +- %.2g d (%d lengths)\n", wc, wc_err, fit_n);
+    }
+    /* plots */
+    if (render && render->plot && status == 0) {
+        AppPlotSeries series[2 * MAX_LENGTHS + 2];
+        char labels[MAX_LENGTHS][32];
+        double curve_x[MAX_LENGTHS][200], curve_y[MAX_LENGTHS][200];
+        int ns = 0;
+        for (int l = 0; l < length_count; ++l) {
+            snprintf(labels[l], sizeof labels[l], "L = %g d", lengths[l]);
+            size_t o = (size_t)l * (size_t)width_count;
+            series[ns++] = (AppPlotSeries){labels[l], width_count, widths, h_mean + o,
+                                           h_err + o, 1,           0,      1 + l % 4};
+        }
+        AppPlot plot = {"<h> after discharge (004 fig. 2.13)", "w / d", "<h> / d", 0, ns, series};
+        snprintf(path, sizeof path, "%s/h_mean.png", dir);
+        status |= render->plot(render->context, scene, &plot, path, err, err_size);
+        ns = 0;
+        for (int l = 0; l < length_count; ++l) {
+            size_t o = (size_t)l * (size_t)width_count;
+            series[ns++] =
+                (AppPlotSeries){labels[l], width_count, widths, h_sd + o, NULL, 0, 0, 1 + l % 4};
+            if (isfinite(fitC[l])) {
+                for (int j = 0; j < 200; ++j) {
+                    double w = widths[0] + (widths[width_count - 1] - widths[0]) * j / 199.0;
+                    curve_x[l][j] = w;
+                    curve_y[l][j] = exp(fitA[l] + fitB[l] * w + fitC[l] * w * w);
+                }
+                series[ns++] = (AppPlotSeries){NULL, 200, curve_x[l], curve_y[l], NULL, 1, 0, 0};
+            }
+        }
+        plot = (AppPlot){
+            "sigma_h and Gaussian fits (004 fig. 2.14)", "w / d", "sigma_h / d", 0, ns, series};
+        snprintf(path, sizeof path, "%s/sigma_h.png", dir);
+        status |= render->plot(render->context, scene, &plot, path, err, err_size);
+        double line_x[2] = {0.0, 0.0}, line_y[2];
+        for (int l = 0; l < length_count; ++l)
+            line_x[1] = fmax(line_x[1], inv[l]);
+        line_y[0] = wc;
+        line_y[1] = wc + slope * line_x[1];
+        series[0] = (AppPlotSeries){"w_t", length_count, inv, w_t, NULL, 0, 0, 1};
+        series[1] = (AppPlotSeries){"linear fit", 2, line_x, line_y, NULL, 1, 1, 0};
+        char title[128];
+        snprintf(title, sizeof title, "w_t against 1/L: w_c = %.3g +- %.2g d (004 fig. 2.15)", wc,
+                 wc_err);
+        plot = (AppPlot){title, "1/L (1/d)", "w_t / d", 0, isfinite(wc) ? 2 : 1, series};
+        snprintf(path, sizeof path, "%s/wt.png", dir);
+        status |= render->plot(render->context, scene, &plot, path, err, err_size);
+        ns = 0;
+        for (int l = 0; l < length_count && ns + 2 <= 2 * MAX_LENGTHS; ++l) {
+            size_t o = (size_t)l * (size_t)width_count;
+            series[ns++] =
+                (AppPlotSeries){labels[l], width_count, widths, qs_pile + o, NULL, 1, 1, 1 + l % 4};
+            series[ns++] =
+                (AppPlotSeries){NULL, width_count, widths, qs_arch + o, NULL, 1, 0, 1 + l % 4};
+        }
+        plot = (AppPlot){"species-0 fraction: pile (dashed) and arch (004 figs. 3.6, 3.8)",
+                         "w / d",
+                         "q",
+                         0,
+                         ns,
+                         series};
+        snprintf(path, sizeof path, "%s/composition.png", dir);
+        status |= render->plot(render->context, scene, &plot, path, err, err_size);
+        /* F(s) on semi-log axes for each L, a few widths */
+        for (int l = 0; l < length_count; ++l) {
+            double *xs = calloc((size_t)samples * 8 + 8, sizeof(double));
+            double *ys = calloc((size_t)samples * 8 + 8, sizeof(double));
+            char wl[8][32];
+            if (!xs || !ys)
+                abort();
+            ns = 0;
+            size_t off = 0;
+            for (int j = 0; j < 8 && j < width_count; ++j) {
+                int k = width_count <= 8 ? j : j * (width_count - 1) / 7;
+                Cell *c = &cells[(size_t)l * (size_t)width_count + (size_t)k];
+                if (c->size_count == 0)
+                    continue;
+                int m = 0;
+                for (int q = 0; q < c->size_count && m < samples; ++q) {
+                    if (q > 0 && c->sizes[q] == c->sizes[q - 1])
+                        continue;
+                    xs[off + (size_t)m] = (double)c->sizes[q];
+                    ys[off + (size_t)m] = (double)(c->size_count - q) / c->size_count;
+                    ++m;
+                }
+                snprintf(wl[j], sizeof wl[j], "w = %g d", widths[k]);
+                series[ns++] = (AppPlotSeries){wl[j], m, xs + off, ys + off, NULL, 1, 0, 1 + j % 4};
+                off += (size_t)samples;
+            }
+            snprintf(title, sizeof title, "F(s), L = %g d (004 fig. 2.16)", lengths[l]);
+            plot = (AppPlot){title, "s (grains)", "F(s) = P(size >= s)", 1, ns, series};
+            snprintf(path, sizeof path, "%s/L%g/Fs.png", dir, lengths[l]);
+            if (ns > 0)
+                status |= render->plot(render->context, scene, &plot, path, err, err_size);
+            free(xs);
+            free(ys);
+        }
+    }
+    for (size_t i = 0; i < cells_n; ++i)
+        free(cells[i].sizes);
+    free(cells);
+    free(h_mean);
+    free(h_sd);
+    free(h_err);
+    free(qs_pile);
+    free(qs_arch);
+    return status ? -1 : 0;
+}
+
+/* ---------------------------------------------------------------- sablier study */
+
+int app_study_command(int argc, char **argv, const AppDischargeRender *render)
+{
+    Study st;
+    memset(&st, 0, sizeof st);
+    const char *scene_path = NULL, *out = NULL, *value, *sets[MAX_SETS];
+    const char *lengths_text = NULL, *widths_text = "1.0:7.0:0.2";
+    int set_count = 0, reduce_only = 0;
+    long samples = 10, jobs = 2;
+    for (int i = 2; i < argc; ++i) {
+        int m;
+        char *end;
+        if ((m = option(argc, argv, &i, "--out", &value)) != 0) {
+            if (m < 0)
+                return 2;
+            out = value;
+        } else if ((m = option(argc, argv, &i, "--set", &value)) != 0) {
+            if (m < 0 || set_count >= MAX_SETS)
+                return usage(APP_STUDY_USAGE, "bad --set", NULL);
+            sets[set_count++] = value;
+        } else if ((m = option(argc, argv, &i, "--L", &value)) != 0) {
+            if (m < 0)
+                return 2;
+            lengths_text = value;
+        } else if ((m = option(argc, argv, &i, "--widths", &value)) != 0) {
+            if (m < 0)
+                return 2;
+            widths_text = value;
+        } else if ((m = option(argc, argv, &i, "--samples", &value)) != 0) {
+            if (m < 0 || (samples = strtol(value, &end, 10)) < 1 || *end || samples > 1000000)
+                return usage(APP_STUDY_USAGE, "--samples needs a count in [1, 1e6], got",
+                             m < 0 ? "nothing" : value);
+        } else if ((m = option(argc, argv, &i, "--jobs", &value)) != 0) {
+            if (m < 0 || (jobs = strtol(value, &end, 10)) < 1 || *end || jobs > 256)
+                return usage(APP_STUDY_USAGE, "--jobs needs a count in [1, 256], got",
+                             m < 0 ? "nothing" : value);
+        } else if (strcmp(argv[i], "--reduce-only") == 0) {
+            reduce_only = 1;
+        } else if (argv[i][0] == '-' && argv[i][1]) {
+            return usage(APP_STUDY_USAGE, "unknown option", argv[i]);
+        } else if (!scene_path) {
+            scene_path = argv[i];
+        } else {
+            return usage(APP_STUDY_USAGE, "one scene at a time; extra argument", argv[i]);
+        }
+    }
+    if (!scene_path)
+        return usage(APP_STUDY_USAGE, "missing SCENE", NULL);
+    st.width_count = parse_list(widths_text, st.widths, MAX_WIDTHS);
+    if (st.width_count <= 0)
+        return usage(APP_STUDY_USAGE, "--widths must be A:B:STEP or a list, got", widths_text);
+    if (lengths_text) {
+        st.length_count = parse_list(lengths_text, st.lengths, MAX_LENGTHS);
+        if (st.length_count <= 0)
+            return usage(APP_STUDY_USAGE, "--L must be a list of lengths, got", lengths_text);
+        for (int l = 0; l < st.length_count; ++l)
+            if (!(st.lengths[l] >= 2.0))
+                return usage(APP_STUDY_USAGE, "--L lengths must be >= 2 d, got", lengths_text);
+    }
+    char err[4096] = "";
+    Scene *scenes[MAX_LENGTHS] = {NULL};
+    Scene *base = load_scene(scene_path, sets, set_count, 0.0, err, sizeof err);
+    if (!base) {
+        fprintf(stderr, "%s\n", err);
+        return 2;
+    }
+    if (st.length_count == 0) {
+        st.lengths[0] = base->discharge->base_length;
+        st.length_count = 1;
+    }
+    int status = 0;
+    for (int l = 0; l < st.length_count && status == 0; ++l)
+        if (!(scenes[l] =
+                  load_scene(scene_path, sets, set_count, st.lengths[l], err, sizeof err))) {
+            fprintf(stderr, "%s\n", err);
+            status = 2;
+        }
+    char dir[PATH];
+    snprintf(dir, sizeof dir, "%s%s%s", out ? "" : "out/", out ? out : base->name,
+             out ? "" : "-study");
+    st.scene_path = scene_path;
+    st.sets = sets;
+    st.set_count = set_count;
+    st.dir = dir;
+    st.samples = (int)samples;
+    st.jobs = (int)jobs;
+    for (int l = 0; l < st.length_count && status == 0; ++l) {
+        char sub[PATH + 64];
+        snprintf(sub, sizeof sub, "%s/L%g/samples", dir, st.lengths[l]);
+        if (make_dirs(sub) != 0) {
+            fprintf(stderr, "sablier: cannot create %s: %s\n", sub, strerror(errno));
+            status = 2;
+        }
+    }
+    if (status == 0 && !reduce_only)
+        status = run_study(&st, scenes);
+    if (status != 2 && app_study_reduce(base, dir, st.lengths, st.length_count, st.widths,
+                                        st.width_count, st.samples, render, err, sizeof err) != 0) {
+        fprintf(stderr, "sablier: study: %s\n", err[0] ? err : "cannot write the tables");
+        status = 2;
+    }
+    for (int l = 0; l < st.length_count; ++l)
+        scene_free(scenes[l]);
+    scene_free(base);
+    return status;
+}

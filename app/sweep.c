@@ -1,0 +1,737 @@
+/* SPDX-License-Identifier: MIT */
+/* sweep.c: `sablier sweep`. Members are child processes (fork + exec of sablier itself), so a
+ * member's outputs are those of the same `sablier run` command line whatever the job count. */
+#include "sweep.h"
+
+#include "run.h"
+#include "scene.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <libconfig.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#define MAX_MEMBERS  64
+#define MAX_SETS     48
+#define MAX_VARY     4
+#define MAX_VALUES   32
+#define SWEEP_PATH   2048
+#define SWEEP_STRING 256
+
+typedef struct Member {
+    char label[64];
+    double value;
+    int set_count;
+    char sets[MAX_SETS][SWEEP_STRING];
+    char dir[SWEEP_PATH];
+    pid_t pid;
+    int status; /* exit status; -1 not run */
+    double started, wall_seconds;
+} Member;
+
+typedef struct Sweep {
+    const AppSweepOptions *o;
+    char scene_path[SWEEP_PATH];
+    char name[SCENE_NAME_MAX];
+    char parameter[64];
+    char out_dir[SWEEP_PATH];
+    int set_count; /* the definition's `set`, for members only */
+    char sets[MAX_SETS][SWEEP_STRING];
+    int member_count;
+    Member *members;
+    char bed_name[SCENE_NAME_MAX]; /* the definition's `bed_stage` */
+    char stage_names[SCENE_MAX_STAGES][SCENE_NAME_MAX];
+    int stage_count, bed_stage;
+    char bed_state[SWEEP_PATH];
+} Sweep;
+
+AppSweepOptions app_sweep_options_default(void)
+{
+    AppSweepOptions o;
+    memset(&o, 0, sizeof o);
+    o.jobs = 2;
+    return o;
+}
+
+static double now_seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* "0.5 wide" -> "0.5-wide": safe in a folder name. */
+static void slug(char *out, size_t size, const char *label)
+{
+    size_t n = 0;
+    for (const char *c = label; *c && n + 1 < size; ++c) {
+        int ok = (*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9') ||
+                 *c == '.' || *c == '_' || *c == '-';
+        out[n++] = ok ? *c : '-';
+    }
+    out[n] = '\0';
+}
+
+static int add_set(char sets[][SWEEP_STRING], int *count, const char *text)
+{
+    if (*count >= MAX_SETS || strlen(text) >= SWEEP_STRING)
+        return -1;
+    snprintf(sets[(*count)++], SWEEP_STRING, "%s", text);
+    return 0;
+}
+
+/* ---------------------------------------------------------------- definition file */
+
+static int def_fail(const char *file, const config_setting_t *s, const char *message)
+{
+    fprintf(stderr, "%s:%d: %s\n", file, s ? config_setting_source_line(s) : 0, message);
+    return -1;
+}
+
+static int read_string_array(const char *file, const config_setting_t *a, char sets[][SWEEP_STRING],
+                             int *count)
+{
+    if (!a)
+        return 0;
+    if (config_setting_type(a) != CONFIG_TYPE_ARRAY)
+        return def_fail(file, a, "`set` must be an array of \"KEY=VALUE\" strings");
+    for (int k = 0; k < config_setting_length(a); ++k) {
+        const config_setting_t *e = config_setting_get_elem(a, (unsigned)k);
+        const char *text = config_setting_get_string(e);
+        if (!text || !strchr(text, '='))
+            return def_fail(file, e, "`set` elements are \"KEY=VALUE\" strings");
+        if (add_set(sets, count, text) != 0)
+            return def_fail(file, e, "too many or too long `set` elements");
+    }
+    return 0;
+}
+
+static int check_keys(const char *file, const config_setting_t *g, const char *const *keys)
+{
+    for (int k = 0; k < config_setting_length(g); ++k) {
+        const config_setting_t *e = config_setting_get_elem(g, (unsigned)k);
+        int known = 0;
+        for (const char *const *key = keys; *key; ++key)
+            known |= strcmp(config_setting_name(e), *key) == 0;
+        if (!known) {
+            char message[160];
+            snprintf(message, sizeof message, "unknown key `%s`", config_setting_name(e));
+            return def_fail(file, e, message);
+        }
+    }
+    return 0;
+}
+
+static int number_value(const config_setting_t *s, double *out)
+{
+    if (config_setting_type(s) == CONFIG_TYPE_INT || config_setting_type(s) == CONFIG_TYPE_INT64)
+        *out = (double)config_setting_get_int64(s);
+    else if (config_setting_type(s) == CONFIG_TYPE_FLOAT)
+        *out = config_setting_get_float(s);
+    else
+        return -1;
+    return 0;
+}
+
+static int read_definition(Sweep *w, const char *file, char vary[][SWEEP_STRING], int *vary_count)
+{
+    static const char *const keys[] = {"scene",   "bed_stage", "parameter", "set",
+                                       "members", "vary",      NULL};
+    static const char *const member_keys[] = {"label", "value", "set", NULL};
+    static const char *const vary_keys[] = {"key", "values", NULL};
+    config_t config;
+    config_init(&config);
+    int rc = 0;
+    if (config_read_file(&config, file) != CONFIG_TRUE) {
+        fprintf(stderr, "%s:%d: %s\n",
+                config_error_file(&config) ? config_error_file(&config) : file,
+                config_error_line(&config), config_error_text(&config));
+        config_destroy(&config);
+        return -1;
+    }
+    const config_setting_t *root = config_root_setting(&config);
+    const char *text;
+    rc = check_keys(file, root, keys);
+    if (rc == 0 && config_setting_lookup_string(root, "scene", &text) && !w->o->scene_path) {
+        /* relative to the definition's folder */
+        const char *slash = strrchr(file, '/');
+        if (text[0] == '/' || !slash)
+            snprintf(w->scene_path, sizeof w->scene_path, "%s", text);
+        else
+            snprintf(w->scene_path, sizeof w->scene_path, "%.*s/%s", (int)(slash - file), file,
+                     text);
+    }
+    if (rc == 0 && config_setting_lookup_string(root, "parameter", &text))
+        snprintf(w->parameter, sizeof w->parameter, "%s", text);
+    if (rc == 0 && config_setting_lookup_string(root, "bed_stage", &text) && !w->o->bed_stage)
+        snprintf(w->bed_name, sizeof w->bed_name, "%s", text);
+    if (rc == 0)
+        rc =
+            read_string_array(file, config_setting_get_member(root, "set"), w->sets, &w->set_count);
+    const config_setting_t *members = config_setting_get_member(root, "members");
+    if (rc == 0 && members) {
+        if (config_setting_type(members) != CONFIG_TYPE_LIST)
+            rc = def_fail(file, members, "`members` must be a list of groups ( {...}, ... )");
+        for (int k = 0; rc == 0 && k < config_setting_length(members); ++k) {
+            const config_setting_t *g = config_setting_get_elem(members, (unsigned)k);
+            if (w->member_count >= MAX_MEMBERS) {
+                rc = def_fail(file, g, "too many members");
+                break;
+            }
+            Member *m = &w->members[w->member_count];
+            memset(m, 0, sizeof *m);
+            m->value = (double)k;
+            const config_setting_t *value = config_setting_get_member(g, "value");
+            if (config_setting_type(g) != CONFIG_TYPE_GROUP || check_keys(file, g, member_keys) ||
+                !config_setting_lookup_string(g, "label", &text)) {
+                rc = def_fail(file, g, "a member is { label = \"...\"; value = x; set = [...]; }");
+                break;
+            }
+            snprintf(m->label, sizeof m->label, "%s", text);
+            if (value && number_value(value, &m->value) != 0)
+                rc = def_fail(file, value, "`value` must be a number");
+            if (rc == 0)
+                rc = read_string_array(file, config_setting_get_member(g, "set"), m->sets,
+                                       &m->set_count);
+            w->member_count++;
+        }
+    }
+    const config_setting_t *v = config_setting_get_member(root, "vary");
+    if (rc == 0 && v) {
+        if (config_setting_type(v) != CONFIG_TYPE_LIST)
+            rc = def_fail(file, v, "`vary` must be a list ( { key = \"...\"; values = [...]; } )");
+        for (int k = 0; rc == 0 && k < config_setting_length(v); ++k) {
+            const config_setting_t *g = config_setting_get_elem(v, (unsigned)k);
+            const config_setting_t *values = config_setting_get_member(g, "values");
+            if (config_setting_type(g) != CONFIG_TYPE_GROUP || check_keys(file, g, vary_keys) ||
+                !config_setting_lookup_string(g, "key", &text) || !values ||
+                config_setting_type(values) != CONFIG_TYPE_ARRAY || *vary_count >= MAX_VARY) {
+                rc =
+                    def_fail(file, g, "a vary element is { key = \"...\"; values = [a, b, ...]; }");
+                break;
+            }
+            char *out = vary[(*vary_count)++];
+            size_t n = (size_t)snprintf(out, SWEEP_STRING, "%s=", text);
+            for (int j = 0; j < config_setting_length(values) && n < SWEEP_STRING; ++j) {
+                double x;
+                if (number_value(config_setting_get_elem(values, (unsigned)j), &x) != 0) {
+                    rc = def_fail(file, values, "`values` must be numbers");
+                    break;
+                }
+                n += (size_t)snprintf(out + n, SWEEP_STRING - n, "%s%.10g", j ? "," : "", x);
+            }
+        }
+    }
+    config_destroy(&config);
+    return rc;
+}
+
+/* Members from "KEY=v1,v2" lists: one per combination (first key slowest). */
+static int expand_vary(Sweep *w, char vary[][SWEEP_STRING], int vary_count)
+{
+    char keys[MAX_VARY][SWEEP_STRING], values[MAX_VARY][MAX_VALUES][64];
+    int counts[MAX_VARY], total = 1;
+    for (int v = 0; v < vary_count; ++v) {
+        char *eq = strchr(vary[v], '=');
+        if (!eq || eq == vary[v] || !eq[1]) {
+            fprintf(stderr, "sablier: sweep: --vary needs KEY=v1,v2,..., got `%s`\n", vary[v]);
+            return -1;
+        }
+        snprintf(keys[v], sizeof keys[v], "%.*s", (int)(eq - vary[v]), vary[v]);
+        counts[v] = 0;
+        char copy[SWEEP_STRING], *save = NULL;
+        snprintf(copy, sizeof copy, "%s", eq + 1);
+        for (char *item = strtok_r(copy, ",", &save); item; item = strtok_r(NULL, ",", &save)) {
+            if (counts[v] >= MAX_VALUES) {
+                fprintf(stderr, "sablier: sweep: at most %d values per key\n", MAX_VALUES);
+                return -1;
+            }
+            snprintf(values[v][counts[v]++], 64, "%s", item);
+        }
+        total *= counts[v];
+    }
+    if (vary_count == 0)
+        return 0;
+    if (w->member_count + total > MAX_MEMBERS) {
+        fprintf(stderr, "sablier: sweep: at most %d members\n", MAX_MEMBERS);
+        return -1;
+    }
+    for (int k = 0; k < total; ++k) {
+        Member *m = &w->members[w->member_count++];
+        memset(m, 0, sizeof *m);
+        int rest = k;
+        size_t n = 0;
+        int index[MAX_VARY];
+        for (int v = vary_count - 1; v >= 0; --v) {
+            index[v] = rest % counts[v];
+            rest /= counts[v];
+        }
+        for (int v = 0; v < vary_count; ++v) {
+            const char *short_key = strrchr(keys[v], '.');
+            short_key = short_key ? short_key + 1 : keys[v];
+            n += (size_t)snprintf(m->label + n, sizeof m->label - (n < sizeof m->label ? n : 0),
+                                  "%s%s=%s", v ? " " : "", short_key, values[v][index[v]]);
+            if (n >= sizeof m->label)
+                n = sizeof m->label - 1;
+            char set[SWEEP_STRING];
+            snprintf(set, sizeof set, "%s=%s", keys[v], values[v][index[v]]);
+            add_set(m->sets, &m->set_count, set);
+        }
+        char *end;
+        m->value = strtod(values[0][index[0]], &end);
+        if (*end)
+            m->value = (double)index[0];
+    }
+    if (!w->parameter[0])
+        snprintf(w->parameter, sizeof w->parameter, "%.63s", keys[0]);
+    return 0;
+}
+
+/* ---------------------------------------------------------------- processes */
+
+/* A malloc'd copy of a formatted string (argv entries). */
+static char *format(const char *a, const char *b)
+{
+    size_t n = strlen(a) + strlen(b) + 1;
+    char *out = malloc(n);
+    if (out)
+        snprintf(out, n, "%s%s", a, b);
+    return out;
+}
+
+static void free_argv(char **argv)
+{
+    for (int k = 0; argv[k]; ++k)
+        free(argv[k]);
+}
+
+/* argv of `sablier run SCENE --out DIR --quiet --set ...` (malloc'd strings, NULL ended). */
+static int member_argv(const Sweep *w, const Member *m, int bed_run, char **argv, int capacity)
+{
+    int n = 0;
+    const char *fixed[] = {"sablier", "run", w->scene_path, "--out", m->dir, "--quiet"};
+    for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; ++k)
+        argv[n++] = format(fixed[k], "");
+    const char *sets[3 * MAX_SETS + SCENE_MAX_STAGES + 1];
+    char buffers[SCENE_MAX_STAGES + 1][SWEEP_PATH + 2 * SCENE_NAME_MAX];
+    int count = 0, b = 0;
+    for (int k = 0; k < w->o->set_count; ++k)
+        sets[count++] = w->o->sets[k];
+    if (!bed_run) {
+        for (int k = 0; k < w->set_count; ++k)
+            sets[count++] = w->sets[k];
+        for (int k = 0; k < m->set_count; ++k)
+            sets[count++] = m->sets[k];
+    }
+    for (int k = 0; k < w->stage_count; ++k)
+        if (bed_run ? k > w->bed_stage : k <= w->bed_stage) {
+            snprintf(buffers[b], sizeof buffers[b], "stages.%s.skip=true", w->stage_names[k]);
+            sets[count++] = buffers[b++];
+        }
+    if (!bed_run && w->bed_state[0]) {
+        snprintf(buffers[b], sizeof buffers[b], "stages.%s.load=%s",
+                 w->stage_names[w->bed_stage + 1], w->bed_state);
+        sets[count++] = buffers[b++];
+    }
+    for (int k = 0; k < count && n + 3 <= capacity; ++k) {
+        argv[n++] = format("--set", "");
+        argv[n++] = format(sets[k], "");
+    }
+    argv[n] = NULL;
+    for (int k = 0; k < n; ++k)
+        if (!argv[k]) {
+            for (int j = 0; j < n; ++j)
+                free(argv[j]);
+            argv[0] = NULL;
+            return -1;
+        }
+    return n;
+}
+
+static pid_t spawn(const Sweep *w, Member *m, int bed_run)
+{
+    char *argv[3 * MAX_SETS * 2 + 32];
+    if (app_make_dirs(m->dir) != 0)
+        return -1;
+    if (member_argv(w, m, bed_run, argv, (int)(sizeof argv / sizeof argv[0])) < 0)
+        return -1;
+    char log[SWEEP_PATH + 16];
+    snprintf(log, sizeof log, "%s/log.txt", m->dir);
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid == 0) {
+        int fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (fd >= 0) {
+            dup2(fd, STDOUT_FILENO);
+            dup2(fd, STDERR_FILENO);
+            close(fd);
+        }
+        execv(w->o->self, argv);
+        fprintf(stderr, "sablier: sweep: cannot run %s: %s\n", w->o->self, strerror(errno));
+        _exit(2);
+    }
+    free_argv(argv);
+    m->pid = pid;
+    m->started = now_seconds();
+    return pid;
+}
+
+static void finish(Member *m, int wait_status)
+{
+    m->wall_seconds = now_seconds() - m->started;
+    m->status = WIFEXITED(wait_status) ? WEXITSTATUS(wait_status) : 2;
+    m->pid = 0;
+}
+
+/* Runs the members `jobs` at a time. */
+static void run_members(Sweep *w)
+{
+    int next = 0, running = 0, done = 0;
+    while (done < w->member_count) {
+        while (running < w->o->jobs && next < w->member_count) {
+            Member *m = &w->members[next++];
+            if (spawn(w, m, 0) < 0) {
+                fprintf(stderr, "sablier: sweep: cannot start member %s in %s\n", m->label, m->dir);
+                m->status = 2;
+                ++done;
+                continue;
+            }
+            ++running;
+        }
+        if (running == 0)
+            continue;
+        int wait_status;
+        pid_t pid = waitpid(-1, &wait_status, 0);
+        if (pid < 0) {
+            if (errno == EINTR)
+                continue;
+            break;
+        }
+        for (int k = 0; k < w->member_count; ++k) {
+            Member *m = &w->members[k];
+            if (m->pid != pid)
+                continue;
+            finish(m, wait_status);
+            --running;
+            ++done;
+            if (!w->o->quiet)
+                fprintf(stderr,
+                        "sablier: sweep: member %d/%d %s: %s (%.1f s), crater height %.4g m\n",
+                        k + 1, w->member_count, m->label,
+                        m->status == 0   ? "ok"
+                        : m->status == 1 ? "unstable"
+                                         : "error",
+                        m->wall_seconds, app_observable(m->dir, "crater_height_m"));
+        }
+    }
+}
+
+/* ---------------------------------------------------------------- outputs */
+
+static void csv_text(FILE *f, const char *text)
+{
+    fputc('"', f);
+    for (const char *c = text; *c; ++c) {
+        if (*c == '"')
+            fputc('"', f);
+        fputc(*c, f);
+    }
+    fputc('"', f);
+}
+
+static int write_table(const Sweep *w)
+{
+    char path[SWEEP_PATH + 32], tmp[SWEEP_PATH + 40];
+    snprintf(path, sizeof path, "%s/sweep.csv", w->out_dir);
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    FILE *f = fopen(tmp, "w");
+    if (!f)
+        return -1;
+    static const char *const keys[] = {
+        "crater_height_m",  "surface_min_m", "crater_x_m",       "removed",
+        "mobile_grains",    "final_time_s",  "e_kin_J",          "e_pot_J",
+        "e_rot_J",          "e_el_J",        "bed_coordination", "bed_packing_fraction",
+        "bed_hexatic_order"};
+    fprintf(f, "member,label,value,status");
+    for (size_t k = 0; k < sizeof keys / sizeof keys[0]; ++k)
+        fprintf(f, ",%s", keys[k]);
+    fprintf(f, ",wall_seconds,dir,sets\n");
+    for (int i = 0; i < w->member_count; ++i) {
+        const Member *m = &w->members[i];
+        fprintf(f, "%d,", i + 1);
+        csv_text(f, m->label);
+        fprintf(f, ",%.10g,%d", m->value, m->status);
+        for (size_t k = 0; k < sizeof keys / sizeof keys[0]; ++k)
+            fprintf(f, ",%.10g", app_observable(m->dir, keys[k]));
+        fprintf(f, ",%.3f,", m->wall_seconds);
+        csv_text(f, m->dir);
+        fputc(',', f);
+        char sets[MAX_SETS * SWEEP_STRING] = "";
+        size_t n = 0;
+        for (int k = 0; k < m->set_count && n < sizeof sets; ++k)
+            n += (size_t)snprintf(sets + n, sizeof sets - n, "%s%s", k ? " " : "", m->sets[k]);
+        csv_text(f, sets);
+        fputc('\n', f);
+    }
+    int ok = fclose(f) == 0;
+    return ok && rename(tmp, path) == 0 ? 0 : -1;
+}
+
+static int write_plots(const Sweep *w)
+{
+    if (!w->o->plot)
+        return 0;
+    char path[SWEEP_PATH + 32], title[160], err[512] = "";
+    AppChart plot;
+    int rc = 0;
+    snprintf(title, sizeof title, "%s: dimensionless energies (000 figs. 7.1-7.8, 7.20)", w->name);
+    app_chart_init(&plot, 2, 2, title);
+    for (int i = 0; i < w->member_count; ++i)
+        app_chart_energy_run(&plot, w->members[i].dir, w->members[i].label);
+    snprintf(path, sizeof path, "%s/energy_panels.png", w->out_dir);
+    if (plot.panels[0].series_count > 0 &&
+        w->o->plot(w->o->plot_context, &plot, path, err, sizeof err) != 0)
+        rc = -1;
+    app_chart_free(&plot);
+
+    snprintf(title, sizeof title, "%s: crater height (000 fig. 7.28)", w->name);
+    app_chart_init(&plot, 1, 1, title);
+    double x[MAX_MEMBERS], y[MAX_MEMBERS];
+    int n = 0;
+    for (int i = 0; i < w->member_count; ++i) {
+        double h = app_observable(w->members[i].dir, "crater_height_m");
+        if (isfinite(h)) {
+            x[n] = w->members[i].value;
+            y[n++] = h;
+        }
+    }
+    snprintf(plot.panels[0].x_label, sizeof plot.panels[0].x_label, "%s",
+             w->parameter[0] ? w->parameter : "member");
+    snprintf(plot.panels[0].y_label, sizeof plot.panels[0].y_label,
+             "crater height h = level - min y_s (m)");
+    snprintf(path, sizeof path, "%s/crater_height.png", w->out_dir);
+    if (n > 0 && app_chart_add(&plot, 0, NULL, x, y, n, 0, 1) == 0 &&
+        w->o->plot(w->o->plot_context, &plot, path, err, sizeof err) != 0)
+        rc = -1;
+    app_chart_free(&plot);
+
+    snprintf(title, sizeof title, "%s: final free-surface profiles (000 fig. 7.29)", w->name);
+    app_chart_init(&plot, 1, 1, title);
+    plot.width = 1200;
+    for (int i = 0; i < w->member_count; ++i)
+        app_chart_profiles_run(&plot, 0, w->members[i].dir, 1, w->members[i].label);
+    snprintf(path, sizeof path, "%s/profiles.png", w->out_dir);
+    if (plot.panels[0].series_count > 0 &&
+        w->o->plot(w->o->plot_context, &plot, path, err, sizeof err) != 0)
+        rc = -1;
+    app_chart_free(&plot);
+    if (rc != 0)
+        fprintf(stderr, "sablier: sweep: figures: %s\n", err);
+    return rc;
+}
+
+/* ---------------------------------------------------------------- the sweep */
+
+static int setup(Sweep *w)
+{
+    const AppSweepOptions *o = w->o;
+    char vary[MAX_VARY * 2][SWEEP_STRING];
+    int vary_count = 0;
+    char bed_name[SCENE_NAME_MAX] = "";
+    if (o->scene_path)
+        snprintf(w->scene_path, sizeof w->scene_path, "%s", o->scene_path);
+    if (o->definition) {
+        if (read_definition(w, o->definition, vary, &vary_count) != 0)
+            return 2;
+        snprintf(bed_name, sizeof bed_name, "%s", w->bed_name);
+    }
+    for (int k = 0; k < o->vary_count; ++k) {
+        if (vary_count >= MAX_VARY) {
+            fprintf(stderr, "sablier: sweep: at most %d varied keys\n", MAX_VARY);
+            return 2;
+        }
+        snprintf(vary[vary_count++], SWEEP_STRING, "%s", o->vary[k]);
+    }
+    if (o->bed_stage)
+        snprintf(bed_name, sizeof bed_name, "%s", o->bed_stage);
+    if (!w->scene_path[0]) {
+        fprintf(stderr, "sablier: sweep: no scene (give SCENE or `scene` in the sweep file)\n");
+        return 2;
+    }
+    if (expand_vary(w, vary, vary_count) != 0)
+        return 2;
+    if (w->member_count == 0) {
+        fprintf(stderr, "sablier: sweep: no members (use --vary KEY=v1,v2 or `members`)\n");
+        return 2;
+    }
+    char err[4096];
+    Scene *scene = scene_load(w->scene_path, o->sets, o->set_count, err, sizeof err);
+    if (!scene) {
+        fprintf(stderr, "%s\n", err);
+        return 2;
+    }
+    snprintf(w->name, sizeof w->name, "%s", scene->name);
+    w->stage_count = scene->stage_count;
+    for (int k = 0; k < scene->stage_count; ++k)
+        snprintf(w->stage_names[k], SCENE_NAME_MAX, "%s", scene->stages[k].name);
+    w->bed_stage = -1;
+    if (bed_name[0]) {
+        w->bed_stage = scene_stage_index(scene, bed_name);
+        if (w->bed_stage < 0)
+            fprintf(stderr, "sablier: sweep: the scene has no stage `%s`\n", bed_name);
+    } else {
+        for (int k = 1; k < scene->stage_count && w->bed_stage < 0; ++k)
+            if (scene->stages[k].dig)
+                w->bed_stage = k - 1;
+        if (w->bed_stage < 0)
+            fprintf(stderr, "sablier: sweep: no stage digs; name the bed stage (--bed-stage)\n");
+    }
+    scene_free(scene);
+    if (w->bed_stage < 0)
+        return 2;
+    if (w->bed_stage + 1 >= w->stage_count) {
+        fprintf(stderr, "sablier: sweep: no stage after the bed stage `%s`\n",
+                w->stage_names[w->bed_stage]);
+        return 2;
+    }
+    if (o->out_dir) {
+        snprintf(w->out_dir, sizeof w->out_dir, "%s", o->out_dir);
+    } else {
+        const char *base = o->definition ? strrchr(o->definition, '/') : NULL;
+        base = base ? base + 1 : o->definition;
+        if (base)
+            snprintf(w->out_dir, sizeof w->out_dir, "out/sweep-%.*s", (int)strcspn(base, "."),
+                     base);
+        else
+            snprintf(w->out_dir, sizeof w->out_dir, "out/%s-sweep", w->name);
+    }
+    /* every member's scene must load (the bed checkpoint is not there yet: not checked) */
+    for (int i = 0; i < w->member_count; ++i) {
+        Member *m = &w->members[i];
+        char name[80];
+        slug(name, sizeof name, m->label);
+        if (snprintf(m->dir, sizeof m->dir, "%s/%02d-%s", w->out_dir, i + 1, name) >=
+            (int)sizeof m->dir) {
+            fprintf(stderr, "sablier: sweep: output folder name too long\n");
+            return 2;
+        }
+        m->status = -1;
+        const char *sets[3 * MAX_SETS + SCENE_MAX_STAGES];
+        int n = 0;
+        for (int k = 0; k < o->set_count; ++k)
+            sets[n++] = o->sets[k];
+        for (int k = 0; k < w->set_count; ++k)
+            sets[n++] = w->sets[k];
+        for (int k = 0; k < m->set_count; ++k)
+            sets[n++] = m->sets[k];
+        Scene *member = scene_load(w->scene_path, sets, n, err, sizeof err);
+        if (!member) {
+            fprintf(stderr, "sablier: sweep: member %s: %s\n", m->label, err);
+            return 2;
+        }
+        scene_free(member);
+    }
+    return 0;
+}
+
+int app_sweep(const AppSweepOptions *o)
+{
+    Sweep *w = calloc(1, sizeof *w);
+    Member *members = calloc(MAX_MEMBERS, sizeof *members);
+    if (!w || !members) {
+        free(w);
+        free(members);
+        fprintf(stderr, "sablier: out of memory\n");
+        return 2;
+    }
+    w->o = o;
+    w->members = members;
+    int status = setup(w);
+    if (status == 0 && app_make_dirs(w->out_dir) != 0) {
+        fprintf(stderr, "sablier: sweep: cannot create %s: %s\n", w->out_dir, strerror(errno));
+        status = 2;
+    }
+    double start = now_seconds();
+    /* the bed: given, or the scene's stages up to the bed stage, run once */
+    if (status == 0) {
+        if (o->from) {
+            snprintf(w->bed_state, sizeof w->bed_state, "%s", o->from);
+        } else {
+            Member bed;
+            memset(&bed, 0, sizeof bed);
+            snprintf(bed.label, sizeof bed.label, "bed");
+            if (snprintf(bed.dir, sizeof bed.dir, "%s/bed", w->out_dir) >= (int)sizeof bed.dir)
+                status = 2;
+            if (snprintf(w->bed_state, sizeof w->bed_state, "%s/%s.state", bed.dir,
+                         w->stage_names[w->bed_stage]) >= (int)sizeof w->bed_state)
+                status = 2;
+            if (!o->quiet)
+                fprintf(stderr, "sablier: sweep: settling the bed (stages up to %s) in %s\n",
+                        w->stage_names[w->bed_stage], bed.dir);
+            int wait_status = 0;
+            if (!o->dry_run && status == 0) {
+                pid_t pid = spawn(w, &bed, 1);
+                if (pid < 0 || waitpid(pid, &wait_status, 0) != pid)
+                    wait_status = 2 << 8;
+                finish(&bed, wait_status);
+                if (bed.status != 0) {
+                    fprintf(stderr,
+                            "sablier: sweep: the bed run failed (status %d): see %s/log.txt\n",
+                            bed.status, bed.dir);
+                    status = bed.status;
+                }
+            }
+        }
+        char resolved[PATH_MAX];
+        if (status == 0 && !o->dry_run) {
+            if (!realpath(w->bed_state, resolved)) {
+                fprintf(stderr, "sablier: sweep: cannot read the bed checkpoint %s: %s\n",
+                        w->bed_state, strerror(errno));
+                status = 2;
+            } else {
+                if (snprintf(w->bed_state, sizeof w->bed_state, "%s", resolved) >=
+                    (int)sizeof w->bed_state)
+                    status = 2;
+            }
+        }
+    }
+    if (status == 0 && o->dry_run) {
+        for (int i = 0; i < w->member_count; ++i) {
+            char *argv[3 * MAX_SETS * 2 + 32];
+            int n = member_argv(w, &w->members[i], 0, argv, (int)(sizeof argv / sizeof argv[0]));
+            printf("%s:", w->members[i].label);
+            for (int k = 0; k < n; ++k)
+                printf(" %s", argv[k]);
+            printf("\n");
+            if (n > 0)
+                free_argv(argv);
+        }
+    } else if (status == 0) {
+        if (!o->quiet)
+            fprintf(stderr, "sablier: sweep: %d members from %s, %d at a time, into %s\n",
+                    w->member_count, w->bed_state, o->jobs, w->out_dir);
+        run_members(w);
+        for (int i = 0; i < w->member_count; ++i)
+            if (w->members[i].status != 0 && status != 2)
+                status = w->members[i].status == 1 ? 1 : 2;
+        if (write_table(w) != 0) {
+            fprintf(stderr, "sablier: sweep: cannot write %s/sweep.csv\n", w->out_dir);
+            status = 2;
+        }
+        if (write_plots(w) != 0 && status == 0)
+            status = 2;
+        if (!o->quiet)
+            fprintf(stderr, "sablier: sweep: done in %.1f s: %s/sweep.csv\n", now_seconds() - start,
+                    w->out_dir);
+    }
+    free(members);
+    free(w);
+    return status;
+}

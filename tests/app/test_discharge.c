@@ -1,0 +1,315 @@
+/* SPDX-License-Identifier: MIT */
+/* test_discharge.c: thesis 004 open piles (app/discharge.c, app/study.c) at reduced sizes
+ * (L = 10 d), without rendering: scene keys and derived units, the equilibrium detector on a
+ * static pocket and on a settled pile, orifice widths, grain conservation, jamming at w = 1 d
+ * against a wide orifice, <h> against w on a reduced study, arch marks, and the fits. */
+#include "test.h"
+
+#include "app/discharge.h"
+#include "app/scene.h"
+#include "app/study.h"
+#include "sim/sim.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define POLY    "scenes/discharge/poly.scene"
+#define ROLLING "scenes/discharge/rolling_fixed.scene"
+
+/* A small pile: L = 10 d, rows from 8 d, at most 12 rows. */
+static Scene *small_scene_of(const char *path, const char *extra)
+{
+    const char *sets[] = {"discharge.base_length=10",       "discharge.release_height=8.0",
+                          "discharge.max_rows=12",          "discharge.relax_time=400.0",
+                          "discharge.discharge_time=400.0", extra};
+    char err[2048];
+    Scene *s = scene_load(path, sets, extra ? 6 : 5, err, sizeof err);
+    if (!s)
+        fprintf(stderr, "%s\n", err);
+    return s;
+}
+
+static Scene *small_scene(const char *extra)
+{
+    return small_scene_of(POLY, extra);
+}
+
+static int poly_scene_parameters(void)
+{
+    char err[2048];
+    Scene *s = scene_load(POLY, NULL, 0, err, sizeof err);
+    TEST_ASSERT(s && s->discharge);
+    const AppDischargeDef *d = s->discharge;
+    TEST_NEAR(d->base_length, 25.0, 0.0);
+    TEST_NEAR(d->base_diameter, 0.1, 0.0);
+    TEST_NEAR(d->polydispersity, 0.025, 0.0);
+    TEST_NEAR(d->tolerance, 1e-6, 0.0);
+    TEST_ASSERT(s->def.contact.tangential == SIM_TANGENTIAL_SPRING);
+    TEST_ASSERT(s->def.contact.clip_tensile == 0);
+    TEST_NEAR(s->def.materials[0].tangential_stiffness, 750.0, 0.0);
+    TEST_NEAR(s->def.materials[0].friction, 0.9, 0.0);
+    TEST_NEAR(s->def.materials[0].critical_fraction, 0.95, 0.0);
+    AppDischargeGeometry g;
+    app_discharge_geometry(s, &g);
+    TEST_REL(g.g, 1.0 / 26.0, 1e-12);       /* the thesis's 2/(L(L+1)) in its length unit L/2 */
+    TEST_REL(g.m_min, 0.975 * 0.975, 1e-9); /* disk density 4/pi: m = d^2 */
+    TEST_REL(g.dt, sqrt(0.975 * 0.975 / 1000.0) / 50.0, 1e-9);
+    TEST_REL(g.row_period, sqrt(2.0 * 1.025 * 26.0), 1e-9);
+    TEST_NEAR(g.height, 25.0, 0.0);
+    TEST_ASSERT(g.row_size == 13);           /* half the base covered */
+    TEST_ASSERT(g.max_rows == 39);           /* ceil(1.5 (L + 1)) */
+    TEST_REL(g.exit_half_width, 4.1, 1e-12); /* 4 d_max */
+    scene_free(s);
+    return 0;
+}
+
+static int scene_errors(void)
+{
+    char err[2048];
+    const char *bad_key[] = {"discharge.base_lenght=3"};
+    Scene *s = scene_load(POLY, bad_key, 1, err, sizeof err);
+    TEST_ASSERT(!s); /* a new key outside the known ones is refused by --set or the parser */
+    const char *bad_value[] = {"discharge.row_fill=2.0"};
+    s = scene_load(POLY, bad_value, 1, err, sizeof err);
+    TEST_ASSERT(!s && strstr(err, "poly.scene:") && strstr(err, "row_fill"));
+    const char *bad_fraction[] = {"discharge.polydispersity=-0.1"};
+    s = scene_load(POLY, bad_fraction, 1, err, sizeof err);
+    TEST_ASSERT(!s && strstr(err, "polydispersity"));
+    return 0;
+}
+
+/* Base row of 0.1 d grains over [-5, 5] and mobile grains at (x, y). */
+static SimWorld *pocket_world(const Scene *s, const double *x, const double *y, int n)
+{
+    AppDischargeGeometry g;
+    app_discharge_geometry(s, &g);
+    SimGrainBuffer b;
+    sim_grain_buffer_init(&b);
+    for (int k = 0; k < n; ++k)
+        sim_grain_buffer_add(&b, x[k], y[k], 0.5, 0, 0u, -1);
+    for (int k = 0; k < 100; ++k)
+        sim_grain_buffer_add(&b, -5.0 + 0.05 + 0.1 * k, 0.0, 0.05, 0, SIM_GRAIN_FIXED, -1);
+    SimWorldDef def = scene_world_def(s, 0);
+    def.grains = sim_grain_buffer_view(&b);
+    def.gravity_y = -g.g;
+    def.time_step = g.dt;
+    SimError e;
+    SimWorld *w = sim_world_create(&def, &e);
+    if (!w)
+        fprintf(stderr, "%s: %s\n", e.field, e.message);
+    sim_grain_buffer_free(&b);
+    return w;
+}
+
+/* 004 §7.2: a grain resting in a base pocket reaches the §3.1 criteria; a falling one does not. */
+static int equilibrium_pocket(void)
+{
+    Scene *s = small_scene(NULL);
+    TEST_ASSERT(s);
+    double x[1] = {0.0}, y[1] = {sqrt(0.55 * 0.55 - 0.05 * 0.05)};
+    SimWorld *w = pocket_world(s, x, y, 1);
+    TEST_ASSERT(w);
+    long steps = 0;
+    char err[512];
+    TEST_ASSERT(app_relax(w, s->discharge, 200.0, NULL, &steps, err, sizeof err) == 1);
+    SimEquilibrium q = sim_world_equilibrium(w, 1e-6);
+    TEST_ASSERT(q.equilibrium && q.underconnected == 0 && q.sliding_contacts == 0);
+    TEST_REL(q.base_force, q.weight, 1e-6);
+    sim_world_destroy(w);
+    double x2[2] = {0.0, 2.0}, y2[2] = {sqrt(0.55 * 0.55 - 0.05 * 0.05), 3.0};
+    w = pocket_world(s, x2, y2, 2);
+    TEST_ASSERT(w);
+    q = sim_world_equilibrium(w, 1e-6);
+    TEST_ASSERT(!q.equilibrium && q.underconnected >= 1); /* the grain in the air */
+    sim_world_step(w, 200, NULL);
+    TEST_ASSERT(!sim_world_equilibrium(w, 1e-6).equilibrium); /* still falling */
+    sim_world_destroy(w);
+    scene_free(s);
+    return 0;
+}
+
+/* w in multiples of the 0.1 d base grains (004 §3.2): w = 1 d removes 10 grains, 7 d 70. */
+static int orifice_widths(void)
+{
+    Scene *s = small_scene(NULL);
+    TEST_ASSERT(s);
+    const double widths[] = {1.0, 2.2, 7.0};
+    const int removed[] = {10, 22, 70};
+    for (int k = 0; k < 3; ++k) {
+        double x[1] = {-4.0}, y[1] = {sqrt(0.55 * 0.55 - 0.05 * 0.05)};
+        SimWorld *w = pocket_world(s, x, y, 1);
+        TEST_ASSERT(w);
+        int before = sim_world_grain_count(w);
+        TEST_ASSERT(app_open_orifice(w, widths[k], 0.0) == removed[k]);
+        TEST_ASSERT(sim_world_grain_count(w) == before - removed[k]);
+        TEST_ASSERT(sim_world_mobile_count(w) == 1);
+        SimFrame f;
+        sim_world_frame(w, &f);
+        for (int i = f.mobile_count; i < f.count; ++i)
+            TEST_ASSERT(fabs(f.x[i]) > 0.5 * widths[k]);
+        sim_world_destroy(w);
+    }
+    scene_free(s);
+    return 0;
+}
+
+static int deposit_small(const Scene *s, uint64_t seed, const char *path, AppDeposit *dep)
+{
+    char err[1024];
+    SimWorld *w = app_deposit(s, seed, NULL, NULL, dep, err, sizeof err);
+    if (!w) {
+        fprintf(stderr, "%s\n", err);
+        return -1;
+    }
+    SimError e;
+    int rc = sim_world_save(w, path, &e) == SIM_OK ? 0 : -1;
+    sim_world_destroy(w);
+    return rc;
+}
+
+/* Grains in = grains in the pile + removed, through deposition and discharge; the settled pile
+ * passes the equilibrium detector. */
+static int pile_conservation(void)
+{
+    Scene *s = small_scene(NULL);
+    TEST_ASSERT(s);
+    char path[] = "/tmp/sablier-test-pile-XXXXXX";
+    int fd = mkstemp(path);
+    TEST_ASSERT(fd >= 0);
+    close(fd);
+    AppDeposit dep;
+    TEST_ASSERT(deposit_small(s, 3, path, &dep) == 0);
+    TEST_ASSERT(dep.rows >= 1 && dep.released == dep.rows * 5);
+    TEST_ASSERT(dep.pile > 0);
+    TEST_ASSERT(dep.released == dep.pile + dep.lost);
+    TEST_ASSERT(dep.equilibrium == 1); /* 004 §3.1 criteria on the settled pile */
+    AppDischarge r;
+    char err[1024];
+    SimWorld *w = app_discharge(s, path, 3.0, NULL, &r, err, sizeof err);
+    TEST_ASSERT(w);
+    TEST_ASSERT(r.opened == 30);
+    TEST_ASSERT(r.settled_before == 1);
+    TEST_ASSERT(dep.pile == r.pile + r.through + r.edges);
+    TEST_ASSERT(r.pile == sim_world_mobile_count(w));
+    TEST_ASSERT(r.pile_species[0] == r.pile); /* one species */
+    sim_world_destroy(w);
+    remove(path);
+    scene_free(s);
+    return 0;
+}
+
+/* A 1 d orifice jams at once (no or tiny discharge); a 7 d one empties the centre. Rolling
+ * resistance makes a triangular pile at L = 10 d (without it the small pile is one or two layers
+ * of grains that roll away, docs/discharge.md). */
+static int small_jams_wide_empties(void)
+{
+    Scene *s = small_scene_of(ROLLING, NULL);
+    TEST_ASSERT(s);
+    char path[] = "/tmp/sablier-test-pile-XXXXXX";
+    int fd = mkstemp(path);
+    TEST_ASSERT(fd >= 0);
+    close(fd);
+    AppDeposit dep;
+    /* the first seed whose small pile covers the centre (a 10 d pile can leave it bare) */
+    for (uint64_t seed = 5; seed < 15; ++seed) {
+        TEST_ASSERT(deposit_small(s, seed, path, &dep) == 0);
+        if (dep.height > 0.0)
+            break;
+    }
+    TEST_ASSERT(dep.height > 0.0);
+    AppDischarge narrow, wide;
+    char err[1024];
+    SimWorld *w = app_discharge(s, path, 1.0, NULL, &narrow, err, sizeof err);
+    TEST_ASSERT(w);
+    sim_world_destroy(w);
+    w = app_discharge(s, path, 7.0, NULL, &wide, err, sizeof err);
+    TEST_ASSERT(w);
+    sim_world_destroy(w);
+    TEST_ASSERT(narrow.through <= 2);
+    TEST_ASSERT(narrow.pile >= dep.pile - 2); /* at most a grain that fits the gap left */
+    TEST_ASSERT(wide.height == 0.0);          /* the central strip is empty: the pile split */
+    TEST_ASSERT(wide.through > narrow.through);
+    TEST_ASSERT(wide.arch == 0);
+    remove(path);
+    scene_free(s);
+    return 0;
+}
+
+/* <h> decreases with w over a few samples discharged at every width (004 fig. 2.13). */
+static int reduced_study_h_decreases(void)
+{
+    Scene *s = small_scene(NULL);
+    TEST_ASSERT(s);
+    const double widths[] = {1.0, 4.0, 7.0};
+    double h[3] = {0.0, 0.0, 0.0};
+    const int samples = 3;
+    for (int k = 0; k < samples; ++k) {
+        char path[] = "/tmp/sablier-test-pile-XXXXXX";
+        int fd = mkstemp(path);
+        TEST_ASSERT(fd >= 0);
+        close(fd);
+        AppDeposit dep;
+        TEST_ASSERT(deposit_small(s, 100 + (uint64_t)k, path, &dep) == 0);
+        for (int j = 0; j < 3; ++j) {
+            AppDischarge r;
+            char err[1024];
+            SimWorld *w = app_discharge(s, path, widths[j], NULL, &r, err, sizeof err);
+            TEST_ASSERT(w);
+            sim_world_destroy(w);
+            h[j] += r.height / samples;
+        }
+        remove(path);
+    }
+    TEST_ASSERT(h[0] >= h[1] && h[1] >= h[2]);
+    TEST_ASSERT(h[0] > h[2]);
+    scene_free(s);
+    return 0;
+}
+
+/* Arch ids go to the renderer as per-grain marks in frame order; h is the top centre in the
+ * central strip, 0 when it is empty. */
+static int arch_marks_and_height(void)
+{
+    double x[4] = {-1.0, 0.2, 0.3, 1.0}, y[4] = {0.5, 1.5, 2.5, 0.5}, r[4] = {0.5, 0.5, 0.5, 0.5};
+    uint32_t id[4] = {7, 8, 9, 10};
+    unsigned flags[4] = {0, 0, 0, 0};
+    SimFrame f = {
+        .count = 4, .mobile_count = 4, .x = x, .y = y, .radius = r, .id = id, .flags = flags};
+    AppDischarge result;
+    memset(&result, 0, sizeof result);
+    result.arch = 2;
+    result.arch_ids[0] = 8;
+    result.arch_ids[1] = 10;
+    int marks[4];
+    app_arch_marks(&f, &result, marks);
+    TEST_ASSERT(marks[0] == -1 && marks[1] == 0 && marks[2] == -1 && marks[3] == 0);
+    TEST_NEAR(app_central_height(&f, 0.0, 0.5), 2.5, 0.0);
+    TEST_NEAR(app_central_height(&f, 5.0, 0.5), 0.0, 0.0);
+    return 0;
+}
+
+/* w_t from a Gaussian fit of sigma_h(w) and w_c from the linear fit of w_t against 1/L. */
+static int fits(void)
+{
+    double w[31], sigma[31];
+    for (int k = 0; k < 31; ++k) {
+        w[k] = 1.0 + 0.2 * k;
+        sigma[k] = 0.8 * exp(-(w[k] - 4.37) * (w[k] - 4.37) / (2.0 * 0.6 * 0.6));
+    }
+    TEST_NEAR(app_gaussian_peak(w, sigma, 31), 4.37, 1e-9);
+    double inv[3] = {1.0 / 25, 1.0 / 50, 1.0 / 100}, wt[3];
+    for (int k = 0; k < 3; ++k)
+        wt[k] = 5.0 - 20.0 * inv[k];
+    double a, b, a_err;
+    app_linear_fit(inv, wt, 3, &a, &b, &a_err);
+    TEST_NEAR(a, 5.0, 1e-12);
+    TEST_NEAR(b, -20.0, 1e-9);
+    TEST_NEAR(a_err, 0.0, 1e-9);
+    return 0;
+}
+
+TEST_MAIN(TEST_CASE(poly_scene_parameters), TEST_CASE(scene_errors), TEST_CASE(equilibrium_pocket),
+          TEST_CASE(orifice_widths), TEST_CASE(pile_conservation),
+          TEST_CASE(small_jams_wide_empties), TEST_CASE(reduced_study_h_decreases),
+          TEST_CASE(arch_marks_and_height), TEST_CASE(fits))
