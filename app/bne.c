@@ -214,12 +214,12 @@ static int intruder_index(const SimFrame *f, uint32_t id)
 /* Mean over columns one mean diameter wide of the highest grain top, in the world frame. */
 static double surface_height(SimWorld *world, const SimFrame *f)
 {
-    double x0 = INFINITY, x1 = -INFINITY, d = 0.0;
+    double x0 = INFINITY, x1 = -INFINITY, d = 0.0, mass = 0.0;
     for (int i = 0; i < f->mobile_count; ++i) {
         x0 = fmin(x0, f->x[i] - f->radius[i]);
         x1 = fmax(x1, f->x[i] + f->radius[i]);
     }
-    sim_world_means(world, &d, NULL);
+    sim_world_means(world, &d, &mass);
     if (!(x1 > x0) || !(d > 0.0))
         return NAN;
     int bins = (int)floor((x1 - x0) / d);
@@ -326,7 +326,8 @@ AppBneResult app_bne_result(const AppBne *b)
     r.height = b->h;
     r.end_height = b->count ? b->h[b->count - 1] : (double)NAN;
     r.shaking_time = b->count ? b->t[b->count - 1] : 0.0;
-    r.rise_rate = r.shaking_time > 0.0 ? (r.end_height - r.start_height) / r.shaking_time : (double)NAN;
+    r.rise_rate =
+        r.shaking_time > 0.0 ? (r.end_height - r.start_height) / r.shaking_time : (double)NAN;
     r.rise_time = app_bne_rise_time(b->t, b->h, b->count, b->radius, b->surface0, b->tolerance);
     return r;
 }
@@ -580,7 +581,7 @@ int app_bne_samples(const AppBneSamplesOptions *o)
     AppBneCurve curves[64], ldf_curves[64];
     double *store[4 * 64];
     int stored = 0, curve_count = 0;
-    char labels[64][64];
+    char labels[64][192];
     for (int v = 0; v < value_count; ++v) {
         int first = -1, n = 0, len = 0;
         for (int k = 0; k < done; ++k)

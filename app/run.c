@@ -495,7 +495,7 @@ static int run_stage(Run *run, int k)
         return 2;
     report->start_time = sim_world_time(run->world);
     if (scene->sediment)
-        app_sediment_stage(scene->sediment, scene, k, report->start_time);
+        app_sediment_stage(scene->sediment, scene, k, run->world);
     if (scene->bne)
         app_bne_stage(scene->bne, scene, k, run->world);
     app_observer_stage_start(run->observer, run->world, k);
@@ -689,8 +689,8 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     }
     {
         char err[512] = "";
-        if ((scene->sediment && app_sediment_end(scene->sediment, run->status == 0, err,
-                                                 sizeof err) != 0) ||
+        if ((scene->sediment &&
+             app_sediment_end(scene->sediment, run->status == 0, err, sizeof err) != 0) ||
             (scene->bne && app_bne_end(scene->bne, run->status == 0, err, sizeof err) != 0)) {
             if (run->status == 0) {
                 snprintf(run->message, sizeof run->message, "%s", err);

@@ -3,6 +3,7 @@
  * both sim/ and render/: it maps the scene's plain style data onto RenderStyle and hands the
  * runner its figure and movie hooks. Built without render/ (SABLIER_WITH_RENDER=OFF), figures
  * and movies are skipped with a warning and `diff`/`render` exit 2. */
+#include "bne.h"
 #include "observe.h"
 #include "run.h"
 #include "scene.h"
@@ -38,6 +39,7 @@ static const char USAGE[] =
     "  sweep SWEEP    run sweep members from one settled bed (crater studies)\n"
     "  discharge SCENE  build an open pile and discharge it through an orifice (004)\n"
     "  study SCENE    jamming statistics over base lengths and widths (004)\n"
+    "  bne SCENE      Brazil-nut samples over seeds and one varied key: rise curves, LDF (002)\n"
     "\n"
     "  sablier COMMAND --help   options of one command\n"
     "  sablier --version        versions of sablier and its libraries\n"
@@ -509,6 +511,119 @@ static int command_sweep(int argc, char **argv)
     return app_sweep(&o);
 }
 
+/* ---------------------------------------------------------------- bne (thesis 002) */
+
+static const char USAGE_BNE[] =
+    "usage: sablier bne SCENE [--seeds N] [--seed0 S] [--vary KEY=v1,v2,...] [--ldf PERIODS]\n"
+    "                   [--out DIR] [--set KEY=VALUE]... [--movies] [--quiet]\n"
+    "Runs a scene with a `bne` group for N seeds (default 5) and each value of KEY; writes\n"
+    "DIR/samples.csv (rise time and rate per run), rise.csv and rise.png (mean +- std of the\n"
+    "intruder's rise against time), ldf.csv and ldf.png (large-deviation function of the rise\n"
+    "rate over windows of PERIODS shaking periods, default 5; docs/brazil_nut.md). Each run's own\n"
+    "outputs go to DIR/KEY=value/seed-S/ (movies and figures only with --movies).\n";
+
+#ifdef SABLIER_HAVE_RENDER
+static int hook_bne_plot(void *context, const char *path, const char *title, const char *x_label,
+                         const char *y_label, const AppBneCurve *curves, int curve_count, char *err,
+                         size_t err_size)
+{
+    (void)context;
+    RenderSeries series[64];
+    int n = curve_count < 64 ? curve_count : 64;
+    memset(series, 0, sizeof series);
+    for (int k = 0; k < n; ++k) {
+        series[k].label = curves[k].label;
+        series[k].count = curves[k].count;
+        series[k].x = curves[k].x;
+        series[k].y = curves[k].y;
+        series[k].y_err = curves[k].y_err;
+        series[k].rgb = RENDER_RGB_AUTO;
+        series[k].line = 1;
+    }
+    RenderPanel panel;
+    memset(&panel, 0, sizeof panel);
+    panel.x.label = x_label;
+    panel.y.label = y_label;
+    panel.series_count = n;
+    panel.series = series;
+    panel.legend = RENDER_LEGEND_UPPER_LEFT;
+    RenderPlot plot = {
+        .width = 1000, .height = 700, .rows = 1, .cols = 1, .panels = &panel, .title = title};
+    RenderMeta meta = {.scene = "bne", .seed = 0};
+    return render_plot_write(&plot, &meta, path, err, err_size) == 0 ? 0 : -1;
+}
+#endif
+
+static int command_bne(int argc, char **argv)
+{
+    const char *path = NULL, *value, *sets[MAX_SETS], *out = NULL;
+    int set_count = 0, movies = 0;
+    long seeds = 5, seed0 = 1;
+    AppBneSamplesOptions o;
+    memset(&o, 0, sizeof o);
+    o.ldf_periods = 5.0;
+    for (int i = 2; i < argc; ++i) {
+        int m;
+        if ((m = option(argc, argv, &i, "--out", &value)) != 0) {
+            if (m < 0)
+                return 2;
+            out = value;
+        } else if ((m = option(argc, argv, &i, "--set", &value)) != 0) {
+            if (m < 0 || collect_set(sets, &set_count, value) < 0)
+                return 2;
+        } else if ((m = option(argc, argv, &i, "--vary", &value)) != 0) {
+            if (m < 0)
+                return 2;
+            o.vary = value;
+        } else if ((m = option(argc, argv, &i, "--seeds", &value)) != 0) {
+            if (m < 0 || parse_count(value, 1, 10000, &seeds) < 0)
+                return usage_error(USAGE_BNE, "--seeds needs a count in [1, 10000], got",
+                                   m < 0 ? "nothing" : value);
+        } else if ((m = option(argc, argv, &i, "--seed0", &value)) != 0) {
+            if (m < 0 || parse_count(value, 0, 1000000000, &seed0) < 0)
+                return usage_error(USAGE_BNE, "--seed0 needs a seed >= 0, got",
+                                   m < 0 ? "nothing" : value);
+        } else if ((m = option(argc, argv, &i, "--ldf", &value)) != 0) {
+            char *end = NULL;
+            o.ldf_periods = m < 0 ? -1.0 : strtod(value, &end);
+            if (m < 0 || !end || *end || !(o.ldf_periods >= 0.0))
+                return usage_error(USAGE_BNE, "--ldf needs a number of periods >= 0, got",
+                                   m < 0 ? "nothing" : value);
+        } else if (strcmp(argv[i], "--movies") == 0) {
+            movies = 1;
+        } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
+            o.quiet = 1;
+        } else if (argv[i][0] == '-' && argv[i][1]) {
+            return usage_error(USAGE_BNE, "unknown option", argv[i]);
+        } else if (!path) {
+            path = argv[i];
+        } else {
+            return usage_error(USAGE_BNE, "one scene at a time; extra argument", argv[i]);
+        }
+    }
+    if (!path)
+        return usage_error(USAGE_BNE, "missing SCENE", NULL);
+    char default_out[SCENE_PATH_MAX];
+    const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
+    snprintf(default_out, sizeof default_out, "out/bne-%.*s", (int)strcspn(base, "."), base);
+    o.scene_path = path;
+    o.out_dir = out ? out : default_out;
+    o.sets = sets;
+    o.set_count = set_count;
+    o.seeds = (int)seeds;
+    o.seed0 = seed0;
+#ifdef SABLIER_HAVE_RENDER
+    Renderer renderer = {.quiet = 1};
+    AppRenderHooks hooks = {&renderer, hook_movie_open, hook_movie_close, hook_figure};
+    if (movies)
+        o.render = &hooks;
+    o.plot = hook_bne_plot;
+#else
+    (void)movies;
+#endif
+    return app_bne_samples(&o);
+}
+
 static void print_timing(const Scene *scene, int k)
 {
     SimWorldDef def = scene_world_def(scene, k);
@@ -960,6 +1075,7 @@ int main(int argc, char **argv)
         {"sweep", command_sweep, USAGE_SWEEP},
         {"discharge", command_discharge, APP_DISCHARGE_USAGE},
         {"study", command_study, APP_STUDY_USAGE},
+        {"bne", command_bne, USAGE_BNE},
     };
 
     for (size_t k = 0; k < sizeof commands / sizeof commands[0]; ++k) {

@@ -8,8 +8,8 @@
  * to sim_world_def_validate and maps the reported field path back to the key that set it. */
 #include "scene.h"
 
-#include "discharge.h"
 #include "bne.h"
+#include "discharge.h"
 #include "sediment.h"
 
 #include <ctype.h>
@@ -1181,10 +1181,11 @@ static int parse_effect_groups(Loader *L, const config_setting_t *root)
 
 /* ---------------------------------------------------------------- top level physics */
 
-static const char *const ROOT_KEYS[] = {
-    "name",     "seed",  "units",   "effects", "mass_model", "gravity", "integrator", "time",
-    "skin",     "guard", "contact", "species", "grains",     "walls",   "motions",    "sinks",
-    "periodic", "drag",  "stages",  "output",  "render",     "discharge", "fluid", "bne", NULL};
+static const char *const ROOT_KEYS[] = {"name",    "seed",       "units",  "effects", "mass_model",
+                                        "gravity", "integrator", "time",   "skin",    "guard",
+                                        "contact", "species",    "grains", "walls",   "motions",
+                                        "sinks",   "periodic",   "drag",   "stages",  "output",
+                                        "render",  "discharge",  "fluid",  "bne",     NULL};
 
 static int parse_effects(Loader *L, const config_setting_t *root)
 {

@@ -140,8 +140,8 @@ typedef struct Scene {
     SceneStyle style; ///< `render` group
     SceneWhere *where;
     struct AppDischargeDef *discharge; ///< `discharge` group (app/discharge.h), NULL if absent
-    struct AppSediment *sediment; ///< `fluid` column (app/sediment.h), NULL if absent
-    struct AppBne *bne;           ///< `bne` measures (app/bne.h), NULL if absent
+    struct AppSediment *sediment;      ///< `fluid` column (app/sediment.h), NULL if absent
+    struct AppBne *bne;                ///< `bne` measures (app/bne.h), NULL if absent
 } Scene;
 
 /// Loads, overrides and checks a scene. `sets` are "KEY=VALUE" strings. Returns NULL with

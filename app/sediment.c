@@ -21,6 +21,7 @@ struct AppSediment {
     double shear_velocity; /* u* once the flow stage starts, m/s */
     char flow_stage[SCENE_NAME_MAX];
     int flowing;              /* 1 once the flow stage started (or no flow stage named) */
+    int steady_start;         /* 1: the fluid starts from its steady profile above the bed */
     double flow_start;        /* s */
     SimBodyForce fluid_force; /* the fluid's stage, applied from the flow stage on */
     FILE *csv;
@@ -114,7 +115,7 @@ AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *e
         "density_ratio", "galileo",      "shields", "density",    "viscosity", "shear_velocity",
         "diameter",      "y0",           "y1",      "cells",      "turbulent", "kappa",
         "van_driest",    "bed_fraction", "c_inf",   "reynolds_c", "buoyancy",  "geometry",
-        "flow_stage",    "drag_limit",   NULL};
+        "flow_stage",    "drag_limit",   "start",   NULL};
     if (config_setting_type(g) != CONFIG_TYPE_GROUP) {
         bad(&p, g, "`fluid` must be a group { ... }");
         return NULL;
@@ -265,6 +266,17 @@ AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *e
     if (flow_stage)
         snprintf(sed->flow_stage, sizeof sed->flow_stage, "%s", flow_stage);
     sed->flowing = flow_stage == NULL;
+    sed->steady_start = 1;
+    const char *start = NULL;
+    if (config_setting_lookup_string(g, "start", &start)) {
+        if (strcmp(start, "steady") && strcmp(start, "rest")) {
+            bad(&p, config_setting_get_member(g, "start"),
+                "unknown start `%s` (expected steady or rest)", start);
+            app_sediment_free(sed);
+            return NULL;
+        }
+        sed->steady_start = strcmp(start, "steady") == 0;
+    }
     sed->fluid_force = sim_fluid_body_force(sed->fluid);
     scene->def.body_force.apply = sediment_force;
     scene->def.body_force.context = sed;
@@ -321,11 +333,15 @@ double app_sediment_saturation(const double *t, const double *q, int count, doub
             ++n;
         }
     double q_sat = n ? sum / n : (double)NAN;
-    for (int k = 0; k < count && isfinite(q_sat); ++k)
-        if (t[k] >= t_start && fabs(q[k]) >= (1.0 - exp(-1.0)) * fabs(q_sat) && q_sat != 0.0) {
-            *t_sat = t[k] - t_start;
-            break;
-        }
+    /* T_sat = integral of (1 - q / q_sat) dt from t_start (trapezoids): exactly T for
+     * q = q_sat (1 - exp(-t / T)), and robust to the noise of a small bed */
+    if (!(isfinite(q_sat) && q_sat != 0.0))
+        return q_sat;
+    double integral = 0.0;
+    for (int k = 1; k < count; ++k)
+        if (t[k - 1] >= t_start)
+            integral += 0.5 * (t[k] - t[k - 1]) * (2.0 - (q[k] + q[k - 1]) / q_sat);
+    *t_sat = integral;
     return q_sat;
 }
 
@@ -345,12 +361,37 @@ int app_sediment_begin(AppSediment *s, const char *out_dir, char *err, size_t er
     return 0;
 }
 
-void app_sediment_stage(AppSediment *s, const Scene *scene, int stage, double time)
+void app_sediment_stage(AppSediment *s, const Scene *scene, int stage, SimWorld *world)
 {
-    if (!s->flowing && strcmp(scene->stages[stage].name, s->flow_stage) == 0) {
-        s->flowing = 1;
-        s->flow_start = time;
-    }
+    if (s->flowing || strcmp(scene->stages[stage].name, s->flow_stage) != 0)
+        return;
+    s->flowing = 1;
+    s->flow_start = sim_world_time(world);
+    if (!s->steady_start)
+        return;
+    /* Start from the steady clear-fluid profile above the bed (002 eq. 45) rather than from
+     * rest: the column's own diffusion time H^2 / nu would otherwise dominate T_sat. The bed
+     * level is the mean surface height minus half a diameter. */
+    SimFrame frame;
+    sim_world_frame(world, &frame);
+    double bins[512], sum = 0.0;
+    int n = 0, count = (int)fmin(512.0, fmax(1.0, s->width / s->numbers.diameter));
+    sim_world_surface_profile(world, frame.domain_x0, frame.domain_x1, count, bins);
+    for (int k = 0; k < count; ++k)
+        if (isfinite(bins[k])) {
+            sum += bins[k];
+            ++n;
+        }
+    const SimFluidDef *fd = sim_fluid_def(s->fluid);
+    double bed = n ? sum / n - 0.5 * s->numbers.diameter : fd->y0;
+    SimFluidProfile p;
+    sim_fluid_profile(s->fluid, &p);
+    double *u = malloc((size_t)p.cells * sizeof *u);
+    if (!u)
+        return;
+    sim_fluid_steady_reference(fd, bed, p.y, p.cells, u);
+    sim_fluid_set_velocity(s->fluid, u);
+    free(u);
 }
 
 void app_sediment_row(AppSediment *s, SimWorld *world)

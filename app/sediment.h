@@ -41,11 +41,11 @@ SimFluid *app_sediment_fluid(const AppSediment *sediment);
 AppSedimentNumbers app_sediment_numbers(const AppSediment *sediment);
 
 /// Runner hooks. begin opens sediment.csv in out_dir; stage is called at each stage start (the
-/// fluid acts from the `flow_stage` on; before it the grains settle dry); row after every energy row; stage_end writes
-/// <stage>.fluid.csv; end closes the CSV and writes sediment.json. Each returns 0 or -1 with a
-/// message in err.
+/// fluid acts from the `flow_stage` on; before it the grains settle dry); row after every energy
+/// row; stage_end writes <stage>.fluid.csv; end closes the CSV and writes sediment.json. Each
+/// returns 0 or -1 with a message in err.
 int app_sediment_begin(AppSediment *s, const char *out_dir, char *err, size_t err_size);
-void app_sediment_stage(AppSediment *s, const Scene *scene, int stage, double time);
+void app_sediment_stage(AppSediment *s, const Scene *scene, int stage, SimWorld *world);
 void app_sediment_row(AppSediment *s, SimWorld *world);
 int app_sediment_stage_end(AppSediment *s, SimWorld *world, const char *out_dir,
                            const char *stage_name, char *err, size_t err_size);
@@ -55,8 +55,9 @@ int app_sediment_end(AppSediment *s, int ok, char *err, size_t err_size);
 /// m^2/s.
 double app_sediment_flux(const SimFrame *frame, double width);
 
-/// Saturation of a flux record: q_sat = mean over the last third of [t_start, t_end]; T_sat = first
-/// time after t_start where q reaches (1 - 1/e) q_sat, minus t_start (NAN if never). Returns q_sat.
+/// Saturation of a flux record: q_sat = mean over the last third of [t_start, t_end]; T_sat = the
+/// integral of (1 - q / q_sat) dt from t_start (exactly T for q_sat (1 - exp(-t / T))).
+/// Returns q_sat (NAN without samples).
 double app_sediment_saturation(const double *t, const double *q, int count, double t_start,
                                double *t_sat);
 

@@ -29,6 +29,12 @@ typedef struct RenderMeta {
 
 /// Draws one frame into a new BGRA image with Cairo (caller frees with render_image_free).
 int render_cairo_draw(const SimFrame *frame, const RenderStyle *style, RenderImage *out);
+/// Draws the annotations of render_cairo_draw (velocity field and arrows, arch highlights and
+/// inset, time stamp, scale bar, colour bar, title: whatever the style asks for) over an image
+/// that already holds the grain layer of the same frame and style (e.g. an OSMesa frame), with
+/// the same layout (render_view_fit). The image is opaque, style->width x style->height, BGRA
+/// (premultiplied) or RGBA, and keeps its format. 0 on success, -1 on bad input or failure.
+int render_cairo_overlay(const SimFrame *frame, const RenderStyle *style, RenderImage *inout);
 /// Writes a figure of one frame; format from the extension: .png (libpng, with text chunks),
 /// .pdf, .svg. Written to a temporary name, renamed when complete. 0 on success, else -1 and a
 /// message in err.
@@ -193,7 +199,7 @@ typedef struct RenderMovieDef {
     RenderMeta meta;
     /* Added by the movie side (render_video.c); zero keeps the default. */
     long frames_expected; ///< frames the run will give, for the progress ETA (0 = unknown)
-    const char *preset;   ///< libx264 preset, NULL = "veryfast"
+    const char *preset;   ///< libx264 preset, NULL = "ultrafast"
     const char *encoder;  ///< libavcodec encoder; NULL = "libx264" ("mpeg4" + warning if absent)
 } RenderMovieDef;
 
@@ -202,7 +208,8 @@ typedef struct RenderMovie RenderMovie;
 /// Opens a movie (encoder, muxer, drawer). NULL on failure with a message in err.
 RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *style, char *err,
                                size_t err_size);
-/// Draws and encodes one frame. Errors are sticky: returned again by render_movie_close.
+/// Draws and encodes one frame (OSMesa: the grain layer by GL, the style's annotations by
+/// render_cairo_overlay). Errors are sticky: returned again by render_movie_close.
 int render_movie_frame(RenderMovie *movie, const SimFrame *frame);
 /// Flushes the encoder, writes the trailer, renames the temporary file. 0 on success.
 int render_movie_close(RenderMovie *movie, char *err, size_t err_size);

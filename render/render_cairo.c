@@ -860,6 +860,24 @@ static void draw_scene(cairo_t *cr, void *context)
     draw_title(cr, sc);
 }
 
+/* Everything render_cairo_draw puts over the grain layer, in its order: velocity field, arrows
+ * and arches (clipped to the plot), then the inset, time stamp, scale bar, colour bar, title. */
+static void draw_overlay(cairo_t *cr, const Scene *sc)
+{
+    cairo_set_antialias(cr, CAIRO_ANTIALIAS_GOOD);
+    cairo_save(cr);
+    clip_world(cr, sc, &sc->view);
+    draw_field(cr, sc, &sc->view);
+    draw_grain_arrows(cr, sc, &sc->view);
+    draw_arches(cr, sc, &sc->view);
+    cairo_restore(cr);
+    draw_inset(cr, sc);
+    draw_time_stamp(cr, sc);
+    draw_scale_bar(cr, sc);
+    draw_colorbar(cr, sc);
+    draw_title(cr, sc);
+}
+
 /* ---------------------------------------------------------------- public entry points */
 
 int render_cairo_draw(const SimFrame *frame, const RenderStyle *style, RenderImage *out)
@@ -873,6 +891,56 @@ int render_cairo_draw(const SimFrame *frame, const RenderStyle *style, RenderIma
         return -1;
     }
     int rc = render_cairo_image(style->width, style->height, draw_scene, &sc, out, NULL, 0);
+    scene_free(&sc);
+    return rc;
+}
+
+/* Swaps bytes 0 and 2 of every pixel: RGBA <-> BGRA. */
+static void swap_red_blue(RenderImage *image)
+{
+    for (int y = 0; y < image->height; ++y) {
+        uint8_t *p = image->pixels + (size_t)y * (size_t)image->stride;
+        for (int x = 0; x < image->width; ++x, p += 4) {
+            uint8_t t = p[0];
+            p[0] = p[2];
+            p[2] = t;
+        }
+    }
+}
+
+int render_cairo_overlay(const SimFrame *frame, const RenderStyle *style, RenderImage *inout)
+{
+    if (!frame || !style || !inout || !inout->pixels || inout->width != style->width ||
+        inout->height != style->height || inout->stride % 4 != 0 ||
+        inout->stride < 4 * inout->width)
+        return -1;
+    /* The grain layer is already drawn: skip sorting the chains unless the inset redraws them. */
+    RenderStyle s = *style;
+    if (!(s.arch_inset && s.arch_ids))
+        s.force_chains = 0;
+    Scene sc;
+    if (scene_init(&sc, frame, &s) != 0) {
+        scene_free(&sc);
+        return -1;
+    }
+    /* Opaque RGBA becomes Cairo's ARGB32 (BGRA bytes) for the drawing and is swapped back;
+     * straight and premultiplied alpha agree on opaque pixels. */
+    int rgba = inout->format == RENDER_PIXEL_RGBA;
+    if (rgba)
+        swap_red_blue(inout);
+    cairo_surface_t *surface = cairo_image_surface_create_for_data(
+        inout->pixels, CAIRO_FORMAT_ARGB32, inout->width, inout->height, inout->stride);
+    int rc = -1;
+    if (cairo_surface_status(surface) == CAIRO_STATUS_SUCCESS) {
+        cairo_t *cr = cairo_create(surface);
+        draw_overlay(cr, &sc);
+        rc = cairo_status(cr) == CAIRO_STATUS_SUCCESS ? 0 : -1;
+        cairo_destroy(cr);
+        cairo_surface_flush(surface);
+    }
+    cairo_surface_destroy(surface);
+    if (rgba)
+        swap_red_blue(inout);
     scene_free(&sc);
     return rc;
 }

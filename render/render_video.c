@@ -1,10 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /* render_video.c: MP4 movies through libavformat, libavcodec and libswscale.
  *
- * Each frame is drawn by the chosen drawer (OSMesa or Cairo) in the caller's thread and converted
- * to yuv420p there (BT.709 matrix, limited range); an encoder thread takes the converted frames
- * from a small queue and runs the encoder and the muxer, so drawing (and simulating) overlaps with
- * x264, which runs its own threads as well. Output goes to path.tmp, renamed at close.
+ * Each frame is drawn by the chosen drawer (OSMesa or Cairo) in the caller's thread straight into
+ * a slot of a small queue (OSMesa: grain layer by GL, annotations by render_cairo_overlay); an
+ * encoder thread takes the slots in order, converts them to yuv420p (BT.709 matrix, limited
+ * range) and runs the encoder and the muxer, so drawing (and simulating) the next frame overlaps
+ * with the conversion and x264, which runs its own threads as well. Output goes to path.tmp,
+ * renamed at close.
  *
  * Errors are sticky: the first one is kept, later render_movie_frame calls do nothing and
  * render_movie_close returns it. Colour handling: the drawers give full-range sRGB; the stream is
@@ -29,9 +31,21 @@
 #include <string.h>
 #include <time.h>
 
-/* Converted frames waiting for the encoder: enough to absorb jitter between drawing and x264,
- * few enough to bound memory (3 MiB each at 1080p). */
+/* Drawn frames waiting for the encoder: enough to absorb jitter between drawing and x264, few
+ * enough to bound memory (8 MiB drawn + 3 MiB converted each at 1080p). */
 enum { QUEUE_SLOTS = 3 };
+
+/* Default libx264 preset: the one that keeps the whole pipeline (OSMesa draw + overlay +
+ * conversion + x264) above 25 frames/s at 1080p on 2 cores (bench/README.md: ultrafast about 62
+ * CPU ms per frame, superfast 79, veryfast 89); files are about 1.4x superfast's at the same
+ * CRF. RenderMovieDef.preset picks another. */
+#define DEFAULT_PRESET "ultrafast"
+
+/* One queue entry: the drawn image (drawer's format) and its yuv420p conversion. */
+typedef struct Slot {
+    RenderImage image; ///< OSMesa: allocated once; Cairo: the drawer's image, freed on reuse
+    AVFrame *frame;
+} Slot;
 
 struct RenderMovie {
     RenderStyle style;
@@ -45,9 +59,10 @@ struct RenderMovie {
     AVFormatContext *format;
     AVCodecContext *codec;
     AVStream *stream;
-    AVPacket *packet; ///< encoder thread only
-    struct SwsContext *sws;
-    AVFrame *slots[QUEUE_SLOTS];
+    AVPacket *packet;       ///< encoder thread only
+    struct SwsContext *sws; ///< encoder thread only
+    int overlay;            ///< 1: OSMesa frames get render_cairo_overlay
+    Slot slots[QUEUE_SLOTS];
     long next_pts;
     /* queue: slots head .. head + filled - 1 (mod QUEUE_SLOTS) wait for the encoder thread */
     pthread_mutex_t lock;
@@ -133,6 +148,50 @@ static int encode(RenderMovie *movie, const AVFrame *frame)
     }
 }
 
+/* Pixel layout of a drawer's image for swscale. */
+static enum AVPixelFormat source_format(RenderPixelFormat format)
+{
+    /* Cairo ARGB32 is B,G,R,A bytes on little-endian; frames are opaque, so premultiplication
+     * does not matter. */
+    return format == RENDER_PIXEL_RGBA ? AV_PIX_FMT_RGBA : AV_PIX_FMT_BGRA;
+}
+
+/* Converts a drawn image into its slot's yuv420p frame (encoder thread). */
+static int convert(RenderMovie *movie, const RenderImage *image, AVFrame *slot)
+{
+    char text[128];
+    if (image->width != movie->width || image->height != movie->height) {
+        fail(movie, "%s: drawer gave %dx%d for a %dx%d movie", movie->path, image->width,
+             image->height, movie->width, movie->height);
+        return -1;
+    }
+    struct SwsContext *sws = sws_getCachedContext(
+        movie->sws, movie->width, movie->height, source_format(image->format), movie->width,
+        movie->height, AV_PIX_FMT_YUV420P, SWS_BILINEAR | SWS_ACCURATE_RND, NULL, NULL, NULL);
+    if (!sws) {
+        fail(movie, "%s: cannot set up the colour conversion", movie->path);
+        return -1;
+    }
+    if (sws != movie->sws) {
+        movie->sws = sws;
+        /* Source full-range RGB, destination BT.709 limited range (16-235 luma). */
+        const int *bt709 = sws_getCoefficients(SWS_CS_ITU709);
+        if (sws_setColorspaceDetails(sws, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16) < 0) {
+            fail(movie, "%s: swscale cannot convert to BT.709", movie->path);
+            return -1;
+        }
+    }
+    int rc = av_frame_make_writable(slot); /* copies if the encoder still holds the buffer */
+    if (rc < 0) {
+        fail(movie, "%s: %s", movie->path, av_message(rc, text, sizeof text));
+        return -1;
+    }
+    const uint8_t *const planes[1] = {image->pixels};
+    const int strides[1] = {image->stride};
+    sws_scale(sws, planes, strides, 0, movie->height, slot->data, slot->linesize);
+    return 0;
+}
+
 static void *encoder_main(void *argument)
 {
     RenderMovie *movie = argument;
@@ -142,11 +201,11 @@ static void *encoder_main(void *argument)
             pthread_cond_wait(&movie->changed, &movie->lock);
         if (movie->filled == 0)
             break;
-        AVFrame *frame = movie->slots[movie->head];
+        Slot *slot = &movie->slots[movie->head];
         int skip = movie->failed; /* after an error, drain the queue without encoding */
         pthread_mutex_unlock(&movie->lock);
-        if (!skip)
-            encode(movie, frame);
+        if (!skip && convert(movie, &slot->image, slot->frame) == 0)
+            encode(movie, slot->frame);
         pthread_mutex_lock(&movie->lock);
         movie->head = (movie->head + 1) % QUEUE_SLOTS;
         movie->filled -= 1;
@@ -177,8 +236,10 @@ static void movie_free(RenderMovie *movie)
     avcodec_free_context(&movie->codec);
     av_packet_free(&movie->packet);
     sws_freeContext(movie->sws);
-    for (int k = 0; k < QUEUE_SLOTS; ++k)
-        av_frame_free(&movie->slots[k]);
+    for (int k = 0; k < QUEUE_SLOTS; ++k) {
+        av_frame_free(&movie->slots[k].frame);
+        render_image_free(&movie->slots[k].image);
+    }
     render_gl_destroy(movie->gl);
     if (movie->sync_ready) {
         pthread_cond_destroy(&movie->changed);
@@ -324,7 +385,7 @@ RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *sty
     if (is_x264) {
         char value[16];
         snprintf(value, sizeof value, "%d", crf);
-        av_dict_set(&options, "preset", def->preset ? def->preset : "veryfast", 0);
+        av_dict_set(&options, "preset", def->preset ? def->preset : DEFAULT_PRESET, 0);
         av_dict_set(&options, "crf", value, 0);
     } else {
         /* No CRF outside x264: a fixed quantiser of similar visual quality (CRF 20 -> q 4). */
@@ -380,7 +441,7 @@ RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *sty
 
     for (int k = 0; k < QUEUE_SLOTS; ++k) {
         AVFrame *slot = av_frame_alloc();
-        movie->slots[k] = slot;
+        movie->slots[k].frame = slot;
         if (!slot) {
             fail(movie, "%s: out of memory", movie->path);
             goto fail;
@@ -395,14 +456,16 @@ RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *sty
         }
     }
     if (movie->drawer == RENDER_DRAWER_OSMESA) {
-        if (!movie->quiet &&
-            (style->colorbar || style->time_stamp || style->scale_bar || style->title ||
-             style->velocity_arrows || style->velocity_field || style->arch_ids))
-            fprintf(stderr,
-                    "warning: %s: the OSMesa drawer draws grains, walls and force chains only; "
-                    "colour bar, text, scale bar, arrows, velocity field and arches need the "
-                    "Cairo drawer\n",
-                    movie->path);
+        /* GL draws the grain layer; Cairo adds the annotations on the same pixels. */
+        movie->overlay = style->colorbar || style->time_stamp || style->scale_bar || style->title ||
+                         style->velocity_arrows || style->velocity_field || style->arch_ids;
+        for (int k = 0; k < QUEUE_SLOTS; ++k) {
+            if (render_image_alloc(&movie->slots[k].image, movie->width, movie->height,
+                                   RENDER_PIXEL_BGRA_PREMUL) != 0) {
+                fail(movie, "%s: out of memory", movie->path);
+                goto fail;
+            }
+        }
         char message[256];
         movie->gl = render_gl_create(movie->width, movie->height, message, sizeof message);
         if (!movie->gl) {
@@ -424,51 +487,6 @@ fail:
     snprintf(err, err_size, "%s", movie->message);
     movie_free(movie);
     return NULL;
-}
-
-/* Pixel layout of a drawer's image for swscale. */
-static enum AVPixelFormat source_format(RenderPixelFormat format)
-{
-    /* Cairo ARGB32 is B,G,R,A bytes on little-endian; frames are opaque, so premultiplication
-     * does not matter. */
-    return format == RENDER_PIXEL_RGBA ? AV_PIX_FMT_RGBA : AV_PIX_FMT_BGRA;
-}
-
-/* Converts a drawn image into a queue slot (caller's thread; the slot is not queued yet). */
-static int convert(RenderMovie *movie, const RenderImage *image, AVFrame *slot)
-{
-    char text[128];
-    if (image->width != movie->width || image->height != movie->height) {
-        fail(movie, "%s: drawer gave %dx%d for a %dx%d movie", movie->path, image->width,
-             image->height, movie->width, movie->height);
-        return -1;
-    }
-    struct SwsContext *sws = sws_getCachedContext(
-        movie->sws, movie->width, movie->height, source_format(image->format), movie->width,
-        movie->height, AV_PIX_FMT_YUV420P, SWS_BILINEAR | SWS_ACCURATE_RND, NULL, NULL, NULL);
-    if (!sws) {
-        fail(movie, "%s: cannot set up the colour conversion", movie->path);
-        return -1;
-    }
-    if (sws != movie->sws) {
-        movie->sws = sws;
-        /* Source full-range RGB, destination BT.709 limited range (16-235 luma). */
-        const int *bt709 = sws_getCoefficients(SWS_CS_ITU709);
-        if (sws_setColorspaceDetails(sws, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16) < 0) {
-            fail(movie, "%s: swscale cannot convert to BT.709", movie->path);
-            return -1;
-        }
-    }
-    int rc = av_frame_make_writable(slot); /* copies if the encoder still holds the buffer */
-    if (rc < 0) {
-        fail(movie, "%s: %s", movie->path, av_message(rc, text, sizeof text));
-        return -1;
-    }
-    const uint8_t *const planes[1] = {image->pixels};
-    const int strides[1] = {image->stride};
-    sws_scale(sws, planes, strides, 0, movie->height, slot->data, slot->linesize);
-    slot->pts = movie->next_pts++;
-    return 0;
 }
 
 static void report_progress(RenderMovie *movie, int final)
@@ -504,30 +522,34 @@ int render_movie_frame(RenderMovie *movie, const SimFrame *frame)
         fail(movie, "%s: no frame", movie->path);
         return -1;
     }
-    RenderImage image = {0};
-    char message[256];
-    if (movie->drawer == RENDER_DRAWER_OSMESA) {
-        if (render_gl_frame(movie->gl, frame, &movie->style, &image, message, sizeof message)) {
-            fail(movie, "%s: frame %ld: %s", movie->path, movie->frames_given, message);
-            return -1;
-        }
-    } else if (render_cairo_draw(frame, &movie->style, &image) != 0) {
-        fail(movie, "%s: frame %ld: Cairo drawing failed", movie->path, movie->frames_given);
-        return -1;
-    }
-
     /* Wait for a free slot; the slot after the queued ones is the caller's to fill. */
     pthread_mutex_lock(&movie->lock);
     while (movie->filled == QUEUE_SLOTS && !movie->failed)
         pthread_cond_wait(&movie->changed, &movie->lock);
     int failed = movie->failed;
-    AVFrame *slot = movie->slots[(movie->head + movie->filled) % QUEUE_SLOTS];
+    Slot *slot = &movie->slots[(movie->head + movie->filled) % QUEUE_SLOTS];
     pthread_mutex_unlock(&movie->lock);
-    int rc = failed ? -1 : convert(movie, &image, slot);
-    if (movie->drawer == RENDER_DRAWER_CAIRO)
-        render_image_free(&image);
-    if (rc != 0)
+    if (failed)
         return -1;
+    char message[256];
+    if (movie->drawer == RENDER_DRAWER_OSMESA) {
+        if (render_gl_frame_to(movie->gl, frame, &movie->style, &slot->image, message,
+                               sizeof message)) {
+            fail(movie, "%s: frame %ld: %s", movie->path, movie->frames_given, message);
+            return -1;
+        }
+        if (movie->overlay && render_cairo_overlay(frame, &movie->style, &slot->image) != 0) {
+            fail(movie, "%s: frame %ld: Cairo overlay failed", movie->path, movie->frames_given);
+            return -1;
+        }
+    } else {
+        render_image_free(&slot->image);
+        if (render_cairo_draw(frame, &movie->style, &slot->image) != 0) {
+            fail(movie, "%s: frame %ld: Cairo drawing failed", movie->path, movie->frames_given);
+            return -1;
+        }
+    }
+    slot->frame->pts = movie->next_pts++;
     pthread_mutex_lock(&movie->lock);
     movie->filled += 1;
     pthread_cond_broadcast(&movie->changed);

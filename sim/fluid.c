@@ -370,6 +370,17 @@ double sim_fluid_drag_coefficient(const SimFluidDef *d, double reynolds)
     return s * s;
 }
 
+/* Inline min/max: fmin/fmax are library calls here (no -ffast-math). */
+static inline double max2(double a, double b)
+{
+    return a > b ? a : b;
+}
+
+static inline double min2(double a, double b)
+{
+    return a < b ? a : b;
+}
+
 /* The body-force stage (see sim.h). */
 static void fluid_apply(void *context, const SimBodyForceView *view)
 {
@@ -409,15 +420,15 @@ static void fluid_apply(void *context, const SimBodyForceView *view)
          * below; grains spanning more than WEIGHTS_MAX layers recompute. */
         double weights[WEIGHTS_MAX], raw = 0.0;
         for (int k = k0; k <= k1; ++k) {
-            double a = fmax(d->y0 + k * h, yc - r), b = fmin(d->y0 + (k + 1) * h, yc + r);
-            double m = 0.5 * (a + b) - yc, chord = 2.0 * sqrt(fmax(r * r - m * m, 0.0));
+            double a = max2(d->y0 + k * h, yc - r), b = min2(d->y0 + (k + 1) * h, yc + r);
+            double m = 0.5 * (a + b) - yc, chord = 2.0 * sqrt(max2(r * r - m * m, 0.0));
             raw += chord * (b - a);
         }
         double scale = raw > 0.0 ? area / raw : 0.0;
         for (int k = lo; k <= hi; ++k) {
-            double a = fmax(d->y0 + k * h, yc - r), b = fmin(d->y0 + (k + 1) * h, yc + r);
+            double a = max2(d->y0 + k * h, yc - r), b = min2(d->y0 + (k + 1) * h, yc + r);
             double m = 0.5 * (a + b) - yc;
-            double w = scale * 2.0 * sqrt(fmax(r * r - m * m, 0.0)) * (b - a);
+            double w = scale * 2.0 * sqrt(max2(r * r - m * m, 0.0)) * (b - a);
             if (k - lo < WEIGHTS_MAX)
                 weights[k - lo] = w;
             inside += w;
@@ -430,7 +441,7 @@ static void fluid_apply(void *context, const SimBodyForceView *view)
         else
             u_f = yc > d->y0 ? f->u[n - 1] : 0.0;
         double rel_x = u_f - view->vx[i], rel_y = -view->vy[i];
-        double speed = hypot(rel_x, rel_y);
+        double speed = sqrt(rel_x * rel_x + rel_y * rel_y);
         /* C_d |du| = (sqrt(C_inf |du|) + sqrt(R_c nu / d))^2: finite as |du| -> 0 */
         double s = sqrt(d->drag_c_inf * speed) + sqrt(d->drag_reynolds * d->viscosity / dia);
         double frontal = d->geometry == SIM_FLUID_SPHERE ? 0.25 * FLUID_PI * dia * dia : dia;
@@ -460,9 +471,9 @@ static void fluid_apply(void *context, const SimBodyForceView *view)
             if (k - lo < WEIGHTS_MAX) {
                 w = weights[k - lo];
             } else {
-                double a = fmax(d->y0 + k * h, yc - r), b = fmin(d->y0 + (k + 1) * h, yc + r);
+                double a = max2(d->y0 + k * h, yc - r), b = min2(d->y0 + (k + 1) * h, yc + r);
                 double m = 0.5 * (a + b) - yc;
-                w = scale * 2.0 * sqrt(fmax(r * r - m * m, 0.0)) * (b - a);
+                w = scale * 2.0 * sqrt(max2(r * r - m * m, 0.0)) * (b - a);
             }
             double share = w / area;
             f->rate[k] += share * coef / layer_volume;

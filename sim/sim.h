@@ -487,25 +487,25 @@ typedef enum SimFluidGeometry {
 } SimFluidGeometry;
 
 typedef struct SimFluidDef {
-    double y0, y1;         ///< column bottom (no slip) and top (imposed stress), m
-    int cells;             ///< layers of height (y1 - y0) / cells (002: about d / 10)
-    double width;          ///< x width of the periodic bed, m
-    double depth;          ///< slice thickness turning 2D areas into volumes: 1 for disk
-                           ///< (densities per unit depth), 2/3 d for sphere, m
-    double density;        ///< rho_f, same convention as the grain density, kg/m^3
-    double viscosity;      ///< nu, kinematic viscosity, m^2/s
-    double shear_velocity; ///< u*: top stress rho_f u*^2, m/s
-    int turbulent;         ///< 1: nu_t = l^2 |du/dy| (002 eqs. 35, 37); 0: laminar
-    double kappa;          ///< von Karman constant (0.4)
-    double van_driest;     ///< R_vD of the damping 1 - exp(-(y - y_b) u* / (nu R_vD)) (26)
-    double bed_fraction;   ///< y_b = top of the highest layer with phi >= this (0.4)
-    double drag_c_inf;     ///< C_d^inf of C_d = (sqrt(C_inf) + sqrt(R_c / Re_p))^2 (0.5)
-    double drag_reynolds;  ///< R_c (24)
-    int buoyancy;          ///< 1: grains feel -rho_f V g (002 eq. 22, pressure part)
-    double gravity_x, gravity_y;   ///< for buoyancy, m/s^2
-    SimFluidGeometry geometry;     ///< SIM_FLUID_DISK or SIM_FLUID_SPHERE
-    double time_step;              ///< DEM dt for the drag limiter before the first step, s
-    int drag_limit;                ///< 1: drag c (u - v) scaled to m (1 - exp(-c dt / m)) / dt
+    double y0, y1;               ///< column bottom (no slip) and top (imposed stress), m
+    int cells;                   ///< layers of height (y1 - y0) / cells (002: about d / 10)
+    double width;                ///< x width of the periodic bed, m
+    double depth;                ///< slice thickness turning 2D areas into volumes: 1 for disk
+                                 ///< (densities per unit depth), 2/3 d for sphere, m
+    double density;              ///< rho_f, same convention as the grain density, kg/m^3
+    double viscosity;            ///< nu, kinematic viscosity, m^2/s
+    double shear_velocity;       ///< u*: top stress rho_f u*^2, m/s
+    int turbulent;               ///< 1: nu_t = l^2 |du/dy| (002 eqs. 35, 37); 0: laminar
+    double kappa;                ///< von Karman constant (0.4)
+    double van_driest;           ///< R_vD of the damping 1 - exp(-(y - y_b) u* / (nu R_vD)) (26)
+    double bed_fraction;         ///< y_b = top of the highest layer with phi >= this (0.4)
+    double drag_c_inf;           ///< C_d^inf of C_d = (sqrt(C_inf) + sqrt(R_c / Re_p))^2 (0.5)
+    double drag_reynolds;        ///< R_c (24)
+    int buoyancy;                ///< 1: grains feel -rho_f V g (002 eq. 22, pressure part)
+    double gravity_x, gravity_y; ///< for buoyancy, m/s^2
+    SimFluidGeometry geometry;   ///< SIM_FLUID_DISK or SIM_FLUID_SPHERE
+    double time_step;            ///< DEM dt for the drag limiter before the first step, s
+    int drag_limit;              ///< 1: drag c (u - v) scaled to m (1 - exp(-c dt / m)) / dt
 } SimFluidDef;
 
 typedef struct SimFluid SimFluid;
@@ -513,15 +513,16 @@ typedef struct SimFluid SimFluid;
 /// One view of the column; arrays valid until the next call that changes the fluid.
 typedef struct SimFluidProfile {
     int cells;
-    double y0, dy;               ///< m; layer k spans [y0 + k dy, y0 + (k + 1) dy]
-    const double *y;             ///< layer centres, m
-    const double *u;             ///< fluid velocity, m/s
+    double y0, dy;                ///< m; layer k spans [y0 + k dy, y0 + (k + 1) dy]
+    const double *y;              ///< layer centres, m
+    const double *u;              ///< fluid velocity, m/s
     const double *solid_fraction; ///< phi per layer (area fraction of mobile grains)
-    const double *stress;        ///< fluid shear stress at the cells + 1 faces (face k at y0 + k dy), Pa
-    const double *grain_force;   ///< x-force per unit volume of fluid on grains, per layer, N/m^3
-    const double *grain_velocity; ///< area-weighted mean grain x-velocity per layer (0 if none), m/s
-    double bed_level;            ///< y_b of the mixing length, m
-    double time;                 ///< s
+    const double *stress; ///< fluid shear stress at the cells + 1 faces (face k at y0 + k dy), Pa
+    const double *grain_force; ///< x-force per unit volume of fluid on grains, per layer, N/m^3
+    const double
+        *grain_velocity; ///< area-weighted mean grain x-velocity per layer (0 if none), m/s
+    double bed_level;    ///< y_b of the mixing length, m
+    double time;         ///< s
 } SimFluidProfile;
 
 SimFluidDef sim_fluid_def_default(void);

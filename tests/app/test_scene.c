@@ -70,7 +70,8 @@ static int quick_scene_parameters(void)
             TEST_ASSERT(r >= 0.08 * 0.92 - 1e-12 && r <= 0.08 * 1.08 + 1e-12);
     }
     /* figures inherit the render group and override it */
-    TEST_ASSERT(s->output.figure_count >= 3); /* settled bed, cavity, crater, then collapse frames */
+    TEST_ASSERT(s->output.figure_count >=
+                3); /* settled bed, cavity, crater, then collapse frames */
     TEST_ASSERT(s->output.figures[0].style.color_by == SCENE_COLOR_FORCE);
     TEST_ASSERT(s->output.figures[0].style.width == 960);
     TEST_ASSERT(s->style.width == 720);

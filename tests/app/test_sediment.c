@@ -1,0 +1,144 @@
+/* SPDX-License-Identifier: MIT */
+/* test_sediment.c: the `fluid` group and bed-load measures (thesis 002 ch. 6-7) on a reduced bed
+ * of scenes/sediment/viscous.scene (150 grains, dt = 1e-3, short stages), without rendering. */
+#include "run.h"
+#include "scene.h"
+#include "sediment.h"
+#include "test.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define SCENE "scenes/sediment/viscous.scene"
+
+static Scene *load(const char *shields, const char *flow_end, const char *extra)
+{
+    char s1[64], s2[64];
+    snprintf(s1, sizeof s1, "fluid.shields=%s", shields);
+    snprintf(s2, sizeof s2, "stages.flow.time.end=%s", flow_end);
+    const char *sets[] = {"output.movie=[]",
+                          "stages.settle.time.end=8.0",
+                          "grains.rain.max_count=150",
+                          "time.dt=1e-3",
+                          s1,
+                          s2,
+                          extra};
+    char err[1024] = "";
+    Scene *scene = scene_load(SCENE, sets, extra ? 7 : 6, err, sizeof err);
+    if (!scene)
+        fprintf(stderr, "%s\n", err);
+    return scene;
+}
+
+static int run_quiet(const Scene *scene, char *dir, size_t size, const char *tag)
+{
+    snprintf(dir, size, "/tmp/sablier_test_sediment_%ld_%s", (long)getpid(), tag);
+    AppRunOptions o = app_run_options_default();
+    o.out_dir = dir;
+    o.quiet = 1;
+    return app_run(scene, &o);
+}
+
+/* The control numbers set rho_f, nu and u* (002 eqs. 40-42). */
+static int numbers_from_scene(void)
+{
+    Scene *scene = load("0.3", "1.0", NULL);
+    TEST_ASSERT(scene && scene->sediment);
+    AppSedimentNumbers n = app_sediment_numbers(scene->sediment);
+    const SimFluidDef *fd = sim_fluid_def(app_sediment_fluid(scene->sediment));
+    double d = n.diameter, scale = sqrt((2.0 - 1.0) * 1.0 * d);
+    TEST_NEAR(d, 1.0, 0.02); /* 20 % dispersion around d = 1 */
+    TEST_REL(fd->density, 0.318309886183791 / 2.0, 1e-12);
+    TEST_REL(fd->viscosity, d * scale / 0.1, 1e-12);
+    TEST_REL(fd->shear_velocity, sqrt(0.3) * scale, 1e-12);
+    TEST_REL(fd->width, 40.0, 1e-12);
+    TEST_ASSERT(fd->geometry == SIM_FLUID_DISK);
+    scene_free(scene);
+    return 0;
+}
+
+/* The fluid drags only when the effect is declared: a `fluid` group without fluid_drag is
+ * refused, and so are `fluid` with `drag`, and bad fluid keys. */
+static int fluid_needs_effect(void)
+{
+    const char *sets[] = {"effects=[friction, periodic_x]"};
+    char err[1024] = "";
+    Scene *scene = scene_load(SCENE, sets, 1, err, sizeof err);
+    TEST_ASSERT(!scene);
+    printf("%s\n", err);
+    TEST_ASSERT(strstr(err, "fluid") && strstr(err, "fluid_drag"));
+    const char *bad_start[] = {"fluid.start=\"later\""};
+    scene = scene_load(SCENE, bad_start, 1, err, sizeof err);
+    TEST_ASSERT(!scene && strstr(err, "start"));
+    const char *bad_cells[] = {"fluid.cells=1"};
+    scene = scene_load(SCENE, bad_cells, 1, err, sizeof err);
+    TEST_ASSERT(!scene && strstr(err, "layers"));
+    return 0;
+}
+
+/* Well below threshold (Theta = 0.02) nothing moves: |q*| < 5e-4, and at steady state the fluid
+ * stress plus the load carried by the grains is uniform, rho_f u*^2 within 5 % (002 fig. 34). */
+static int below_threshold(void)
+{
+    Scene *scene = load("0.02", "20.0", NULL);
+    TEST_ASSERT(scene);
+    char dir[256];
+    TEST_ASSERT(run_quiet(scene, dir, sizeof dir, "below") == 0);
+    SimFluid *fluid = app_sediment_fluid(scene->sediment);
+    const SimFluidDef *fd = sim_fluid_def(fluid);
+    double target = fd->density * fd->shear_velocity * fd->shear_velocity;
+    SimFluidProfile p;
+    sim_fluid_profile(fluid, &p);
+    double load = 0.0, worst = 0.0, carried = 0.0;
+    for (int k = p.cells; k >= 0; --k) {
+        if (k < p.cells)
+            load += p.grain_force[k] * p.dy;
+        worst = fmax(worst, fabs(p.stress[k] + load - target));
+        if (k == 0)
+            carried = load;
+    }
+    printf("rho u*^2 = %.4g, max |tau_f + grain load - rho u*^2| = %.3g, carried by grains %.4g\n",
+           target, worst, carried);
+    TEST_ASSERT(worst < 0.05 * target);
+    TEST_ASSERT(carried > 0.9 * target); /* the bed, not the base, takes the stress */
+    /* the flux record */
+    char path[512];
+    snprintf(path, sizeof path, "%s/sediment.csv", dir);
+    FILE *f = fopen(path, "r");
+    TEST_ASSERT(f);
+    char line[512];
+    double worst_q = 0.0, t, q, q_star;
+    TEST_ASSERT(fgets(line, sizeof line, f));
+    while (fgets(line, sizeof line, f))
+        if (sscanf(line, "%lf,%lf,%lf", &t, &q, &q_star) == 3 && t > 12.0)
+            worst_q = fmax(worst_q, fabs(q_star));
+    fclose(f);
+    printf("largest |q*| after the start-up: %.3g\n", worst_q);
+    TEST_ASSERT(worst_q < 5e-4);
+    snprintf(path, sizeof path, "%s/flow.fluid.csv", dir);
+    TEST_ASSERT(access(path, R_OK) == 0);
+    snprintf(path, sizeof path, "%s/sediment.json", dir);
+    TEST_ASSERT(access(path, R_OK) == 0);
+    scene_free(scene);
+    return 0;
+}
+
+/* Saturation measures on a synthetic record q = q_sat (1 - exp(-t / T)). */
+static int saturation_measure(void)
+{
+    double t[4001], q[4001];
+    for (int k = 0; k <= 4000; ++k) {
+        t[k] = 10.0 + 0.01 * k;
+        q[k] = 2.0 * (1.0 - exp(-(t[k] - 10.0) / 3.0));
+    }
+    double t_sat;
+    double q_sat = app_sediment_saturation(t, q, 4001, 10.0, &t_sat);
+    TEST_REL(q_sat, 2.0, 1e-4);
+    TEST_REL(t_sat, 3.0, 1e-3);
+    return 0;
+}
+
+TEST_MAIN(TEST_CASE(numbers_from_scene), TEST_CASE(fluid_needs_effect), TEST_CASE(below_threshold),
+          TEST_CASE(saturation_measure))
