@@ -565,8 +565,13 @@ SimWorld *app_discharge(const Scene *scene, const char *pile_path, double width,
                  error.field, error.message);
         return NULL;
     }
-    /* A checkpoint has no contact history: let the tangential springs rebuild with the base
-     * intact, so every width starts from the same static pile. */
+    if (sim_world_restore_contacts(world, pile_path, &error) != SIM_OK) {
+        snprintf(err, err_size, "pile %s: %s", pile_path, error.message);
+        sim_world_destroy(world);
+        return NULL;
+    }
+    /* The springs come back from the checkpoint; a short relaxation with the base intact makes
+     * sure every width starts from the same static pile. */
     int r = app_relax(world, def, geo.relax_time, NULL, &out->steps, err, err_size);
     if (r < 0) {
         sim_world_destroy(world);

@@ -371,6 +371,13 @@ static SimWorld *world_from_state(Run *run, int stage, const char *path)
     if (!world)
         snprintf(run->message, sizeof run->message, "%s: checkpoint %s: %s",
                  scene_where_field(scene, stage, run->error.field), path, run->error.message);
+    else if (sim_world_restore_contacts(world, path, &run->error) != SIM_OK) {
+        /* springs and rolling torques as they were at the save */
+        snprintf(run->message, sizeof run->message, "%s: checkpoint %s: %s",
+                 scene_where_field(scene, stage, "grains"), path, run->error.message);
+        sim_world_destroy(world);
+        world = NULL;
+    }
     sim_grain_set_free(&grains);
     free(walls);
     return world;

@@ -14,6 +14,8 @@ typedef struct HistoryRecord {
     double t, r;  /* tangential stretch; rolling torque oriented low id -> high id */
 } HistoryRecord;
 
+_Static_assert(sizeof(HistoryRecord) == SIM_HISTORY_RECORD_SIZE, "checkpoint record layout");
+
 struct HistoryStash {
     HistoryRecord *records, *walls;
     int count, wall_count;
@@ -390,6 +392,40 @@ static void build_walls(SimWorld *world, const HistoryRecord *records, int recor
             }
         }
     }
+}
+
+/* History records of the current lists (for checkpoints): `*records` and `*walls` are malloc'd. */
+void sim_neighbour_history(const SimWorld *world, void **records, int *count, void **walls,
+                           int *wall_count)
+{
+    HistoryRecord *w = NULL;
+    *records = collect_history(world, count, &w, wall_count);
+    *walls = w;
+}
+
+/* Installs saved records (arrays of {uint64 key, double t, double r}) for the next build. */
+void sim_neighbour_stash_records(SimWorld *world, const void *records, int count, const void *walls,
+                                 int wall_count)
+{
+    struct HistoryStash *s = calloc(1, sizeof *s);
+    if (!s)
+        abort();
+    s->records = malloc((size_t)(count > 0 ? count : 1) * sizeof *s->records);
+    s->walls = malloc((size_t)(wall_count > 0 ? wall_count : 1) * sizeof *s->walls);
+    if (!s->records || !s->walls)
+        abort();
+    memcpy(s->records, records, (size_t)count * sizeof *s->records);
+    memcpy(s->walls, walls, (size_t)wall_count * sizeof *s->walls);
+    s->count = count;
+    s->wall_count = wall_count;
+    qsort(s->records, (size_t)count, sizeof *s->records, record_compare);
+    qsort(s->walls, (size_t)wall_count, sizeof *s->walls, record_compare);
+    if (world->stash) {
+        free(world->stash->records);
+        free(world->stash->walls);
+        free(world->stash);
+    }
+    world->stash = s;
 }
 
 void sim_neighbour_stash_history(SimWorld *world)

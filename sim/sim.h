@@ -404,6 +404,10 @@ void sim_world_freeze(SimWorld *world);
 /// Saves the whole state (grains, walls, time, contact history, sink counts) atomically
 /// (written to path.tmp, then renamed).
 SimStatus sim_world_save(SimWorld *world, const char *path, SimError *error);
+/// Restores the contact history (tangential springs, rolling torques, by grain ids) and the sink
+/// counts of a saved state into a world built from that state's grains (sim_state_load), so that
+/// a stage started from a checkpoint continues with its contacts as they were.
+SimStatus sim_world_restore_contacts(SimWorld *world, const char *path, SimError *error);
 /// Reads the grains of a saved state into `grains` (arrays malloc'd; free with sim_grain_set_free),
 /// with its walls (malloc'd) and time. Used to start a stage from a previous stage's checkpoint.
 SimStatus sim_state_load(const char *path, SimGrainSet *grains, SimWall **walls, int *wall_count,

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* state.c: checkpoints. A state file holds the grains (fixed ones included), the walls at rest,
- * the time, the step and the sink counts, in native byte order (little-endian on x86-64).
- * Written to PATH.tmp and renamed when complete. */
+ * the time, the step, the sink counts and the contact history keyed by grain ids, in native byte
+ * order (little-endian on x86-64). Written to PATH.tmp and renamed when complete. */
 #include "world.h"
 
 #include <errno.h>
@@ -70,6 +70,18 @@ SimStatus sim_world_save(SimWorld *w, const char *path, SimError *error)
     if (w->wall_count > 0)
         ok = ok && fwrite(w->walls_base, sizeof(SimWall), (size_t)w->wall_count, f) ==
                        (size_t)w->wall_count;
+    /* contact history: counts, then the records */
+    void *records = NULL, *walls = NULL;
+    int32_t counts[2] = {0, 0};
+    int rc = 0, wc = 0;
+    sim_neighbour_history(w, &records, &rc, &walls, &wc);
+    counts[0] = rc;
+    counts[1] = wc;
+    ok = ok && fwrite(counts, sizeof counts, 1, f) == 1;
+    ok = ok && fwrite(records, SIM_HISTORY_RECORD_SIZE, (size_t)rc, f) == (size_t)rc;
+    ok = ok && fwrite(walls, SIM_HISTORY_RECORD_SIZE, (size_t)wc, f) == (size_t)wc;
+    free(records);
+    free(walls);
     if (fclose(f) != 0)
         ok = 0;
     if (!ok) {
@@ -166,5 +178,48 @@ SimStatus sim_state_load(const char *path, SimGrainSet *grains, SimWall **walls,
     *walls = wl;
     *wall_count = h.wall_count;
     *time = h.time;
+    return SIM_OK;
+}
+
+SimStatus sim_world_restore_contacts(SimWorld *w, const char *path, SimError *error)
+{
+    errno = 0;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return io_fail(error, path, "cannot open state file");
+    StateHeader h;
+    int ok = fread(&h, sizeof h, 1, f) == 1 && memcmp(h.magic, magic, sizeof magic) == 0 &&
+             h.count >= 0 && h.wall_count >= 0;
+    /* skip the grain and wall sections (layout of sim_world_save) */
+    long skip = (long)h.count * (7 * (long)sizeof(double) + 2 * (long)sizeof(int) +
+                                 (long)sizeof(unsigned) + (long)sizeof(uint32_t)) +
+                (long)(h.count - h.mobile_count) * 2 * (long)sizeof(double) +
+                (long)h.wall_count * (long)sizeof(SimWall);
+    ok = ok && fseek(f, skip, SEEK_CUR) == 0;
+    int32_t counts[2];
+    ok = ok && fread(counts, sizeof counts, 1, f) == 1 && counts[0] >= 0 && counts[1] >= 0;
+    void *records = NULL, *walls = NULL;
+    if (ok) {
+        records = malloc((size_t)(counts[0] + 1) * SIM_HISTORY_RECORD_SIZE);
+        walls = malloc((size_t)(counts[1] + 1) * SIM_HISTORY_RECORD_SIZE);
+        ok = records && walls &&
+             fread(records, SIM_HISTORY_RECORD_SIZE, (size_t)counts[0], f) == (size_t)counts[0] &&
+             fread(walls, SIM_HISTORY_RECORD_SIZE, (size_t)counts[1], f) == (size_t)counts[1];
+    }
+    fclose(f);
+    if (!ok) {
+        free(records);
+        free(walls);
+        errno = 0;
+        return io_fail(error, path, "no contact history in this state file (truncated or older)");
+    }
+    for (int s = 0; s < SIM_MAX_SINKS; ++s)
+        w->removed[s] = h.removed[s];
+    if (w->has_history) {
+        sim_neighbour_stash_records(w, records, counts[0], walls, counts[1]);
+        sim_world_rebuild_now(w);
+    }
+    free(records);
+    free(walls);
     return SIM_OK;
 }

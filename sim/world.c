@@ -588,6 +588,14 @@ static void rebuild(SimWorld *w)
     }
 }
 
+static void reevaluate_forces(SimWorld *w);
+
+void sim_world_rebuild_now(SimWorld *w)
+{
+    rebuild(w);
+    reevaluate_forces(w);
+}
+
 void sim_world_forces_at(SimWorld *w, double t)
 {
     if (w->effects & SIM_EFFECT_VIBRATION)
@@ -717,7 +725,7 @@ SimWorld *sim_world_create(const SimWorldDef *def, SimError *error)
         move_prescribed(w, w->time);
     w->jump_grain = -1;
     rebuild(w);
-    sim_world_forces_at(w, w->time);
+    reevaluate_forces(w); /* no time has passed: no contact-history increment */
     sim_integrator_start(w);
     setup_guard(w);
     guard_snapshot(w);

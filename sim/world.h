@@ -159,6 +159,16 @@ void sim_neighbour_free(SimWorld *world);
 double sim_def_worst_overlap(const SimWorldDef *def, int *first, int *second);
 /* Collects contact history by ids now, for the next build (before grains are reordered). */
 void sim_neighbour_stash_history(SimWorld *world);
+
+/* History records (24 bytes each: uint64 key, double t, double r) for checkpoints. */
+enum { SIM_HISTORY_RECORD_SIZE = 24 };
+
+void sim_neighbour_history(const SimWorld *world, void **records, int *count, void **walls,
+                           int *wall_count);
+void sim_neighbour_stash_records(SimWorld *world, const void *records, int count, const void *walls,
+                                 int wall_count);
+/* world.c: rebuild the lists now (used after installing history). */
+void sim_world_rebuild_now(SimWorld *world);
 double sim_pair_gamma(const SimWorld *world, int species_i, int species_j, double inv_mass_i,
                       double inv_mass_j);
 

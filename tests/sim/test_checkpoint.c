@@ -87,4 +87,66 @@ static int restart_from_settled_bed(void)
     return 0;
 }
 
-TEST_MAIN(TEST_CASE(restart_from_settled_bed))
+/* Grains held on a floor by stretched tangential springs (tilted gravity): a world rebuilt from
+ * the checkpoint with sim_world_restore_contacts carries the same spring forces; without it they
+ * restart from zero. */
+static double floor_tangential(SimWorld *w, uint32_t id)
+{
+    SimFrame f;
+    sim_world_frame(w, &f);
+    for (int c = 0; c < f.contact_count; ++c)
+        if (f.contacts[c].j < 0 && f.id[f.contacts[c].i] == id)
+            return f.contacts[c].tangential_force;
+    return NAN;
+}
+
+static int restore_contact_history(void)
+{
+    static const SimWall floor_ = {-5.0, 0.0, 5.0, 0.0, 0, -1};
+    SimWorldDef def = bed_def();
+    def.effects = SIM_EFFECT_FRICTION;
+    def.contact.tangential = SIM_TANGENTIAL_SPRING;
+    def.materials[0].friction = 0.5;
+    def.materials[0].tangential_stiffness = 7.5e4;
+    def.gravity_x = 2.0; /* tan = 0.2 < mu: the springs hold */
+    def.wall_count = 1;
+    def.walls = &floor_;
+    SimGrainBuffer b;
+    sim_grain_buffer_init(&b);
+    for (int k = 0; k < 4; ++k)
+        sim_grain_buffer_add(&b, 0.3 * k, 0.05, 0.05, 0, 0u, -1);
+    SimWorld *w = tu_create(&def, &b);
+    sim_grain_buffer_free(&b);
+    TEST_ASSERT(w);
+    TEST_ASSERT(tu_step(w, 5000) == 0);
+    double held = floor_tangential(w, 1);
+    TEST_ASSERT(fabs(held) > 1.0);
+    char path[] = "/tmp/sablier_test_history_XXXXXX";
+    int fd = mkstemp(path);
+    TEST_ASSERT(fd >= 0);
+    close(fd);
+    SimError err;
+    TEST_ASSERT(sim_world_save(w, path, &err) == SIM_OK);
+    SimGrainSet loaded;
+    SimWall *walls = NULL;
+    int wall_count = 0;
+    double time = 0.0;
+    TEST_ASSERT(sim_state_load(path, &loaded, &walls, &wall_count, &time, &err) == SIM_OK);
+    SimWorldDef def2 = def;
+    def2.grains = loaded;
+    def2.start_time = time;
+    SimWorld *fresh = sim_world_create(&def2, &err), *restored = sim_world_create(&def2, &err);
+    TEST_ASSERT(fresh && restored);
+    TEST_ASSERT(sim_world_restore_contacts(restored, path, &err) == SIM_OK);
+    remove(path);
+    TEST_NEAR(floor_tangential(restored, 1), held, 1e-9 * fabs(held));
+    TEST_ASSERT(fabs(floor_tangential(fresh, 1)) < 1e-6 * fabs(held));
+    sim_world_destroy(fresh);
+    sim_world_destroy(restored);
+    sim_world_destroy(w);
+    sim_grain_set_free(&loaded);
+    free(walls);
+    return 0;
+}
+
+TEST_MAIN(TEST_CASE(restart_from_settled_bed), TEST_CASE(restore_contact_history))
