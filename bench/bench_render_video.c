@@ -6,11 +6,12 @@
  * stage runs `repeats` times; the best wall time and the best CPU time (all threads) are kept,
  * since other work on a shared machine only ever adds to them.
  *
- *     bench_render_video [frames [repeats [sim_ms]]]   (default 120 3; MP4s under out/bench)
+ *     bench_render_video [frames [repeats [sim_ms [draw]]]]   (default 120 3; MP4s under out/bench)
  *
  * sim_ms: wall milliseconds the simulation takes per 1/30 simulated second (a movie of 30 frames
  * per simulated second); the table then gives each pipeline's CPU per frame as a share of it
- * (target: at most 0.2). */
+ * (target: at most 0.2). A fourth argument `draw` runs the OSMesa drawing stages alone (quick
+ * A/B runs of the drawer). */
 #include "render/render.h"
 #include "render/render_gl.h"
 
@@ -276,6 +277,7 @@ int main(int argc, char **argv)
     int frames = argc > 1 ? atoi(argv[1]) : 120;
     int repeats = argc > 2 ? atoi(argv[2]) : 3;
     double sim_ms = argc > 3 ? atof(argv[3]) : 0.0;
+    int draw_only = argc > 4 && strcmp(argv[4], "draw") == 0;
     if (frames < 1)
         frames = 1;
     if (repeats < 1)
@@ -306,6 +308,8 @@ int main(int argc, char **argv)
     for (int r = 0; r < repeats; ++r) { /* interleaved, so load changes hit every stage */
         gl = best(gl, draw_rate(&bench, STAGE_GL, frames));
         overlay = best(overlay, draw_rate(&bench, STAGE_GL_OVERLAY, frames));
+        if (draw_only)
+            continue;
         cairo = best(cairo, draw_rate(&bench, STAGE_CAIRO, cairo_frames));
         for (int p = 0; p < PRESETS; ++p) {
             char path[96];
@@ -341,7 +345,7 @@ int main(int argc, char **argv)
         rows[3 + p].bytes = bytes[p];
         rows[3 + p].movie = 1;
     }
-    for (size_t k = 0; k < sizeof rows / sizeof rows[0]; ++k) {
+    for (size_t k = 0; k < (draw_only ? 2 : sizeof rows / sizeof rows[0]); ++k) {
         printf("%-52s %9.1f %9.1f %12.1f", rows[k].name, rows[k].rate.fps,
                rows[k].rate.fps > 0 ? 1e3 / rows[k].rate.fps : 0.0, rows[k].rate.cpu_ms);
         if (rows[k].bytes >= 0)
@@ -352,6 +356,8 @@ int main(int argc, char **argv)
             printf(" %9.2f", rows[k].rate.cpu_ms / sim_ms);
         printf("\n");
     }
+    if (draw_only)
+        return 0;
     printf("encoding (convert + x264 + mux) CPU per OSMesa movie frame: %.1f ms veryfast, %.1f ms "
            "superfast, %.1f ms ultrafast\n",
            movies[0].cpu_ms - overlay.cpu_ms, movies[1].cpu_ms - overlay.cpu_ms,

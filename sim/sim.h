@@ -70,7 +70,8 @@ typedef enum SimDampingMode {
     SIM_DAMPING_CRITICAL = 2,    ///< fraction of critical damping, gamma_n = 2 f sqrt(k_n m_eff)
 } SimDampingMode;
 
-/// Material of one species; pair parameters are the arithmetic mean of the two species'.
+/// Material of one species. Pair parameters are the arithmetic mean of the two species' values,
+/// except the friction coefficients mu and mu_r: harmonic mean (zero when either is zero).
 typedef struct SimMaterial {
     double density;          ///< rho, kg/m^3 (disk mass model: kg/m^2)
     double normal_stiffness; ///< k_n, N/m (Hertz: N/m^1.5)

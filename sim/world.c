@@ -132,6 +132,13 @@ static void grain_mass(SimMassModel model, double density, double r, double *m, 
     }
 }
 
+/* Harmonic mean 2ab/(a+b): zero when either is zero, so a frictionless species (a smooth wall)
+ * makes frictionless contacts with any grain; equal values are unchanged. */
+static double harmonic(double a, double b)
+{
+    return a + b > 0.0 ? 2.0 * a * b / (a + b) : 0.0;
+}
+
 static void fill_pairs(PairParams *pairs, const SimWorldDef *def)
 {
     for (int a = 0; a < SIM_MAX_SPECIES; ++a)
@@ -139,10 +146,10 @@ static void fill_pairs(PairParams *pairs, const SimWorldDef *def)
             const SimMaterial *p = &def->materials[a], *q = &def->materials[b];
             pairs[a * SIM_MAX_SPECIES + b] = (PairParams){
                 .k_n = 0.5 * (p->normal_stiffness + q->normal_stiffness),
-                .mu = 0.5 * (p->friction + q->friction),
+                .mu = harmonic(p->friction, q->friction),
                 .gamma_s = 0.5 * (p->tangential_damping + q->tangential_damping),
                 .k_t = 0.5 * (p->tangential_stiffness + q->tangential_stiffness),
-                .mu_r = 0.5 * (p->rolling_friction + q->rolling_friction),
+                .mu_r = harmonic(p->rolling_friction, q->rolling_friction),
                 .k_r = 0.5 * (p->rolling_stiffness + q->rolling_stiffness),
             };
         }
