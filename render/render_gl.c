@@ -176,7 +176,8 @@ static void context_destroy(GlContext *context)
     X(void, VertexAttribDivisor, (GLuint, GLuint))                                                 \
     X(void, DrawArrays, (GLenum, GLint, GLsizei))                                                  \
     X(void, DrawElements, (GLenum, GLsizei, GLenum, const void *))                                 \
-    X(void, DrawArraysInstanced, (GLenum, GLint, GLsizei, GLsizei))
+    X(void, DrawArraysInstanced, (GLenum, GLint, GLsizei, GLsizei))                                \
+    X(void, LineWidth, (GLfloat))
 
 typedef struct GlApi {
 #define API_MEMBER(type, name, parameters) type(GLAPIENTRY *name) parameters;
@@ -357,6 +358,50 @@ static const char round_fragment_source[] =
     "    result = vec4(colour.rgb, a);\n"
     "}\n";
 
+/* Force chains as wide lines: one primitive per chain (llvmpipe rasterises a wide line as one
+ * four-edged primitive; a quad's two long thin triangles both visit every 4x4 block along their
+ * shared diagonal). The line runs along the chain, lengthened at both ends so the caps fit; its
+ * width, a whole number of pixels shared by a run of chains (glLineWidth), covers the capsule at
+ * any angle (draw_chain_lines). A line's attributes do not vary across it, so the fragment finds
+ * its place along and across the chain from gl_FragCoord, as the point sprites do. */
+static const char line_vertex_source[] =
+    "layout(location = 0) in vec2 corner;\n" /* 0: start, 1: end */
+    "layout(location = 1) in vec4 ends;\n"   /* x0, y0, x1, y1, px */
+    "layout(location = 2) in vec2 shape;\n"  /* half width px, round caps */
+    "layout(location = 3) in vec4 paint;\n"
+    "flat out vec4 start;\n" /* x0, y0, unit direction */
+    "flat out vec2 form;\n"  /* length, half width, px */
+    "flat out vec4 colour;\n"
+    "void main() {\n"
+    "    vec2 axis = ends.zw - ends.xy;\n"
+    "    float len = length(axis);\n"
+    "    vec2 t = len > 0.0 ? axis / len : vec2(1.0, 0.0);\n"
+    /* Along the major axis the line must reach a pixel beyond the cap, plus the one pixel
+     * llvmpipe's diamond-exit rule may take off an end. */
+    "    vec2 m = abs(t);\n"
+    "    float reach = (shape.x + 2.0) / max(m.x, m.y);\n"
+    "    gl_Position = clip_position(corner.x > 0.5 ? ends.zw + t * reach : ends.xy - t * reach);\n"
+    "    start = vec4(ends.xy, t);\n"
+    "    form = vec2(len, shape.x);\n"
+    "    colour = paint;\n"
+    "}\n";
+
+static const char line_fragment_source[] =
+    "flat in vec4 start;\n"
+    "flat in vec2 form;\n"
+    "flat in vec4 colour;\n"
+    "out vec4 result;\n"
+    "void main() {\n"
+    "    vec2 q = pixel_position() - start.xy, across = vec2(-start.w, start.z);\n"
+    "    float along = dot(q, start.zw);\n"
+    "    vec2 v = vec2(along - clamp(along, 0.0, form.x), dot(q, across));\n"
+    "    float d = length(v);\n"
+    "    vec2 n = d > 0.0 ? (start.zw * v.x + across * v.y) / d : across;\n"
+    "    float a = band(d, -form.y, form.y, footprint(n)) * clip_coverage() * colour.a;\n"
+    "    if (a <= 0.0) discard;\n"
+    "    result = vec4(colour.rgb, a);\n"
+    "}\n";
+
 /* Butt ends: the pixel's footprint is the same along and across (orientation ticks). */
 static const char butt_fragment_source[] =
     "in vec2 local;\n"
@@ -373,13 +418,19 @@ static const char butt_fragment_source[] =
     "}\n";
 
 /* Programs: each shape with the clip compiled out (index 0) and in (index 1). */
-enum { PROGRAM_QUAD_DISK, PROGRAM_POINT_DISK, PROGRAM_ROUND, PROGRAM_BUTT, PROGRAM_KINDS };
+enum {
+    PROGRAM_QUAD_DISK,
+    PROGRAM_POINT_DISK,
+    PROGRAM_ROUND,
+    PROGRAM_BUTT,
+    PROGRAM_LINE,
+    PROGRAM_KINDS
+};
 
 static const char *const program_sources[PROGRAM_KINDS][2] = {
-    {disk_vertex_source, disk_fragment_source},
-    {point_vertex_source, point_fragment_source},
-    {segment_vertex_source, round_fragment_source},
-    {segment_vertex_source, butt_fragment_source},
+    {disk_vertex_source, disk_fragment_source},     {point_vertex_source, point_fragment_source},
+    {segment_vertex_source, round_fragment_source}, {segment_vertex_source, butt_fragment_source},
+    {line_vertex_source, line_fragment_source},
 };
 
 /* ------------------------------------------------------------------ drawer */
@@ -415,17 +466,19 @@ struct RenderGl {
     int current;                       ///< 1 after the first make-current
     GLuint programs[PROGRAM_KINDS][2]; ///< [kind][clip]
     Uniforms uniforms[PROGRAM_KINDS][2];
-    GLuint disk_vao, point_vao, segment_vao;
-    GLuint corner_buffer, disk_buffer, segment_buffer, index_buffer;
+    GLuint disk_vao, point_vao, segment_vao, line_vao;
+    GLuint corner_buffer, disk_buffer, segment_buffer, index_buffer, line_index_buffer;
     GLsizeiptr disk_bytes, segment_bytes; ///< buffer capacities, bytes
     int index_segments;                   ///< segments the index buffer covers
     float margin;                         ///< px the viewport reaches beyond each image edge
     float point_limit;                    ///< largest point sprite, px
+    float line_limit;                     ///< widest line, px (chains wider are quads)
     DiskInstance *disks;
     SegmentVertex *segments; ///< 4 vertices per segment
-    uint32_t *indices;
+    uint32_t *indices;       ///< 6 per segment: two triangles
+    uint32_t *line_indices;  ///< 2 per segment: its start and end vertices
     ChainOrder *chains;
-    int disk_capacity, segment_capacity, chain_capacity, index_capacity;
+    int disk_capacity, segment_capacity, chain_capacity, index_capacity, line_index_capacity;
     char renderer[128];
 };
 
@@ -516,6 +569,13 @@ static void setup_vaos(RenderGl *r)
     attribute(r, 2, 2, GL_FLOAT, stride, offsetof(SegmentVertex, half_width), 0);
     attribute(r, 3, 4, GL_UNSIGNED_BYTE, stride, offsetof(SegmentVertex, rgba), 0);
     r->gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->index_buffer); /* part of the VAO's state */
+    /* Chains as lines: the same vertices, two of each segment's four. */
+    r->gl.BindVertexArray(r->line_vao);
+    attribute(r, 0, 2, GL_FLOAT, stride, offsetof(SegmentVertex, corner), 0);
+    attribute(r, 1, 4, GL_FLOAT, stride, offsetof(SegmentVertex, x0), 0);
+    attribute(r, 2, 2, GL_FLOAT, stride, offsetof(SegmentVertex, half_width), 0);
+    attribute(r, 3, 4, GL_UNSIGNED_BYTE, stride, offsetof(SegmentVertex, rgba), 0);
+    r->gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->line_index_buffer);
     r->gl.BindVertexArray(0);
 }
 
@@ -565,20 +625,25 @@ RenderGl *render_gl_create(int width, int height, char *err, size_t err_size)
     r->margin = (float)(margin < room ? margin : room > 0 ? room : 0);
     r->point_limit = fminf(sizes[1], 2.0f * r->margin - 2.0f);
     r->gl.Enable(GL_PROGRAM_POINT_SIZE);
+    GLfloat widths[2] = {1.0f, 1.0f};
+    r->gl.GetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, widths);
+    r->line_limit = widths[1];
 
     /* Quads as triangle strips: disks use (+-1, +-1). */
     static const float corners[8] = {-1, -1, 1, -1, -1, 1, 1, 1};
-    GLuint buffers[4];
-    r->gl.GenBuffers(4, buffers);
+    GLuint buffers[5];
+    r->gl.GenBuffers(5, buffers);
     r->corner_buffer = buffers[0];
     r->disk_buffer = buffers[1];
     r->segment_buffer = buffers[2];
     r->index_buffer = buffers[3];
-    GLuint vaos[3];
-    r->gl.GenVertexArrays(3, vaos);
+    r->line_index_buffer = buffers[4];
+    GLuint vaos[4];
+    r->gl.GenVertexArrays(4, vaos);
     r->disk_vao = vaos[0];
     r->point_vao = vaos[1];
     r->segment_vao = vaos[2];
+    r->line_vao = vaos[3];
     r->gl.BindBuffer(GL_ARRAY_BUFFER, r->corner_buffer);
     r->gl.BufferData(GL_ARRAY_BUFFER, sizeof corners, corners, GL_STATIC_DRAW);
     setup_vaos(r);
@@ -599,10 +664,11 @@ void render_gl_destroy(RenderGl *r)
         return;
     if (r->current && r->gl.DeleteBuffers &&
         context_make_current(&r->context, r->context.pixels) == 0) {
-        GLuint buffers[4] = {r->corner_buffer, r->disk_buffer, r->segment_buffer, r->index_buffer};
-        GLuint vaos[3] = {r->disk_vao, r->point_vao, r->segment_vao};
-        r->gl.DeleteBuffers(4, buffers);
-        r->gl.DeleteVertexArrays(3, vaos);
+        GLuint buffers[5] = {r->corner_buffer, r->disk_buffer, r->segment_buffer, r->index_buffer,
+                             r->line_index_buffer};
+        GLuint vaos[4] = {r->disk_vao, r->point_vao, r->segment_vao, r->line_vao};
+        r->gl.DeleteBuffers(5, buffers);
+        r->gl.DeleteVertexArrays(4, vaos);
         for (int kind = 0; kind < PROGRAM_KINDS; ++kind)
             for (int clip = 0; clip < 2; ++clip)
                 if (r->programs[kind][clip])
@@ -612,6 +678,7 @@ void render_gl_destroy(RenderGl *r)
     free(r->disks);
     free(r->segments);
     free(r->indices);
+    free(r->line_indices);
     free(r->chains);
     free(r);
 }
@@ -883,13 +950,50 @@ static int segment_indices(RenderGl *r, int segments)
         i[4] = v + 1;
         i[5] = v + 3;
     }
+    if (reserve((void **)&r->line_indices, &r->line_index_capacity, 2 * count, sizeof(uint32_t)))
+        return -1;
+    for (int k = 0; k < count; ++k) {
+        r->line_indices[2 * k] = 4u * (uint32_t)k;
+        r->line_indices[2 * k + 1] = 4u * (uint32_t)k + 1u; /* corners (0, -1) and (1, -1) */
+    }
     GLsizeiptr capacity = 0; /* reallocated to the exact size */
     r->gl.BindVertexArray(r->segment_vao);
     upload(r, GL_ELEMENT_ARRAY_BUFFER, r->index_buffer, &capacity, r->indices,
            (GLsizeiptr)count * 6 * (GLsizeiptr)sizeof(uint32_t));
+    capacity = 0;
+    r->gl.BindVertexArray(r->line_vao);
+    upload(r, GL_ELEMENT_ARRAY_BUFFER, r->line_index_buffer, &capacity, r->line_indices,
+           (GLsizeiptr)count * 2 * (GLsizeiptr)sizeof(uint32_t));
     r->gl.BindVertexArray(0);
     r->index_segments = count;
     return 0;
+}
+
+/* Line width (a whole number of px, as llvmpipe rounds it) that covers segment k's capsule and
+ * the pixels its antialiasing reaches, at any angle: llvmpipe widens a line along its minor axis,
+ * where a capsule of half width h needs h / cos + (1 + tan) / 2 <= h sqrt(2) + 1 either side. */
+static float chain_line_width(const RenderGl *r, int k)
+{
+    double h = (double)r->segments[4 * k].half_width;
+    return (float)ceil(2.0 * (h * 1.4142135623730951 + 1.25));
+}
+
+/* Chains [first, end) as lines, one draw per run of equal line widths (chains come weakest, so
+ * narrowest, first: a handful of runs). */
+static void draw_chain_lines(RenderGl *r, const Layout *l, int first, int end)
+{
+    use_program(r, PROGRAM_LINE, l->clip_round, l);
+    r->gl.BindVertexArray(r->line_vao);
+    while (first < end) {
+        float width = chain_line_width(r, first);
+        int last = first + 1;
+        while (last < end && chain_line_width(r, last) == width)
+            ++last;
+        r->gl.LineWidth(width);
+        r->gl.DrawElements(GL_LINES, 2 * (last - first), GL_UNSIGNED_INT,
+                           (const void *)((size_t)first * 2 * sizeof(uint32_t)));
+        first = last;
+    }
 }
 
 /* Draws a frame into `pixels` (the drawer's own buffer or a caller's of the same size). */
@@ -977,11 +1081,18 @@ static int draw_frame(RenderGl *r, const SimFrame *frame, const RenderStyle *sty
             use_program(r, PROGRAM_BUTT, l.clip_butt, &l);
             r->gl.DrawElements(GL_TRIANGLES, 6 * counts[0], GL_UNSIGNED_INT, NULL);
         }
-        if (segments > counts[0]) {
+        int first_chain = counts[0] + counts[1];
+        int lines = counts[2] > 0; /* unless a chain is wider than the widest line */
+        for (int k = first_chain; k < segments && lines; ++k)
+            lines = chain_line_width(r, k) <= r->line_limit;
+        int quads_end = lines ? first_chain : segments;
+        if (quads_end > counts[0]) {
             use_program(r, PROGRAM_ROUND, l.clip_round, &l);
-            r->gl.DrawElements(GL_TRIANGLES, 6 * (segments - counts[0]), GL_UNSIGNED_INT,
+            r->gl.DrawElements(GL_TRIANGLES, 6 * (quads_end - counts[0]), GL_UNSIGNED_INT,
                                (const void *)((size_t)counts[0] * 6 * sizeof(uint32_t)));
         }
+        if (lines)
+            draw_chain_lines(r, &l, first_chain, segments);
     }
     r->gl.BindVertexArray(0);
     r->gl.Finish();
