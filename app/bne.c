@@ -187,6 +187,11 @@ void app_bne_adjust_def(const AppBne *b, int stage, SimWorldDef *def)
         mo->amplitude = 0.0; /* preparation at rest */
         return;
     }
+    /* The shaking stage continues the preparation's own checkpoint: its overlaps are the settled
+     * bed's, not a user's placement error. A frictionless bed wedges grains against the walls
+     * (0.11 d seen at the bottom corners of frictionless.scene), above the 0.1 d placement bound. */
+    if (stage == b->stage && stage > 0 && def->max_initial_overlap < 0.5)
+        def->max_initial_overlap = 0.5;
     /* offset A sin(w (t - t0)): the box leaves its rest position at the stage start t0 */
     mo->phase = -fmod(2.0 * BNE_PI * b->frequency * b->last_time, 2.0 * BNE_PI);
 }

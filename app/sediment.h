@@ -61,4 +61,47 @@ double app_sediment_flux(const SimFrame *frame, double width);
 double app_sediment_saturation(const double *t, const double *q, int count, double t_start,
                                double *t_sat);
 
+/* ---------------------------------------------------------------- Shields scans */
+
+/// Transport threshold of a Shields scan (ours; the thesis gives no method): the points with
+/// q* > level transport. Theta_c is the zero-flux intercept of the line through the two lowest
+/// transporting points, clamped to the bracket [highest Theta below the first transporting point
+/// that does not transport, first transporting Theta]; the bracket's middle when only one point
+/// transports. Writes the bracket to *below and *above (NAN when a side is missing) and returns
+/// Theta_c, or NAN when no point transports or the lowest one already does. The values need not
+/// be sorted; non-finite q* are ignored.
+double app_sediment_threshold(const double *shields, const double *q_star, int count, double level,
+                              double *below, double *above);
+
+/// Curve handed to the plot hook (plain data; app/sablier.c draws it with render/).
+typedef struct AppSedimentCurve {
+    const char *label; ///< legend text, NULL = none
+    int count;
+    const double *x, *y;
+    int line, marker, dashed; ///< 1 = on
+} AppSedimentCurve;
+
+/// Rendering given by app/sablier.c: a one-panel plot writer and the runner's figure and movie
+/// hooks (an AppRenderHooks, used for every member with --render). Either may be NULL.
+typedef struct AppSedimentRender {
+    void *context;
+    int (*plot)(void *context, const char *path, const char *title, const char *x_label,
+                const char *y_label, const AppSedimentCurve *curves, int curve_count, char *err,
+                size_t err_size);
+    const void *run;
+} AppSedimentRender;
+
+#define APP_SEDIMENT_USAGE                                                                         \
+    "usage: sablier sediment SCENE --shields T1,T2,... [--jobs J] [--level Q] [--out DIR]\n"       \
+    "                        [--set KEY=VALUE]... [--render] [--quiet]\n"                          \
+    "Shields scan (thesis 002 ch. 7): runs a scene with a `fluid` group once per Shields number\n" \
+    "(--set fluid.shields=T) into DIR/shields=T/, J at a time (default 2), then writes\n"          \
+    "DIR/flux.csv (q_sat, q*_sat, T_sat per value), DIR/threshold.json and DIR/flux.png (q*\n"     \
+    "against Theta with the threshold estimate; docs/sediment.md).\n"                              \
+    "  --level Q   q* above which a point transports (default 1e-3)\n"                             \
+    "  --render    each member's own figures and movies (default: none)\n"
+
+/// `sablier sediment`: parses argv (argv[1] is "sediment"), runs the scan; returns the exit status.
+int app_sediment_command(int argc, char **argv, const AppSedimentRender *render);
+
 #endif

@@ -426,21 +426,9 @@ static int crater_prepare(Crater *c, int grains)
     c->grains = grains;
     SimGrainBuffer buffer;
     sim_grain_buffer_init(&buffer);
-    sim_build_fixed_row(&buffer, 0.0, c->width, 0.0, r_max, 0, -1);
-    sim_build_fixed_column(&buffer, 0.0, 2 * r_max, 60 * r_max, r_max, 0, -1);
-    sim_build_fixed_column(&buffer, c->width, 2 * r_max, 60 * r_max, r_max, 0, -1);
-    SimRainDef rain = {.x0 = 1.5 * r_max,
-                       .x1 = c->width - 1.5 * r_max,
-                       .y0 = 1.5 * r_max,
-                       .y1 = 200 * r_max,
-                       .radius_mean = r_med,
-                       .polydispersity = 0.08,
-                       .pitch_radius = r_max,
-                       .column_gap = 0.005 * r_max,
-                       .row_gap = 0.75 * r_max,
-                       .column_jitter = 0.05,
-                       .row_jitter = 0.08,
-                       .max_count = grains};
+    sim_build_fixed_box(&buffer, 0.0, c->width, 0.0, 60 * r_max, r_max, 0);
+    SimRainDef rain = sim_rain_def_thesis000(1.5 * r_max, c->width - 1.5 * r_max, 1.5 * r_max,
+                                             200 * r_max, grains);
     SimRng rng;
     sim_rng_seed(&rng, 2018);
     sim_build_rain(&buffer, &rain, &rng);

@@ -34,9 +34,9 @@
 #include <time.h>
 #include <unistd.h>
 
-/* Thesis 000 geometry: boundary grains of r_max, grains r_med +- 8 %, 100p x 100p for 7284. */
+/* Thesis 000 geometry: boundary grains of r_max, grains 0.08 m +- 8 % (sim_rain_def_thesis000),
+ * 100p x 100p for 7284. */
 static const double r_max = 0.105;     /* m, 000 §1.6 */
-static const double r_med = 0.08;      /* m */
 static const double standard_n = 7284; /* 000 standard initial condition */
 
 typedef struct Options {
@@ -177,18 +177,8 @@ static int build_pile(const Options *o)
     const double width = columns * 2.0 * r_max;
     SimGrainBuffer buffer;
     sim_grain_buffer_init(&buffer);
-    SimRainDef rain = {.x0 = 1.5 * r_max,
-                       .x1 = width - 1.5 * r_max,
-                       .y0 = 1.5 * r_max,
-                       .y1 = 4000.0 * r_max,
-                       .radius_mean = r_med,
-                       .polydispersity = 0.08,
-                       .pitch_radius = r_max,
-                       .column_gap = 0.005 * r_max,
-                       .row_gap = 0.75 * r_max,
-                       .column_jitter = 0.05,
-                       .row_jitter = 0.08,
-                       .max_count = o->grains};
+    SimRainDef rain = sim_rain_def_thesis000(1.5 * r_max, width - 1.5 * r_max, 1.5 * r_max,
+                                             4000.0 * r_max, o->grains);
     SimRng rng;
     sim_rng_seed(&rng, 2024);
     int added = sim_build_rain(&buffer, &rain, &rng);

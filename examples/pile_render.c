@@ -18,21 +18,9 @@ int main(int argc, char **argv)
 
     SimGrainBuffer buffer;
     sim_grain_buffer_init(&buffer);
-    sim_build_fixed_row(&buffer, 0.0, width, 0.0, r_max, 0, -1);
-    sim_build_fixed_column(&buffer, 0.0, 2 * r_max, 40 * r_max, r_max, 0, -1);
-    sim_build_fixed_column(&buffer, width, 2 * r_max, 40 * r_max, r_max, 0, -1);
-    SimRainDef rain = {.x0 = 1.5 * r_max,
-                       .x1 = width - 1.5 * r_max,
-                       .y0 = 1.5 * r_max,
-                       .y1 = 200 * r_max,
-                       .radius_mean = 0.08,
-                       .polydispersity = 0.08,
-                       .pitch_radius = r_max,
-                       .column_gap = 0.005 * r_max,
-                       .row_gap = 0.75 * r_max,
-                       .column_jitter = 0.05,
-                       .row_jitter = 0.08,
-                       .max_count = grains};
+    sim_build_fixed_box(&buffer, 0.0, width, 0.0, 40 * r_max, r_max, 0);
+    SimRainDef rain =
+        sim_rain_def_thesis000(1.5 * r_max, width - 1.5 * r_max, 1.5 * r_max, 200 * r_max, grains);
     SimRng rng;
     sim_rng_seed(&rng, 7);
     sim_build_rain(&buffer, &rain, &rng);

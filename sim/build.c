@@ -195,3 +195,28 @@ done:
     free(column_offset);
     return added;
 }
+
+SimRainDef sim_rain_def_thesis000(double x0, double x1, double y0, double y1, int max_count)
+{
+    const double r_max = 0.105;
+    return (SimRainDef){.x0 = x0,
+                        .x1 = x1,
+                        .y0 = y0,
+                        .y1 = y1,
+                        .radius_mean = 0.08,
+                        .polydispersity = 0.08,
+                        .pitch_radius = r_max,
+                        .column_gap = 0.005 * r_max,
+                        .row_gap = 0.75 * r_max,
+                        .column_jitter = 0.05,
+                        .row_jitter = 0.08,
+                        .max_count = max_count};
+}
+
+void sim_build_fixed_box(SimGrainBuffer *b, double x0, double x1, double y0, double wall_top,
+                         double radius, int species)
+{
+    sim_build_fixed_row(b, x0, x1, y0, radius, species, -1);
+    sim_build_fixed_column(b, x0, y0 + 2.0 * radius, wall_top, radius, species, -1);
+    sim_build_fixed_column(b, x1, y0 + 2.0 * radius, wall_top, radius, species, -1);
+}

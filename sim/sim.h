@@ -468,6 +468,13 @@ typedef struct SimRainDef {
 
 /// Fills the region; returns the number of grains added.
 int sim_build_rain(SimGrainBuffer *buffer, const SimRainDef *def, SimRng *rng);
+/// Thesis 000 §6.1 rain over [x0, x1] x [y0, y1]: r_med 0.08 m, 8 % uniform polydispersity,
+/// pitch from r_max = 0.105 m, column and row gaps 0.005 and 0.75 r_max, jitters 5 % and 8 %.
+SimRainDef sim_rain_def_thesis000(double x0, double x1, double y0, double y1, int max_count);
+/// A container of touching fixed grains of radius r: a floor from x0 to x1 at height y0 and two
+/// side columns from y0 + 2 r up to wall_top.
+void sim_build_fixed_box(SimGrainBuffer *buffer, double x0, double x1, double y0, double wall_top,
+                         double radius, int species);
 
 /* ================================================================ fluid column (002 ch. 6)
  * Section owned by the sediment work (sim/fluid.c). A horizontally averaged 1D fluid u_x(y, t)

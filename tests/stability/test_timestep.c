@@ -183,21 +183,9 @@ static int dt_09_limit_resting_pocket(void)
 static SimWorldDef thesis000_def(SimGrainBuffer *b, int grains)
 {
     const double r_max = 0.105, width = 20 * 2 * r_max;
-    sim_build_fixed_row(b, 0.0, width, 0.0, r_max, 0, -1);
-    sim_build_fixed_column(b, 0.0, 2 * r_max, 60 * r_max, r_max, 0, -1);
-    sim_build_fixed_column(b, width, 2 * r_max, 60 * r_max, r_max, 0, -1);
-    SimRainDef rain = {.x0 = 1.5 * r_max,
-                       .x1 = width - 1.5 * r_max,
-                       .y0 = 1.5 * r_max,
-                       .y1 = 200 * r_max,
-                       .radius_mean = 0.08,
-                       .polydispersity = 0.08,
-                       .pitch_radius = r_max,
-                       .column_gap = 0.005 * r_max,
-                       .row_gap = 0.75 * r_max,
-                       .column_jitter = 0.05,
-                       .row_jitter = 0.08,
-                       .max_count = grains};
+    sim_build_fixed_box(b, 0.0, width, 0.0, 60 * r_max, r_max, 0);
+    SimRainDef rain =
+        sim_rain_def_thesis000(1.5 * r_max, width - 1.5 * r_max, 1.5 * r_max, 200 * r_max, grains);
     SimRng rng;
     sim_rng_seed(&rng, 1);
     sim_build_rain(b, &rain, &rng);
