@@ -184,10 +184,6 @@ static RenderStyle bench_style(void)
     style.range_min = 0.0; /* a fixed range, as movies should have */
     style.range_max = 8.0;
     style.chain_force_max = 4.0;
-    if (getenv("TMP_NO_CHAINS"))
-        style.force_chains = 0; /* TMPEXP */
-    if (getenv("TMP_NO_DISKS"))
-        style.outline = 0; /* TMPEXP */
     return style;
 }
 

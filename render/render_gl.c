@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* render_gl.c: the fast movie drawer. GL 3.3 core on llvmpipe through OSMesa; every disk is one
  * point sprite whose fragment shader keeps the pixels inside the circle and antialiases the rim
- * by the area of the pixel inside it (outline ring in the same fragment); orientation ticks,
- * walls and force chains are quads (two indexed triangles) with the same analytic coverage.
+ * by the area of the pixel inside it (outline ring in the same fragment); orientation ticks and
+ * walls are quads (two indexed triangles) and force chains wide lines (one primitive each), with
+ * the same analytic coverage.
  *
  * Speed (1920x1080, 7284 grains and ~8k chains; bench/README.md): llvmpipe shades vertices and
  * sets up primitives in the calling thread and shades fragments in LP_NUM_THREADS threads on 4x4
@@ -260,15 +261,20 @@ static const char fragment_common_source[] =
      * r - w; here both coverages come from one fragment (the rim as a straight edge along the
      * radius). local: pixel centre minus disk centre; size: radius, outline width, px. The far
      * side of the rim matters only for disks under a pixel: their coverage is capped by their
-     * area instead (one distribution lookup per edge instead of two). */
+     * area instead (one distribution lookup per edge instead of two). The colour is premultiplied
+     * by the coverage (drawn with glBlendFunc(ONE, ONE_MINUS_SRC_ALPHA)): the outline and fill
+     * shares add up without a division, and one inverse square root gives the distance and the
+     * edge normal. */
     "uniform vec4 outline_colour;\n"
     "vec4 shade_disk(vec2 local, vec2 size, vec4 colour) {\n"
-    "    float d = length(local);\n"
-    "    vec3 p = footprint(d > 0.0 ? local / d : vec2(1.0, 0.0));\n"
+    "    float d2 = dot(local, local);\n"
+    "    float inv = inversesqrt(max(d2, 1e-12));\n"
+    "    float d = d2 * inv;\n"
+    "    vec3 p = footprint(d2 > 0.0 ? local * inv : vec2(1.0, 0.0));\n"
     "    float total = min(pixel_cdf(size.x - d, p), 3.14159265 * size.x * size.x);\n"
     "    float inner = size.y > 0.0 ? min(pixel_cdf(size.x - size.y - d, p), total) : total;\n"
-    "    vec3 c = mix(outline_colour.rgb, colour.rgb, inner / max(total, 1e-6));\n"
-    "    return vec4(c, total * clip_coverage());\n"
+    "    float alpha = total * clip_coverage(), fill = inner * clip_coverage();\n"
+    "    return vec4(outline_colour.rgb * (alpha - fill) + colour.rgb * fill, alpha);\n"
     "}\n";
 
 /* Instanced quads: the fallback for disks larger than the largest point sprite. */
@@ -296,8 +302,9 @@ static const char disk_fragment_source[] = "in vec2 local;\n"
                                            "}\n";
 
 /* The fast path: one point sprite per disk (one vertex instead of an instanced quad). The sprite
- * is the quad's square; the fragment's offset from the centre comes from gl_FragCoord, so
- * coverage and colour are the quad shader's. */
+ * is the square of side 2 r + 1: a pixel whose centre lies further than r + 1/2 from the centre
+ * along x or y does not meet the disk. The fragment's offset from the centre comes from
+ * gl_FragCoord, so coverage and colour are the quad shader's. */
 static const char point_vertex_source[] =
     "layout(location = 0) in vec4 disk;\n" /* centre x, y, radius, outline width, px */
     "layout(location = 1) in vec4 fill;\n"
@@ -305,7 +312,7 @@ static const char point_vertex_source[] =
     "flat out vec4 colour;\n"
     "void main() {\n"
     "    gl_Position = clip_position(disk.xy);\n"
-    "#ifdef TMP_SMALL\n    gl_PointSize = 2.0 * disk.z + 1.0;\n#else\n    gl_PointSize = 2.0 * (disk.z + 1.0);\n#endif\n"
+    "    gl_PointSize = 2.0 * disk.z + 1.0;\n"
     "    shape = disk;\n"
     "    colour = fill;\n"
     "}\n";
@@ -315,7 +322,7 @@ static const char point_fragment_source[] =
     "flat in vec4 colour;\n"
     "out vec4 result;\n"
     "void main() {\n"
-    "#ifdef TMP_CHEAP\n    vec2 q = pixel_position() - shape.xy; result = vec4(colour.rgb, clamp(shape.z - length(q) + 0.5, 0.0, 1.0));\n#else\n    result = shade_disk(pixel_position() - shape.xy, shape.zw, colour);\n#endif\n"
+    "    result = shade_disk(pixel_position() - shape.xy, shape.zw, colour);\n"
     "    if (result.a <= 0.0) discard;\n"
     "}\n";
 
@@ -395,8 +402,10 @@ static const char line_fragment_source[] =
     "    vec2 q = pixel_position() - start.xy, across = vec2(-start.w, start.z);\n"
     "    float along = dot(q, start.zw);\n"
     "    vec2 v = vec2(along - clamp(along, 0.0, form.x), dot(q, across));\n"
-    "    float d = length(v);\n"
-    "    vec2 n = d > 0.0 ? (start.zw * v.x + across * v.y) / d : across;\n"
+    "    float d2 = dot(v, v);\n"
+    "    float inv = inversesqrt(max(d2, 1e-12));\n"
+    "    float d = d2 * inv;\n"
+    "    vec2 n = d2 > 0.0 ? (start.zw * v.x + across * v.y) * inv : across;\n"
     "    float a = band(d, -form.y, form.y, footprint(n)) * clip_coverage() * colour.a;\n"
     "    if (a <= 0.0) discard;\n"
     "    result = vec4(colour.rgb, a);\n"
@@ -486,7 +495,7 @@ static GLuint compile(RenderGl *r, GLenum kind, const char *body, int clip, char
                       size_t err_size)
 {
     const char *parts[4] = {
-        clip ? (getenv("TMP_CHEAP") ? "#version 330 core\n#define CLIP 1\n#define TMP_CHEAP 1\n" : "#version 330 core\n#define CLIP 1\n") : (getenv("TMP_CHEAP") ? "#version 330 core\n#define CLIP 0\n#define TMP_CHEAP 1\n" : getenv("TMP_SMALL") ? "#version 330 core\n#define CLIP 0\n#define TMP_SMALL 1\n" :"#version 330 core\n#define CLIP 0\n"),
+        clip ? "#version 330 core\n#define CLIP 1\n" : "#version 330 core\n#define CLIP 0\n",
         common_source, kind == GL_FRAGMENT_SHADER ? fragment_common_source : "", body};
     GLuint shader = r->gl.CreateShader(kind);
     r->gl.ShaderSource(shader, 4, parts, NULL);
@@ -930,6 +939,13 @@ static void use_program(RenderGl *r, int kind, int clip, const Layout *l)
     r->gl.Uniform1f(u->margin, r->margin);
     if (u->outline_colour >= 0)
         uniform_rgb(r, u->outline_colour, OUTLINE_RGB);
+    /* Disks give premultiplied colour (shade_disk), segments straight colour; "over" either way,
+     * and the destination stays opaque. */
+    if (kind == PROGRAM_QUAD_DISK || kind == PROGRAM_POINT_DISK)
+        r->gl.BlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    else
+        r->gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE,
+                                GL_ONE_MINUS_SRC_ALPHA);
 }
 
 /* Index buffer: triangles (0, 1, 2) and (2, 1, 3) of each segment's four vertices, the two
@@ -975,7 +991,6 @@ static int segment_indices(RenderGl *r, int segments)
 static float chain_line_width(const RenderGl *r, int k)
 {
     double h = (double)r->segments[4 * k].half_width;
-    if (getenv("TMP_THIN")) return (float)ceil(2.0 * (h + 0.75));
     return (float)ceil(2.0 * (h * 1.4142135623730951 + 1.25));
 }
 
@@ -1058,9 +1073,7 @@ static int draw_frame(RenderGl *r, const SimFrame *frame, const RenderStyle *sty
     r->gl.ClearColor((float)((bg >> 16) & 255) / 255.0f, (float)((bg >> 8) & 255) / 255.0f,
                      (float)(bg & 255) / 255.0f, 1.0f);
     r->gl.Clear(GL_COLOR_BUFFER_BIT);
-    /* Straight-alpha "over"; the destination stays opaque. */
-    r->gl.Enable(GL_BLEND);
-    r->gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    r->gl.Enable(GL_BLEND); /* the function goes with the program (use_program) */
     if (disks > 0) {
         upload(r, GL_ARRAY_BUFFER, r->disk_buffer, &r->disk_bytes, r->disks,
                (GLsizeiptr)disks * (GLsizeiptr)sizeof(DiskInstance));
