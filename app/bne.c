@@ -189,7 +189,8 @@ void app_bne_adjust_def(const AppBne *b, int stage, SimWorldDef *def)
     }
     /* The shaking stage continues the preparation's own checkpoint: its overlaps are the settled
      * bed's, not a user's placement error. A frictionless bed wedges grains against the walls
-     * (0.11 d seen at the bottom corners of frictionless.scene), above the 0.1 d placement bound. */
+     * (0.11 d seen at the bottom corners of frictionless.scene), above the 0.1 d placement bound.
+     */
     if (stage == b->stage && stage > 0 && def->max_initial_overlap < 0.5)
         def->max_initial_overlap = 0.5;
     /* offset A sin(w (t - t0)): the box leaves its rest position at the stage start t0 */
@@ -584,7 +585,7 @@ int app_bne_samples(const AppBneSamplesOptions *o)
     if (ldf)
         fprintf(ldf, "value,tau,v,probability,rate_function\n");
     AppBneCurve curves[64], ldf_curves[64];
-    double *store[4 * 64];
+    double *store[5 * 64];
     int stored = 0, curve_count = 0;
     char labels[64][192];
     for (int v = 0; v < value_count; ++v) {
@@ -621,9 +622,18 @@ int app_bne_samples(const AppBneSamplesOptions *o)
         }
         snprintf(labels[curve_count], sizeof labels[0], "%s%s%g (%d)", o->vary ? key : "samples",
                  o->vary ? " = " : "", o->vary ? values[v] : (double)n, n);
-        curves[curve_count] = (AppBneCurve){labels[curve_count], len, records[first].t, mean, sd};
+        /* the plot shows about 15 error bars per curve, staggered between curves (every sample's
+         * spread is in rise.csv) */
+        double *bar = malloc((size_t)len * sizeof *bar);
+        int step = len / 15 > 1 ? len / 15 : 1, offset = step * v / value_count;
+        for (int j = 0; bar && j < len; ++j)
+            bar[j] = j % step == offset ? sd[j] : (double)NAN;
+        curves[curve_count] =
+            (AppBneCurve){labels[curve_count], len, records[first].t, mean, bar ? bar : sd};
         store[stored++] = mean;
         store[stored++] = sd;
+        if (bar)
+            store[stored++] = bar;
         if (ldf) {
             const double *ts[256], *hs[256];
             int cs[256], r = 0;

@@ -7,6 +7,7 @@
 #include "observe.h"
 #include "run.h"
 #include "scene.h"
+#include "sediment.h"
 #include "study.h"
 #include "sweep.h"
 
@@ -40,6 +41,7 @@ static const char USAGE[] =
     "  discharge SCENE  build an open pile and discharge it through an orifice (004)\n"
     "  study SCENE    jamming statistics over base lengths and widths (004)\n"
     "  bne SCENE      Brazil-nut samples over seeds and one varied key: rise curves, LDF (002)\n"
+    "  sediment SCENE Shields scan of bed-load transport: flux against Shields, threshold (002)\n"
     "\n"
     "  sablier COMMAND --help   options of one command\n"
     "  sablier --version        versions of sablier and its libraries\n"
@@ -244,12 +246,118 @@ static int hook_movie_close(void *context, char *err, size_t err_size)
     return rc == 0 ? 0 : -1;
 }
 
+/* Thesis 002 fig. 31 analogue: the bed (render_cairo_draw) with the fluid column's velocity and
+ * concentration profiles (render_plot_draw) beside it, on the same heights: the plot's y axis is
+ * the bed view's y range and its height is adjusted until the two scales match to a pixel. */
+static int sediment_figure(const Scene *scene, const SimFrame *frame, const RenderStyle *style,
+                           const RenderMeta *meta, const char *path, char *err, size_t err_size)
+{
+    RenderView view;
+    render_view_fit(frame, style, &view);
+    double y_top = view.center_y + 0.5 * view.plot_h / view.scale;
+    double y_bottom = view.center_y - 0.5 * view.plot_h / view.scale;
+    SimFluidProfile p;
+    sim_fluid_profile(app_sediment_fluid(scene->sediment), &p);
+    double *u = malloc(3 * (size_t)p.cells * sizeof *u);
+    if (!u) {
+        snprintf(err, err_size, "out of memory");
+        return -1;
+    }
+    double *phi = u + p.cells, *y = phi + p.cells, u_max = 0.0;
+    int n = 0;
+    for (int k = 0; k < p.cells; ++k)
+        if (p.y[k] >= y_bottom && p.y[k] <= y_top) {
+            y[n] = p.y[k];
+            u[n] = p.u[k];
+            phi[n++] = p.solid_fraction[k];
+            u_max = fmax(u_max, fabs(p.u[k]));
+        }
+    RenderSeries series[2];
+    memset(series, 0, sizeof series);
+    series[0] =
+        (RenderSeries){.label = "u(y)", .count = n, .x = u, .y = y, .rgb = 0x1f77b4, .line = 1};
+    series[1] =
+        (RenderSeries){.label = "phi(y)", .count = n, .x = phi, .y = y, .rgb = 0xd62728, .line = 1};
+    RenderPanel panels[2];
+    memset(panels, 0, sizeof panels);
+    panels[0].title = "fluid velocity";
+    panels[0].x.label = "u";
+    panels[0].x.max = u_max > 0.0 ? 1.05 * u_max : 1.0;
+    panels[1].title = "grain fraction";
+    panels[1].x.label = "phi";
+    panels[1].x.max = 1.0;
+    for (int k = 0; k < 2; ++k) {
+        panels[k].y.label = k == 0 ? "y" : NULL;
+        panels[k].y.min = y_bottom;
+        panels[k].y.max = y_top;
+        panels[k].series_count = 1;
+        panels[k].series = &series[k];
+    }
+    RenderImage bed = {0}, plot = {0}, out = {0};
+    RenderPlot r = {.width = style->width > 0 ? style->width / 2 : 600,
+                    .height = style->height,
+                    .rows = 1,
+                    .cols = 2,
+                    .panels = panels,
+                    .font_size = 14.0};
+    if (r.width < 360)
+        r.width = 360;
+    int rc = render_cairo_draw(frame, style, &bed) == 0 ? 0 : -1;
+    if (rc != 0)
+        snprintf(err, err_size, "cannot draw the bed");
+    double top_px = 0.0, bottom_px = 0.0, x_px;
+    for (int pass = 0; pass < 3 && rc == 0; ++pass) { /* match the vertical scales */
+        render_image_free(&plot);
+        rc = render_plot_draw(&r, &plot, err, err_size);
+        if (rc != 0 || render_plot_map(&r, 0, 0.0, y_top, &x_px, &top_px) != 0 ||
+            render_plot_map(&r, 0, 0.0, y_bottom, &x_px, &bottom_px) != 0)
+            break;
+        int grow = (int)lround(view.plot_h - (bottom_px - top_px));
+        if (grow == 0)
+            break;
+        r.height += grow;
+    }
+    if (rc == 0) {
+        int shift = (int)lround(view.plot_y - top_px); /* plot rows move down by this */
+        int top = shift < 0 ? -shift : 0;
+        int height = bed.height + top > plot.height + shift + top ? bed.height + top
+                                                                  : plot.height + shift + top;
+        rc = render_image_alloc(&out, bed.width + plot.width, height, RENDER_PIXEL_RGBA);
+        for (int row = 0; rc == 0 && row < height; ++row)
+            for (int col = 0; col < out.width; ++col) {
+                uint8_t rgba[4] = {255, 255, 255, 255};
+                int br = row - top, pr = row - top - shift;
+                if (col < bed.width && br >= 0 && br < bed.height)
+                    render_image_get_rgba(&bed, col, br, rgba);
+                else if (col >= bed.width && pr >= 0 && pr < plot.height)
+                    render_image_get_rgba(&plot, col - bed.width, pr, rgba);
+                memcpy(out.pixels + (size_t)row * (size_t)out.stride + 4 * (size_t)col, rgba, 4);
+            }
+        if (rc != 0)
+            snprintf(err, err_size, "out of memory");
+    }
+    if (rc == 0) {
+        char seed[32];
+        snprintf(seed, sizeof seed, "%llu", (unsigned long long)meta->seed);
+        const char *text[] = {"Software", "sablier", "Scene", meta->scene, "Seed", seed, NULL};
+        rc = render_png_write(&out, path, text, err, err_size) == 0 ? 0 : -1;
+    }
+    render_image_free(&bed);
+    render_image_free(&plot);
+    render_image_free(&out);
+    free(u);
+    return rc;
+}
+
 static int hook_figure(void *context, const Scene *scene, const SceneFigure *figure,
                        const SimFrame *frame, const char *path, char *err, size_t err_size)
 {
     (void)context;
     RenderStyle style = render_style_from_scene(&figure->style);
     RenderMeta meta = {.scene = scene->name, .seed = scene->seed};
+    size_t len = strlen(path);
+    if (scene->sediment && len > 4 && strcmp(path + len - 4, ".png") == 0)
+        return sediment_figure(scene, frame, &style, &meta, path, err, err_size);
     return render_figure_write(frame, &style, &meta, path, err, err_size) == 0 ? 0 : -1;
 }
 
@@ -509,6 +617,54 @@ static int command_sweep(int argc, char **argv)
     o.plot = hook_chart;
 #endif
     return app_sweep(&o);
+}
+
+/* ---------------------------------------------------------------- sediment (thesis 002) */
+
+#ifdef SABLIER_HAVE_RENDER
+static int hook_sediment_plot(void *context, const char *path, const char *title,
+                              const char *x_label, const char *y_label,
+                              const AppSedimentCurve *curves, int curve_count, char *err,
+                              size_t err_size)
+{
+    (void)context;
+    RenderSeries series[8];
+    int n = curve_count < 8 ? curve_count : 8;
+    memset(series, 0, sizeof series);
+    for (int k = 0; k < n; ++k) {
+        series[k].label = curves[k].label;
+        series[k].count = curves[k].count;
+        series[k].x = curves[k].x;
+        series[k].y = curves[k].y;
+        series[k].rgb = RENDER_RGB_AUTO;
+        series[k].line = curves[k].line;
+        series[k].dashed = curves[k].dashed;
+        series[k].marker = curves[k].marker ? RENDER_MARKER_CIRCLE : RENDER_MARKER_NONE;
+    }
+    RenderPanel panel;
+    memset(&panel, 0, sizeof panel);
+    panel.x.label = x_label;
+    panel.y.label = y_label;
+    panel.series_count = n;
+    panel.series = series;
+    panel.legend = RENDER_LEGEND_UPPER_LEFT;
+    RenderPlot plot = {
+        .width = 1000, .height = 700, .rows = 1, .cols = 1, .panels = &panel, .title = title};
+    RenderMeta meta = {.scene = "sediment", .seed = 0};
+    return render_plot_write(&plot, &meta, path, err, err_size) == 0 ? 0 : -1;
+}
+#endif
+
+static int command_sediment(int argc, char **argv)
+{
+#ifdef SABLIER_HAVE_RENDER
+    Renderer renderer = {.quiet = 1};
+    AppRenderHooks hooks = {&renderer, hook_movie_open, hook_movie_close, hook_figure};
+    AppSedimentRender render = {NULL, hook_sediment_plot, &hooks};
+    return app_sediment_command(argc, argv, &render);
+#else
+    return app_sediment_command(argc, argv, NULL);
+#endif
 }
 
 /* ---------------------------------------------------------------- bne (thesis 002) */
@@ -1076,6 +1232,7 @@ int main(int argc, char **argv)
         {"discharge", command_discharge, APP_DISCHARGE_USAGE},
         {"study", command_study, APP_STUDY_USAGE},
         {"bne", command_bne, USAGE_BNE},
+        {"sediment", command_sediment, APP_SEDIMENT_USAGE},
     };
 
     for (size_t k = 0; k < sizeof commands / sizeof commands[0]; ++k) {

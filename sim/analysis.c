@@ -70,7 +70,30 @@ typedef struct EquilibriumScan {
     int *contacts; /* per grain */
     double base_fy;
     int sliding;
+    double slip_speed; /* a capped contact slips when |v_s| exceeds this, m/s */
 } EquilibriumScan;
+
+/* Slip velocity v_s of a contact from the current state (000 eq. 3.5). */
+static double contact_slip(const SimWorld *w, const SimContact *c)
+{
+    int i = c->i;
+    double nx = c->x - w->x[i], ny = c->y - w->y[i];
+    double len = hypot(nx, ny);
+    if (!(len > 0.0))
+        return 0.0;
+    nx /= len;
+    ny /= len;
+    double vjx = 0.0, vjy = 0.0, spin_j = 0.0;
+    if (c->j >= 0) {
+        vjx = w->vx[c->j];
+        vjy = w->vy[c->j];
+        spin_j = w->omega[c->j] * w->radius[c->j];
+    } else {
+        vjx = w->wall_vx[-1 - c->j];
+        vjy = w->wall_vy[-1 - c->j];
+    }
+    return (vjx - w->vx[i]) * ny - (vjy - w->vy[i]) * nx + w->omega[i] * w->radius[i] + spin_j;
+}
 
 static void equilibrium_visit(void *context, const SimContact *c, double energy)
 {
@@ -86,7 +109,10 @@ static void equilibrium_visit(void *context, const SimContact *c, double energy)
         const PairParams *p = &w->pairs[w->species[c->i] * SIM_MAX_SPECIES + sj];
         double cap = law == SIM_TANGENTIAL_SPRING ? p->mu * p->k_n * c->overlap
                                                   : p->mu * fabs(c->normal_force);
-        if (cap > 0.0 && fabs(c->tangential_force) >= cap * (1.0 - 1e-9))
+        /* At the Coulomb cap and still slipping (004 code: capped in this step); a contact that
+         * sits exactly at the cap without moving is static. */
+        if (cap > 0.0 && fabs(c->tangential_force) >= cap * (1.0 - 1e-9) &&
+            fabs(contact_slip(w, c)) > e->slip_speed)
             ++e->sliding;
     }
     if (c->j >= 0 && c->j < w->mobile_count)
@@ -115,7 +141,9 @@ SimEquilibrium sim_world_equilibrium(SimWorld *w, double tolerance)
     }
     if (w->mobile_count == 0)
         m_min = 0.0;
-    EquilibriumScan scan = {w, calloc((size_t)w->count + 1, sizeof(int)), 0.0, 0};
+    /* slip speeds below the kinetic criterion's speed sqrt(tolerance g d) count as static */
+    EquilibriumScan scan = {w, calloc((size_t)w->count + 1, sizeof(int)), 0.0, 0,
+                            sqrt(tolerance * g * d)};
     if (!scan.contacts)
         abort();
     sim_contacts_visit(w, equilibrium_visit, &scan);

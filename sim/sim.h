@@ -369,7 +369,7 @@ typedef struct SimEquilibrium {
     double base_force;    ///< vertical force of mobile grains on fixed grains and walls, N
     double weight;        ///< total weight of mobile grains, N
     double force_bound;   ///< tolerance * m_min g, N
-    int sliding_contacts; ///< contacts at the Coulomb cap (spring law)
+    int sliding_contacts; ///< contacts at the Coulomb cap slipping faster than sqrt(tol g d)
     int underconnected;   ///< mobile grains with fewer than two contacts
 } SimEquilibrium;
 

@@ -140,5 +140,35 @@ static int saturation_measure(void)
     return 0;
 }
 
+/* The Shields-scan threshold: zero-flux intercept of the two lowest transporting points, clamped
+ * to the bracket; the bracket's middle with one transporting point; NAN without a bracket. */
+static int shields_threshold(void)
+{
+    /* q* = 0.05 (Theta - 0.3) above 0.3, creep noise below; unsorted input */
+    double theta[6] = {0.8, 0.1, 0.4, 0.2, 0.6, 0.05}, q[6];
+    for (int k = 0; k < 6; ++k)
+        q[k] = theta[k] > 0.3 ? 0.05 * (theta[k] - 0.3) : 1e-5 * theta[k];
+    double below, above;
+    double c = app_sediment_threshold(theta, q, 6, 1e-3, &below, &above);
+    TEST_NEAR(c, 0.3, 1e-12);
+    TEST_NEAR(below, 0.2, 0.0);
+    TEST_NEAR(above, 0.4, 0.0);
+    /* a steep law whose intercept falls under the bracket is clamped to its lower end */
+    double q2[6];
+    for (int k = 0; k < 6; ++k)
+        q2[k] = theta[k] >= 0.4 ? theta[k] * theta[k] * theta[k] : 0.0;
+    c = app_sediment_threshold(theta, q2, 6, 1e-3, &below, &above);
+    TEST_ASSERT(c >= 0.2 && c <= 0.4);
+    /* one transporting point: the middle of the bracket */
+    double t3[3] = {0.1, 0.2, 0.4}, q3[3] = {0.0, 1e-4, 0.02};
+    TEST_NEAR(app_sediment_threshold(t3, q3, 3, 1e-3, &below, &above), 0.3, 1e-12);
+    /* nothing transports, or everything does: no estimate */
+    double q4[3] = {0.0, 1e-4, 2e-4}, q5[3] = {0.01, 0.02, 0.05};
+    TEST_ASSERT(isnan(app_sediment_threshold(t3, q4, 3, 1e-3, &below, &above)));
+    TEST_ASSERT(isnan(app_sediment_threshold(t3, q5, 3, 1e-3, &below, &above)));
+    TEST_NEAR(above, 0.1, 0.0);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(numbers_from_scene), TEST_CASE(fluid_needs_effect), TEST_CASE(below_threshold),
-          TEST_CASE(saturation_measure))
+          TEST_CASE(saturation_measure), TEST_CASE(shields_threshold))
