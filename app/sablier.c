@@ -445,6 +445,28 @@ static int hook_discharge_plot(void *context, const Scene *scene, const AppPlot 
     RenderMeta meta = {.scene = scene->name, .seed = scene->seed};
     return render_plot_write(&r, &meta, path, err, err_size) == 0 ? 0 : -1;
 }
+
+/* Species maps (004 fig. 3.4) as heat maps on their cells, viridis, range from the data. */
+static int hook_discharge_map(void *context, const Scene *scene, const AppMap *map,
+                              const char *path, char *err, size_t err_size)
+{
+    (void)context;
+    RenderMap r = {.width = 1000,
+                   .height = 700,
+                   .nx = map->nx,
+                   .ny = map->ny,
+                   .x0 = map->x0,
+                   .y0 = map->y0,
+                   .cell = map->cell,
+                   .values = map->values,
+                   .colormap = RENDER_CMAP_VIRIDIS,
+                   .title = map->title,
+                   .x_label = map->x_label,
+                   .y_label = map->y_label,
+                   .bar_label = map->bar_label};
+    RenderMeta meta = {.scene = scene->name, .seed = scene->seed};
+    return render_map_write(&r, &meta, path, err, err_size) == 0 ? 0 : -1;
+}
 #endif
 
 static int command_discharge_or_study(int argc, char **argv, int study)
@@ -452,7 +474,8 @@ static int command_discharge_or_study(int argc, char **argv, int study)
 #ifdef SABLIER_HAVE_RENDER
     Renderer renderer = {.quiet = 1};
     AppRenderHooks movie = {&renderer, hook_movie_open, hook_movie_close, hook_figure};
-    AppDischargeRender render = {NULL, hook_discharge_figure, hook_discharge_plot, &movie};
+    AppDischargeRender render = {NULL, hook_discharge_figure, hook_discharge_plot, &movie,
+                                 hook_discharge_map};
     const AppDischargeRender *hooks = &render;
 #else
     const AppDischargeRender *hooks = NULL;

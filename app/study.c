@@ -17,11 +17,12 @@
 #include <time.h>
 #include <unistd.h>
 
-#define PATH        2048
-#define MAX_SETS    64
-#define MAX_LENGTHS 16
-#define MAX_WIDTHS  128
-#define NOTHING     ((double)NAN)
+#define PATH         2048
+#define MAX_SETS     64
+#define MAX_LENGTHS  16
+#define MAX_WIDTHS   128
+#define NOTHING      ((double)NAN)
+#define SPECIES_CELL 5.0 /* side of the species-map cells, d (004 §3.4) */
 
 const char APP_DISCHARGE_USAGE[] =
     "usage: sablier discharge SCENE [--out DIR] [--width W]... [--pile STATE] [--seed N]\n"
@@ -47,7 +48,8 @@ const char APP_STUDY_USAGE[] =
     "resumes where it stopped. Writes DIR/L<L>/w<W>.csv (one row per sample), DIR/study.csv\n"
     "(<h>, sigma_h, <s>, arch composition per L and w), DIR/fits.csv (w_t per L from a\n"
     "Gaussian fit of sigma_h, w_c from the linear fit of w_t against 1/L), DIR/L<L>/Fs.csv,\n"
-    "DIR/L<L>/profile.csv and plots.\n"
+    "DIR/L<L>/profile.csv, plots, and for two-species scenes the maps of the small (or light)\n"
+    "grain fraction on 5 d cells, DIR/L<L>/species_map.csv/.png and species_map_jammed.csv.\n"
     "  --L LIST        base lengths, d (default the scene's discharge.base_length)\n"
     "  --widths SPEC   A:B:STEP or a comma list, d (default 1.0:7.0:0.2)\n"
     "  --samples N     samples per L (default 10)\n"
@@ -452,6 +454,161 @@ int app_discharge_command(int argc, char **argv, const AppDischargeRender *rende
     return status;
 }
 
+/* ---------------------------------------------------------------- species maps (004 §3.4) */
+
+int app_species_map_init(AppSpeciesMap *map, double L, double cell)
+{
+    memset(map, 0, sizeof *map);
+    if (!(L > 0.0) || !(cell > 0.0) || !isfinite(L) || !isfinite(cell) || L / cell > 4096.0)
+        return -1;
+    /* columns: one centred on x = 0, then whole columns out to +-L/2 */
+    int side = (int)ceil(fmax(0.0, 0.5 * L - 0.5 * cell) / cell - 1e-9);
+    map->nx = 2 * side + 1;
+    map->ny = (int)fmax(1.0, ceil(L / cell - 1e-9));
+    map->cell = cell;
+    map->x0 = -0.5 * map->nx * cell;
+    map->y0 = 0.0;
+    size_t n = (size_t)map->nx * (size_t)map->ny;
+    map->count = calloc(n, sizeof *map->count);
+    map->marked = calloc(n, sizeof *map->marked);
+    if (!map->count || !map->marked) {
+        app_species_map_free(map);
+        return -1;
+    }
+    return 0;
+}
+
+void app_species_map_free(AppSpeciesMap *map)
+{
+    free(map->count);
+    free(map->marked);
+    memset(map, 0, sizeof *map);
+}
+
+int app_species_map_add(AppSpeciesMap *map, const SimFrame *frame, int marked)
+{
+    int outside = 0;
+    for (int g = 0; g < frame->count; ++g) {
+        if (frame->flags && (frame->flags[g] & SIM_GRAIN_FIXED))
+            continue;
+        double u = (frame->x[g] - map->x0) / map->cell, v = (frame->y[g] - map->y0) / map->cell;
+        if (!(u >= 0.0 && u < map->nx && v >= 0.0 && v < map->ny)) {
+            ++outside;
+            continue;
+        }
+        size_t k = (size_t)(int)v * (size_t)map->nx + (size_t)(int)u;
+        ++map->count[k];
+        map->marked[k] += (frame->species ? frame->species[g] : 0) == marked;
+    }
+    return outside;
+}
+
+double app_species_map_fraction(const AppSpeciesMap *map, int i, int j)
+{
+    if (i < 0 || j < 0 || i >= map->nx || j >= map->ny)
+        return NOTHING;
+    size_t k = (size_t)j * (size_t)map->nx + (size_t)i;
+    return map->count[k] > 0 ? (double)map->marked[k] / (double)map->count[k] : NOTHING;
+}
+
+int app_species_map_format(const AppSpeciesMap *map, const char *tag, char *buf, size_t size)
+{
+    char none[1];
+    if (!buf || size == 0) { /* only the length is wanted */
+        buf = none;
+        size = sizeof none;
+    }
+    int total = snprintf(buf, size, "%s,%d,%d", tag, map->nx, map->ny);
+    for (size_t k = 0; k < (size_t)map->nx * (size_t)map->ny; ++k) {
+        if (map->count[k] == 0)
+            continue;
+        size_t used = total >= 0 && (size_t)total < size ? (size_t)total : size - 1;
+        total +=
+            snprintf(buf + used, size - used, ",%zu:%ld:%ld", k, map->count[k], map->marked[k]);
+    }
+    return total;
+}
+
+int app_species_map_parse(AppSpeciesMap *map, const char *text)
+{
+    char *end;
+    long nx = strtol(text, &end, 10);
+    if (*end != ',' || nx != map->nx)
+        return -1;
+    long ny = strtol(end + 1, &end, 10);
+    if (ny != map->ny)
+        return -1;
+    const char *start = end;
+    size_t n = (size_t)map->nx * (size_t)map->ny;
+    for (int pass = 0; pass < 2; ++pass) { /* check the whole record, then add it */
+        const char *p = start;
+        while (*p == ',') {
+            long k = strtol(p + 1, &end, 10), c = -1, m = -1;
+            if (*end == ':')
+                c = strtol(end + 1, &end, 10);
+            if (c >= 0 && *end == ':')
+                m = strtol(end + 1, &end, 10);
+            if (k < 0 || (size_t)k >= n || c < 0 || m < 0 || m > c)
+                return -1;
+            if (pass == 1) {
+                map->count[k] += c;
+                map->marked[k] += m;
+            }
+            p = end;
+        }
+        if (*p != '\0' && *p != '\n')
+            return -1;
+    }
+    return 0;
+}
+
+int app_species_marked(const Scene *scene, const char **what)
+{
+    if (what)
+        *what = NULL;
+    const AppDischargeDef *def = scene->discharge;
+    if (!def || def->species_count != 2 || !(def->fractions[0] > 0.0) || !(def->fractions[1] > 0.0))
+        return -1;
+    double d0 = def->diameters[0], d1 = def->diameters[1];
+    if (d0 != d1) {
+        if (what)
+            *what = "small";
+        return d0 < d1 ? 0 : 1;
+    }
+    double r0 = scene->def.materials[0].density, r1 = scene->def.materials[1].density;
+    if (r0 != r1) {
+        if (what)
+            *what = "light";
+        return r0 < r1 ? 0 : 1;
+    }
+    return -1;
+}
+
+/* The pile's map record of a sample (004 §3.4), appended to text; -1 when the scene has no two
+ * distinct species. */
+static int map_record(const Scene *scene, SimWorld *world, double L, const char *tag, char **text)
+{
+    int marked = app_species_marked(scene, NULL);
+    if (marked < 0)
+        return -1;
+    AppSpeciesMap map;
+    if (app_species_map_init(&map, L, SPECIES_CELL) != 0)
+        return -1;
+    SimFrame frame;
+    sim_world_frame(world, &frame);
+    app_species_map_add(&map, &frame, marked);
+    int need = app_species_map_format(&map, tag, NULL, 0);
+    size_t old = *text ? strlen(*text) : 0;
+    char *grown = realloc(*text, old + (size_t)need + 2);
+    if (!grown)
+        abort();
+    app_species_map_format(&map, tag, grown + old, (size_t)need + 1);
+    memcpy(grown + old + need, "\n", 2);
+    *text = grown;
+    app_species_map_free(&map);
+    return 0;
+}
+
 /* ---------------------------------------------------------------- study: one sample */
 
 typedef struct Study {
@@ -514,10 +671,41 @@ static int read_done(const char *path, const double *widths, int count, unsigned
     return n;
 }
 
+/* The species-map records of a sample (s<k>.map) worth keeping on resume: the pile's, and those
+ * of widths already in the sample's table (a record written just before an interruption is
+ * redone with its width). */
+static char *read_maps(const char *path, const double *widths, int count, const unsigned char *done)
+{
+    char *kept = NULL, *line = NULL;
+    size_t used = 0, cap = 0;
+    FILE *f = fopen(path, "r");
+    if (f) {
+        ssize_t len;
+        while ((len = getline(&line, &cap, f)) > 0) {
+            int keep = strncmp(line, "pile,", 5) == 0;
+            double w = strtod(line, NULL);
+            for (int k = 0; k < count && !keep; ++k)
+                keep = done[k] && fabs(widths[k] - w) < 1e-6;
+            if (!keep)
+                continue;
+            char *grown = realloc(kept, used + (size_t)len + 1);
+            if (!grown)
+                abort();
+            kept = grown;
+            memcpy(kept + used, line, (size_t)len + 1);
+            used += (size_t)len;
+        }
+        fclose(f);
+    }
+    free(line);
+    return kept;
+}
+
 static int run_sample(const Scene *scene, const Study *st, double L, int sample)
 {
-    char csv[PATH], dep_path[PATH], pile[PATH], err[4096] = "";
+    char csv[PATH], dep_path[PATH], pile[PATH], maps_path[PATH], err[4096] = "";
     sample_paths(st->dir, L, sample, csv, dep_path, pile);
+    snprintf(maps_path, sizeof maps_path, "%s/L%g/samples/s%06d.map", st->dir, L, sample);
     unsigned char done[MAX_WIDTHS];
     char *text = NULL;
     int n_done = read_done(csv, st->widths, st->width_count, done, &text);
@@ -525,6 +713,7 @@ static int run_sample(const Scene *scene, const Study *st, double L, int sample)
         free(text);
         return 0;
     }
+    char *maps = read_maps(maps_path, st->widths, st->width_count, done);
     struct stat sb;
     if (stat(pile, &sb) != 0) {
         AppDeposit dep;
@@ -533,6 +722,7 @@ static int run_sample(const Scene *scene, const Study *st, double L, int sample)
         if (!world) {
             fprintf(stderr, "sablier: study L = %g sample %d: deposition: %s\n", L, sample, err);
             free(text);
+            free(maps);
             return 1;
         }
         /* deposition record: fixed fields, then the profile of the top per d-wide strip */
@@ -551,14 +741,36 @@ static int run_sample(const Scene *scene, const Study *st, double L, int sample)
             used += (size_t)snprintf(line + used, size - used, ",%.6g",
                                      isfinite(heights[b]) ? heights[b] : 0.0);
         snprintf(line + used, size - used, "\n");
+        /* the pile's species map before discharge (004 §3.4), kept before the checkpoint */
+        char *fresh = NULL;
+        int bad = 0;
+        if (map_record(scene, world, L, "pile", &fresh) == 0) {
+            for (char *p = maps; p && *p;) { /* keep the widths' records, not an old pile's */
+                char *eol = strchr(p, '\n');
+                size_t n = eol ? (size_t)(eol - p) + 1 : strlen(p), have = strlen(fresh);
+                if (strncmp(p, "pile,", 5) != 0) {
+                    char *grown = realloc(fresh, have + n + 1);
+                    if (!grown)
+                        abort();
+                    fresh = grown;
+                    memcpy(fresh + have, p, n);
+                    fresh[have + n] = '\0';
+                }
+                p += n;
+            }
+            free(maps);
+            maps = fresh;
+            bad = write_atomic(maps_path, maps) != 0;
+        }
         SimError error;
-        int bad = sim_world_save(world, pile, &error) != SIM_OK || write_atomic(dep_path, line);
+        bad = bad || sim_world_save(world, pile, &error) != SIM_OK || write_atomic(dep_path, line);
         sim_world_destroy(world);
         free(heights);
         free(line);
         if (bad) {
             fprintf(stderr, "sablier: study: cannot write %s\n", pile);
             free(text);
+            free(maps);
             return 2;
         }
     }
@@ -580,7 +792,15 @@ static int run_sample(const Scene *scene, const Study *st, double L, int sample)
             status = 1;
             break;
         }
+        /* species map after a discharge an arch stopped (004 §3.4: jammed samples only) */
+        char tag[32];
+        snprintf(tag, sizeof tag, "%.10g", st->widths[k]);
+        int mapped = r.arch > 0 && map_record(scene, world, L, tag, &maps) == 0;
         sim_world_destroy(world);
+        if (mapped && write_atomic(maps_path, maps) != 0) {
+            status = 2;
+            break;
+        }
         char row[512];
         app_discharge_csv_row(&r, sample, L, row, sizeof row);
         size_t len = strlen(out);
@@ -591,6 +811,7 @@ static int run_sample(const Scene *scene, const Study *st, double L, int sample)
         }
     }
     free(out);
+    free(maps);
     if (status == 0)
         remove(pile); /* every width done: the pile is no longer needed */
     return status;
@@ -787,6 +1008,115 @@ static int compare_long(const void *a, const void *b)
 {
     long x = *(const long *)a, y = *(const long *)b;
     return (x > y) - (x < y);
+}
+
+/* Species maps of one L (004 §3.4, fig. 3.4): the piles before discharge, and after the
+ * discharges an arch stopped, per width; fractions are ratios of sums over samples. */
+static int species_maps(const Scene *scene, const char *dir, double L, const double *widths,
+                        int width_count, int samples, const AppDischargeRender *render, char *err,
+                        size_t err_size)
+{
+    const char *what;
+    if (app_species_marked(scene, &what) < 0)
+        return 0;
+    AppSpeciesMap *maps = calloc((size_t)width_count + 1, sizeof *maps); /* [0] = before */
+    int *piles = calloc((size_t)width_count + 1, sizeof *piles);
+    if (!maps || !piles)
+        abort();
+    int status = 0;
+    for (int k = 0; k <= width_count; ++k)
+        if (app_species_map_init(&maps[k], L, SPECIES_CELL) != 0)
+            abort();
+    char path[PATH + 64], *line = NULL;
+    size_t cap = 0;
+    for (int s = 0; s < samples; ++s) {
+        snprintf(path, sizeof path, "%s/L%g/samples/s%06d.map", dir, L, s);
+        FILE *f = fopen(path, "r");
+        if (!f)
+            continue;
+        while (getline(&line, &cap, f) > 0) {
+            char *comma = strchr(line, ',');
+            if (!comma)
+                continue;
+            int k = -1;
+            if (strncmp(line, "pile,", 5) == 0)
+                k = 0;
+            else
+                for (int j = 0; j < width_count && k < 0; ++j)
+                    if (fabs(widths[j] - strtod(line, NULL)) < 1e-6)
+                        k = j + 1;
+            if (k >= 0 && app_species_map_parse(&maps[k], comma + 1) == 0)
+                ++piles[k];
+        }
+        fclose(f);
+    }
+    free(line);
+    const AppSpeciesMap *m = &maps[0];
+    size_t cells = (size_t)m->nx * (size_t)m->ny;
+    size_t text_cap = 64 + 96 * cells * (size_t)(width_count + 1), used = 0;
+    char *text = malloc(text_cap);
+    double *values = malloc(cells * sizeof *values);
+    if (!text || !values)
+        abort();
+    /* before discharge */
+    used = (size_t)snprintf(text, text_cap, "x,y,count,fraction\n");
+    for (int j = 0; j < m->ny; ++j)
+        for (int i = 0; i < m->nx; ++i) {
+            values[(size_t)j * (size_t)m->nx + (size_t)i] = app_species_map_fraction(m, i, j);
+            used += (size_t)snprintf(text + used, text_cap - used, "%.6g,%.6g,%ld,%.8g\n",
+                                     m->x0 + (i + 0.5) * m->cell, m->y0 + (j + 0.5) * m->cell,
+                                     m->count[(size_t)j * (size_t)m->nx + (size_t)i],
+                                     values[(size_t)j * (size_t)m->nx + (size_t)i]);
+        }
+    snprintf(path, sizeof path, "%s/L%g/species_map.csv", dir, L);
+    if (piles[0] > 0 && write_atomic(path, text) != 0)
+        status = -1;
+    if (piles[0] > 0 && render && render->map) {
+        char title[192], bar[64];
+        snprintf(title, sizeof title,
+                 "fraction of %s grains before discharge, L = %g d, %d piles, %g d cells (004 "
+                 "fig. 3.4)",
+                 what, L, piles[0], SPECIES_CELL);
+        snprintf(bar, sizeof bar, "%s", strcmp(what, "small") == 0 ? "q_s" : "q_d");
+        int rows = 1; /* drawn up to the highest row with grains */
+        for (size_t c = 0; c < cells; ++c)
+            if (m->count[c] > 0)
+                rows = (int)(c / (size_t)m->nx) + 1;
+        AppMap map = {title, "x / d", "y / d", bar, m->nx, rows, m->x0, m->y0, m->cell, values};
+        snprintf(path, sizeof path, "%s/L%g/species_map.png", dir, L);
+        if (render->map(render->context, scene, &map, path, err, err_size) != 0)
+            status = -1;
+    }
+    /* after the discharges an arch stopped, per width */
+    used = (size_t)snprintf(text, text_cap, "w,jammed,x,y,count,fraction\n");
+    int any = 0;
+    for (int k = 1; k <= width_count; ++k) {
+        const AppSpeciesMap *a = &maps[k];
+        if (piles[k] == 0)
+            continue;
+        any = 1;
+        for (int j = 0; j < a->ny; ++j)
+            for (int i = 0; i < a->nx; ++i)
+                used += (size_t)snprintf(text + used, text_cap - used,
+                                         "%.10g,%d,%.6g,%.6g,%ld,%.8g\n", widths[k - 1], piles[k],
+                                         a->x0 + (i + 0.5) * a->cell, a->y0 + (j + 0.5) * a->cell,
+                                         a->count[(size_t)j * (size_t)a->nx + (size_t)i],
+                                         app_species_map_fraction(a, i, j));
+    }
+    snprintf(path, sizeof path, "%s/L%g/species_map_jammed.csv", dir, L);
+    if (any && write_atomic(path, text) != 0)
+        status = -1;
+    fprintf(stderr,
+            "sablier: study: L = %g d: species maps (%s grains) over %d piles before "
+            "discharge%s\n",
+            L, what, piles[0], any ? ", and jammed piles per width" : "");
+    free(text);
+    free(values);
+    for (int k = 0; k <= width_count; ++k)
+        app_species_map_free(&maps[k]);
+    free(maps);
+    free(piles);
+    return status;
 }
 
 int app_study_reduce(const Scene *scene, const char *dir, const double *lengths, int length_count,
@@ -989,9 +1319,14 @@ int app_study_reduce(const Scene *scene, const char *dir, const double *lengths,
         }
         free(profile);
         free(profile2);
+        if (species_maps(scene, dir, L, widths, width_count, samples, render, err, err_size) != 0)
+            status = -1;
         gaussian_fit(widths, h_sd + (size_t)l * (size_t)width_count, width_count, &w_t[l], &fitA[l],
                      &fitB[l], &fitC[l]);
     }
+    if (app_species_marked(scene, NULL) < 0)
+        fprintf(stderr, "sablier: study: no species maps: the scene's discharge rows have one "
+                        "species (or two of the same diameter and density)\n");
     snprintf(path, sizeof path, "%s/study.csv", dir);
     if (write_atomic(path, study) != 0)
         status = -1;

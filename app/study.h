@@ -27,6 +27,15 @@ typedef struct AppPlot {
     const AppPlotSeries *series;
 } AppPlot;
 
+/// A heat map on square cells (the species maps, 004 fig. 3.4): values row-major, index
+/// j * nx + i, row 0 at the bottom; NaN = empty cell.
+typedef struct AppMap {
+    const char *title, *x_label, *y_label, *bar_label;
+    int nx, ny;
+    double x0, y0, cell; ///< lower-left corner of cell (0, 0) and side, d
+    const double *values;
+} AppMap;
+
 typedef struct AppDischargeRender {
     void *context;
     /// A pile snapshot: species colours from the scene's `render` group; arch_marks (frame
@@ -36,6 +45,8 @@ typedef struct AppDischargeRender {
     int (*plot)(void *context, const Scene *scene, const AppPlot *plot, const char *path, char *err,
                 size_t err_size);
     const AppRenderHooks *movie; ///< movie_open / movie_close of the stage runner
+    int (*map)(void *context, const Scene *scene, const AppMap *map, const char *path, char *err,
+               size_t err_size); ///< NULL: no species-map figures
 } AppDischargeRender;
 
 /// `sablier discharge SCENE ...`; returns the exit status.
@@ -51,6 +62,36 @@ extern const char APP_STUDY_USAGE[];
 double app_gaussian_peak(const double *w, const double *sigma, int n);
 /// Least-squares line y = a + b x; a_err is the standard error of the intercept (0 if n < 3).
 void app_linear_fit(const double *x, const double *y, int n, double *a, double *b, double *a_err);
+
+/// Species counts on square cells over piles (004 §3.4: q_s and q_d maps on 5 d squares),
+/// summed over samples, so a cell's fraction is a ratio of sums: marked / count.
+typedef struct AppSpeciesMap {
+    int nx, ny;          ///< cells, row-major index j * nx + i
+    double x0, y0, cell; ///< lower-left corner of cell (0, 0) and side, d
+    long *count;         ///< grains per cell
+    long *marked;        ///< of them, grains of the marked species
+} AppSpeciesMap;
+
+/// Cells of side `cell` for a pile on a base of length L: an odd number of columns with one
+/// centred on x = 0 (above the orifice), covering [-L/2, L/2] x [0, L]. 0, or -1 on bad input.
+int app_species_map_init(AppSpeciesMap *map, double L, double cell);
+void app_species_map_free(AppSpeciesMap *map);
+/// Adds the mobile grains of one pile (fixed grains skipped; flags and species may be NULL);
+/// `marked` is the species counted in map->marked. Returns the grains outside the cells.
+int app_species_map_add(AppSpeciesMap *map, const SimFrame *frame, int marked);
+/// Fraction of marked grains in cell (i, j); NaN when the cell is empty or outside.
+double app_species_map_fraction(const AppSpeciesMap *map, int i, int j);
+/// One record "TAG,nx,ny,k:count:marked,..." of the non-empty cells (k = j * nx + i), no newline
+/// (buf may be NULL to get the length);
+/// returns what snprintf returns.
+int app_species_map_format(const AppSpeciesMap *map, const char *tag, char *buf, size_t size);
+/// Adds a record of app_species_map_format, given the text after its tag and comma. 0, or -1 when
+/// the grid differs or the text is malformed (nothing added then).
+int app_species_map_parse(AppSpeciesMap *map, const char *text);
+/// The species the maps count: the smaller one when the scene's two discharge species differ in
+/// diameter (q_s), else the lighter one when they differ in density (q_d); -1 otherwise. *what
+/// (may be NULL) gets "small" or "light".
+int app_species_marked(const Scene *scene, const char **what);
 
 /// Reduces finished runs of a study folder to tables (per-(L, w) CSV, study.csv, fits.csv, F(s))
 /// and plots; returns 0, or -1 with a message.

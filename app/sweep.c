@@ -280,7 +280,7 @@ static int expand_vary(Sweep *w, char vary[][SWEEP_STRING], int vary_count)
                                   "%s%s=%s", v ? " " : "", short_key, values[v][index[v]]);
             if (n >= sizeof m->label)
                 n = sizeof m->label - 1;
-            char set[SWEEP_STRING];
+            char set[2 * SWEEP_STRING + 2]; /* KEY=VALUE, both at most SWEEP_STRING */
             snprintf(set, sizeof set, "%s=%s", keys[v], values[v][index[v]]);
             add_set(m->sets, &m->set_count, set);
         }

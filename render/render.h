@@ -183,6 +183,27 @@ int render_axis_ticks(double lo, double hi, int log, int target, double *ticks, 
 /// Widens [*lo, *hi] outward to tick multiples (linear) or whole decades (log).
 void render_axis_nice_range(double *lo, double *hi, int log, int target);
 
+/* ---- heat maps on square cells (render_map.c; 004 fig. 3.4) ---- */
+
+typedef struct RenderMap {
+    int width, height;    ///< pixels
+    int nx, ny;           ///< cells; values row-major, index j * nx + i, row j = 0 at the bottom
+    double x0, y0, cell;  ///< lower-left corner of cell (0, 0) and cell side, data units
+    const double *values; ///< non-finite = empty cell, drawn white
+    double min, max;      ///< colour range; min >= max = from the data, widened to nice numbers
+    RenderColormap colormap;
+    const char *title, *x_label, *y_label, *bar_label; ///< NULL = none
+    double font_size; ///< pixels (0 = min(width, height) / 40, at least 10)
+} RenderMap;
+
+/// Writes a heat map (cells at equal aspect ratio, axes, colour bar): .png (libpng, text chunks),
+/// .pdf or .svg; temporary name then rename. The pixel at a cell's centre is exactly
+/// render_colormap_rgb of its value in the range. 0, or -1 with a message in err.
+int render_map_write(const RenderMap *map, const RenderMeta *meta, const char *path, char *err,
+                     size_t err_size);
+/// Pixel position of data point (x, y) in the map as drawn. 0, or -1 on a bad map.
+int render_map_pixel(const RenderMap *map, double x, double y, double *px, double *py);
+
 /* ---- movies (owned by render_video.c; drawer OSMesa or Cairo) ---- */
 
 typedef enum RenderDrawer {

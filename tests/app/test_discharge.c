@@ -392,8 +392,76 @@ static int fits(void)
     return 0;
 }
 
+/* Species maps (004 §3.4): binning on 5 d cells centred on the orifice, fixed and outside grains
+ * left out, exact fractions, empty cells, two piles summed as a ratio of sums, the per-sample
+ * record round trip, and which species a scene's map counts. */
+static int species_map_cells(void)
+{
+    AppSpeciesMap map;
+    TEST_ASSERT(app_species_map_init(&map, 10.0, 5.0) == 0);
+    TEST_ASSERT(map.nx == 3 && map.ny == 2); /* a column over x = 0, one each side; 0-10 d high */
+    TEST_NEAR(map.x0, -7.5, 0.0);
+    TEST_NEAR(map.y0, 0.0, 0.0);
+    /* pile 1: cell (1, 0) gets two of species 0 and one of species 1; cell (0, 1) one of
+     * species 1; a fixed grain and two grains outside are not counted */
+    double x1[] = {0.0, 1.0, -1.0, -6.0, 0.0, 9.0, 0.0},
+           y1[] = {1.0, 2.0, 4.0, 7.0, 0.5, 1.0, -0.1};
+    int sp1[] = {0, 1, 0, 1, 0, 0, 0};
+    unsigned fl1[] = {0, 0, 0, 0, SIM_GRAIN_FIXED, 0, 0};
+    SimFrame f1 = {.count = 7, .x = x1, .y = y1, .species = sp1, .flags = fl1};
+    TEST_ASSERT(app_species_map_add(&map, &f1, 0) == 2);
+    TEST_NEAR(app_species_map_fraction(&map, 1, 0), 2.0 / 3.0, 1e-15);
+    TEST_NEAR(app_species_map_fraction(&map, 0, 1), 0.0, 0.0);
+    TEST_ASSERT(map.count[1] == 3 && map.marked[1] == 2 && map.count[3] == 1);
+    TEST_ASSERT(isnan(app_species_map_fraction(&map, 2, 1))); /* empty */
+    TEST_ASSERT(isnan(app_species_map_fraction(&map, 3, 0))); /* outside the grid */
+    /* pile 2: one species-1 grain in cell (1, 0): 2 of 4 (a mean of per-pile ratios would give
+     * (2/3 + 0)/2) */
+    double x2[] = {2.0}, y2[] = {3.0};
+    int sp2[] = {1};
+    SimFrame f2 = {.count = 1, .x = x2, .y = y2, .species = sp2};
+    TEST_ASSERT(app_species_map_add(&map, &f2, 0) == 0);
+    TEST_NEAR(app_species_map_fraction(&map, 1, 0), 0.5, 1e-15);
+    /* the per-sample record: summed back exactly, twice = the counts doubled */
+    char record[256];
+    int n = app_species_map_format(&map, "pile", record, sizeof record);
+    TEST_ASSERT(n == app_species_map_format(&map, "pile", NULL, 0) && n < (int)sizeof record);
+    TEST_ASSERT(strcmp(record, "pile,3,2,1:4:2,3:1:0") == 0);
+    AppSpeciesMap sum, other;
+    TEST_ASSERT(app_species_map_init(&sum, 10.0, 5.0) == 0);
+    TEST_ASSERT(app_species_map_parse(&sum, record + 5) == 0);
+    TEST_ASSERT(app_species_map_parse(&sum, record + 5) == 0);
+    TEST_ASSERT(sum.count[1] == 8 && sum.marked[1] == 4 && sum.count[3] == 2 && sum.marked[3] == 0);
+    TEST_NEAR(app_species_map_fraction(&sum, 1, 0), 0.5, 1e-15);
+    TEST_ASSERT(app_species_map_parse(&sum, "3,2,1:4:2,9:1:0") == -1); /* cell out of range */
+    TEST_ASSERT(app_species_map_parse(&sum, "3,2,1:4:5") == -1);       /* marked > count */
+    TEST_ASSERT(app_species_map_parse(&sum, "3,2,1:4") == -1);         /* truncated */
+    TEST_ASSERT(sum.count[1] == 8 && sum.marked[1] == 4);              /* nothing added */
+    TEST_ASSERT(app_species_map_init(&other, 20.0, 5.0) == 0);
+    TEST_ASSERT(other.nx == 5 && other.ny == 4);
+    TEST_ASSERT(app_species_map_parse(&other, record + 5) == -1); /* another grid */
+    app_species_map_free(&other);
+    TEST_ASSERT(app_species_map_init(&other, 0.0, 5.0) == -1);
+    app_species_map_free(&other);
+    app_species_map_free(&sum);
+    app_species_map_free(&map);
+    /* which species: small (size-bidisperse), light (density-bidisperse), none (one species) */
+    const char *what;
+    Scene *scene = small_scene_of("scenes/discharge/bidisperse.scene", NULL);
+    TEST_ASSERT(scene && app_species_marked(scene, &what) == 0 && strcmp(what, "small") == 0);
+    scene_free(scene);
+    scene = small_scene_of("scenes/discharge/density.scene", NULL);
+    TEST_ASSERT(scene && app_species_marked(scene, &what) == 0 && strcmp(what, "light") == 0);
+    scene_free(scene);
+    scene = small_scene(NULL);
+    TEST_ASSERT(scene && app_species_marked(scene, &what) == -1 && what == NULL);
+    scene_free(scene);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(poly_scene_parameters), TEST_CASE(scene_errors), TEST_CASE(equilibrium_pocket),
           TEST_CASE(orifice_widths), TEST_CASE(pile_conservation),
           TEST_CASE(small_jams_wide_empties), TEST_CASE(reduced_study_h_decreases),
           TEST_CASE(arch_marks_and_height), TEST_CASE(fits),
-          TEST_CASE(rolling_resistance_holds_triangle), TEST_CASE(settled_pile_opens_at_once))
+          TEST_CASE(rolling_resistance_holds_triangle), TEST_CASE(settled_pile_opens_at_once),
+          TEST_CASE(species_map_cells))
