@@ -78,8 +78,10 @@ SimStatus sim_world_save(SimWorld *w, const char *path, SimError *error)
     counts[0] = rc;
     counts[1] = wc;
     ok = ok && fwrite(counts, sizeof counts, 1, f) == 1;
-    ok = ok && fwrite(records, SIM_HISTORY_RECORD_SIZE, (size_t)rc, f) == (size_t)rc;
-    ok = ok && fwrite(walls, SIM_HISTORY_RECORD_SIZE, (size_t)wc, f) == (size_t)wc;
+    if (rc > 0) /* no history: the arrays may be NULL, which fwrite must not see */
+        ok = ok && fwrite(records, SIM_HISTORY_RECORD_SIZE, (size_t)rc, f) == (size_t)rc;
+    if (wc > 0)
+        ok = ok && fwrite(walls, SIM_HISTORY_RECORD_SIZE, (size_t)wc, f) == (size_t)wc;
     free(records);
     free(walls);
     if (fclose(f) != 0)
