@@ -43,16 +43,11 @@ unsigned sim_contact_key(const SimWorld *world)
     return key;
 }
 
-/* min/max that compile to single instructions: libm's fmin is a function call unless NaN
+/* A min that compiles to one instruction: libm's fmin is a function call unless NaN
  * semantics are relaxed, and it spills every register around the kernel's hot loop. */
 static inline double min_d(double a, double b)
 {
     return a < b ? a : b;
-}
-
-static inline double max_d(double a, double b)
-{
-    return a > b ? a : b;
 }
 
 /* Normal force magnitude (positive = repulsive) and its elastic part. 000 eq. 3.6 (linear),
@@ -70,7 +65,7 @@ static inline double normal_force(const unsigned key, double k_n, double gamma_n
         f = *elastic - gamma_n * v_n;
     }
     if (key & KEY_CLIP)
-        f = max_d(f, 0.0);
+        f = f > 0.0 ? f : 0.0; /* a branch: the sign is predictable, a max would sit on the chain */
     return f;
 }
 
