@@ -3,6 +3,7 @@
 #include "bne.h"
 
 #include "run.h"
+#include "util.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -31,31 +32,7 @@ struct AppBne {
 
 /* ---------------------------------------------------------------- parsing */
 
-typedef struct Parse {
-    const char *path;
-    char *err;
-    size_t err_size;
-} Parse;
-
-__attribute__((format(printf, 3, 4))) static int bad(Parse *p, const config_setting_t *s,
-                                                     const char *format, ...)
-{
-    char message[512];
-    va_list args;
-    va_start(args, format);
-    vsnprintf(message, sizeof message, format, args);
-    va_end(args);
-    if (s && config_setting_get_hook(s))
-        snprintf(p->err, p->err_size, "--set %s: %s", (const char *)config_setting_get_hook(s),
-                 message);
-    else
-        snprintf(p->err, p->err_size, "%s:%u: bne: %s",
-                 s && config_setting_source_file(s) ? config_setting_source_file(s) : p->path,
-                 s && config_setting_source_line(s) ? config_setting_source_line(s) : 1u, message);
-    return -1;
-}
-
-static int number(Parse *p, const config_setting_t *g, const char *key, double min, double *out)
+static int number(AppParse *p, const config_setting_t *g, const char *key, double min, double *out)
 {
     const config_setting_t *s = config_setting_get_member(g, key);
     if (!s)
@@ -66,19 +43,19 @@ static int number(Parse *p, const config_setting_t *g, const char *key, double m
     else if (type == CONFIG_TYPE_INT || type == CONFIG_TYPE_INT64)
         *out = (double)config_setting_get_int64(s);
     else
-        return bad(p, s, "`%s` must be a number", key);
+        return app_parse_fail(p, s, "`%s` must be a number", key);
     if (!isfinite(*out) || *out < min)
-        return bad(p, s, "`%s` must be a finite number >= %g, got %g", key, min, *out);
+        return app_parse_fail(p, s, "`%s` must be a finite number >= %g, got %g", key, min, *out);
     return 1;
 }
 
 AppBne *app_bne_parse(const config_setting_t *g, Scene *scene, char *err, size_t err_size)
 {
-    Parse p = {scene->path, err, err_size};
+    AppParse p = {scene->path, err, err_size, "bne"};
     static const char *const keys[] = {"intruder", "motion",    "gamma", "period",
                                        "stage",    "tolerance", NULL};
     if (config_setting_type(g) != CONFIG_TYPE_GROUP) {
-        bad(&p, g, "`bne` must be a group { ... }");
+        app_parse_fail(&p, g, "`bne` must be a group { ... }");
         return NULL;
     }
     for (int k = 0; k < config_setting_length(g); ++k) {
@@ -87,17 +64,17 @@ AppBne *app_bne_parse(const config_setting_t *g, Scene *scene, char *err, size_t
         for (int j = 0; keys[j] && !known; ++j)
             known = strcmp(keys[j], config_setting_name(s)) == 0;
         if (!known) {
-            bad(&p, s, "unknown key `%s`", config_setting_name(s));
+            app_parse_fail(&p, s, "unknown key `%s`", config_setting_name(s));
             return NULL;
         }
     }
     if (!(scene->def.effects & SIM_EFFECT_VIBRATION)) {
-        bad(&p, g, "the box is shaken by a motion: declare effect vibration");
+        app_parse_fail(&p, g, "the box is shaken by a motion: declare effect vibration");
         return NULL;
     }
     AppBne *b = calloc(1, sizeof *b);
     if (!b) {
-        bad(&p, g, "out of memory");
+        app_parse_fail(&p, g, "out of memory");
         return NULL;
     }
     const config_setting_t *s = config_setting_get_member(g, "intruder");
@@ -105,7 +82,7 @@ AppBne *app_bne_parse(const config_setting_t *g, Scene *scene, char *err, size_t
         (config_setting_type(s) != CONFIG_TYPE_INT &&
          config_setting_type(s) != CONFIG_TYPE_INT64) ||
         config_setting_get_int64(s) < 0 || config_setting_get_int64(s) >= scene->grains.count) {
-        bad(&p, s ? s : g, "`intruder` (the id of a grain of the scene) is required");
+        app_parse_fail(&p, s ? s : g, "`intruder` (the id of a grain of the scene) is required");
         free(b);
         return NULL;
     }
@@ -113,7 +90,7 @@ AppBne *app_bne_parse(const config_setting_t *g, Scene *scene, char *err, size_t
     const char *motion = NULL, *stage = NULL;
     b->motion = -1;
     if (!config_setting_lookup_string(g, "motion", &motion)) {
-        bad(&p, g, "`motion` (the name of the motion shaking the box) is required");
+        app_parse_fail(&p, g, "`motion` (the name of the motion shaking the box) is required");
         free(b);
         return NULL;
     }
@@ -121,7 +98,7 @@ AppBne *app_bne_parse(const config_setting_t *g, Scene *scene, char *err, size_t
         if (strcmp(scene->motion_names[m], motion) == 0)
             b->motion = m;
     if (b->motion < 0) {
-        bad(&p, config_setting_get_member(g, "motion"), "no motion named `%s`", motion);
+        app_parse_fail(&p, config_setting_get_member(g, "motion"), "no motion named `%s`", motion);
         free(b);
         return NULL;
     }
@@ -137,7 +114,7 @@ AppBne *app_bne_parse(const config_setting_t *g, Scene *scene, char *err, size_t
         return NULL;
     }
     if (!(b->period > 0.0)) {
-        bad(&p, g, "`period` is required when the motion has no frequency");
+        app_parse_fail(&p, g, "`period` is required when the motion has no frequency");
         free(b);
         return NULL;
     }
@@ -157,7 +134,7 @@ AppBne *app_bne_parse(const config_setting_t *g, Scene *scene, char *err, size_t
     if (config_setting_lookup_string(g, "stage", &stage)) {
         b->stage = scene_stage_index(scene, stage);
         if (b->stage < 0) {
-            bad(&p, config_setting_get_member(g, "stage"), "no stage named `%s`", stage);
+            app_parse_fail(&p, config_setting_get_member(g, "stage"), "no stage named `%s`", stage);
             free(b);
             return NULL;
         }

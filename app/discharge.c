@@ -8,6 +8,8 @@
  * sim_frame_find_arch) and the species composition (004 §3.4). */
 #include "discharge.h"
 
+#include "util.h"
+
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -26,27 +28,7 @@ static double now_seconds(void)
 
 /* ---------------------------------------------------------------- parsing */
 
-typedef struct Parse {
-    const char *path;
-    char *err;
-    size_t err_size;
-} Parse;
-
-__attribute__((format(printf, 3, 4))) static int bad(Parse *p, const config_setting_t *s,
-                                                     const char *format, ...)
-{
-    char message[400];
-    va_list args;
-    va_start(args, format);
-    vsnprintf(message, sizeof message, format, args);
-    va_end(args);
-    const char *file = s ? config_setting_source_file(s) : NULL;
-    snprintf(p->err, p->err_size, "%s:%u: discharge: %s", file ? file : p->path,
-             s ? config_setting_source_line(s) : 1u, message);
-    return -1;
-}
-
-static int number(Parse *p, const config_setting_t *g, const char *key, double min, double *out)
+static int number(AppParse *p, const config_setting_t *g, const char *key, double min, double *out)
 {
     const config_setting_t *s = config_setting_get_member(g, key);
     if (!s)
@@ -57,38 +39,38 @@ static int number(Parse *p, const config_setting_t *g, const char *key, double m
     else if (type == CONFIG_TYPE_FLOAT)
         *out = config_setting_get_float(s);
     else
-        return bad(p, s, "`%s` must be a number", key);
+        return app_parse_fail(p, s, "`%s` must be a number", key);
     if (!isfinite(*out) || *out < min)
-        return bad(p, s, "`%s` must be a finite number >= %g, got %g", key, min, *out);
+        return app_parse_fail(p, s, "`%s` must be a finite number >= %g, got %g", key, min, *out);
     return 1;
 }
 
-static int integer(Parse *p, const config_setting_t *g, const char *key, long min, int *out)
+static int integer(AppParse *p, const config_setting_t *g, const char *key, long min, int *out)
 {
     const config_setting_t *s = config_setting_get_member(g, key);
     if (!s)
         return 0;
     int type = config_setting_type(s);
     if (type != CONFIG_TYPE_INT && type != CONFIG_TYPE_INT64)
-        return bad(p, s, "`%s` must be an integer", key);
+        return app_parse_fail(p, s, "`%s` must be an integer", key);
     long long v = config_setting_get_int64(s);
     if (v < min || v > 1000000000LL)
-        return bad(p, s, "`%s` must be an integer in [%ld, 1e9], got %lld", key, min, v);
+        return app_parse_fail(p, s, "`%s` must be an integer in [%ld, 1e9], got %lld", key, min, v);
     *out = (int)v;
     return 1;
 }
 
-static int numbers(Parse *p, const config_setting_t *g, const char *key, int max, double *out,
+static int numbers(AppParse *p, const config_setting_t *g, const char *key, int max, double *out,
                    int *count)
 {
     const config_setting_t *s = config_setting_get_member(g, key);
     if (!s)
         return 0;
     if (config_setting_type(s) != CONFIG_TYPE_ARRAY && config_setting_type(s) != CONFIG_TYPE_LIST)
-        return bad(p, s, "`%s` must be an array of numbers", key);
+        return app_parse_fail(p, s, "`%s` must be an array of numbers", key);
     int n = config_setting_length(s);
     if (n < 1 || n > max)
-        return bad(p, s, "`%s` must have 1 to %d entries", key, max);
+        return app_parse_fail(p, s, "`%s` must have 1 to %d entries", key, max);
     for (int k = 0; k < n; ++k) {
         const config_setting_t *e = config_setting_get_elem(s, (unsigned)k);
         int type = config_setting_type(e);
@@ -97,9 +79,9 @@ static int numbers(Parse *p, const config_setting_t *g, const char *key, int max
         else if (type == CONFIG_TYPE_INT || type == CONFIG_TYPE_INT64)
             out[k] = (double)config_setting_get_int64(e);
         else
-            return bad(p, s, "`%s` must be an array of numbers", key);
+            return app_parse_fail(p, s, "`%s` must be an array of numbers", key);
         if (!isfinite(out[k]) || out[k] < 0.0)
-            return bad(p, s, "`%s` entries must be finite and >= 0", key);
+            return app_parse_fail(p, s, "`%s` entries must be finite and >= 0", key);
     }
     *count = n;
     return 1;
@@ -108,7 +90,7 @@ static int numbers(Parse *p, const config_setting_t *g, const char *key, int max
 int app_discharge_parse(const config_setting_t *g, const char *scene_path, int species_count,
                         AppDischargeDef *def, char *err, size_t err_size)
 {
-    Parse p = {scene_path, err, err_size};
+    AppParse p = {scene_path, err, err_size, "discharge"};
     static const char *const keys[] = {
         "base_length",      "base_diameter", "gravity",     "release_height",  "row_period",
         "row_fill",         "row_jitter",    "max_rows",    "stationary_rows", "stationary_gain",
@@ -131,7 +113,7 @@ int app_discharge_parse(const config_setting_t *g, const char *scene_path, int s
     for (int k = 0; k < SIM_MAX_SPECIES; ++k)
         def->diameters[k] = 1.0;
     if (config_setting_type(g) != CONFIG_TYPE_GROUP)
-        return bad(&p, g, "`discharge` must be a group { ... }");
+        return app_parse_fail(&p, g, "`discharge` must be a group { ... }");
     for (int k = 0; k < config_setting_length(g); ++k) {
         const config_setting_t *s = config_setting_get_elem(g, (unsigned)k);
         const char *name = config_setting_name(s);
@@ -139,11 +121,11 @@ int app_discharge_parse(const config_setting_t *g, const char *scene_path, int s
         for (int j = 0; keys[j] && !known; ++j)
             known = strcmp(keys[j], name) == 0;
         if (!known)
-            return bad(&p, s, "unknown key `%s`", name);
+            return app_parse_fail(&p, s, "unknown key `%s`", name);
     }
     const config_setting_t *s = config_setting_get_member(g, "base_length");
     if (!s)
-        return bad(&p, g, "`base_length` (L, in grain diameters) is required");
+        return app_parse_fail(&p, g, "`base_length` (L, in grain diameters) is required");
     if (number(&p, g, "base_length", 2.0, &def->base_length) < 0 ||
         number(&p, g, "base_diameter", 1e-3, &def->base_diameter) < 0 ||
         number(&p, g, "release_height", 0.0, &def->release_height) < 0 ||
@@ -166,24 +148,25 @@ int app_discharge_parse(const config_setting_t *g, const char *scene_path, int s
         s = config_setting_get_member(g, def->row_fill > 1.0     ? "row_fill"
                                          : def->row_jitter > 1.0 ? "row_jitter"
                                                                  : "polydispersity");
-        return bad(&p, s, "row_fill and row_jitter must be <= 1, polydispersity < 0.5");
+        return app_parse_fail(&p, s, "row_fill and row_jitter must be <= 1, polydispersity < 0.5");
     }
     if (def->base_species >= species_count)
-        return bad(&p, config_setting_get_member(g, "base_species"),
-                   "`base_species` %d is not a species (0 to %d)", def->base_species,
-                   species_count - 1);
+        return app_parse_fail(&p, config_setting_get_member(g, "base_species"),
+                              "`base_species` %d is not a species (0 to %d)", def->base_species,
+                              species_count - 1);
     const char *gravity = NULL;
     if ((s = config_setting_get_member(g, "gravity")) != NULL) {
         if (config_setting_type(s) != CONFIG_TYPE_STRING)
-            return bad(&p, s, "`gravity` must be \"thesis\" or \"scene\"");
+            return app_parse_fail(&p, s, "`gravity` must be \"thesis\" or \"scene\"");
         gravity = config_setting_get_string(s);
         if (strcmp(gravity, "thesis") != 0 && strcmp(gravity, "scene") != 0)
-            return bad(&p, s, "`gravity` must be \"thesis\" or \"scene\", got \"%s\"", gravity);
+            return app_parse_fail(&p, s, "`gravity` must be \"thesis\" or \"scene\", got \"%s\"",
+                                  gravity);
         def->thesis_gravity = strcmp(gravity, "thesis") == 0;
     }
     if ((s = config_setting_get_member(g, "arch_force_check")) != NULL) {
         if (config_setting_type(s) != CONFIG_TYPE_BOOL)
-            return bad(&p, s, "`arch_force_check` must be true or false");
+            return app_parse_fail(&p, s, "`arch_force_check` must be true or false");
         def->arch_force_check = config_setting_get_bool(s);
     }
     int n = 0;
@@ -195,9 +178,9 @@ int app_discharge_parse(const config_setting_t *g, const char *scene_path, int s
         for (int k = 0; k < n; ++k)
             sum += def->fractions[k];
         if (n > species_count || !(sum > 0.0))
-            return bad(&p, config_setting_get_member(g, "fractions"),
-                       "`fractions` needs one entry per species (%d) and a positive sum",
-                       species_count);
+            return app_parse_fail(&p, config_setting_get_member(g, "fractions"),
+                                  "`fractions` needs one entry per species (%d) and a positive sum",
+                                  species_count);
         for (int k = 0; k < n; ++k)
             def->fractions[k] /= sum;
     }
@@ -206,8 +189,9 @@ int app_discharge_parse(const config_setting_t *g, const char *scene_path, int s
         return -1;
     for (int k = 0; got > 0 && k < n; ++k)
         if (!(def->diameters[k] > 0.0) || n > species_count)
-            return bad(&p, config_setting_get_member(g, "diameters"),
-                       "`diameters` needs one positive entry per species (%d)", species_count);
+            return app_parse_fail(&p, config_setting_get_member(g, "diameters"),
+                                  "`diameters` needs one positive entry per species (%d)",
+                                  species_count);
     got = numbers(&p, g, "widths", 64, def->widths, &def->width_count);
     if (got < 0)
         return -1;

@@ -10,6 +10,7 @@
 #include "sediment.h"
 #include "study.h"
 #include "sweep.h"
+#include "util.h"
 
 #include "sim/sim.h"
 
@@ -109,25 +110,6 @@ static const char USAGE_RENDER[] =
 /* ---------------------------------------------------------------- argument helpers */
 
 /* Matches "--name VALUE" or "--name=VALUE"; advances *i past the value. */
-static int option(int argc, char **argv, int *i, const char *name, const char **value)
-{
-    size_t n = strlen(name);
-    if (strncmp(argv[*i], name, n) != 0)
-        return 0;
-    if (argv[*i][n] == '=') {
-        *value = argv[*i] + n + 1;
-        return 1;
-    }
-    if (argv[*i][n] != '\0')
-        return 0;
-    if (*i + 1 >= argc) {
-        fprintf(stderr, "sablier: %s needs a value\n", name);
-        *value = NULL;
-        return -1;
-    }
-    *value = argv[++*i];
-    return 1;
-}
 
 static int parse_count(const char *text, long min, long max, long *out)
 {
@@ -521,14 +503,14 @@ static int command_run(int argc, char **argv)
     long threads = 1;
     for (int i = 2; i < argc; ++i) {
         int m;
-        if ((m = option(argc, argv, &i, "--out", &value)) != 0) {
+        if ((m = app_option(argc, argv, &i, "--out", &value)) != 0) {
             if (m < 0)
                 return 2;
             out = value;
-        } else if ((m = option(argc, argv, &i, "--set", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
             if (m < 0 || collect_set(sets, &set_count, value) < 0)
                 return 2;
-        } else if ((m = option(argc, argv, &i, "--threads", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--threads", &value)) != 0) {
             if (m < 0 || parse_count(value, 1, 1024, &threads) < 0)
                 return usage_error(USAGE_RUN, "--threads needs a count in [1, 1024], got",
                                    m < 0 ? "nothing" : value);
@@ -586,28 +568,28 @@ static int command_sweep(int argc, char **argv)
     AppSweepOptions o = app_sweep_options_default();
     for (int i = 2; i < argc; ++i) {
         int m;
-        if ((m = option(argc, argv, &i, "--out", &value)) != 0) {
+        if ((m = app_option(argc, argv, &i, "--out", &value)) != 0) {
             if (m < 0)
                 return 2;
             o.out_dir = value;
-        } else if ((m = option(argc, argv, &i, "--from", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--from", &value)) != 0) {
             if (m < 0)
                 return 2;
             o.from = value;
-        } else if ((m = option(argc, argv, &i, "--bed-stage", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--bed-stage", &value)) != 0) {
             if (m < 0)
                 return 2;
             o.bed_stage = value;
-        } else if ((m = option(argc, argv, &i, "--set", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
             if (m < 0 || collect_set(sets, &set_count, value) < 0)
                 return 2;
-        } else if ((m = option(argc, argv, &i, "--vary", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--vary", &value)) != 0) {
             if (m < 0)
                 return 2;
             if (vary_count >= 8)
                 return usage_error(USAGE_SWEEP, "too many --vary options", NULL);
             vary[vary_count++] = value;
-        } else if ((m = option(argc, argv, &i, "--jobs", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--jobs", &value)) != 0) {
             if (m < 0 || parse_count(value, 1, 64, &jobs) < 0)
                 return usage_error(USAGE_SWEEP, "--jobs needs a count in [1, 64], got",
                                    m < 0 ? "nothing" : value);
@@ -743,26 +725,26 @@ static int command_bne(int argc, char **argv)
     o.ldf_periods = 5.0;
     for (int i = 2; i < argc; ++i) {
         int m;
-        if ((m = option(argc, argv, &i, "--out", &value)) != 0) {
+        if ((m = app_option(argc, argv, &i, "--out", &value)) != 0) {
             if (m < 0)
                 return 2;
             out = value;
-        } else if ((m = option(argc, argv, &i, "--set", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
             if (m < 0 || collect_set(sets, &set_count, value) < 0)
                 return 2;
-        } else if ((m = option(argc, argv, &i, "--vary", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--vary", &value)) != 0) {
             if (m < 0)
                 return 2;
             o.vary = value;
-        } else if ((m = option(argc, argv, &i, "--seeds", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--seeds", &value)) != 0) {
             if (m < 0 || parse_count(value, 1, 10000, &seeds) < 0)
                 return usage_error(USAGE_BNE, "--seeds needs a count in [1, 10000], got",
                                    m < 0 ? "nothing" : value);
-        } else if ((m = option(argc, argv, &i, "--seed0", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--seed0", &value)) != 0) {
             if (m < 0 || parse_count(value, 0, 1000000000, &seed0) < 0)
                 return usage_error(USAGE_BNE, "--seed0 needs a seed >= 0, got",
                                    m < 0 ? "nothing" : value);
-        } else if ((m = option(argc, argv, &i, "--ldf", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--ldf", &value)) != 0) {
             char *end = NULL;
             o.ldf_periods = m < 0 ? -1.0 : strtod(value, &end);
             if (m < 0 || !end || *end || !(o.ldf_periods >= 0.0))
@@ -819,7 +801,7 @@ static int command_check(int argc, char **argv)
     const char *scene_path = NULL, *value, *sets[MAX_SETS];
     int set_count = 0;
     for (int i = 2; i < argc; ++i) {
-        int m = option(argc, argv, &i, "--set", &value);
+        int m = app_option(argc, argv, &i, "--set", &value);
         if (m < 0)
             return 2;
         if (m > 0) {
@@ -909,17 +891,17 @@ static int command_diff(int argc, char **argv)
     for (int i = 2; i < argc; ++i) {
         int m;
         long *target = NULL;
-        if ((m = option(argc, argv, &i, "--out", &value)) != 0) {
+        if ((m = app_option(argc, argv, &i, "--out", &value)) != 0) {
             if (m < 0)
                 return 2;
             out = value;
             continue;
         }
-        if ((m = option(argc, argv, &i, "--threshold", &value)) != 0)
+        if ((m = app_option(argc, argv, &i, "--threshold", &value)) != 0)
             target = &threshold;
-        else if ((m = option(argc, argv, &i, "--shift", &value)) != 0)
+        else if ((m = app_option(argc, argv, &i, "--shift", &value)) != 0)
             target = &shift;
-        else if ((m = option(argc, argv, &i, "--max-pixels", &value)) != 0)
+        else if ((m = app_option(argc, argv, &i, "--max-pixels", &value)) != 0)
             target = &max_pixels;
         if (target) {
             if (m < 0 || parse_count(value, 0, 1000000000L, target) < 0)
@@ -1065,40 +1047,40 @@ static int command_render(int argc, char **argv)
     for (int i = 2; i < argc; ++i) {
         int m;
         long count;
-        if ((m = option(argc, argv, &i, "-o", &value)) != 0 ||
-            (m = option(argc, argv, &i, "--out", &value)) != 0) {
+        if ((m = app_option(argc, argv, &i, "-o", &value)) != 0 ||
+            (m = app_option(argc, argv, &i, "--out", &value)) != 0) {
             if (m < 0)
                 return 2;
             out = value;
-        } else if ((m = option(argc, argv, &i, "--scene", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--scene", &value)) != 0) {
             if (m < 0)
                 return 2;
             scene_path = value;
-        } else if ((m = option(argc, argv, &i, "--set", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
             if (m < 0 || collect_set(sets, &set_count, value) < 0)
                 return 2;
-        } else if ((m = option(argc, argv, &i, "--color-by", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--color-by", &value)) != 0) {
             if (m < 0 || (over.color_by = name_index(value, color_names)) < 0)
                 return usage_error(USAGE_RENDER, "unknown --color-by", m < 0 ? "" : value);
-        } else if ((m = option(argc, argv, &i, "--colormap", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--colormap", &value)) != 0) {
             if (m < 0 || (over.colormap = name_index(value, cmap_names)) < 0)
                 return usage_error(USAGE_RENDER, "unknown --colormap", m < 0 ? "" : value);
-        } else if ((m = option(argc, argv, &i, "--width", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--width", &value)) != 0) {
             if (m < 0 || parse_count(value, 16, 16384, &count) < 0)
                 return usage_error(USAGE_RENDER, "--width must be in [16, 16384], got",
                                    m < 0 ? "" : value);
             over.width = (int)count;
-        } else if ((m = option(argc, argv, &i, "--height", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--height", &value)) != 0) {
             if (m < 0 || parse_count(value, 16, 16384, &count) < 0)
                 return usage_error(USAGE_RENDER, "--height must be in [16, 16384], got",
                                    m < 0 ? "" : value);
             over.height = (int)count;
-        } else if ((m = option(argc, argv, &i, "--chain-threshold", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--chain-threshold", &value)) != 0) {
             char *end;
             over.chain_threshold = m > 0 ? strtod(value, &end) : -1.0;
             if (m < 0 || *end || !(over.chain_threshold >= 0.0))
                 return usage_error(USAGE_RENDER, "bad --chain-threshold", m < 0 ? "" : value);
-        } else if ((m = option(argc, argv, &i, "--title", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--title", &value)) != 0) {
             if (m < 0)
                 return 2;
             snprintf(over.title, sizeof over.title, "%s", value);

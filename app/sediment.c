@@ -8,6 +8,7 @@
 #include "sediment.h"
 
 #include "run.h"
+#include "util.h"
 
 #include <errno.h>
 #include <math.h>
@@ -39,33 +40,8 @@ struct AppSediment {
 
 /* ---------------------------------------------------------------- parsing */
 
-typedef struct Parse {
-    const char *path;
-    char *err;
-    size_t err_size;
-} Parse;
-
-__attribute__((format(printf, 3, 4))) static int bad(Parse *p, const config_setting_t *s,
-                                                     const char *format, ...)
-{
-    char message[512];
-    va_list args;
-    va_start(args, format);
-    vsnprintf(message, sizeof message, format, args);
-    va_end(args);
-    const char *file = s ? config_setting_source_file(s) : NULL;
-    unsigned line = s ? config_setting_source_line(s) : 0;
-    if (s && config_setting_get_hook(s))
-        snprintf(p->err, p->err_size, "--set %s: %s", (const char *)config_setting_get_hook(s),
-                 message);
-    else
-        snprintf(p->err, p->err_size, "%s:%u: fluid: %s", file ? file : p->path, line ? line : 1,
-                 message);
-    return -1;
-}
-
 /* 1 found, 0 absent, -1 bad. */
-static int number(Parse *p, const config_setting_t *g, const char *key, double *out)
+static int number(AppParse *p, const config_setting_t *g, const char *key, double *out)
 {
     const config_setting_t *s = config_setting_get_member(g, key);
     if (!s)
@@ -76,27 +52,28 @@ static int number(Parse *p, const config_setting_t *g, const char *key, double *
     else if (type == CONFIG_TYPE_INT || type == CONFIG_TYPE_INT64)
         *out = (double)config_setting_get_int64(s);
     else
-        return bad(p, s, "`%s` must be a number", key);
+        return app_parse_fail(p, s, "`%s` must be a number", key);
     if (!isfinite(*out))
-        return bad(p, s, "`%s` must be finite", key);
+        return app_parse_fail(p, s, "`%s` must be finite", key);
     return 1;
 }
 
-static int positive(Parse *p, const config_setting_t *g, const char *key, double *out)
+static int positive(AppParse *p, const config_setting_t *g, const char *key, double *out)
 {
     int found = number(p, g, key, out);
     if (found > 0 && !(*out > 0.0))
-        return bad(p, config_setting_get_member(g, key), "`%s` must be > 0, got %g", key, *out);
+        return app_parse_fail(p, config_setting_get_member(g, key), "`%s` must be > 0, got %g", key,
+                              *out);
     return found;
 }
 
-static int boolean(Parse *p, const config_setting_t *g, const char *key, int *out)
+static int boolean(AppParse *p, const config_setting_t *g, const char *key, int *out)
 {
     const config_setting_t *s = config_setting_get_member(g, key);
     if (!s)
         return 0;
     if (config_setting_type(s) != CONFIG_TYPE_BOOL)
-        return bad(p, s, "`%s` must be true or false", key);
+        return app_parse_fail(p, s, "`%s` must be true or false", key);
     *out = config_setting_get_bool(s);
     return 1;
 }
@@ -112,7 +89,7 @@ static void sediment_force(void *context, const SimBodyForceView *view)
 
 AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *err, size_t err_size)
 {
-    Parse p = {scene->path, err, err_size};
+    AppParse p = {scene->path, err, err_size, "fluid"};
     if (err_size)
         err[0] = '\0';
     if (!g)
@@ -123,7 +100,7 @@ AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *e
         "van_driest",    "bed_fraction", "c_inf",   "reynolds_c", "buoyancy",  "geometry",
         "flow_stage",    "drag_limit",   "start",   NULL};
     if (config_setting_type(g) != CONFIG_TYPE_GROUP) {
-        bad(&p, g, "`fluid` must be a group { ... }");
+        app_parse_fail(&p, g, "`fluid` must be a group { ... }");
         return NULL;
     }
     for (int k = 0; k < config_setting_length(g); ++k) {
@@ -132,12 +109,13 @@ AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *e
         for (int j = 0; keys[j] && !known; ++j)
             known = strcmp(keys[j], config_setting_name(s)) == 0;
         if (!known) {
-            bad(&p, s, "unknown key `%s`", config_setting_name(s));
+            app_parse_fail(&p, s, "unknown key `%s`", config_setting_name(s));
             return NULL;
         }
     }
     if (!(scene->def.effects & SIM_EFFECT_PERIODIC_X)) {
-        bad(&p, g, "the fluid column is horizontally averaged: it needs effect periodic_x");
+        app_parse_fail(&p, g,
+                       "the fluid column is horizontally averaged: it needs effect periodic_x");
         return NULL;
     }
     SimFluidDef fd = sim_fluid_def_default();
@@ -176,20 +154,20 @@ AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *e
     if (!(s = config_setting_get_member(g, "y0")) || number(&p, g, "y0", &y0) < 0 ||
         !(s = config_setting_get_member(g, "y1")) || number(&p, g, "y1", &y1) < 0) {
         if (!err[0])
-            bad(&p, g, "`y0` and `y1` (the column's bottom and top, m) are required");
+            app_parse_fail(&p, g, "`y0` and `y1` (the column's bottom and top, m) are required");
         return NULL;
     }
     s = config_setting_get_member(g, "cells");
     if (!s || (config_setting_type(s) != CONFIG_TYPE_INT &&
                config_setting_type(s) != CONFIG_TYPE_INT64)) {
-        bad(&p, s ? s : g, "`cells` (number of fluid layers, an integer) is required");
+        app_parse_fail(&p, s ? s : g, "`cells` (number of fluid layers, an integer) is required");
         return NULL;
     }
     cells = config_setting_get_int(s);
     if (config_setting_lookup_string(g, "geometry", &geometry)) {
         if (strcmp(geometry, "disk") && strcmp(geometry, "sphere")) {
-            bad(&p, config_setting_get_member(g, "geometry"),
-                "unknown geometry `%s` (expected disk or sphere)", geometry);
+            app_parse_fail(&p, config_setting_get_member(g, "geometry"),
+                           "unknown geometry `%s` (expected disk or sphere)", geometry);
             return NULL;
         }
         fd.geometry = strcmp(geometry, "sphere") == 0 ? SIM_FLUID_SPHERE : SIM_FLUID_DISK;
@@ -197,7 +175,8 @@ AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *e
         fd.geometry = def->mass_model == SIM_MASS_SPHERE ? SIM_FLUID_SPHERE : SIM_FLUID_DISK;
     }
     if ((fd.geometry == SIM_FLUID_SPHERE) != (def->mass_model == SIM_MASS_SPHERE)) {
-        bad(&p, config_setting_get_member(g, "geometry"),
+        app_parse_fail(
+            &p, config_setting_get_member(g, "geometry"),
             "geometry `%s` disagrees with mass_model: buoyancy and the density ratio would not "
             "match the grains' masses",
             geometry);
@@ -205,22 +184,23 @@ AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *e
     }
     int dimensionless = has_dr || has_ga || has_sh, dimensional = has_rho || has_nu || has_us;
     if (dimensionless == dimensional) {
-        bad(&p, g,
-            dimensionless ? "give either density_ratio, galileo and shields or density, "
-                            "viscosity and shear_velocity, not both"
-                          : "give density_ratio, galileo and shields (002 eqs. 40-42) or density, "
-                            "viscosity and shear_velocity");
+        app_parse_fail(&p, g,
+                       dimensionless
+                           ? "give either density_ratio, galileo and shields or density, "
+                             "viscosity and shear_velocity, not both"
+                           : "give density_ratio, galileo and shields (002 eqs. 40-42) or density, "
+                             "viscosity and shear_velocity");
         return NULL;
     }
     const double d = num.diameter;
     if (dimensionless) {
         if (!(has_dr && has_ga && has_sh)) {
-            bad(&p, g, "density_ratio, galileo and shields go together");
+            app_parse_fail(&p, g, "density_ratio, galileo and shields go together");
             return NULL;
         }
         if (!(num.density_ratio > 1.0) || num.shields < 0.0) {
-            bad(&p, config_setting_get_member(g, "density_ratio"),
-                "density_ratio must be > 1 and shields >= 0");
+            app_parse_fail(&p, config_setting_get_member(g, "density_ratio"),
+                           "density_ratio must be > 1 and shields >= 0");
             return NULL;
         }
         double scale = sqrt((num.density_ratio - 1.0) * gravity * d);
@@ -229,7 +209,7 @@ AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *e
         fd.shear_velocity = sqrt(num.shields) * scale;
     } else {
         if (!(has_rho && has_nu && has_us)) {
-            bad(&p, g, "density, viscosity and shear_velocity go together");
+            app_parse_fail(&p, g, "density, viscosity and shear_velocity go together");
             return NULL;
         }
         num.density_ratio = rho_p / fd.density;
@@ -250,20 +230,22 @@ AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *e
     fd.time_step = scene->stages[0].time_step > 0.0 ? scene->stages[0].time_step : timing.time_step;
     if (config_setting_lookup_string(g, "flow_stage", &flow_stage) &&
         scene_stage_index(scene, flow_stage) < 0) {
-        bad(&p, config_setting_get_member(g, "flow_stage"), "no stage named `%s`", flow_stage);
+        app_parse_fail(&p, config_setting_get_member(g, "flow_stage"), "no stage named `%s`",
+                       flow_stage);
         return NULL;
     }
     SimError e;
     if (sim_fluid_def_validate(&fd, &e) != SIM_OK) {
         const char *key = strchr(e.field, '.') ? strchr(e.field, '.') + 1 : e.field;
-        bad(&p, config_setting_get_member(g, key) ? config_setting_get_member(g, key) : g, "%s",
-            e.message);
+        app_parse_fail(&p,
+                       config_setting_get_member(g, key) ? config_setting_get_member(g, key) : g,
+                       "%s", e.message);
         return NULL;
     }
     AppSediment *sed = calloc(1, sizeof *sed);
     if (!sed || !(sed->fluid = sim_fluid_create(&fd, &e))) {
         free(sed);
-        bad(&p, g, "cannot create the fluid: out of memory");
+        app_parse_fail(&p, g, "cannot create the fluid: out of memory");
         return NULL;
     }
     sed->numbers = num;
@@ -276,8 +258,8 @@ AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *e
     const char *start = NULL;
     if (config_setting_lookup_string(g, "start", &start)) {
         if (strcmp(start, "steady") && strcmp(start, "rest")) {
-            bad(&p, config_setting_get_member(g, "start"),
-                "unknown start `%s` (expected steady or rest)", start);
+            app_parse_fail(&p, config_setting_get_member(g, "start"),
+                           "unknown start `%s` (expected steady or rest)", start);
             app_sediment_free(sed);
             return NULL;
         }

@@ -5,6 +5,8 @@
  * width (004 §3.1: "the same samples are discharged at every w"). */
 #include "study.h"
 
+#include "util.h"
+
 #include <errno.h>
 #include <math.h>
 #include <signal.h>
@@ -64,24 +66,6 @@ static double now_seconds(void)
 }
 
 /* "--name VALUE" or "--name=VALUE"; 1 matched, 0 not, -1 missing value. */
-static int option(int argc, char **argv, int *i, const char *name, const char **value)
-{
-    size_t n = strlen(name);
-    if (strncmp(argv[*i], name, n) != 0)
-        return 0;
-    if (argv[*i][n] == '=') {
-        *value = argv[*i] + n + 1;
-        return 1;
-    }
-    if (argv[*i][n] != '\0')
-        return 0;
-    if (*i + 1 >= argc) {
-        fprintf(stderr, "sablier: %s needs a value\n", name);
-        return -1;
-    }
-    *value = argv[++*i];
-    return 1;
-}
 
 static int usage(const char *text, const char *message, const char *arg)
 {
@@ -250,25 +234,25 @@ int app_discharge_command(int argc, char **argv, const AppDischargeRender *rende
     unsigned long long seed = 0;
     for (int i = 2; i < argc; ++i) {
         int m;
-        if ((m = option(argc, argv, &i, "--out", &value)) != 0) {
+        if ((m = app_option(argc, argv, &i, "--out", &value)) != 0) {
             if (m < 0)
                 return 2;
             out = value;
-        } else if ((m = option(argc, argv, &i, "--pile", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--pile", &value)) != 0) {
             if (m < 0)
                 return 2;
             pile = value;
-        } else if ((m = option(argc, argv, &i, "--set", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
             if (m < 0 || set_count >= MAX_SETS)
                 return usage(APP_DISCHARGE_USAGE, "bad --set", NULL);
             sets[set_count++] = value;
-        } else if ((m = option(argc, argv, &i, "--width", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--width", &value)) != 0) {
             double w;
             if (m < 0 || parse_real(value, &w) != 0 || !(w >= 0.0) || width_count >= MAX_WIDTHS)
                 return usage(APP_DISCHARGE_USAGE, "--width needs a width >= 0 (d), got",
                              m < 0 ? "nothing" : value);
             widths[width_count++] = w;
-        } else if ((m = option(argc, argv, &i, "--seed", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--seed", &value)) != 0) {
             char *end;
             if (m < 0)
                 return 2;
@@ -1480,27 +1464,27 @@ int app_study_command(int argc, char **argv, const AppDischargeRender *render)
     for (int i = 2; i < argc; ++i) {
         int m;
         char *end;
-        if ((m = option(argc, argv, &i, "--out", &value)) != 0) {
+        if ((m = app_option(argc, argv, &i, "--out", &value)) != 0) {
             if (m < 0)
                 return 2;
             out = value;
-        } else if ((m = option(argc, argv, &i, "--set", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
             if (m < 0 || set_count >= MAX_SETS)
                 return usage(APP_STUDY_USAGE, "bad --set", NULL);
             sets[set_count++] = value;
-        } else if ((m = option(argc, argv, &i, "--L", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--L", &value)) != 0) {
             if (m < 0)
                 return 2;
             lengths_text = value;
-        } else if ((m = option(argc, argv, &i, "--widths", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--widths", &value)) != 0) {
             if (m < 0)
                 return 2;
             widths_text = value;
-        } else if ((m = option(argc, argv, &i, "--samples", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--samples", &value)) != 0) {
             if (m < 0 || (samples = strtol(value, &end, 10)) < 1 || *end || samples > 1000000)
                 return usage(APP_STUDY_USAGE, "--samples needs a count in [1, 1e6], got",
                              m < 0 ? "nothing" : value);
-        } else if ((m = option(argc, argv, &i, "--jobs", &value)) != 0) {
+        } else if ((m = app_option(argc, argv, &i, "--jobs", &value)) != 0) {
             if (m < 0 || (jobs = strtol(value, &end, 10)) < 1 || *end || jobs > 256)
                 return usage(APP_STUDY_USAGE, "--jobs needs a count in [1, 256], got",
                              m < 0 ? "nothing" : value);

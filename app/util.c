@@ -1,0 +1,45 @@
+/* SPDX-License-Identifier: MIT */
+/* util.c: small helpers shared by the app/ modules. */
+#include "util.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+int app_parse_fail(AppParse *p, const config_setting_t *s, const char *format, ...)
+{
+    char message[512];
+    va_list args;
+    va_start(args, format);
+    vsnprintf(message, sizeof message, format, args);
+    va_end(args);
+    const char *file = s ? config_setting_source_file(s) : NULL;
+    unsigned line = s ? config_setting_source_line(s) : 0u;
+    if (s && config_setting_get_hook(s))
+        snprintf(p->err, p->err_size, "--set %s: %s", (const char *)config_setting_get_hook(s),
+                 message);
+    else
+        snprintf(p->err, p->err_size, "%s:%u: %s: %s", file ? file : p->path, line ? line : 1u,
+                 p->group, message);
+    return -1;
+}
+
+int app_option(int argc, char **argv, int *i, const char *name, const char **value)
+{
+    size_t n = strlen(name);
+    if (strncmp(argv[*i], name, n) != 0)
+        return 0;
+    if (argv[*i][n] == '=') {
+        *value = argv[*i] + n + 1;
+        return 1;
+    }
+    if (argv[*i][n] != '\0')
+        return 0;
+    if (*i + 1 >= argc) {
+        fprintf(stderr, "sablier: %s needs a value\n", name);
+        *value = NULL;
+        return -1;
+    }
+    *value = argv[++*i];
+    return 1;
+}

@@ -1,0 +1,27 @@
+/* SPDX-License-Identifier: MIT */
+/* util.h: small helpers shared by the app/ modules (scene-group errors, command options). */
+#ifndef APP_UTIL_H
+#define APP_UTIL_H
+
+#include <libconfig.h>
+#include <stddef.h>
+
+/// Where a scene group's errors go: "file:line: GROUP: message", or "--set KEY: message" for a
+/// value that came from a --set override.
+typedef struct AppParse {
+    const char *path; ///< scene file, for settings without a source file
+    char *err;        ///< message buffer
+    size_t err_size;
+    const char *group; ///< scene group named in the message ("bne", "fluid", "discharge")
+} AppParse;
+
+/// Writes the message for setting `s` (NULL: the scene file, line 1) and returns -1.
+__attribute__((format(printf, 3, 4))) int app_parse_fail(AppParse *p, const config_setting_t *s,
+                                                         const char *format, ...);
+
+/// Command-line option NAME with a value, as "NAME VALUE" or "NAME=VALUE". Returns 1 and sets
+/// *value when argv[*i] is that option (advancing *i past a separate value), 0 when it is not,
+/// -1 (message on stderr) when the value is missing.
+int app_option(int argc, char **argv, int *i, const char *name, const char **value);
+
+#endif
