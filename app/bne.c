@@ -54,20 +54,8 @@ AppBne *app_bne_parse(const config_setting_t *g, Scene *scene, char *err, size_t
     AppParse p = {scene->path, err, err_size, "bne"};
     static const char *const keys[] = {"intruder", "motion",    "gamma", "period",
                                        "stage",    "tolerance", NULL};
-    if (config_setting_type(g) != CONFIG_TYPE_GROUP) {
-        app_parse_fail(&p, g, "`bne` must be a group { ... }");
+    if (app_parse_group_keys(&p, g, keys) < 0)
         return NULL;
-    }
-    for (int k = 0; k < config_setting_length(g); ++k) {
-        const config_setting_t *s = config_setting_get_elem(g, (unsigned)k);
-        int known = 0;
-        for (int j = 0; keys[j] && !known; ++j)
-            known = strcmp(keys[j], config_setting_name(s)) == 0;
-        if (!known) {
-            app_parse_fail(&p, s, "unknown key `%s`", config_setting_name(s));
-            return NULL;
-        }
-    }
     if (!(scene->def.effects & SIM_EFFECT_VIBRATION)) {
         app_parse_fail(&p, g, "the box is shaken by a motion: declare effect vibration");
         return NULL;

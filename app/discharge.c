@@ -112,17 +112,8 @@ int app_discharge_parse(const config_setting_t *g, const char *scene_path, int s
     def->fractions[0] = 1.0;
     for (int k = 0; k < SIM_MAX_SPECIES; ++k)
         def->diameters[k] = 1.0;
-    if (config_setting_type(g) != CONFIG_TYPE_GROUP)
-        return app_parse_fail(&p, g, "`discharge` must be a group { ... }");
-    for (int k = 0; k < config_setting_length(g); ++k) {
-        const config_setting_t *s = config_setting_get_elem(g, (unsigned)k);
-        const char *name = config_setting_name(s);
-        int known = 0;
-        for (int j = 0; keys[j] && !known; ++j)
-            known = strcmp(keys[j], name) == 0;
-        if (!known)
-            return app_parse_fail(&p, s, "unknown key `%s`", name);
-    }
+    if (app_parse_group_keys(&p, g, keys) < 0)
+        return -1;
     const config_setting_t *s = config_setting_get_member(g, "base_length");
     if (!s)
         return app_parse_fail(&p, g, "`base_length` (L, in grain diameters) is required");

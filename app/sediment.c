@@ -99,20 +99,8 @@ AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *e
         "diameter",      "y0",           "y1",      "cells",      "turbulent", "kappa",
         "van_driest",    "bed_fraction", "c_inf",   "reynolds_c", "buoyancy",  "geometry",
         "flow_stage",    "drag_limit",   "start",   NULL};
-    if (config_setting_type(g) != CONFIG_TYPE_GROUP) {
-        app_parse_fail(&p, g, "`fluid` must be a group { ... }");
+    if (app_parse_group_keys(&p, g, keys) < 0)
         return NULL;
-    }
-    for (int k = 0; k < config_setting_length(g); ++k) {
-        const config_setting_t *s = config_setting_get_elem(g, (unsigned)k);
-        int known = 0;
-        for (int j = 0; keys[j] && !known; ++j)
-            known = strcmp(keys[j], config_setting_name(s)) == 0;
-        if (!known) {
-            app_parse_fail(&p, s, "unknown key `%s`", config_setting_name(s));
-            return NULL;
-        }
-    }
     if (!(scene->def.effects & SIM_EFFECT_PERIODIC_X)) {
         app_parse_fail(&p, g,
                        "the fluid column is horizontally averaged: it needs effect periodic_x");

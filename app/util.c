@@ -24,6 +24,22 @@ int app_parse_fail(AppParse *p, const config_setting_t *s, const char *format, .
     return -1;
 }
 
+int app_parse_group_keys(AppParse *p, const config_setting_t *g, const char *const *keys)
+{
+    if (config_setting_type(g) != CONFIG_TYPE_GROUP)
+        return app_parse_fail(p, g, "`%s` must be a group { ... }", p->group);
+    for (int k = 0; k < config_setting_length(g); ++k) {
+        const config_setting_t *s = config_setting_get_elem(g, (unsigned)k);
+        const char *name = config_setting_name(s);
+        int known = 0;
+        for (int j = 0; keys[j] && !known; ++j)
+            known = strcmp(keys[j], name) == 0;
+        if (!known)
+            return app_parse_fail(p, s, "unknown key `%s`", name);
+    }
+    return 0;
+}
+
 int app_option(int argc, char **argv, int *i, const char *name, const char **value)
 {
     size_t n = strlen(name);

@@ -19,6 +19,10 @@ typedef struct AppParse {
 __attribute__((format(printf, 3, 4))) int app_parse_fail(AppParse *p, const config_setting_t *s,
                                                          const char *format, ...);
 
+/// Checks that `g` is a group whose keys are all in `keys` (NULL-ended); otherwise writes the
+/// message ("`GROUP` must be a group", "unknown key `K`") and returns -1.
+int app_parse_group_keys(AppParse *p, const config_setting_t *g, const char *const *keys);
+
 /// Command-line option NAME with a value, as "NAME VALUE" or "NAME=VALUE". Returns 1 and sets
 /// *value when argv[*i] is that option (advancing *i past a separate value), 0 when it is not,
 /// -1 (message on stderr) when the value is missing.
