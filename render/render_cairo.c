@@ -959,36 +959,18 @@ int render_figure_write(const SimFrame *frame, const RenderStyle *style, const R
         return -1;
     }
     char seed[32], time[48], step[32], renderer[64];
-    snprintf(seed, sizeof seed, "%llu", (unsigned long long)(meta ? meta->seed : 0));
     snprintf(time, sizeof time, "%.9g s", frame->time);
     snprintf(step, sizeof step, "%ld", frame->step);
     snprintf(renderer, sizeof renderer, "cairo %s", cairo_version_string());
     const char *text[20];
     int n = 0;
-    text[n++] = "Software";
-    text[n++] = "sablier";
-    text[n++] = "Sablier version";
-    text[n++] = SIM_VERSION;
-    if (meta && meta->scene) {
-        text[n++] = "Scene";
-        text[n++] = meta->scene;
-    }
-    text[n++] = "Seed";
-    text[n++] = seed;
+    render_provenance(meta, style->title, 1, seed, text, &n);
     text[n++] = "Simulated time";
     text[n++] = time;
     text[n++] = "Step";
     text[n++] = step;
     text[n++] = "Renderer";
     text[n++] = renderer;
-    if (style->title) {
-        text[n++] = "Title";
-        text[n++] = style->title;
-    }
-    if (meta && meta->comment) {
-        text[n++] = "Comment";
-        text[n++] = meta->comment;
-    }
     text[n++] = NULL;
     text[n++] = NULL;
     int rc =

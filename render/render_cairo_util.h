@@ -5,7 +5,7 @@
 #ifndef RENDER_CAIRO_UTIL_H
 #define RENDER_CAIRO_UTIL_H
 
-#include "render/render_image.h"
+#include "render/render.h"
 
 #include <cairo.h>
 #include <stddef.h>
@@ -35,6 +35,11 @@ typedef void (*RenderDrawFn)(cairo_t *cr, void *context);
 /// width x height pixels. Temporary name, then rename. 0, or -1 with a message in err.
 int render_cairo_write(const char *path, int width, int height, RenderDrawFn draw, void *context,
                        const char *const *text, char *err, size_t err_size);
+/// Appends the provenance chunks every written image carries (key, value pairs) to text from
+/// *n: Software, Sablier version, Scene and Seed (Seed also without a scene when seed_always),
+/// Title, Comment. `seed` (32 bytes) holds the seed's text and must outlive `text`.
+void render_provenance(const RenderMeta *meta, const char *title, int seed_always, char *seed,
+                       const char **text, int *n);
 /// Draws with `draw` into a new BGRA image. 0, or -1 with a message in err.
 int render_cairo_image(int width, int height, RenderDrawFn draw, void *context, RenderImage *out,
                        char *err, size_t err_size);

@@ -176,6 +176,32 @@ static const char *text_value(const char *const *text, const char *key)
     return NULL;
 }
 
+void render_provenance(const RenderMeta *meta, const char *title, int seed_always, char *seed,
+                       const char **text, int *n)
+{
+    snprintf(seed, 32, "%llu", (unsigned long long)(meta ? meta->seed : 0));
+    text[(*n)++] = "Software";
+    text[(*n)++] = "sablier";
+    text[(*n)++] = "Sablier version";
+    text[(*n)++] = SIM_VERSION;
+    if (meta && meta->scene) {
+        text[(*n)++] = "Scene";
+        text[(*n)++] = meta->scene;
+    }
+    if (seed_always || (meta && meta->scene)) {
+        text[(*n)++] = "Seed";
+        text[(*n)++] = seed;
+    }
+    if (title) {
+        text[(*n)++] = "Title";
+        text[(*n)++] = title;
+    }
+    if (meta && meta->comment) {
+        text[(*n)++] = "Comment";
+        text[(*n)++] = meta->comment;
+    }
+}
+
 int render_cairo_write(const char *path, int width, int height, RenderDrawFn draw, void *context,
                        const char *const *text, char *err, size_t err_size)
 {

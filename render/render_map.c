@@ -200,23 +200,9 @@ int render_map_write(const RenderMap *map, const RenderMeta *meta, const char *p
     if (check_map(map, err, err_size) != 0)
         return -1;
     char seed[32];
-    snprintf(seed, sizeof seed, "%llu", (unsigned long long)(meta ? meta->seed : 0));
     const char *text[14];
     int n = 0;
-    text[n++] = "Software";
-    text[n++] = "sablier";
-    text[n++] = "Sablier version";
-    text[n++] = SIM_VERSION;
-    if (meta && meta->scene) {
-        text[n++] = "Scene";
-        text[n++] = meta->scene;
-        text[n++] = "Seed";
-        text[n++] = seed;
-    }
-    if (map->title) {
-        text[n++] = "Title";
-        text[n++] = map->title;
-    }
+    render_provenance(meta, map->title, 0, seed, text, &n);
     text[n++] = NULL;
     text[n++] = NULL;
     /* The context is only read. */

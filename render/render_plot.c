@@ -588,27 +588,9 @@ int render_plot_write(const RenderPlot *plot, const RenderMeta *meta, const char
     if (check_plot(plot, err, err_size) != 0)
         return -1;
     char seed[32];
-    snprintf(seed, sizeof seed, "%llu", (unsigned long long)(meta ? meta->seed : 0));
     const char *text[16];
     int n = 0;
-    text[n++] = "Software";
-    text[n++] = "sablier";
-    text[n++] = "Sablier version";
-    text[n++] = SIM_VERSION;
-    if (meta && meta->scene) {
-        text[n++] = "Scene";
-        text[n++] = meta->scene;
-        text[n++] = "Seed";
-        text[n++] = seed;
-    }
-    if (plot->title) {
-        text[n++] = "Title";
-        text[n++] = plot->title;
-    }
-    if (meta && meta->comment) {
-        text[n++] = "Comment";
-        text[n++] = meta->comment;
-    }
+    render_provenance(meta, plot->title, 0, seed, text, &n);
     text[n++] = NULL;
     text[n++] = NULL;
     return render_cairo_write(path, plot->width, plot->height, draw_plot, (void *)(uintptr_t)plot,
