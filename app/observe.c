@@ -5,6 +5,8 @@
  * depth of the crater below the settled free surface (docs/physics.md, "crater height"). */
 #include "observe.h"
 
+#include "util.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -164,27 +166,6 @@ struct AppObserver {
     int mobile;
 };
 
-static FILE *open_tmp(const char *path, const char *header)
-{
-    char tmp[2 * OBS_PATH];
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    FILE *f = fopen(tmp, "w");
-    if (f)
-        fprintf(f, "%s\n", header);
-    return f;
-}
-
-static int close_tmp(FILE **f, const char *path)
-{
-    if (!*f)
-        return 0;
-    int ok = fclose(*f) == 0;
-    *f = NULL;
-    char tmp[2 * OBS_PATH];
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    return ok && rename(tmp, path) == 0 ? 0 : -1;
-}
-
 AppObserver *app_observer_open(const Scene *scene, const char *out_dir, char *err, size_t err_size)
 {
     AppObserver *o = calloc(1, sizeof *o);
@@ -196,9 +177,9 @@ AppObserver *app_observer_open(const Scene *scene, const char *out_dir, char *er
     snprintf(o->out_dir, sizeof o->out_dir, "%s", out_dir);
     snprintf(o->profile_path, sizeof o->profile_path, "%s/profile.csv", out_dir);
     snprintf(o->crater_path, sizeof o->crater_path, "%s/crater.csv", out_dir);
-    o->profile = open_tmp(o->profile_path, "t,t_stage,stage,x,y");
-    o->crater_csv =
-        open_tmp(o->crater_path, "t,t_stage,stage,surface_min,x_min,crater_height,surface_level");
+    o->profile = app_tmp_open(o->profile_path, "t,t_stage,stage,x,y");
+    o->crater_csv = app_tmp_open(o->crater_path,
+                                 "t,t_stage,stage,surface_min,x_min,crater_height,surface_level");
     if (!o->profile || !o->crater_csv) {
         snprintf(err, err_size, "cannot write in %s: %s", out_dir, strerror(errno));
         if (o->profile)
@@ -310,12 +291,12 @@ int app_observer_close(AppObserver *o, SimWorld *world, char *err, size_t err_si
     if (!o)
         return 0;
     int rc = 0;
-    if (close_tmp(&o->profile, o->profile_path) != 0 ||
-        close_tmp(&o->crater_csv, o->crater_path) != 0)
+    if (app_tmp_commit(&o->profile, o->profile_path) != 0 ||
+        app_tmp_commit(&o->crater_csv, o->crater_path) != 0)
         rc = -1;
     char path[OBS_PATH + 32];
     snprintf(path, sizeof path, "%s/observables.csv", o->out_dir);
-    FILE *f = open_tmp(path, "key,value");
+    FILE *f = app_tmp_open(path, "key,value");
     if (!f) {
         rc = -1;
     } else {
@@ -353,7 +334,7 @@ int app_observer_close(AppObserver *o, SimWorld *world, char *err, size_t err_si
 
         for (size_t k = 0; k < sizeof rows / sizeof rows[0]; ++k)
             fprintf(f, "%s,%.10g\n", rows[k].key, rows[k].value);
-        if (close_tmp(&f, path) != 0)
+        if (app_tmp_commit(&f, path) != 0)
             rc = -1;
     }
     if (rc != 0)

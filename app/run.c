@@ -8,6 +8,7 @@
 #include "bne.h"
 #include "observe.h"
 #include "sediment.h"
+#include "util.h"
 
 #include <errno.h>
 #include <math.h>
@@ -91,44 +92,6 @@ int app_make_dirs(const char *path)
 static void out_path(const Run *run, char *out, const char *name, const char *suffix)
 {
     snprintf(out, PATH_SIZE, "%s/%s%s", run->options->out_dir, name, suffix);
-}
-
-/* Writes `text` to path via path.tmp + rename. */
-static int write_file_atomic(const char *path, const char *text)
-{
-    char tmp[PATH_SIZE + 8];
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f)
-        return -1;
-    int ok = fputs(text, f) >= 0;
-    ok = (fclose(f) == 0) && ok;
-    if (!ok || rename(tmp, path) != 0) {
-        remove(tmp);
-        return -1;
-    }
-    return 0;
-}
-
-static int finish_csv(FILE **file, const char *path)
-{
-    if (!*file)
-        return 0;
-    int ok = fclose(*file) == 0;
-    *file = NULL;
-    char tmp[PATH_SIZE + 8];
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    return ok && rename(tmp, path) == 0 ? 0 : -1;
-}
-
-static FILE *open_csv(const char *path, const char *header)
-{
-    char tmp[PATH_SIZE + 8];
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    FILE *f = fopen(tmp, "w");
-    if (f)
-        fprintf(f, "%s\n", header);
-    return f;
 }
 
 /* ---------------------------------------------------------------- JSON */
@@ -224,7 +187,7 @@ static int write_summary(const Run *run, double wall_seconds)
     }
     char path[PATH_SIZE];
     out_path(run, path, "summary", ".json");
-    int rc = n < size ? write_file_atomic(path, text) : -1;
+    int rc = n < size ? app_write_atomic(path, text) : -1;
     free(text);
     return rc;
 }
@@ -650,11 +613,11 @@ int app_run(const Scene *scene, const AppRunOptions *options)
         return 2;
     }
     out_path(run, run->energy_path, "energy", ".csv");
-    run->energy =
-        open_csv(run->energy_path, "t,t_star,e_kin,e_pot,e_rot,e_el,e_total,grains,contacts,stage");
+    run->energy = app_tmp_open(run->energy_path,
+                               "t,t_star,e_kin,e_pot,e_rot,e_el,e_total,grains,contacts,stage");
     if (scene->output.trace_count > 0) {
         out_path(run, run->trace_path, "trace", ".csv");
-        run->trace = open_csv(run->trace_path, "t,id,x,y,vx,vy,omega,fx,fy,torque");
+        run->trace = app_tmp_open(run->trace_path, "t,id,x,y,vx,vy,omega,fx,fy,torque");
     }
     if (!run->energy || (scene->output.trace_count > 0 && !run->trace)) {
         snprintf(run->message, sizeof run->message, "cannot write in %s: %s", options->out_dir,
@@ -706,8 +669,8 @@ int app_run(const Scene *scene, const AppRunOptions *options)
         }
     }
     /* The CSV files are complete records up to here, failure included. */
-    if (finish_csv(&run->energy, run->energy_path) != 0 ||
-        finish_csv(&run->trace, run->trace_path) != 0) {
+    if (app_tmp_commit(&run->energy, run->energy_path) != 0 ||
+        app_tmp_commit(&run->trace, run->trace_path) != 0) {
         if (run->status == 0) {
             snprintf(run->message, sizeof run->message, "cannot finish the CSV files in %s",
                      options->out_dir);

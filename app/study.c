@@ -120,22 +120,6 @@ static int make_dirs(const char *path)
     return app_make_dirs(path);
 }
 
-static int write_atomic(const char *path, const char *text)
-{
-    char tmp[PATH + 200];
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f)
-        return -1;
-    int ok = fputs(text, f) >= 0;
-    ok = fclose(f) == 0 && ok;
-    if (!ok || rename(tmp, path) != 0) {
-        remove(tmp);
-        return -1;
-    }
-    return 0;
-}
-
 static void width_name(double w, char *out, size_t size)
 {
     snprintf(out, size, "w%.1f", w);
@@ -423,13 +407,13 @@ int app_discharge_command(int argc, char **argv, const AppDischargeRender *rende
                     r.wall_seconds);
     }
     snprintf(path, sizeof path, "%s/discharge.csv", dir);
-    if (width_count > 0 && status == 0 && write_atomic(path, csv) != 0)
+    if (width_count > 0 && status == 0 && app_write_atomic(path, csv) != 0)
         status = 2;
     if (used > 0) {
         snprintf(summary + used, summary_size - used, "\n  ],\n  \"status\": \"%s\"\n}\n",
                  status == 0 ? "ok" : "error");
         snprintf(path, sizeof path, "%s/summary.json", dir);
-        if (write_atomic(path, summary) != 0 && status == 0)
+        if (app_write_atomic(path, summary) != 0 && status == 0)
             status = 2;
     }
     free(csv);
@@ -744,10 +728,11 @@ static int run_sample(const Scene *scene, const Study *st, double L, int sample)
             }
             free(maps);
             maps = fresh;
-            bad = write_atomic(maps_path, maps) != 0;
+            bad = app_write_atomic(maps_path, maps) != 0;
         }
         SimError error;
-        bad = bad || sim_world_save(world, pile, &error) != SIM_OK || write_atomic(dep_path, line);
+        bad = bad || sim_world_save(world, pile, &error) != SIM_OK ||
+              app_write_atomic(dep_path, line);
         sim_world_destroy(world);
         free(heights);
         free(line);
@@ -781,7 +766,7 @@ static int run_sample(const Scene *scene, const Study *st, double L, int sample)
         snprintf(tag, sizeof tag, "%.10g", st->widths[k]);
         int mapped = r.arch > 0 && map_record(scene, world, L, tag, &maps) == 0;
         sim_world_destroy(world);
-        if (mapped && write_atomic(maps_path, maps) != 0) {
+        if (mapped && app_write_atomic(maps_path, maps) != 0) {
             status = 2;
             break;
         }
@@ -789,7 +774,7 @@ static int run_sample(const Scene *scene, const Study *st, double L, int sample)
         app_discharge_csv_row(&r, sample, L, row, sizeof row);
         size_t len = strlen(out);
         snprintf(out + len, cap - len, "%s\n", row);
-        if (write_atomic(csv, out) != 0) { /* each width is kept as soon as it is done */
+        if (app_write_atomic(csv, out) != 0) { /* each width is kept as soon as it is done */
             status = 2;
             break;
         }
@@ -1053,7 +1038,7 @@ static int species_maps(const Scene *scene, const char *dir, double L, const dou
                                      values[(size_t)j * (size_t)m->nx + (size_t)i]);
         }
     snprintf(path, sizeof path, "%s/L%g/species_map.csv", dir, L);
-    if (piles[0] > 0 && write_atomic(path, text) != 0)
+    if (piles[0] > 0 && app_write_atomic(path, text) != 0)
         status = -1;
     if (piles[0] > 0 && render && render->map) {
         char title[192], bar[64];
@@ -1088,7 +1073,7 @@ static int species_maps(const Scene *scene, const char *dir, double L, const dou
                                          app_species_map_fraction(a, i, j));
     }
     snprintf(path, sizeof path, "%s/L%g/species_map_jammed.csv", dir, L);
-    if (any && write_atomic(path, text) != 0)
+    if (any && app_write_atomic(path, text) != 0)
         status = -1;
     fprintf(stderr,
             "sablier: study: L = %g d: species maps (%s grains) over %d piles before "
@@ -1233,7 +1218,7 @@ int app_study_reduce(const Scene *scene, const char *dir, const double *lengths,
             char wname[32];
             width_name(widths[k], wname, sizeof wname);
             snprintf(path, sizeof path, "%s/L%g/%s.csv", dir, L, wname);
-            if (write_atomic(path, tables[k]) != 0)
+            if (app_write_atomic(path, tables[k]) != 0)
                 status = -1;
             free(tables[k]);
             size_t i = (size_t)l * (size_t)width_count + (size_t)k;
@@ -1273,7 +1258,7 @@ int app_study_reduce(const Scene *scene, const char *dir, const double *lengths,
             }
         }
         snprintf(path, sizeof path, "%s/L%g/Fs.csv", dir, L);
-        if (write_atomic(path, fs) != 0)
+        if (app_write_atomic(path, fs) != 0)
             status = -1;
         free(fs);
         free(tables);
@@ -1297,7 +1282,7 @@ int app_study_reduce(const Scene *scene, const char *dir, const double *lengths,
                                          -0.5 * L + b + 0.5, m, sd, slope);
             }
             snprintf(path, sizeof path, "%s/L%g/profile.csv", dir, L);
-            if (write_atomic(path, text) != 0)
+            if (app_write_atomic(path, text) != 0)
                 status = -1;
             free(text);
         }
@@ -1312,7 +1297,7 @@ int app_study_reduce(const Scene *scene, const char *dir, const double *lengths,
         fprintf(stderr, "sablier: study: no species maps: the scene's discharge rows have one "
                         "species (or two of the same diameter and density)\n");
     snprintf(path, sizeof path, "%s/study.csv", dir);
-    if (write_atomic(path, study) != 0)
+    if (app_write_atomic(path, study) != 0)
         status = -1;
     free(study);
     /* w_t against 1/L, w_c the intercept (004 fig. 2.15) */
@@ -1336,7 +1321,7 @@ int app_study_reduce(const Scene *scene, const char *dir, const double *lengths,
         snprintf(text + used, sizeof text - used, "# w_c = %.6g +- %.3g d, slope %.6g d^2\n", wc,
                  wc_err, slope);
         snprintf(path, sizeof path, "%s/fits.csv", dir);
-        if (write_atomic(path, text) != 0)
+        if (app_write_atomic(path, text) != 0)
             status = -1;
         fprintf(stderr, "sablier: study: w_t =");
         for (int l = 0; l < length_count; ++l)

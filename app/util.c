@@ -4,6 +4,7 @@
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 int app_parse_fail(AppParse *p, const config_setting_t *s, const char *format, ...)
@@ -58,4 +59,50 @@ int app_option(int argc, char **argv, int *i, const char *name, const char **val
     }
     *value = argv[++*i];
     return 1;
+}
+
+/* PATH.tmp in a heap buffer (paths have no fixed bound here). */
+static char *tmp_name(const char *path)
+{
+    size_t n = strlen(path) + 5;
+    char *tmp = malloc(n);
+    if (tmp)
+        snprintf(tmp, n, "%s.tmp", path);
+    return tmp;
+}
+
+FILE *app_tmp_open(const char *path, const char *header)
+{
+    char *tmp = tmp_name(path);
+    FILE *f = tmp ? fopen(tmp, "w") : NULL;
+    free(tmp);
+    if (f && header)
+        fprintf(f, "%s\n", header);
+    return f;
+}
+
+int app_tmp_commit(FILE **file, const char *path)
+{
+    if (!*file)
+        return 0;
+    int ok = fclose(*file) == 0;
+    *file = NULL;
+    char *tmp = tmp_name(path);
+    if (!tmp)
+        return -1;
+    if (!ok || rename(tmp, path) != 0) {
+        remove(tmp);
+        ok = 0;
+    }
+    free(tmp);
+    return ok ? 0 : -1;
+}
+
+int app_write_atomic(const char *path, const char *text)
+{
+    FILE *f = app_tmp_open(path, NULL);
+    if (!f)
+        return -1;
+    int ok = fputs(text, f) >= 0;
+    return app_tmp_commit(&f, path) == 0 && ok ? 0 : -1;
 }

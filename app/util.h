@@ -5,6 +5,7 @@
 
 #include <libconfig.h>
 #include <stddef.h>
+#include <stdio.h>
 
 /// Where a scene group's errors go: "file:line: GROUP: message", or "--set KEY: message" for a
 /// value that came from a --set override.
@@ -22,6 +23,15 @@ __attribute__((format(printf, 3, 4))) int app_parse_fail(AppParse *p, const conf
 /// Checks that `g` is a group whose keys are all in `keys` (NULL-ended); otherwise writes the
 /// message ("`GROUP` must be a group", "unknown key `K`") and returns -1.
 int app_parse_group_keys(AppParse *p, const config_setting_t *g, const char *const *keys);
+
+/// Output files are written to PATH.tmp and renamed when complete. Opens PATH.tmp for writing and
+/// writes `header` and a newline when not NULL; NULL when it cannot be opened.
+FILE *app_tmp_open(const char *path, const char *header);
+/// Closes *file (NULL: nothing to do, 0) and renames PATH.tmp to PATH; on failure removes
+/// PATH.tmp and returns -1.
+int app_tmp_commit(FILE **file, const char *path);
+/// Writes `text` to PATH through PATH.tmp. 0, or -1.
+int app_write_atomic(const char *path, const char *text);
 
 /// Command-line option NAME with a value, as "NAME VALUE" or "NAME=VALUE". Returns 1 and sets
 /// *value when argv[*i] is that option (advancing *i past a separate value), 0 when it is not,
