@@ -10,6 +10,9 @@
 
 #include <math.h>
 
+/* The kernel's pieces must inline into each instantiation, or `key` stops being a constant. */
+#define KERNEL static inline __attribute__((always_inline))
+
 enum {
     KEY_TANGENTIAL = 3u, /* SimTangentialLaw in the low two bits */
     KEY_ROLLING = 1u << 2,
@@ -43,152 +46,271 @@ unsigned sim_contact_key(const SimWorld *world)
     return key;
 }
 
-/* A min that compiles to one instruction: libm's fmin is a function call unless NaN
- * semantics are relaxed, and it spills every register around the kernel's hot loop. */
+/* ------------------------------------------------------------------ the laws, two instances */
+
+/* One contact (scalar lanes): the wall pass and the diagnostics. A min that compiles to one
+ * instruction: libm's fmin is a function call unless NaN semantics are relaxed. */
 static inline double min_d(double a, double b)
 {
     return a < b ? a : b;
 }
 
-/* Normal force magnitude (positive = repulsive) and its elastic part. 000 eq. 3.6 (linear),
- * Hertz-type sqrt(xi) (k_n xi + gamma_n dxi/dt). dxi/dt = -v_n. */
-static inline double normal_force(const unsigned key, double k_n, double gamma_n, double xi,
-                                  double v_n, double *elastic)
+static inline double sel_d(int m, double a, double b)
 {
-    double f;
-    if (key & KEY_HERTZ) {
-        double root = sqrt(xi);
-        *elastic = k_n * xi * root;
-        f = *elastic - gamma_n * root * v_n;
-    } else {
-        *elastic = k_n * xi;
-        f = *elastic - gamma_n * v_n;
-    }
-    if (key & KEY_CLIP)
-        f = f > 0.0 ? f : 0.0; /* a branch: the sign is predictable, a max would sit on the chain */
-    return f;
+    return m ? a : b;
 }
 
-/* Tangential force along s. Regularised Coulomb: 000 eq. 3.28. Spring: 004 eqs. 1.12-1.13 with
- * the cap on the elastic normal force, xi_t kept at the cap while sliding. */
-static inline double tangential_force(const unsigned key, const PairParams *p, double v_s,
-                                      double f_n, double f_el, double dt, double *xi_t)
+#define abs_d      fabs
+#define copysign_d copysign
+#define sqrt_d     sqrt
+#define LAW_T      double
+#define LAW(name)  name##_d
+#define LAW_ZERO   0.0
+#define LAW_ONE    1.0
+#include "contact_laws.h"
+#undef LAW_T
+#undef LAW
+#undef LAW_ZERO
+#undef LAW_ONE
+
+/* SIM_LANES contacts at a time (GCC/Clang vector extensions: SSE2, AVX or AVX-512 code as the
+ * target allows, plain scalar code elsewhere). Bit operations give abs and copysign exactly. */
+enum { SIM_LANES = 4 };
+
+typedef double VecD __attribute__((vector_size(SIM_LANES * sizeof(double))));
+typedef int64_t VecM __attribute__((vector_size(SIM_LANES * sizeof(int64_t))));
+#define SIGN_BITS ((VecM){INT64_MIN, INT64_MIN, INT64_MIN, INT64_MIN})
+
+KERNEL VecD sel_v(VecM m, VecD a, VecD b)
 {
-    unsigned law = key & KEY_TANGENTIAL;
-    /* Written without data-dependent branches: sticking and sliding contacts mix at random. */
-    if (law == SIM_TANGENTIAL_REGULARISED)
-        return copysign(min_d(p->gamma_s * fabs(v_s), p->mu * fabs(f_n)), v_s);
-    if (law == SIM_TANGENTIAL_SPRING) {
-        double stretch = *xi_t + v_s * dt;
-        double f = p->k_t * stretch;
-        double cap = p->mu * f_el;
-        double capped = copysign(min_d(fabs(f), cap), f);
-        *xi_t = capped != f ? capped / p->k_t : stretch; /* slip: keep the spring at the cap */
-        return capped;
-    }
-    return 0.0;
+    return (VecD)((m & (VecM)a) | (~m & (VecM)b));
 }
 
-/* Rolling torque M (004 eqs. 4.1-4.2): M <- M - k_r (omega_j - omega_i) dt, |M| <= mu_r f_el.
- * Chord law: k_r = k_n l_c^2, mu_r = mu l_c. */
-static inline double rolling_torque(const unsigned key, const PairParams *p, double chord,
-                                    double relative_spin, double f_el, double dt, double *m_r)
+KERNEL VecD min_v(VecD a, VecD b)
 {
-    double k_r = p->k_r, mu_r = p->mu_r;
-    if (key & KEY_CHORD) {
-        k_r = p->k_n * chord * chord;
-        mu_r = p->mu * chord;
-    }
-    double m = *m_r - k_r * relative_spin * dt;
-    double cap = mu_r * f_el;
-    if (fabs(m) > cap)
-        m = copysign(cap, m);
-    *m_r = m;
-    return m;
+    return sel_v(a < b, a, b);
 }
 
-/* Common chord of two overlapping disks at centre distance d (004 §1.7). */
-static inline double disk_chord(double d, double ri, double rj)
+KERNEL VecD abs_v(VecD a)
 {
-    double a = (d * d - (ri - rj) * (ri - rj)) * ((ri + rj) * (ri + rj) - d * d);
-    return a > 0.0 ? sqrt(a) / d : 0.0;
+    return (VecD)((VecM)a & ~SIGN_BITS);
 }
 
-static inline void grain_pass(SimWorld *world, const unsigned key)
+KERNEL VecD copysign_v(VecD magnitude, VecD sign)
 {
-    const int mobile = world->mobile_count;
+    return (VecD)(((VecM)magnitude & ~SIGN_BITS) | ((VecM)sign & SIGN_BITS));
+}
+
+KERNEL VecD sqrt_v(VecD a)
+{
+    VecD r;
+    for (int l = 0; l < SIM_LANES; ++l)
+        r[l] = sqrt(a[l]);
+    return r;
+}
+
+#define LAW_T     VecD
+#define LAW(name) name##_v
+#define LAW_ZERO  ((VecD){0.0, 0.0, 0.0, 0.0})
+#define LAW_ONE   ((VecD){1.0, 1.0, 1.0, 1.0})
+#include "contact_laws.h"
+#undef LAW_T
+#undef LAW
+#undef LAW_ZERO
+#undef LAW_ONE
+
+/* Lane l of the result is a[index[l]]. */
+KERNEL VecD gather(const double *restrict a, const int *restrict index)
+{
+    VecD r;
+    for (int l = 0; l < SIM_LANES; ++l)
+        r[l] = a[index[l]];
+    return r;
+}
+
+/* Lane l is field `off` (bytes) of pairs[index[l]]. */
+KERNEL VecD gather_pair(const PairParams *restrict pairs, const int *restrict index, size_t off)
+{
+    VecD r;
+    for (int l = 0; l < SIM_LANES; ++l)
+        r[l] = *(const double *)((const char *)&pairs[index[l]] + off);
+    return r;
+}
+
+KERNEL VecD load(const double *restrict a, const int *restrict entry)
+{
+    VecD r;
+    for (int l = 0; l < SIM_LANES; ++l)
+        r[l] = a[entry[l]];
+    return r;
+}
+
+KERNEL void store(double *restrict a, const int *restrict entry, int lanes, VecD v)
+{
+    for (int l = 0; l < lanes; ++l)
+        a[entry[l]] = v[l];
+}
+
+/* The grain-grain pass runs in two phases over the half list (style: data-parallel first, then
+ * the scatter).
+ * 1. pair_forces: every entry k on its own, in one flat loop without branches, so that the compiler
+ *    vectorises it (gathers of the partners' state, masks for the entries not in contact). Its
+ *    results go to nl.out: the force on j along x and y (the force on i is minus that), f_t and M.
+ * 2. accumulate: adds them to the grains in the order of the scalar loop, so the sums (and the
+ *    results, to the bit) do not depend on the vector width. */
+/* Entries entry[0..SIM_LANES) of the half list (the last ones repeated in a short final block;
+ * only the first `lanes` results are stored). */
+KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict entry,
+                       const int lanes)
+{
+    const size_t cap = (size_t)world->nl.capacity;
     const double dt = world->contact_dt;
-    const double *restrict x = world->x, *restrict y = world->y;
-    const double *restrict vx = world->vx, *restrict vy = world->vy;
-    const double *restrict omega = world->omega, *restrict radius = world->radius;
+    const unsigned law = key & KEY_TANGENTIAL;
+    NeighbourList *nl = &world->nl;
+    int i[SIM_LANES], j[SIM_LANES], p[SIM_LANES];
+    for (int l = 0; l < SIM_LANES; ++l) {
+        i[l] = nl->owner[entry[l]];
+        j[l] = nl->j[entry[l]];
+        p[l] = nl->pair[entry[l]];
+    }
+    VecD dx = gather(world->x, j) - gather(world->x, i);
+    if (key & KEY_PERIODIC)
+        dx += load(nl->shift, entry);
+    const VecD dy = gather(world->y, j) - gather(world->y, i);
+    const VecD ri = gather(world->radius, i), rj = gather(world->radius, j);
+    const VecD rs = ri + rj;
+    const VecD d2 = dx * dx + dy * dy;
+    const VecM touching = d2 < rs * rs;
+    const VecD d = sqrt_v(d2);
+    const VecD inv = 1.0 / d;
+    const VecD nx = dx * inv, ny = dy * inv;
+    const VecD overlap = rs - d; /* 000 eq. 3.1 */
+    const VecD dvx = gather(world->vx, j) - gather(world->vx, i);
+    const VecD dvy = gather(world->vy, j) - gather(world->vy, i);
+    const VecD v_n = dvx * nx + dvy * ny; /* 000 eq. 3.4 */
+    const VecD k_n = gather_pair(world->pairs, p, offsetof(PairParams, k_n));
+    VecD f_el;
+    const VecD f_n = normal_force_v(key, k_n, load(nl->gamma, entry), overlap, v_n, &f_el);
+    VecD fxk = -f_n * nx, fyk = -f_n * ny;
+    VecD f_t = ((VecD){0.0, 0.0, 0.0, 0.0});
+    VecD wi = ((VecD){0.0, 0.0, 0.0, 0.0}), wj = ((VecD){0.0, 0.0, 0.0, 0.0});
+    if (KEY_ROTATION(key)) {
+        wi = gather(world->omega, i);
+        wj = gather(world->omega, j);
+    }
+    if (law != SIM_TANGENTIAL_NONE) {
+        const VecD sx = ny, sy = -nx;   /* 000 eq. 3.3 */
+        VecD v_s = dvx * sx + dvy * sy; /* 000 eq. 3.5 */
+        v_s += wi * ri + wj * rj;
+        const VecD mu = gather_pair(world->pairs, p, offsetof(PairParams, mu));
+        VecD k_t = ((VecD){0.0, 0.0, 0.0, 0.0}), gamma_s = ((VecD){0.0, 0.0, 0.0, 0.0}),
+             spring = ((VecD){0.0, 0.0, 0.0, 0.0});
+        if (law == SIM_TANGENTIAL_SPRING) {
+            k_t = gather_pair(world->pairs, p, offsetof(PairParams, k_t));
+            spring = load(nl->hist_t, entry);
+        } else {
+            gamma_s = gather_pair(world->pairs, p, offsetof(PairParams, gamma_s));
+        }
+        f_t = tangential_force_v(key, k_t, mu, gamma_s, v_s, f_n, f_el, dt, &spring);
+        if (law == SIM_TANGENTIAL_SPRING)
+            store(nl->hist_t, entry, lanes, sel_v(touching, spring, ((VecD){0.0, 0.0, 0.0, 0.0})));
+        fxk += f_t * sx;
+        fyk += f_t * sy;
+    }
+    if (key & KEY_ROLLING) {
+        VecD k_r, mu_r;
+        if (key & KEY_CHORD) {
+            const VecD chord = disk_chord_v(d, ri, rj);
+            k_r = k_n * chord * chord;
+            mu_r = gather_pair(world->pairs, p, offsetof(PairParams, mu)) * chord;
+        } else {
+            k_r = gather_pair(world->pairs, p, offsetof(PairParams, k_r));
+            mu_r = gather_pair(world->pairs, p, offsetof(PairParams, mu_r));
+        }
+        VecD m_r = load(nl->hist_r, entry);
+        const VecD m = rolling_torque_v(k_r, mu_r, wj - wi, f_el, dt, &m_r);
+        store(nl->hist_r, entry, lanes, sel_v(touching, m_r, ((VecD){0.0, 0.0, 0.0, 0.0})));
+        store(nl->out + 3 * cap, entry, lanes, sel_v(touching, m, ((VecD){0.0, 0.0, 0.0, 0.0})));
+    }
+    store(nl->out, entry, lanes, sel_v(touching, fxk, ((VecD){0.0, 0.0, 0.0, 0.0})));
+    store(nl->out + cap, entry, lanes, sel_v(touching, fyk, ((VecD){0.0, 0.0, 0.0, 0.0})));
+    if (KEY_ROTATION(key))
+        store(nl->out + 2 * cap, entry, lanes, sel_v(touching, f_t, ((VecD){0.0, 0.0, 0.0, 0.0})));
+}
+
+KERNEL void pair_forces(SimWorld *world, const unsigned key)
+{
+    const int total = world->nl.start[world->mobile_count];
+    int entry[SIM_LANES];
+    int k0 = 0;
+    for (; k0 + SIM_LANES <= total; k0 += SIM_LANES) {
+        for (int l = 0; l < SIM_LANES; ++l)
+            entry[l] = k0 + l;
+        pair_block(world, key, entry, SIM_LANES);
+    }
+    if (k0 < total) {
+        for (int l = 0; l < SIM_LANES; ++l)
+            entry[l] = k0 + l < total ? k0 + l : total - 1;
+        pair_block(world, key, entry, total - k0);
+    }
+}
+
+/* Phase 2. The scalar loop `for i: sum_i = 0; for k of i: sum_i += f_k; f_j -= f_k; then
+ * f_i += sum_i` has a short inner loop of random trip count (a mispredicted exit per grain). Here
+ * the entries run flat: the partial sums restart at each new owner (a select, not a branch) and
+ * are kept per entry, and a second loop adds each grain's last partial sum. Every addition is the
+ * scalar loop's, in its order: the results are the same to the bit. */
+KERNEL void grain_pass(SimWorld *world, const unsigned key)
+{
+    pair_forces(world, key);
+    const int mobile = world->mobile_count;
+    const int total = world->nl.start[mobile];
+    const size_t cap = (size_t)world->nl.capacity;
+    const double *restrict radius = world->radius;
     double *restrict fx = world->fx, *restrict fy = world->fy, *restrict torque = world->torque;
     const int *restrict start = world->nl.start, *restrict partner = world->nl.j;
-    const double *restrict gamma = world->nl.gamma, *restrict shift = world->nl.shift;
-    const uint8_t *restrict pair = world->nl.pair;
-    double *restrict hist_t = world->nl.hist_t, *restrict hist_r = world->nl.hist_r;
-    const PairParams *pairs = world->pairs;
+    const int *restrict owner = world->nl.owner;
+    double *restrict out_x = world->nl.out, *restrict out_y = world->nl.out + cap;
+    double *restrict out_t = world->nl.out + 2 * cap;
+    const double *restrict out_m = world->nl.out + 3 * cap;
     const unsigned law = key & KEY_TANGENTIAL;
 
-    for (int i = 0; i < mobile; ++i) {
-        const double xi0 = x[i], yi0 = y[i], ri = radius[i];
-        const double vxi = vx[i], vyi = vy[i], wi = KEY_ROTATION(key) ? omega[i] : 0.0;
-        double fxi = 0.0, fyi = 0.0, ti = 0.0;
-        const int end = start[i + 1];
-        for (int k = start[i]; k < end; ++k) {
-            const int j = partner[k];
-            double dx = x[j] - xi0;
-            if (key & KEY_PERIODIC)
-                dx += shift[k];
-            const double dy = y[j] - yi0;
-            const double rs = ri + radius[j];
-            const double d2 = dx * dx + dy * dy;
-            if (d2 >= rs * rs) {
-                if (law == SIM_TANGENTIAL_SPRING)
-                    hist_t[k] = 0.0;
-                if (key & KEY_ROLLING)
-                    hist_r[k] = 0.0;
-                continue;
-            }
-            const double d = sqrt(d2);
-            const double inv = 1.0 / d;
-            const double nx = dx * inv, ny = dy * inv;
-            const double overlap = rs - d; /* 000 eq. 3.1 */
-            const double dvx = vx[j] - vxi, dvy = vy[j] - vyi;
-            const double v_n = dvx * nx + dvy * ny; /* 000 eq. 3.4 */
-            const PairParams *p = &pairs[pair[k]];
-            double f_el;
-            const double f_n = normal_force(key, p->k_n, gamma[k], overlap, v_n, &f_el);
-            double fxk = -f_n * nx, fyk = -f_n * ny;
+    double sum_x = 0.0, sum_y = 0.0, sum_t = 0.0;
+    int previous = -1;
+    for (int k = 0; k < total; ++k) {
+        const int i = owner[k], j = partner[k];
+        const int first = i != previous;
+        previous = i;
+        sum_x = first ? 0.0 : sum_x;
+        sum_y = first ? 0.0 : sum_y;
+        const double fxk = out_x[k], fyk = out_y[k];
+        if (KEY_ROTATION(key)) {
+            sum_t = first ? 0.0 : sum_t;
             if (law != SIM_TANGENTIAL_NONE) {
-                const double sx = ny, sy = -nx;   /* 000 eq. 3.3 */
-                double v_s = dvx * sx + dvy * sy; /* 000 eq. 3.5 */
-                if (KEY_ROTATION(key))
-                    v_s += wi * ri + omega[j] * radius[j];
-                double dummy = 0.0;
-                double *xi_t = (law == SIM_TANGENTIAL_SPRING) ? &hist_t[k] : &dummy;
-                const double f_t = tangential_force(key, p, v_s, f_n, f_el, dt, xi_t);
-                fxk += f_t * sx;
-                fyk += f_t * sy;
-                if (KEY_ROTATION(key)) {
-                    ti -= ri * f_t; /* 000 eq. 4.4 */
-                    torque[j] -= radius[j] * f_t;
-                }
+                const double f_t = out_t[k];
+                sum_t -= radius[i] * f_t; /* 000 eq. 4.4 */
+                torque[j] -= radius[j] * f_t;
             }
             if (key & KEY_ROLLING) {
-                const double chord = (key & KEY_CHORD) ? disk_chord(d, ri, radius[j]) : 0.0;
-                const double m = rolling_torque(key, p, chord, omega[j] - wi, f_el, dt, &hist_r[k]);
-                ti -= m;
+                const double m = out_m[k];
+                sum_t -= m;
                 torque[j] += m;
             }
-            fxi += fxk;
-            fyi += fyk;
-            fx[j] -= fxk;
-            fy[j] -= fyk;
+            out_t[k] = sum_t;
         }
-        fx[i] += fxi;
-        fy[i] += fyi;
+        sum_x += fxk;
+        sum_y += fyk;
+        out_x[k] = sum_x;
+        out_y[k] = sum_y;
+        fx[j] -= fxk;
+        fy[j] -= fyk;
+    }
+    for (int i = 0; i < mobile; ++i) {
+        const int last = start[i + 1] - 1, any = last >= start[i];
+        fx[i] += any ? out_x[last] : 0.0;
+        fy[i] += any ? out_y[last] : 0.0;
         if (KEY_ROTATION(key))
-            torque[i] += ti;
+            torque[i] += any ? out_t[last] : 0.0;
     }
 }
 
@@ -223,7 +345,7 @@ static inline double wall_geometry(const SimWall *w, double px, double py, doubl
 }
 
 /* Grain-wall contacts: the wall acts as a partner of infinite mass, zero radius, no spin. */
-static inline void wall_pass(SimWorld *world, const unsigned key)
+KERNEL void wall_pass(SimWorld *world, const unsigned key)
 {
     const WallList *wl = &world->wl;
     const double dt = world->contact_dt;
@@ -246,7 +368,7 @@ static inline void wall_pass(SimWorld *world, const unsigned key)
         const double v_n = dvx * nx + dvy * ny;
         const PairParams *p = &world->pairs[wl->pair[k]];
         double f_el;
-        const double f_n = normal_force(key, p->k_n, wl->gamma[k], overlap, v_n, &f_el);
+        const double f_n = normal_force_d(key, p->k_n, wl->gamma[k], overlap, v_n, &f_el);
         double fxk = -f_n * nx, fyk = -f_n * ny;
         const double wi = KEY_ROTATION(key) ? world->omega[i] : 0.0;
         if (law != SIM_TANGENTIAL_NONE) {
@@ -254,7 +376,8 @@ static inline void wall_pass(SimWorld *world, const unsigned key)
             double v_s = dvx * sx + dvy * sy + wi * ri;
             double dummy = 0.0;
             double *xi_t = (law == SIM_TANGENTIAL_SPRING) ? &wl->hist_t[k] : &dummy;
-            const double f_t = tangential_force(key, p, v_s, f_n, f_el, dt, xi_t);
+            const double f_t =
+                tangential_force_d(key, p->k_t, p->mu, p->gamma_s, v_s, f_n, f_el, dt, xi_t);
             fxk += f_t * sx;
             fyk += f_t * sy;
             if (KEY_ROTATION(key))
@@ -262,7 +385,9 @@ static inline void wall_pass(SimWorld *world, const unsigned key)
         }
         if (key & KEY_ROLLING) {
             const double chord = (key & KEY_CHORD) ? 2.0 * sqrt(ri * ri - d * d) : 0.0;
-            world->torque[i] -= rolling_torque(key, p, chord, -wi, f_el, dt, &wl->hist_r[k]);
+            const double k_r = (key & KEY_CHORD) ? p->k_n * chord * chord : p->k_r;
+            const double mu_r = (key & KEY_CHORD) ? p->mu * chord : p->mu_r;
+            world->torque[i] -= rolling_torque_d(k_r, mu_r, -wi, f_el, dt, &wl->hist_r[k]);
         }
         world->fx[i] += fxk;
         world->fy[i] += fyk;
@@ -315,12 +440,12 @@ static void visit_one(SimWorld *world, unsigned key, int i, int j, int wall, dou
                       ContactVisit *visit, void *context)
 {
     double f_el;
-    double f_n = normal_force(key, p->k_n, gamma_n, overlap, v_n, &f_el);
+    double f_n = normal_force_d(key, p->k_n, gamma_n, overlap, v_n, &f_el);
     unsigned law = key & KEY_TANGENTIAL;
     double f_t = 0.0, energy;
     if (law == SIM_TANGENTIAL_REGULARISED) {
         double scratch = 0.0;
-        f_t = tangential_force(key, p, v_s, f_n, f_el, 0.0, &scratch);
+        f_t = tangential_force_d(key, p->k_t, p->mu, p->gamma_s, v_s, f_n, f_el, 0.0, &scratch);
     } else if (law == SIM_TANGENTIAL_SPRING) {
         f_t = p->k_t * xi_t;
     }
@@ -372,7 +497,7 @@ void sim_contacts_visit(SimWorld *world, ContactVisit *visit, void *context)
             double m_r = (key & KEY_ROLLING) ? world->nl.hist_r[k] : 0.0;
             double overlap = rs - d;
             double lever = r[i] - 0.5 * overlap;
-            visit_one(world, key, i, j, -1, nx, ny, overlap, disk_chord(d, r[i], r[j]),
+            visit_one(world, key, i, j, -1, nx, ny, overlap, disk_chord_d(d, r[i], r[j]),
                       dvx * nx + dvy * ny, v_s, &world->pairs[world->nl.pair[k]],
                       world->nl.gamma[k], xi_t, m_r, x[i] + lever * nx, y[i] + lever * ny, visit,
                       context);

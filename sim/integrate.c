@@ -31,6 +31,8 @@ static inline void velocity_verlet(SimWorld *w, const int rot)
     const double *restrict xr = w->x_ref, *restrict yr = w->y_ref;
     const double limit2 = w->disp_limit2;
     int moved = 0;
+    /* The arrays never alias (restrict is not enough for GCC to vectorise): */
+#pragma GCC ivdep
     for (int i = 0; i < n; ++i) {
         double ax = fx[i] * im[i] + gx, ay = fy[i] * im[i] + gy;
         double vhx = vx[i] + half * ax, vhy = vy[i] + half * ay;
@@ -44,25 +46,32 @@ static inline void velocity_verlet(SimWorld *w, const int rot)
         moved |= dx * dx + dy * dy > limit2;
     }
     if (rot) {
-        double *restrict omega = w->omega, *restrict hw = w->aux2;
+        double *restrict omega = w->omega, *restrict hw = w->aux2, *restrict angle = w->angle;
         const double *restrict torque = w->torque, *restrict ii = w->inv_inertia;
+#pragma GCC ivdep
         for (int i = 0; i < n; ++i) {
             double alpha = torque[i] * ii[i];
             double wh = omega[i] + half * alpha;
             hw[i] = wh;
-            w->angle[i] += dt * wh;
+            angle[i] += dt * wh;
             omega[i] = wh + half * alpha;
         }
     }
     w->need_rebuild |= moved;
     sim_world_forces_at(w, w->time + dt);
+#pragma GCC ivdep
     for (int i = 0; i < n; ++i) {
         vx[i] = hx[i] + half * (fx[i] * im[i] + gx);
         vy[i] = hy[i] + half * (fy[i] * im[i] + gy);
     }
-    if (rot)
+    if (rot) {
+        double *restrict omega = w->omega;
+        const double *restrict hw = w->aux2, *restrict torque = w->torque;
+        const double *restrict ii = w->inv_inertia;
+#pragma GCC ivdep
         for (int i = 0; i < n; ++i)
-            w->omega[i] = w->aux2[i] + half * w->torque[i] * w->inv_inertia[i];
+            omega[i] = hw[i] + half * torque[i] * ii[i];
+    }
 }
 
 /* ---- semi-implicit (symplectic) Euler, 000 eqs. 4.16-4.17: v += a dt, then x += v dt. */

@@ -64,6 +64,8 @@ static void list_reserve(SimWorld *world, int capacity)
     nl->j = grow(nl->j, n, sizeof *nl->j);
     nl->gamma = grow(nl->gamma, n, sizeof *nl->gamma);
     nl->pair = grow(nl->pair, n, sizeof *nl->pair);
+    nl->owner = grow(nl->owner, n, sizeof *nl->owner);
+    nl->out = grow(nl->out, 4 * n, sizeof *nl->out);
     if (world->effects & SIM_EFFECT_PERIODIC_X)
         nl->shift = grow(nl->shift, n, sizeof *nl->shift);
     if (world->has_history) {
@@ -98,6 +100,8 @@ void sim_neighbour_free(SimWorld *world)
     free(nl->gamma);
     free(nl->pair);
     free(nl->shift);
+    free(nl->owner);
+    free(nl->out);
     free(nl->hist_t);
     free(nl->hist_r);
     WallList *wl = &world->wl;
@@ -333,6 +337,7 @@ static void build_pairs(SimWorld *world, const HistoryRecord *records, int recor
                         list_reserve(world, 2 * nl->capacity);
                     int si = world->species[i], sj = world->species[j];
                     nl->j[k] = j;
+                    nl->owner[k] = i;
                     nl->pair[k] = (uint8_t)(si * SIM_MAX_SPECIES + sj);
                     nl->gamma[k] =
                         sim_pair_gamma(world, si, sj, world->inv_mass[i], world->inv_mass[j]);

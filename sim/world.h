@@ -34,6 +34,8 @@ typedef struct NeighbourList {
     double *shift;  /* periodic x shift added to x_j - x_i, m (periodic only) */
     double *hist_t; /* tangential spring displacement xi_t, m (spring law only) */
     double *hist_r; /* rolling torque M, N m (rolling only) */
+    int *owner;     /* i of entry k (the flat, vectorised force pass) */
+    double *out;    /* per-entry results of that pass: 4 arrays of capacity (fx, fy, f_t, M) */
 } NeighbourList;
 
 /* Grain-wall candidate list: entries (grain, wall). */
