@@ -20,7 +20,8 @@ enum {
     KEY_HERTZ = 1u << 4,
     KEY_CLIP = 1u << 5,
     KEY_CHORD = 1u << 6, /* rolling law from the contact chord (else fixed k_r) */
-    KEY_COUNT = 128
+    KEY_COUNT = 128,
+    KEY_UNIFORM = 1u << 7 /* one species: pair constants are broadcast, not gathered */
 };
 
 /* Torques exist only when a tangential law or rolling resistance is declared. */
@@ -129,11 +130,12 @@ KERNEL VecD gather(const double *restrict a, const int *restrict index)
 }
 
 /* Lane l is field `off` (bytes) of pairs[index[l]]. */
-KERNEL VecD gather_pair(const PairParams *restrict pairs, const int *restrict index, size_t off)
+KERNEL VecD gather_pair(const unsigned key, const PairParams *restrict pairs,
+                        const int *restrict index, size_t off)
 {
     VecD r;
     for (int l = 0; l < SIM_LANES; ++l)
-        r[l] = *(const double *)((const char *)&pairs[index[l]] + off);
+        r[l] = *(const double *)((const char *)&pairs[(key & KEY_UNIFORM) ? 0 : index[l]] + off);
     return r;
 }
 
@@ -188,7 +190,7 @@ KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict 
     const VecD dvx = gather(world->vx, j) - gather(world->vx, i);
     const VecD dvy = gather(world->vy, j) - gather(world->vy, i);
     const VecD v_n = dvx * nx + dvy * ny; /* 000 eq. 3.4 */
-    const VecD k_n = gather_pair(world->pairs, p, offsetof(PairParams, k_n));
+    const VecD k_n = gather_pair(key, world->pairs, p, offsetof(PairParams, k_n));
     VecD f_el;
     const VecD f_n = normal_force_v(key, k_n, load(nl->gamma, entry), overlap, v_n, &f_el);
     VecD fxk = -f_n * nx, fyk = -f_n * ny;
@@ -202,14 +204,14 @@ KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict 
         const VecD sx = ny, sy = -nx;   /* 000 eq. 3.3 */
         VecD v_s = dvx * sx + dvy * sy; /* 000 eq. 3.5 */
         v_s += wi * ri + wj * rj;
-        const VecD mu = gather_pair(world->pairs, p, offsetof(PairParams, mu));
+        const VecD mu = gather_pair(key, world->pairs, p, offsetof(PairParams, mu));
         VecD k_t = ((VecD){0.0, 0.0, 0.0, 0.0}), gamma_s = ((VecD){0.0, 0.0, 0.0, 0.0}),
              spring = ((VecD){0.0, 0.0, 0.0, 0.0});
         if (law == SIM_TANGENTIAL_SPRING) {
-            k_t = gather_pair(world->pairs, p, offsetof(PairParams, k_t));
+            k_t = gather_pair(key, world->pairs, p, offsetof(PairParams, k_t));
             spring = load(nl->hist_t, entry);
         } else {
-            gamma_s = gather_pair(world->pairs, p, offsetof(PairParams, gamma_s));
+            gamma_s = gather_pair(key, world->pairs, p, offsetof(PairParams, gamma_s));
         }
         f_t = tangential_force_v(key, k_t, mu, gamma_s, v_s, f_n, f_el, dt, &spring);
         if (law == SIM_TANGENTIAL_SPRING)
@@ -222,10 +224,10 @@ KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict 
         if (key & KEY_CHORD) {
             const VecD chord = disk_chord_v(d, ri, rj);
             k_r = k_n * chord * chord;
-            mu_r = gather_pair(world->pairs, p, offsetof(PairParams, mu)) * chord;
+            mu_r = gather_pair(key, world->pairs, p, offsetof(PairParams, mu)) * chord;
         } else {
-            k_r = gather_pair(world->pairs, p, offsetof(PairParams, k_r));
-            mu_r = gather_pair(world->pairs, p, offsetof(PairParams, mu_r));
+            k_r = gather_pair(key, world->pairs, p, offsetof(PairParams, k_r));
+            mu_r = gather_pair(key, world->pairs, p, offsetof(PairParams, mu_r));
         }
         VecD m_r = load(nl->hist_r, entry);
         const VecD m = rolling_torque_v(k_r, mu_r, wj - wi, f_el, dt, &m_r);
@@ -409,7 +411,10 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
 #define DEFINE_PASS(h, l)                                                                          \
     static void grain_pass_##h##_##l(SimWorld *world)                                              \
     {                                                                                              \
-        grain_pass(world, (unsigned)((h)*8 + (l)));                                                \
+        if (world->def.species_count == 1)                                                         \
+            grain_pass(world, (unsigned)((h)*8 + (l)) | KEY_UNIFORM);                              \
+        else                                                                                       \
+            grain_pass(world, (unsigned)((h)*8 + (l)));                                            \
     }                                                                                              \
     static void wall_pass_##h##_##l(SimWorld *world)                                               \
     {                                                                                              \
