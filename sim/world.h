@@ -106,6 +106,10 @@ struct SimWorld {
     double disp_limit2; /* (skin / 2)^2: a grain moved this far triggers a rebuild, m^2 */
     int need_rebuild;
     long rebuilds;
+    /* velocity Verlet: sim_world_step asks to defer a step's closing kick into the next step's
+     * opening loop (defer_kick); kick_pending says one is deferred. Never pending outside
+     * sim_world_step. */
+    int defer_kick, kick_pending;
 
     NeighbourList nl;
     WallList wl;
@@ -186,6 +190,8 @@ void sim_contacts_visit(SimWorld *world, ContactVisit *visit, void *context);
 /* integrate.c */
 StageFn *sim_integrator_select(SimIntegrator integrator, int rotation);
 void sim_integrator_start(SimWorld *world);
+/* Applies a deferred closing kick (velocity Verlet), if any. */
+void sim_integrator_finish(SimWorld *world);
 double sim_stability_limit(SimIntegrator integrator, double omega, double zeta);
 
 /* grains.c */
