@@ -9,6 +9,7 @@
 #include "world.h"
 
 #include <math.h>
+#include <string.h>
 
 /* The kernel's pieces must inline into each instantiation, or `key` stops being a constant. */
 #define KERNEL static inline __attribute__((always_inline))
@@ -139,16 +140,26 @@ KERNEL VecD gather_pair(const unsigned key, const PairParams *restrict pairs,
     return r;
 }
 
-KERNEL VecD load(const double *restrict a, const int *restrict entry)
+/* Per-entry arrays: a full block (lanes == SIM_LANES, a constant in the main loop) holds
+ * consecutive entries and moves as one vector; a short final block lane by lane. */
+KERNEL VecD load(const double *restrict a, const int *restrict entry, const int lanes)
 {
     VecD r;
+    if (lanes == SIM_LANES) {
+        memcpy(&r, a + entry[0], sizeof r);
+        return r;
+    }
     for (int l = 0; l < SIM_LANES; ++l)
         r[l] = a[entry[l]];
     return r;
 }
 
-KERNEL void store(double *restrict a, const int *restrict entry, int lanes, VecD v)
+KERNEL void store(double *restrict a, const int *restrict entry, const int lanes, VecD v)
 {
+    if (lanes == SIM_LANES) {
+        memcpy(a + entry[0], &v, sizeof v);
+        return;
+    }
     for (int l = 0; l < lanes; ++l)
         a[entry[l]] = v[l];
 }
@@ -177,7 +188,7 @@ KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict 
     }
     VecD dx = gather(world->x, j) - gather(world->x, i);
     if (key & KEY_PERIODIC)
-        dx += load(nl->shift, entry);
+        dx += load(nl->shift, entry, lanes);
     const VecD dy = gather(world->y, j) - gather(world->y, i);
     const VecD ri = gather(world->radius, i), rj = gather(world->radius, j);
     const VecD rs = ri + rj;
@@ -192,7 +203,7 @@ KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict 
     const VecD v_n = dvx * nx + dvy * ny; /* 000 eq. 3.4 */
     const VecD k_n = gather_pair(key, world->pairs, p, offsetof(PairParams, k_n));
     VecD f_el;
-    const VecD f_n = normal_force_v(key, k_n, load(nl->gamma, entry), overlap, v_n, &f_el);
+    const VecD f_n = normal_force_v(key, k_n, load(nl->gamma, entry, lanes), overlap, v_n, &f_el);
     VecD fxk = -f_n * nx, fyk = -f_n * ny;
     VecD f_t = ((VecD){0.0, 0.0, 0.0, 0.0});
     VecD wi = ((VecD){0.0, 0.0, 0.0, 0.0}), wj = ((VecD){0.0, 0.0, 0.0, 0.0});
@@ -209,7 +220,7 @@ KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict 
              spring = ((VecD){0.0, 0.0, 0.0, 0.0});
         if (law == SIM_TANGENTIAL_SPRING) {
             k_t = gather_pair(key, world->pairs, p, offsetof(PairParams, k_t));
-            spring = load(nl->hist_t, entry);
+            spring = load(nl->hist_t, entry, lanes);
         } else {
             gamma_s = gather_pair(key, world->pairs, p, offsetof(PairParams, gamma_s));
         }
@@ -229,7 +240,7 @@ KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict 
             k_r = gather_pair(key, world->pairs, p, offsetof(PairParams, k_r));
             mu_r = gather_pair(key, world->pairs, p, offsetof(PairParams, mu_r));
         }
-        VecD m_r = load(nl->hist_r, entry);
+        VecD m_r = load(nl->hist_r, entry, lanes);
         const VecD m = rolling_torque_v(k_r, mu_r, wj - wi, f_el, dt, &m_r);
         store(nl->hist_r, entry, lanes, sel_v(touching, m_r, ((VecD){0.0, 0.0, 0.0, 0.0})));
         store(nl->out + 3 * cap, entry, lanes, sel_v(touching, m, ((VecD){0.0, 0.0, 0.0, 0.0})));
