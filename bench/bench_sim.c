@@ -290,7 +290,8 @@ static void layout_bytes(const SimWorld *w, double *per_grain, double *per_entry
                                        sizeof(unsigned) + sizeof(uint32_t)) +
         (double)w->count * (2.0 * sizeof(int) + 7.0 * sizeof(double) + 4.0 * sizeof(int)) +
         (double)w->cell_capacity * sizeof(int) + (double)(w->mobile_count + 1) * sizeof(int);
-    double entry = sizeof(int) + sizeof(double) + sizeof(uint8_t);
+    /* partner, owner, gamma_n, pair index, the vector pass's four per-entry results */
+    double entry = 2.0 * sizeof(int) + sizeof(double) + sizeof(uint8_t) + 4.0 * sizeof(double);
     if (w->effects & SIM_EFFECT_PERIODIC_X)
         entry += sizeof(double);
     if (w->has_history)

@@ -8,6 +8,12 @@
  * opposite; both torques are -r F_t (000 eq. 4.4; 004 §1.6). */
 #include "world.h"
 
+/* Vector values pass between static, always-inlined functions only: no ABI is exposed, so GCC's
+ * note that 32-byte vectors change the ABI without AVX (builds without -march) does not apply. */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
 #include <math.h>
 #include <string.h>
 

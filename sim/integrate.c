@@ -174,7 +174,7 @@ static inline void stormer_verlet(SimWorld *w, const int rot)
  * (x, v dt, a dt^2/2, b dt^3/6). aux0..3 = ax, ay, bx, by; aux4..5 = angular a, b. */
 static inline void gear(SimWorld *w, const int rot)
 {
-    const int n = w->mobile_count;
+    int n = w->mobile_count;
     const double dt = w->dt, dt2 = dt * dt, dt3 = dt2 * dt;
     const double gx = w->def.gravity_x, gy = w->def.gravity_y;
     double *ax = w->aux0, *ay = w->aux1, *bx = w->aux2, *by = w->aux3;
@@ -199,6 +199,7 @@ static inline void gear(SimWorld *w, const int rot)
     }
     w->need_rebuild |= moved;
     sim_world_forces_at(w, w->time + dt);
+    n = w->mobile_count; /* the rebuild may have removed grains (mobile ones come first) */
     for (int i = 0; i < n; ++i) {
         double dax = w->fx[i] * w->inv_mass[i] + gx - ax[i];
         double day = w->fy[i] * w->inv_mass[i] + gy - ay[i];
@@ -260,7 +261,7 @@ static void rk4_stage(SimWorld *w, const int rot, double position_step, double v
 
 static inline void rk4(SimWorld *w, const int rot)
 {
-    const int n = w->mobile_count;
+    int n = w->mobile_count;
     const double dt = w->dt, t = w->time;
     memcpy(w->aux0, w->x, (size_t)n * sizeof(double));
     memcpy(w->aux1, w->y, (size_t)n * sizeof(double));
@@ -280,6 +281,7 @@ static inline void rk4(SimWorld *w, const int rot)
     rk4_stage(w, rot, 0.5 * dt, 0.5 * dt, 1.0, t + 0.5 * dt);
     rk4_stage(w, rot, 0.5 * dt, 0.5 * dt, 2.0, t + 0.5 * dt);
     rk4_stage(w, rot, dt, dt, 2.0, t + dt);
+    n = w->mobile_count; /* a stage's rebuild may have removed grains (mobile ones come first) */
     const double gx = w->def.gravity_x, gy = w->def.gravity_y, sixth = dt / 6.0;
     int moved = 0;
     const double limit2 = w->disp_limit2;
