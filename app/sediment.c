@@ -325,14 +325,11 @@ int app_sediment_begin(AppSediment *s, const char *out_dir, char *err, size_t er
 {
     snprintf(s->csv_path, sizeof s->csv_path, "%s/sediment.csv", out_dir);
     snprintf(s->json_path, sizeof s->json_path, "%s/sediment.json", out_dir);
-    char tmp[SCENE_PATH_MAX + 40];
-    snprintf(tmp, sizeof tmp, "%s.tmp", s->csv_path);
-    s->csv = fopen(tmp, "w");
+    s->csv = app_tmp_open(s->csv_path, "t,q,q_star,grain_vx_mean,bed_level,u_top,shear_velocity");
     if (!s->csv) {
-        snprintf(err, err_size, "cannot write %s", tmp);
+        snprintf(err, err_size, "cannot write %s.tmp", s->csv_path);
         return -1;
     }
-    fprintf(s->csv, "t,q,q_star,grain_vx_mean,bed_level,u_top,shear_velocity\n");
     s->count = 0;
     return 0;
 }
@@ -410,33 +407,28 @@ int app_sediment_stage_end(AppSediment *s, SimWorld *world, const char *out_dir,
                            const char *stage_name, char *err, size_t err_size)
 {
     (void)world;
-    char path[SCENE_PATH_MAX + 2 * SCENE_NAME_MAX], tmp[SCENE_PATH_MAX + 2 * SCENE_NAME_MAX + 8];
+    char path[SCENE_PATH_MAX + 2 * SCENE_NAME_MAX];
     snprintf(path, sizeof path, "%s/%s.fluid.csv", out_dir, stage_name);
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f) {
-        snprintf(err, err_size, "cannot write %s", tmp);
-        return -1;
-    }
     SimFluidProfile p;
     sim_fluid_profile(s->fluid, &p);
     double *load = calloc((size_t)p.cells + 1, sizeof *load);
     if (!load) {
-        fclose(f);
-        remove(tmp);
         snprintf(err, err_size, "out of memory");
+        return -1;
+    }
+    FILE *f = app_tmp_open(path, "y,u,phi,grain_vx,tau_fluid,grain_load,tau_total");
+    if (!f) {
+        free(load);
+        snprintf(err, err_size, "cannot write %s.tmp", path);
         return -1;
     }
     for (int k = p.cells - 1; k >= 0; --k)
         load[k] = load[k + 1] + p.grain_force[k] * p.dy;
-    fprintf(f, "y,u,phi,grain_vx,tau_fluid,grain_load,tau_total\n");
     for (int k = 0; k < p.cells; ++k)
         fprintf(f, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", p.y[k], p.u[k], p.solid_fraction[k],
                 p.grain_velocity[k], p.stress[k + 1], load[k + 1], p.stress[k + 1] + load[k + 1]);
     free(load);
-    int ok = fclose(f) == 0;
-    if (!ok || rename(tmp, path) != 0) {
-        remove(tmp);
+    if (app_tmp_commit(&f, path) != 0) {
         snprintf(err, err_size, "cannot write %s", path);
         return -1;
     }
@@ -446,26 +438,18 @@ int app_sediment_stage_end(AppSediment *s, SimWorld *world, const char *out_dir,
 int app_sediment_end(AppSediment *s, int ok, char *err, size_t err_size)
 {
     int rc = 0;
-    if (s->csv) {
-        int closed = fclose(s->csv) == 0;
-        s->csv = NULL;
-        char tmp[SCENE_PATH_MAX + 40];
-        snprintf(tmp, sizeof tmp, "%s.tmp", s->csv_path);
-        if (!closed || rename(tmp, s->csv_path) != 0) {
-            snprintf(err, err_size, "cannot write %s", s->csv_path);
-            rc = -1;
-        }
+    if (app_tmp_commit(&s->csv, s->csv_path) != 0) {
+        snprintf(err, err_size, "cannot write %s", s->csv_path);
+        rc = -1;
     }
     if (!ok || rc != 0)
         return rc;
     double t_sat = NAN;
     double q_sat = app_sediment_saturation(s->t, s->q, s->count, s->flow_start, &t_sat);
     const AppSedimentNumbers *n = &s->numbers;
-    char tmp[SCENE_PATH_MAX + 40];
-    snprintf(tmp, sizeof tmp, "%s.tmp", s->json_path);
-    FILE *f = fopen(tmp, "w");
+    FILE *f = app_tmp_open(s->json_path, NULL);
     if (!f) {
-        snprintf(err, err_size, "cannot write %s", tmp);
+        snprintf(err, err_size, "cannot write %s.tmp", s->json_path);
         return -1;
     }
     const SimFluidDef *fd = sim_fluid_def(s->fluid);
@@ -482,8 +466,7 @@ int app_sediment_end(AppSediment *s, int ok, char *err, size_t err_size)
             n->diameter, n->density_ratio, n->galileo, n->shields, fd->density, fd->viscosity,
             s->shear_velocity, fd->turbulent ? "true" : "false", s->flow_start, qs, qss, ts,
             s->count);
-    if (fclose(f) != 0 || rename(tmp, s->json_path) != 0) {
-        remove(tmp);
+    if (app_tmp_commit(&f, s->json_path) != 0) {
         snprintf(err, err_size, "cannot write %s", s->json_path);
         return -1;
     }
@@ -626,15 +609,13 @@ static int write_scan_outputs(const Scan *sc, const int *status)
     double below, above;
     double theta_c =
         app_sediment_threshold(sc->shields, q_star, sc->count, sc->level, &below, &above);
-    char path[SCAN_PATH], tmp[SCAN_PATH + 8];
+    char path[SCAN_PATH];
     snprintf(path, sizeof path, "%s/flux.csv", sc->out_dir);
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    FILE *f = fopen(tmp, "w");
+    FILE *f = app_tmp_open(path, "shields,q_sat,q_sat_star,t_sat,transport,status");
     if (!f) {
-        fprintf(stderr, "sablier: sediment: cannot write %s\n", tmp);
+        fprintf(stderr, "sablier: sediment: cannot write %s.tmp\n", path);
         return 1;
     }
-    fprintf(f, "shields,q_sat,q_sat_star,t_sat,transport,status\n");
     double xs[SCAN_MAX], ys[SCAN_MAX];
     int n = 0;
     for (int j = 0; j < sc->count; ++j) {
@@ -646,16 +627,14 @@ static int write_scan_outputs(const Scan *sc, const int *status)
             ys[n++] = q_star[k];
         }
     }
-    if (fclose(f) != 0 || rename(tmp, path) != 0) {
-        remove(tmp);
+    if (app_tmp_commit(&f, path) != 0) {
         fprintf(stderr, "sablier: sediment: cannot write %s\n", path);
         return 1;
     }
     snprintf(path, sizeof path, "%s/threshold.json", sc->out_dir);
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    f = fopen(tmp, "w");
+    f = app_tmp_open(path, NULL);
     if (!f) {
-        fprintf(stderr, "sablier: sediment: cannot write %s\n", tmp);
+        fprintf(stderr, "sablier: sediment: cannot write %s.tmp\n", path);
         return 1;
     }
     char v[3][32];
@@ -666,8 +645,7 @@ static int write_scan_outputs(const Scan *sc, const int *status)
             "{\n  \"level\": %.9g,\n  \"shields_threshold\": %s,\n  \"bracket_below\": %s,\n"
             "  \"bracket_above\": %s,\n  \"members\": %d\n}\n",
             sc->level, v[0], v[1], v[2], sc->count);
-    if (fclose(f) != 0 || rename(tmp, path) != 0) {
-        remove(tmp);
+    if (app_tmp_commit(&f, path) != 0) {
         fprintf(stderr, "sablier: sediment: cannot write %s\n", path);
         return 1;
     }

@@ -5,6 +5,7 @@
 
 #include "run.h"
 #include "scene.h"
+#include "util.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -448,10 +449,9 @@ static void csv_text(FILE *f, const char *text)
 
 static int write_table(const Sweep *w)
 {
-    char path[SWEEP_PATH + 32], tmp[SWEEP_PATH + 40];
+    char path[SWEEP_PATH + 32];
     snprintf(path, sizeof path, "%s/sweep.csv", w->out_dir);
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    FILE *f = fopen(tmp, "w");
+    FILE *f = app_tmp_open(path, NULL);
     if (!f)
         return -1;
     static const char *const keys[] = {
@@ -480,8 +480,7 @@ static int write_table(const Sweep *w)
         csv_text(f, sets);
         fputc('\n', f);
     }
-    int ok = fclose(f) == 0;
-    return ok && rename(tmp, path) == 0 ? 0 : -1;
+    return app_tmp_commit(&f, path);
 }
 
 static int write_plots(const Sweep *w)

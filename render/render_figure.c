@@ -4,11 +4,11 @@
 #include "render_cairo_util.h"
 
 #include "render/render.h"
+#include "render/render_file.h"
 
 #include <cairo-pdf.h>
 #include <cairo-svg.h>
 #include <ctype.h>
-#include <errno.h>
 #include <libavcodec/version.h>
 #include <libavformat/version.h>
 #include <libavutil/version.h>
@@ -223,14 +223,9 @@ int render_cairo_write(const char *path, int width, int height, RenderDrawFn dra
         render_image_free(&image);
         return rc;
     }
-    size_t plen = strlen(path);
-    char *tmp = malloc(plen + 5);
-    if (!tmp) {
-        set_err(err, err_size, "%s: out of memory", path);
+    char *tmp = render_tmp_name(path, err, err_size);
+    if (!tmp)
         return -1;
-    }
-    memcpy(tmp, path, plen);
-    memcpy(tmp + plen, ".tmp", 5);
     double w_pt = width * RENDER_PT_PER_PX, h_pt = height * RENDER_PT_PER_PX;
     cairo_surface_t *surface =
         pdf ? cairo_pdf_surface_create(tmp, w_pt, h_pt) : cairo_svg_surface_create(tmp, w_pt, h_pt);
@@ -238,9 +233,7 @@ int render_cairo_write(const char *path, int width, int height, RenderDrawFn dra
         set_err(err, err_size, "%s: %s", tmp,
                 cairo_status_to_string(cairo_surface_status(surface)));
         cairo_surface_destroy(surface);
-        remove(tmp);
-        free(tmp);
-        return -1;
+        return render_tmp_commit(tmp, path, 0, err, err_size);
     }
     if (pdf) {
         char subject[1024];
@@ -268,20 +261,9 @@ int render_cairo_write(const char *path, int width, int height, RenderDrawFn dra
     if (status == CAIRO_STATUS_SUCCESS)
         status = cairo_surface_status(surface);
     cairo_surface_destroy(surface);
-    if (status != CAIRO_STATUS_SUCCESS) {
+    if (status != CAIRO_STATUS_SUCCESS)
         set_err(err, err_size, "%s: cairo: %s", tmp, cairo_status_to_string(status));
-        remove(tmp);
-        free(tmp);
-        return -1;
-    }
-    if (rename(tmp, path) != 0) {
-        set_err(err, err_size, "%s: cannot rename to %s: %s", tmp, path, strerror(errno));
-        remove(tmp);
-        free(tmp);
-        return -1;
-    }
-    free(tmp);
-    return 0;
+    return render_tmp_commit(tmp, path, status == CAIRO_STATUS_SUCCESS, err, err_size);
 }
 
 const char *render_library_versions(void)

@@ -2,6 +2,7 @@
 /* render_png.c: PNG through libpng (not cairo_surface_write_to_png: slower, and no text chunks),
  * and reading PNGs back for the image diff. */
 #include "render/render.h"
+#include "render/render_file.h"
 
 #include <errno.h>
 #include <png.h>
@@ -96,14 +97,9 @@ int render_png_write(const RenderImage *image, const char *path, const char *con
         set_err(err, err_size, "%s: empty image", path);
         return -1;
     }
-    size_t plen = strlen(path);
-    char *tmp = malloc(plen + 5);
-    if (!tmp) {
-        set_err(err, err_size, "%s: out of memory", path);
+    char *tmp = render_tmp_name(path, err, err_size);
+    if (!tmp)
         return -1;
-    }
-    memcpy(tmp, path, plen);
-    memcpy(tmp + plen, ".tmp", 5);
 
     PngJob job = {0};
     int opaque = image_is_opaque(image);
@@ -158,30 +154,19 @@ int render_png_write(const RenderImage *image, const char *path, const char *con
     png_destroy_write_struct(&job.png, &job.info);
     free(job.row);
     free(job.texts);
-    if (fclose(job.file) != 0) {
-        job.file = NULL;
+    int closed = fclose(job.file) == 0;
+    if (!closed)
         set_err(err, err_size, "%s: %s", tmp, strerror(errno));
-        remove(tmp);
-        free(tmp);
-        return -1;
-    }
-    if (rename(tmp, path) != 0) {
-        set_err(err, err_size, "%s: cannot rename to %s: %s", tmp, path, strerror(errno));
-        remove(tmp);
-        free(tmp);
-        return -1;
-    }
-    free(tmp);
-    return 0;
+    return render_tmp_commit(tmp, path, closed, err, err_size);
 fail:
     if (job.png)
         png_destroy_write_struct(&job.png, job.info ? &job.info : NULL);
-    if (job.file) {
-        fclose(job.file);
-        remove(tmp);
-    }
     free(job.row);
     free(job.texts);
+    if (job.file) { /* created: remove it */
+        fclose(job.file);
+        return render_tmp_commit(tmp, path, 0, err, err_size);
+    }
     free(tmp);
     return -1;
 }

@@ -1,0 +1,16 @@
+/* SPDX-License-Identifier: MIT */
+/* render_file.h: figures and images are written to PATH.tmp and renamed when complete, so a
+ * failed write never leaves a half-written PATH or a stray PATH.tmp. Not part of the public API. */
+#ifndef RENDER_FILE_H
+#define RENDER_FILE_H
+
+#include <stddef.h>
+
+/// PATH.tmp in a new buffer, or NULL with "PATH: out of memory" in err.
+char *render_tmp_name(const char *path, char *err, size_t err_size);
+/// Finishes a write through `tmp` (from render_tmp_name, freed here): `ok` renames it to PATH,
+/// else it is removed (the caller has written the message). A failed rename removes it too and
+/// writes "TMP: cannot rename to PATH: reason" in err. 0, or -1.
+int render_tmp_commit(char *tmp, const char *path, int ok, char *err, size_t err_size);
+
+#endif
