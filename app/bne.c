@@ -28,7 +28,33 @@ struct AppBne {
     char csv_path[BNE_PATH], json_path[BNE_PATH];
     double *t, *h;
     int count, capacity;
+    char out_dir[BNE_PATH];
+    double dir_x;
+    SimMassModel mass_model;
+    double density[SIM_MAX_SPECIES];
+    /* phase-averaged field (bne.phase_field) */
+    int pf_on;
+    double pf_phase;     /* fraction of the period, [0, 1) */
+    int pf_phases;       /* samples per cycle */
+    int pf_skip;         /* cycles not sampled at the start */
+    double pf_cell;      /* m, 0 = 2 mean diameters */
+    double pf_width;     /* m, 0 = 1.5 mean diameters */
+    double pf_region[4]; /* box frame x0, y0, x1, y1 (m); x1 <= x0 = automatic */
+    int pf_ready;        /* grid allocated for the current shaking stage */
+    char pf_error[160];
+    AppBneField *pf_fields; /* one per phase */
+    AppBneField pf_mean;    /* the cycle mean (the field itself with one phase) */
+    int pf_have_mean;
+    double pf_dt;
+    double pf_diameter; /* mean diameter at the start of shaking, m */
+    long pf_next;       /* next sample index m */
+    double *pf_times;   /* s from the start of shaking, of the samples taken */
+    int pf_count, pf_capacity;
+    double pf_max_error; /* largest |t_sample - tau|, s */
 };
+
+static void phase_field_start(AppBne *b, SimWorld *world, const SimFrame *f);
+static void phase_field_reset(AppBne *b);
 
 /* ---------------------------------------------------------------- parsing */
 
@@ -49,11 +75,70 @@ static int number(AppParse *p, const config_setting_t *g, const char *key, doubl
     return 1;
 }
 
+static int integer(AppParse *p, const config_setting_t *g, const char *key, long min, long max,
+                   int *out)
+{
+    const config_setting_t *s = config_setting_get_member(g, key);
+    if (!s)
+        return 0;
+    int type = config_setting_type(s);
+    if (type != CONFIG_TYPE_INT && type != CONFIG_TYPE_INT64)
+        return app_parse_fail(p, s, "`%s` must be an integer", key);
+    long long v = config_setting_get_int64(s);
+    if (v < min || v > max)
+        return app_parse_fail(p, s, "`%s` must be in [%ld, %ld], got %lld", key, min, max, v);
+    *out = (int)v;
+    return 1;
+}
+
+/* bne.phase_field: the phase-averaged velocity field (docs/brazil_nut.md). */
+static int parse_phase_field(AppBne *b, const config_setting_t *g, const char *path, char *err,
+                             size_t err_size)
+{
+    AppParse p = {path, err, err_size, "bne.phase_field"};
+    static const char *const keys[] = {"phase", "phases", "skip_cycles", "cell",
+                                       "width", "region", NULL};
+    if (app_parse_group_keys(&p, g, keys) < 0)
+        return -1;
+    b->pf_on = 1;
+    b->pf_phases = 1;
+    b->pf_skip = 1;
+    if (number(&p, g, "phase", 0.0, &b->pf_phase) < 0 ||
+        integer(&p, g, "phases", 1, 1000, &b->pf_phases) < 0 ||
+        integer(&p, g, "skip_cycles", 0, 1000000, &b->pf_skip) < 0 ||
+        number(&p, g, "cell", 0.0, &b->pf_cell) < 0 ||
+        number(&p, g, "width", 0.0, &b->pf_width) < 0)
+        return -1;
+    if (!(b->pf_phase < 1.0))
+        return app_parse_fail(&p, config_setting_get_member(g, "phase"),
+                              "`phase` is a fraction of the period in [0, 1), got %g", b->pf_phase);
+    const config_setting_t *r = config_setting_get_member(g, "region");
+    if (r) {
+        int ok = config_setting_type(r) == CONFIG_TYPE_ARRAY && config_setting_length(r) == 4;
+        for (int k = 0; ok && k < 4; ++k) {
+            const config_setting_t *e = config_setting_get_elem(r, (unsigned)k);
+            int type = config_setting_type(e);
+            if (type == CONFIG_TYPE_FLOAT)
+                b->pf_region[k] = config_setting_get_float(e);
+            else if (type == CONFIG_TYPE_INT || type == CONFIG_TYPE_INT64)
+                b->pf_region[k] = (double)config_setting_get_int64(e);
+            else
+                ok = 0;
+            ok = ok && isfinite(b->pf_region[k]);
+        }
+        if (!ok || !(b->pf_region[2] > b->pf_region[0]) || !(b->pf_region[3] > b->pf_region[1]))
+            return app_parse_fail(&p, r,
+                                  "`region` must be [x0, y0, x1, y1] (m, box frame) with x1 > x0 "
+                                  "and y1 > y0");
+    }
+    return 0;
+}
+
 AppBne *app_bne_parse(const config_setting_t *g, Scene *scene, char *err, size_t err_size)
 {
     AppParse p = {scene->path, err, err_size, "bne"};
-    static const char *const keys[] = {"intruder", "motion",    "gamma", "period",
-                                       "stage",    "tolerance", NULL};
+    static const char *const keys[] = {"intruder", "motion",    "gamma",       "period",
+                                       "stage",    "tolerance", "phase_field", NULL};
     if (app_parse_group_keys(&p, g, keys) < 0)
         return NULL;
     if (!(scene->def.effects & SIM_EFFECT_VIBRATION)) {
@@ -117,7 +202,11 @@ AppBne *app_bne_parse(const config_setting_t *g, Scene *scene, char *err, size_t
     mo->amplitude = b->amplitude;
     mo->frequency = b->frequency;
     mo->phase = 0.0;
+    b->dir_x = mo->direction_x;
     b->dir_y = mo->direction_y;
+    b->mass_model = scene->def.mass_model;
+    for (int k = 0; k < SIM_MAX_SPECIES; ++k)
+        b->density[k] = scene->def.materials[k].density;
     b->stage = scene->stage_count - 1;
     if (config_setting_lookup_string(g, "stage", &stage)) {
         b->stage = scene_stage_index(scene, stage);
@@ -127,6 +216,11 @@ AppBne *app_bne_parse(const config_setting_t *g, Scene *scene, char *err, size_t
             return NULL;
         }
     }
+    const config_setting_t *pf = config_setting_get_member(g, "phase_field");
+    if (pf && parse_phase_field(b, pf, scene->path, err, err_size) < 0) {
+        free(b);
+        return NULL;
+    }
     return b;
 }
 
@@ -134,7 +228,7 @@ void app_bne_free(AppBne *b)
 {
     if (!b)
         return;
-    if (b->csv) {
+    if (b->csv) { /* a run that never finished: no bne.csv, no .tmp left */
         fclose(b->csv);
         char tmp[BNE_PATH + 8];
         snprintf(tmp, sizeof tmp, "%s.tmp", b->csv_path);
@@ -142,6 +236,12 @@ void app_bne_free(AppBne *b)
     }
     free(b->t);
     free(b->h);
+    if (b->pf_fields)
+        for (int k = 0; k < b->pf_phases; ++k)
+            app_bne_field_free(&b->pf_fields[k]);
+    free(b->pf_fields);
+    app_bne_field_free(&b->pf_mean);
+    free(b->pf_times);
     free(b);
 }
 
@@ -208,18 +308,19 @@ static double surface_height(SimWorld *world, const SimFrame *f)
 
 int app_bne_begin(AppBne *b, const char *out_dir, char *err, size_t err_size)
 {
+    snprintf(b->out_dir, sizeof b->out_dir, "%s", out_dir);
     snprintf(b->csv_path, sizeof b->csv_path, "%s/bne.csv", out_dir);
     snprintf(b->json_path, sizeof b->json_path, "%s/bne.json", out_dir);
-    char tmp[BNE_PATH + 8];
-    snprintf(tmp, sizeof tmp, "%s.tmp", b->csv_path);
-    if (!(b->csv = fopen(tmp, "w"))) {
-        snprintf(err, err_size, "cannot write %s", tmp);
+    b->csv = app_tmp_open(
+        b->csv_path, "t,t_shake,cycles,box_offset,intruder_y,intruder_top,surface,surface_start");
+    if (!b->csv) {
+        snprintf(err, err_size, "cannot write %s.tmp", b->csv_path);
         return -1;
     }
-    fprintf(b->csv, "t,t_shake,cycles,box_offset,intruder_y,intruder_top,surface,surface_start\n");
     b->count = 0;
     b->measuring = 0;
     b->last_time = 0.0;
+    phase_field_reset(b);
     return 0;
 }
 
@@ -238,6 +339,8 @@ void app_bne_stage(AppBne *b, const Scene *scene, int stage, SimWorld *world)
     b->surface0 = surface_height(world, &f) - box_offset(b, b->t0);
     b->measuring = 1;
     b->count = 0;
+    if (b->pf_on)
+        phase_field_start(b, world, &f);
 }
 
 void app_bne_row(AppBne *b, SimWorld *world)
@@ -310,15 +413,9 @@ static void json_num(char *out, size_t size, double v)
 
 int app_bne_end(AppBne *b, int ok, char *err, size_t err_size)
 {
-    if (b->csv) {
-        int closed = fclose(b->csv) == 0;
-        b->csv = NULL;
-        char tmp[BNE_PATH + 8];
-        snprintf(tmp, sizeof tmp, "%s.tmp", b->csv_path);
-        if (!closed || rename(tmp, b->csv_path) != 0) {
-            snprintf(err, err_size, "cannot write %s", b->csv_path);
-            return -1;
-        }
+    if (b->csv && app_tmp_commit(&b->csv, b->csv_path) != 0) {
+        snprintf(err, err_size, "cannot write %s", b->csv_path);
+        return -1;
     }
     if (!ok)
         return 0;
@@ -333,23 +430,506 @@ int app_bne_end(AppBne *b, int ok, char *err, size_t err_size)
     json_num(v[6], 40, r.rise_time);
     json_num(v[7], 40, r.rise_rate);
     json_num(v[8], 40, r.intruder_radius);
-    char tmp[BNE_PATH + 8];
-    snprintf(tmp, sizeof tmp, "%s.tmp", b->json_path);
-    FILE *f = fopen(tmp, "w");
-    if (!f) {
-        snprintf(err, err_size, "cannot write %s", tmp);
+    char phase[400] = "";
+    if (b->pf_on && b->pf_have_mean)
+        snprintf(phase, sizeof phase,
+                 ",\n  \"phase_field\": {\"phase\": %.9g, \"phases\": %d, \"skip_cycles\": %d, "
+                 "\"samples\": %d, \"max_phase_error\": %.3g, \"cell\": %.9g, \"width\": %.9g, "
+                 "\"nx\": %d, \"ny\": %d}",
+                 b->pf_phase, b->pf_phases, b->pf_skip, b->pf_count, b->pf_max_error,
+                 b->pf_mean.cell, b->pf_mean.width, b->pf_mean.nx, b->pf_mean.ny);
+    char text[2048];
+    snprintf(text, sizeof text,
+             "{\n  \"gamma\": %s,\n  \"period\": %s,\n  \"amplitude\": %s,\n  \"intruder\": %u,\n"
+             "  \"intruder_radius\": %s,\n  \"surface\": %s,\n  \"start_height\": %s,\n"
+             "  \"end_height\": %s,\n  \"rise_time\": %s,\n  \"rise_rate\": %s,\n"
+             "  \"tolerance\": %.9g,\n  \"samples\": %d%s\n}\n",
+             v[0], v[1], v[2], b->intruder, v[8], v[3], v[4], v[5], v[6], v[7], b->tolerance,
+             r.count, phase);
+    if (app_write_atomic(b->json_path, text) != 0) {
+        snprintf(err, err_size, "cannot write %s", b->json_path);
         return -1;
     }
-    fprintf(f,
-            "{\n  \"gamma\": %s,\n  \"period\": %s,\n  \"amplitude\": %s,\n  \"intruder\": %u,\n"
-            "  \"intruder_radius\": %s,\n  \"surface\": %s,\n  \"start_height\": %s,\n"
-            "  \"end_height\": %s,\n  \"rise_time\": %s,\n  \"rise_rate\": %s,\n"
-            "  \"tolerance\": %.9g,\n  \"samples\": %d\n}\n",
-            v[0], v[1], v[2], b->intruder, v[8], v[3], v[4], v[5], v[6], v[7], b->tolerance,
-            r.count);
-    if (fclose(f) != 0 || rename(tmp, b->json_path) != 0) {
-        remove(tmp);
-        snprintf(err, err_size, "cannot write %s", b->json_path);
+    return 0;
+}
+
+/* ---------------------------------------------------------------- phase-averaged field */
+
+/* Offset and velocity of the box along the motion's direction at world time t (the walls' own
+ * formula, sim/world.c: A sin(w t + phase)). */
+static double box_motion(const AppBne *b, double t, double *velocity)
+{
+    double arg = 2.0 * BNE_PI * b->frequency * t + b->phase;
+    *velocity = b->amplitude * 2.0 * BNE_PI * b->frequency * cos(arg);
+    return b->amplitude * sin(arg);
+}
+
+long app_bne_phase_step(double phase, int phases, double period, double dt, long m)
+{
+    long n = m / phases, k = m % phases;
+    double tau = ((double)n + phase + (double)k / (double)phases) * period;
+    return (long)llround(tau / dt);
+}
+
+/* Lucy kernel of cutoff c normalised over the plane: W = 5 / (pi c^2) (1 + 3 s)(1 - s)^3, s = r/c
+ * (Lucy 1977; the MercuryCG default, as render/render_field.c draws the last frame's field). */
+static double lucy(double r, double c)
+{
+    if (!(r < c))
+        return 0.0;
+    double s = r / c, u = 1.0 - s;
+    return 5.0 / (BNE_PI * c * c) * (1.0 + 3.0 * s) * u * u * u;
+}
+
+static int field_alloc(AppBneField *f, int nx, int ny)
+{
+    size_t n = (size_t)nx * (size_t)ny;
+    f->nx = nx;
+    f->ny = ny;
+    f->rho = calloc(n, sizeof *f->rho);
+    f->jx = calloc(n, sizeof *f->jx);
+    f->jy = calloc(n, sizeof *f->jy);
+    f->solid = calloc(n, sizeof *f->solid);
+    f->hits = calloc(n, sizeof *f->hits);
+    f->stamp = malloc(n * sizeof *f->stamp);
+    if (!f->rho || !f->jx || !f->jy || !f->solid || !f->hits || !f->stamp) {
+        app_bne_field_free(f);
+        return -1;
+    }
+    for (size_t k = 0; k < n; ++k)
+        f->stamp[k] = -1;
+    return 0;
+}
+
+int app_bne_field_init(AppBneField *f, double x0, double y0, double x1, double y1, double cell,
+                       double width)
+{
+    memset(f, 0, sizeof *f);
+    if (!(cell > 0.0) || !(width > 0.0) || !(x1 > x0) || !(y1 > y0) || !isfinite(x1 - x0) ||
+        !isfinite(y1 - y0))
+        return -1;
+    double fx = ceil((x1 - x0) / cell), fy = ceil((y1 - y0) / cell);
+    if (!(fx * fy <= 4e6))
+        return -1;
+    int nx = (int)fx, ny = (int)fy;
+    f->x0 = 0.5 * (x0 + x1) - 0.5 * nx * cell; /* centred between the side walls */
+    f->y0 = y0;
+    f->cell = cell;
+    f->width = width;
+    f->mass_model = SIM_MASS_DISK;
+    return field_alloc(f, nx, ny);
+}
+
+void app_bne_field_free(AppBneField *f)
+{
+    if (!f)
+        return;
+    free(f->rho);
+    free(f->jx);
+    free(f->jy);
+    free(f->solid);
+    free(f->hits);
+    free(f->stamp);
+    f->rho = f->jx = f->jy = f->solid = NULL;
+    f->hits = NULL;
+    f->stamp = NULL;
+    f->nx = f->ny = f->samples = 0;
+}
+
+void app_bne_field_add(AppBneField *f, const SimFrame *frame, double shift_x, double shift_y,
+                       double velocity_x, double velocity_y)
+{
+    long sample = f->samples++;
+    double w = f->width, cell = f->cell;
+    double period = frame->periodic ? frame->domain_x1 - frame->domain_x0 : 0.0;
+    for (int g = 0; g < frame->count; ++g) {
+        int fixed =
+            frame->flags ? (frame->flags[g] & SIM_GRAIN_FIXED) != 0u : g >= frame->mobile_count;
+        if (fixed)
+            continue;
+        double r = frame->radius[g];
+        int species = frame->species ? frame->species[g] : 0;
+        species = species < 0 || species >= SIM_MAX_SPECIES ? 0 : species;
+        double volume =
+            f->mass_model == SIM_MASS_SPHERE ? 4.0 / 3.0 * BNE_PI * r * r * r : BNE_PI * r * r;
+        double m = f->density[species] * volume, area = BNE_PI * r * r;
+        double vx = frame->vx[g] - velocity_x, vy = frame->vy[g] - velocity_y;
+        for (int image = -1; image <= 1; ++image) { /* periodic images that reach the grid */
+            if (image != 0 && !(period > 0.0))
+                continue;
+            double x = frame->x[g] - shift_x + image * period, y = frame->y[g] - shift_y;
+            double fi0 = ceil((x - w - f->x0) / cell - 0.5),
+                   fi1 = floor((x + w - f->x0) / cell - 0.5);
+            double fj0 = ceil((y - w - f->y0) / cell - 0.5),
+                   fj1 = floor((y + w - f->y0) / cell - 0.5);
+            if (!(fi1 >= 0.0) || !(fj1 >= 0.0) || !(fi0 <= f->nx - 1) || !(fj0 <= f->ny - 1))
+                continue;
+            int i0 = fi0 < 0.0 ? 0 : (int)fi0, i1 = fi1 > f->nx - 1 ? f->nx - 1 : (int)fi1;
+            int j0 = fj0 < 0.0 ? 0 : (int)fj0, j1 = fj1 > f->ny - 1 ? f->ny - 1 : (int)fj1;
+            for (int j = j0; j <= j1; ++j) {
+                double dy = f->y0 + (j + 0.5) * cell - y;
+                for (int i = i0; i <= i1; ++i) {
+                    double dx = f->x0 + (i + 0.5) * cell - x;
+                    double k = lucy(sqrt(dx * dx + dy * dy), w);
+                    if (!(k > 0.0))
+                        continue;
+                    size_t idx = (size_t)j * (size_t)f->nx + (size_t)i;
+                    f->rho[idx] += m * k;
+                    f->jx[idx] += m * vx * k;
+                    f->jy[idx] += m * vy * k;
+                    f->solid[idx] += area * k;
+                    if (m > 0.0 && f->stamp[idx] != sample) {
+                        f->stamp[idx] = sample;
+                        f->hits[idx]++;
+                    }
+                }
+            }
+        }
+    }
+}
+
+void app_bne_field_node(const AppBneField *f, int k, double *vx, double *vy, double *solid)
+{
+    *vx = f->rho[k] > 0.0 ? f->jx[k] / f->rho[k] : 0.0;
+    *vy = f->rho[k] > 0.0 ? f->jy[k] / f->rho[k] : 0.0;
+    *solid = f->samples > 0 ? f->solid[k] / f->samples : 0.0;
+}
+
+int app_bne_field_combine(const AppBneField *phases, int count, AppBneField *out)
+{
+    memset(out, 0, sizeof *out);
+    if (count < 1)
+        return -1;
+    const AppBneField *g = &phases[0];
+    out->x0 = g->x0;
+    out->y0 = g->y0;
+    out->cell = g->cell;
+    out->width = g->width;
+    out->mass_model = g->mass_model;
+    memcpy(out->density, g->density, sizeof out->density);
+    if (field_alloc(out, g->nx, g->ny) != 0)
+        return -1;
+    int used = 0;
+    for (int p = 0; p < count; ++p) {
+        const AppBneField *f = &phases[p];
+        if (f->samples < 1 || f->nx != out->nx || f->ny != out->ny)
+            continue;
+        ++used;
+        out->samples += f->samples;
+        for (size_t k = 0; k < (size_t)out->nx * (size_t)out->ny; ++k) {
+            out->rho[k] += f->rho[k] / f->samples; /* this phase's mean density and flux */
+            out->jx[k] += f->jx[k] / f->samples;
+            out->jy[k] += f->jy[k] / f->samples;
+            out->solid[k] += f->solid[k] / f->samples;
+            out->hits[k] += f->hits[k];
+        }
+    }
+    /* solid: sum of the phases' means; stored as a sum over samples so that node() divides it */
+    for (size_t k = 0; used > 0 && k < (size_t)out->nx * (size_t)out->ny; ++k)
+        out->solid[k] *= (double)out->samples / used;
+    return 0;
+}
+
+void app_bne_field_rows(const AppBneField *f, double phase, FILE *csv)
+{
+    for (int j = 0; j < f->ny; ++j)
+        for (int i = 0; i < f->nx; ++i) {
+            int k = j * f->nx + i;
+            double vx, vy, solid;
+            app_bne_field_node(f, k, &vx, &vy, &solid);
+            if (phase >= 0.0)
+                fprintf(csv, "%.9g,", phase);
+            fprintf(csv, "%.9g,%.9g,%.9g,%.9g,%d,%.6g\n", f->x0 + (i + 0.5) * f->cell,
+                    f->y0 + (j + 0.5) * f->cell, vx, vy, f->hits[k], solid);
+        }
+}
+
+const AppBneField *app_bne_phase_field(const AppBne *b)
+{
+    return b && b->pf_have_mean ? &b->pf_mean : NULL;
+}
+
+int app_bne_phase_times(const AppBne *b, const double **times)
+{
+    *times = b ? b->pf_times : NULL;
+    return b ? b->pf_count : 0;
+}
+
+static void phase_field_reset(AppBne *b)
+{
+    if (b->pf_fields)
+        for (int k = 0; k < b->pf_phases; ++k)
+            app_bne_field_free(&b->pf_fields[k]);
+    free(b->pf_fields);
+    b->pf_fields = NULL;
+    app_bne_field_free(&b->pf_mean);
+    b->pf_have_mean = 0;
+    b->pf_ready = 0;
+    b->pf_error[0] = '\0';
+    b->pf_next = 0;
+    b->pf_count = 0;
+    b->pf_max_error = 0.0;
+}
+
+/* At the start of shaking: the node grid, in the box's frame. Default region: x between the
+ * walls moved by the box's motion (the periodic range when periodic, else the grains' extent),
+ * y from the floor (or the lowest grain) to 1.5 times the bed's height above it. */
+static void phase_field_start(AppBne *b, SimWorld *world, const SimFrame *f)
+{
+    phase_field_reset(b);
+    double speed, off = box_motion(b, b->t0, &speed);
+    double diameter = 0.0, mass = 0.0;
+    sim_world_means(world, &diameter, &mass);
+    double cell = b->pf_cell > 0.0 ? b->pf_cell : 2.0 * diameter;
+    double width = b->pf_width > 0.0 ? b->pf_width : 1.5 * diameter;
+    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, top = -INFINITY;
+    for (int i = 0; i < f->mobile_count; ++i) {
+        x0 = fmin(x0, f->x[i] - f->radius[i] - off * b->dir_x);
+        x1 = fmax(x1, f->x[i] + f->radius[i] - off * b->dir_x);
+        y0 = fmin(y0, f->y[i] - f->radius[i] - off * b->dir_y);
+        top = fmax(top, f->y[i] + f->radius[i] - off * b->dir_y);
+    }
+    double wx0 = INFINITY, wx1 = -INFINITY, wy0 = INFINITY;
+    for (int k = 0; k < f->wall_count; ++k) {
+        const SimWall *w = &f->walls[k];
+        if (w->motion != b->motion)
+            continue;
+        wx0 = fmin(wx0, fmin(w->x0, w->x1) - off * b->dir_x);
+        wx1 = fmax(wx1, fmax(w->x0, w->x1) - off * b->dir_x);
+        wy0 = fmin(wy0, fmin(w->y0, w->y1) - off * b->dir_y);
+    }
+    if (f->periodic) {
+        x0 = f->domain_x0;
+        x1 = f->domain_x1;
+    } else if (wx1 > wx0) {
+        x0 = wx0;
+        x1 = wx1;
+    }
+    if (wy0 < y0)
+        y0 = wy0;
+    double y1 = top + 0.5 * (top - y0);
+    if (b->pf_region[2] > b->pf_region[0]) {
+        x0 = b->pf_region[0];
+        y0 = b->pf_region[1];
+        x1 = b->pf_region[2];
+        y1 = b->pf_region[3];
+    }
+    b->pf_dt = sim_world_time_step(world);
+    b->pf_diameter = diameter;
+    b->pf_fields = calloc((size_t)b->pf_phases, sizeof *b->pf_fields);
+    if (!b->pf_fields) {
+        snprintf(b->pf_error, sizeof b->pf_error, "out of memory");
+        return;
+    }
+    for (int k = 0; k < b->pf_phases; ++k) {
+        AppBneField *field = &b->pf_fields[k];
+        if (app_bne_field_init(field, x0, y0, x1, y1, cell, width) != 0) {
+            snprintf(b->pf_error, sizeof b->pf_error,
+                     "cannot make a grid of cell %g over [%g, %g] x [%g, %g] (too many nodes, "
+                     "no grains, or no memory)",
+                     cell, x0, x1, y0, y1);
+            return;
+        }
+        field->mass_model = b->mass_model;
+        memcpy(field->density, b->density, sizeof field->density);
+    }
+    b->pf_ready = 1;
+}
+
+long app_bne_next_step(const AppBne *b, int stage, long done, long next)
+{
+    if (!b || !b->pf_ready || stage != b->stage)
+        return next;
+    long s = app_bne_phase_step(b->pf_phase, b->pf_phases, b->period, b->pf_dt, b->pf_next);
+    return s > done && s < next ? s : next;
+}
+
+void app_bne_step(AppBne *b, SimWorld *world, int stage, long done)
+{
+    if (!b || !b->pf_ready || stage != b->stage)
+        return;
+    SimFrame f;
+    int framed = 0;
+    for (;;) {
+        long m = b->pf_next, n = m / b->pf_phases, k = m % b->pf_phases;
+        long s = app_bne_phase_step(b->pf_phase, b->pf_phases, b->period, b->pf_dt, m);
+        if (s > done)
+            break;
+        b->pf_next++;
+        /* s < done: a step the runner did not stop at (app_bne_next_step prevents it) */
+        if (s < done || n < b->pf_skip)
+            continue;
+        if (!framed) {
+            sim_world_frame(world, &f);
+            framed = 1;
+        }
+        double t = sim_world_time(world), speed, off = box_motion(b, t, &speed);
+        app_bne_field_add(&b->pf_fields[k], &f, off * b->dir_x, off * b->dir_y, speed * b->dir_x,
+                          speed * b->dir_y);
+        double tau = ((double)n + b->pf_phase + (double)k / b->pf_phases) * b->period;
+        b->pf_max_error = fmax(b->pf_max_error, fabs(t - b->t0 - tau));
+        if (b->pf_count == b->pf_capacity) {
+            int capacity = b->pf_capacity ? 2 * b->pf_capacity : 256;
+            double *times = realloc(b->pf_times, (size_t)capacity * sizeof *times);
+            if (!times)
+                continue;
+            b->pf_times = times;
+            b->pf_capacity = capacity;
+        }
+        b->pf_times[b->pf_count++] = t - b->t0;
+    }
+}
+
+/* The field as arrows over the final pile, through the runner's figure hook (app/ knows no
+ * renderer): the frame's grains keep their positions; the mobile grain nearest each node (within
+ * half a cell) carries that node's mean velocity and every other grain none, and the figure draws
+ * per-grain velocity arrows. So each arrow is a node's value exactly, drawn from a grain centre
+ * within half a cell of the node. Nodes with a mean solid fraction below 0.1 are left out, as the
+ * renderer masks its own field. */
+static int phase_figure(AppBne *b, const Scene *scene, SimWorld *world,
+                        const struct AppRenderHooks *render, const char *path, char *err,
+                        size_t err_size)
+{
+    const AppBneField *field = &b->pf_mean;
+    SimFrame f;
+    sim_world_frame(world, &f);
+    size_t n = (size_t)(f.count > 0 ? f.count : 1);
+    double *vx = calloc(n, sizeof *vx), *vy = calloc(n, sizeof *vy);
+    double *best = malloc(n * sizeof *best);
+    if (!vx || !vy || !best) {
+        free(vx);
+        free(vy);
+        free(best);
+        snprintf(err, err_size, "out of memory");
+        return -1;
+    }
+    for (int g = 0; g < f.count; ++g)
+        best[g] = INFINITY;
+    double speed, off = box_motion(b, f.time, &speed);
+    int arrows = 0;
+    for (int j = 0; j < field->ny; ++j)
+        for (int i = 0; i < field->nx; ++i) {
+            int k = j * field->nx + i;
+            double ux, uy, solid;
+            app_bne_field_node(field, k, &ux, &uy, &solid);
+            if (field->hits[k] == 0 || solid < 0.1)
+                continue;
+            double cx = field->x0 + (i + 0.5) * field->cell + off * b->dir_x;
+            double cy = field->y0 + (j + 0.5) * field->cell + off * b->dir_y;
+            int nearest = -1;
+            double d_min = 0.5 * field->cell;
+            for (int g = 0; g < f.count; ++g) {
+                if (f.flags ? (f.flags[g] & SIM_GRAIN_FIXED) != 0u : g >= f.mobile_count)
+                    continue;
+                double d = hypot(f.x[g] - cx, f.y[g] - cy);
+                if (d < d_min) {
+                    d_min = d;
+                    nearest = g;
+                }
+            }
+            if (nearest >= 0 && d_min < best[nearest]) {
+                arrows += isinf(best[nearest]);
+                best[nearest] = d_min;
+                vx[nearest] = ux;
+                vy[nearest] = uy;
+            }
+        }
+    f.vx = vx;
+    f.vy = vy;
+    SceneFigure figure;
+    memset(&figure, 0, sizeof figure);
+    snprintf(figure.name, sizeof figure.name, "phase_field");
+    figure.stage = b->stage;
+    figure.at_end = 1;
+    snprintf(figure.format, sizeof figure.format, "png");
+    figure.style = scene->style;
+    figure.style.velocity_arrows = 1;
+    figure.style.velocity_field = 0;
+    figure.style.force_chains = 0;
+    /* faint grains under dark arrows (the carried velocities are not the grains' own) */
+    figure.style.color_by = SCENE_COLOR_FIXED;
+    figure.style.fill_rgb = 0xe4e4e4;
+    figure.style.colorbar = 0;
+    /* the scene's view (else the occupied grid), enlarged to at least 20 pixels per mean
+     * diameter so that arrows of a tenth of the largest speed still show */
+    SceneStyle *st = &figure.style;
+    if (!(st->view_x1 > st->view_x0) || !(st->view_y1 > st->view_y0)) {
+        double top = field->y0 + field->cell;
+        for (int k = 0; k < field->nx * field->ny; ++k)
+            if (field->hits[k] > 0 && field->solid[k] >= 0.1 * field->samples)
+                top = fmax(top, field->y0 + (k / field->nx + 1.5) * field->cell);
+        st->view_x0 = field->x0 + off * b->dir_x;
+        st->view_x1 = st->view_x0 + field->nx * field->cell;
+        st->view_y0 = field->y0 + off * b->dir_y - 0.5 * field->cell;
+        st->view_y1 = top + off * b->dir_y;
+    }
+    double width = st->width > 0 ? st->width : 1280.0, height = st->height > 0 ? st->height : 720.0;
+    double scale = fmin(width / (st->view_x1 - st->view_x0), height / (st->view_y1 - st->view_y0));
+    double wanted = b->pf_diameter > 0.0 ? 20.0 / b->pf_diameter : 0.0;
+    if (scale < wanted) {
+        double grow = fmin(wanted / scale, 4000.0 / fmax(width, height));
+        st->width = (int)ceil(width * grow);
+        st->height = (int)ceil(height * grow);
+    }
+    if (b->pf_phases == 1)
+        snprintf(figure.style.title, sizeof figure.style.title, "box-frame velocity at phase %.3g",
+                 b->pf_phase);
+    else
+        snprintf(figure.style.title, sizeof figure.style.title, "box-frame cycle-mean velocity");
+    int rc =
+        arrows > 0 ? render->figure(render->context, scene, &figure, &f, path, err, err_size) : 0;
+    free(vx);
+    free(vy);
+    free(best);
+    return rc == 0 ? 0 : -1;
+}
+
+int app_bne_stage_end(AppBne *b, const Scene *scene, int stage, SimWorld *world,
+                      const struct AppRenderHooks *render, char *err, size_t err_size)
+{
+    if (!b || !b->pf_on || stage != b->stage)
+        return 0;
+    if (!b->pf_ready) {
+        snprintf(err, err_size, "%s: bne.phase_field: %s", scene->path, b->pf_error);
+        return -1;
+    }
+    app_bne_field_free(&b->pf_mean);
+    b->pf_have_mean = app_bne_field_combine(b->pf_fields, b->pf_phases, &b->pf_mean) == 0;
+    if (!b->pf_have_mean) {
+        snprintf(err, err_size, "bne.phase_field: out of memory");
+        return -1;
+    }
+    char path[BNE_PATH + 32];
+    snprintf(path, sizeof path, "%s/phase_field.csv", b->out_dir);
+    FILE *csv = app_tmp_open(path, "x,y,vx,vy,samples,solid_fraction");
+    if (csv)
+        app_bne_field_rows(&b->pf_mean, -1.0, csv);
+    if (!csv || app_tmp_commit(&csv, path) != 0) {
+        snprintf(err, err_size, "cannot write %s", path);
+        return -1;
+    }
+    if (b->pf_phases > 1) {
+        snprintf(path, sizeof path, "%s/phase_fields.csv", b->out_dir);
+        csv = app_tmp_open(path, "phase,x,y,vx,vy,samples,solid_fraction");
+        for (int k = 0; csv && k < b->pf_phases; ++k)
+            app_bne_field_rows(&b->pf_fields[k], fmod(b->pf_phase + (double)k / b->pf_phases, 1.0),
+                               csv);
+        if (!csv || app_tmp_commit(&csv, path) != 0) {
+            snprintf(err, err_size, "cannot write %s", path);
+            return -1;
+        }
+    }
+    if (b->pf_count == 0)
+        fprintf(stderr,
+                "sablier: warning: bne.phase_field: no samples (the shaking stage ended before "
+                "cycle %d reached phase %g): phase_field.csv holds no data, no figure\n",
+                b->pf_skip, b->pf_phase);
+    if (!render || !render->figure)
+        return 0;
+    snprintf(path, sizeof path, "%s/phase_field.png", b->out_dir);
+    char message[512] = "";
+    if (phase_figure(b, scene, world, render, path, message, sizeof message) != 0) {
+        snprintf(err, err_size, "figure %s: %s", path, message);
         return -1;
     }
     return 0;

@@ -10,6 +10,13 @@
  * surface of the bed measured at the start of shaking minus `tolerance`. The surface is the mean
  * over columns one mean diameter wide of the highest grain top (sim_world_surface_profile).
  *
+ * Phase-averaged velocity field (ours; `bne.phase_field`): during the shaking stage the grains are
+ * sampled at fixed phases of the shaking cycle, on the steps nearest t0 + (n + phase + k / phases)
+ * T (within half a step), and the coarse-grained velocity (Lucy kernel, mass-weighted: V = sum j /
+ * sum rho over the samples, MercuryCG-style) is accumulated in the box's frame (positions minus the
+ * box offset, velocities minus the box velocity). At the end of the stage: phase_field.csv and the
+ * figure phase_field.png (arrows over the final pile, through the runner's figure hook).
+ *
  * Samples (sablier bne): app_bne_samples runs a scene for several seeds and values of one key,
  * and writes mean +- standard deviation curves, rise times and the large-deviation function of
  * the windowed rise rate (docs/brazil_nut.md). */
@@ -22,8 +29,10 @@
 
 #include <libconfig.h>
 #include <stddef.h>
+#include <stdio.h>
 
 typedef struct AppBne AppBne;
+struct AppRenderHooks; /* run.h */
 
 /// What one run measured.
 typedef struct AppBneResult {
@@ -56,6 +65,64 @@ int app_bne_begin(AppBne *bne, const char *out_dir, char *err, size_t err_size);
 void app_bne_stage(AppBne *bne, const Scene *scene, int stage, SimWorld *world);
 void app_bne_row(AppBne *bne, SimWorld *world);
 int app_bne_end(AppBne *bne, int ok, char *err, size_t err_size);
+
+/// Phase sampling hooks of the runner (no-ops when bne is NULL or has no phase field): the
+/// earliest step after `done` (steps from the start of stage `stage`) at which a phase sample is
+/// due, or `next` when that comes first; the sample itself when step `done` is due; and, at the
+/// end of the shaking stage, phase_field.csv (phase_fields.csv with several phases) and
+/// phase_field.png through render->figure (skipped when render is NULL). 0, or -1 with err.
+long app_bne_next_step(const AppBne *bne, int stage, long done, long next);
+void app_bne_step(AppBne *bne, SimWorld *world, int stage, long done);
+int app_bne_stage_end(AppBne *bne, const Scene *scene, int stage, SimWorld *world,
+                      const struct AppRenderHooks *render, char *err, size_t err_size);
+
+/* ---------------------------------------------------------------- phase-averaged field */
+
+/// Step, counted from the shaking stage's start, of phase sample m: phase bin k = m mod phases of
+/// cycle n = m / phases, due at tau = (n + phase + k / phases) T and taken on the nearest step,
+/// so |step dt - tau| <= dt / 2.
+long app_bne_phase_step(double phase, int phases, double period, double dt, long m);
+
+/// Coarse-grained sums over samples on a node grid in the box's frame. Node (i, j), index
+/// j * nx + i, sits at (x0 + (i + 1/2) cell, y0 + (j + 1/2) cell). Lucy kernel of cutoff `width`
+/// normalised over the plane; grain masses from the species densities and the mass model.
+typedef struct AppBneField {
+    int nx, ny;
+    double x0, y0, cell;             ///< m
+    double width;                    ///< kernel cutoff radius, m
+    SimMassModel mass_model;         ///< m = rho pi r^2 (disk) or rho 4/3 pi r^3 (sphere)
+    double density[SIM_MAX_SPECIES]; ///< kg/m^2 (disk) or kg/m^3 (sphere)
+    int samples;                     ///< frames added
+    double *rho, *jx, *jy; ///< per node, sums over samples: sum m W (kg/m^2), sum m v W (kg/m/s)
+    double *solid;         ///< per node, sum over samples of the solid fraction sum pi r^2 W
+    int *hits;             ///< per node, samples in which rho > 0
+    long *stamp;           ///< per node, last sample that touched it (bookkeeping)
+} AppBneField;
+
+/// Allocates an empty grid covering [x0, x1] x [y0, y1] (ceil of the spans in cells, centred
+/// in x, starting at y0); density and mass_model are to be set by the caller. 0, or -1 (bad
+/// size, more than 4e6 nodes, no memory).
+int app_bne_field_init(AppBneField *field, double x0, double y0, double x1, double y1, double cell,
+                       double width);
+void app_bne_field_free(AppBneField *field);
+/// Adds one sample of the mobile grains, in the frame moving with the box: positions minus
+/// (shift_x, shift_y), velocities minus (velocity_x, velocity_y). Periodic frames wrap in x.
+void app_bne_field_add(AppBneField *field, const SimFrame *frame, double shift_x, double shift_y,
+                       double velocity_x, double velocity_y);
+/// Mean over the samples at node k: velocity sum j / sum rho (0 where never occupied), m/s, and
+/// solid fraction.
+void app_bne_field_node(const AppBneField *field, int k, double *vx, double *vy, double *solid);
+/// Cycle mean of fields sampled at `count` phases: each phase weighs equally (its sums divided by
+/// its samples), V = sum_k <j>_k / sum_k <rho>_k. `out` must be unallocated. 0, or -1.
+int app_bne_field_combine(const AppBneField *phases, int count, AppBneField *out);
+/// Writes x,y,vx,vy,samples,solid_fraction per node (`phase` >= 0 adds a leading phase column)
+/// to an open CSV file.
+void app_bne_field_rows(const AppBneField *field, double phase, FILE *csv);
+
+/// After a run: the field drawn and written (the cycle mean with several phases; NULL when off or
+/// before the end of the shaking stage), and the sample times, s from the start of shaking.
+const AppBneField *app_bne_phase_field(const AppBne *bne);
+int app_bne_phase_times(const AppBne *bne, const double **times);
 
 AppBneResult app_bne_result(const AppBne *bne);
 

@@ -519,6 +519,7 @@ static int run_stage(Run *run, int k)
         }
         if (done > 0 && done < total && done % every_profile == 0)
             app_observer_sample(run->observer, run->world, k, report->start_time);
+        app_bne_step(scene->bne, run->world, k, done); /* phase samples (bne.phase_field) */
         if (figures_at_step(run, k, done, dt) != 0) {
             status = 2;
             break;
@@ -545,6 +546,7 @@ static int run_stage(Run *run, int k)
         if (every_profile <= total && (done / every_profile + 1) * every_profile < next)
             next = (done / every_profile + 1) * every_profile;
         next = next_figure_step(run, k, done, dt, next);
+        next = app_bne_next_step(scene->bne, k, done, next);
         double t0 = now_seconds();
         SimStatus s = sim_world_step(run->world, next - done, &run->error);
         double t1 = now_seconds();
@@ -589,6 +591,9 @@ static int run_stage(Run *run, int k)
                                run->message, sizeof run->message) != 0)
         return 2;
     if (figures_at(run, k, 1) != 0)
+        return 2;
+    if (app_bne_stage_end(scene->bne, scene, k, run->world, render, run->message,
+                          sizeof run->message) != 0)
         return 2;
     report->wall_seconds = now_seconds() - wall_start;
     progress(run, k, 0.0, 0.0, 0.0, 1);

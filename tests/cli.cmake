@@ -80,6 +80,14 @@ add_test(NAME cli.run_outputs
                  -P ${CLI_DIR}/run_outputs.cmake)
 set_tests_properties(cli.run_outputs PROPERTIES LABELS cli
                      ENVIRONMENT "LSAN_OPTIONS=suppressions=${CLI_DIR}/lsan.supp")
+# the shaken small box writes its phase-averaged velocity field and figure (bne.phase_field)
+add_test(NAME cli.bne_phase_field
+         COMMAND ${CMAKE_COMMAND} -DSABLIER=$<TARGET_FILE:sablier>
+                 -DSCENE=${PROJECT_SOURCE_DIR}/scenes/brazil_nut/small.scene
+                 -DWORK=${CLI_WORK}/bne_phase_field -DRENDER=${SABLIER_WITH_RENDER}
+                 -P ${CLI_DIR}/bne_phase_field.cmake)
+set_tests_properties(cli.bne_phase_field PROPERTIES LABELS cli
+                     ENVIRONMENT "LSAN_OPTIONS=suppressions=${CLI_DIR}/lsan.supp")
 # a run that blows up: exit 1, message with step and grain, last good state saved
 add_test(NAME cli.run_unstable
          COMMAND ${CMAKE_COMMAND} -DSABLIER=$<TARGET_FILE:sablier>
