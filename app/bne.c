@@ -228,12 +228,7 @@ void app_bne_free(AppBne *b)
 {
     if (!b)
         return;
-    if (b->csv) { /* a run that never finished: no bne.csv, no .tmp left */
-        fclose(b->csv);
-        char tmp[BNE_PATH + 8];
-        snprintf(tmp, sizeof tmp, "%s.tmp", b->csv_path);
-        remove(tmp);
-    }
+    app_tmp_discard(&b->csv, b->csv_path); /* a run that never finished: no bne.csv */
     free(b->t);
     free(b->h);
     if (b->pf_fields)

@@ -263,12 +263,7 @@ void app_sediment_free(AppSediment *s)
 {
     if (!s)
         return;
-    if (s->csv) {
-        fclose(s->csv);
-        char tmp[SCENE_PATH_MAX + 40];
-        snprintf(tmp, sizeof tmp, "%s.tmp", s->csv_path);
-        remove(tmp);
-    }
+    app_tmp_discard(&s->csv, s->csv_path); /* a run that never finished: no sediment.csv */
     sim_fluid_destroy(s->fluid);
     free(s->t);
     free(s->q);

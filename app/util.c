@@ -98,6 +98,18 @@ int app_tmp_commit(FILE **file, const char *path)
     return ok ? 0 : -1;
 }
 
+void app_tmp_discard(FILE **file, const char *path)
+{
+    if (!*file)
+        return;
+    fclose(*file);
+    *file = NULL;
+    char *tmp = tmp_name(path);
+    if (tmp)
+        remove(tmp);
+    free(tmp);
+}
+
 int app_write_atomic(const char *path, const char *text)
 {
     FILE *f = app_tmp_open(path, NULL);

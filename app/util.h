@@ -30,6 +30,9 @@ FILE *app_tmp_open(const char *path, const char *header);
 /// Closes *file (NULL: nothing to do, 0) and renames PATH.tmp to PATH; on failure removes
 /// PATH.tmp and returns -1.
 int app_tmp_commit(FILE **file, const char *path);
+/// Closes *file (NULL: nothing to do) and removes PATH.tmp: an output abandoned before it was
+/// complete leaves nothing behind.
+void app_tmp_discard(FILE **file, const char *path);
 /// Writes `text` to PATH through PATH.tmp. 0, or -1.
 int app_write_atomic(const char *path, const char *text);
 
