@@ -58,39 +58,6 @@ static void phase_field_reset(AppBne *b);
 
 /* ---------------------------------------------------------------- parsing */
 
-static int number(AppParse *p, const config_setting_t *g, const char *key, double min, double *out)
-{
-    const config_setting_t *s = config_setting_get_member(g, key);
-    if (!s)
-        return 0;
-    int type = config_setting_type(s);
-    if (type == CONFIG_TYPE_FLOAT)
-        *out = config_setting_get_float(s);
-    else if (type == CONFIG_TYPE_INT || type == CONFIG_TYPE_INT64)
-        *out = (double)config_setting_get_int64(s);
-    else
-        return app_parse_fail(p, s, "`%s` must be a number", key);
-    if (!isfinite(*out) || *out < min)
-        return app_parse_fail(p, s, "`%s` must be a finite number >= %g, got %g", key, min, *out);
-    return 1;
-}
-
-static int integer(AppParse *p, const config_setting_t *g, const char *key, long min, long max,
-                   int *out)
-{
-    const config_setting_t *s = config_setting_get_member(g, key);
-    if (!s)
-        return 0;
-    int type = config_setting_type(s);
-    if (type != CONFIG_TYPE_INT && type != CONFIG_TYPE_INT64)
-        return app_parse_fail(p, s, "`%s` must be an integer", key);
-    long long v = config_setting_get_int64(s);
-    if (v < min || v > max)
-        return app_parse_fail(p, s, "`%s` must be in [%ld, %ld], got %lld", key, min, max, v);
-    *out = (int)v;
-    return 1;
-}
-
 /* bne.phase_field: the phase-averaged velocity field (docs/brazil_nut.md). */
 static int parse_phase_field(AppBne *b, const config_setting_t *g, const char *path, char *err,
                              size_t err_size)
@@ -103,11 +70,11 @@ static int parse_phase_field(AppBne *b, const config_setting_t *g, const char *p
     b->pf_on = 1;
     b->pf_phases = 1;
     b->pf_skip = 1;
-    if (number(&p, g, "phase", 0.0, &b->pf_phase) < 0 ||
-        integer(&p, g, "phases", 1, 1000, &b->pf_phases) < 0 ||
-        integer(&p, g, "skip_cycles", 0, 1000000, &b->pf_skip) < 0 ||
-        number(&p, g, "cell", 0.0, &b->pf_cell) < 0 ||
-        number(&p, g, "width", 0.0, &b->pf_width) < 0)
+    if (app_parse_number(&p, g, "phase", 0.0, &b->pf_phase) < 0 ||
+        app_parse_int(&p, g, "phases", 1, 1000, &b->pf_phases) < 0 ||
+        app_parse_int(&p, g, "skip_cycles", 0, 1000000, &b->pf_skip) < 0 ||
+        app_parse_number(&p, g, "cell", 0.0, &b->pf_cell) < 0 ||
+        app_parse_number(&p, g, "width", 0.0, &b->pf_width) < 0)
         return -1;
     if (!(b->pf_phase < 1.0))
         return app_parse_fail(&p, config_setting_get_member(g, "phase"),
@@ -180,9 +147,9 @@ AppBne *app_bne_parse(const config_setting_t *g, Scene *scene, char *err, size_t
     b->period = mo->frequency > 0.0 ? 1.0 / mo->frequency : 0.0;
     b->tolerance = 0.5;
     b->gamma = NAN;
-    if (number(&p, g, "period", 1e-12, &b->period) < 0 ||
-        number(&p, g, "gamma", 0.0, &b->gamma) < 0 ||
-        number(&p, g, "tolerance", 0.0, &b->tolerance) < 0) {
+    if (app_parse_number(&p, g, "period", 1e-12, &b->period) < 0 ||
+        app_parse_number(&p, g, "gamma", 0.0, &b->gamma) < 0 ||
+        app_parse_number(&p, g, "tolerance", 0.0, &b->tolerance) < 0) {
         free(b);
         return NULL;
     }

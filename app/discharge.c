@@ -28,38 +28,6 @@ static double now_seconds(void)
 
 /* ---------------------------------------------------------------- parsing */
 
-static int number(AppParse *p, const config_setting_t *g, const char *key, double min, double *out)
-{
-    const config_setting_t *s = config_setting_get_member(g, key);
-    if (!s)
-        return 0;
-    int type = config_setting_type(s);
-    if (type == CONFIG_TYPE_INT || type == CONFIG_TYPE_INT64)
-        *out = (double)config_setting_get_int64(s);
-    else if (type == CONFIG_TYPE_FLOAT)
-        *out = config_setting_get_float(s);
-    else
-        return app_parse_fail(p, s, "`%s` must be a number", key);
-    if (!isfinite(*out) || *out < min)
-        return app_parse_fail(p, s, "`%s` must be a finite number >= %g, got %g", key, min, *out);
-    return 1;
-}
-
-static int integer(AppParse *p, const config_setting_t *g, const char *key, long min, int *out)
-{
-    const config_setting_t *s = config_setting_get_member(g, key);
-    if (!s)
-        return 0;
-    int type = config_setting_type(s);
-    if (type != CONFIG_TYPE_INT && type != CONFIG_TYPE_INT64)
-        return app_parse_fail(p, s, "`%s` must be an integer", key);
-    long long v = config_setting_get_int64(s);
-    if (v < min || v > 1000000000LL)
-        return app_parse_fail(p, s, "`%s` must be an integer in [%ld, 1e9], got %lld", key, min, v);
-    *out = (int)v;
-    return 1;
-}
-
 static int numbers(AppParse *p, const config_setting_t *g, const char *key, int max, double *out,
                    int *count)
 {
@@ -117,23 +85,23 @@ int app_discharge_parse(const config_setting_t *g, const char *scene_path, int s
     const config_setting_t *s = config_setting_get_member(g, "base_length");
     if (!s)
         return app_parse_fail(&p, g, "`base_length` (L, in grain diameters) is required");
-    if (number(&p, g, "base_length", 2.0, &def->base_length) < 0 ||
-        number(&p, g, "base_diameter", 1e-3, &def->base_diameter) < 0 ||
-        number(&p, g, "release_height", 0.0, &def->release_height) < 0 ||
-        number(&p, g, "row_period", 0.0, &def->row_period) < 0 ||
-        number(&p, g, "row_fill", 1e-3, &def->row_fill) < 0 ||
-        number(&p, g, "row_jitter", 0.0, &def->row_jitter) < 0 ||
-        integer(&p, g, "max_rows", 0, &def->max_rows) < 0 ||
-        integer(&p, g, "stationary_rows", 0, &def->stationary_rows) < 0 ||
-        number(&p, g, "stationary_gain", 0.0, &def->stationary_gain) < 0 ||
-        number(&p, g, "dt_divisor", 1.0, &def->dt_divisor) < 0 ||
-        number(&p, g, "tolerance", 0.0, &def->tolerance) < 0 ||
-        integer(&p, g, "check_every", 1, &def->check_every) < 0 ||
-        number(&p, g, "relax_time", 0.0, &def->relax_time) < 0 ||
-        number(&p, g, "discharge_time", 0.0, &def->discharge_time) < 0 ||
-        number(&p, g, "polydispersity", 0.0, &def->polydispersity) < 0 ||
-        integer(&p, g, "base_species", 0, &def->base_species) < 0 ||
-        number(&p, g, "exit_half_width", 0.0, &def->exit_half_width) < 0)
+    if (app_parse_number(&p, g, "base_length", 2.0, &def->base_length) < 0 ||
+        app_parse_number(&p, g, "base_diameter", 1e-3, &def->base_diameter) < 0 ||
+        app_parse_number(&p, g, "release_height", 0.0, &def->release_height) < 0 ||
+        app_parse_number(&p, g, "row_period", 0.0, &def->row_period) < 0 ||
+        app_parse_number(&p, g, "row_fill", 1e-3, &def->row_fill) < 0 ||
+        app_parse_number(&p, g, "row_jitter", 0.0, &def->row_jitter) < 0 ||
+        app_parse_int(&p, g, "max_rows", 0, 1000000000L, &def->max_rows) < 0 ||
+        app_parse_int(&p, g, "stationary_rows", 0, 1000000000L, &def->stationary_rows) < 0 ||
+        app_parse_number(&p, g, "stationary_gain", 0.0, &def->stationary_gain) < 0 ||
+        app_parse_number(&p, g, "dt_divisor", 1.0, &def->dt_divisor) < 0 ||
+        app_parse_number(&p, g, "tolerance", 0.0, &def->tolerance) < 0 ||
+        app_parse_int(&p, g, "check_every", 1, 1000000000L, &def->check_every) < 0 ||
+        app_parse_number(&p, g, "relax_time", 0.0, &def->relax_time) < 0 ||
+        app_parse_number(&p, g, "discharge_time", 0.0, &def->discharge_time) < 0 ||
+        app_parse_number(&p, g, "polydispersity", 0.0, &def->polydispersity) < 0 ||
+        app_parse_int(&p, g, "base_species", 0, 1000000000L, &def->base_species) < 0 ||
+        app_parse_number(&p, g, "exit_half_width", 0.0, &def->exit_half_width) < 0)
         return -1;
     if (def->row_fill > 1.0 || def->row_jitter > 1.0 || def->polydispersity >= 0.5) {
         s = config_setting_get_member(g, def->row_fill > 1.0     ? "row_fill"

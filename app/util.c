@@ -2,6 +2,7 @@
 /* util.c: small helpers shared by the app/ modules. */
 #include "util.h"
 
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -23,6 +24,41 @@ int app_parse_fail(AppParse *p, const config_setting_t *s, const char *format, .
         snprintf(p->err, p->err_size, "%s:%u: %s: %s", file ? file : p->path, line ? line : 1u,
                  p->group, message);
     return -1;
+}
+
+int app_parse_number(AppParse *p, const config_setting_t *g, const char *key, double min,
+                     double *out)
+{
+    const config_setting_t *s = config_setting_get_member(g, key);
+    if (!s)
+        return 0;
+    int type = config_setting_type(s);
+    if (type == CONFIG_TYPE_FLOAT)
+        *out = config_setting_get_float(s);
+    else if (type == CONFIG_TYPE_INT || type == CONFIG_TYPE_INT64)
+        *out = (double)config_setting_get_int64(s);
+    else
+        return app_parse_fail(p, s, "`%s` must be a number", key);
+    if (!isfinite(*out) || *out < min)
+        return app_parse_fail(p, s, "`%s` must be a finite number >= %g, got %g", key, min, *out);
+    return 1;
+}
+
+int app_parse_int(AppParse *p, const config_setting_t *g, const char *key, long min, long max,
+                  int *out)
+{
+    const config_setting_t *s = config_setting_get_member(g, key);
+    if (!s)
+        return 0;
+    int type = config_setting_type(s);
+    if (type != CONFIG_TYPE_INT && type != CONFIG_TYPE_INT64)
+        return app_parse_fail(p, s, "`%s` must be an integer", key);
+    long long v = config_setting_get_int64(s);
+    if (v < min || v > max)
+        return app_parse_fail(p, s, "`%s` must be an integer in [%ld, %ld], got %lld", key, min,
+                              max, v);
+    *out = (int)v;
+    return 1;
 }
 
 int app_parse_group_keys(AppParse *p, const config_setting_t *g, const char *const *keys)

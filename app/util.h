@@ -20,6 +20,14 @@ typedef struct AppParse {
 __attribute__((format(printf, 3, 4))) int app_parse_fail(AppParse *p, const config_setting_t *s,
                                                          const char *format, ...);
 
+/// Member `key` of group `g` as a finite number >= min (ints accepted): 1 found, 0 absent, -1 bad
+/// (message written).
+int app_parse_number(AppParse *p, const config_setting_t *g, const char *key, double min,
+                     double *out);
+/// Member `key` of group `g` as an integer in [min, max]: 1 found, 0 absent, -1 bad.
+int app_parse_int(AppParse *p, const config_setting_t *g, const char *key, long min, long max,
+                  int *out);
+
 /// Checks that `g` is a group whose keys are all in `keys` (NULL-ended); otherwise writes the
 /// message ("`GROUP` must be a group", "unknown key `K`") and returns -1.
 int app_parse_group_keys(AppParse *p, const config_setting_t *g, const char *const *keys);

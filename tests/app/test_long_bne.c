@@ -53,21 +53,23 @@ static int rises_with_frictional_walls(void)
     return 0;
 }
 
-/* Rise of one seed: the intruder's mean height over the last 20 time units (the bed flies at
- * Gamma = 3: one sample is at an arbitrary phase) minus its start height. */
-static int late_rise(const char *wall_mu, int seed, double *rise)
+/* Runs `scene` with `seed` and the --set assignments `sets`, and gives the intruder's height at
+ * the start of shaking and its mean height over the last `window` time units (box frame). */
+static int late_height(const char *scene_path, int seed, const char *const *sets, int set_count,
+                       double window, double *start, double *late)
 {
-    char seed_set[32], mu_set[64], dir[256], err[1024] = "";
+    char seed_set[32], dir[256], err[1024] = "";
     snprintf(seed_set, sizeof seed_set, "seed=%d", seed);
-    snprintf(mu_set, sizeof mu_set, "species.wall.mu=%s", wall_mu);
-    const char *sets[] = {seed_set, mu_set};
-    Scene *scene = scene_load("scenes/brazil_nut/small.scene", sets, 2, err, sizeof err);
+    const char *all[8] = {seed_set};
+    for (int k = 0; k < set_count && k < 7; ++k)
+        all[k + 1] = sets[k];
+    Scene *scene = scene_load(scene_path, all, set_count + 1, err, sizeof err);
     if (!scene) {
         fprintf(stderr, "%s\n", err);
         return -1;
     }
-    snprintf(dir, sizeof dir, "/tmp/sablier_test_long_bne_walls_%ld_%s_%d", (long)getpid(), wall_mu,
-             seed);
+    static int run_index = 0;
+    snprintf(dir, sizeof dir, "/tmp/sablier_test_long_bne_%ld_%d", (long)getpid(), ++run_index);
     AppRunOptions o = app_run_options_default();
     o.out_dir = dir;
     o.quiet = 1;
@@ -77,13 +79,27 @@ static int late_rise(const char *wall_mu, int seed, double *rise)
         double sum = 0.0;
         int n = 0;
         for (int k = 0; k < r.count; ++k)
-            if (r.t[k] >= r.shaking_time - 20.0) {
+            if (r.t[k] >= r.shaking_time - window) {
                 sum += r.height[k];
                 ++n;
             }
-        *rise = n ? sum / n - r.start_height : (double)NAN;
+        *start = r.start_height;
+        *late = n ? sum / n : (double)NAN;
     }
     scene_free(scene);
+    return rc;
+}
+
+/* Rise of one seed: the intruder's mean height over the last 20 time units (the bed flies at
+ * Gamma = 3: one sample is at an arbitrary phase) minus its start height. */
+static int late_rise(const char *wall_mu, int seed, double *rise)
+{
+    char mu_set[64];
+    snprintf(mu_set, sizeof mu_set, "species.wall.mu=%s", wall_mu);
+    const char *sets[] = {mu_set};
+    double start, late;
+    int rc = late_height("scenes/brazil_nut/small.scene", seed, sets, 1, 20.0, &start, &late);
+    *rise = late - start;
     return rc;
 }
 
@@ -105,41 +121,16 @@ static int smooth_walls_rise_slower(void)
     return 0;
 }
 
-/* Mean intruder height (box frame) over the last 10 periods of small_frictionless.scene. */
+/* Mean intruder height over the last 10 periods of small_frictionless.scene at restitution e. */
 static int frictionless_late_height(const char *restitution, int seed, double *start, double *late)
 {
-    char seed_set[32], e[3][64], dir[256], err[1024] = "";
-    snprintf(seed_set, sizeof seed_set, "seed=%d", seed);
+    char e[3][64];
     const char *species[3] = {"grain", "intruder", "wall"};
     for (int k = 0; k < 3; ++k)
         snprintf(e[k], sizeof e[k], "species.%s.restitution=%s", species[k], restitution);
-    const char *sets[] = {seed_set, e[0], e[1], e[2]};
-    Scene *scene =
-        scene_load("scenes/brazil_nut/small_frictionless.scene", sets, 4, err, sizeof err);
-    if (!scene) {
-        fprintf(stderr, "%s\n", err);
-        return -1;
-    }
-    snprintf(dir, sizeof dir, "/tmp/sablier_test_long_bne_fric_%ld_%s_%d", (long)getpid(),
-             restitution, seed);
-    AppRunOptions o = app_run_options_default();
-    o.out_dir = dir;
-    o.quiet = 1;
-    int rc = app_run(scene, &o);
-    if (rc == 0) {
-        AppBneResult r = app_bne_result(scene->bne);
-        double sum = 0.0;
-        int n = 0;
-        for (int k = 0; k < r.count; ++k)
-            if (r.t[k] >= r.shaking_time - 10.0 * 3.953) {
-                sum += r.height[k];
-                ++n;
-            }
-        *start = r.start_height;
-        *late = n ? sum / n : (double)NAN;
-    }
-    scene_free(scene);
-    return rc;
+    const char *sets[] = {e[0], e[1], e[2]};
+    return late_height("scenes/brazil_nut/small_frictionless.scene", seed, sets, 3, 10.0 * 3.953,
+                       start, late);
 }
 
 static int frictionless_intruder_sinks(void)

@@ -8,6 +8,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #define TPI 3.14159265358979323846
 #define G0  9.806 /* 000 ch. 3: g = 9.806 m/s^2 */
@@ -70,6 +71,30 @@ static inline int tu_step(SimWorld *w, long steps)
         return 1;
     }
     return 0;
+}
+
+/* 150 grains of radius 0.05 m +- 8 % rained (000 §6.1 lattice) into x in [0.1, 1.9] m from height
+ * y0 up to 1.8 m, with `seed`: the small polydisperse set of the determinism and golden tests. */
+static inline void tu_rain_150(SimGrainBuffer *b, uint64_t seed, double y0)
+{
+    SimRainDef rd;
+    memset(&rd, 0, sizeof rd);
+    rd.x0 = 0.1;
+    rd.x1 = 1.9;
+    rd.y0 = y0;
+    rd.y1 = 1.8;
+    rd.radius_mean = 0.05;
+    rd.polydispersity = 0.08;
+    rd.pitch_radius = 0.054;
+    rd.column_gap = 0.005 * 0.054;
+    rd.row_gap = 0.75 * 0.054;
+    rd.column_jitter = 0.05;
+    rd.row_jitter = 0.08;
+    rd.max_count = 150;
+    SimRng rng;
+    sim_rng_seed(&rng, seed);
+    sim_grain_buffer_init(b);
+    sim_build_rain(b, &rd, &rng);
 }
 
 /* Frame index of the grain with stable id `id`, or -1. */

@@ -8,24 +8,7 @@
 
 static void build(SimGrainBuffer *b, uint64_t seed)
 {
-    SimRainDef rd;
-    memset(&rd, 0, sizeof rd);
-    rd.x0 = 0.1;
-    rd.x1 = 1.9;
-    rd.y0 = 0.15;
-    rd.y1 = 1.8;
-    rd.radius_mean = 0.05;
-    rd.polydispersity = 0.08;
-    rd.pitch_radius = 0.054;
-    rd.column_gap = 0.005 * 0.054;
-    rd.row_gap = 0.75 * 0.054;
-    rd.column_jitter = 0.05;
-    rd.row_jitter = 0.08;
-    rd.max_count = 150;
-    SimRng rng;
-    sim_rng_seed(&rng, seed);
-    sim_grain_buffer_init(b);
-    sim_build_rain(b, &rd, &rng);
+    tu_rain_150(b, seed, 0.15);
 }
 
 static SimWorld *make(uint64_t seed, SimGrainBuffer *b)

@@ -31,24 +31,7 @@ static SimWorld *make(const Case *c, SimGrainBuffer *b)
     static const SimWall box[3] = {
         {0.0, 0.0, 2.0, 0.0, 0, -1}, {0.0, 0.0, 0.0, 3.0, 0, -1}, {2.0, 0.0, 2.0, 3.0, 0, -1}};
     static const SimWall floor_only[1] = {{-1.0, 0.0, 3.0, 0.0, 0, -1}};
-    SimRainDef rd;
-    memset(&rd, 0, sizeof rd);
-    rd.x0 = 0.1;
-    rd.x1 = 1.9;
-    rd.y0 = 0.2;
-    rd.y1 = 1.8;
-    rd.radius_mean = 0.05;
-    rd.polydispersity = 0.08;
-    rd.pitch_radius = 0.054;
-    rd.column_gap = 0.005 * 0.054;
-    rd.row_gap = 0.75 * 0.054;
-    rd.column_jitter = 0.05;
-    rd.row_jitter = 0.08;
-    rd.max_count = 150;
-    SimRng rng;
-    sim_rng_seed(&rng, 7);
-    sim_grain_buffer_init(b);
-    sim_build_rain(b, &rd, &rng);
+    tu_rain_150(b, 7, 0.2);
     for (int k = 0; k < b->count; ++k) {
         b->omega[k] = (double)(k % 5 - 2) * 3.0; /* spins, so that rolling resistance acts */
         if (c->two_species && k % 3 == 0)

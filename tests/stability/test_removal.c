@@ -9,28 +9,37 @@
 
 enum { PILE = 150 };
 
-/* A settled pile of PILE grains (disk r 0.5, density 1, k 1e5, e_n 0.3) in a box of fixed grains
- * (r 0.5, floor centres at y = 0, inner width 16), tangential spring (mu 0.5) when `spring`, a
- * sink below y = -2 when `sink`. Settled for 1.5 s. */
-static SimWorld *settled_pile(int spring, int sink, double *top)
+/* The material of these piles: disk r 0.5, density 1, k 1e5, e_n 0.3, gravity; the tangential law
+ * `law` (mu 0.5: spring k_t 0.75e5, regularised gamma_s 5), a sink below y = -2 when `sink`. */
+static SimWorldDef pile_def(SimTangentialLaw law, int sink)
 {
-    const double r = 0.5;
     SimWorldDef def = tu_def(1.0, 1e5, 0.0);
     def.gravity_y = -G0;
     def.guard_max_speed = 0.0;
     def.materials[0].damping_mode = SIM_DAMPING_RESTITUTION;
     def.materials[0].restitution = 0.3;
-    if (spring) {
+    if (law != SIM_TANGENTIAL_NONE) {
         def.effects |= SIM_EFFECT_FRICTION;
-        def.contact.tangential = SIM_TANGENTIAL_SPRING;
+        def.contact.tangential = law;
         def.materials[0].friction = 0.5;
         def.materials[0].tangential_stiffness = 0.75e5;
+        def.materials[0].tangential_damping = 5.0;
     }
     if (sink) {
         def.effects |= SIM_EFFECT_REMOVAL;
         def.sink_count = 1;
         def.sinks[0] = (SimSink){.shape = SIM_SINK_BELOW, .level = -2.0};
     }
+    return def;
+}
+
+/* A settled pile of PILE grains (disk r 0.5, density 1, k 1e5, e_n 0.3) in a box of fixed grains
+ * (r 0.5, floor centres at y = 0, inner width 16), tangential spring (mu 0.5) when `spring`, a
+ * sink below y = -2 when `sink`. Settled for 1.5 s. */
+static SimWorld *settled_pile(int spring, int sink, double *top)
+{
+    const double r = 0.5;
+    SimWorldDef def = pile_def(spring ? SIM_TANGENTIAL_SPRING : SIM_TANGENTIAL_NONE, sink);
     SimGrainBuffer b;
     sim_grain_buffer_init(&b);
     st_fixed_box(&b, 17.0, 30.0, r, 0);
@@ -180,18 +189,8 @@ static int fixed_grains_still_through_removal(void)
         SIM_INTEGRATOR_STORMER_VERLET, SIM_INTEGRATOR_GEAR, SIM_INTEGRATOR_RK4};
     for (int n = 0; n < (int)(sizeof integrators / sizeof integrators[0]); ++n) {
         const double r = 0.5;
-        SimWorldDef def = tu_def(1.0, 1e5, 0.0);
+        SimWorldDef def = pile_def(SIM_TANGENTIAL_REGULARISED, 1); /* RK4 refuses history */
         def.integrator = integrators[n];
-        def.gravity_y = -G0;
-        def.guard_max_speed = 0.0;
-        def.materials[0].damping_mode = SIM_DAMPING_RESTITUTION;
-        def.materials[0].restitution = 0.3;
-        def.effects |= SIM_EFFECT_FRICTION | SIM_EFFECT_REMOVAL;
-        def.contact.tangential = SIM_TANGENTIAL_REGULARISED; /* RK4 refuses history */
-        def.materials[0].friction = 0.5;
-        def.materials[0].tangential_damping = 5.0;
-        def.sink_count = 1;
-        def.sinks[0] = (SimSink){.shape = SIM_SINK_BELOW, .level = -2.0};
         SimGrainBuffer b;
         sim_grain_buffer_init(&b);
         st_fixed_box(&b, 17.0, 30.0, r, 0);
