@@ -413,7 +413,7 @@ static int hook_discharge_plot(void *context, const Scene *scene, const AppPlot 
                                    .x = in->x,
                                    .y = in->y,
                                    .y_err = in->y_err,
-                                   .rgb = RENDER_RGB_AUTO,
+                                   .rgb = in->same_colour ? RENDER_RGB_PREVIOUS : RENDER_RGB_AUTO,
                                    .line = in->line,
                                    .dashed = in->dashed,
                                    .marker = (RenderMarker)in->marker};

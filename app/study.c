@@ -1337,8 +1337,8 @@ int app_study_reduce(const Scene *scene, const char *dir, const double *lengths,
         for (int l = 0; l < length_count; ++l) {
             snprintf(labels[l], sizeof labels[l], "L = %g d", lengths[l]);
             size_t o = (size_t)l * (size_t)width_count;
-            series[ns++] = (AppPlotSeries){labels[l], width_count, widths, h_mean + o,
-                                           h_err + o, 1,           0,      1 + l % 4};
+            series[ns++] = (AppPlotSeries){labels[l], width_count, widths,    h_mean + o, h_err + o,
+                                           1,         0,           1 + l % 4, 0};
         }
         AppPlot plot = {"<h> after discharge (004 fig. 2.13)", "w / d", "<h> / d", 0, ns, series};
         snprintf(path, sizeof path, "%s/h_mean.png", dir);
@@ -1347,14 +1347,14 @@ int app_study_reduce(const Scene *scene, const char *dir, const double *lengths,
         for (int l = 0; l < length_count; ++l) {
             size_t o = (size_t)l * (size_t)width_count;
             series[ns++] =
-                (AppPlotSeries){labels[l], width_count, widths, h_sd + o, NULL, 0, 0, 1 + l % 4};
+                (AppPlotSeries){labels[l], width_count, widths, h_sd + o, NULL, 0, 0, 1 + l % 4, 0};
             if (isfinite(fitC[l])) {
                 for (int j = 0; j < 200; ++j) {
                     double w = widths[0] + (widths[width_count - 1] - widths[0]) * j / 199.0;
                     curve_x[l][j] = w;
                     curve_y[l][j] = exp(fitA[l] + fitB[l] * w + fitC[l] * w * w);
                 }
-                series[ns++] = (AppPlotSeries){NULL, 200, curve_x[l], curve_y[l], NULL, 1, 0, 0};
+                series[ns++] = (AppPlotSeries){NULL, 200, curve_x[l], curve_y[l], NULL, 1, 0, 0, 1};
             }
         }
         plot = (AppPlot){
@@ -1366,8 +1366,8 @@ int app_study_reduce(const Scene *scene, const char *dir, const double *lengths,
             line_x[1] = fmax(line_x[1], inv[l]);
         line_y[0] = wc;
         line_y[1] = wc + slope * line_x[1];
-        series[0] = (AppPlotSeries){"w_t", length_count, inv, w_t, NULL, 0, 0, 1};
-        series[1] = (AppPlotSeries){"linear fit", 2, line_x, line_y, NULL, 1, 1, 0};
+        series[0] = (AppPlotSeries){"w_t", length_count, inv, w_t, NULL, 0, 0, 1, 0};
+        series[1] = (AppPlotSeries){"linear fit", 2, line_x, line_y, NULL, 1, 1, 0, 0};
         char title[128];
         snprintf(title, sizeof title, "w_t against 1/L: w_c = %.3g +- %.2g d (004 fig. 2.15)", wc,
                  wc_err);
@@ -1377,10 +1377,10 @@ int app_study_reduce(const Scene *scene, const char *dir, const double *lengths,
         ns = 0;
         for (int l = 0; l < length_count && ns + 2 <= 2 * MAX_LENGTHS; ++l) {
             size_t o = (size_t)l * (size_t)width_count;
+            series[ns++] = (AppPlotSeries){labels[l], width_count, widths, qs_pile + o, NULL, 1,
+                                           1,         1 + l % 4,   0};
             series[ns++] =
-                (AppPlotSeries){labels[l], width_count, widths, qs_pile + o, NULL, 1, 1, 1 + l % 4};
-            series[ns++] =
-                (AppPlotSeries){NULL, width_count, widths, qs_arch + o, NULL, 1, 0, 1 + l % 4};
+                (AppPlotSeries){NULL, width_count, widths, qs_arch + o, NULL, 1, 0, 1 + l % 4, 1};
         }
         plot = (AppPlot){"species-0 fraction: pile (dashed) and arch (004 figs. 3.6, 3.8)",
                          "w / d",
@@ -1413,7 +1413,8 @@ int app_study_reduce(const Scene *scene, const char *dir, const double *lengths,
                     ++m;
                 }
                 snprintf(wl[j], sizeof wl[j], "w = %g d", widths[k]);
-                series[ns++] = (AppPlotSeries){wl[j], m, xs + off, ys + off, NULL, 1, 0, 1 + j % 4};
+                series[ns++] =
+                    (AppPlotSeries){wl[j], m, xs + off, ys + off, NULL, 1, 0, 1 + j % 4, 0};
                 off += (size_t)samples;
             }
             snprintf(title, sizeof title, "F(s), L = %g d (004 fig. 2.16)", lengths[l]);

@@ -17,7 +17,8 @@ typedef struct AppPlotSeries {
     int count;
     const double *x, *y, *y_err; ///< y_err may be NULL
     int line, dashed;
-    int marker; ///< 0 none, 1 circle, 2 square, 3 triangle, 4 cross (RenderMarker order)
+    int marker;      ///< 0 none, 1 circle, 2 square, 3 triangle, 4 cross (RenderMarker order)
+    int same_colour; ///< 1: the colour of the series before (a fit drawn with its data)
 } AppPlotSeries;
 
 typedef struct AppPlot {

@@ -124,14 +124,15 @@ typedef enum RenderMarker {
 } RenderMarker;
 
 /// RenderSeries.rgb value meaning "next colour of the panel's palette".
-#define RENDER_RGB_AUTO 0xffffffffu
+#define RENDER_RGB_AUTO     0xffffffffu
+#define RENDER_RGB_PREVIOUS 0xfffffffeu /* the colour of the series before (a fit and its data) */
 
 typedef struct RenderSeries {
     const char *label; ///< legend text; NULL = not in the legend
     int count;
     const double *x, *y; ///< data; non-finite points (and <= 0 on a log axis) break the line
     const double *y_err; ///< symmetric error bars; NULL = none
-    uint32_t rgb;        ///< 0xRRGGBB or RENDER_RGB_AUTO
+    uint32_t rgb;        ///< 0xRRGGBB, RENDER_RGB_AUTO or RENDER_RGB_PREVIOUS
     int line;            ///< 1: join points with a line
     int dashed;          ///< 1: dashed line
     RenderMarker marker;

@@ -431,6 +431,10 @@ static void draw_axis_ticks(cairo_t *cr, const Panel *g, int is_y, double fs)
 
 static uint32_t series_rgb(const RenderPanel *pn, int s)
 {
+    while (s > 0 && pn->series[s].rgb == RENDER_RGB_PREVIOUS)
+        --s;
+    if (pn->series[s].rgb == RENDER_RGB_PREVIOUS) /* the first series: nothing before it */
+        return palette[0];
     if (pn->series[s].rgb != RENDER_RGB_AUTO)
         return pn->series[s].rgb;
     int k = 0;
