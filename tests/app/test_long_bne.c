@@ -17,7 +17,15 @@
  * seeds): the intruder's mean height over the last 10 periods 3.6-4.1 d above the floor (2.5 =
  * resting on it), from a start near 14 d; with restitution 0.9 (same scene otherwise) it stays at
  * 13.7 d or higher over 6 seeds. Bounds: every seed starts above 12 and ends below 6 with e = 0.99,
- * and ends above 10 with e = 0.9. */
+ * and ends above 10 with e = 0.9.
+ *
+ * Intruder density (002 figs. 22-24, scenes/brazil_nut/small_density.scene: critical damping,
+ * Gamma = 1.5, 30 periods): a lighter intruder rises faster, weakly. Measured over seeds 1-32:
+ * rise 2.8 d for rho_I / rho = 1/3 against 2.0 d for 3, difference +0.86 d (95 % +0.43 .. +1.28;
+ * 16 seeds do not resolve it). Bound: the mean difference over the 32 seeds > 0.3 d (2.5 standard
+ * errors below the measured value). The run is deterministic; the bound guards against a change
+ * of the physics that reverses the ordering (at Gamma >= 2 or restitution >= 0.9 it is reversed:
+ * docs/brazil_nut.md). */
 #include "bne.h"
 #include "run.h"
 #include "scene.h"
@@ -148,5 +156,22 @@ static int frictionless_intruder_sinks(void)
     return 0;
 }
 
+static int lighter_intruder_rises_faster(void)
+{
+    const char *densities[2] = {"species.intruder.density=0.106103295394597",  /* 1/3 */
+                                "species.intruder.density=0.954929658551372"}; /* 3 */
+    double mean[2] = {0.0, 0.0};
+    for (int seed = 1; seed <= 32; ++seed)
+        for (int k = 0; k < 2; ++k) {
+            double start, late;
+            TEST_ASSERT(late_height("scenes/brazil_nut/small_density.scene", seed, &densities[k], 1,
+                                    20.0, &start, &late) == 0);
+            mean[k] += (late - start) / 32.0;
+        }
+    printf("rise over 32 seeds: %.2f d (rho_I / rho = 1/3), %.2f d (3)\n", mean[0], mean[1]);
+    TEST_ASSERT(mean[0] - mean[1] > 0.3);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(rises_with_frictional_walls), TEST_CASE(smooth_walls_rise_slower),
-          TEST_CASE(frictionless_intruder_sinks))
+          TEST_CASE(frictionless_intruder_sinks), TEST_CASE(lighter_intruder_rises_faster))
