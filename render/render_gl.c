@@ -6,11 +6,13 @@
  * the same analytic coverage.
  *
  * Speed (1920x1080, 7284 grains and ~8k chains; bench/README.md): llvmpipe shades vertices and
- * sets up primitives in the calling thread and shades fragments in LP_NUM_THREADS threads on 4x4
+ * sets up primitives in the drawing thread and shades fragments in LP_NUM_THREADS threads on 4x4
  * blocks, executing both sides of every branch, so the drawer uses plain vertex arrays (no
  * instancing: per-instance overhead), one vertex per disk, branch-free coverage, separate round
- * and butt programs, the clip compiled in only when something reaches it, persistent buffers
- * (glBufferSubData) and draws straight into the caller's image (render_gl_frame_to).
+ * and butt programs, the clip compiled in only when something reaches it, constants instead of
+ * fragment-shader uniforms, persistent buffers (glBufferSubData), and reads the frame straight
+ * into the caller's image (render_gl_frame_to). The image is drawn in two horizontal bands by two
+ * threads with a context each (struct Band), which halves the serial part of a frame.
  *
  * What is drawn follows the Cairo drawer (render_cairo.c, the reference) in order, colours and
  * sizes, so both agree within the image-diff tolerance: background; clipped to the plot
@@ -22,9 +24,10 @@
  * colour bar, time stamp, scale bar, title) are Cairo's, drawn on the GL image by
  * render_cairo_overlay.
  *
- * The GL context is the one struct GlContext below (create, make current, finish, destroy);
- * GL entry points come through its proc-address function, so an EGL surfaceless back end
- * (eglGetProcAddress, an FBO and glReadPixels in finish) replaces OSMesa here alone. */
+ * The GL context is the one struct GlContext below (create, make current, release, destroy);
+ * GL entry points come through its proc-address function and each band draws into a framebuffer
+ * object read back with glReadPixels, so an EGL surfaceless back end (eglGetProcAddress,
+ * eglMakeCurrent without a surface) replaces OSMesa here alone. */
 #include "render/render_gl.h"
 
 #include "render/render.h"
@@ -43,10 +46,11 @@
 
 typedef void (*GlProc)(void);
 
+/* OSMesa's own colour buffer is 1 x 1 and never drawn: frames go to the drawer's framebuffer
+ * object and come back with glReadPixels, as they would from an EGL surfaceless context. */
 typedef struct GlContext {
     OSMesaContext osmesa;
-    uint8_t *pixels; ///< the drawer's own BGRA buffer, rows top-down, width * height * 4 bytes
-    int width, height;
+    uint8_t surface[4];
 } GlContext;
 
 /* llvmpipe reads LP_NUM_THREADS once, when the first context creates its screen; by default it
@@ -64,10 +68,9 @@ static void set_rasteriser_threads(void)
 
 static pthread_once_t threads_once = PTHREAD_ONCE_INIT;
 
-static int context_create(GlContext *context, int width, int height, char *err, size_t err_size)
+static int context_create(GlContext *context, char *err, size_t err_size)
 {
-    /* Core 3.3 without depth or stencil: llvmpipe in Mesa 22.3 gives 4.5 core. BGRA bytes are
-     * Cairo's ARGB32 on little-endian, so the overlay draws on GL frames in place. */
+    /* Core 3.3 without depth or stencil: llvmpipe in Mesa 22.3 gives 4.5 core. */
     static const int attributes[] = {OSMESA_FORMAT,
                                      OSMESA_BGRA,
                                      OSMESA_DEPTH_BITS,
@@ -84,32 +87,17 @@ static int context_create(GlContext *context, int width, int height, char *err, 
                                      3,
                                      0};
     pthread_once(&threads_once, set_rasteriser_threads);
-    context->width = width;
-    context->height = height;
-    context->pixels = malloc((size_t)width * (size_t)height * 4);
-    if (!context->pixels) {
-        snprintf(err, err_size, "GL: out of memory for %dx%d pixels", width, height);
-        return -1;
-    }
     context->osmesa = OSMesaCreateContextAttribs(attributes, NULL);
     if (!context->osmesa) {
         snprintf(err, err_size, "GL: OSMesa cannot create a GL 3.3 core context");
-        free(context->pixels);
-        context->pixels = NULL;
         return -1;
     }
     return 0;
 }
 
-/* Binds the context to `pixels` (the drawer's own buffer or a caller's image of the same size):
- * OSMesa copies the finished frame there, so a movie draws straight into its queue slots. */
-static int context_make_current(GlContext *context, uint8_t *pixels)
+static int context_make_current(GlContext *context)
 {
-    if (!OSMesaMakeCurrent(context->osmesa, pixels, GL_UNSIGNED_BYTE, context->width,
-                           context->height))
-        return -1;
-    OSMesaPixelStore(OSMESA_Y_UP, 0); /* rows top-down, as RenderImage wants: no flip */
-    return 0;
+    return OSMesaMakeCurrent(context->osmesa, context->surface, GL_UNSIGNED_BYTE, 1, 1) ? 0 : -1;
 }
 
 static GlProc context_proc(const char *name)
@@ -117,19 +105,17 @@ static GlProc context_proc(const char *name)
     return (GlProc)OSMesaGetProcAddress(name);
 }
 
-/* OSMesa renders into pixels; the caller's glFinish completes them. */
-static void context_finish(GlContext *context)
+/* Leaves the calling thread without a current context. */
+static void context_release(void)
 {
-    (void)context;
+    OSMesaMakeCurrent(NULL, NULL, 0, 0, 0);
 }
 
 static void context_destroy(GlContext *context)
 {
     if (context->osmesa)
         OSMesaDestroyContext(context->osmesa);
-    free(context->pixels);
     context->osmesa = NULL;
-    context->pixels = NULL;
 }
 
 /* ------------------------------------------------------------------ GL entry points */
@@ -143,7 +129,6 @@ static void context_destroy(GlContext *context)
     X(void, GetFloatv, (GLenum, GLfloat *))                                                        \
     X(void, GetIntegerv, (GLenum, GLint *))                                                        \
     X(void, BlendFuncSeparate, (GLenum, GLenum, GLenum, GLenum))                                   \
-    X(void, Finish, (void))                                                                        \
     X(GLenum, GetError, (void))                                                                    \
     X(const GLubyte *, GetString, (GLenum))                                                        \
     X(GLuint, CreateShader, (GLenum))                                                              \
@@ -154,31 +139,35 @@ static void context_destroy(GlContext *context)
     X(void, DeleteShader, (GLuint))                                                                \
     X(GLuint, CreateProgram, (void))                                                               \
     X(void, AttachShader, (GLuint, GLuint))                                                        \
-    X(void, BindAttribLocation, (GLuint, GLuint, const GLchar *))                                  \
     X(void, LinkProgram, (GLuint))                                                                 \
     X(void, GetProgramiv, (GLuint, GLenum, GLint *))                                               \
     X(void, GetProgramInfoLog, (GLuint, GLsizei, GLsizei *, GLchar *))                             \
     X(void, DeleteProgram, (GLuint))                                                               \
     X(void, UseProgram, (GLuint))                                                                  \
     X(GLint, GetUniformLocation, (GLuint, const GLchar *))                                         \
-    X(void, Uniform1f, (GLint, GLfloat))                                                           \
-    X(void, Uniform2f, (GLint, GLfloat, GLfloat))                                                  \
     X(void, Uniform4f, (GLint, GLfloat, GLfloat, GLfloat, GLfloat))                                \
     X(void, GenVertexArrays, (GLsizei, GLuint *))                                                  \
     X(void, BindVertexArray, (GLuint))                                                             \
-    X(void, DeleteVertexArrays, (GLsizei, const GLuint *))                                         \
     X(void, GenBuffers, (GLsizei, GLuint *))                                                       \
     X(void, BindBuffer, (GLenum, GLuint))                                                          \
     X(void, BufferData, (GLenum, GLsizeiptr, const void *, GLenum))                                \
     X(void, BufferSubData, (GLenum, GLintptr, GLsizeiptr, const void *))                           \
-    X(void, DeleteBuffers, (GLsizei, const GLuint *))                                              \
     X(void, EnableVertexAttribArray, (GLuint))                                                     \
     X(void, VertexAttribPointer, (GLuint, GLint, GLenum, GLboolean, GLsizei, const void *))        \
     X(void, VertexAttribDivisor, (GLuint, GLuint))                                                 \
     X(void, DrawArrays, (GLenum, GLint, GLsizei))                                                  \
     X(void, DrawElements, (GLenum, GLsizei, GLenum, const void *))                                 \
     X(void, DrawArraysInstanced, (GLenum, GLint, GLsizei, GLsizei))                                \
-    X(void, LineWidth, (GLfloat))
+    X(void, LineWidth, (GLfloat))                                                                  \
+    X(void, GenTextures, (GLsizei, GLuint *))                                                      \
+    X(void, BindTexture, (GLenum, GLuint))                                                         \
+    X(void, TexImage2D,                                                                            \
+      (GLenum, GLint, GLint, GLsizei, GLsizei, GLint, GLenum, GLenum, const void *))               \
+    X(void, GenFramebuffers, (GLsizei, GLuint *))                                                  \
+    X(void, BindFramebuffer, (GLenum, GLuint))                                                     \
+    X(void, FramebufferTexture2D, (GLenum, GLenum, GLenum, GLuint, GLint))                         \
+    X(GLenum, CheckFramebufferStatus, (GLenum))                                                    \
+    X(void, ReadPixels, (GLint, GLint, GLsizei, GLsizei, GLenum, GLenum, void *))
 
 typedef struct GlApi {
 #define API_MEMBER(type, name, parameters) type(GLAPIENTRY *name) parameters;
@@ -222,12 +211,11 @@ static int api_load(GlApi *api, char *err, size_t err_size)
  * programs, and the plot-rectangle clip is compiled in (CLIP 1) only when a frame has
  * primitives that reach it. */
 static const char common_source[] =
-    "uniform vec2 viewport;\n" /* width, height, px */
-    "uniform vec4 clip;\n"     /* x0, y0, x1, y1, px, y down */
-    "uniform float margin;\n"  /* px the GL viewport reaches beyond each image edge */
+    "uniform vec4 clip;\n"  /* x0, y0, x1, y1, px, y down */
+    "uniform vec4 frame;\n" /* image width, band height, viewport margin, band's first row, px */
     "vec4 clip_position(vec2 p) {\n"
-    "    vec2 q = (p + margin) / (viewport + 2.0 * margin);\n"
-    "    return vec4(2.0 * q.x - 1.0, 1.0 - 2.0 * q.y, 0.0, 1.0);\n"
+    "    vec2 q = (p - vec2(0.0, frame.w) + frame.z) / (frame.xy + 2.0 * frame.z);\n"
+    "    return vec4(2.0 * q.x - 1.0, 2.0 * q.y - 1.0, 0.0, 1.0);\n"
     "}\n";
 
 static const char fragment_common_source[] =
@@ -246,7 +234,7 @@ static const char fragment_common_source[] =
     "    return max(0.0, pixel_cdf(hi - s, p) - pixel_cdf(lo - s, p));\n"
     "}\n"
     "vec2 pixel_position() {\n" /* pixel centre, px, y down */
-    "    return vec2(gl_FragCoord.x, viewport.y - gl_FragCoord.y);\n"
+    "    return gl_FragCoord.xy + vec2(0.0, band_y0);\n"
     "}\n"
     "float clip_coverage() {\n" /* the plot rectangle (Cairo's cairo_clip, fractional edges) */
     "#if CLIP\n"                /* axis-aligned edges: the one-dimensional box is exact */
@@ -265,16 +253,15 @@ static const char fragment_common_source[] =
      * by the coverage (drawn with glBlendFunc(ONE, ONE_MINUS_SRC_ALPHA)): the outline and fill
      * shares add up without a division, and one inverse square root gives the distance and the
      * edge normal. */
-    "uniform vec4 outline_colour;\n"
     "vec4 shade_disk(vec2 local, vec2 size, vec4 colour) {\n"
     "    float d2 = dot(local, local);\n"
     "    float inv = inversesqrt(max(d2, 1e-12));\n"
     "    float d = d2 * inv;\n"
-    "    vec3 p = footprint(d2 > 0.0 ? local * inv : vec2(1.0, 0.0));\n"
+    "    vec3 p = footprint(d2 >= 1e-12 ? local * inv : vec2(1.0, 0.0));\n" /* unit normal */
     "    float total = min(pixel_cdf(size.x - d, p), 3.14159265 * size.x * size.x);\n"
     "    float inner = size.y > 0.0 ? min(pixel_cdf(size.x - size.y - d, p), total) : total;\n"
     "    float alpha = total * clip_coverage(), fill = inner * clip_coverage();\n"
-    "    return vec4(outline_colour.rgb * (alpha - fill) + colour.rgb * fill, alpha);\n"
+    "    return vec4(outline_rgb * (alpha - fill) + colour.rgb * fill, alpha);\n"
     "}\n";
 
 /* Instanced quads: the fallback for disks larger than the largest point sprite. */
@@ -372,31 +359,32 @@ static const char round_fragment_source[] =
  * any angle (draw_chain_lines). A line's attributes do not vary across it, so the fragment finds
  * its place along and across the chain from gl_FragCoord, as the point sprites do. */
 static const char line_vertex_source[] =
-    "layout(location = 0) in vec2 corner;\n" /* 0: start, 1: end */
-    "layout(location = 1) in vec4 ends;\n"   /* x0, y0, x1, y1, px */
-    "layout(location = 2) in vec2 shape;\n"  /* half width px, round caps */
-    "layout(location = 3) in vec4 paint;\n"
+    "layout(location = 0) in vec4 ends;\n" /* x0, y0, x1, y1, px */
+    "layout(location = 1) in float half_width;\n"
+    "layout(location = 2) in vec3 paint;\n"
     "flat out vec4 start;\n" /* x0, y0, unit direction */
     "flat out vec2 form;\n"  /* length, half width, px */
-    "flat out vec4 colour;\n"
+    "flat out vec3 colour;\n"
     "void main() {\n"
     "    vec2 axis = ends.zw - ends.xy;\n"
     "    float len = length(axis);\n"
     "    vec2 t = len > 0.0 ? axis / len : vec2(1.0, 0.0);\n"
-    /* Along the major axis the line must reach a pixel beyond the cap, plus the one pixel
-     * llvmpipe's diamond-exit rule may take off an end. */
+    /* Along the major axis the line must reach past the cap (half width) by the pixels its
+     * antialiasing reaches (up to sqrt(2) / 2) and the one pixel llvmpipe's diamond-exit rule
+     * may take off an end. */
     "    vec2 m = abs(t);\n"
-    "    float reach = (shape.x + 2.0) / max(m.x, m.y);\n"
-    "    gl_Position = clip_position(corner.x > 0.5 ? ends.zw + t * reach : ends.xy - t * reach);\n"
+    "    float reach = (half_width + 1.75) / max(m.x, m.y);\n"
+    "    bool end = (gl_VertexID & 1) != 0;\n" /* a chain's two vertices: start, end */
+    "    gl_Position = clip_position(end ? ends.zw + t * reach : ends.xy - t * reach);\n"
     "    start = vec4(ends.xy, t);\n"
-    "    form = vec2(len, shape.x);\n"
+    "    form = vec2(len, half_width);\n"
     "    colour = paint;\n"
     "}\n";
 
 static const char line_fragment_source[] =
     "flat in vec4 start;\n"
     "flat in vec2 form;\n"
-    "flat in vec4 colour;\n"
+    "flat in vec3 colour;\n"
     "out vec4 result;\n"
     "void main() {\n"
     "    vec2 q = pixel_position() - start.xy, across = vec2(-start.w, start.z);\n"
@@ -405,8 +393,13 @@ static const char line_fragment_source[] =
     "    float d2 = dot(v, v);\n"
     "    float inv = inversesqrt(max(d2, 1e-12));\n"
     "    float d = d2 * inv;\n"
-    "    vec2 n = d2 > 0.0 ? (start.zw * v.x + across * v.y) * inv : across;\n"
-    "    float a = band(d, -form.y, form.y, footprint(n)) * clip_coverage() * colour.a;\n"
+    "    vec2 n = d2 >= 1e-12 ? (start.zw * v.x + across * v.y) * inv : across;\n"
+    "#if ONE_EDGE\n" /* wide chains: the far edge is out of reach (band's lower term is 0) */
+    "    float a = pixel_cdf(form.y - d, footprint(n));\n"
+    "#else\n"
+    "    float a = band(d, -form.y, form.y, footprint(n));\n"
+    "#endif\n"
+    "    a *= clip_coverage();\n" /* chains are opaque */
     "    if (a <= 0.0) discard;\n"
     "    result = vec4(colour.rgb, a);\n"
     "}\n";
@@ -433,16 +426,25 @@ enum {
     PROGRAM_ROUND,
     PROGRAM_BUTT,
     PROGRAM_LINE,
+    PROGRAM_WIDE_LINE,
     PROGRAM_KINDS
 };
 
-static const char *const program_sources[PROGRAM_KINDS][2] = {
-    {disk_vertex_source, disk_fragment_source},     {point_vertex_source, point_fragment_source},
-    {segment_vertex_source, round_fragment_source}, {segment_vertex_source, butt_fragment_source},
-    {line_vertex_source, line_fragment_source},
+/* Vertex source, fragment source, definitions for both. */
+static const char *const program_sources[PROGRAM_KINDS][3] = {
+    {disk_vertex_source, disk_fragment_source, ""},
+    {point_vertex_source, point_fragment_source, ""},
+    {segment_vertex_source, round_fragment_source, ""},
+    {segment_vertex_source, butt_fragment_source, ""},
+    {line_vertex_source, line_fragment_source, "#define ONE_EDGE 0\n"},
+    {line_vertex_source, line_fragment_source, "#define ONE_EDGE 1\n"},
 };
 
 /* ------------------------------------------------------------------ drawer */
+
+/* Colours and sizes of the Cairo drawer (render_cairo.c), which is the reference. */
+#define OUTLINE_RGB 0x2a2a2au
+#define WALL_RGB    0x3c3c3cu
 
 typedef struct DiskInstance {
     float x, y, radius, outline; ///< px
@@ -459,46 +461,111 @@ typedef struct SegmentVertex {
     uint8_t rgba[4];
 } SegmentVertex;
 
+/* A force chain drawn as a line: two vertices carrying the whole chain. */
+typedef struct ChainVertex {
+    float x0, y0, x1, y1; ///< px
+    float half_width;     ///< px
+    uint8_t rgba[4];
+} ChainVertex;
+
 typedef struct ChainOrder {
-    double force; ///< N
+    uint64_t key; ///< bits of F_n (> 0), which order as the forces do
     int index;    ///< contact
 } ChainOrder;
 
 /* Uniform locations of a program. */
 typedef struct Uniforms {
-    GLint viewport, clip, margin, outline_colour;
+    GLint clip, frame;
 } Uniforms;
 
-struct RenderGl {
+/* One horizontal band of the image, rows [y0, y0 + height), with its own context, framebuffer
+ * object, programs, buffers and primitives (those that reach its rows). llvmpipe sets up and bins
+ * primitives in the thread that draws them and rasterises one scene at a time, waiting for the
+ * rasteriser before the drawing thread goes on, so with one context a frame is serial work
+ * (frame data, vertex set-up, binning, read-back: 4 of 31 CPU ms in the bench) followed by parallel
+ * rasterisation. Two bands drawn in two threads halve the serial part; their scenes are
+ * rasterised one after the other, each by all rasteriser threads. Every pixel still gets the
+ * primitives that reach it, in the same order. */
+typedef struct Band {
     GlContext context;
-    GlApi gl;
-    int current;                       ///< 1 after the first make-current
+    int y0, height;                    ///< image rows, px
+    GLuint framebuffer, target;        ///< the framebuffer object this band draws into, its texture
     GLuint programs[PROGRAM_KINDS][2]; ///< [kind][clip]
     Uniforms uniforms[PROGRAM_KINDS][2];
     GLuint disk_vao, point_vao, segment_vao, line_vao;
-    GLuint corner_buffer, disk_buffer, segment_buffer, index_buffer, line_index_buffer;
-    GLsizeiptr disk_bytes, segment_bytes; ///< buffer capacities, bytes
-    int index_segments;                   ///< segments the index buffer covers
-    float margin;                         ///< px the viewport reaches beyond each image edge
-    float point_limit;                    ///< largest point sprite, px
-    float line_limit;                     ///< widest line, px (chains wider are quads)
+    GLuint corner_buffer, disk_buffer, segment_buffer, index_buffer, chain_buffer;
+    GLsizeiptr disk_bytes, segment_bytes, chain_bytes; ///< buffer capacities, bytes
+    int index_segments;                                ///< segments the index buffer covers
     DiskInstance *disks;
-    SegmentVertex *segments; ///< 4 vertices per segment
-    uint32_t *indices;       ///< 6 per segment: two triangles
-    uint32_t *line_indices;  ///< 2 per segment: its start and end vertices
-    ChainOrder *chains;
-    int disk_capacity, segment_capacity, chain_capacity, index_capacity, line_index_capacity;
-    char renderer[128];
+    SegmentVertex *segments;            ///< 4 vertices per segment
+    uint32_t *indices;                  ///< 6 per segment: two triangles
+    ChainVertex *lines;                 ///< 2 per force chain, drawn weakest first
+    ChainOrder *chains, *chain_scratch; ///< chains to draw, sorted; the sort's second buffer
+    int disk_capacity, segment_capacity, line_capacity, chain_capacity, scratch_capacity,
+        index_capacity;
+    int clip_disks, clip_butt, clip_round; ///< 1: some primitive of the kind reaches the clip
+    char prelude[2][384]; ///< first lines of every shader, [clip]: version and constants
+    int rc;               ///< the band's last result, 0 or -1 with a message in err
+    char err[256];
+} Band;
+
+enum { MAX_BANDS = 2 };
+
+/* What the helper thread is asked to do with its band. */
+enum { JOB_NONE, JOB_INIT, JOB_DRAW, JOB_QUIT };
+
+typedef struct Layout Layout;
+
+struct RenderGl {
+    GlApi gl;           ///< entry points (the same in every context)
+    int width, height;  ///< px
+    uint8_t *pixels;    ///< the drawer's own BGRA image, rows top-down, stride 4 * width
+    float margin;       ///< px the viewport reaches beyond each band edge
+    float point_limit;  ///< largest point sprite, px
+    float line_limit;   ///< widest line, px (chains wider are quads)
+    char renderer[128]; ///< GL_RENDERER
+    Band bands[MAX_BANDS];
+    int band_count;
+    /* The helper thread draws band 1 (its context is current there only). */
+    int helper_running;
+    pthread_t helper;
+    pthread_mutex_t lock;
+    pthread_cond_t wake, done;
+    int job, job_done;
+    const SimFrame *frame; ///< the job's frame, layout and image rows (band 1's start there)
+    const Layout *layout;
+    uint8_t *image;
 };
 
-static GLuint compile(RenderGl *r, GLenum kind, const char *body, int clip, char *err,
-                      size_t err_size)
+/* One channel of a 0xRRGGBB colour as GL receives an 8-bit value. */
+static double channel(uint32_t rgb, int shift)
 {
-    const char *parts[4] = {
-        clip ? "#version 330 core\n#define CLIP 1\n" : "#version 330 core\n#define CLIP 0\n",
-        common_source, kind == GL_FRAGMENT_SHADER ? fragment_common_source : "", body};
+    return (double)((float)((rgb >> shift) & 255u) / 255.0f);
+}
+
+/* The outline colour and the band's first row are shader constants, not uniforms: llvmpipe
+ * loads a uniform in a fragment shader as a gather (eight scalar loads per eight pixels), a
+ * constant costs nothing. The colour is printed with 9 digits, so the shader sees the float the
+ * C expression gives. */
+static void write_preludes(Band *b)
+{
+    for (int clip = 0; clip < 2; ++clip)
+        snprintf(b->prelude[clip], sizeof b->prelude[clip],
+                 "#version 330 core\n"
+                 "#define CLIP %d\n"
+                 "const float band_y0 = %d.0;\n"
+                 "const vec3 outline_rgb = vec3(%.9g, %.9g, %.9g);\n",
+                 clip, b->y0, channel(OUTLINE_RGB, 16), channel(OUTLINE_RGB, 8),
+                 channel(OUTLINE_RGB, 0));
+}
+
+static GLuint compile(RenderGl *r, Band *b, GLenum kind, const char *body, const char *defines,
+                      int clip, char *err, size_t err_size)
+{
+    const char *parts[5] = {b->prelude[clip != 0], defines, common_source,
+                            kind == GL_FRAGMENT_SHADER ? fragment_common_source : "", body};
     GLuint shader = r->gl.CreateShader(kind);
-    r->gl.ShaderSource(shader, 4, parts, NULL);
+    r->gl.ShaderSource(shader, 5, parts, NULL);
     r->gl.CompileShader(shader);
     GLint ok = 0;
     r->gl.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
@@ -512,13 +579,13 @@ static GLuint compile(RenderGl *r, GLenum kind, const char *body, int clip, char
     return shader;
 }
 
-static GLuint link_program(RenderGl *r, const char *vertex, const char *fragment, int clip,
+static GLuint link_program(RenderGl *r, Band *b, const char *const sources[3], int clip,
                            Uniforms *uniforms, char *err, size_t err_size)
 {
-    GLuint vs = compile(r, GL_VERTEX_SHADER, vertex, clip, err, err_size);
+    GLuint vs = compile(r, b, GL_VERTEX_SHADER, sources[0], sources[2], clip, err, err_size);
     if (!vs)
         return 0;
-    GLuint fs = compile(r, GL_FRAGMENT_SHADER, fragment, clip, err, err_size);
+    GLuint fs = compile(r, b, GL_FRAGMENT_SHADER, sources[1], sources[2], clip, err, err_size);
     if (!fs) {
         r->gl.DeleteShader(vs);
         return 0;
@@ -538,10 +605,8 @@ static GLuint link_program(RenderGl *r, const char *vertex, const char *fragment
         r->gl.DeleteProgram(program);
         return 0;
     }
-    uniforms->viewport = r->gl.GetUniformLocation(program, "viewport");
     uniforms->clip = r->gl.GetUniformLocation(program, "clip");
-    uniforms->margin = r->gl.GetUniformLocation(program, "margin");
-    uniforms->outline_colour = r->gl.GetUniformLocation(program, "outline_colour");
+    uniforms->frame = r->gl.GetUniformLocation(program, "frame");
     return program;
 }
 
@@ -554,38 +619,170 @@ static void attribute(RenderGl *r, GLuint location, GLint size, GLenum type, GLs
     r->gl.VertexAttribDivisor(location, divisor);
 }
 
-static void setup_vaos(RenderGl *r)
+static void setup_vaos(RenderGl *r, Band *b)
 {
     /* Instanced quads (disks too large for a point sprite): attribute 0 the corners (a
      * triangle strip), then per-instance attributes. */
     GLsizei stride = sizeof(DiskInstance);
-    r->gl.BindVertexArray(r->disk_vao);
-    r->gl.BindBuffer(GL_ARRAY_BUFFER, r->corner_buffer);
+    r->gl.BindVertexArray(b->disk_vao);
+    r->gl.BindBuffer(GL_ARRAY_BUFFER, b->corner_buffer);
     attribute(r, 0, 2, GL_FLOAT, 2 * sizeof(float), 0, 0);
-    r->gl.BindBuffer(GL_ARRAY_BUFFER, r->disk_buffer);
+    r->gl.BindBuffer(GL_ARRAY_BUFFER, b->disk_buffer);
     attribute(r, 1, 4, GL_FLOAT, stride, offsetof(DiskInstance, x), 1);
     attribute(r, 2, 4, GL_UNSIGNED_BYTE, stride, offsetof(DiskInstance, rgba), 1);
     /* Point sprites: the same buffer, one vertex per disk. */
-    r->gl.BindVertexArray(r->point_vao);
+    r->gl.BindVertexArray(b->point_vao);
     attribute(r, 0, 4, GL_FLOAT, stride, offsetof(DiskInstance, x), 0);
     attribute(r, 1, 4, GL_UNSIGNED_BYTE, stride, offsetof(DiskInstance, rgba), 0);
     /* Segments: indexed triangles over four vertices each. */
     stride = sizeof(SegmentVertex);
-    r->gl.BindVertexArray(r->segment_vao);
-    r->gl.BindBuffer(GL_ARRAY_BUFFER, r->segment_buffer);
+    r->gl.BindVertexArray(b->segment_vao);
+    r->gl.BindBuffer(GL_ARRAY_BUFFER, b->segment_buffer);
     attribute(r, 0, 2, GL_FLOAT, stride, offsetof(SegmentVertex, corner), 0);
     attribute(r, 1, 4, GL_FLOAT, stride, offsetof(SegmentVertex, x0), 0);
     attribute(r, 2, 2, GL_FLOAT, stride, offsetof(SegmentVertex, half_width), 0);
     attribute(r, 3, 4, GL_UNSIGNED_BYTE, stride, offsetof(SegmentVertex, rgba), 0);
-    r->gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->index_buffer); /* part of the VAO's state */
-    /* Chains as lines: the same vertices, two of each segment's four. */
-    r->gl.BindVertexArray(r->line_vao);
-    attribute(r, 0, 2, GL_FLOAT, stride, offsetof(SegmentVertex, corner), 0);
-    attribute(r, 1, 4, GL_FLOAT, stride, offsetof(SegmentVertex, x0), 0);
-    attribute(r, 2, 2, GL_FLOAT, stride, offsetof(SegmentVertex, half_width), 0);
-    attribute(r, 3, 4, GL_UNSIGNED_BYTE, stride, offsetof(SegmentVertex, rgba), 0);
-    r->gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->line_index_buffer);
+    r->gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, b->index_buffer); /* part of the VAO's state */
+    /* Chains as lines: two vertices each. */
+    stride = sizeof(ChainVertex);
+    r->gl.BindVertexArray(b->line_vao);
+    r->gl.BindBuffer(GL_ARRAY_BUFFER, b->chain_buffer);
+    attribute(r, 0, 4, GL_FLOAT, stride, offsetof(ChainVertex, x0), 0);
+    attribute(r, 1, 1, GL_FLOAT, stride, offsetof(ChainVertex, half_width), 0);
+    attribute(r, 2, 3, GL_UNSIGNED_BYTE, stride, offsetof(ChainVertex, rgba), 0);
     r->gl.BindVertexArray(0);
+}
+
+/* Creates the band's context and GL objects in the calling thread, where the context stays
+ * current (band 0: every drawing thread makes it current again; band 1: the helper thread). */
+static int band_init(RenderGl *r, Band *b, char *err, size_t err_size)
+{
+    if (!b->context.osmesa && context_create(&b->context, err, err_size) != 0)
+        return -1;
+    if (context_make_current(&b->context) != 0) {
+        snprintf(err, err_size, "GL: cannot make the OSMesa context current");
+        return -1;
+    }
+    /* The band's image: a texture stored as BGRA bytes (Cairo's ARGB32 on little-endian, so the
+     * overlay draws on GL frames in place), which glReadPixels(GL_BGRA) copies row by row;
+     * row 0 is the band's top row (clip_position), so the copy needs no flip. The unsized
+     * internal format lets Mesa store the bytes as given. */
+    r->gl.GenTextures(1, &b->target);
+    r->gl.BindTexture(GL_TEXTURE_2D, b->target);
+    r->gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, r->width, b->height, 0, GL_BGRA, GL_UNSIGNED_BYTE,
+                     NULL);
+    r->gl.GenFramebuffers(1, &b->framebuffer);
+    r->gl.BindFramebuffer(GL_FRAMEBUFFER, b->framebuffer);
+    r->gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, b->target, 0);
+    if (r->gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        snprintf(err, err_size, "GL: no %dx%d BGRA framebuffer on %s", r->width, b->height,
+                 r->renderer);
+        return -1;
+    }
+    r->gl.Enable(GL_PROGRAM_POINT_SIZE);
+    write_preludes(b);
+    for (int kind = 0; kind < PROGRAM_KINDS; ++kind) {
+        for (int clip = 0; clip < 2; ++clip) {
+            b->programs[kind][clip] = link_program(r, b, program_sources[kind], clip,
+                                                   &b->uniforms[kind][clip], err, err_size);
+            if (!b->programs[kind][clip])
+                return -1;
+        }
+    }
+    /* Quads as triangle strips: disks use (+-1, +-1). */
+    static const float corners[8] = {-1, -1, 1, -1, -1, 1, 1, 1};
+    GLuint buffers[5];
+    r->gl.GenBuffers(5, buffers);
+    b->corner_buffer = buffers[0];
+    b->disk_buffer = buffers[1];
+    b->segment_buffer = buffers[2];
+    b->index_buffer = buffers[3];
+    b->chain_buffer = buffers[4];
+    GLuint vaos[4];
+    r->gl.GenVertexArrays(4, vaos);
+    b->disk_vao = vaos[0];
+    b->point_vao = vaos[1];
+    b->segment_vao = vaos[2];
+    b->line_vao = vaos[3];
+    r->gl.BindBuffer(GL_ARRAY_BUFFER, b->corner_buffer);
+    r->gl.BufferData(GL_ARRAY_BUFFER, sizeof corners, corners, GL_STATIC_DRAW);
+    setup_vaos(r, b);
+    if (r->gl.GetError() != GL_NO_ERROR) {
+        snprintf(err, err_size, "GL: set-up failed on %s", r->renderer);
+        return -1;
+    }
+    return 0;
+}
+
+/* Frees the band's arrays and its context, which holds all its GL objects. */
+static void band_free(Band *b)
+{
+    context_destroy(&b->context);
+    free(b->disks);
+    free(b->segments);
+    free(b->indices);
+    free(b->lines);
+    free(b->chains);
+    free(b->chain_scratch);
+}
+
+static int band_draw(RenderGl *r, Band *b, const SimFrame *frame, const Layout *l, uint8_t *image);
+
+/* The helper thread: initialises band 1, then draws it whenever asked, until told to quit. */
+static void *helper_main(void *arg)
+{
+    RenderGl *r = arg;
+    Band *b = &r->bands[1];
+    pthread_mutex_lock(&r->lock);
+    for (;;) {
+        while (r->job == JOB_NONE)
+            pthread_cond_wait(&r->wake, &r->lock);
+        int job = r->job;
+        r->job = JOB_NONE;
+        pthread_mutex_unlock(&r->lock);
+        if (job == JOB_INIT)
+            b->rc = band_init(r, b, b->err, sizeof b->err);
+        else if (job == JOB_DRAW)
+            b->rc = band_draw(r, b, r->frame, r->layout, r->image);
+        else /* JOB_QUIT: release the context, which the creating thread destroys */
+            context_release();
+        pthread_mutex_lock(&r->lock);
+        r->job_done = 1;
+        pthread_cond_signal(&r->done);
+        if (job == JOB_QUIT)
+            break;
+    }
+    pthread_mutex_unlock(&r->lock);
+    return NULL;
+}
+
+/* Gives the helper thread a job. */
+static void helper_start(RenderGl *r, int job)
+{
+    pthread_mutex_lock(&r->lock);
+    r->job = job;
+    r->job_done = 0;
+    pthread_cond_signal(&r->wake);
+    pthread_mutex_unlock(&r->lock);
+}
+
+/* Waits until the helper thread has done its job. */
+static void helper_wait(RenderGl *r)
+{
+    pthread_mutex_lock(&r->lock);
+    while (!r->job_done)
+        pthread_cond_wait(&r->done, &r->lock);
+    pthread_mutex_unlock(&r->lock);
+}
+
+/* Bands: two where there are two CPUs and rows enough, else one; SABLIER_GL_BANDS=1 or 2
+ * chooses (tests and A/B timing). */
+static int band_count_for(int height)
+{
+    const char *forced = getenv("SABLIER_GL_BANDS");
+    if (forced && (forced[0] == '1' || forced[0] == '2') && forced[1] == '\0')
+        return forced[0] == '2' && height >= 2 ? 2 : 1;
+    return sysconf(_SC_NPROCESSORS_ONLN) >= 2 && height >= 128 ? 2 : 1;
 }
 
 RenderGl *render_gl_create(int width, int height, char *err, size_t err_size)
@@ -599,32 +796,34 @@ RenderGl *render_gl_create(int width, int height, char *err, size_t err_size)
         snprintf(err, err_size, "GL: out of memory");
         return NULL;
     }
-    if (context_create(&r->context, width, height, err, err_size) != 0) {
+    r->width = width;
+    r->height = height;
+    r->pixels = malloc((size_t)width * (size_t)height * 4);
+    if (!r->pixels) {
+        snprintf(err, err_size, "GL: out of memory for %dx%d pixels", width, height);
         free(r);
         return NULL;
     }
-    if (context_make_current(&r->context, r->context.pixels) != 0) {
+    r->band_count = band_count_for(height);
+    int rows = r->band_count == 2 ? height / 2 : height;
+    r->bands[0].height = rows;
+    r->bands[1].y0 = rows;
+    r->bands[1].height = height - rows;
+
+    /* Band 0's context first: the entry points and limits come from it. */
+    Band *b0 = &r->bands[0];
+    if (context_create(&b0->context, err, err_size) != 0)
+        goto fail;
+    if (context_make_current(&b0->context) != 0) {
         snprintf(err, err_size, "GL: cannot make the OSMesa context current");
         goto fail;
     }
-    r->current = 1;
     if (api_load(&r->gl, err, err_size) != 0)
         goto fail;
     const GLubyte *renderer = r->gl.GetString(GL_RENDERER);
     snprintf(r->renderer, sizeof r->renderer, "%s", renderer ? (const char *)renderer : "?");
-
-    for (int kind = 0; kind < PROGRAM_KINDS; ++kind) {
-        for (int clip = 0; clip < 2; ++clip) {
-            r->programs[kind][clip] =
-                link_program(r, program_sources[kind][0], program_sources[kind][1], clip,
-                             &r->uniforms[kind][clip], err, err_size);
-            if (!r->programs[kind][clip])
-                goto fail;
-        }
-    }
-
-    /* Points are clipped by their centre: the viewport reaches past the image by half the
-     * largest sprite, so disks centred just outside the image still show their inner part. */
+    /* Points are clipped by their centre: the viewport reaches past the band by half the
+     * largest sprite, so disks centred just outside it still show their inner part. */
     GLfloat sizes[2] = {1.0f, 1.0f};
     GLint dims[2] = {width, height};
     r->gl.GetFloatv(GL_ALIASED_POINT_SIZE_RANGE, sizes);
@@ -633,35 +832,42 @@ RenderGl *render_gl_create(int width, int height, char *err, size_t err_size)
     int margin = (int)ceil(0.5 * (double)sizes[1]) + 1;
     r->margin = (float)(margin < room ? margin : room > 0 ? room : 0);
     r->point_limit = fminf(sizes[1], 2.0f * r->margin - 2.0f);
-    r->gl.Enable(GL_PROGRAM_POINT_SIZE);
     GLfloat widths[2] = {1.0f, 1.0f};
     r->gl.GetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, widths);
     r->line_limit = widths[1];
-
-    /* Quads as triangle strips: disks use (+-1, +-1). */
-    static const float corners[8] = {-1, -1, 1, -1, -1, 1, 1, 1};
-    GLuint buffers[5];
-    r->gl.GenBuffers(5, buffers);
-    r->corner_buffer = buffers[0];
-    r->disk_buffer = buffers[1];
-    r->segment_buffer = buffers[2];
-    r->index_buffer = buffers[3];
-    r->line_index_buffer = buffers[4];
-    GLuint vaos[4];
-    r->gl.GenVertexArrays(4, vaos);
-    r->disk_vao = vaos[0];
-    r->point_vao = vaos[1];
-    r->segment_vao = vaos[2];
-    r->line_vao = vaos[3];
-    r->gl.BindBuffer(GL_ARRAY_BUFFER, r->corner_buffer);
-    r->gl.BufferData(GL_ARRAY_BUFFER, sizeof corners, corners, GL_STATIC_DRAW);
-    setup_vaos(r);
-    if (r->gl.GetError() != GL_NO_ERROR) {
-        snprintf(err, err_size, "GL: set-up failed on %s", r->renderer);
+    if (band_init(r, b0, err, err_size) != 0)
         goto fail;
+
+    if (r->band_count == 2) {
+        if (pthread_mutex_init(&r->lock, NULL) != 0)
+            goto no_thread;
+        if (pthread_cond_init(&r->wake, NULL) != 0) {
+            pthread_mutex_destroy(&r->lock);
+            goto no_thread;
+        }
+        if (pthread_cond_init(&r->done, NULL) != 0) {
+            pthread_cond_destroy(&r->wake);
+            pthread_mutex_destroy(&r->lock);
+            goto no_thread;
+        }
+        if (pthread_create(&r->helper, NULL, helper_main, r) != 0) {
+            pthread_cond_destroy(&r->done);
+            pthread_cond_destroy(&r->wake);
+            pthread_mutex_destroy(&r->lock);
+            goto no_thread;
+        }
+        r->helper_running = 1;
+        helper_start(r, JOB_INIT);
+        helper_wait(r);
+        if (r->bands[1].rc != 0) {
+            snprintf(err, err_size, "%s", r->bands[1].err);
+            goto fail;
+        }
     }
     return r;
 
+no_thread:
+    snprintf(err, err_size, "GL: cannot start the drawing thread");
 fail:
     render_gl_destroy(r);
     return NULL;
@@ -671,24 +877,17 @@ void render_gl_destroy(RenderGl *r)
 {
     if (!r)
         return;
-    if (r->current && r->gl.DeleteBuffers &&
-        context_make_current(&r->context, r->context.pixels) == 0) {
-        GLuint buffers[5] = {r->corner_buffer, r->disk_buffer, r->segment_buffer, r->index_buffer,
-                             r->line_index_buffer};
-        GLuint vaos[4] = {r->disk_vao, r->point_vao, r->segment_vao, r->line_vao};
-        r->gl.DeleteBuffers(5, buffers);
-        r->gl.DeleteVertexArrays(4, vaos);
-        for (int kind = 0; kind < PROGRAM_KINDS; ++kind)
-            for (int clip = 0; clip < 2; ++clip)
-                if (r->programs[kind][clip])
-                    r->gl.DeleteProgram(r->programs[kind][clip]);
+    if (r->helper_running) {
+        helper_start(r, JOB_QUIT);
+        pthread_join(r->helper, NULL);
+        pthread_cond_destroy(&r->done);
+        pthread_cond_destroy(&r->wake);
+        pthread_mutex_destroy(&r->lock);
     }
-    context_destroy(&r->context);
-    free(r->disks);
-    free(r->segments);
-    free(r->indices);
-    free(r->line_indices);
-    free(r->chains);
+    context_release();
+    for (int k = 0; k < MAX_BANDS; ++k)
+        band_free(&r->bands[k]);
+    free(r->pixels);
     free(r);
 }
 
@@ -698,10 +897,6 @@ const char *render_gl_renderer(const RenderGl *r)
 }
 
 /* ------------------------------------------------------------------ what to draw */
-
-/* Colours and sizes of the Cairo drawer (render_cairo.c), which is the reference. */
-#define OUTLINE_RGB 0x2a2a2au
-#define WALL_RGB    0x3c3c3cu
 
 /* Grows an array to hold at least `count` elements of `size` bytes. */
 static int reserve(void **array, int *capacity, int count, size_t size)
@@ -727,12 +922,6 @@ static void set_rgba(uint8_t rgba[4], uint32_t rgb)
     rgba[3] = 255;
 }
 
-static void uniform_rgb(RenderGl *r, GLint location, uint32_t rgb)
-{
-    r->gl.Uniform4f(location, (float)((rgb >> 16) & 255) / 255.0f,
-                    (float)((rgb >> 8) & 255) / 255.0f, (float)(rgb & 255) / 255.0f, 1.0f);
-}
-
 static int is_fixed(const SimFrame *frame, int i)
 {
     return frame->flags && (frame->flags[i] & SIM_GRAIN_FIXED);
@@ -744,15 +933,17 @@ static double outline_width(double r)
     return fmin(1.5, fmax(0.6, 0.07 * r));
 }
 
-/* Everything one frame needs, resolved once. */
-typedef struct Layout {
+/* Everything one frame needs, resolved once and shared by the bands. */
+struct Layout {
     RenderStyle style; ///< resolved (render_style_resolve)
     RenderView view;
-    double lo, hi;                         ///< colour range
-    double period;                         ///< periodic x length, m (0 = not periodic)
-    float clip[4];                         ///< x0, y0, x1, y1, px
-    int clip_disks, clip_butt, clip_round; ///< 1: some primitive of the kind reaches the clip
-} Layout;
+    double lo, hi;       ///< colour range
+    double period;       ///< periodic x length, m (0 = not periodic)
+    float clip[4];       ///< x0, y0, x1, y1, px
+    double cut, f_max;   ///< chains: the force they must exceed, the force of the widest, N
+    int as_points;       ///< 1: disks are point sprites (none larger than the largest sprite)
+    int chains_as_lines; ///< 1: chains are lines (none wider than the widest line)
+};
 
 /* 1 when the box (px) is far enough inside the clip rectangle that every pixel centre in it has
  * clip coverage 1, so the shaders may leave the clip out. */
@@ -762,10 +953,17 @@ static int reaches_clip(const Layout *l, double x0, double y0, double x1, double
              x1 <= (double)l->clip[2] - 0.5 && y1 <= (double)l->clip[3] - 0.5);
 }
 
-static void add_disk(RenderGl *r, int *n, Layout *l, const SimFrame *frame, int i, double offset,
+/* 1 when image rows [y_lo, y_hi] (px) may hold pixels of the band: a primitive outside them
+ * gives its pixels no coverage. */
+static int meets_band(const Band *b, double y_lo, double y_hi)
+{
+    return y_hi >= (double)b->y0 - 1.0 && y_lo <= (double)(b->y0 + b->height) + 1.0;
+}
+
+static void add_disk(Band *b, int *n, const Layout *l, const SimFrame *frame, int i, double offset,
                      uint32_t rgb)
 {
-    DiskInstance *d = &r->disks[(*n)++];
+    DiskInstance *d = &b->disks[(*n)++];
     double px, py, radius = l->view.scale * frame->radius[i];
     render_view_to_pixel(&l->view, frame->x[i] + offset, frame->y[i], &px, &py);
     d->x = (float)px;
@@ -776,37 +974,44 @@ static void add_disk(RenderGl *r, int *n, Layout *l, const SimFrame *frame, int 
                      : 0.0f;
     set_rgba(d->rgba, rgb);
     double pad = radius + 1.0;
-    if (!l->clip_disks)
-        l->clip_disks = reaches_clip(l, px - pad, py - pad, px + pad, py + pad);
+    if (!b->clip_disks)
+        b->clip_disks = reaches_clip(l, px - pad, py - pad, px + pad, py + pad);
 }
 
-/* Disks in frame order, with the copies a periodic frame shows across the seam. */
-static int collect_disks(RenderGl *r, const SimFrame *frame, Layout *l)
+/* The band's disks in frame order, with the copies a periodic frame shows across the seam. */
+static int collect_disks(Band *b, const SimFrame *frame, const Layout *l)
 {
-    if (reserve((void **)&r->disks, &r->disk_capacity, 3 * frame->count, sizeof(DiskInstance)))
+    if (reserve((void **)&b->disks, &b->disk_capacity, 3 * frame->count, sizeof(DiskInstance)))
         return -1;
     int n = 0;
     for (int i = 0; i < frame->count; ++i) {
+        double px, py, pad = l->view.scale * frame->radius[i] + 1.0;
+        render_view_to_pixel(&l->view, frame->x[i], frame->y[i], &px, &py);
+        if (!meets_band(b, py - pad, py + pad)) /* periodic copies share the row */
+            continue;
         uint32_t rgb = render_grain_rgb(frame, &l->style, i, l->lo, l->hi);
-        add_disk(r, &n, l, frame, i, 0.0, rgb);
+        add_disk(b, &n, l, frame, i, 0.0, rgb);
         if (l->period > 0.0) {
             if (frame->x[i] - frame->radius[i] < frame->domain_x0)
-                add_disk(r, &n, l, frame, i, l->period, rgb);
+                add_disk(b, &n, l, frame, i, l->period, rgb);
             if (frame->x[i] + frame->radius[i] > frame->domain_x1)
-                add_disk(r, &n, l, frame, i, -l->period, rgb);
+                add_disk(b, &n, l, frame, i, -l->period, rgb);
         }
     }
     return n;
 }
 
-static void add_segment(RenderGl *r, int *n, Layout *l, double ax, double ay, double bx, double by,
-                        double width, int round, uint32_t rgb)
+/* A segment from (ax, ay) to (bx, by), m, unless it misses the band. */
+static void add_segment(Band *b, int *n, const Layout *l, double ax, double ay, double bx,
+                        double by, double width, int round, uint32_t rgb)
 {
     static const float corners[4][2] = {{0, -1}, {1, -1}, {0, 1}, {1, 1}};
-    SegmentVertex *s = &r->segments[4 * (*n)++];
-    double x0, y0, x1, y1;
+    double x0, y0, x1, y1, pad = 0.5 * width + 1.0;
     render_view_to_pixel(&l->view, ax, ay, &x0, &y0);
     render_view_to_pixel(&l->view, bx, by, &x1, &y1);
+    if (!meets_band(b, fmin(y0, y1) - pad, fmax(y0, y1) + pad))
+        return;
+    SegmentVertex *s = &b->segments[4 * (*n)++];
     s->x0 = (float)x0;
     s->y0 = (float)y0;
     s->x1 = (float)x1;
@@ -821,31 +1026,106 @@ static void add_segment(RenderGl *r, int *n, Layout *l, double ax, double ay, do
         s[k].corner[0] = corners[k][0];
         s[k].corner[1] = corners[k][1];
     }
-    double pad = 0.5 * width + 1.0;
-    int *flag = round ? &l->clip_round : &l->clip_butt;
+    int *flag = round ? &b->clip_round : &b->clip_butt;
     if (!*flag)
         *flag = reaches_clip(l, fmin(x0, x1) - pad, fmin(y0, y1) - pad, fmax(x0, x1) + pad,
                              fmax(y0, y1) + pad);
 }
 
-static int compare_chains(const void *a, const void *b)
+/* A force chain from (ax, ay) to (bx, by), m, as the two vertices of a line, unless it misses
+ * the band. */
+static void add_chain(Band *b, int *n, const Layout *l, double ax, double ay, double bx, double by,
+                      double width, uint32_t rgb)
 {
-    const ChainOrder *p = a, *q = b;
-    if (p->force != q->force)
-        return p->force < q->force ? -1 : 1;
-    return (p->index > q->index) - (p->index < q->index);
+    double x0, y0, x1, y1, pad = 0.5 * width + 1.0;
+    render_view_to_pixel(&l->view, ax, ay, &x0, &y0);
+    render_view_to_pixel(&l->view, bx, by, &x1, &y1);
+    if (!meets_band(b, fmin(y0, y1) - pad, fmax(y0, y1) + pad))
+        return;
+    ChainVertex *c = &b->lines[2 * (*n)++];
+    c->x0 = (float)x0;
+    c->y0 = (float)y0;
+    c->x1 = (float)x1;
+    c->y1 = (float)y1;
+    c->half_width = (float)(0.5 * width);
+    set_rgba(c->rgba, rgb);
+    c[1] = c[0];
+    if (!b->clip_round)
+        b->clip_round = reaches_clip(l, fmin(x0, x1) - pad, fmin(y0, y1) - pad, fmax(x0, x1) + pad,
+                                     fmax(y0, y1) + pad);
 }
 
-/* Orientation ticks, walls, force chains as segment instances, in Cairo's drawing order. */
-static int collect_segments(RenderGl *r, const SimFrame *frame, Layout *l, int counts[3])
+/* Chains [0, count) as round-capped quads after the segments [0, n): for a frame whose widest
+ * chain is wider than the widest line. */
+static void chains_as_quads(Band *b, int n, int count)
+{
+    static const float corners[4][2] = {{0, -1}, {1, -1}, {0, 1}, {1, 1}};
+    for (int k = 0; k < count; ++k) {
+        const ChainVertex *c = &b->lines[2 * k];
+        SegmentVertex *q = &b->segments[4 * (n + k)];
+        for (int v = 0; v < 4; ++v)
+            q[v] = (SegmentVertex){{corners[v][0], corners[v][1]},
+                                   c->x0,
+                                   c->y0,
+                                   c->x1,
+                                   c->y1,
+                                   c->half_width,
+                                   1.0f,
+                                   {c->rgba[0], c->rgba[1], c->rgba[2], c->rgba[3]}};
+    }
+}
+
+/* Chains by force, weakest first, ties by contact index (a total order: the sequence of Cairo's
+ * stable sort). A stable least-significant-digit radix sort on the bits of F_n, 8 bits a pass,
+ * skipping digits that all chains share; the chains come in index order. It runs in the serial
+ * part of a frame, where qsort's comparison calls cost about 0.7 ms for 8k chains. */
+static void sort_chains(ChainOrder *chains, ChainOrder *scratch, int count)
+{
+    ChainOrder *from = chains, *to = scratch;
+    for (int shift = 0; shift < 64; shift += 8) {
+        int start[257] = {0};
+        for (int k = 0; k < count; ++k)
+            ++start[(from[k].key >> shift & 255u) + 1];
+        int shared = 0;
+        for (int d = 1; d <= 256 && !shared; ++d)
+            shared = start[d] == count;
+        if (shared)
+            continue;
+        for (int d = 1; d <= 256; ++d)
+            start[d] += start[d - 1];
+        for (int k = 0; k < count; ++k)
+            to[start[from[k].key >> shift & 255u]++] = from[k];
+        ChainOrder *swap = from;
+        from = to;
+        to = swap;
+    }
+    if (from != chains)
+        memcpy(chains, from, (size_t)count * sizeof *chains);
+}
+
+/* Width of a chain of normal force f, px: upper 65 % of the yellow-red map, width proportional
+ * to F_n (render_cairo.c). */
+static double chain_width(const Layout *l, double f)
+{
+    double t = l->f_max > 0.0 ? fmin(1.0, f / l->f_max) : 1.0;
+    return fmax(0.8, l->style.chain_width_max * t);
+}
+
+/* Orientation ticks and walls as segments, force chains as lines, in Cairo's drawing order:
+ * those that reach the band. Room is kept for the chains as segments too (chains_as_quads). */
+static int collect_segments(Band *b, const SimFrame *frame, const Layout *l, int counts[3])
 {
     const RenderStyle *s = &l->style;
     const RenderView *v = &l->view;
     int ticks = s->orientation_tick && frame->angle ? 3 * frame->count : 0;
     int chains = s->force_chains ? 2 * frame->contact_count : 0;
-    if (reserve((void **)&r->segments, &r->segment_capacity, ticks + frame->wall_count + chains,
+    if (reserve((void **)&b->segments, &b->segment_capacity, ticks + frame->wall_count + chains,
                 4 * sizeof(SegmentVertex)) ||
-        reserve((void **)&r->chains, &r->chain_capacity, frame->contact_count, sizeof(ChainOrder)))
+        reserve((void **)&b->lines, &b->line_capacity, chains, 2 * sizeof(ChainVertex)) ||
+        reserve((void **)&b->chains, &b->chain_capacity, frame->contact_count,
+                sizeof(ChainOrder)) ||
+        reserve((void **)&b->chain_scratch, &b->scratch_capacity, frame->contact_count,
+                sizeof(ChainOrder)))
         return -1;
     int n = 0;
     if (ticks) {
@@ -866,7 +1146,7 @@ static int collect_segments(RenderGl *r, const SimFrame *frame, Layout *l, int c
             }
             for (int k = 0; k < copies; ++k) {
                 double x = frame->x[i] + offsets[k], y = frame->y[i];
-                add_segment(r, &n, l, x, y, x + len * cos(frame->angle[i]),
+                add_segment(b, &n, l, x, y, x + len * cos(frame->angle[i]),
                             y + len * sin(frame->angle[i]), width, 0, OUTLINE_RGB);
             }
         }
@@ -876,42 +1156,49 @@ static int collect_segments(RenderGl *r, const SimFrame *frame, Layout *l, int c
         double width = fmax(3.0, 0.3 * v->mean_diameter * v->scale);
         for (int w = 0; w < frame->wall_count; ++w) {
             const SimWall *wall = &frame->walls[w];
-            add_segment(r, &n, l, wall->x0, wall->y0, wall->x1, wall->y1, width, 1, WALL_RGB);
+            add_segment(b, &n, l, wall->x0, wall->y0, wall->x1, wall->y1, width, 1, WALL_RGB);
         }
     }
     counts[1] = n - counts[0];
+    n = 0;
     if (chains && frame->contact_count > 0) {
-        double f_max = 0.0;
-        double cut = render_chain_cut(frame, s, &f_max);
+        /* The chains that reach the band (a chain's rows lie between its ends' rows), in index
+         * order; the rest are left out before the sort. */
         int m = 0;
         for (int c = 0; c < frame->contact_count; ++c) {
-            double f = frame->contacts[c].normal_force;
-            if (f > 0.0 && f > cut)
-                r->chains[m++] = (ChainOrder){f, c};
-        }
-        /* Weakest first so strong chains lie on top; ties by index (a total order, so the
-         * same sequence as Cairo's stable sort). */
-        qsort(r->chains, (size_t)m, sizeof *r->chains, compare_chains);
-        for (int k = 0; k < m; ++k) {
-            const SimContact *c = &frame->contacts[r->chains[k].index];
-            if (c->i < 0 || c->i >= frame->count || c->j >= frame->count)
+            const SimContact *k = &frame->contacts[c];
+            double f = k->normal_force;
+            if (!(f > 0.0 && f > l->cut) || k->i < 0 || k->i >= frame->count ||
+                k->j >= frame->count)
                 continue;
-            double t = f_max > 0.0 ? fmin(1.0, c->normal_force / f_max) : 1.0;
+            double ya = frame->y[k->i], yb = k->j >= 0 ? frame->y[k->j] : k->y, x, pa, pb;
+            render_view_to_pixel(v, 0.0, ya, &x, &pa);
+            render_view_to_pixel(v, 0.0, yb, &x, &pb);
+            double pad = 0.5 * chain_width(l, f) + 1.0;
+            if (!meets_band(b, fmin(pa, pb) - pad, fmax(pa, pb) + pad))
+                continue;
+            b->chains[m].index = c;
+            memcpy(&b->chains[m++].key, &f, sizeof f);
+        }
+        /* Weakest first so strong chains lie on top. */
+        sort_chains(b->chains, b->chain_scratch, m);
+        for (int k = 0; k < m; ++k) {
+            const SimContact *c = &frame->contacts[b->chains[k].index];
+            double t = l->f_max > 0.0 ? fmin(1.0, c->normal_force / l->f_max) : 1.0;
             double ax = frame->x[c->i], ay = frame->y[c->i];
             double bx = c->j >= 0 ? frame->x[c->j] : c->x; /* wall contact: to the contact */
             double by = c->j >= 0 ? frame->y[c->j] : c->y;
             double dx = bx - ax;
             if (l->period > 0.0) /* minimum image across the seam */
                 dx -= l->period * floor(dx / l->period + 0.5);
-            /* Upper 65 % of the yellow-red map, width proportional to F_n (render_cairo.c). */
             uint32_t rgb = render_colormap_rgb(RENDER_CMAP_YELLOW_RED, 0.35 + 0.65 * t);
-            double width = fmax(0.8, s->chain_width_max * t);
-            add_segment(r, &n, l, ax, ay, ax + dx, by, width, 1, rgb);
+            double width = chain_width(l, c->normal_force);
+            add_chain(b, &n, l, ax, ay, ax + dx, by, width, rgb);
             if (l->period > 0.0 && (ax + dx < frame->domain_x0 || ax + dx > frame->domain_x1))
-                add_segment(r, &n, l, bx, by, bx - dx, ay, width, 1, rgb);
+                add_chain(b, &n, l, bx, by, bx - dx, ay, width, rgb);
         }
     }
-    counts[2] = n - counts[0] - counts[1];
+    counts[2] = n;
     return 0;
 }
 
@@ -930,15 +1217,13 @@ static void upload(RenderGl *r, GLenum target, GLuint buffer, GLsizeiptr *capaci
     r->gl.BufferSubData(target, 0, bytes, data);
 }
 
-static void use_program(RenderGl *r, int kind, int clip, const Layout *l)
+static void use_program(RenderGl *r, Band *b, int kind, int clip, const Layout *l)
 {
-    const Uniforms *u = &r->uniforms[kind][clip != 0];
-    r->gl.UseProgram(r->programs[kind][clip != 0]);
-    r->gl.Uniform2f(u->viewport, (float)r->context.width, (float)r->context.height);
-    r->gl.Uniform4f(u->clip, l->clip[0], l->clip[1], l->clip[2], l->clip[3]);
-    r->gl.Uniform1f(u->margin, r->margin);
-    if (u->outline_colour >= 0)
-        uniform_rgb(r, u->outline_colour, OUTLINE_RGB);
+    const Uniforms *u = &b->uniforms[kind][clip != 0];
+    r->gl.UseProgram(b->programs[kind][clip != 0]);
+    if (u->clip >= 0)
+        r->gl.Uniform4f(u->clip, l->clip[0], l->clip[1], l->clip[2], l->clip[3]);
+    r->gl.Uniform4f(u->frame, (float)r->width, (float)b->height, r->margin, (float)b->y0);
     /* Disks give premultiplied colour (shade_disk), segments straight colour; "over" either way,
      * and the destination stays opaque. */
     if (kind == PROGRAM_QUAD_DISK || kind == PROGRAM_POINT_DISK)
@@ -950,15 +1235,15 @@ static void use_program(RenderGl *r, int kind, int clip, const Layout *l)
 
 /* Index buffer: triangles (0, 1, 2) and (2, 1, 3) of each segment's four vertices, the two
  * triangles of the former triangle strip. Built once for the largest count seen. */
-static int segment_indices(RenderGl *r, int segments)
+static int segment_indices(RenderGl *r, Band *b, int segments)
 {
-    if (segments <= r->index_segments)
+    if (segments <= b->index_segments)
         return 0;
-    if (reserve((void **)&r->indices, &r->index_capacity, 6 * segments, sizeof(uint32_t)))
+    if (reserve((void **)&b->indices, &b->index_capacity, 6 * segments, sizeof(uint32_t)))
         return -1;
-    int count = r->index_capacity / 6;
+    int count = b->index_capacity / 6;
     for (int k = 0; k < count; ++k) {
-        uint32_t *i = r->indices + 6 * k, v = 4u * (uint32_t)k;
+        uint32_t *i = b->indices + 6 * k, v = 4u * (uint32_t)k;
         i[0] = v;
         i[1] = v + 1;
         i[2] = v + 2;
@@ -966,53 +1251,179 @@ static int segment_indices(RenderGl *r, int segments)
         i[4] = v + 1;
         i[5] = v + 3;
     }
-    if (reserve((void **)&r->line_indices, &r->line_index_capacity, 2 * count, sizeof(uint32_t)))
-        return -1;
-    for (int k = 0; k < count; ++k) {
-        r->line_indices[2 * k] = 4u * (uint32_t)k;
-        r->line_indices[2 * k + 1] = 4u * (uint32_t)k + 1u; /* corners (0, -1) and (1, -1) */
-    }
     GLsizeiptr capacity = 0; /* reallocated to the exact size */
-    r->gl.BindVertexArray(r->segment_vao);
-    upload(r, GL_ELEMENT_ARRAY_BUFFER, r->index_buffer, &capacity, r->indices,
+    r->gl.BindVertexArray(b->segment_vao);
+    upload(r, GL_ELEMENT_ARRAY_BUFFER, b->index_buffer, &capacity, b->indices,
            (GLsizeiptr)count * 6 * (GLsizeiptr)sizeof(uint32_t));
-    capacity = 0;
-    r->gl.BindVertexArray(r->line_vao);
-    upload(r, GL_ELEMENT_ARRAY_BUFFER, r->line_index_buffer, &capacity, r->line_indices,
-           (GLsizeiptr)count * 2 * (GLsizeiptr)sizeof(uint32_t));
     r->gl.BindVertexArray(0);
-    r->index_segments = count;
+    b->index_segments = count;
     return 0;
 }
 
-/* Line width (a whole number of px, as llvmpipe rounds it) that covers segment k's capsule and
- * the pixels its antialiasing reaches, at any angle: llvmpipe widens a line along its minor axis,
- * where a capsule of half width h needs h / cos + (1 + tan) / 2 <= h sqrt(2) + 1 either side. */
-static float chain_line_width(const RenderGl *r, int k)
+/* Line width (a whole number of px, as llvmpipe rounds it) that covers a capsule of half width h
+ * and the pixels its antialiasing reaches, at any angle: llvmpipe widens a line along its minor
+ * axis, where the capsule needs h / cos + (1 + tan) / 2 <= h sqrt(2) + 1 either side (the 0.01
+ * covers llvmpipe's snapping of the ends to 1/256 px). */
+static float line_width(double h)
 {
-    double h = (double)r->segments[4 * k].half_width;
-    return (float)ceil(2.0 * (h * 1.4142135623730951 + 1.25));
+    return (float)ceil(2.0 * (h * 1.4142135623730951 + 1.0) + 0.01);
+}
+
+static float chain_line_width(const Band *b, int k)
+{
+    return line_width((double)b->lines[2 * k].half_width);
+}
+
+/* 1 when chain k is so wide that a pixel reaching one of its long edges cannot reach the other:
+ * a pixel's footprint across any edge is at most sqrt(2) wide, so with half width h >= 0.75 the
+ * far edge's term of band() is exactly 0 and the one-edge line program draws the same pixels. */
+static int one_edge(const Band *b, int k)
+{
+    return b->lines[2 * k].half_width >= 0.75f;
 }
 
 /* Chains [first, end) as lines, one draw per run of equal line widths (chains come weakest, so
  * narrowest, first: a handful of runs). */
-static void draw_chain_lines(RenderGl *r, const Layout *l, int first, int end)
+static void draw_chain_lines(RenderGl *r, Band *b, const Layout *l, int first, int end)
 {
-    use_program(r, PROGRAM_LINE, l->clip_round, l);
-    r->gl.BindVertexArray(r->line_vao);
+    r->gl.BindVertexArray(b->line_vao);
+    int program = -1;
     while (first < end) {
-        float width = chain_line_width(r, first);
-        int last = first + 1;
-        while (last < end && chain_line_width(r, last) == width)
+        float width = chain_line_width(b, first);
+        int wide = one_edge(b, first), last = first + 1;
+        while (last < end && chain_line_width(b, last) == width && one_edge(b, last) == wide)
             ++last;
+        if (program != (wide ? PROGRAM_WIDE_LINE : PROGRAM_LINE)) {
+            program = wide ? PROGRAM_WIDE_LINE : PROGRAM_LINE;
+            use_program(r, b, program, b->clip_round, l);
+        }
         r->gl.LineWidth(width);
-        r->gl.DrawElements(GL_LINES, 2 * (last - first), GL_UNSIGNED_INT,
-                           (const void *)((size_t)first * 2 * sizeof(uint32_t)));
+        r->gl.DrawArrays(GL_LINES, 2 * first, 2 * (last - first));
         first = last;
     }
 }
 
-/* Draws a frame into `pixels` (the drawer's own buffer or a caller's of the same size). */
+/* Draws the band's rows of a frame into image (the whole image, rows top-down). 0 or -1 with a
+ * message in b->err. Runs in the thread where the band's context is current. */
+static int band_draw(RenderGl *r, Band *b, const SimFrame *frame, const Layout *l, uint8_t *image)
+{
+    b->clip_disks = b->clip_butt = b->clip_round = 0;
+    int disks = collect_disks(b, frame, l);
+    int counts[3] = {0, 0, 0};
+    if (disks < 0 || collect_segments(b, frame, l, counts) != 0) {
+        snprintf(b->err, sizeof b->err, "GL: out of memory for %d grains", frame->count);
+        return -1;
+    }
+    int chains = counts[2], segments = counts[0] + counts[1];
+    if (!l->chains_as_lines) { /* chains as quads, after the walls */
+        chains_as_quads(b, segments, chains);
+        segments += chains;
+        chains = 0;
+    }
+    if (context_make_current(&b->context) != 0) {
+        snprintf(b->err, sizeof b->err, "GL: cannot make the OSMesa context current");
+        return -1;
+    }
+    r->gl.BindFramebuffer(GL_FRAMEBUFFER, b->framebuffer);
+    if (segment_indices(r, b, segments) != 0) {
+        snprintf(b->err, sizeof b->err, "GL: out of memory for %d segments", segments);
+        return -1;
+    }
+    GLint m = (GLint)r->margin;
+    r->gl.Viewport(-m, -m, r->width + 2 * m, b->height + 2 * m);
+    uint32_t bg = l->style.background_rgb;
+    r->gl.ClearColor((float)((bg >> 16) & 255) / 255.0f, (float)((bg >> 8) & 255) / 255.0f,
+                     (float)(bg & 255) / 255.0f, 1.0f);
+    r->gl.Clear(GL_COLOR_BUFFER_BIT);
+    r->gl.Enable(GL_BLEND); /* the function goes with the program (use_program) */
+    if (disks > 0) {
+        upload(r, GL_ARRAY_BUFFER, b->disk_buffer, &b->disk_bytes, b->disks,
+               (GLsizeiptr)disks * (GLsizeiptr)sizeof(DiskInstance));
+        if (l->as_points) {
+            use_program(r, b, PROGRAM_POINT_DISK, b->clip_disks, l);
+            r->gl.BindVertexArray(b->point_vao);
+            r->gl.DrawArrays(GL_POINTS, 0, disks);
+        } else {
+            use_program(r, b, PROGRAM_QUAD_DISK, b->clip_disks, l);
+            r->gl.BindVertexArray(b->disk_vao);
+            r->gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, disks);
+        }
+    }
+    if (segments > 0) { /* orientation ticks (butt ends), then walls (round) */
+        upload(r, GL_ARRAY_BUFFER, b->segment_buffer, &b->segment_bytes, b->segments,
+               (GLsizeiptr)segments * 4 * (GLsizeiptr)sizeof(SegmentVertex));
+        r->gl.BindVertexArray(b->segment_vao);
+        if (counts[0] > 0) {
+            use_program(r, b, PROGRAM_BUTT, b->clip_butt, l);
+            r->gl.DrawElements(GL_TRIANGLES, 6 * counts[0], GL_UNSIGNED_INT, NULL);
+        }
+        if (segments > counts[0]) {
+            use_program(r, b, PROGRAM_ROUND, b->clip_round, l);
+            r->gl.DrawElements(GL_TRIANGLES, 6 * (segments - counts[0]), GL_UNSIGNED_INT,
+                               (const void *)((size_t)counts[0] * 6 * sizeof(uint32_t)));
+        }
+    }
+    if (chains > 0) { /* force chains, weakest first */
+        upload(r, GL_ARRAY_BUFFER, b->chain_buffer, &b->chain_bytes, b->lines,
+               (GLsizeiptr)chains * 2 * (GLsizeiptr)sizeof(ChainVertex));
+        draw_chain_lines(r, b, l, 0, chains);
+    }
+    r->gl.BindVertexArray(0);
+    /* Waits for the rasteriser, then copies the rows (same byte order, no conversion). */
+    r->gl.ReadPixels(0, 0, r->width, b->height, GL_BGRA, GL_UNSIGNED_BYTE,
+                     image + (size_t)b->y0 * 4 * (size_t)r->width);
+    GLenum error = r->gl.GetError();
+    if (error != GL_NO_ERROR) {
+        snprintf(b->err, sizeof b->err, "GL: drawing failed (GL error 0x%x on %s)", (unsigned)error,
+                 r->renderer);
+        return -1;
+    }
+    return 0;
+}
+
+/* The frame's layout, colours and chain selection: the Cairo drawer's own functions. */
+static void layout_frame(const RenderGl *r, const SimFrame *frame, const RenderStyle *style,
+                         Layout *l)
+{
+    l->style = render_style_resolve(frame, style);
+    render_view_fit(frame, &l->style, &l->view);
+    render_color_range(frame, &l->style, &l->lo, &l->hi);
+    l->period = frame->periodic && frame->domain_x1 > frame->domain_x0
+                    ? frame->domain_x1 - frame->domain_x0
+                    : 0.0;
+    double x0 = l->view.plot_x, x1 = l->view.plot_x + l->view.plot_w, y;
+    if (l->period > 0.0) { /* Cairo clips a periodic frame to its domain as well */
+        double px0, px1;
+        render_view_to_pixel(&l->view, frame->domain_x0, 0.0, &px0, &y);
+        render_view_to_pixel(&l->view, frame->domain_x1, 0.0, &px1, &y);
+        x0 = fmax(x0, px0);
+        x1 = fmin(x1, px1);
+    }
+    l->clip[0] = (float)x0;
+    l->clip[1] = (float)l->view.plot_y;
+    l->clip[2] = (float)fmax(x0, x1);
+    l->clip[3] = (float)(l->view.plot_y + l->view.plot_h);
+    /* Point sprites unless a disk is larger than the largest sprite: then every disk is a quad
+     * that frame, in every band (such frames have few, large disks). */
+    l->as_points = 1;
+    for (int i = 0; i < frame->count && l->as_points; ++i)
+        l->as_points = (float)(l->view.scale * frame->radius[i]) + 1.0f <= 0.5f * r->point_limit;
+    /* Chains are lines unless one is wider than the widest line: then all are quads. */
+    l->cut = 0.0;
+    l->f_max = 0.0;
+    l->chains_as_lines = 1;
+    if (l->style.force_chains && frame->contact_count > 0) {
+        l->cut = render_chain_cut(frame, &l->style, &l->f_max);
+        double f_top = 0.0;
+        for (int c = 0; c < frame->contact_count; ++c)
+            f_top = fmax(f_top, frame->contacts[c].normal_force);
+        if (f_top > l->cut)
+            l->chains_as_lines = line_width(0.5 * chain_width(l, f_top)) <= r->line_limit;
+    }
+}
+
+/* Draws a frame into `pixels` (the drawer's own buffer or a caller's of the same size): band 1
+ * in the helper thread while the calling thread draws band 0. */
 static int draw_frame(RenderGl *r, const SimFrame *frame, const RenderStyle *style, uint8_t *pixels,
                       char *err, size_t err_size)
 {
@@ -1020,102 +1431,28 @@ static int draw_frame(RenderGl *r, const SimFrame *frame, const RenderStyle *sty
         snprintf(err, err_size, "GL: no drawer, frame, style or image");
         return -1;
     }
-    if (style->width != r->context.width || style->height != r->context.height) {
+    if (style->width != r->width || style->height != r->height) {
         snprintf(err, err_size, "GL: style size %dx%d differs from the drawer's %dx%d",
-                 style->width, style->height, r->context.width, r->context.height);
+                 style->width, style->height, r->width, r->height);
         return -1;
     }
-    /* Layout, colours and chain selection are the Cairo drawer's own functions. */
     Layout l;
-    l.style = render_style_resolve(frame, style);
-    render_view_fit(frame, &l.style, &l.view);
-    render_color_range(frame, &l.style, &l.lo, &l.hi);
-    l.period = frame->periodic && frame->domain_x1 > frame->domain_x0
-                   ? frame->domain_x1 - frame->domain_x0
-                   : 0.0;
-    double x0 = l.view.plot_x, x1 = l.view.plot_x + l.view.plot_w, y;
-    if (l.period > 0.0) { /* Cairo clips a periodic frame to its domain as well */
-        double px0, px1;
-        render_view_to_pixel(&l.view, frame->domain_x0, 0.0, &px0, &y);
-        render_view_to_pixel(&l.view, frame->domain_x1, 0.0, &px1, &y);
-        x0 = fmax(x0, px0);
-        x1 = fmin(x1, px1);
+    layout_frame(r, frame, style, &l);
+    if (r->band_count == 2) {
+        r->frame = frame;
+        r->layout = &l;
+        r->image = pixels;
+        helper_start(r, JOB_DRAW);
     }
-    l.clip[0] = (float)x0;
-    l.clip[1] = (float)l.view.plot_y;
-    l.clip[2] = (float)fmax(x0, x1);
-    l.clip[3] = (float)(l.view.plot_y + l.view.plot_h);
-    l.clip_disks = l.clip_butt = l.clip_round = 0;
-    int disks = collect_disks(r, frame, &l);
-    int counts[3] = {0, 0, 0};
-    if (disks < 0 || collect_segments(r, frame, &l, counts) != 0) {
-        snprintf(err, err_size, "GL: out of memory for %d grains", frame->count);
-        return -1;
-    }
-    int segments = counts[0] + counts[1] + counts[2];
-    /* Point sprites unless a disk is larger than the largest sprite: then every disk is a quad
-     * that frame, keeping frame order (such frames have few, large disks). */
-    int as_points = 1;
-    for (int i = 0; i < disks && as_points; ++i)
-        as_points = 2.0f * (r->disks[i].radius + 1.0f) <= r->point_limit;
-
-    if (context_make_current(&r->context, pixels) != 0) {
-        snprintf(err, err_size, "GL: cannot make the OSMesa context current");
-        return -1;
-    }
-    if (segment_indices(r, segments) != 0) {
-        snprintf(err, err_size, "GL: out of memory for %d segments", segments);
-        return -1;
-    }
-    GLint m = (GLint)r->margin;
-    r->gl.Viewport(-m, -m, r->context.width + 2 * m, r->context.height + 2 * m);
-    uint32_t bg = l.style.background_rgb;
-    r->gl.ClearColor((float)((bg >> 16) & 255) / 255.0f, (float)((bg >> 8) & 255) / 255.0f,
-                     (float)(bg & 255) / 255.0f, 1.0f);
-    r->gl.Clear(GL_COLOR_BUFFER_BIT);
-    r->gl.Enable(GL_BLEND); /* the function goes with the program (use_program) */
-    if (disks > 0) {
-        upload(r, GL_ARRAY_BUFFER, r->disk_buffer, &r->disk_bytes, r->disks,
-               (GLsizeiptr)disks * (GLsizeiptr)sizeof(DiskInstance));
-        if (as_points) {
-            use_program(r, PROGRAM_POINT_DISK, l.clip_disks, &l);
-            r->gl.BindVertexArray(r->point_vao);
-            r->gl.DrawArrays(GL_POINTS, 0, disks);
-        } else {
-            use_program(r, PROGRAM_QUAD_DISK, l.clip_disks, &l);
-            r->gl.BindVertexArray(r->disk_vao);
-            r->gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, disks);
+    Band *b0 = &r->bands[0];
+    b0->rc = band_draw(r, b0, frame, &l, pixels);
+    if (r->band_count == 2)
+        helper_wait(r);
+    for (int k = 0; k < r->band_count; ++k) {
+        if (r->bands[k].rc != 0) {
+            snprintf(err, err_size, "%s", r->bands[k].err);
+            return -1;
         }
-    }
-    if (segments > 0) { /* orientation ticks (butt ends), then walls and force chains (round) */
-        upload(r, GL_ARRAY_BUFFER, r->segment_buffer, &r->segment_bytes, r->segments,
-               (GLsizeiptr)segments * 4 * (GLsizeiptr)sizeof(SegmentVertex));
-        r->gl.BindVertexArray(r->segment_vao);
-        if (counts[0] > 0) {
-            use_program(r, PROGRAM_BUTT, l.clip_butt, &l);
-            r->gl.DrawElements(GL_TRIANGLES, 6 * counts[0], GL_UNSIGNED_INT, NULL);
-        }
-        int first_chain = counts[0] + counts[1];
-        int lines = counts[2] > 0; /* unless a chain is wider than the widest line */
-        for (int k = first_chain; k < segments && lines; ++k)
-            lines = chain_line_width(r, k) <= r->line_limit;
-        int quads_end = lines ? first_chain : segments;
-        if (quads_end > counts[0]) {
-            use_program(r, PROGRAM_ROUND, l.clip_round, &l);
-            r->gl.DrawElements(GL_TRIANGLES, 6 * (quads_end - counts[0]), GL_UNSIGNED_INT,
-                               (const void *)((size_t)counts[0] * 6 * sizeof(uint32_t)));
-        }
-        if (lines)
-            draw_chain_lines(r, &l, first_chain, segments);
-    }
-    r->gl.BindVertexArray(0);
-    r->gl.Finish();
-    context_finish(&r->context);
-    GLenum error = r->gl.GetError();
-    if (error != GL_NO_ERROR) {
-        snprintf(err, err_size, "GL: drawing failed (GL error 0x%x on %s)", (unsigned)error,
-                 r->renderer);
-        return -1;
     }
     return 0;
 }
@@ -1127,21 +1464,21 @@ int render_gl_frame(RenderGl *r, const SimFrame *frame, const RenderStyle *style
         snprintf(err, err_size, "GL: no image");
         return -1;
     }
-    if (draw_frame(r, frame, style, r ? r->context.pixels : NULL, err, err_size) != 0)
+    if (draw_frame(r, frame, style, r ? r->pixels : NULL, err, err_size) != 0)
         return -1;
-    out->width = r->context.width;
-    out->height = r->context.height;
-    out->stride = 4 * r->context.width;
+    out->width = r->width;
+    out->height = r->height;
+    out->stride = 4 * r->width;
     out->format = RENDER_PIXEL_BGRA_PREMUL;
-    out->pixels = r->context.pixels;
+    out->pixels = r->pixels;
     return 0;
 }
 
 int render_gl_frame_to(RenderGl *r, const SimFrame *frame, const RenderStyle *style,
                        RenderImage *target, char *err, size_t err_size)
 {
-    if (!r || !target || !target->pixels || target->width != r->context.width ||
-        target->height != r->context.height || target->stride != 4 * target->width) {
+    if (!r || !target || !target->pixels || target->width != r->width ||
+        target->height != r->height || target->stride != 4 * target->width) {
         snprintf(err, err_size, "GL: target image does not fit the drawer");
         return -1;
     }

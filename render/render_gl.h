@@ -15,7 +15,9 @@
 
 #include <stddef.h>
 
-/// A persistent GL drawer of one size (context, shaders, buffers); one per thread.
+/// A persistent GL drawer of one size (contexts, shaders, buffers); one per thread. It draws the
+/// lower half of each image in a helper thread of its own when the machine has two CPUs or more
+/// (environment SABLIER_GL_BANDS=1 keeps all drawing in the calling thread, =2 forces the helper).
 typedef struct RenderGl RenderGl;
 
 /// Creates a drawer for width x height pixels. NULL on failure with a message in err.
