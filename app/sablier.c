@@ -130,12 +130,6 @@ static int wants_help(int argc, char **argv)
     return 0;
 }
 
-static int usage_error(const char *usage, const char *message, const char *arg)
-{
-    fprintf(stderr, "sablier: %s%s%s\n\n%s", message, arg ? " " : "", arg ? arg : "", usage);
-    return 2;
-}
-
 /* ---------------------------------------------------------------- render glue */
 
 #ifdef SABLIER_HAVE_RENDER
@@ -512,20 +506,20 @@ static int command_run(int argc, char **argv)
                 return 2;
         } else if ((m = app_option(argc, argv, &i, "--threads", &value)) != 0) {
             if (m < 0 || parse_count(value, 1, 1024, &threads) < 0)
-                return usage_error(USAGE_RUN, "--threads needs a count in [1, 1024], got",
-                                   m < 0 ? "nothing" : value);
+                return app_usage_error(USAGE_RUN, "--threads needs a count in [1, 1024], got",
+                                       m < 0 ? "nothing" : value);
         } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
             quiet = 1;
         } else if (argv[i][0] == '-' && argv[i][1]) {
-            return usage_error(USAGE_RUN, "unknown option", argv[i]);
+            return app_usage_error(USAGE_RUN, "unknown option", argv[i]);
         } else if (!scene_path) {
             scene_path = argv[i];
         } else {
-            return usage_error(USAGE_RUN, "one scene at a time; extra argument", argv[i]);
+            return app_usage_error(USAGE_RUN, "one scene at a time; extra argument", argv[i]);
         }
     }
     if (!scene_path)
-        return usage_error(USAGE_RUN, "missing SCENE", NULL);
+        return app_usage_error(USAGE_RUN, "missing SCENE", NULL);
     char err[4096];
     Scene *scene = scene_load(scene_path, sets, set_count, err, sizeof err);
     if (!scene) {
@@ -587,26 +581,26 @@ static int command_sweep(int argc, char **argv)
             if (m < 0)
                 return 2;
             if (vary_count >= 8)
-                return usage_error(USAGE_SWEEP, "too many --vary options", NULL);
+                return app_usage_error(USAGE_SWEEP, "too many --vary options", NULL);
             vary[vary_count++] = value;
         } else if ((m = app_option(argc, argv, &i, "--jobs", &value)) != 0) {
             if (m < 0 || parse_count(value, 1, 64, &jobs) < 0)
-                return usage_error(USAGE_SWEEP, "--jobs needs a count in [1, 64], got",
-                                   m < 0 ? "nothing" : value);
+                return app_usage_error(USAGE_SWEEP, "--jobs needs a count in [1, 64], got",
+                                       m < 0 ? "nothing" : value);
         } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
             o.quiet = 1;
         } else if (strcmp(argv[i], "--dry-run") == 0) {
             o.dry_run = 1;
         } else if (argv[i][0] == '-' && argv[i][1]) {
-            return usage_error(USAGE_SWEEP, "unknown option", argv[i]);
+            return app_usage_error(USAGE_SWEEP, "unknown option", argv[i]);
         } else if (!path) {
             path = argv[i];
         } else {
-            return usage_error(USAGE_SWEEP, "one sweep at a time; extra argument", argv[i]);
+            return app_usage_error(USAGE_SWEEP, "one sweep at a time; extra argument", argv[i]);
         }
     }
     if (!path)
-        return usage_error(USAGE_SWEEP, "missing FILE.sweep or SCENE", NULL);
+        return app_usage_error(USAGE_SWEEP, "missing FILE.sweep or SCENE", NULL);
     size_t n = strlen(path);
     if (n > 6 && strcmp(path + n - 6, ".sweep") == 0)
         o.definition = path;
@@ -738,32 +732,32 @@ static int command_bne(int argc, char **argv)
             o.vary = value;
         } else if ((m = app_option(argc, argv, &i, "--seeds", &value)) != 0) {
             if (m < 0 || parse_count(value, 1, 10000, &seeds) < 0)
-                return usage_error(USAGE_BNE, "--seeds needs a count in [1, 10000], got",
-                                   m < 0 ? "nothing" : value);
+                return app_usage_error(USAGE_BNE, "--seeds needs a count in [1, 10000], got",
+                                       m < 0 ? "nothing" : value);
         } else if ((m = app_option(argc, argv, &i, "--seed0", &value)) != 0) {
             if (m < 0 || parse_count(value, 0, 1000000000, &seed0) < 0)
-                return usage_error(USAGE_BNE, "--seed0 needs a seed >= 0, got",
-                                   m < 0 ? "nothing" : value);
+                return app_usage_error(USAGE_BNE, "--seed0 needs a seed >= 0, got",
+                                       m < 0 ? "nothing" : value);
         } else if ((m = app_option(argc, argv, &i, "--ldf", &value)) != 0) {
             char *end = NULL;
             o.ldf_periods = m < 0 ? -1.0 : strtod(value, &end);
             if (m < 0 || !end || *end || !(o.ldf_periods >= 0.0))
-                return usage_error(USAGE_BNE, "--ldf needs a number of periods >= 0, got",
-                                   m < 0 ? "nothing" : value);
+                return app_usage_error(USAGE_BNE, "--ldf needs a number of periods >= 0, got",
+                                       m < 0 ? "nothing" : value);
         } else if (strcmp(argv[i], "--movies") == 0) {
             movies = 1;
         } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
             o.quiet = 1;
         } else if (argv[i][0] == '-' && argv[i][1]) {
-            return usage_error(USAGE_BNE, "unknown option", argv[i]);
+            return app_usage_error(USAGE_BNE, "unknown option", argv[i]);
         } else if (!path) {
             path = argv[i];
         } else {
-            return usage_error(USAGE_BNE, "one scene at a time; extra argument", argv[i]);
+            return app_usage_error(USAGE_BNE, "one scene at a time; extra argument", argv[i]);
         }
     }
     if (!path)
-        return usage_error(USAGE_BNE, "missing SCENE", NULL);
+        return app_usage_error(USAGE_BNE, "missing SCENE", NULL);
     char default_out[SCENE_PATH_MAX];
     const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
     snprintf(default_out, sizeof default_out, "out/bne-%.*s", (int)strcspn(base, "."), base);
@@ -808,15 +802,15 @@ static int command_check(int argc, char **argv)
             if (collect_set(sets, &set_count, value) < 0)
                 return 2;
         } else if (argv[i][0] == '-' && argv[i][1]) {
-            return usage_error(USAGE_CHECK, "unknown option", argv[i]);
+            return app_usage_error(USAGE_CHECK, "unknown option", argv[i]);
         } else if (!scene_path) {
             scene_path = argv[i];
         } else {
-            return usage_error(USAGE_CHECK, "one scene at a time; extra argument", argv[i]);
+            return app_usage_error(USAGE_CHECK, "one scene at a time; extra argument", argv[i]);
         }
     }
     if (!scene_path)
-        return usage_error(USAGE_CHECK, "missing SCENE", NULL);
+        return app_usage_error(USAGE_CHECK, "missing SCENE", NULL);
     char err[4096];
     Scene *scene = scene_load(scene_path, sets, set_count, err, sizeof err);
     if (!scene) {
@@ -905,18 +899,18 @@ static int command_diff(int argc, char **argv)
             target = &max_pixels;
         if (target) {
             if (m < 0 || parse_count(value, 0, 1000000000L, target) < 0)
-                return usage_error(USAGE_DIFF, "expected a count >= 0, got",
-                                   m < 0 ? "nothing" : value);
+                return app_usage_error(USAGE_DIFF, "expected a count >= 0, got",
+                                       m < 0 ? "nothing" : value);
         } else if (argv[i][0] == '-' && argv[i][1]) {
-            return usage_error(USAGE_DIFF, "unknown option", argv[i]);
+            return app_usage_error(USAGE_DIFF, "unknown option", argv[i]);
         } else if (file_count < 2) {
             files[file_count++] = argv[i];
         } else {
-            return usage_error(USAGE_DIFF, "two images at a time; extra argument", argv[i]);
+            return app_usage_error(USAGE_DIFF, "two images at a time; extra argument", argv[i]);
         }
     }
     if (file_count != 2)
-        return usage_error(USAGE_DIFF, "needs two images", NULL);
+        return app_usage_error(USAGE_DIFF, "needs two images", NULL);
 #ifdef SABLIER_HAVE_RENDER
     RenderDiffOptions options = render_diff_options_default();
     if (threshold >= 0)
@@ -1061,25 +1055,25 @@ static int command_render(int argc, char **argv)
                 return 2;
         } else if ((m = app_option(argc, argv, &i, "--color-by", &value)) != 0) {
             if (m < 0 || (over.color_by = name_index(value, color_names)) < 0)
-                return usage_error(USAGE_RENDER, "unknown --color-by", m < 0 ? "" : value);
+                return app_usage_error(USAGE_RENDER, "unknown --color-by", m < 0 ? "" : value);
         } else if ((m = app_option(argc, argv, &i, "--colormap", &value)) != 0) {
             if (m < 0 || (over.colormap = name_index(value, cmap_names)) < 0)
-                return usage_error(USAGE_RENDER, "unknown --colormap", m < 0 ? "" : value);
+                return app_usage_error(USAGE_RENDER, "unknown --colormap", m < 0 ? "" : value);
         } else if ((m = app_option(argc, argv, &i, "--width", &value)) != 0) {
             if (m < 0 || parse_count(value, 16, 16384, &count) < 0)
-                return usage_error(USAGE_RENDER, "--width must be in [16, 16384], got",
-                                   m < 0 ? "" : value);
+                return app_usage_error(USAGE_RENDER, "--width must be in [16, 16384], got",
+                                       m < 0 ? "" : value);
             over.width = (int)count;
         } else if ((m = app_option(argc, argv, &i, "--height", &value)) != 0) {
             if (m < 0 || parse_count(value, 16, 16384, &count) < 0)
-                return usage_error(USAGE_RENDER, "--height must be in [16, 16384], got",
-                                   m < 0 ? "" : value);
+                return app_usage_error(USAGE_RENDER, "--height must be in [16, 16384], got",
+                                       m < 0 ? "" : value);
             over.height = (int)count;
         } else if ((m = app_option(argc, argv, &i, "--chain-threshold", &value)) != 0) {
             char *end;
             over.chain_threshold = m > 0 ? strtod(value, &end) : -1.0;
             if (m < 0 || *end || !(over.chain_threshold >= 0.0))
-                return usage_error(USAGE_RENDER, "bad --chain-threshold", m < 0 ? "" : value);
+                return app_usage_error(USAGE_RENDER, "bad --chain-threshold", m < 0 ? "" : value);
         } else if ((m = app_option(argc, argv, &i, "--title", &value)) != 0) {
             if (m < 0)
                 return 2;
@@ -1099,17 +1093,17 @@ static int command_render(int argc, char **argv)
         } else if (strcmp(argv[i], "--scale-bar") == 0) {
             over.scale_bar = 1;
         } else if (argv[i][0] == '-' && argv[i][1]) {
-            return usage_error(USAGE_RENDER, "unknown option", argv[i]);
+            return app_usage_error(USAGE_RENDER, "unknown option", argv[i]);
         } else if (!state) {
             state = argv[i];
         } else {
-            return usage_error(USAGE_RENDER, "one state at a time; extra argument", argv[i]);
+            return app_usage_error(USAGE_RENDER, "one state at a time; extra argument", argv[i]);
         }
     }
     if (!state || !out)
-        return usage_error(USAGE_RENDER, state ? "missing -o FIG" : "missing STATE", NULL);
+        return app_usage_error(USAGE_RENDER, state ? "missing -o FIG" : "missing STATE", NULL);
     if (set_count && !scene_path)
-        return usage_error(USAGE_RENDER, "--set needs --scene", NULL);
+        return app_usage_error(USAGE_RENDER, "--set needs --scene", NULL);
     char err[4096] = "";
     Scene *scene = NULL;
     if (scene_path && !(scene = scene_load(scene_path, sets, set_count, err, sizeof err))) {

@@ -67,12 +67,6 @@ static double now_seconds(void)
 
 /* "--name VALUE" or "--name=VALUE"; 1 matched, 0 not, -1 missing value. */
 
-static int usage(const char *text, const char *message, const char *arg)
-{
-    fprintf(stderr, "sablier: %s%s%s\n\n%s", message, arg ? " " : "", arg ? arg : "", text);
-    return 2;
-}
-
 static int parse_real(const char *text, double *out)
 {
     char *end;
@@ -228,13 +222,13 @@ int app_discharge_command(int argc, char **argv, const AppDischargeRender *rende
             pile = value;
         } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
             if (m < 0 || set_count >= MAX_SETS)
-                return usage(APP_DISCHARGE_USAGE, "bad --set", NULL);
+                return app_usage_error(APP_DISCHARGE_USAGE, "bad --set", NULL);
             sets[set_count++] = value;
         } else if ((m = app_option(argc, argv, &i, "--width", &value)) != 0) {
             double w;
             if (m < 0 || parse_real(value, &w) != 0 || !(w >= 0.0) || width_count >= MAX_WIDTHS)
-                return usage(APP_DISCHARGE_USAGE, "--width needs a width >= 0 (d), got",
-                             m < 0 ? "nothing" : value);
+                return app_usage_error(APP_DISCHARGE_USAGE, "--width needs a width >= 0 (d), got",
+                                       m < 0 ? "nothing" : value);
             widths[width_count++] = w;
         } else if ((m = app_option(argc, argv, &i, "--seed", &value)) != 0) {
             char *end;
@@ -242,7 +236,7 @@ int app_discharge_command(int argc, char **argv, const AppDischargeRender *rende
                 return 2;
             seed = strtoull(value, &end, 10);
             if (end == value || *end)
-                return usage(APP_DISCHARGE_USAGE, "--seed needs an integer, got", value);
+                return app_usage_error(APP_DISCHARGE_USAGE, "--seed needs an integer, got", value);
             seed_given = 1;
         } else if (strcmp(argv[i], "--figures") == 0) {
             figures = 1;
@@ -251,15 +245,16 @@ int app_discharge_command(int argc, char **argv, const AppDischargeRender *rende
         } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
             quiet = 1;
         } else if (argv[i][0] == '-' && argv[i][1]) {
-            return usage(APP_DISCHARGE_USAGE, "unknown option", argv[i]);
+            return app_usage_error(APP_DISCHARGE_USAGE, "unknown option", argv[i]);
         } else if (!scene_path) {
             scene_path = argv[i];
         } else {
-            return usage(APP_DISCHARGE_USAGE, "one scene at a time; extra argument", argv[i]);
+            return app_usage_error(APP_DISCHARGE_USAGE, "one scene at a time; extra argument",
+                                   argv[i]);
         }
     }
     if (!scene_path)
-        return usage(APP_DISCHARGE_USAGE, "missing SCENE", NULL);
+        return app_usage_error(APP_DISCHARGE_USAGE, "missing SCENE", NULL);
     char err[4096] = "";
     Scene *scene = load_scene(scene_path, sets, set_count, 0.0, err, sizeof err);
     if (!scene) {
@@ -1456,7 +1451,7 @@ int app_study_command(int argc, char **argv, const AppDischargeRender *render)
             out = value;
         } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
             if (m < 0 || set_count >= MAX_SETS)
-                return usage(APP_STUDY_USAGE, "bad --set", NULL);
+                return app_usage_error(APP_STUDY_USAGE, "bad --set", NULL);
             sets[set_count++] = value;
         } else if ((m = app_option(argc, argv, &i, "--L", &value)) != 0) {
             if (m < 0)
@@ -1468,34 +1463,37 @@ int app_study_command(int argc, char **argv, const AppDischargeRender *render)
             widths_text = value;
         } else if ((m = app_option(argc, argv, &i, "--samples", &value)) != 0) {
             if (m < 0 || (samples = strtol(value, &end, 10)) < 1 || *end || samples > 1000000)
-                return usage(APP_STUDY_USAGE, "--samples needs a count in [1, 1e6], got",
-                             m < 0 ? "nothing" : value);
+                return app_usage_error(APP_STUDY_USAGE, "--samples needs a count in [1, 1e6], got",
+                                       m < 0 ? "nothing" : value);
         } else if ((m = app_option(argc, argv, &i, "--jobs", &value)) != 0) {
             if (m < 0 || (jobs = strtol(value, &end, 10)) < 1 || *end || jobs > 256)
-                return usage(APP_STUDY_USAGE, "--jobs needs a count in [1, 256], got",
-                             m < 0 ? "nothing" : value);
+                return app_usage_error(APP_STUDY_USAGE, "--jobs needs a count in [1, 256], got",
+                                       m < 0 ? "nothing" : value);
         } else if (strcmp(argv[i], "--reduce-only") == 0) {
             reduce_only = 1;
         } else if (argv[i][0] == '-' && argv[i][1]) {
-            return usage(APP_STUDY_USAGE, "unknown option", argv[i]);
+            return app_usage_error(APP_STUDY_USAGE, "unknown option", argv[i]);
         } else if (!scene_path) {
             scene_path = argv[i];
         } else {
-            return usage(APP_STUDY_USAGE, "one scene at a time; extra argument", argv[i]);
+            return app_usage_error(APP_STUDY_USAGE, "one scene at a time; extra argument", argv[i]);
         }
     }
     if (!scene_path)
-        return usage(APP_STUDY_USAGE, "missing SCENE", NULL);
+        return app_usage_error(APP_STUDY_USAGE, "missing SCENE", NULL);
     st.width_count = parse_list(widths_text, st.widths, MAX_WIDTHS);
     if (st.width_count <= 0)
-        return usage(APP_STUDY_USAGE, "--widths must be A:B:STEP or a list, got", widths_text);
+        return app_usage_error(APP_STUDY_USAGE, "--widths must be A:B:STEP or a list, got",
+                               widths_text);
     if (lengths_text) {
         st.length_count = parse_list(lengths_text, st.lengths, MAX_LENGTHS);
         if (st.length_count <= 0)
-            return usage(APP_STUDY_USAGE, "--L must be a list of lengths, got", lengths_text);
+            return app_usage_error(APP_STUDY_USAGE, "--L must be a list of lengths, got",
+                                   lengths_text);
         for (int l = 0; l < st.length_count; ++l)
             if (!(st.lengths[l] >= 2.0))
-                return usage(APP_STUDY_USAGE, "--L lengths must be >= 2 d, got", lengths_text);
+                return app_usage_error(APP_STUDY_USAGE, "--L lengths must be >= 2 d, got",
+                                       lengths_text);
     }
     char err[4096] = "";
     Scene *scenes[MAX_LENGTHS] = {NULL};

@@ -77,6 +77,12 @@ int app_parse_group_keys(AppParse *p, const config_setting_t *g, const char *con
     return 0;
 }
 
+int app_usage_error(const char *usage, const char *message, const char *arg)
+{
+    fprintf(stderr, "sablier: %s%s%s\n\n%s", message, arg ? " " : "", arg ? arg : "", usage);
+    return 2;
+}
+
 int app_option(int argc, char **argv, int *i, const char *name, const char **value)
 {
     size_t n = strlen(name);

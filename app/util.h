@@ -44,6 +44,9 @@ void app_tmp_discard(FILE **file, const char *path);
 /// Writes `text` to PATH through PATH.tmp. 0, or -1.
 int app_write_atomic(const char *path, const char *text);
 
+/// Writes "sablier: MESSAGE ARG" and the usage text to stderr; returns 2 (bad command line).
+int app_usage_error(const char *usage, const char *message, const char *arg);
+
 /// Command-line option NAME with a value, as "NAME VALUE" or "NAME=VALUE". Returns 1 and sets
 /// *value when argv[*i] is that option (advancing *i past a separate value), 0 when it is not,
 /// -1 (message on stderr) when the value is missing.
