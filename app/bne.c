@@ -321,18 +321,8 @@ void app_bne_row(AppBne *b, SimWorld *world)
     if (b->csv)
         fprintf(b->csv, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", t, t - b->t0,
                 (t - b->t0) * b->frequency, off, h, h + b->radius, surface, b->surface0);
-    if (b->count == b->capacity) {
-        int capacity = b->capacity ? 2 * b->capacity : 512;
-        double *tt = realloc(b->t, (size_t)capacity * sizeof *tt);
-        if (!tt)
-            return;
-        b->t = tt;
-        double *hh = realloc(b->h, (size_t)capacity * sizeof *hh);
-        if (!hh)
-            return;
-        b->h = hh;
-        b->capacity = capacity;
-    }
+    if (b->count == b->capacity && app_series_grow(&b->t, &b->h, &b->capacity, 512) != 0)
+        return;
     b->t[b->count] = t - b->t0;
     b->h[b->count] = h;
     b->count++;

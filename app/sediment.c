@@ -378,18 +378,8 @@ void app_sediment_row(AppSediment *s, SimWorld *world)
                 p.bed_level, p.u[p.cells - 1], sim_fluid_def(s->fluid)->shear_velocity);
     if (!s->flowing)
         return;
-    if (s->count == s->capacity) {
-        int capacity = s->capacity ? 2 * s->capacity : 256;
-        double *t = realloc(s->t, (size_t)capacity * sizeof *t);
-        if (!t)
-            return;
-        s->t = t;
-        double *qq = realloc(s->q, (size_t)capacity * sizeof *qq);
-        if (!qq)
-            return;
-        s->q = qq;
-        s->capacity = capacity;
-    }
+    if (s->count == s->capacity && app_series_grow(&s->t, &s->q, &s->capacity, 256) != 0)
+        return;
     s->t[s->count] = frame.time;
     s->q[s->count] = q;
     s->count++;

@@ -77,6 +77,21 @@ int app_parse_group_keys(AppParse *p, const config_setting_t *g, const char *con
     return 0;
 }
 
+int app_series_grow(double **t, double **v, int *capacity, int initial)
+{
+    int grown = *capacity ? 2 * *capacity : initial;
+    double *tt = realloc(*t, (size_t)grown * sizeof *tt);
+    if (!tt)
+        return -1;
+    *t = tt;
+    double *vv = realloc(*v, (size_t)grown * sizeof *vv);
+    if (!vv)
+        return -1;
+    *v = vv;
+    *capacity = grown;
+    return 0;
+}
+
 int app_usage_error(const char *usage, const char *message, const char *arg)
 {
     fprintf(stderr, "sablier: %s%s%s\n\n%s", message, arg ? " " : "", arg ? arg : "", usage);

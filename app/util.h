@@ -44,6 +44,10 @@ void app_tmp_discard(FILE **file, const char *path);
 /// Writes `text` to PATH through PATH.tmp. 0, or -1.
 int app_write_atomic(const char *path, const char *text);
 
+/// Doubles the capacity (first: `initial`) of two parallel arrays, e.g. a time series t and v.
+/// 0, or -1 when out of memory (the arrays keep their contents).
+int app_series_grow(double **t, double **v, int *capacity, int initial);
+
 /// Writes "sablier: MESSAGE ARG" and the usage text to stderr; returns 2 (bad command line).
 int app_usage_error(const char *usage, const char *message, const char *arg);
 
