@@ -155,9 +155,7 @@ KERNEL VecD load(const double *restrict a, const int *restrict entry, const int 
         memcpy(&r, a + entry[0], sizeof r);
         return r;
     }
-    for (int l = 0; l < SIM_LANES; ++l)
-        r[l] = a[entry[l]];
-    return r;
+    return gather(a, entry);
 }
 
 KERNEL void store(double *restrict a, const int *restrict entry, const int lanes, VecD v)
