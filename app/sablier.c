@@ -837,7 +837,13 @@ static int command_check(int argc, char **argv)
             printf(", mu %g", m->friction);
         printf(")");
     }
-    printf("\nstages   %d\n", scene->stage_count);
+    printf("\n");
+    if (scene->def.skin > 0.0)
+        printf("lists    Verlet skin %g m (fixed)\n", scene->def.skin);
+    else
+        printf("lists    Verlet skin automatic, 0.01-0.2 mean diameter (the cheapest for the "
+               "grains' motion)\n");
+    printf("stages   %d\n", scene->stage_count);
     static const char *const loads[] = {"scene grains", "previous stage", "file"};
     for (int k = 0; k < scene->stage_count; ++k) {
         const SceneStage *s = &scene->stages[k];

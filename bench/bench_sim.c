@@ -22,7 +22,8 @@
  *
  * Usage: bench_sim [--grains N] [--steps M] [--repeats K] [--warmup W] [--csv PATH]
  *                  [--cache PATH] [--fresh] [--settle-time S] [--lammps-data PATH]
- *                  [--only regularised,spring,frictionless] [--machine NAME] */
+ *                  [--only regularised,spring,frictionless] [--machine NAME] [--skin S]
+ * --skin S: a fixed Verlet skin of S m for the timed runs (default 0: sablier's automatic skin). */
 #include "sim/sim.h"
 #include "sim/world.h"
 
@@ -43,6 +44,7 @@ typedef struct Options {
     int grains, repeats, warmup, fresh;
     long steps;
     double settle_time; /* s, cap on the deposition */
+    double skin;        /* m, of the timed runs; 0 = automatic */
     const char *csv, *lammps_data, *only, *machine;
     char cache[512];
 } Options;
@@ -71,6 +73,7 @@ typedef struct Result {
     double mps_cpu;              /* same per second of process CPU time (best repeat) */
     double contacts_per_grain, coordination, entries_per_grain;
     double rebuilds_per_1000;
+    double skin_d; /* skin at the end of the timed runs / mean mobile diameter */
     double layout_bytes_per_grain, layout_bytes_per_entry, layout_bytes_per_contact;
     double heap_bytes, heap_bytes_per_grain;
     double time_step;
@@ -115,7 +118,7 @@ static int usage(const char *msg)
             "bench_sim: %s\n"
             "usage: bench_sim [--grains N] [--steps M] [--repeats K] [--warmup W] [--csv PATH]\n"
             "                 [--cache PATH] [--fresh] [--settle-time S] [--lammps-data PATH]\n"
-            "                 [--only NAME[,NAME]] [--machine NAME]\n",
+            "                 [--only NAME[,NAME]] [--machine NAME] [--skin S]\n",
             msg);
     return 2;
 }
@@ -142,6 +145,8 @@ static int parse_options(int argc, char **argv, Options *o)
             o->warmup = atoi(val);
         } else if (!strcmp(arg, "--settle-time")) {
             o->settle_time = atof(val);
+        } else if (!strcmp(arg, "--skin")) {
+            o->skin = atof(val);
         } else if (!strcmp(arg, "--csv")) {
             o->csv = val;
         } else if (!strcmp(arg, "--cache")) {
@@ -158,8 +163,9 @@ static int parse_options(int argc, char **argv, Options *o)
         a += takes;
     }
     if (o->grains < 10 || o->steps < 1 || o->repeats < 1 || o->warmup < 0 ||
-        !(o->settle_time > 0.0))
-        return usage("grains >= 10, steps >= 1, repeats >= 1, warmup >= 0, settle-time > 0");
+        !(o->settle_time > 0.0) || !(o->skin >= 0.0))
+        return usage("grains >= 10, steps >= 1, repeats >= 1, warmup >= 0, settle-time > 0, "
+                     "skin >= 0");
     if (!o->cache[0])
         snprintf(o->cache, sizeof o->cache, "/tmp/sablier-bench-pile-%d.state", o->grains);
     return 0;
@@ -327,6 +333,7 @@ static int run_variant(const Options *o, const Variant *v, Result *r)
     def.walls = walls;
     def.wall_count = wall_count;
     def.start_time = time;
+    def.skin = o->skin;
 
     const double heap0 = heap_in_use();
     SimWorld *w = sim_world_create(&def, &err);
@@ -371,6 +378,8 @@ static int run_variant(const Options *o, const Variant *v, Result *r)
 
     SimEnergy e = sim_world_energy(w);
     const int mobile = sim_world_mobile_count(w);
+    double mean_d, mean_m;
+    sim_world_means(w, &mean_d, &mean_m);
     const double work = (double)mobile * (double)o->steps;
     double per_grain, per_entry, list_total;
     layout_bytes(w, &per_grain, &per_entry, &list_total);
@@ -390,6 +399,7 @@ static int run_variant(const Options *o, const Variant *v, Result *r)
         .coordination = sim_world_coordination(w),
         .entries_per_grain = (double)(w->nl.start[mobile] + w->wl.count) / mobile,
         .rebuilds_per_1000 = 1000.0 * (double)rebuilds / ((double)o->steps * o->repeats),
+        .skin_d = sim_world_skin(w) / mean_d,
         .layout_bytes_per_grain = per_grain,
         .layout_bytes_per_entry = per_entry,
         .layout_bytes_per_contact = e.contacts > 0 ? list_total / e.contacts : 0.0,
@@ -493,16 +503,19 @@ int main(int argc, char **argv)
     printf("# sablier %s, one thread; %d mobile + %d fixed grains, dt %.4g s, %d x %ld steps "
            "after %d warm-up steps; M/s = million particle-steps per second (mobile grains "
            "only; best and median repeat of wall time, best of CPU time); rebuild/k = list "
-           "rebuilds per 1000 steps; B/grain, B/contact from the array layout\n",
+           "rebuilds per 1000 steps; skin/d = Verlet skin at the end / mean diameter (%s); "
+           "B/grain, B/contact from the array layout\n",
            SIM_VERSION, n ? results[0].mobile : 0, n ? results[0].fixed : 0,
-           n ? results[0].time_step : 0.0, o.repeats, o.steps, o.warmup);
-    printf("%-13s %9s %9s %9s %9s %8s %8s %9s %9s %9s %9s\n", "law", "best_M/s", "median",
-           "cpu_M/s", "best_s", "cont/gr", "z", "list/gr", "rebuild/k", "B/grain", "B/contact");
+           n ? results[0].time_step : 0.0, o.repeats, o.steps, o.warmup,
+           o.skin > 0.0 ? "fixed by --skin" : "automatic");
+    printf("%-13s %9s %9s %9s %9s %8s %8s %9s %9s %7s %9s %9s\n", "law", "best_M/s", "median",
+           "cpu_M/s", "best_s", "cont/gr", "z", "list/gr", "rebuild/k", "skin/d", "B/grain",
+           "B/contact");
     for (int k = 0; k < n; ++k)
-        printf("%-13s %9.2f %9.2f %9.2f %9.4f %8.3f %8.3f %9.3f %9.2f %9.0f %9.0f\n",
+        printf("%-13s %9.2f %9.2f %9.2f %9.4f %8.3f %8.3f %9.3f %9.2f %7.4f %9.0f %9.0f\n",
                results[k].name, results[k].mps_best, results[k].mps_median, results[k].mps_cpu,
                results[k].best_s, results[k].contacts_per_grain, results[k].coordination,
-               results[k].entries_per_grain, results[k].rebuilds_per_1000,
+               results[k].entries_per_grain, results[k].rebuilds_per_1000, results[k].skin_d,
                results[k].layout_bytes_per_grain, results[k].layout_bytes_per_contact);
     for (int k = 0; k < n; ++k) {
         if (results[k].heap_bytes > 0.0)

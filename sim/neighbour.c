@@ -301,6 +301,10 @@ static void build_pairs(SimWorld *world, const HistoryRecord *records, int recor
     const int periodic = (world->effects & SIM_EFFECT_PERIODIC_X) != 0;
     const double span = world->def.domain_x1 - world->def.domain_x0;
     const double skin = world->skin;
+    /* The automatic skin counts the pairs within skin_max (the grid's cells are that wide, so
+     * the loop visits them all) to learn how the list grows with the skin. */
+    const double reach = world->skin_auto ? world->skin_max : skin;
+    long wide = 0, touching = 0;
     NeighbourList *nl = &world->nl;
     nl->start = grow(nl->start, (size_t)mobile + 1, sizeof *nl->start);
     if (nl->capacity < 4 * mobile + 16)
@@ -330,8 +334,15 @@ static void build_pairs(SimWorld *world, const HistoryRecord *records, int recor
                     if (j <= i)
                         continue;
                     double dx = world->x[j] + shift - xi, dy = world->y[j] - yi;
-                    double cut = ri + world->radius[j] + skin;
-                    if (dx * dx + dy * dy >= cut * cut)
+                    const double rs = ri + world->radius[j], d2 = dx * dx + dy * dy;
+                    if (world->skin_auto) {
+                        if (d2 >= (rs + reach) * (rs + reach))
+                            continue;
+                        ++wide;
+                        touching += d2 < rs * rs;
+                    }
+                    double cut = rs + skin;
+                    if (d2 >= cut * cut)
                         continue;
                     if (k >= nl->capacity)
                         list_reserve(world, 2 * nl->capacity);
@@ -357,6 +368,9 @@ static void build_pairs(SimWorld *world, const HistoryRecord *records, int recor
         }
     }
     nl->start[mobile] = k;
+    if (world->skin_auto)
+        world->skin_density =
+            mobile > 0 && reach > 0.0 ? (double)(wide - touching) / ((double)mobile * reach) : 0.0;
 }
 
 static double segment_distance2(const SimWall *w, double px, double py)

@@ -201,7 +201,7 @@ typedef struct SimWorldDef {
     double time_step;         ///< dt, s; 0 = choose from steps_per_contact
     double steps_per_contact; ///< used when time_step is 0 (default 50)
     double max_dt_fraction;   ///< refuse dt > fraction * t_c,min; 0 = use the stability limit only
-    double skin;              ///< Verlet skin, m; 0 = 0.2 * mean diameter
+    double skin;              ///< Verlet skin, m; 0 = automatic (0.01-0.2 mean diameter)
     double domain_x0, domain_x1; ///< periodic x range, m (SIM_EFFECT_PERIODIC_X)
     SimGrainSet grains;
     int wall_count;
@@ -273,6 +273,10 @@ unsigned sim_world_effects(const SimWorld *world);
 SimTiming sim_world_timing(const SimWorld *world);
 int sim_world_grain_count(const SimWorld *world); ///< all grains, mobile and fixed
 int sim_world_mobile_count(const SimWorld *world);
+/// The Verlet skin in use, m (it changes at list builds when the skin is automatic).
+double sim_world_skin(const SimWorld *world);
+/// Neighbour-list builds so far (the one at creation included).
+long sim_world_list_builds(const SimWorld *world);
 
 /* ---------------------------------------------------------------- frame view */
 

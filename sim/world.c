@@ -574,11 +574,63 @@ static int within_reach(const SimWorld *w, int i, double reach)
 
 static void removal_stage(SimWorld *w);
 
+/* ------------------------------------------------------------------ automatic skin */
+
+/* Cost model of the list (measured with bench_sim on the 7000-grain pile, spring law: a build
+ * costs about as much as evaluating 50 list entries per grain; bench/README.md). With entries
+ * E0 + rho s per grain at skin s, and the largest displacement growing by u per step, a skin s
+ * lasts s / (2u) steps, so the work per grain and step is E0 + rho s + SKIN_BUILD_COST 2u / s,
+ * smallest at s = sqrt(2 u SKIN_BUILD_COST / rho). */
+enum { SKIN_BUILD_COST = 50, SKIN_PROBE_STEPS = 50 };
+#define SKIN_MIN_FRACTION 0.01 /* of the mean mobile diameter */
+#define SKIN_MAX_FRACTION 0.2  /* of the mean mobile diameter: the fixed default */
+
+/* The skin the cost model asks for, from the displacement since the last build: u is the largest
+ * displacement (grains, prescribed grains, walls) over the steps it took. Only step counts and
+ * positions enter, so the choice is the same on every run of a scene. */
+static double skin_optimum(const SimWorld *w)
+{
+    const long n = w->step - w->build_step;
+    if (n <= 0)
+        return w->skin;
+    double d2 = 0.0;
+    for (int i = 0; i < w->count; ++i) {
+        double dx = w->x[i] - w->x_ref[i], dy = w->y[i] - w->y_ref[i];
+        double e = dx * dx + dy * dy;
+        d2 = e > d2 ? e : d2;
+    }
+    const double u = fmax(sqrt(d2), w->wall_shift) / (double)n;
+    const double rho = w->skin_density;
+    double s = rho > 0.0 ? sqrt(2.0 * u * SKIN_BUILD_COST / rho) : w->skin_max;
+    return fmin(fmax(s, w->skin_min), w->skin_max);
+}
+
+/* Before a build: the new skin. */
+static void skin_tune(SimWorld *w)
+{
+    if (!w->skin_auto || w->rebuilds == 0)
+        return;
+    w->skin = skin_optimum(w);
+    w->disp_limit2 = 0.25 * w->skin * w->skin;
+}
+
+/* Between builds (every SKIN_PROBE_STEPS steps): when the grains move so little that a skin under
+ * half the present one would be cheaper, build now with it. (A larger skin is chosen at the next
+ * build, which the present skin's displacement bound triggers.) */
+static void skin_probe(SimWorld *w)
+{
+    w->skin_probe = w->step + SKIN_PROBE_STEPS;
+    if (skin_optimum(w) < 0.5 * w->skin)
+        w->need_rebuild = 1;
+}
+
 static void rebuild(SimWorld *w)
 {
     if (w->effects & SIM_EFFECT_REMOVAL)
         removal_stage(w);
+    skin_tune(w);
     sim_neighbour_build(w);
+    w->build_step = w->step;
     for (int k = 0; k < w->wall_count; ++k) {
         w->wall_ref_dx[k] = w->walls[k].x0 - w->walls_base[k].x0;
         w->wall_ref_dy[k] = w->walls[k].y0 - w->walls_base[k].y0;
@@ -607,6 +659,8 @@ void sim_world_forces_at(SimWorld *w, double t)
 {
     if (w->effects & SIM_EFFECT_VIBRATION)
         move_prescribed(w, t);
+    if (w->skin_auto && w->step >= w->skin_probe)
+        skin_probe(w);
     /* Rebuild when a grain may have moved half the skin: 004 §1.9, style notes 8.5. */
     if (w->need_rebuild || 2.0 * w->wall_shift > w->skin)
         rebuild(w);
@@ -626,7 +680,8 @@ void sim_world_forces_at(SimWorld *w, double t)
 
 /* ------------------------------------------------------------------ create / destroy */
 
-static double default_skin(const SimGrainSet *g)
+/* The mean diameter of the mobile grains (of all grains when none is mobile), m. */
+static double mean_mobile_diameter(const SimGrainSet *g)
 {
     double sum = 0.0;
     int n = 0;
@@ -638,7 +693,7 @@ static double default_skin(const SimGrainSet *g)
     if (n == 0)
         for (int i = 0; i < g->count; ++i, ++n)
             sum += 2.0 * g->radius[i];
-    return n ? 0.2 * sum / n : 0.1;
+    return n ? sum / n : 0.5;
 }
 
 static void guard_snapshot(SimWorld *w);
@@ -722,9 +777,14 @@ SimWorld *sim_world_create(const SimWorldDef *def, SimError *error)
     }
     for (int i = 0; i < w->count; ++i)
         w->max_radius = fmax(w->max_radius, w->radius[i]);
-    w->skin = def->skin > 0.0 ? def->skin : default_skin(&def->grains);
+    const double diameter = mean_mobile_diameter(&def->grains);
+    w->skin_auto = !(def->skin > 0.0);
+    w->skin_max = w->skin_auto ? SKIN_MAX_FRACTION * diameter : def->skin;
+    w->skin_min = w->skin_auto ? SKIN_MIN_FRACTION * diameter : def->skin;
+    w->skin = w->skin_max;
+    w->skin_probe = SKIN_PROBE_STEPS;
     w->disp_limit2 = 0.25 * w->skin * w->skin;
-    w->cell_size = 2.0 * w->max_radius + w->skin;
+    w->cell_size = 2.0 * w->max_radius + w->skin_max;
     if (!(w->cell_size > 0.0))
         w->cell_size = 1.0;
 
@@ -953,7 +1013,7 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
     free(order);
     w->count = total;
     w->mobile_count = mobile;
-    w->cell_size = 2.0 * w->max_radius + w->skin;
+    w->cell_size = 2.0 * w->max_radius + w->skin_max;
     rebuild(w);
     reevaluate_forces(w);
     return SIM_OK;
@@ -1184,4 +1244,14 @@ int sim_world_grain_count(const SimWorld *w)
 int sim_world_mobile_count(const SimWorld *w)
 {
     return w->mobile_count;
+}
+
+double sim_world_skin(const SimWorld *w)
+{
+    return w->skin;
+}
+
+long sim_world_list_builds(const SimWorld *w)
+{
+    return w->rebuilds;
 }

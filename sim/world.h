@@ -100,12 +100,19 @@ struct SimWorld {
     double dt, time;
     double contact_dt; /* dt of contact-history increments: dt, or 0 when re-evaluating */
     long step;
-    double skin, cell_size; /* cell_size: smallest cell side, 2 r_max + skin, m */
+    double skin, cell_size; /* cell_size: smallest cell side, 2 r_max + skin_max, m */
     double cell_w, cell_h;  /* cell sides of the last build, m */
     double max_radius;
     double disp_limit2; /* (skin / 2)^2: a grain moved this far triggers a rebuild, m^2 */
     int need_rebuild;
     long rebuilds;
+    long build_step; /* step of the last build */
+    /* Automatic skin (world.c, skin_optimum): the range it moves in (skin_min = skin_max =
+     * skin when the scene fixes it), the pairs per mobile grain per metre of gap below skin_max
+     * counted at the last build, and the step of the next check. */
+    int skin_auto;
+    double skin_min, skin_max, skin_density;
+    long skin_probe;
     /* velocity Verlet: sim_world_step asks to defer a step's closing kick into the next step's
      * opening loop (defer_kick); kick_pending says one is deferred. Never pending outside
      * sim_world_step. */

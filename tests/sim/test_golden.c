@@ -68,6 +68,16 @@ static SimWorld *make(const Case *c, SimGrainBuffer *b)
         m->rolling_friction = 0.002;
         m->rolling_stiffness = 5.0;
     }
+    /* The fixed skin of the reference, 0.2 mean mobile diameter: the automatic skin (a later
+     * change of the list, not of the arithmetic) would move the list builds. */
+    double sum = 0.0;
+    int mobile = 0;
+    for (int k = 0; k < b->count; ++k)
+        if (!(b->flags[k] & SIM_GRAIN_FIXED)) {
+            sum += 2.0 * b->radius[k];
+            ++mobile;
+        }
+    def.skin = 0.2 * sum / mobile;
     if (c->effects & SIM_EFFECT_PERIODIC_X) {
         def.domain_x0 = 0.0;
         def.domain_x1 = 2.0;

@@ -7,6 +7,7 @@
 #include "test.h"
 
 #include <stdlib.h>
+#include <unistd.h>
 
 typedef struct Pair {
     long a, b; /* ids; b = -1 - wall index for a wall contact */
@@ -259,5 +260,151 @@ static int cells_match_after_motion(void)
     return 0;
 }
 
+/* The automatic skin (SimWorldDef.skin = 0) changes the skin at list builds. Moving grains at
+ * 0.5 m/s (mean d = 0.1 m, so the skin may range over 1-20 mm) make it shrink from 20 mm and then
+ * follow the motion; the lists must still hold every contact of the brute force, compared every
+ * 25 steps over 60 ms, across the seam too. */
+static int auto_skin_matches_brute_force(void)
+{
+    for (int periodic = 0; periodic < 2; ++periodic) {
+        SimWorld *w = make(periodic, 5, 0.5, 0.0);
+        TEST_ASSERT(w);
+        double mean_d;
+        double mean_m;
+        sim_world_means(w, &mean_d, &mean_m);
+        const double s0 = sim_world_skin(w);
+        TEST_ASSERT(fabs(s0 - 0.2 * mean_d) < 1e-12); /* it starts at its largest */
+        double lo = s0, hi = s0;
+        const long builds0 = sim_world_list_builds(w);
+        int seen = 0;
+        for (int s = 0; s < 480; ++s) {
+            TEST_ASSERT(compare(w, &seen) == 0);
+            TEST_ASSERT(tu_step(w, 25) == 0);
+            lo = fmin(lo, sim_world_skin(w));
+            hi = fmax(hi, sim_world_skin(w));
+        }
+        TEST_ASSERT(compare(w, &seen) == 0);
+        fprintf(stderr, "periodic %d: skin %.3g..%.3g m, %ld builds, %d contacts checked\n",
+                periodic, lo, hi, sim_world_list_builds(w) - builds0, seen);
+        TEST_ASSERT(lo >= 0.01 * mean_d * (1.0 - 1e-12) && hi <= s0);
+        TEST_ASSERT(lo < 0.5 * s0);                           /* it moved */
+        TEST_ASSERT(sim_world_list_builds(w) - builds0 >= 5); /* and the lists were rebuilt */
+        TEST_ASSERT(seen > 1000);
+        sim_world_destroy(w);
+    }
+    return 0;
+}
+
+/* A settled pile: the automatic skin shrinks towards its floor (few grains move) and lists are
+ * seldom rebuilt; the same pile with its fixed largest skin gives the same motion to rounding
+ * (the skin changes which pairs are listed, never which touch). Grains that move fast get a
+ * larger skin than grains at rest. */
+static SimWorldDef pile_def(double skin)
+{
+    static const SimWall box[3] = {
+        {0.0, 0.0, 2.0, 0.0, 0, -1}, {0.0, 0.0, 0.0, 3.0, 0, -1}, {2.0, 0.0, 2.0, 3.0, 0, -1}};
+    SimWorldDef def = tu_def(1000.0, 1e5, 1e-4);
+    def.gravity_y = -G0;
+    def.skin = skin;
+    def.effects = SIM_EFFECT_FRICTION;
+    def.contact.tangential = SIM_TANGENTIAL_SPRING;
+    def.materials[0].damping_mode = SIM_DAMPING_RESTITUTION;
+    def.materials[0].restitution = 0.3;
+    def.materials[0].friction = 0.5;
+    def.materials[0].tangential_stiffness = 0.75e5;
+    def.wall_count = 3;
+    def.walls = box;
+    return def;
+}
+
+/* 150 grains rained into a 2 m box, their vertical speeds +-speed. */
+static SimWorld *pile(double skin, double speed)
+{
+    SimGrainBuffer b;
+    tu_rain_150(&b, 3, 0.06);
+    for (int k = 0; k < b.count; ++k)
+        b.vy[k] = speed * (k % 2 ? 1.0 : -1.0);
+    SimWorldDef def = pile_def(skin);
+    SimWorld *w = tu_create(&def, &b);
+    sim_grain_buffer_free(&b);
+    return w;
+}
+
+/* A world with `skin` from the state saved at `path`. */
+static SimWorld *pile_from(const char *path, double skin)
+{
+    SimGrainSet grains;
+    SimWall *walls = NULL;
+    int wall_count = 0;
+    double time = 0.0;
+    SimError err;
+    if (sim_state_load(path, &grains, &walls, &wall_count, &time, &err) != SIM_OK)
+        return NULL;
+    SimWorldDef def = pile_def(skin);
+    def.grains = grains;
+    def.walls = walls;
+    def.wall_count = wall_count;
+    def.start_time = time;
+    SimWorld *w = sim_world_create(&def, &err);
+    sim_grain_set_free(&grains);
+    free(walls);
+    return w;
+}
+
+static int auto_skin_follows_motion(void)
+{
+    SimWorld *w = pile(0.0, 0.0);
+    TEST_ASSERT(w);
+    double mean_d, mean_m;
+    sim_world_means(w, &mean_d, &mean_m);
+    TEST_ASSERT(tu_step(w, 80000) == 0); /* 8 s: rained and settled */
+    const double rest = sim_world_skin(w);
+    const long builds = sim_world_list_builds(w);
+    TEST_ASSERT(tu_step(w, 5000) == 0);
+    fprintf(stderr, "at rest: skin %.3g d, %ld builds in 5000 steps\n", rest / mean_d,
+            sim_world_list_builds(w) - builds);
+    TEST_ASSERT(rest < 0.03 * mean_d);
+    TEST_ASSERT(sim_world_list_builds(w) - builds <= 5); /* one per 1000 steps or fewer */
+
+    /* from the settled state, a fixed 0.2 d skin and the automatic one: the same motion */
+    char path[] = "/tmp/sablier-test-skin-XXXXXX";
+    int fd = mkstemp(path);
+    TEST_ASSERT(fd >= 0);
+    close(fd);
+    SimError err;
+    TEST_ASSERT(sim_world_save(w, path, &err) == SIM_OK);
+    SimWorld *a = pile_from(path, 0.0), *f = pile_from(path, 0.2 * mean_d);
+    unlink(path);
+    TEST_ASSERT(a && f);
+    TEST_ASSERT(tu_step(a, 5000) == 0 && tu_step(f, 5000) == 0);
+    TEST_ASSERT(sim_world_skin(a) < 0.5 * sim_world_skin(f)); /* a smaller list */
+    SimFrame fa, ff;
+    sim_world_frame(a, &fa);
+    sim_world_frame(f, &ff);
+    TEST_ASSERT(fa.count == ff.count);
+    double worst = 0.0;
+    for (int k = 0; k < fa.count; ++k) {
+        int m = tu_index(&ff, fa.id[k]);
+        TEST_ASSERT(m >= 0);
+        worst = fmax(worst, hypot(fa.x[k] - ff.x[m], fa.y[k] - ff.y[m]));
+    }
+    fprintf(stderr, "automatic vs fixed skin: largest position difference %.3g d\n",
+            worst / mean_d);
+    TEST_ASSERT(worst < 1e-9 * mean_d);
+    sim_world_destroy(a);
+    sim_world_destroy(f);
+    sim_world_destroy(w);
+
+    /* grains thrown at 2 m/s: a skin many times the one at rest */
+    SimWorld *g = pile(0.0, 2.0);
+    TEST_ASSERT(g);
+    TEST_ASSERT(tu_step(g, 400) == 0);
+    fprintf(stderr, "moving: skin %.3g d\n", sim_world_skin(g) / mean_d);
+    TEST_ASSERT(sim_world_skin(g) > 3.0 * rest);
+    sim_world_destroy(g);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(cells_match_brute_force), TEST_CASE(cells_match_brute_force_periodic),
-          TEST_CASE(cells_match_after_motion))
+          TEST_CASE(cells_match_after_motion), TEST_CASE(auto_skin_matches_brute_force),
+          TEST_CASE(auto_skin_follows_motion))
