@@ -582,6 +582,7 @@ static void removal_stage(SimWorld *w);
  * lasts s / (2u) steps, so the work per grain and step is E0 + rho s + SKIN_BUILD_COST 2u / s,
  * smallest at s = sqrt(2 u SKIN_BUILD_COST / rho). */
 enum { SKIN_BUILD_COST = 50, SKIN_PROBE_STEPS = 50 };
+
 #define SKIN_MIN_FRACTION 0.01 /* of the mean mobile diameter */
 #define SKIN_MAX_FRACTION 0.2  /* of the mean mobile diameter: the fixed default */
 
