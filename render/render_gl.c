@@ -259,7 +259,11 @@ static const char fragment_common_source[] =
     "    float d = d2 * inv;\n"
     "    vec3 p = footprint(d2 >= 1e-12 ? local * inv : vec2(1.0, 0.0));\n" /* unit normal */
     "    float total = min(pixel_cdf(size.x - d, p), 3.14159265 * size.x * size.x);\n"
+    "#if OUTLINE\n" /* programs for disks without an outline skip the inner edge */
     "    float inner = size.y > 0.0 ? min(pixel_cdf(size.x - size.y - d, p), total) : total;\n"
+    "#else\n"
+    "    float inner = total;\n"
+    "#endif\n"
     "    float alpha = total * clip_coverage(), fill = inner * clip_coverage();\n"
     "    return vec4(outline_rgb * (alpha - fill) + colour.rgb * fill, alpha);\n"
     "}\n";
@@ -423,6 +427,7 @@ static const char butt_fragment_source[] =
 enum {
     PROGRAM_QUAD_DISK,
     PROGRAM_POINT_DISK,
+    PROGRAM_POINT_PLAIN, /* point sprites of disks without an outline */
     PROGRAM_ROUND,
     PROGRAM_BUTT,
     PROGRAM_LINE,
@@ -432,12 +437,13 @@ enum {
 
 /* Vertex source, fragment source, definitions for both. */
 static const char *const program_sources[PROGRAM_KINDS][3] = {
-    {disk_vertex_source, disk_fragment_source, ""},
-    {point_vertex_source, point_fragment_source, ""},
-    {segment_vertex_source, round_fragment_source, ""},
-    {segment_vertex_source, butt_fragment_source, ""},
-    {line_vertex_source, line_fragment_source, "#define ONE_EDGE 0\n"},
-    {line_vertex_source, line_fragment_source, "#define ONE_EDGE 1\n"},
+    {disk_vertex_source, disk_fragment_source, "#define OUTLINE 1\n"},
+    {point_vertex_source, point_fragment_source, "#define OUTLINE 1\n"},
+    {point_vertex_source, point_fragment_source, "#define OUTLINE 0\n"},
+    {segment_vertex_source, round_fragment_source, "#define OUTLINE 1\n"},
+    {segment_vertex_source, butt_fragment_source, "#define OUTLINE 1\n"},
+    {line_vertex_source, line_fragment_source, "#define OUTLINE 1\n#define ONE_EDGE 0\n"},
+    {line_vertex_source, line_fragment_source, "#define OUTLINE 1\n#define ONE_EDGE 1\n"},
 };
 
 /* ------------------------------------------------------------------ drawer */
@@ -1226,7 +1232,7 @@ static void use_program(RenderGl *r, Band *b, int kind, int clip, const Layout *
     r->gl.Uniform4f(u->frame, (float)r->width, (float)b->height, r->margin, (float)b->y0);
     /* Disks give premultiplied colour (shade_disk), segments straight colour; "over" either way,
      * and the destination stays opaque. */
-    if (kind == PROGRAM_QUAD_DISK || kind == PROGRAM_POINT_DISK)
+    if (kind == PROGRAM_QUAD_DISK || kind == PROGRAM_POINT_DISK || kind == PROGRAM_POINT_PLAIN)
         r->gl.BlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
     else
         r->gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE,
@@ -1339,10 +1345,16 @@ static int band_draw(RenderGl *r, Band *b, const SimFrame *frame, const Layout *
     if (disks > 0) {
         upload(r, GL_ARRAY_BUFFER, b->disk_buffer, &b->disk_bytes, b->disks,
                (GLsizeiptr)disks * (GLsizeiptr)sizeof(DiskInstance));
-        if (l->as_points) {
-            use_program(r, b, PROGRAM_POINT_DISK, b->clip_disks, l);
+        if (l->as_points) { /* one draw per run of disks with or without an outline */
             r->gl.BindVertexArray(b->point_vao);
-            r->gl.DrawArrays(GL_POINTS, 0, disks);
+            for (int first = 0, last; first < disks; first = last) {
+                const int outlined = b->disks[first].outline > 0.0f;
+                for (last = first + 1; last < disks && (b->disks[last].outline > 0.0f) == outlined;)
+                    ++last;
+                use_program(r, b, outlined ? PROGRAM_POINT_DISK : PROGRAM_POINT_PLAIN,
+                            b->clip_disks, l);
+                r->gl.DrawArrays(GL_POINTS, first, last - first);
+            }
         } else {
             use_program(r, b, PROGRAM_QUAD_DISK, b->clip_disks, l);
             r->gl.BindVertexArray(b->disk_vao);
