@@ -140,7 +140,7 @@ RenderStyle render_style_resolve(const SimFrame *frame, const RenderStyle *style
         s.field_cell = d > 0 ? 2 * d : 1;
     if (!(s.field_width > 0))
         s.field_width = d > 0 ? 1.5 * d : 1;
-    if (!(s.arrow_scale > 0)) {
+    if (!(s.arrow_scale > 0) && s.velocity_arrows) { /* only the arrows use it */
         double vmax = 0;
         for (int i = 0; i < frame->count; ++i)
             if (!is_fixed(frame, i) && frame->vx && frame->vy)
