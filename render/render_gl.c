@@ -261,11 +261,12 @@ static const char fragment_common_source[] =
     "    float total = min(pixel_cdf(size.x - d, p), 3.14159265 * size.x * size.x);\n"
     "#if OUTLINE\n" /* programs for disks without an outline skip the inner edge */
     "    float inner = size.y > 0.0 ? min(pixel_cdf(size.x - size.y - d, p), total) : total;\n"
-    "#else\n"
-    "    float inner = total;\n"
-    "#endif\n"
     "    float alpha = total * clip_coverage(), fill = inner * clip_coverage();\n"
     "    return vec4(outline_rgb * (alpha - fill) + colour.rgb * fill, alpha);\n"
+    "#else\n" /* alpha == fill: the outline term is exactly 0 */
+    "    float alpha = total * clip_coverage();\n"
+    "    return vec4(colour.rgb * alpha, alpha);\n"
+    "#endif\n"
     "}\n";
 
 /* Instanced quads: the fallback for disks larger than the largest point sprite. */
