@@ -486,23 +486,13 @@ SimWorld *app_discharge(const Scene *scene, const char *pile_path, double width,
     double wall0 = now_seconds();
     AppDischargeGeometry geo;
     app_discharge_geometry(scene, &geo);
-    SimGrainSet grains;
-    SimWall *walls = NULL;
-    int wall_count = 0;
-    double time = 0.0;
     SimError error;
-    if (sim_state_load(pile_path, &grains, &walls, &wall_count, &time, &error) != SIM_OK) {
+    SimWorldDef wdef = protocol_def(scene, &geo);
+    SimWorld *world = sim_world_load(pile_path, &wdef, &error);
+    if (!world && error.status == SIM_ERROR_IO) {
         snprintf(err, err_size, "cannot load pile %s: %s", pile_path, error.message);
         return NULL;
     }
-    SimWorldDef wdef = protocol_def(scene, &geo);
-    wdef.grains = grains;
-    wdef.walls = walls;
-    wdef.wall_count = wall_count;
-    wdef.start_time = time;
-    SimWorld *world = sim_world_create(&wdef, &error);
-    sim_grain_set_free(&grains);
-    free(walls);
     if (!world) {
         snprintf(err, err_size, "pile %s does not fit scene %s: %s: %s", pile_path, scene->path,
                  error.field, error.message);

@@ -315,23 +315,12 @@ int app_surface_height(const SimFrame *frame, double x, double half_width, doubl
 static SimWorld *world_from_state(Run *run, int stage, const char *path)
 {
     const Scene *scene = run->scene;
-    SimGrainSet grains;
-    SimWall *walls = NULL;
-    int wall_count = 0;
-    double time = 0.0;
-    memset(&grains, 0, sizeof grains);
-    if (sim_state_load(path, &grains, &walls, &wall_count, &time, &run->error) != SIM_OK) {
+    SimWorldDef def = scene_world_def(scene, stage);
+    SimWorld *world = sim_world_load(path, &def, &run->error);
+    if (!world && run->error.status == SIM_ERROR_IO)
         snprintf(run->message, sizeof run->message, "%s: cannot load checkpoint %s: %s",
                  scene_where_field(scene, stage, "grains"), path, run->error.message);
-        return NULL;
-    }
-    SimWorldDef def = scene_world_def(scene, stage);
-    def.grains = grains;
-    def.walls = walls;
-    def.wall_count = wall_count;
-    def.start_time = time;
-    SimWorld *world = sim_world_create(&def, &run->error);
-    if (!world)
+    else if (!world)
         snprintf(run->message, sizeof run->message, "%s: checkpoint %s: %s",
                  scene_where_field(scene, stage, run->error.field), path, run->error.message);
     else if (sim_world_restore_contacts(world, path, &run->error) != SIM_OK) {
@@ -341,8 +330,6 @@ static SimWorld *world_from_state(Run *run, int stage, const char *path)
         sim_world_destroy(world);
         world = NULL;
     }
-    sim_grain_set_free(&grains);
-    free(walls);
     return world;
 }
 

@@ -418,6 +418,11 @@ SimStatus sim_world_restore_contacts(SimWorld *world, const char *path, SimError
 SimStatus sim_state_load(const char *path, SimGrainSet *grains, SimWall **walls, int *wall_count,
                          double *time, SimError *error);
 void sim_grain_set_free(SimGrainSet *grains);
+/// A world from `def` with the grains, walls and start time of the state saved at `path` (def's
+/// own grains, walls and start time are not used; the contact history is not restored: see
+/// sim_world_restore_contacts). NULL on failure: error->status is SIM_ERROR_IO when the file
+/// cannot be read, another status when the state does not fit `def`.
+SimWorld *sim_world_load(const char *path, const SimWorldDef *def, SimError *error);
 
 /* ---------------------------------------------------------------- builders */
 

@@ -225,3 +225,22 @@ SimStatus sim_world_restore_contacts(SimWorld *w, const char *path, SimError *er
     free(walls);
     return SIM_OK;
 }
+
+SimWorld *sim_world_load(const char *path, const SimWorldDef *def, SimError *error)
+{
+    SimGrainSet grains;
+    SimWall *walls = NULL;
+    int wall_count = 0;
+    double time = 0.0;
+    if (sim_state_load(path, &grains, &walls, &wall_count, &time, error) != SIM_OK)
+        return NULL;
+    SimWorldDef d = *def;
+    d.grains = grains;
+    d.walls = walls;
+    d.wall_count = wall_count;
+    d.start_time = time;
+    SimWorld *world = sim_world_create(&d, error);
+    sim_grain_set_free(&grains);
+    free(walls);
+    return world;
+}

@@ -68,25 +68,12 @@ static SimWorld *small_bed(const char *const *sets, int set_count, Scene **scene
 static SimWorld *world_from(const Scene *scene, const char *path, double dt, const char *set)
 {
     (void)set;
-    SimGrainSet grains;
-    SimWall *walls = NULL;
-    int wall_count = 0;
-    double time = 0.0;
     SimError error;
-    memset(&grains, 0, sizeof grains);
-    if (sim_state_load(path, &grains, &walls, &wall_count, &time, &error) != SIM_OK)
-        return NULL;
     SimWorldDef def = scene_world_def(scene, 2);
-    def.grains = grains;
-    def.walls = walls;
-    def.wall_count = wall_count;
-    def.start_time = time;
     def.time_step = dt;
-    SimWorld *world = sim_world_create(&def, &error);
+    SimWorld *world = sim_world_load(path, &def, &error);
     if (!world)
-        fprintf(stderr, "%s: %s\n", error.field, error.message);
-    sim_grain_set_free(&grains);
-    free(walls);
+        fprintf(stderr, "%s: %s: %s\n", path, error.field, error.message);
     return world;
 }
 

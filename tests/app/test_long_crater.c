@@ -19,24 +19,10 @@
 
 static SimWorld *world_at(const Scene *scene, const char *path, double dt)
 {
-    SimGrainSet grains;
-    SimWall *walls = NULL;
-    int wall_count = 0;
-    double time = 0.0;
     SimError error;
-    memset(&grains, 0, sizeof grains);
-    if (sim_state_load(path, &grains, &walls, &wall_count, &time, &error) != SIM_OK)
-        return NULL;
     SimWorldDef def = scene_world_def(scene, 2);
-    def.grains = grains;
-    def.walls = walls;
-    def.wall_count = wall_count;
-    def.start_time = time;
     def.time_step = dt;
-    SimWorld *world = sim_world_create(&def, &error);
-    sim_grain_set_free(&grains);
-    free(walls);
-    return world;
+    return sim_world_load(path, &def, &error);
 }
 
 static int final_profile(const Scene *scene, const char *bed, double dt, AppProfile *profile)

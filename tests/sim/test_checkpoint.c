@@ -50,7 +50,15 @@ static int restart_from_settled_bed(void)
     int loaded_wall_count = 0;
     double time = 0.0;
     SimStatus st = sim_state_load(path, &loaded, &loaded_walls, &loaded_wall_count, &time, &err);
+    /* sim_world_load: the same grains, walls and time in one call; a missing file is an I/O
+     * error, not a bad definition */
+    SimWorldDef def_load = bed_def();
+    SimWorld *w3 = sim_world_load(path, &def_load, &err);
     remove(path);
+    TEST_ASSERT(w3 && sim_world_hash(w3) == sim_world_hash(w));
+    TEST_NEAR(sim_world_time(w3), sim_world_time(w), 1e-12);
+    sim_world_destroy(w3);
+    TEST_ASSERT(!sim_world_load(path, &def_load, &err) && err.status == SIM_ERROR_IO);
     TEST_ASSERT(st == SIM_OK);
     TEST_ASSERT(loaded.count == 8 && loaded_wall_count == 3);
     TEST_NEAR(time, sim_world_time(w), 1e-12);

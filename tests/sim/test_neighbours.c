@@ -333,22 +333,9 @@ static SimWorld *pile(double skin, double speed)
 /* A world with `skin` from the state saved at `path`. */
 static SimWorld *pile_from(const char *path, double skin)
 {
-    SimGrainSet grains;
-    SimWall *walls = NULL;
-    int wall_count = 0;
-    double time = 0.0;
     SimError err;
-    if (sim_state_load(path, &grains, &walls, &wall_count, &time, &err) != SIM_OK)
-        return NULL;
     SimWorldDef def = pile_def(skin);
-    def.grains = grains;
-    def.walls = walls;
-    def.wall_count = wall_count;
-    def.start_time = time;
-    SimWorld *w = sim_world_create(&def, &err);
-    sim_grain_set_free(&grains);
-    free(walls);
-    return w;
+    return sim_world_load(path, &def, &err);
 }
 
 static int auto_skin_follows_motion(void)
