@@ -510,12 +510,8 @@ static int command_run(int argc, char **argv)
                                        m < 0 ? "nothing" : value);
         } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
             quiet = 1;
-        } else if (argv[i][0] == '-' && argv[i][1]) {
-            return app_usage_error(USAGE_RUN, "unknown option", argv[i]);
-        } else if (!scene_path) {
-            scene_path = argv[i];
-        } else {
-            return app_usage_error(USAGE_RUN, "one scene at a time; extra argument", argv[i]);
+        } else if (app_scene_argument(USAGE_RUN, argv[i], &scene_path) != 0) {
+            return 2;
         }
     }
     if (!scene_path)
@@ -748,12 +744,8 @@ static int command_bne(int argc, char **argv)
             movies = 1;
         } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
             o.quiet = 1;
-        } else if (argv[i][0] == '-' && argv[i][1]) {
-            return app_usage_error(USAGE_BNE, "unknown option", argv[i]);
-        } else if (!path) {
-            path = argv[i];
-        } else {
-            return app_usage_error(USAGE_BNE, "one scene at a time; extra argument", argv[i]);
+        } else if (app_scene_argument(USAGE_BNE, argv[i], &path) != 0) {
+            return 2;
         }
     }
     if (!path)
@@ -801,12 +793,8 @@ static int command_check(int argc, char **argv)
         if (m > 0) {
             if (collect_set(sets, &set_count, value) < 0)
                 return 2;
-        } else if (argv[i][0] == '-' && argv[i][1]) {
-            return app_usage_error(USAGE_CHECK, "unknown option", argv[i]);
-        } else if (!scene_path) {
-            scene_path = argv[i];
-        } else {
-            return app_usage_error(USAGE_CHECK, "one scene at a time; extra argument", argv[i]);
+        } else if (app_scene_argument(USAGE_CHECK, argv[i], &scene_path) != 0) {
+            return 2;
         }
     }
     if (!scene_path)

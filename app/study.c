@@ -244,13 +244,8 @@ int app_discharge_command(int argc, char **argv, const AppDischargeRender *rende
             movies = 1;
         } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
             quiet = 1;
-        } else if (argv[i][0] == '-' && argv[i][1]) {
-            return app_usage_error(APP_DISCHARGE_USAGE, "unknown option", argv[i]);
-        } else if (!scene_path) {
-            scene_path = argv[i];
-        } else {
-            return app_usage_error(APP_DISCHARGE_USAGE, "one scene at a time; extra argument",
-                                   argv[i]);
+        } else if (app_scene_argument(APP_DISCHARGE_USAGE, argv[i], &scene_path) != 0) {
+            return 2;
         }
     }
     if (!scene_path)
@@ -1471,12 +1466,8 @@ int app_study_command(int argc, char **argv, const AppDischargeRender *render)
                                        m < 0 ? "nothing" : value);
         } else if (strcmp(argv[i], "--reduce-only") == 0) {
             reduce_only = 1;
-        } else if (argv[i][0] == '-' && argv[i][1]) {
-            return app_usage_error(APP_STUDY_USAGE, "unknown option", argv[i]);
-        } else if (!scene_path) {
-            scene_path = argv[i];
-        } else {
-            return app_usage_error(APP_STUDY_USAGE, "one scene at a time; extra argument", argv[i]);
+        } else if (app_scene_argument(APP_STUDY_USAGE, argv[i], &scene_path) != 0) {
+            return 2;
         }
     }
     if (!scene_path)

@@ -98,6 +98,16 @@ int app_usage_error(const char *usage, const char *message, const char *arg)
     return 2;
 }
 
+int app_scene_argument(const char *usage, const char *arg, const char **scene)
+{
+    if (arg[0] == '-' && arg[1])
+        return app_usage_error(usage, "unknown option", arg);
+    if (*scene)
+        return app_usage_error(usage, "one scene at a time; extra argument", arg);
+    *scene = arg;
+    return 0;
+}
+
 int app_option(int argc, char **argv, int *i, const char *name, const char **value)
 {
     size_t n = strlen(name);

@@ -51,6 +51,11 @@ int app_series_grow(double **t, double **v, int *capacity, int initial);
 /// Writes "sablier: MESSAGE ARG" and the usage text to stderr; returns 2 (bad command line).
 int app_usage_error(const char *usage, const char *message, const char *arg);
 
+/// The rest of a command line of the form `COMMAND [options] SCENE`: an argument that no option
+/// took. An unknown option or a second scene is a usage error (returns 2, message on stderr);
+/// else *scene = arg and 0.
+int app_scene_argument(const char *usage, const char *arg, const char **scene);
+
 /// Command-line option NAME with a value, as "NAME VALUE" or "NAME=VALUE". Returns 1 and sets
 /// *value when argv[*i] is that option (advancing *i past a separate value), 0 when it is not,
 /// -1 (message on stderr) when the value is missing.
