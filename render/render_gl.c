@@ -1008,21 +1008,35 @@ static int collect_disks(Band *b, const SimFrame *frame, const Layout *l)
     return n;
 }
 
+/* The ends of a segment from (ax, ay) to (bx, by), m, of the given width in pixels: 0 when it
+ * misses the band, else 1 with the ends (px) and *clip set when it reaches the plot clip. */
+static int project_segment(const Band *b, const Layout *l, double ax, double ay, double bx,
+                           double by, double width, double p[4], int *clip)
+{
+    double pad = 0.5 * width + 1.0;
+    render_view_to_pixel(&l->view, ax, ay, &p[0], &p[1]);
+    render_view_to_pixel(&l->view, bx, by, &p[2], &p[3]);
+    if (!meets_band(b, fmin(p[1], p[3]) - pad, fmax(p[1], p[3]) + pad))
+        return 0;
+    if (!*clip)
+        *clip = reaches_clip(l, fmin(p[0], p[2]) - pad, fmin(p[1], p[3]) - pad,
+                             fmax(p[0], p[2]) + pad, fmax(p[1], p[3]) + pad);
+    return 1;
+}
+
 /* A segment from (ax, ay) to (bx, by), m, unless it misses the band. */
 static void add_segment(Band *b, int *n, const Layout *l, double ax, double ay, double bx,
                         double by, double width, int round, uint32_t rgb)
 {
     static const float corners[4][2] = {{0, -1}, {1, -1}, {0, 1}, {1, 1}};
-    double x0, y0, x1, y1, pad = 0.5 * width + 1.0;
-    render_view_to_pixel(&l->view, ax, ay, &x0, &y0);
-    render_view_to_pixel(&l->view, bx, by, &x1, &y1);
-    if (!meets_band(b, fmin(y0, y1) - pad, fmax(y0, y1) + pad))
+    double p[4];
+    if (!project_segment(b, l, ax, ay, bx, by, width, p, round ? &b->clip_round : &b->clip_butt))
         return;
     SegmentVertex *s = &b->segments[4 * (*n)++];
-    s->x0 = (float)x0;
-    s->y0 = (float)y0;
-    s->x1 = (float)x1;
-    s->y1 = (float)y1;
+    s->x0 = (float)p[0];
+    s->y0 = (float)p[1];
+    s->x1 = (float)p[2];
+    s->y1 = (float)p[3];
     s->half_width = (float)(0.5 * width);
     s->round = round ? 1.0f : 0.0f;
     set_rgba(s->rgba, rgb);
@@ -1033,10 +1047,6 @@ static void add_segment(Band *b, int *n, const Layout *l, double ax, double ay, 
         s[k].corner[0] = corners[k][0];
         s[k].corner[1] = corners[k][1];
     }
-    int *flag = round ? &b->clip_round : &b->clip_butt;
-    if (!*flag)
-        *flag = reaches_clip(l, fmin(x0, x1) - pad, fmin(y0, y1) - pad, fmax(x0, x1) + pad,
-                             fmax(y0, y1) + pad);
 }
 
 /* A force chain from (ax, ay) to (bx, by), m, as the two vertices of a line, unless it misses
@@ -1044,22 +1054,17 @@ static void add_segment(Band *b, int *n, const Layout *l, double ax, double ay, 
 static void add_chain(Band *b, int *n, const Layout *l, double ax, double ay, double bx, double by,
                       double width, uint32_t rgb)
 {
-    double x0, y0, x1, y1, pad = 0.5 * width + 1.0;
-    render_view_to_pixel(&l->view, ax, ay, &x0, &y0);
-    render_view_to_pixel(&l->view, bx, by, &x1, &y1);
-    if (!meets_band(b, fmin(y0, y1) - pad, fmax(y0, y1) + pad))
+    double p[4];
+    if (!project_segment(b, l, ax, ay, bx, by, width, p, &b->clip_round))
         return;
     ChainVertex *c = &b->lines[2 * (*n)++];
-    c->x0 = (float)x0;
-    c->y0 = (float)y0;
-    c->x1 = (float)x1;
-    c->y1 = (float)y1;
+    c->x0 = (float)p[0];
+    c->y0 = (float)p[1];
+    c->x1 = (float)p[2];
+    c->y1 = (float)p[3];
     c->half_width = (float)(0.5 * width);
     set_rgba(c->rgba, rgb);
     c[1] = c[0];
-    if (!b->clip_round)
-        b->clip_round = reaches_clip(l, fmin(x0, x1) - pad, fmin(y0, y1) - pad, fmax(x0, x1) + pad,
-                                     fmax(y0, y1) + pad);
 }
 
 /* Chains [0, count) as round-capped quads after the segments [0, n): for a frame whose widest
