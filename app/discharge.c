@@ -203,8 +203,7 @@ void app_discharge_geometry(const Scene *scene, AppDischargeGeometry *geo)
  * world starts from the base alone, whose small grains would set the automatic skin's range, so
  * an automatic skin becomes a fixed 0.2 d; a world loaded from a pile keeps the scene's skin
  * (automatic by default: a still pile lists few pairs, a discharging one gets a larger skin). */
-static SimWorldDef protocol_def(const Scene *scene, const AppDischargeGeometry *geo,
-                                int deposition)
+static SimWorldDef protocol_def(const Scene *scene, const AppDischargeGeometry *geo, int deposition)
 {
     SimWorldDef def = scene_world_def(scene, 0);
     def.gravity_x = 0.0;
