@@ -199,11 +199,10 @@ void app_discharge_geometry(const Scene *scene, AppDischargeGeometry *geo)
     geo->exit_half_width = def->exit_half_width > 0.0 ? def->exit_half_width : 4.0 * geo->d_max;
 }
 
-/* The scene's definition with the protocol's gravity, time step and sinks. `deposition`: the
- * world starts from the base alone, whose small grains would set the automatic skin's range, so
- * an automatic skin becomes a fixed 0.2 d; a world loaded from a pile keeps the scene's skin
- * (automatic by default: a still pile lists few pairs, a discharging one gets a larger skin). */
-static SimWorldDef protocol_def(const Scene *scene, const AppDischargeGeometry *geo, int deposition)
+/* The scene's definition with the protocol's gravity, time step and sinks. The skin is the
+ * scene's (automatic by default: its range follows the rows as they are added, a still pile lists
+ * few pairs, a discharging one gets a larger skin). */
+static SimWorldDef protocol_def(const Scene *scene, const AppDischargeGeometry *geo)
 {
     SimWorldDef def = scene_world_def(scene, 0);
     def.gravity_x = 0.0;
@@ -211,8 +210,6 @@ static SimWorldDef protocol_def(const Scene *scene, const AppDischargeGeometry *
     def.time_step = geo->dt;
     def.max_dt_fraction = 0.0;
     def.effects |= SIM_EFFECT_REMOVAL;
-    if (deposition && def.skin <= 0.0)
-        def.skin = 0.2 * geo->d_mean;
     def.length_scale = geo->d_mean;
     /* Sinks are tested in order, first match wins: the orifice column first, then the edges. */
     def.sink_count = 2;
@@ -365,7 +362,7 @@ SimWorld *app_deposit(const Scene *scene, uint64_t seed, const AppFrames *frames
                              def->base_species, SIM_GRAIN_FIXED, -1);
     SimRng rng;
     sim_rng_seed(&rng, seed);
-    SimWorldDef wdef = protocol_def(scene, &geo, 1);
+    SimWorldDef wdef = protocol_def(scene, &geo);
     wdef.grains = sim_grain_buffer_view(&base);
     SimError error;
     SimWorld *world = sim_world_create(&wdef, &error);
@@ -490,7 +487,7 @@ SimWorld *app_discharge(const Scene *scene, const char *pile_path, double width,
     AppDischargeGeometry geo;
     app_discharge_geometry(scene, &geo);
     SimError error;
-    SimWorldDef wdef = protocol_def(scene, &geo, 0);
+    SimWorldDef wdef = protocol_def(scene, &geo);
     SimWorld *world = sim_world_load(pile_path, &wdef, &error);
     if (!world && error.status == SIM_ERROR_IO) {
         snprintf(err, err_size, "cannot load pile %s: %s", pile_path, error.message);

@@ -1014,6 +1014,14 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
     free(order);
     w->count = total;
     w->mobile_count = mobile;
+    if (w->skin_auto && w->mobile_count > 0) { /* the range follows the mobile grains' size */
+        double diameter, mass;
+        sim_world_means(w, &diameter, &mass);
+        w->skin_max = SKIN_MAX_FRACTION * diameter;
+        w->skin_min = SKIN_MIN_FRACTION * diameter;
+        w->skin = fmin(fmax(w->skin, w->skin_min), w->skin_max);
+        w->disp_limit2 = 0.25 * w->skin * w->skin;
+    }
     w->cell_size = 2.0 * w->max_radius + w->skin_max;
     rebuild(w);
     reevaluate_forces(w);

@@ -6,6 +6,7 @@
 #include "sim/sim.h"
 
 #include <math.h>
+#include <stdio.h>
 
 /* A row of grains resting on a floor wall with the tangential spring, pushed sideways by a tilted
  * gravity so that every floor contact holds a tangential stretch. */
@@ -93,4 +94,37 @@ static int add_refuses_overlap_and_duplicate_id(void)
     return 0;
 }
 
-TEST_MAIN(TEST_CASE(add_keeps_history_and_ids), TEST_CASE(add_refuses_overlap_and_duplicate_id))
+/* A world that starts with small fixed grains alone (a base, as the discharge deposition builds):
+ * its automatic skin's range follows the mobile grains once they are added (0.2 of their mean
+ * diameter at most), not the base's size. */
+static int auto_skin_follows_added_grains(void)
+{
+    SimGrainBuffer b;
+    sim_grain_buffer_init(&b);
+    for (int k = 0; k < 40; ++k) /* base of 0.01 m grains */
+        sim_grain_buffer_add(&b, 0.01 + 0.02 * k, 0.01, 0.01, 0, SIM_GRAIN_FIXED, -1);
+    SimWorldDef def = sim_world_def_default();
+    def.materials[0].density = 1000.0;
+    def.materials[0].normal_stiffness = 1e5;
+    def.time_step = 1e-5;
+    def.grains = sim_grain_buffer_view(&b);
+    SimError err;
+    SimWorld *w = sim_world_create(&def, &err);
+    sim_grain_buffer_free(&b);
+    TEST_ASSERT(w);
+    TEST_ASSERT(sim_world_skin(w) <= 0.2 * 0.02 + 1e-12); /* only the base to go by */
+    /* thrown down at 5 m/s: 0.05 mm per step, a skin above the base's range pays */
+    double x[4] = {0.1, 0.3, 0.5, 0.7}, y[4] = {0.5, 0.5, 0.5, 0.5}, r[4] = {0.1, 0.1, 0.1, 0.1};
+    double vx[4] = {0.0, 0.0, 0.0, 0.0}, vy[4] = {-5.0, -5.0, -5.0, -5.0};
+    SimGrainSet add = {.count = 4, .x = x, .y = y, .radius = r, .vx = vx, .vy = vy};
+    TEST_ASSERT(sim_world_add_grains(w, &add, &err) == SIM_OK);
+    TEST_ASSERT(sim_world_step(w, 2000, &err) == SIM_OK); /* 0.1 m down, still in the air */
+    fprintf(stderr, "skin after 2000 steps: %g m\n", sim_world_skin(w));
+    TEST_ASSERT(sim_world_skin(w) > 0.2 * 0.02 + 1e-12); /* beyond the base's range */
+    TEST_ASSERT(sim_world_skin(w) <= 0.2 * 0.2 + 1e-12); /* within the newcomers' */
+    sim_world_destroy(w);
+    return 0;
+}
+
+TEST_MAIN(TEST_CASE(add_keeps_history_and_ids), TEST_CASE(add_refuses_overlap_and_duplicate_id),
+          TEST_CASE(auto_skin_follows_added_grains))
