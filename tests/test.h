@@ -6,6 +6,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define TEST_ASSERT(cond)                                                                          \
@@ -31,6 +32,16 @@
 /* Relative closeness: |a - e| <= rel * |e|. */
 #define TEST_REL(actual, expected, rel)                                                            \
     TEST_NEAR(actual, expected, fabs((double)(expected)) * (rel))
+
+/* A new empty file for a test's output, named /tmp/sablier-test-XXXXXX made unique by mkstemp,
+ * in path (32 bytes). 0, or -1 when it cannot be made. The test removes it. */
+static inline int test_tmp_file(char path[32])
+{
+    strcpy(path, "/tmp/sablier-test-XXXXXX");
+    int fd = mkstemp(path);
+    FILE *f = fd >= 0 ? fdopen(fd, "w") : NULL; /* fclose closes fd (no unistd.h here) */
+    return f && fclose(f) == 0 ? 0 : -1;
+}
 
 typedef struct TestCase {
     const char *name;

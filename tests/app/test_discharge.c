@@ -232,10 +232,8 @@ static int settled_pile_opens_at_once(void)
 {
     Scene *s = small_scene(NULL);
     TEST_ASSERT(s);
-    char path[] = "/tmp/sablier-test-pile-XXXXXX";
-    int fd = mkstemp(path);
-    TEST_ASSERT(fd >= 0);
-    close(fd);
+    char path[32];
+    TEST_ASSERT(test_tmp_file(path) == 0);
     AppDeposit dep;
     TEST_ASSERT(deposit_small(s, 5, path, &dep) == 0);
     TEST_ASSERT(dep.equilibrium == 1);
@@ -258,10 +256,8 @@ static int pile_conservation(void)
 {
     Scene *s = small_scene(NULL);
     TEST_ASSERT(s);
-    char path[] = "/tmp/sablier-test-pile-XXXXXX";
-    int fd = mkstemp(path);
-    TEST_ASSERT(fd >= 0);
-    close(fd);
+    char path[32];
+    TEST_ASSERT(test_tmp_file(path) == 0);
     AppDeposit dep;
     TEST_ASSERT(deposit_small(s, 3, path, &dep) == 0);
     TEST_ASSERT(dep.rows >= 1 && dep.released == dep.rows * 5);
@@ -290,10 +286,8 @@ static int small_jams_wide_empties(void)
 {
     Scene *s = small_scene_of(ROLLING, NULL);
     TEST_ASSERT(s);
-    char path[] = "/tmp/sablier-test-pile-XXXXXX";
-    int fd = mkstemp(path);
-    TEST_ASSERT(fd >= 0);
-    close(fd);
+    char path[32];
+    TEST_ASSERT(test_tmp_file(path) == 0);
     AppDeposit dep;
     /* the first seed whose small pile covers the centre (a 10 d pile can leave it bare) */
     for (uint64_t seed = 5; seed < 15; ++seed) {
@@ -331,10 +325,8 @@ static int reduced_study_h_decreases(void)
     double h[3] = {0.0, 0.0, 0.0};
     const int samples = 3;
     for (int k = 0; k < samples; ++k) {
-        char path[] = "/tmp/sablier-test-pile-XXXXXX";
-        int fd = mkstemp(path);
-        TEST_ASSERT(fd >= 0);
-        close(fd);
+        char path[32];
+        TEST_ASSERT(test_tmp_file(path) == 0);
         AppDeposit dep;
         TEST_ASSERT(deposit_small(s, 100 + (uint64_t)k, path, &dep) == 0);
         for (int j = 0; j < 3; ++j) {

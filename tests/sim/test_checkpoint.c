@@ -39,10 +39,8 @@ static int restart_from_settled_bed(void)
     TEST_ASSERT(tu_step(w, 5000) == 0); /* 0.5 s: settled on the floor */
     SimEnergy en = sim_world_energy(w);
     TEST_ASSERT(en.contacts >= 8);
-    char path[] = "/tmp/sablier_test_checkpoint_XXXXXX";
-    int fd = mkstemp(path);
-    TEST_ASSERT(fd >= 0);
-    close(fd);
+    char path[32];
+    TEST_ASSERT(test_tmp_file(path) == 0);
     SimError err;
     TEST_ASSERT(sim_world_save(w, path, &err) == SIM_OK);
     SimGrainSet loaded;
@@ -129,10 +127,8 @@ static int restore_contact_history(void)
     TEST_ASSERT(tu_step(w, 5000) == 0);
     double held = floor_tangential(w, 1);
     TEST_ASSERT(fabs(held) > 1.0);
-    char path[] = "/tmp/sablier_test_history_XXXXXX";
-    int fd = mkstemp(path);
-    TEST_ASSERT(fd >= 0);
-    close(fd);
+    char path[32];
+    TEST_ASSERT(test_tmp_file(path) == 0);
     SimError err;
     TEST_ASSERT(sim_world_save(w, path, &err) == SIM_OK);
     SimGrainSet loaded;

@@ -354,10 +354,8 @@ static int auto_skin_follows_motion(void)
     TEST_ASSERT(sim_world_list_builds(w) - builds <= 5); /* one per 1000 steps or fewer */
 
     /* from the settled state, a fixed 0.2 d skin and the automatic one: the same motion */
-    char path[] = "/tmp/sablier-test-skin-XXXXXX";
-    int fd = mkstemp(path);
-    TEST_ASSERT(fd >= 0);
-    close(fd);
+    char path[32];
+    TEST_ASSERT(test_tmp_file(path) == 0);
     SimError err;
     TEST_ASSERT(sim_world_save(w, path, &err) == SIM_OK);
     SimWorld *a = pile_from(path, 0.0), *f = pile_from(path, 0.2 * mean_d);
