@@ -205,11 +205,16 @@ static int api_load(GlApi *api, char *err, size_t err_size)
  * up to 0.15 of a pixel on diagonal edges, 30 levels on a dark outline against a light fill.
  *
  * Speed (llvmpipe runs fragment shaders on 4x4 blocks with every branch of an `if` executed):
- * the formula is branch-free, the footprint (a, b, 1 / 2ab) is computed once per fragment and
- * shared by both edges of a shape, b is kept above 1/64 (a trapezoid that narrow differs from
- * the box by under 0.002 of coverage, half a level), round and butt segments are separate
- * programs, and the plot-rectangle clip is compiled in (CLIP 1) only when a frame has
- * primitives that reach it. */
+ * the formula is branch-free, the footprint is computed once per fragment and shared by both
+ * edges of a shape, b is kept above a / 64 (a trapezoid that narrow differs from the box by under
+ * 0.002 of coverage, half a level), round and butt segments are separate programs, and the
+ * plot-rectangle clip is compiled in (CLIP 1) only when a frame has primitives that reach it.
+ * Per eight pixels the cost is counted in instructions of llvmpipe's code (bench/README.md,
+ * render round 4): the normal is left unnormalised (depths are scaled by its length instead: one
+ * square root and one division per fragment), the distribution function is a clamped ramp less
+ * a signed parabolic bump (no clamp between two variables: llvmpipe's NaN handling makes each
+ * such min or max three instructions), and the min and max of values >= 0 go through their
+ * bits (one integer instruction). */
 static const char common_source[] =
     "uniform vec4 clip;\n"  /* x0, y0, x1, y1, px, y down */
     "uniform vec4 frame;\n" /* image width, band height, viewport margin, band's first row, px */
@@ -219,19 +224,35 @@ static const char common_source[] =
     "}\n";
 
 static const char fragment_common_source[] =
-    "vec3 footprint(vec2 n) {\n" /* a, b, 1 / (2 a b) of a pixel seen along n */
-    "    vec2 m = abs(n);\n"
-    "    float a = max(max(m.x, m.y), 1.0 / 64.0), b = max(min(m.x, m.y), 1.0 / 64.0);\n"
-    "    return vec3(a, b, 0.5 / (a * b));\n"
+    /* Minimum and maximum of two floats >= 0 by their bits: one integer instruction (a float
+     * min or max between two variables costs three in llvmpipe, which handles NaN). */
+    "float max_pos(float x, float y) {\n"
+    "    return intBitsToFloat(max(floatBitsToInt(x), floatBitsToInt(y)));\n"
     "}\n"
-    "float pixel_cdf(float t, vec3 p) {\n" /* share of the pixel at depth t inside an edge */
-    "    float s = t + 0.5 * (p.x + p.y);\n"
-    "    vec4 r = max(vec4(s, s - p.x, s - p.y, s - p.x - p.y), 0.0);\n"
-    "    r *= r;\n"
-    "    return clamp((r.x - r.y - r.z + r.w) * p.z, 0.0, 1.0);\n"
+    "float min_pos(float x, float y) {\n"
+    "    return intBitsToFloat(min(floatBitsToInt(x), floatBitsToInt(y)));\n"
     "}\n"
-    "float band(float s, float lo, float hi, vec3 p) {\n"
-    "    return max(0.0, pixel_cdf(hi - s, p) - pixel_cdf(lo - s, p));\n"
+    /* The footprint of a pixel seen along v, a normal of any length L, in units of L:
+     * (a / 2, b / 2, 1 / a, 1 / (2 a b)) times (L, L, 1 / L, 1 / L^2), so that a depth t
+     * given as t L needs no division by L. */
+    "vec4 footprint(vec2 v) {\n"
+    "    vec2 m = abs(v);\n"
+    "    float a = max(max_pos(m.x, m.y), 1e-6);\n"
+    "    float b = max_pos(min_pos(m.x, m.y), a * (1.0 / 64.0));\n"
+    "    float inv = 1.0 / (a * b);\n"
+    "    return vec4(0.5 * a, 0.5 * b, b * inv, 0.5 * inv);\n"
+    "}\n"
+    /* Share of the pixel whose centre lies at depth t inside an edge, from tl = t L: the ramp
+     * 1/2 + t / a, clamped, less a parabolic bump of width b centred on t = +-a/2 (the
+     * trapezoid's rounded corners), with the sign of t. Same values as F(s) above. */
+    "float pixel_cdf(float tl, vec4 f) {\n"
+    "    float ramp = clamp(0.5 + tl * f.z, 0.0, 1.0);\n"
+    "    float g = max(f.y - abs(abs(tl) - f.x), 0.0);\n"
+    "    g = uintBitsToFloat((floatBitsToUint(tl) & 0x80000000u) | floatBitsToUint(g * g));\n"
+    "    return ramp - g * f.w;\n"
+    "}\n"
+    "float band(float s, float lo, float hi, vec4 f) {\n" /* depths times L */
+    "    return max(0.0, pixel_cdf(hi - s, f) - pixel_cdf(lo - s, f));\n"
     "}\n"
     "vec2 pixel_position() {\n" /* pixel centre, px, y down */
     "    return gl_FragCoord.xy + vec2(0.0, band_y0);\n"
@@ -251,16 +272,15 @@ static const char fragment_common_source[] =
      * side of the rim matters only for disks under a pixel: their coverage is capped by their
      * area instead (one distribution lookup per edge instead of two). The colour is premultiplied
      * by the coverage (drawn with glBlendFunc(ONE, ONE_MINUS_SRC_ALPHA)): the outline and fill
-     * shares add up without a division, and one inverse square root gives the distance and the
-     * edge normal. */
+     * shares add up without a division. The edge normal is `local` itself, of length d (at the
+     * centre any direction will do: the depth, the radius, is beyond the footprint). */
     "vec4 shade_disk(vec2 local, vec2 size, vec4 colour) {\n"
-    "    float d2 = dot(local, local);\n"
-    "    float inv = inversesqrt(max(d2, 1e-12));\n"
-    "    float d = d2 * inv;\n"
-    "    vec3 p = footprint(d2 >= 1e-12 ? local * inv : vec2(1.0, 0.0));\n" /* unit normal */
-    "    float total = min(pixel_cdf(size.x - d, p), 3.14159265 * size.x * size.x);\n"
+    "    float d = sqrt(dot(local, local)), l = max(d, 1e-6);\n"
+    "    vec4 f = footprint(local);\n"
+    "    float total = min_pos(pixel_cdf((size.x - d) * l, f), 3.14159265 * size.x * size.x);\n"
     "#if OUTLINE\n" /* programs for disks without an outline skip the inner edge */
-    "    float inner = size.y > 0.0 ? min(pixel_cdf(size.x - size.y - d, p), total) : total;\n"
+    "    float inner = size.y > 0.0 ? min_pos(pixel_cdf((size.x - size.y - d) * l, f), total)\n"
+    "                               : total;\n"
     "    float alpha = total * clip_coverage(), fill = inner * clip_coverage();\n"
     "    return vec4(outline_rgb * (alpha - fill) + colour.rgb * fill, alpha);\n"
     "#else\n" /* alpha == fill: the outline term is exactly 0 */
@@ -296,7 +316,9 @@ static const char disk_fragment_source[] = "in vec2 local;\n"
 /* The fast path: one point sprite per disk (one vertex instead of an instanced quad). The sprite
  * is the square of side 2 r + 1: a pixel whose centre lies further than r + 1/2 from the centre
  * along x or y does not meet the disk. The fragment's offset from the centre comes from
- * gl_FragCoord, so coverage and colour are the quad shader's. */
+ * gl_PointCoord (the sprite is centred on the disk), so coverage and colour are the quad
+ * shader's. Not from gl_FragCoord: Mesa turns gl_FragCoord.y into y * k0 + k1 with (k0, k1) a
+ * state constant that llvmpipe loads as a gather, about 25 instructions per eight pixels. */
 static const char point_vertex_source[] =
     "layout(location = 0) in vec4 disk;\n" /* centre x, y, radius, outline width, px */
     "layout(location = 1) in vec4 fill;\n"
@@ -314,7 +336,7 @@ static const char point_fragment_source[] =
     "flat in vec4 colour;\n"
     "out vec4 result;\n"
     "void main() {\n"
-    "    result = shade_disk(pixel_position() - shape.xy, shape.zw, colour);\n"
+    "    result = shade_disk((gl_PointCoord - 0.5) * (2.0 * shape.z + 1.0), shape.zw, colour);\n"
     "    if (result.a <= 0.0) discard;\n"
     "}\n";
 
@@ -348,11 +370,11 @@ static const char round_fragment_source[] =
     "flat in vec4 colour;\n"
     "out vec4 result;\n"
     "void main() {\n"
-    "    vec2 v = vec2(local.x - clamp(local.x, 0.0, form.x), local.y);\n"
-    "    float d = length(v);\n"
-    "    vec2 n = d > 0.0 ? (direction * v.x + vec2(-direction.y, direction.x) * v.y) / d\n"
-    "                     : vec2(-direction.y, direction.x);\n"
-    "    float a = band(d, -form.y, form.y, footprint(n)) * clip_coverage() * colour.a;\n"
+    "    vec2 v = vec2(max(local.x - form.x, 0.0) + min(local.x, 0.0), local.y);\n"
+    "    float d = sqrt(dot(v, v)), l = max(d, 1e-6);\n"
+    "    vec2 across = vec2(-direction.y, direction.x);\n" /* the normal on the axis */
+    "    vec4 f = footprint(d >= 1e-6 ? direction * v.x + across * v.y : across * 1e-6);\n"
+    "    float a = band(d * l, -form.y * l, form.y * l, f) * clip_coverage() * colour.a;\n"
     "    if (a <= 0.0) discard;\n"
     "    result = vec4(colour.rgb, a);\n"
     "}\n";
@@ -362,7 +384,8 @@ static const char round_fragment_source[] =
  * shared diagonal). The line runs along the chain, lengthened at both ends so the caps fit; its
  * width, a whole number of pixels shared by a run of chains (glLineWidth), covers the capsule at
  * any angle (draw_chain_lines). A line's attributes do not vary across it, so the fragment finds
- * its place along and across the chain from gl_FragCoord, as the point sprites do. */
+ * its place along and across the chain from gl_FragCoord (and pays for its y transform: see
+ * point_vertex_source). */
 static const char line_vertex_source[] =
     "layout(location = 0) in vec4 ends;\n" /* x0, y0, x1, y1, px */
     "layout(location = 1) in float half_width;\n"
@@ -394,15 +417,13 @@ static const char line_fragment_source[] =
     "void main() {\n"
     "    vec2 q = pixel_position() - start.xy, across = vec2(-start.w, start.z);\n"
     "    float along = dot(q, start.zw);\n"
-    "    vec2 v = vec2(along - clamp(along, 0.0, form.x), dot(q, across));\n"
-    "    float d2 = dot(v, v);\n"
-    "    float inv = inversesqrt(max(d2, 1e-12));\n"
-    "    float d = d2 * inv;\n"
-    "    vec2 n = d2 >= 1e-12 ? (start.zw * v.x + across * v.y) * inv : across;\n"
+    "    vec2 v = vec2(max(along - form.x, 0.0) + min(along, 0.0), dot(q, across));\n"
+    "    float d = sqrt(dot(v, v)), l = max(d, 1e-6);\n" /* the normal v, of length d */
+    "    vec4 f = footprint(d >= 1e-6 ? start.zw * v.x + across * v.y : across * 1e-6);\n"
     "#if ONE_EDGE\n" /* wide chains: the far edge is out of reach (band's lower term is 0) */
-    "    float a = pixel_cdf(form.y - d, footprint(n));\n"
+    "    float a = pixel_cdf((form.y - d) * l, f);\n"
     "#else\n"
-    "    float a = band(d, -form.y, form.y, footprint(n));\n"
+    "    float a = band(d * l, -form.y * l, form.y * l, f);\n"
     "#endif\n"
     "    a *= clip_coverage();\n" /* chains are opaque */
     "    if (a <= 0.0) discard;\n"
@@ -417,7 +438,7 @@ static const char butt_fragment_source[] =
     "flat in vec4 colour;\n"
     "out vec4 result;\n"
     "void main() {\n"
-    "    vec3 p = footprint(direction);\n"
+    "    vec4 p = footprint(direction);\n"
     "    float a = band(local.x, 0.0, form.x, p) * band(local.y, -form.y, form.y, p);\n"
     "    a = min(a, 1.0) * clip_coverage() * colour.a;\n"
     "    if (a <= 0.0) discard;\n"

@@ -240,6 +240,85 @@ static int gl_outline_and_chains(void)
     return 0;
 }
 
+/* Shapes whose centres and axes fall on pixel centres, where a pixel's offset from the centre or
+ * axis is exactly zero: the disk's centre pixel keeps the fill, and every pixel centred on a
+ * chain's axis (horizontal, vertical, diagonal; ends included) is the chain's colour. */
+static int gl_pixel_aligned_shapes(void)
+{
+    static double x[5], y[5], r[5], force[5];
+    static int species[5];
+    static unsigned flags[5];
+    static uint32_t id[5];
+    static SimContact contact[4];
+    /* Pixel centres of the grains: a middle one with neighbours right, below, and on both
+     * diagonals (image rows down). */
+    static const double px[5] = {100.5, 140.5, 100.5, 128.5, 72.5};
+    static const double py[5] = {100.5, 100.5, 140.5, 128.5, 128.5};
+    RenderStyle style = plain_style(200, 200, 2.0, 2.0);
+    style.color_by = RENDER_COLOR_FIXED;
+    style.fill_rgb = 0xe0c080;
+    style.force_chains = 1;
+    style.chain_threshold = 0.5;
+    style.chain_width_max = 3.0;
+    SimFrame frame = {.count = 5,
+                      .mobile_count = 5,
+                      .x = x,
+                      .y = y,
+                      .radius = r,
+                      .species = species,
+                      .flags = flags,
+                      .id = id,
+                      .force = force,
+                      .contact_count = 4,
+                      .contacts = contact};
+    for (int i = 0; i < 5; ++i) { /* any positions, to read the view's mapping */
+        x[i] = 0.4 * i;
+        y[i] = 0.4 * i;
+        r[i] = 0.1;
+        id[i] = (uint32_t)i;
+    }
+    RenderView view;
+    render_view_fit(&frame, &style, &view);
+    double ox, oy, ux, uy; /* pixel of world (0, 0) and of (1, 1) */
+    render_view_to_pixel(&view, 0.0, 0.0, &ox, &oy);
+    render_view_to_pixel(&view, 1.0, 1.0, &ux, &uy);
+    for (int i = 0; i < 5; ++i) {
+        x[i] = (px[i] - ox) / (ux - ox);
+        y[i] = (py[i] - oy) / (uy - oy);
+        r[i] = 9.0 / (ux - ox); /* 9 px */
+    }
+    for (int c = 0; c < 4; ++c)
+        contact[c] = (SimContact){.i = 0,
+                                  .j = c + 1,
+                                  .normal_force = 2.0,
+                                  .x = 0.5 * (x[0] + x[c + 1]),
+                                  .y = 0.5 * (y[0] + y[c + 1])};
+    RenderImage image = {0};
+    TEST_ASSERT(render_gl_draw(&frame, &style, &image) == 0);
+    uint32_t chain = render_colormap_rgb(RENDER_CMAP_YELLOW_RED, 1.0);
+    for (int c = 0; c < 4; ++c) {
+        for (int k = 0; k <= 8; ++k) { /* ends and seven pixels between them */
+            double qx = px[0] + (px[c + 1] - px[0]) * k / 8.0;
+            double qy = py[0] + (py[c + 1] - py[0]) * k / 8.0;
+            if (!close_rgb(pixel_rgb(&image, qx, qy), chain, 2)) {
+                printf("chain %d, pixel (%g, %g): %06x, not %06x\n", c, qx, qy,
+                       (unsigned)pixel_rgb(&image, qx, qy), (unsigned)chain);
+                TEST_ASSERT(0);
+            }
+        }
+    }
+    render_image_free(&image);
+    /* Without chains the centre pixel is the fill, its neighbours too. */
+    style.force_chains = 0;
+    TEST_ASSERT(render_gl_draw(&frame, &style, &image) == 0);
+    for (int i = 0; i < 5; ++i) {
+        TEST_ASSERT(pixel_rgb(&image, px[i], py[i]) == 0xe0c080);
+        TEST_ASSERT(pixel_rgb(&image, px[i] + 1.0, py[i]) == 0xe0c080);
+    }
+    render_image_free(&image);
+    return 0;
+}
+
 /* A persistent drawer gives the same pixels twice; a style of another size is refused. */
 static int gl_repeatable_and_sized(void)
 {
@@ -561,6 +640,6 @@ static int gl_bands_agree(void)
 }
 
 TEST_MAIN(TEST_CASE(gl_disk_colours), TEST_CASE(gl_outline_and_chains),
-          TEST_CASE(gl_repeatable_and_sized), TEST_CASE(gl_matches_cairo),
-          TEST_CASE(gl_overlay_matches_cairo), TEST_CASE(gl_large_edge_and_clipped),
-          TEST_CASE(gl_bands_agree))
+          TEST_CASE(gl_pixel_aligned_shapes), TEST_CASE(gl_repeatable_and_sized),
+          TEST_CASE(gl_matches_cairo), TEST_CASE(gl_overlay_matches_cairo),
+          TEST_CASE(gl_large_edge_and_clipped), TEST_CASE(gl_bands_agree))
