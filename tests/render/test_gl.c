@@ -242,7 +242,8 @@ static int gl_outline_and_chains(void)
 
 /* Shapes whose centres and axes fall on pixel centres, where a pixel's offset from the centre or
  * axis is exactly zero: the disk's centre pixel keeps the fill, and every pixel centred on a
- * chain's axis (horizontal, vertical, diagonal; ends included) is the chain's colour. */
+ * chain's axis (horizontal, vertical, diagonal; ends included; wide and 1 px chains) is the
+ * chain's colour. */
 static int gl_pixel_aligned_shapes(void)
 {
     static double x[5], y[5], r[5], force[5];
@@ -302,6 +303,22 @@ static int gl_pixel_aligned_shapes(void)
             double qy = py[0] + (py[c + 1] - py[0]) * k / 8.0;
             if (!close_rgb(pixel_rgb(&image, qx, qy), chain, 2)) {
                 printf("chain %d, pixel (%g, %g): %06x, not %06x\n", c, qx, qy,
+                       (unsigned)pixel_rgb(&image, qx, qy), (unsigned)chain);
+                TEST_ASSERT(0);
+            }
+        }
+    }
+    render_image_free(&image);
+    /* Chains 1 px wide (the two-edge program): a pixel centred on a horizontal or vertical axis
+     * is covered whole. */
+    style.chain_width_max = 1.0;
+    TEST_ASSERT(render_gl_draw(&frame, &style, &image) == 0);
+    for (int c = 0; c < 2; ++c) {
+        for (int k = 0; k <= 8; ++k) {
+            double qx = px[0] + (px[c + 1] - px[0]) * k / 8.0;
+            double qy = py[0] + (py[c + 1] - py[0]) * k / 8.0;
+            if (!close_rgb(pixel_rgb(&image, qx, qy), chain, 2)) {
+                printf("thin chain %d, pixel (%g, %g): %06x, not %06x\n", c, qx, qy,
                        (unsigned)pixel_rgb(&image, qx, qy), (unsigned)chain);
                 TEST_ASSERT(0);
             }
