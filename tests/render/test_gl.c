@@ -240,6 +240,26 @@ static int gl_outline_and_chains(void)
     return 0;
 }
 
+/* 0 when the pixels centred on the axes from (px[0], py[0]) to (px[c], py[c]), c = 1..chains
+ * (ends and seven pixels between them), are `rgb` within 2 levels; else 1, naming the first
+ * pixel that is not. */
+static int axes_in_colour(const RenderImage *image, const double *px, const double *py, int chains,
+                          uint32_t rgb)
+{
+    for (int c = 1; c <= chains; ++c) {
+        for (int k = 0; k <= 8; ++k) {
+            double qx = px[0] + (px[c] - px[0]) * k / 8.0;
+            double qy = py[0] + (py[c] - py[0]) * k / 8.0;
+            if (!close_rgb(pixel_rgb(image, qx, qy), rgb, 2)) {
+                printf("chain %d, pixel (%g, %g): %06x, not %06x\n", c, qx, qy,
+                       (unsigned)pixel_rgb(image, qx, qy), (unsigned)rgb);
+                return 1;
+            }
+        }
+    }
+    return 0;
+}
+
 /* Shapes whose centres and axes fall on pixel centres, where a pixel's offset from the centre or
  * axis is exactly zero: the disk's centre pixel keeps the fill, and every pixel centred on a
  * chain's axis (horizontal, vertical, diagonal; ends included; wide and 1 px chains) is the
@@ -297,33 +317,13 @@ static int gl_pixel_aligned_shapes(void)
     RenderImage image = {0};
     TEST_ASSERT(render_gl_draw(&frame, &style, &image) == 0);
     uint32_t chain = render_colormap_rgb(RENDER_CMAP_YELLOW_RED, 1.0);
-    for (int c = 0; c < 4; ++c) {
-        for (int k = 0; k <= 8; ++k) { /* ends and seven pixels between them */
-            double qx = px[0] + (px[c + 1] - px[0]) * k / 8.0;
-            double qy = py[0] + (py[c + 1] - py[0]) * k / 8.0;
-            if (!close_rgb(pixel_rgb(&image, qx, qy), chain, 2)) {
-                printf("chain %d, pixel (%g, %g): %06x, not %06x\n", c, qx, qy,
-                       (unsigned)pixel_rgb(&image, qx, qy), (unsigned)chain);
-                TEST_ASSERT(0);
-            }
-        }
-    }
+    TEST_ASSERT(axes_in_colour(&image, px, py, 4, chain) == 0);
     render_image_free(&image);
     /* Chains 1 px wide (the two-edge program): a pixel centred on a horizontal or vertical axis
      * is covered whole. */
     style.chain_width_max = 1.0;
     TEST_ASSERT(render_gl_draw(&frame, &style, &image) == 0);
-    for (int c = 0; c < 2; ++c) {
-        for (int k = 0; k <= 8; ++k) {
-            double qx = px[0] + (px[c + 1] - px[0]) * k / 8.0;
-            double qy = py[0] + (py[c + 1] - py[0]) * k / 8.0;
-            if (!close_rgb(pixel_rgb(&image, qx, qy), chain, 2)) {
-                printf("thin chain %d, pixel (%g, %g): %06x, not %06x\n", c, qx, qy,
-                       (unsigned)pixel_rgb(&image, qx, qy), (unsigned)chain);
-                TEST_ASSERT(0);
-            }
-        }
-    }
+    TEST_ASSERT(axes_in_colour(&image, px, py, 2, chain) == 0);
     render_image_free(&image);
     /* Without chains the centre pixel is the fill, its neighbours too. */
     style.force_chains = 0;
