@@ -20,8 +20,11 @@
 /* The kernel's pieces must inline into each instantiation, or `key` stops being a constant. */
 #define KERNEL static inline __attribute__((always_inline))
 
+/* The contact key (sim_contact_key): the declared laws as bits, one kernel instance per value.
+ * Its fields are named here only; other files decode it through sim_contact_key_rotation and
+ * sim_contact_key_history. */
 enum {
-    KEY_TANGENTIAL = 3u, /* SimTangentialLaw in the low two bits */
+    KEY_TANGENTIAL = 3u, /* SimTangentialLaw in the low two bits (mask) */
     KEY_ROLLING = 1u << 2,
     KEY_PERIODIC = 1u << 3,
     KEY_HERTZ = 1u << 4,
@@ -543,4 +546,9 @@ void sim_contacts_visit(SimWorld *world, ContactVisit *visit, void *context)
 int sim_contact_key_rotation(unsigned key)
 {
     return KEY_ROTATION(key);
+}
+
+int sim_contact_key_history(unsigned key)
+{
+    return (key & KEY_TANGENTIAL) == SIM_TANGENTIAL_SPRING || (key & KEY_ROLLING) != 0;
 }

@@ -5,7 +5,9 @@
  *   1. an effect bit and a params struct (or SimMaterial fields) in sim.h;
  *   2. a stage function in its own file (or a bit of the contact key in contact.c when it changes
  *      the per-contact arithmetic);
- *   3. one line in build_pipeline() below;
+ *   3. its call in sim_world_forces_at() below, behind a test of its effect bit (the contact pass,
+ *      the wall pass and the integrator are instead chosen once in sim_world_create(), from the
+ *      contact key and the integrator: function pointers in the world);
  *   4. the scene keys in app/scene.c, rejected when the effect is not declared;
  *   5. a validation scene and a test.
  */
@@ -743,7 +745,7 @@ SimWorld *sim_world_create(const SimWorldDef *def, SimError *error)
     fill_pairs(w->pairs, def);
     unsigned key = sim_contact_key(w);
     w->rotation = sim_contact_key_rotation(key);
-    w->has_history = ((key & 3u) == SIM_TANGENTIAL_SPRING) || (key & 4u);
+    w->has_history = sim_contact_key_history(key);
     w->contact_pass = sim_contact_pass_select(key);
     w->wall_pass = sim_wall_pass_select(key);
     w->integrate = sim_integrator_select(def->integrator, w->rotation);

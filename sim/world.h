@@ -20,7 +20,8 @@ typedef struct PairParams {
     double k_r;     /* N m/rad (fixed rolling law) */
 } PairParams;
 
-/* One stage of the step pipeline, chosen once at create from the declared effects. */
+/* A pass of the step (contact pass, wall pass, integrator), chosen once at create from the
+ * declared effects and laws. */
 typedef void StageFn(SimWorld *world);
 
 /* Half neighbour list in CSR form over mobile grains i: entries k in [start[i], start[i+1]) hold
@@ -95,7 +96,6 @@ struct SimWorld {
         *stash; /* history collected before a reorder (sim_neighbour_stash_history) */
 
     PairParams pairs[SIM_MAX_SPECIES * SIM_MAX_SPECIES];
-    double log_e[SIM_MAX_SPECIES]; /* per-species damping factor, see pair_gamma */
 
     double dt, time;
     double contact_dt; /* dt of contact-history increments: dt, or 0 when re-evaluating */
@@ -126,11 +126,10 @@ struct SimWorld {
     double grid_x0, grid_y0;
     int *cell_start, *cell_items, *cell_of;
 
-    /* pipeline */
+    /* stages chosen at create (sim_world_forces_at calls the passes, sim_world_step integrate) */
     StageFn *contact_pass;
     StageFn *wall_pass;
     StageFn *integrate;
-    int stage_count;
 
     /* sinks */
     long removed[SIM_MAX_SINKS];
@@ -190,6 +189,8 @@ StageFn *sim_contact_pass_select(unsigned key);
 StageFn *sim_wall_pass_select(unsigned key);
 unsigned sim_contact_key(const SimWorld *world);
 int sim_contact_key_rotation(unsigned key);
+/* 1 when the key's laws keep per-contact history (tangential spring, rolling resistance). */
+int sim_contact_key_history(unsigned key);
 /* Evaluates every contact without applying it (frame, energy, guard). Calls visit for each. */
 typedef void ContactVisit(void *context, const SimContact *contact, double elastic_energy);
 void sim_contacts_visit(SimWorld *world, ContactVisit *visit, void *context);
