@@ -124,17 +124,14 @@ void sim_neighbour_free(SimWorld *world)
 /* gamma_n of a pair from the two species' damping specifications, mean of the two.
  * 000 eq. 3.25 with t_n = pi / omega_d solved for gamma: gamma = 2 zeta sqrt(k m_eff),
  * zeta = -ln e / sqrt(pi^2 + ln^2 e); 004 eq. 1.11: gamma = 2 f sqrt(k m_eff). */
-double sim_pair_gamma(const SimWorld *world, int species_i, int species_j, double inv_mass_i,
-                      double inv_mass_j)
+double sim_damping_gamma(const SimMaterial *materials, int species_i, int species_j, double k_n,
+                         double m_eff)
 {
-    const PairParams *p = &world->pairs[species_i * SIM_MAX_SPECIES + species_j];
-    double inv = inv_mass_i + inv_mass_j;
-    double m_eff = inv > 0.0 ? 1.0 / inv : 0.0;
-    double root = sqrt(p->k_n * m_eff);
+    double root = sqrt(k_n * m_eff);
     int s[2] = {species_i, species_j};
     double sum = 0.0;
     for (int k = 0; k < 2; ++k) {
-        const SimMaterial *m = &world->def.materials[s[k]];
+        const SimMaterial *m = &materials[s[k]];
         switch (m->damping_mode) {
         case SIM_DAMPING_GAMMA:
             sum += m->normal_damping;
@@ -150,6 +147,17 @@ double sim_pair_gamma(const SimWorld *world, int species_i, int species_j, doubl
         }
     }
     return 0.5 * sum;
+}
+
+/* gamma_n of a list entry: the pair's k_n, m_eff from the inverse masses (0 for a fixed grain or
+ * a wall). */
+static double pair_gamma(const SimWorld *world, int species_i, int species_j, double inv_mass_i,
+                         double inv_mass_j)
+{
+    const PairParams *p = &world->pairs[species_i * SIM_MAX_SPECIES + species_j];
+    double inv = inv_mass_i + inv_mass_j;
+    double m_eff = inv > 0.0 ? 1.0 / inv : 0.0;
+    return sim_damping_gamma(world->def.materials, species_i, species_j, p->k_n, m_eff);
 }
 
 static int cell_index(double t, int n)
@@ -351,7 +359,7 @@ static void build_pairs(SimWorld *world, const HistoryRecord *records, int recor
                     nl->owner[k] = i;
                     nl->pair[k] = (uint8_t)(si * SIM_MAX_SPECIES + sj);
                     nl->gamma[k] =
-                        sim_pair_gamma(world, si, sj, world->inv_mass[i], world->inv_mass[j]);
+                        pair_gamma(world, si, sj, world->inv_mass[i], world->inv_mass[j]);
                     if (periodic)
                         nl->shift[k] = shift;
                     if (world->has_history) {
@@ -401,7 +409,7 @@ static void build_walls(SimWorld *world, const HistoryRecord *records, int recor
             wl->grain[k] = i;
             wl->wall[k] = w;
             wl->pair[k] = (uint8_t)(world->species[i] * SIM_MAX_SPECIES + sw);
-            wl->gamma[k] = sim_pair_gamma(world, world->species[i], sw, world->inv_mass[i], 0.0);
+            wl->gamma[k] = pair_gamma(world, world->species[i], sw, world->inv_mass[i], 0.0);
             if (world->has_history) {
                 uint64_t key = ((uint64_t)world->id[i] << 32) | (uint32_t)w;
                 const HistoryRecord *h =

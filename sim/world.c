@@ -159,20 +159,6 @@ static void fill_pairs(PairParams *pairs, const SimWorldDef *def)
 
 /* ------------------------------------------------------------------ timing */
 
-static double gamma_for(const SimMaterial *m, double k, double m_eff)
-{
-    switch (m->damping_mode) {
-    case SIM_DAMPING_RESTITUTION: {
-        double le = log(m->restitution);
-        return 2.0 * (-le / sqrt(SIM_PI * SIM_PI + le * le)) * sqrt(k * m_eff);
-    }
-    case SIM_DAMPING_CRITICAL:
-        return 2.0 * m->critical_fraction * sqrt(k * m_eff);
-    default:
-        return m->normal_damping;
-    }
-}
-
 /* One pair's contact time and stability limit. Linear: 000 eqs. 3.13-3.22 (overdamped pairs
  * report pi / omega_n). Hertz: linearised at the overlap of a 1 m/s impact. */
 static void pair_timing(const SimWorldDef *def, int a, int b, double m_eff, double *t_c,
@@ -180,7 +166,7 @@ static void pair_timing(const SimWorldDef *def, int a, int b, double m_eff, doub
 {
     const SimMaterial *p = &def->materials[a], *q = &def->materials[b];
     double k = 0.5 * (p->normal_stiffness + q->normal_stiffness);
-    double gamma = 0.5 * (gamma_for(p, k, m_eff) + gamma_for(q, k, m_eff));
+    double gamma = sim_damping_gamma(def->materials, a, b, k, m_eff);
     double omega, zeta;
     if (def->contact.normal == SIM_NORMAL_HERTZ) {
         const double v = 1.0;

@@ -181,8 +181,10 @@ void sim_neighbour_stash_records(SimWorld *world, const void *records, int count
                                  int wall_count);
 /* world.c: rebuild the lists now (used after installing history). */
 void sim_world_rebuild_now(SimWorld *world);
-double sim_pair_gamma(const SimWorld *world, int species_i, int species_j, double inv_mass_i,
-                      double inv_mass_j);
+/* gamma_n of a pair of species (the mean of the two species' damping specifications) for a
+ * pair stiffness k_n and an effective mass m_eff: the list build and the set-up timing. */
+double sim_damping_gamma(const SimMaterial *materials, int species_i, int species_j, double k_n,
+                         double m_eff);
 
 /* contact.c */
 StageFn *sim_contact_pass_select(unsigned key);
