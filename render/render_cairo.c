@@ -150,9 +150,10 @@ RenderStyle render_style_resolve(const SimFrame *frame, const RenderStyle *style
     return s;
 }
 
-/* ---------------------------------------------------------------- the scene */
+/* ---------------------------------------------------------------- the drawn scene */
 
-typedef struct Scene {
+/* What one frame's drawing needs, resolved once (not `Scene`: app/scene.h has its own). */
+typedef struct DrawScene {
     const SimFrame *frame;
     RenderStyle style; /* resolved */
     RenderView view;
@@ -166,12 +167,12 @@ typedef struct Scene {
     int *arch_order;          /* arch grains sorted by (arch id, x) */
     int arch_count;
     double period;
-} Scene;
+} DrawScene;
 
 /* Merge sort (stable, deterministic) with a context argument, which qsort lacks; no global state,
  * so two threads may draw two frames at once. */
-static void sort_indices(int *v, int n, int *tmp, const Scene *sc,
-                         int (*cmp)(const Scene *, int, int))
+static void sort_indices(int *v, int n, int *tmp, const DrawScene *sc,
+                         int (*cmp)(const DrawScene *, int, int))
 {
     if (n < 2)
         return;
@@ -188,7 +189,7 @@ static void sort_indices(int *v, int n, int *tmp, const Scene *sc,
     memcpy(v, tmp, (size_t)n * sizeof *v);
 }
 
-static int cmp_chain(const Scene *sc, int a, int b)
+static int cmp_chain(const DrawScene *sc, int a, int b)
 {
     double fa = sc->frame->contacts[a].normal_force, fb = sc->frame->contacts[b].normal_force;
     if (fa != fb)
@@ -196,7 +197,7 @@ static int cmp_chain(const Scene *sc, int a, int b)
     return a < b ? -1 : a > b;
 }
 
-static int cmp_arch(const Scene *sc, int a, int b)
+static int cmp_arch(const DrawScene *sc, int a, int b)
 {
     const int *ids = sc->style.arch_ids;
     const double *x = sc->frame->x;
@@ -207,14 +208,14 @@ static int cmp_arch(const Scene *sc, int a, int b)
     return a < b ? -1 : a > b;
 }
 
-static void scene_free(Scene *sc)
+static void draw_scene_free(DrawScene *sc)
 {
     free(sc->chains);
     free(sc->arch_order);
     render_field_free(&sc->field);
 }
 
-static int scene_init(Scene *sc, const SimFrame *frame, const RenderStyle *style)
+static int draw_scene_init(DrawScene *sc, const SimFrame *frame, const RenderStyle *style)
 {
     memset(sc, 0, sizeof *sc);
     sc->frame = frame;
@@ -284,7 +285,7 @@ static int scene_init(Scene *sc, const SimFrame *frame, const RenderStyle *style
 /* ---------------------------------------------------------------- world layer */
 
 /* x offsets (m) of the copies of a shape spanning [x - r, x + r] that a periodic frame shows. */
-static int periodic_copies(const Scene *sc, double x, double r, double offsets[3])
+static int periodic_copies(const DrawScene *sc, double x, double r, double offsets[3])
 {
     int n = 0;
     offsets[n++] = 0;
@@ -297,7 +298,7 @@ static int periodic_copies(const Scene *sc, double x, double r, double offsets[3
     return n;
 }
 
-static void clip_world(cairo_t *cr, const Scene *sc, const RenderView *v)
+static void clip_world(cairo_t *cr, const DrawScene *sc, const RenderView *v)
 {
     double x0 = v->plot_x, x1 = v->plot_x + v->plot_w;
     if (sc->period > 0) {
@@ -311,7 +312,7 @@ static void clip_world(cairo_t *cr, const Scene *sc, const RenderView *v)
     cairo_clip(cr);
 }
 
-static void draw_disks(cairo_t *cr, const Scene *sc, const RenderView *v)
+static void draw_disks(cairo_t *cr, const DrawScene *sc, const RenderView *v)
 {
     const SimFrame *f = sc->frame;
     const RenderStyle *s = &sc->style;
@@ -347,7 +348,7 @@ static void draw_disks(cairo_t *cr, const Scene *sc, const RenderView *v)
     }
 }
 
-static void draw_ticks(cairo_t *cr, const Scene *sc, const RenderView *v)
+static void draw_ticks(cairo_t *cr, const DrawScene *sc, const RenderView *v)
 {
     const SimFrame *f = sc->frame;
     if (!sc->style.orientation_tick || !f->angle)
@@ -375,7 +376,7 @@ static void draw_ticks(cairo_t *cr, const Scene *sc, const RenderView *v)
     cairo_stroke(cr);
 }
 
-static void draw_walls(cairo_t *cr, const Scene *sc, const RenderView *v)
+static void draw_walls(cairo_t *cr, const DrawScene *sc, const RenderView *v)
 {
     const SimFrame *f = sc->frame;
     if (f->wall_count <= 0 || !f->walls)
@@ -394,7 +395,7 @@ static void draw_walls(cairo_t *cr, const Scene *sc, const RenderView *v)
     cairo_stroke(cr);
 }
 
-static void draw_chains(cairo_t *cr, const Scene *sc, const RenderView *v)
+static void draw_chains(cairo_t *cr, const DrawScene *sc, const RenderView *v)
 {
     const SimFrame *f = sc->frame;
     /* Widths are scaled with the view so the inset magnifies chains like the grains. */
@@ -484,7 +485,7 @@ static void stroke_arrows(cairo_t *cr, const double *heads, int n, double lw, ui
     cairo_fill(cr);
 }
 
-static void draw_grain_arrows(cairo_t *cr, const Scene *sc, const RenderView *v)
+static void draw_grain_arrows(cairo_t *cr, const DrawScene *sc, const RenderView *v)
 {
     const SimFrame *f = sc->frame;
     if (!sc->style.velocity_arrows || !f->vx || !f->vy || !(sc->style.arrow_scale > 0))
@@ -510,7 +511,7 @@ static void draw_grain_arrows(cairo_t *cr, const Scene *sc, const RenderView *v)
     free(heads);
 }
 
-static void draw_field(cairo_t *cr, const Scene *sc, const RenderView *v)
+static void draw_field(cairo_t *cr, const DrawScene *sc, const RenderView *v)
 {
     const RenderField *fd = &sc->field;
     double scale = sc->field_arrow_scale;
@@ -543,7 +544,7 @@ static void draw_field(cairo_t *cr, const Scene *sc, const RenderView *v)
     free(heads);
 }
 
-static void draw_arches(cairo_t *cr, const Scene *sc, const RenderView *v)
+static void draw_arches(cairo_t *cr, const DrawScene *sc, const RenderView *v)
 {
     const SimFrame *f = sc->frame;
     if (sc->arch_count == 0)
@@ -590,7 +591,7 @@ static void draw_arches(cairo_t *cr, const Scene *sc, const RenderView *v)
     }
 }
 
-static void draw_world(cairo_t *cr, const Scene *sc, const RenderView *v)
+static void draw_world(cairo_t *cr, const DrawScene *sc, const RenderView *v)
 {
     cairo_save(cr);
     clip_world(cr, sc, v);
@@ -605,7 +606,7 @@ static void draw_world(cairo_t *cr, const Scene *sc, const RenderView *v)
 }
 
 /* Zoomed copy of the arches' neighbourhood in the top-right corner of the plot. */
-static void draw_inset(cairo_t *cr, const Scene *sc)
+static void draw_inset(cairo_t *cr, const DrawScene *sc)
 {
     const SimFrame *f = sc->frame;
     if (!sc->style.arch_inset || sc->arch_count == 0)
@@ -691,7 +692,7 @@ static void default_label(const RenderStyle *s, const char **label, const char *
                                                     : "";
 }
 
-static void draw_colorbar(cairo_t *cr, const Scene *sc)
+static void draw_colorbar(cairo_t *cr, const DrawScene *sc)
 {
     const RenderView *v = &sc->view;
     const RenderStyle *s = &sc->style;
@@ -778,7 +779,7 @@ static void format_time(double t, char *buf, size_t size)
         snprintf(buf, size, "%.3e", t);
 }
 
-static void draw_time_stamp(cairo_t *cr, const Scene *sc)
+static void draw_time_stamp(cairo_t *cr, const DrawScene *sc)
 {
     if (!sc->style.time_stamp)
         return;
@@ -808,7 +809,7 @@ static void format_length(double d, char *buf, size_t size)
         snprintf(buf, size, "%.3g \xc2\xb5m", d * 1e6);
 }
 
-static void draw_scale_bar(cairo_t *cr, const Scene *sc)
+static void draw_scale_bar(cairo_t *cr, const DrawScene *sc)
 {
     const RenderView *v = &sc->view;
     double d = v->mean_diameter;
@@ -835,7 +836,7 @@ static void draw_scale_bar(cairo_t *cr, const Scene *sc)
     cairo_fill(cr);
 }
 
-static void draw_title(cairo_t *cr, const Scene *sc)
+static void draw_title(cairo_t *cr, const DrawScene *sc)
 {
     if (!sc->style.title)
         return;
@@ -847,7 +848,7 @@ static void draw_title(cairo_t *cr, const Scene *sc)
 
 static void draw_scene(cairo_t *cr, void *context)
 {
-    const Scene *sc = context;
+    const DrawScene *sc = context;
     cairo_set_antialias(cr, CAIRO_ANTIALIAS_GOOD);
     render_set_rgb(cr, sc->style.background_rgb);
     cairo_rectangle(cr, 0, 0, sc->style.width, sc->style.height);
@@ -862,7 +863,7 @@ static void draw_scene(cairo_t *cr, void *context)
 
 /* Everything render_cairo_draw puts over the grain layer, in its order: velocity field, arrows
  * and arches (clipped to the plot), then the inset, time stamp, scale bar, colour bar, title. */
-static void draw_overlay(cairo_t *cr, const Scene *sc)
+static void draw_overlay(cairo_t *cr, const DrawScene *sc)
 {
     cairo_set_antialias(cr, CAIRO_ANTIALIAS_GOOD);
     cairo_save(cr);
@@ -885,13 +886,13 @@ int render_cairo_draw(const SimFrame *frame, const RenderStyle *style, RenderIma
     out->pixels = NULL;
     if (!frame || !style || style->width <= 0 || style->height <= 0)
         return -1;
-    Scene sc;
-    if (scene_init(&sc, frame, style) != 0) {
-        scene_free(&sc);
+    DrawScene sc;
+    if (draw_scene_init(&sc, frame, style) != 0) {
+        draw_scene_free(&sc);
         return -1;
     }
     int rc = render_cairo_image(style->width, style->height, draw_scene, &sc, out, NULL, 0);
-    scene_free(&sc);
+    draw_scene_free(&sc);
     return rc;
 }
 
@@ -918,9 +919,9 @@ int render_cairo_overlay(const SimFrame *frame, const RenderStyle *style, Render
     RenderStyle s = *style;
     if (!(s.arch_inset && s.arch_ids))
         s.force_chains = 0;
-    Scene sc;
-    if (scene_init(&sc, frame, &s) != 0) {
-        scene_free(&sc);
+    DrawScene sc;
+    if (draw_scene_init(&sc, frame, &s) != 0) {
+        draw_scene_free(&sc);
         return -1;
     }
     /* Opaque RGBA becomes Cairo's ARGB32 (BGRA bytes) for the drawing and is swapped back;
@@ -941,7 +942,7 @@ int render_cairo_overlay(const SimFrame *frame, const RenderStyle *style, Render
     cairo_surface_destroy(surface);
     if (rgba)
         swap_red_blue(inout);
-    scene_free(&sc);
+    draw_scene_free(&sc);
     return rc;
 }
 
@@ -952,9 +953,9 @@ int render_figure_write(const SimFrame *frame, const RenderStyle *style, const R
         snprintf(err, err_size, "%s: bad frame or style", path);
         return -1;
     }
-    Scene sc;
-    if (scene_init(&sc, frame, style) != 0) {
-        scene_free(&sc);
+    DrawScene sc;
+    if (draw_scene_init(&sc, frame, style) != 0) {
+        draw_scene_free(&sc);
         snprintf(err, err_size, "%s: out of memory", path);
         return -1;
     }
@@ -975,6 +976,6 @@ int render_figure_write(const SimFrame *frame, const RenderStyle *style, const R
     text[n++] = NULL;
     int rc =
         render_cairo_write(path, style->width, style->height, draw_scene, &sc, text, err, err_size);
-    scene_free(&sc);
+    draw_scene_free(&sc);
     return rc;
 }
