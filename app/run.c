@@ -5,9 +5,7 @@
  * interrupted run never leaves a truncated file under a final name. */
 #include "run.h"
 
-#include "bne.h"
-#include "observe.h"
-#include "sediment.h"
+#include "experiments.h"
 #include "util.h"
 
 #include <errno.h>
@@ -49,8 +47,8 @@ typedef struct Run {
     SimError error;
     int render_warned;
     int progress_tty;
-    AppObserver *observer; /* crater observables (observe.c); NULL when the scene has none */
-    char observed[1024];   /* its summary.json members */
+    AppContext context;  /* what the experiment families' hooks see */
+    char observed[2048]; /* their summary.json members */
 } Run;
 
 AppRunOptions app_run_options_default(void)
@@ -60,13 +58,6 @@ AppRunOptions app_run_options_default(void)
     o.threads = 1;
     o.sablier_version = "unknown";
     return o;
-}
-
-static double now_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
 int app_make_dirs(const char *path)
@@ -200,10 +191,9 @@ static void energy_row(Run *run, int stage)
     double t = sim_world_time(run->world);
     run->contacts_sum += e.contacts;
     run->contacts_samples++;
-    if (run->scene->sediment) /* 002 measures ride on the energy rows */
-        app_sediment_row(run->scene->sediment, run->world);
-    if (run->scene->bne)
-        app_bne_row(run->scene->bne, run->world);
+    for (int f = 0; app_experiments[f]; ++f) /* family measures ride on the energy rows */
+        if (run->scene->experiments[f] && app_experiments[f]->sample)
+            app_experiments[f]->sample(run->scene->experiments[f], &run->context);
     if (!run->energy)
         return;
     double t_star = run->time_scale > 0.0 ? t / run->time_scale : 0.0;
@@ -227,17 +217,30 @@ static void trace_rows(Run *run, const SimFrame *frame)
         }
 }
 
-static int figures_at(Run *run, int stage, int at_end)
+/* Extras the scene's families add to a grain figure (the first family that has any). */
+static const AppFigureExtras *figure_extras(Run *run, const SimFrame *frame, AppFigureExtras *out)
+{
+    for (int f = 0; app_experiments[f]; ++f)
+        if (run->scene->experiments[f] && app_experiments[f]->figure_extras &&
+            app_experiments[f]->figure_extras(run->scene->experiments[f], frame, out))
+            return out;
+    return NULL;
+}
+
+/* The figures of stage `stage` due now: at its start (when 0), its end (1) or, with `at` = a
+ * time after the stage start (2), at step `done`. */
+static int figures_due(Run *run, int stage, int when, long done, double dt)
 {
     const Scene *scene = run->scene;
     const SceneOutput *out = &scene->output;
+    const AppRender *render = run->options->render;
     SimFrame frame;
     int framed = 0;
     for (int k = 0; k < out->figure_count; ++k) {
         const SceneFigure *f = &out->figures[k];
-        if (f->stage != stage || f->at_end != at_end)
+        if (f->stage != stage || f->at_end != when || !render || !render->figure)
             continue;
-        if (!run->options->render || !run->options->render->figure)
+        if (when == 2 && llround(f->at_time / dt) != done)
             continue;
         if (!framed) {
             sim_world_frame(run->world, &frame);
@@ -246,35 +249,9 @@ static int figures_at(Run *run, int stage, int at_end)
         char path[PATH_SIZE], suffix[16], err[512] = "";
         snprintf(suffix, sizeof suffix, ".%s", f->format);
         out_path(run, path, f->name, suffix);
-        if (run->options->render->figure(run->options->render->context, scene, f, &frame, path, err,
-                                         sizeof err) != 0) {
-            snprintf(run->message, sizeof run->message, "figure %s: %s", path, err);
-            return -1;
-        }
-    }
-    return 0;
-}
-
-/* Figures with `at` = a time after the stage start, due at step `done` of the stage. */
-static int figures_at_step(Run *run, int stage, long done, double dt)
-{
-    const SceneOutput *out = &run->scene->output;
-    SimFrame frame;
-    int framed = 0;
-    for (int k = 0; k < out->figure_count; ++k) {
-        const SceneFigure *f = &out->figures[k];
-        if (f->stage != stage || f->at_end != 2 || llround(f->at_time / dt) != done ||
-            !run->options->render || !run->options->render->figure)
-            continue;
-        if (!framed) {
-            sim_world_frame(run->world, &frame);
-            framed = 1;
-        }
-        char path[PATH_SIZE], suffix[16], err[512] = "";
-        snprintf(suffix, sizeof suffix, ".%s", f->format);
-        out_path(run, path, f->name, suffix);
-        if (run->options->render->figure(run->options->render->context, run->scene, f, &frame, path,
-                                         err, sizeof err) != 0) {
+        AppFigureExtras extras = {0};
+        if (render->figure(render->context, scene, f, &frame, figure_extras(run, &frame, &extras),
+                           path, err, sizeof err) != 0) {
             snprintf(run->message, sizeof run->message, "figure %s: %s", path, err);
             return -1;
         }
@@ -294,20 +271,6 @@ static long next_figure_step(const Run *run, int stage, long done, double dt, lo
             next = step;
     }
     return next;
-}
-
-int app_surface_height(const SimFrame *frame, double x, double half_width, double *top)
-{
-    int found = 0;
-    for (int i = 0; i < frame->mobile_count; ++i) {
-        if (fabs(frame->x[i] - x) > half_width)
-            continue;
-        double y = frame->y[i] + frame->radius[i];
-        if (!found || y > *top)
-            *top = y;
-        found = 1;
-    }
-    return found ? 0 : -1;
 }
 
 /* ---------------------------------------------------------------- world per stage */
@@ -333,12 +296,62 @@ static SimWorld *world_from_state(Run *run, int stage, const char *path)
     return world;
 }
 
+/* 1 when a family needs stage k to re-create its world. */
+static int family_restart(const Run *run, int k)
+{
+    for (int f = 0; app_experiments[f]; ++f)
+        if (run->scene->experiments[f] && app_experiments[f]->restart &&
+            app_experiments[f]->restart(run->scene->experiments[f], k))
+            return 1;
+    return 0;
+}
+
+/* The families' hooks of one kind, in registry order; the first failure stops (-1, message). */
+typedef enum FamilyHook {
+    HOOK_BEGIN,
+    HOOK_STAGE_EDIT,
+    HOOK_STAGE_BEGIN,
+    HOOK_STAGE_END,
+} FamilyHook;
+
+static int family_hooks(Run *run, FamilyHook which)
+{
+    run->context.world = run->world;
+    for (int f = 0; app_experiments[f]; ++f) {
+        const AppExperiment *e = app_experiments[f];
+        void *state = run->scene->experiments[f];
+        int (*hook)(void *, AppContext *) = which == HOOK_BEGIN         ? e->begin
+                                            : which == HOOK_STAGE_EDIT  ? e->stage_edit
+                                            : which == HOOK_STAGE_BEGIN ? e->stage_begin
+                                                                        : e->stage_end;
+        if (state && hook && hook(state, &run->context) != 0)
+            return -1;
+    }
+    return 0;
+}
+
+static long family_next_step(const Run *run, long done, long next)
+{
+    for (int f = 0; app_experiments[f]; ++f)
+        if (run->scene->experiments[f] && app_experiments[f]->next_step)
+            next = app_experiments[f]->next_step(run->scene->experiments[f], &run->context, done,
+                                                 next);
+    return next;
+}
+
+static void family_step(Run *run, long done)
+{
+    for (int f = 0; app_experiments[f]; ++f)
+        if (run->scene->experiments[f] && app_experiments[f]->step)
+            app_experiments[f]->step(run->scene->experiments[f], &run->context, done);
+}
+
 static int stage_world(Run *run, int k)
 {
     const Scene *scene = run->scene;
     const SceneStage *stage = &scene->stages[k];
     if (stage->load == SCENE_LOAD_PREVIOUS && run->world &&
-        scene->stages[k - 1].time_step == stage->time_step && !app_bne_restart(scene->bne, k))
+        scene->stages[k - 1].time_step == stage->time_step && !family_restart(run, k))
         return 0; /* continue in memory: contact history and exact state kept */
     SimWorld *world = NULL;
     if (stage->load == SCENE_LOAD_SCENE) {
@@ -363,27 +376,15 @@ static int stage_world(Run *run, int k)
     return 0;
 }
 
-/* Digging (000 §4.1 stage 2) and explicit removals, at the stage start. */
+/* The families' edits (a crater dig, ...) and the stage's explicit removals, at its start. */
 static int stage_edit(Run *run, int k)
 {
     const SceneStage *stage = &run->scene->stages[k];
     StageReport *report = &run->stages[k];
-    if (stage->dig) {
-        SimFrame frame;
-        sim_world_frame(run->world, &frame);
-        double top = stage->dig_top;
-        if (stage->dig_top_surface &&
-            app_surface_height(&frame, stage->dig_center_x, 0.5 * stage->dig_width, &top) != 0) {
-            snprintf(run->message, sizeof run->message,
-                     "stage %s: dig: no mobile grain within width/2 of center_x = %g m",
-                     stage->name, stage->dig_center_x);
-            return -1;
-        }
-        double x0 = stage->dig_center_x - 0.5 * stage->dig_width;
-        double x1 = stage->dig_center_x + 0.5 * stage->dig_width;
-        report->removed += sim_world_remove_rect(run->world, x0, top - stage->dig_height, x1,
-                                                 top + stage->dig_height);
-    }
+    run->context.removed = 0;
+    if (family_hooks(run, HOOK_STAGE_EDIT) != 0)
+        return -1;
+    report->removed += run->context.removed;
     if (stage->remove_count > 0)
         report->removed += sim_world_remove_ids(run->world, stage->remove_ids, stage->remove_count);
     return 0;
@@ -443,28 +444,26 @@ static int run_stage(Run *run, int k)
     const SceneStage *stage = &scene->stages[k];
     const SceneOutput *out = &scene->output;
     StageReport *report = &run->stages[k];
-    const AppRenderHooks *render = run->options->render;
-    double wall_start = now_seconds();
+    const AppRender *render = run->options->render;
+    double wall_start = app_now_seconds();
+    run->context.stage = k;
     if (stage_world(run, k) != 0)
         return 2;
-    app_observer_before_edit(run->observer, run->world, k);
+    double dt = sim_world_time_step(run->world);
+    run->context.stage_steps = (long)llround(stage->duration / dt);
     if (stage_edit(run, k) != 0)
         return 2;
     report->start_time = sim_world_time(run->world);
-    if (scene->sediment)
-        app_sediment_stage(scene->sediment, scene, k, run->world);
-    if (scene->bne)
-        app_bne_stage(scene->bne, scene, k, run->world);
-    app_observer_stage_start(run->observer, run->world, k);
-    app_observer_sample(run->observer, run->world, k, report->start_time);
-    double dt = sim_world_time_step(run->world);
+    run->context.stage_start = report->start_time;
+    if (family_hooks(run, HOOK_STAGE_BEGIN) != 0)
+        return 2;
     /* t* = t / sqrt(D/g) (000 eq. 6.1) */
     double g = hypot(scene->def.gravity_x, scene->def.gravity_y);
     SimFrame frame;
     sim_world_frame(run->world, &frame);
     run->time_scale =
         out->t_star_length > 0.0 && g > 0.0 ? sqrt(out->t_star_length / g) : frame.time_scale;
-    if (figures_at(run, k, 0) != 0)
+    if (figures_due(run, k, 0, 0, dt) != 0)
         return 2;
     int movie = stage->movie && render && render->movie_open;
     if ((stage->movie || out->figure_count > 0) && !render && !run->render_warned) {
@@ -486,12 +485,9 @@ static int run_stage(Run *run, int k)
     long every_energy = (long)fmax(1.0, (double)llround(out->energy_every / dt));
     long every_frame = (long)fmax(1.0, (double)llround(1.0 / (out->frame_rate * dt)));
     long every_trace = (long)fmax(1.0, (double)llround(out->trace_every / dt));
-    long every_profile = out->profile_every > 0.0 && run->observer
-                             ? (long)fmax(1.0, (double)llround(out->profile_every / dt))
-                             : total + 1;
     long done = 0;
     int status = 0;
-    double last_progress = now_seconds(), step_wall = 0.0;
+    double last_progress = app_now_seconds(), step_wall = 0.0;
     for (;;) {
         int frame_due = movie && sink.consume && done % every_frame == 0;
         int trace_due = run->trace && done % every_trace == 0;
@@ -504,10 +500,8 @@ static int run_stage(Run *run, int k)
             if (trace_due)
                 trace_rows(run, &frame);
         }
-        if (done > 0 && done < total && done % every_profile == 0)
-            app_observer_sample(run->observer, run->world, k, report->start_time);
-        app_bne_step(scene->bne, run->world, k, done); /* phase samples (bne.phase_field) */
-        if (figures_at_step(run, k, done, dt) != 0) {
+        family_step(run, done); /* profiles, phase samples, ... */
+        if (figures_due(run, k, 2, done, dt) != 0) {
             status = 2;
             break;
         }
@@ -530,13 +524,11 @@ static int run_stage(Run *run, int k)
             if (candidate < next)
                 next = candidate;
         }
-        if (every_profile <= total && (done / every_profile + 1) * every_profile < next)
-            next = (done / every_profile + 1) * every_profile;
         next = next_figure_step(run, k, done, dt, next);
-        next = app_bne_next_step(scene->bne, k, done, next);
-        double t0 = now_seconds();
+        next = family_next_step(run, done, next);
+        double t0 = app_now_seconds();
         SimStatus s = sim_world_step(run->world, next - done, &run->error);
-        double t1 = now_seconds();
+        double t1 = app_now_seconds();
         step_wall += t1 - t0;
         run->particle_steps += (double)sim_world_mobile_count(run->world) * (double)(next - done);
         report->steps += next - done;
@@ -553,8 +545,6 @@ static int run_stage(Run *run, int k)
     }
     run->step_seconds += step_wall;
     run->steps += report->steps;
-    if (status == 0 && report->steps > 0)
-        app_observer_sample(run->observer, run->world, k, report->start_time);
     report->end_time = sim_world_time(run->world);
     report->mobile = sim_world_mobile_count(run->world);
     run->simulated += report->end_time - report->start_time;
@@ -573,18 +563,55 @@ static int run_stage(Run *run, int k)
         snprintf(run->message, sizeof run->message, "checkpoint %s: %s", path, run->error.message);
         return 2;
     }
-    if (scene->sediment &&
-        app_sediment_stage_end(scene->sediment, run->world, run->options->out_dir, stage->name,
-                               run->message, sizeof run->message) != 0)
+    if (family_hooks(run, HOOK_STAGE_END) != 0 || figures_due(run, k, 1, 0, dt) != 0)
         return 2;
-    if (figures_at(run, k, 1) != 0)
-        return 2;
-    if (app_bne_stage_end(scene->bne, scene, k, run->world, render, run->message,
-                          sizeof run->message) != 0)
-        return 2;
-    report->wall_seconds = now_seconds() - wall_start;
+    report->wall_seconds = app_now_seconds() - wall_start;
     progress(run, k, 0.0, 0.0, 0.0, 1);
     return 0;
+}
+
+/* Every family's end hook (files closed, results written), then its summary.json members. A
+ * failure is reported when the run had none. */
+static void families_end(Run *run)
+{
+    char err[512] = "";
+    run->context.world = run->world;
+    run->context.err = err;
+    run->context.err_size = sizeof err;
+    size_t used = 0;
+    for (int f = 0; app_experiments[f]; ++f) {
+        const AppExperiment *e = app_experiments[f];
+        void *state = run->scene->experiments[f];
+        if (!state)
+            continue;
+        err[0] = '\0';
+        if (e->end && e->end(state, &run->context, run->status == 0) != 0 && run->status == 0) {
+            snprintf(run->message, sizeof run->message, "%s", err);
+            run->status = 2;
+        }
+        if (e->summary_json && used < sizeof run->observed) {
+            e->summary_json(state, run->observed + used, sizeof run->observed - used);
+            used += strlen(run->observed + used);
+        }
+    }
+    run->context.err = run->message;
+    run->context.err_size = sizeof run->message;
+}
+
+/* After a successful run: each family's figures drawn from the run's files. */
+static void families_figures(Run *run)
+{
+    for (int f = 0; run->status == 0 && app_experiments[f]; ++f) {
+        const AppExperiment *e = app_experiments[f];
+        void *state = run->scene->experiments[f];
+        if (state && e->figures && e->figures(state, &run->context) != 0) {
+            char text[sizeof run->message];
+            snprintf(text, sizeof text, "%s", run->message);
+            snprintf(run->message, sizeof run->message, "figures: %.*s",
+                     (int)(sizeof run->message - 16), text);
+            run->status = 2;
+        }
+    }
 }
 
 int app_run(const Scene *scene, const AppRunOptions *options)
@@ -596,8 +623,14 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     }
     run->scene = scene;
     run->options = options;
+    run->context = (AppContext){.scene = scene,
+                                .out_dir = options->out_dir,
+                                .render = options->render,
+                                .stage = -1,
+                                .err = run->message,
+                                .err_size = sizeof run->message};
     run->progress_tty = !options->quiet && isatty(STDERR_FILENO);
-    double wall_start = now_seconds();
+    double wall_start = app_now_seconds();
     if (app_make_dirs(options->out_dir) != 0) {
         fprintf(stderr, "sablier: cannot create output folder %s: %s\n", options->out_dir,
                 strerror(errno));
@@ -616,22 +649,7 @@ int app_run(const Scene *scene, const AppRunOptions *options)
                  strerror(errno));
         run->status = 2;
     }
-    int observe = scene->output.profile_every > 0.0;
-    for (int k = 0; k < scene->stage_count; ++k)
-        observe |= scene->stages[k].dig && !scene->stages[k].skip;
-    if (run->status == 0 && observe) {
-        char err[512] = "";
-        run->observer = app_observer_open(scene, options->out_dir, err, sizeof err);
-        if (!run->observer) {
-            snprintf(run->message, sizeof run->message, "%s", err);
-            run->status = 2;
-        }
-    }
-    if (run->status == 0 && scene->sediment &&
-        app_sediment_begin(scene->sediment, options->out_dir, run->message, sizeof run->message))
-        run->status = 2;
-    if (run->status == 0 && scene->bne &&
-        app_bne_begin(scene->bne, options->out_dir, run->message, sizeof run->message) != 0)
+    if (run->status == 0 && family_hooks(run, HOOK_BEGIN) != 0)
         run->status = 2;
     for (int k = 0; run->status == 0 && k < scene->stage_count; ++k) {
         run->stages_done = k + 1;
@@ -639,27 +657,7 @@ int app_run(const Scene *scene, const AppRunOptions *options)
             continue; /* e.g. a sweep member that starts from a saved bed */
         run->status = run_stage(run, k);
     }
-    if (run->observer) {
-        char err[512] = "";
-        app_observer_json(run->observer, run->observed, sizeof run->observed);
-        if (app_observer_close(run->observer, run->world, err, sizeof err) != 0 &&
-            run->status == 0) {
-            snprintf(run->message, sizeof run->message, "%s", err);
-            run->status = 2;
-        }
-        run->observer = NULL;
-    }
-    {
-        char err[512] = "";
-        if ((scene->sediment &&
-             app_sediment_end(scene->sediment, run->status == 0, err, sizeof err) != 0) ||
-            (scene->bne && app_bne_end(scene->bne, run->status == 0, err, sizeof err) != 0)) {
-            if (run->status == 0) {
-                snprintf(run->message, sizeof run->message, "%s", err);
-                run->status = 2;
-            }
-        }
-    }
+    families_end(run);
     /* The CSV files are complete records up to here, failure included. */
     if (app_tmp_commit(&run->energy, run->energy_path) != 0 ||
         app_tmp_commit(&run->trace, run->trace_path) != 0) {
@@ -669,11 +667,12 @@ int app_run(const Scene *scene, const AppRunOptions *options)
             run->status = 2;
         }
     }
-    if (write_summary(run, now_seconds() - wall_start) != 0 && run->status == 0) {
+    if (write_summary(run, app_now_seconds() - wall_start) != 0 && run->status == 0) {
         snprintf(run->message, sizeof run->message, "cannot write %s/summary.json",
                  options->out_dir);
         run->status = 2;
     }
+    families_figures(run); /* after summary.json, as before: a figure failure exits 2 */
     if (run->status != 0)
         fprintf(stderr, "sablier: %s\n", run->message);
     int status = run->status;

@@ -8,9 +8,7 @@
  * to sim_world_def_validate and maps the reported field path back to the key that set it. */
 #include "scene.h"
 
-#include "bne.h"
-#include "discharge.h"
-#include "sediment.h"
+#include "experiments.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -1181,11 +1179,28 @@ static int parse_effect_groups(Loader *L, const config_setting_t *root)
 
 /* ---------------------------------------------------------------- top level physics */
 
-static const char *const ROOT_KEYS[] = {"name",    "seed",       "units",  "effects", "mass_model",
-                                        "gravity", "integrator", "time",   "skin",    "guard",
-                                        "contact", "species",    "grains", "walls",   "motions",
-                                        "sinks",   "periodic",   "drag",   "stages",  "output",
-                                        "render",  "discharge",  "fluid",  "bne",     NULL};
+static const char *const ROOT_KEYS[] = {
+    "name",     "seed",  "units",   "effects", "mass_model", "gravity", "integrator", "time",
+    "skin",     "guard", "contact", "species", "grains",     "walls",   "motions",    "sinks",
+    "periodic", "drag",  "stages",  "output",  "render",     NULL};
+
+/* The keys the registered experiment families own (app/experiments.c): their top-level groups
+ * (which = 0), stage keys (1) or output keys (2). NULL-ended in a static buffer per kind. */
+static const char *const *family_keys(int which)
+{
+    static const char *keys[3][4 * APP_EXPERIMENT_MAX + 1];
+    int n = 0;
+    for (int f = 0; app_experiments[f]; ++f) {
+        const AppExperiment *e = app_experiments[f];
+        const char *const *list = which == 1 ? e->stage_keys : which == 2 ? e->output_keys : NULL;
+        if (which == 0 && e->group && n < 4 * APP_EXPERIMENT_MAX)
+            keys[0][n++] = e->group;
+        for (int k = 0; list && list[k] && n < 4 * APP_EXPERIMENT_MAX; ++k)
+            keys[which][n++] = list[k];
+    }
+    keys[which][n] = NULL;
+    return keys[which];
+}
 
 static int parse_effects(Loader *L, const config_setting_t *root)
 {
@@ -1229,7 +1244,8 @@ static int parse_physics(Loader *L, const config_setting_t *root)
     int choice = 0;
     const char *name = NULL;
     long long seed = 0;
-    if (check_keys(L, root, "the scene", ROOT_KEYS, NULL) < 0 || parse_effects(L, root) < 0)
+    if (check_keys(L, root, "the scene", ROOT_KEYS, family_keys(0)) < 0 ||
+        parse_effects(L, root) < 0)
         return -1;
     def->effects = L->effects;
     if (get_string(L, root, "name", &name) < 0)
@@ -1361,16 +1377,15 @@ static int parse_stage_time(Loader *L, const config_setting_t *time, SceneStage 
 
 static int parse_stage(Loader *L, const config_setting_t *g, int k, const config_setting_t *time)
 {
-    static const char *const keys[] = {"name",       "load",  "time", "settle", "dig",
+    static const char *const keys[] = {"name",       "load",  "time", "settle",
                                        "remove_ids", "movie", "skip", NULL};
     static const char *const settle_keys[] = {"kinetic_below", "after", NULL};
-    static const char *const dig_keys[] = {"center_x", "width", "height", "top", NULL};
     Scene *scene = L->scene;
     SceneStage *stage = &scene->stages[k];
     char what[96];
     snprintf(what, sizeof what, "stage %d", k);
     const char *name = "run", *load = NULL;
-    if (g && (check_keys(L, g, what, keys, NULL) < 0 || need(L, g, "name", what) < 0 ||
+    if (g && (check_keys(L, g, what, keys, family_keys(1)) < 0 || need(L, g, "name", what) < 0 ||
               get_string(L, g, "name", &name) < 0 || check_file_name(L, g, "name", name) < 0))
         return -1;
     snprintf(stage->name, sizeof stage->name, "%s", name);
@@ -1434,29 +1449,6 @@ static int parse_stage(Loader *L, const config_setting_t *g, int k, const config
                    get_number(L, settle, "after", &stage->settle_after) < 0 ||
                    check_non_negative(L, settle, "after", stage->settle_after) < 0))
         return -1;
-    /* dig = { center_x; width; height; top; }: 000 §4.1 stage 2 */
-    const config_setting_t *dig;
-    if (group_of(L, g, "dig", &dig) < 0 || check_keys(L, dig, "dig", dig_keys, NULL) < 0)
-        return -1;
-    if (dig) {
-        stage->dig = 1;
-        stage->dig_top_surface = 1;
-        if (need_number(L, dig, "center_x", "dig", &stage->dig_center_x) < 0 ||
-            need_number(L, dig, "width", "dig", &stage->dig_width) < 0 ||
-            check_positive(L, dig, "width", stage->dig_width) < 0 ||
-            need_number(L, dig, "height", "dig", &stage->dig_height) < 0 ||
-            check_positive(L, dig, "height", stage->dig_height) < 0)
-            return -1;
-        const config_setting_t *top = member(dig, "top");
-        if (top && config_setting_type(top) == CONFIG_TYPE_STRING) {
-            if (strcmp(config_setting_get_string(top), "surface") != 0)
-                return fail(L, top, "`top` must be \"surface\" or a height in m");
-        } else if (top) {
-            stage->dig_top_surface = 0;
-            if (number_of(L, top, "top", &stage->dig_top) < 0)
-                return -1;
-        }
-    }
     const config_setting_t *ids = member(g, "remove_ids");
     if (ids) {
         if (config_setting_type(ids) != CONFIG_TYPE_ARRAY)
@@ -1712,10 +1704,9 @@ static int parse_figures(Loader *L, const config_setting_t *output)
 
 static int parse_output(Loader *L, const config_setting_t *root)
 {
-    static const char *const keys[] = {
-        "frame_rate",    "fps",         "crf",         "movie",         "drawer",
-        "energy_every",  "trace",       "trace_every", "t_star_length", "figures",
-        "profile_every", "profile_bin", NULL};
+    static const char *const keys[] = {"frame_rate",    "fps",          "crf",   "movie",
+                                       "drawer",        "energy_every", "trace", "trace_every",
+                                       "t_star_length", "figures",      NULL};
     static const char *const drawers[] = {"cairo", "osmesa", NULL};
     Scene *scene = L->scene;
     SceneOutput *out = &scene->output;
@@ -1730,7 +1721,8 @@ static int parse_output(Loader *L, const config_setting_t *root)
         check_keys(L, render, "render", STYLE_KEYS, NULL) < 0 ||
         (render && parse_style(L, render, &scene->style) < 0))
         return -1;
-    if (group_of(L, root, "output", &output) < 0 || check_keys(L, output, "output", keys, NULL) < 0)
+    if (group_of(L, root, "output", &output) < 0 ||
+        check_keys(L, output, "output", keys, family_keys(2)) < 0)
         return -1;
     long long crf = out->crf;
     if (get_number(L, output, "frame_rate", &out->frame_rate) < 0 ||
@@ -1744,11 +1736,7 @@ static int parse_output(Loader *L, const config_setting_t *root)
         (member(output, "trace_every") &&
          check_positive(L, output, "trace_every", out->trace_every) < 0) ||
         get_number(L, output, "t_star_length", &out->t_star_length) < 0 ||
-        check_non_negative(L, output, "t_star_length", out->t_star_length) < 0 ||
-        get_number(L, output, "profile_every", &out->profile_every) < 0 ||
-        check_non_negative(L, output, "profile_every", out->profile_every) < 0 ||
-        get_number(L, output, "profile_bin", &out->profile_bin) < 0 ||
-        check_non_negative(L, output, "profile_bin", out->profile_bin) < 0)
+        check_non_negative(L, output, "t_star_length", out->t_star_length) < 0)
         return -1;
     if (crf < 0 || crf > 51)
         return fail(L, member(output, "crf"), "`crf` must be in [0, 51]");
@@ -2009,19 +1997,11 @@ Scene *scene_load(const char *path, const char *const *sets, int set_count, char
              parse_motions(L, root) == 0 && parse_effect_groups(L, root) == 0 &&
              parse_grains(L, root) == 0 && parse_walls(L, root) == 0 && parse_sinks(L, root) == 0 &&
              parse_stages(L, root) == 0 && parse_output(L, root) == 0;
-    if (ok && member(root, "discharge")) { /* thesis 004 protocol, parsed by app/discharge.c */
-        scene->discharge = calloc(1, sizeof *scene->discharge);
-        ok = scene->discharge &&
-             app_discharge_parse(member(root, "discharge"), path, scene->def.species_count,
-                                 scene->discharge, err, err_size) == 0;
-    }
-    if (ok && member(root, "fluid")) { /* thesis 002 fluid column, parsed by app/sediment.c */
-        scene->sediment = app_sediment_parse(member(root, "fluid"), scene, err, err_size);
-        ok = scene->sediment != NULL;
-    }
-    if (ok && member(root, "bne")) { /* thesis 002 Brazil-nut measures, app/bne.c */
-        scene->bne = app_bne_parse(member(root, "bne"), scene, err, err_size);
-        ok = scene->bne != NULL;
+    for (int f = 0; ok && app_experiments[f]; ++f) { /* each family parses its own keys */
+        const AppExperiment *e = app_experiments[f];
+        if (e->parse)
+            ok = e->parse(root, e->group ? member(root, e->group) : NULL, scene,
+                          &scene->experiments[f], err, err_size) == 0;
     }
     if (ok) {
         /* t* = t / sqrt(D/g) with D the container height (000 eq. 6.1) */
@@ -2067,9 +2047,9 @@ void scene_free(Scene *scene)
         free(scene->stages[k].remove_ids);
     sim_grain_buffer_free(&scene->grains);
     free(scene->walls);
-    free(scene->discharge);
-    app_sediment_free(scene->sediment);
-    app_bne_free(scene->bne);
+    for (int f = 0; app_experiments[f]; ++f)
+        if (scene->experiments[f] && app_experiments[f]->free)
+            app_experiments[f]->free(scene->experiments[f]);
     if (scene->where) {
         free(scene->where->items);
         free(scene->where->grain_item);
@@ -2083,9 +2063,16 @@ SimWorldDef scene_world_def(const Scene *scene, int stage)
     SimWorldDef def = scene->def;
     def.grains = sim_grain_buffer_view(&scene->grains);
     def.time_step = scene->stages[stage].time_step;
-    if (scene->bne)
-        app_bne_adjust_def(scene->bne, stage, &def);
+    for (int f = 0; app_experiments[f]; ++f)
+        if (scene->experiments[f] && app_experiments[f]->adjust_def)
+            app_experiments[f]->adjust_def(scene->experiments[f], stage, &def);
     return def;
+}
+
+void *scene_experiment_state(const Scene *scene, const AppExperiment *family)
+{
+    int k = scene ? app_experiment_index(family) : -1;
+    return k >= 0 ? scene->experiments[k] : NULL;
 }
 
 int scene_stage_index(const Scene *scene, const char *name)

@@ -12,6 +12,8 @@
 #ifndef SCENE_H
 #define SCENE_H
 
+#include "experiments.h"
+
 #include "sim/sim.h"
 
 #include <stddef.h>
@@ -73,10 +75,6 @@ typedef struct SceneStage {
     double duration;                ///< time.end: simulated time of the stage, s (the cap)
     double settle_kinetic;          ///< stop once E_kin + E_rot < this, J; 0 = off
     double settle_after;            ///< the settle test starts this long into the stage, s
-    int dig;                        ///< 1: remove a rectangle at the stage start
-    double dig_center_x, dig_width, dig_height; ///< m
-    int dig_top_surface; ///< 1: the cavity top is the free surface near center_x
-    double dig_top;      ///< m, when dig_top_surface is 0
     int remove_count;
     uint32_t *remove_ids; ///< stable ids removed at the stage start
     int movie;            ///< 1: write <stage>.mp4
@@ -115,8 +113,6 @@ typedef struct SceneOutput {
     uint32_t trace_ids[SCENE_MAX_TRACE];
     double trace_every;   ///< s between trace.csv rows
     double t_star_length; ///< D of t* = t / sqrt(D/g), m (0 = the sim's time scale)
-    double profile_every; ///< s between free-surface profiles in profile.csv (0 = stage ends)
-    double profile_bin;   ///< bin width of the profile, m (0 = the mean diameter)
     int figure_count;
     SceneFigure figures[SCENE_MAX_FIGURES];
 } SceneOutput;
@@ -139,9 +135,9 @@ typedef struct Scene {
     SceneOutput output;
     SceneStyle style; ///< `render` group
     SceneWhere *where;
-    struct AppDischargeDef *discharge; ///< `discharge` group (app/discharge.h), NULL if absent
-    struct AppSediment *sediment;      ///< `fluid` column (app/sediment.h), NULL if absent
-    struct AppBne *bne;                ///< `bne` measures (app/bne.h), NULL if absent
+    /// Per experiment family, in registry order (app/experiments.h): its parsed state, NULL when
+    /// the scene does not use it. Read through the family's own accessor.
+    void *experiments[APP_EXPERIMENT_MAX];
 } Scene;
 
 /// Loads, overrides and checks a scene. `sets` are "KEY=VALUE" strings. Returns NULL with
@@ -160,6 +156,10 @@ int scene_validate_def(const Scene *scene, int stage, const SimWorldDef *def, ch
 
 /// "file:line" of the scene key behind a SimError field ("materials[0].normal_stiffness").
 const char *scene_where_field(const Scene *scene, int stage, const char *field);
+
+/// The scene's parsed state of experiment `family` (NULL when the scene does not use it); each
+/// family reads its own through this (app_bne_of, app_crater_of, ...).
+void *scene_experiment_state(const Scene *scene, const AppExperiment *family);
 
 /// Index of a stage by name, -1 when absent.
 int scene_stage_index(const Scene *scene, const char *name);

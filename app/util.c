@@ -2,11 +2,13 @@
 /* util.c: small helpers shared by the app/ modules. */
 #include "util.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 int app_parse_fail(AppParse *p, const config_setting_t *s, const char *format, ...)
 {
@@ -21,8 +23,8 @@ int app_parse_fail(AppParse *p, const config_setting_t *s, const char *format, .
         snprintf(p->err, p->err_size, "--set %s: %s", (const char *)config_setting_get_hook(s),
                  message);
     else
-        snprintf(p->err, p->err_size, "%s:%u: %s: %s", file ? file : p->path, line ? line : 1u,
-                 p->group, message);
+        snprintf(p->err, p->err_size, "%s:%u: %s%s%s", file ? file : p->path, line ? line : 1u,
+                 p->group ? p->group : "", p->group ? ": " : "", message);
     return -1;
 }
 
@@ -184,4 +186,55 @@ int app_write_atomic(const char *path, const char *text)
         return -1;
     int ok = fputs(text, f) >= 0;
     return app_tmp_commit(&f, path) == 0 && ok ? 0 : -1;
+}
+
+double app_now_seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+int app_collect_set(const char **sets, int *count, int max, const char *value)
+{
+    if (*count >= max) {
+        fprintf(stderr, "sablier: at most %d --set options\n", max);
+        return -1;
+    }
+    sets[(*count)++] = value;
+    return 0;
+}
+
+int app_parse_count(const char *text, long min, long max, long *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(text, &end, 10);
+    if (end == text || *end || errno || v < min || v > max)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+int app_parse_key_values(const char *text, char *key, size_t key_size, double *values, int max)
+{
+    const char *eq = text ? strchr(text, '=') : NULL;
+    if (!eq || eq == text || (size_t)(eq - text) >= key_size)
+        return -1;
+    snprintf(key, key_size, "%.*s", (int)(eq - text), text);
+    int n = 0;
+    const char *p = eq + 1;
+    while (*p && n < max) {
+        char *end;
+        values[n] = strtod(p, &end);
+        if (end == p || !isfinite(values[n]))
+            return -1;
+        ++n;
+        p = end;
+        if (*p == ',')
+            ++p;
+        else if (*p)
+            return -1;
+    }
+    return n;
 }

@@ -13,7 +13,7 @@ typedef struct AppParse {
     const char *path; ///< scene file, for settings without a source file
     char *err;        ///< message buffer
     size_t err_size;
-    const char *group; ///< scene group named in the message ("bne", "fluid", "discharge")
+    const char *group; ///< scene group named in the message ("bne", "fluid"); NULL: none
 } AppParse;
 
 /// Writes the message for setting `s` (NULL: the scene file, line 1) and returns -1.
@@ -47,6 +47,23 @@ int app_write_atomic(const char *path, const char *text);
 /// Doubles the capacity (first: `initial`) of two parallel arrays, e.g. a time series t and v.
 /// 0, or -1 when out of memory (the arrays keep their contents).
 int app_series_grow(double **t, double **v, int *capacity, int initial);
+
+/// At most this many --set options on one command line.
+#define APP_MAX_SETS 64
+
+/// Appends a --set value to sets[*count] (capacity max); -1 with a message on stderr when full.
+int app_collect_set(const char **sets, int *count, int max, const char *value);
+
+/// A decimal integer in [min, max]: 0 and *out, or -1.
+int app_parse_count(const char *text, long min, long max, long *out);
+
+/// A `KEY=v1,v2,...` list of numbers: the key into key[key_size] and at most `max` values.
+/// Returns the number of values, or -1 when malformed (no '=', empty key, a value that is not a
+/// finite number).
+int app_parse_key_values(const char *text, char *key, size_t key_size, double *values, int max);
+
+/// Monotonic wall clock, s (for timings only; never for results).
+double app_now_seconds(void);
 
 /// Writes "sablier: MESSAGE ARG" and the usage text to stderr; returns 2 (bad command line).
 int app_usage_error(const char *usage, const char *message, const char *arg);

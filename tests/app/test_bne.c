@@ -3,7 +3,6 @@
  * 300 grains), without rendering: the box follows the prescribed sinusoid exactly, grains never
  * tunnel through the moving base, no rise below Gamma = 1, the periodic seam changes nothing, and
  * the rise-time and large-deviation helpers. Slow orderings are in test_long_bne.c. */
-#include "bne.h"
 #include "run.h"
 #include "scene.h"
 #include "test.h"
@@ -12,6 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+
+#include "bne/bne.h"
 
 #define SMALL "scenes/brazil_nut/small.scene"
 #define TPI   3.14159265358979323846
@@ -35,8 +36,8 @@ static int box_motion_and_no_tunnelling(void)
 {
     const char *sets[] = {"bne.gamma=3.0"};
     Scene *scene = load_small(sets, 1);
-    TEST_ASSERT(scene && scene->bne);
-    AppBneResult r = app_bne_result(scene->bne);
+    TEST_ASSERT(scene && app_bne_of(scene));
+    AppBneResult r = app_bne_result(app_bne_of(scene));
     double omega = 2.0 * TPI / 3.953;
     TEST_REL(r.amplitude, 3.0 * 1.0 / (omega * omega), 1e-12);
     /* the shaking stage's definition (phase 0 at t = 0), grains raining from the start */
@@ -84,7 +85,7 @@ static int run_small(const char *const *sets, int n, const char *tag, AppBneResu
     o.quiet = 1;
     int rc = app_run(scene, &o);
     if (rc == 0)
-        *out = app_bne_result(scene->bne);
+        *out = app_bne_result(app_bne_of(scene));
     *keep = scene;
     return rc;
 }

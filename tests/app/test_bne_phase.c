@@ -5,7 +5,6 @@
  * average, a small-box run writes phase_field.csv and phase_fields.csv and hands the figure to the
  * render hook without changing the run, and the cycle mean of the small box shows the convection
  * rolls (down along the walls, up in the middle). */
-#include "bne.h"
 #include "run.h"
 #include "scene.h"
 #include "test.h"
@@ -14,6 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+
+#include "bne/bne.h"
 
 #define SMALL "scenes/brazil_nut/small.scene"
 #define TPI   3.14159265358979323846
@@ -68,9 +69,11 @@ typedef struct FigureCall {
 } FigureCall;
 
 static int fake_figure(void *context, const Scene *scene, const SceneFigure *figure,
-                       const SimFrame *frame, const char *path, char *err, size_t err_size)
+                       const SimFrame *frame, const AppFigureExtras *extras, const char *path,
+                       char *err, size_t err_size)
 {
     (void)scene;
+    (void)extras;
     (void)err;
     (void)err_size;
     FigureCall *call = context;
@@ -107,7 +110,7 @@ static Scene *load_small(const char *const *sets, int count)
     return scene;
 }
 
-static int run_scene(Scene *scene, const char *tag, const AppRenderHooks *hooks, char *dir,
+static int run_scene(Scene *scene, const char *tag, const AppRender *hooks, char *dir,
                      size_t dir_size)
 {
     snprintf(dir, dir_size, "/tmp/sablier_test_bne_phase_%ld_%s", (long)getpid(), tag);
@@ -144,11 +147,11 @@ static int run_samples_at_the_phase(void)
                           "bne.phase_field.phases=3", "bne.phase_field.skip_cycles=1",
                           "stages.shake.time.end=20.0"};
     Scene *scene = load_small(sets, 5);
-    TEST_ASSERT(scene && scene->bne);
+    TEST_ASSERT(scene && app_bne_of(scene));
     char dir[256];
     TEST_ASSERT(run_scene(scene, "times", NULL, dir, sizeof dir) == 0);
     const double *t = NULL;
-    int count = app_bne_phase_times(scene->bne, &t);
+    int count = app_bne_phase_times(app_bne_of(scene), &t);
     const double T = 3.95337, dt = 1e-3;
     /* cycles 1..4 complete in 20 s (5.06 periods), cycle 5 reaches phase 0.3 at 20.95 > 20 */
     TEST_ASSERT(count == 12);
@@ -205,12 +208,12 @@ static int box_frame_removes_the_box_motion(void)
     const char *sets[] = {"bne.gamma=0.5", "bne.phase_field.phases=4",
                           "stages.shake.time.end=11.5"};
     Scene *scene = load_small(sets, 3);
-    TEST_ASSERT(scene && scene->bne);
+    TEST_ASSERT(scene && app_bne_of(scene));
     char dir[256], path[512];
     TEST_ASSERT(run_scene(scene, "rest", NULL, dir, sizeof dir) == 0);
-    const AppBneField *f = app_bne_phase_field(scene->bne);
+    const AppBneField *f = app_bne_phase_field(app_bne_of(scene));
     TEST_ASSERT(f && f->samples == 8); /* cycles 1 and 2 */
-    double A = app_bne_result(scene->bne).amplitude, Aw = A * 2.0 * TPI / 3.953;
+    double A = app_bne_result(app_bne_of(scene)).amplitude, Aw = A * 2.0 * TPI / 3.953;
     int nodes = f->nx * f->ny;
     double *vy = malloc(4 * (size_t)nodes * sizeof *vy);
     double *solid = malloc(4 * (size_t)nodes * sizeof *solid);
@@ -389,14 +392,14 @@ static int run_writes_csv_and_figure(void)
 {
     const char *sets[] = {"stages.shake.time.end=31.0", "bne.phase_field.phases=4"};
     Scene *scene = load_small(sets, 2);
-    TEST_ASSERT(scene && scene->bne);
+    TEST_ASSERT(scene && app_bne_of(scene));
     FigureCall call;
     memset(&call, 0, sizeof call);
-    call.bne = scene->bne;
-    AppRenderHooks hooks = {&call, NULL, NULL, fake_figure};
+    call.bne = app_bne_of(scene);
+    AppRender hooks = {.context = &call, .figure = fake_figure};
     char dir[256], path[512], header[256];
     TEST_ASSERT(run_scene(scene, "outputs", &hooks, dir, sizeof dir) == 0);
-    const AppBneField *f = app_bne_phase_field(scene->bne);
+    const AppBneField *f = app_bne_phase_field(app_bne_of(scene));
     TEST_ASSERT(f && f->nx > 4 && f->ny > 4);
     TEST_ASSERT(f->samples == 4 * 7); /* cycles 1..7 of 8, the first skipped */
 
@@ -466,11 +469,12 @@ static int run_writes_csv_and_figure(void)
     char err[1024] = "";
     const char *plain_sets[] = {"stages.shake.time.end=31.0"};
     Scene *plain = scene_load(plain_path, plain_sets, 1, err, sizeof err);
-    TEST_ASSERT(plain && plain->bne);
+    TEST_ASSERT(plain && app_bne_of(plain));
     char plain_dir[256];
     TEST_ASSERT(run_scene(plain, "plain", NULL, plain_dir, sizeof plain_dir) == 0);
-    TEST_ASSERT(app_bne_phase_field(plain->bne) == NULL);
-    AppBneResult with = app_bne_result(scene->bne), without = app_bne_result(plain->bne);
+    TEST_ASSERT(app_bne_phase_field(app_bne_of(plain)) == NULL);
+    AppBneResult with = app_bne_result(app_bne_of(scene)),
+                 without = app_bne_result(app_bne_of(plain));
     TEST_ASSERT(with.count == without.count && with.count > 50);
     for (int k = 0; k < with.count; ++k)
         TEST_ASSERT(with.height[k] == without.height[k]);
@@ -485,10 +489,10 @@ static int run_writes_csv_and_figure(void)
 static int convection_rolls_in_small_box(void)
 {
     Scene *scene = load_small(NULL, 0);
-    TEST_ASSERT(scene && scene->bne);
+    TEST_ASSERT(scene && app_bne_of(scene));
     char dir[256];
     TEST_ASSERT(run_scene(scene, "rolls", NULL, dir, sizeof dir) == 0);
-    const AppBneField *f = app_bne_phase_field(scene->bne);
+    const AppBneField *f = app_bne_phase_field(app_bne_of(scene));
     TEST_ASSERT(f && f->nx >= 6);
     double wall = 0.0, middle = 0.0;
     int n_wall = 0, n_middle = 0;

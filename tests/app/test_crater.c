@@ -2,7 +2,6 @@
 /* test_crater.c: the crater study of thesis 000 on reduced sizes (scenes/crater/small.scene,
  * 300 grains): settled-bed structure, energy during the collapse, time-step robustness, the crater
  * height trend of fig. 7.28, and the observables a run writes. No rendering. */
-#include "observe.h"
 #include "run.h"
 #include "scene.h"
 #include "test.h"
@@ -14,6 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+
+#include "crater/crater.h"
 
 #define SMALL "scenes/crater/small.scene"
 

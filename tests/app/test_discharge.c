@@ -5,9 +5,9 @@
  * against a wide orifice, <h> against w on a reduced study, arch marks, and the fits. */
 #include "test.h"
 
-#include "app/discharge.h"
+#include "app/discharge/discharge.h"
+#include "app/discharge/study.h"
 #include "app/scene.h"
-#include "app/study.h"
 #include "sim/sim.h"
 
 #include <stdlib.h>
@@ -39,8 +39,8 @@ static int poly_scene_parameters(void)
 {
     char err[2048];
     Scene *s = scene_load(POLY, NULL, 0, err, sizeof err);
-    TEST_ASSERT(s && s->discharge);
-    const AppDischargeDef *d = s->discharge;
+    TEST_ASSERT(s && app_discharge_of(s));
+    const AppDischargeDef *d = app_discharge_of(s);
     TEST_NEAR(d->base_length, 25.0, 0.0);
     TEST_NEAR(d->base_diameter, 0.1, 0.0);
     TEST_NEAR(d->polydispersity, 0.025, 0.0);
@@ -113,7 +113,7 @@ static int equilibrium_pocket(void)
     TEST_ASSERT(w);
     long steps = 0;
     char err[512];
-    TEST_ASSERT(app_relax(w, s->discharge, 200.0, NULL, &steps, err, sizeof err) == 1);
+    TEST_ASSERT(app_relax(w, app_discharge_of(s), 200.0, NULL, &steps, err, sizeof err) == 1);
     SimEquilibrium q = sim_world_equilibrium(w, 1e-6);
     TEST_ASSERT(q.equilibrium && q.underconnected == 0 && q.sliding_contacts == 0);
     TEST_REL(q.base_force, q.weight, 1e-6);

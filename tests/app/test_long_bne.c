@@ -26,7 +26,6 @@
  * errors below the measured value). The run is deterministic; the bound guards against a change
  * of the physics that reverses the ordering (at Gamma >= 2 or restitution >= 0.9 it is reversed:
  * docs/brazil_nut.md). */
-#include "bne.h"
 #include "run.h"
 #include "scene.h"
 #include "test.h"
@@ -34,6 +33,8 @@
 #include <math.h>
 #include <stdio.h>
 #include <unistd.h>
+
+#include "bne/bne.h"
 
 static int rises_with_frictional_walls(void)
 {
@@ -49,7 +50,7 @@ static int rises_with_frictional_walls(void)
         o.out_dir = dir;
         o.quiet = 1;
         TEST_ASSERT(app_run(scene, &o) == 0);
-        AppBneResult r = app_bne_result(scene->bne);
+        AppBneResult r = app_bne_result(app_bne_of(scene));
         double rise = r.end_height - r.start_height;
         printf("seed %d: rise %.2f d in %.1f (rise time %g)\n", seed, rise, r.shaking_time,
                r.rise_time);
@@ -83,7 +84,7 @@ static int late_height(const char *scene_path, int seed, const char *const *sets
     o.quiet = 1;
     int rc = app_run(scene, &o);
     if (rc == 0) {
-        AppBneResult r = app_bne_result(scene->bne);
+        AppBneResult r = app_bne_result(app_bne_of(scene));
         double sum = 0.0;
         int n = 0;
         for (int k = 0; k < r.count; ++k)

@@ -2,6 +2,7 @@
 /* test_scene.c: the scene loader (app/scene.c) and stage runner (app/run.c), without render. */
 #include "test.h"
 
+#include "app/crater/crater.h"
 #include "app/run.h"
 #include "app/scene.h"
 #include "sim/sim.h"
@@ -57,8 +58,8 @@ static int quick_scene_parameters(void)
     TEST_ASSERT(strcmp(s->stages[1].name, "dig") == 0);
     TEST_ASSERT(s->stages[0].load == SCENE_LOAD_SCENE);
     TEST_ASSERT(s->stages[1].load == SCENE_LOAD_PREVIOUS);
-    TEST_ASSERT(s->stages[1].dig && s->stages[1].dig_top_surface);
-    TEST_NEAR(s->stages[1].dig_width / s->stages[1].dig_height, 1.0, 1e-12); /* H/L = 1 */
+    TEST_ASSERT(app_crater_dig(s, 1).dig && app_crater_dig(s, 1).top_surface);
+    TEST_NEAR(app_crater_dig(s, 1).width / app_crater_dig(s, 1).height, 1.0, 1e-12); /* H/L = 1 */
     TEST_NEAR(s->stages[0].settle_kinetic, 0.1, 0.0);
     TEST_ASSERT(s->stages[0].movie == 1 && s->stages[1].movie == 0 && s->stages[2].movie == 1);
     /* radii within 8% polydispersity of r_med = 0.08 m; fixed walls at r_max */

@@ -3,13 +3,14 @@
  * of scenes/sediment/viscous.scene (150 grains, dt = 1e-3, short stages), without rendering. */
 #include "run.h"
 #include "scene.h"
-#include "sediment.h"
 #include "test.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+
+#include "sediment/sediment.h"
 
 #define SCENE "scenes/sediment/viscous.scene"
 
@@ -45,9 +46,9 @@ static int run_quiet(const Scene *scene, char *dir, size_t size, const char *tag
 static int numbers_from_scene(void)
 {
     Scene *scene = load("0.3", "1.0", NULL);
-    TEST_ASSERT(scene && scene->sediment);
-    AppSedimentNumbers n = app_sediment_numbers(scene->sediment);
-    const SimFluidDef *fd = sim_fluid_def(app_sediment_fluid(scene->sediment));
+    TEST_ASSERT(scene && app_sediment_of(scene));
+    AppSedimentNumbers n = app_sediment_numbers(app_sediment_of(scene));
+    const SimFluidDef *fd = sim_fluid_def(app_sediment_fluid(app_sediment_of(scene)));
     double d = n.diameter, scale = sqrt((2.0 - 1.0) * 1.0 * d);
     TEST_NEAR(d, 1.0, 0.02); /* 20 % dispersion around d = 1 */
     TEST_REL(fd->density, 0.318309886183791 / 2.0, 1e-12);
@@ -86,7 +87,7 @@ static int below_threshold(void)
     TEST_ASSERT(scene);
     char dir[256];
     TEST_ASSERT(run_quiet(scene, dir, sizeof dir, "below") == 0);
-    SimFluid *fluid = app_sediment_fluid(scene->sediment);
+    SimFluid *fluid = app_sediment_fluid(app_sediment_of(scene));
     const SimFluidDef *fd = sim_fluid_def(fluid);
     double target = fd->density * fd->shear_velocity * fd->shear_velocity;
     SimFluidProfile p;

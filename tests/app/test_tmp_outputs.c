@@ -5,8 +5,6 @@
  * fails). No simulation runs: the sediment writers are called directly, the sweep's members are
  * /bin/true and the Shields scan's member cannot create its folder. */
 #include "scene.h"
-#include "sediment.h"
-#include "sweep.h"
 #include "test.h"
 
 #include <stdio.h>
@@ -14,6 +12,9 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+
+#include "crater/sweep.h"
+#include "sediment/sediment.h"
 
 #define SEDIMENT_SCENE "scenes/sediment/viscous.scene"
 #define CRATER_SCENE   "scenes/crater/quick.scene"
@@ -82,7 +83,7 @@ static Scene *sediment_scene(void)
     Scene *scene = scene_load(SEDIMENT_SCENE, NULL, 0, err, sizeof err);
     if (!scene)
         fprintf(stderr, "%s\n", err);
-    return scene && scene->sediment ? scene : NULL;
+    return scene && app_sediment_of(scene) ? scene : NULL;
 }
 
 /* begin and end with BLOCKED in the way in DIR: 1 when end fails with "cannot write DIR/WHAT". */
@@ -104,7 +105,7 @@ static int sediment_run_outputs(void)
     TEST_ASSERT(dir[0]);
     Scene *scene = sediment_scene();
     TEST_ASSERT(scene);
-    AppSediment *s = scene->sediment;
+    AppSediment *s = app_sediment_of(scene);
     /* both complete */
     TEST_ASSERT(app_sediment_begin(s, dir, err, sizeof err) == 0);
     TEST_ASSERT(exists(dir, "sediment.csv.tmp") && !exists(dir, "sediment.csv"));
@@ -154,13 +155,14 @@ static int sediment_stage_profile(void)
     TEST_ASSERT(dir[0]);
     Scene *scene = sediment_scene();
     TEST_ASSERT(scene);
-    TEST_ASSERT(app_sediment_stage_end(scene->sediment, NULL, dir, "flow", err, sizeof err) == 0);
+    TEST_ASSERT(
+        app_sediment_stage_end(app_sediment_of(scene), NULL, dir, "flow", err, sizeof err) == 0);
     TEST_ASSERT(first_line(dir, "flow.fluid.csv", line, sizeof line) == 0);
     TEST_ASSERT(strcmp(line, "y,u,phi,grain_vx,tau_fluid,grain_load,tau_total\n") == 0);
     TEST_ASSERT(!exists(dir, "flow.fluid.csv.tmp"));
     TEST_ASSERT(block(dir, "settle.fluid.csv") == 0);
-    TEST_ASSERT(app_sediment_stage_end(scene->sediment, NULL, dir, "settle", err, sizeof err) ==
-                -1);
+    TEST_ASSERT(
+        app_sediment_stage_end(app_sediment_of(scene), NULL, dir, "settle", err, sizeof err) == -1);
     snprintf(expected, sizeof expected, "cannot write %s/settle.fluid.csv", dir);
     TEST_ASSERT(strcmp(err, expected) == 0);
     TEST_ASSERT(kept(dir, "settle.fluid.csv"));

@@ -485,7 +485,7 @@ static int write_table(const Sweep *w)
 
 static int write_plots(const Sweep *w)
 {
-    if (!w->o->plot)
+    if (!w->o->render || !w->o->render->plot)
         return 0;
     char path[SWEEP_PATH + 32], title[160], err[512] = "";
     AppChart plot;
@@ -496,7 +496,7 @@ static int write_plots(const Sweep *w)
         app_chart_energy_run(&plot, w->members[i].dir, w->members[i].label);
     snprintf(path, sizeof path, "%s/energy_panels.png", w->out_dir);
     if (plot.panels[0].series_count > 0 &&
-        w->o->plot(w->o->plot_context, &plot, path, err, sizeof err) != 0)
+        app_chart_write(&plot, w->o->render, path, err, sizeof err) != 0)
         rc = -1;
     app_chart_free(&plot);
 
@@ -517,7 +517,7 @@ static int write_plots(const Sweep *w)
              "crater height h = level - min y_s (m)");
     snprintf(path, sizeof path, "%s/crater_height.png", w->out_dir);
     if (n > 0 && app_chart_add(&plot, 0, NULL, x, y, n, 0, 1) == 0 &&
-        w->o->plot(w->o->plot_context, &plot, path, err, sizeof err) != 0)
+        app_chart_write(&plot, w->o->render, path, err, sizeof err) != 0)
         rc = -1;
     app_chart_free(&plot);
 
@@ -528,7 +528,7 @@ static int write_plots(const Sweep *w)
         app_chart_profiles_run(&plot, 0, w->members[i].dir, 1, w->members[i].label);
     snprintf(path, sizeof path, "%s/profiles.png", w->out_dir);
     if (plot.panels[0].series_count > 0 &&
-        w->o->plot(w->o->plot_context, &plot, path, err, sizeof err) != 0)
+        app_chart_write(&plot, w->o->render, path, err, sizeof err) != 0)
         rc = -1;
     app_chart_free(&plot);
     if (rc != 0)
@@ -587,7 +587,7 @@ static int setup(Sweep *w)
             fprintf(stderr, "sablier: sweep: the scene has no stage `%s`\n", bed_name);
     } else {
         for (int k = 1; k < scene->stage_count && w->bed_stage < 0; ++k)
-            if (scene->stages[k].dig)
+            if (app_crater_dig(scene, k).dig)
                 w->bed_stage = k - 1;
         if (w->bed_stage < 0)
             fprintf(stderr, "sablier: sweep: no stage digs; name the bed stage (--bed-stage)\n");
@@ -734,3 +734,90 @@ int app_sweep(const AppSweepOptions *o)
     free(w);
     return status;
 }
+
+/* ---------------------------------------------------------------- the command */
+
+static const char USAGE_SWEEP[] =
+    "usage: sablier sweep FILE.sweep [options]\n"
+    "       sablier sweep SCENE --vary KEY=v1,v2,... [--vary KEY2=...] [options]\n"
+    "\n"
+    "Runs one member per value (or combination) from one settled bed: the scene's stages up to\n"
+    "the bed stage run once (or --from gives the bed), then each member runs the later stages\n"
+    "with its --set overrides, as a separate `sablier run` process; then sweep.csv and the\n"
+    "comparison figures energy_panels.png, crater_height.png and profiles.png.\n"
+    "\n"
+    "  --vary KEY=v1,v2   one member per value (several --vary: every combination)\n"
+    "  --from STATE       the bed checkpoint (default: run the bed stages into DIR/bed)\n"
+    "  --bed-stage NAME   the stage whose checkpoint is the bed (default: the one before a dig)\n"
+    "  --set KEY=VALUE    override a key for the bed and every member\n"
+    "  --jobs N           members at a time (default 2; results do not depend on N)\n"
+    "  --out DIR          output folder (default out/sweep-<file name> or out/<scene>-sweep)\n"
+    "  --dry-run          print the member commands, run nothing\n"
+    "  --quiet            no per-member lines\n";
+
+static int sweep_command(int argc, char **argv, const AppEnv *env)
+{
+    const char *path = NULL, *value, *sets[APP_MAX_SETS], *vary[8];
+    int set_count = 0, vary_count = 0;
+    long jobs = 2;
+    AppSweepOptions o = app_sweep_options_default();
+    for (int i = 2; i < argc; ++i) {
+        int m;
+        if ((m = app_option(argc, argv, &i, "--out", &value)) != 0) {
+            if (m < 0)
+                return 2;
+            o.out_dir = value;
+        } else if ((m = app_option(argc, argv, &i, "--from", &value)) != 0) {
+            if (m < 0)
+                return 2;
+            o.from = value;
+        } else if ((m = app_option(argc, argv, &i, "--bed-stage", &value)) != 0) {
+            if (m < 0)
+                return 2;
+            o.bed_stage = value;
+        } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
+            if (m < 0 || app_collect_set(sets, &set_count, APP_MAX_SETS, value) < 0)
+                return 2;
+        } else if ((m = app_option(argc, argv, &i, "--vary", &value)) != 0) {
+            if (m < 0)
+                return 2;
+            if (vary_count >= 8)
+                return app_usage_error(USAGE_SWEEP, "too many --vary options", NULL);
+            vary[vary_count++] = value;
+        } else if ((m = app_option(argc, argv, &i, "--jobs", &value)) != 0) {
+            if (m < 0 || app_parse_count(value, 1, 64, &jobs) < 0)
+                return app_usage_error(USAGE_SWEEP, "--jobs needs a count in [1, 64], got",
+                                       m < 0 ? "nothing" : value);
+        } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
+            o.quiet = 1;
+        } else if (strcmp(argv[i], "--dry-run") == 0) {
+            o.dry_run = 1;
+        } else if (argv[i][0] == '-' && argv[i][1]) {
+            return app_usage_error(USAGE_SWEEP, "unknown option", argv[i]);
+        } else if (!path) {
+            path = argv[i];
+        } else {
+            return app_usage_error(USAGE_SWEEP, "one sweep at a time; extra argument", argv[i]);
+        }
+    }
+    if (!path)
+        return app_usage_error(USAGE_SWEEP, "missing FILE.sweep or SCENE", NULL);
+    size_t n = strlen(path);
+    if (n > 6 && strcmp(path + n - 6, ".sweep") == 0)
+        o.definition = path;
+    else
+        o.scene_path = path;
+    o.self = env->self;
+    o.jobs = (int)jobs;
+    o.sets = sets;
+    o.set_count = set_count;
+    o.vary = vary;
+    o.vary_count = vary_count;
+    o.render = env->render;
+    return app_sweep(&o);
+}
+
+const AppCommand app_sweep_commands[] = {
+    {"sweep", "sweep SWEEP    run sweep members from one settled bed (crater studies)", USAGE_SWEEP,
+     sweep_command},
+};

@@ -3,7 +3,7 @@
  * files. The profile is the thesis's free surface: per x-bin about one mean diameter wide, the
  * highest top of a grain centred in it (notes §5.4 [D]). The crater height is measured as the
  * depth of the crater below the settled free surface (docs/physics.md, "crater height"). */
-#include "observe.h"
+#include "crater.h"
 
 #include "util.h"
 
@@ -149,6 +149,7 @@ AppBed app_bed_measure(SimWorld *world, const AppProfile *p)
 
 struct AppObserver {
     const Scene *scene;
+    double profile_bin; /* m, 0 = the mean diameter */
     char out_dir[OBS_PATH];
     FILE *profile, *crater_csv;
     char profile_path[OBS_PATH], crater_path[OBS_PATH];
@@ -166,7 +167,8 @@ struct AppObserver {
     int mobile;
 };
 
-AppObserver *app_observer_open(const Scene *scene, const char *out_dir, char *err, size_t err_size)
+AppObserver *app_observer_open(const Scene *scene, double profile_bin, const char *out_dir,
+                               char *err, size_t err_size)
 {
     AppObserver *o = calloc(1, sizeof *o);
     if (!o) {
@@ -174,6 +176,7 @@ AppObserver *app_observer_open(const Scene *scene, const char *out_dir, char *er
         return NULL;
     }
     o->scene = scene;
+    o->profile_bin = profile_bin;
     snprintf(o->out_dir, sizeof o->out_dir, "%s", out_dir);
     snprintf(o->profile_path, sizeof o->profile_path, "%s/profile.csv", out_dir);
     snprintf(o->crater_path, sizeof o->crater_path, "%s/crater.csv", out_dir);
@@ -192,13 +195,12 @@ AppObserver *app_observer_open(const Scene *scene, const char *out_dir, char *er
     return o;
 }
 
-void app_observer_before_edit(AppObserver *o, SimWorld *world, int stage)
+void app_observer_before_dig(AppObserver *o, SimWorld *world, double x0, double x1)
 {
-    if (!o || !o->scene->stages[stage].dig)
+    if (!o)
         return;
-    const SceneStage *s = &o->scene->stages[stage];
     AppProfile p;
-    if (app_profile_measure(world, o->scene->output.profile_bin, &p) != 0)
+    if (app_profile_measure(world, o->profile_bin, &p) != 0)
         return;
     if (!o->bed_measured) {
         o->bed = app_bed_measure(world, &p);
@@ -209,8 +211,8 @@ void app_observer_before_edit(AppObserver *o, SimWorld *world, int stage)
     app_profile_free(&p);
     o->mobile_before_dig = sim_world_mobile_count(world);
     o->have_cavity = 1;
-    o->cavity_x0 = s->dig_center_x - 0.5 * s->dig_width;
-    o->cavity_x1 = s->dig_center_x + 0.5 * s->dig_width;
+    o->cavity_x0 = x0;
+    o->cavity_x1 = x1;
 }
 
 void app_observer_stage_start(AppObserver *o, SimWorld *world, int stage)
@@ -238,7 +240,7 @@ void app_observer_sample(AppObserver *o, SimWorld *world, int stage, double stag
     if (!o)
         return;
     AppProfile p;
-    if (app_profile_measure(world, o->scene->output.profile_bin, &p) != 0)
+    if (app_profile_measure(world, o->profile_bin, &p) != 0)
         return;
     double t = sim_world_time(world);
     const char *name = o->scene->stages[stage].name;
@@ -584,10 +586,64 @@ int app_chart_profiles_run(AppChart *plot, int panel, const char *run_dir, int c
     return rc;
 }
 
-int app_crater_plots(const Scene *scene, const char *out_dir, AppChartWriter writer, void *context,
-                     char *err, size_t err_size)
+int app_surface_height(const SimFrame *frame, double x, double half_width, double *top)
 {
-    if (!(scene->output.profile_every > 0.0) || !writer)
+    int found = 0;
+    for (int i = 0; i < frame->mobile_count; ++i) {
+        if (fabs(frame->x[i] - x) > half_width)
+            continue;
+        double y = frame->y[i] + frame->radius[i];
+        if (!found || y > *top)
+            *top = y;
+        found = 1;
+    }
+    return found ? 0 : -1;
+}
+
+/* AppChart (owned series) as the AppPlot the renderer draws. */
+int app_chart_write(const AppChart *chart, const AppRender *render, const char *path, char *err,
+                    size_t err_size)
+{
+    if (!render || !render->plot)
+        return 0;
+    AppPlotSeries series[APP_CHART_MAX_PANELS][APP_CHART_MAX_SERIES];
+    AppPlotPanel panels[APP_CHART_MAX_PANELS];
+    int count = chart->rows * chart->cols;
+    memset(panels, 0, sizeof panels);
+    for (int p = 0; p < count && p < APP_CHART_MAX_PANELS; ++p) {
+        const AppChartPanel *a = &chart->panels[p];
+        for (int k = 0; k < a->series_count; ++k) {
+            const AppChartSeries *in = &a->series[k];
+            series[p][k] =
+                (AppPlotSeries){.label = in->label[0] ? in->label : NULL,
+                                .count = in->count,
+                                .x = in->x,
+                                .y = in->y,
+                                .line = in->line,
+                                .marker = in->marker ? APP_MARKER_CIRCLE : APP_MARKER_NONE,
+                                .rgb = APP_RGB_AUTO};
+        }
+        panels[p].title = a->title[0] ? a->title : NULL;
+        panels[p].x_label = a->x_label[0] ? a->x_label : NULL;
+        panels[p].y_label = a->y_label[0] ? a->y_label : NULL;
+        panels[p].series_count = a->series_count;
+        panels[p].series = series[p];
+        panels[p].legend = a->series_count > 1 ? APP_LEGEND_UPPER_RIGHT : APP_LEGEND_NONE;
+    }
+    AppPlot plot = {.title = chart->title[0] ? chart->title : NULL,
+                    .width = chart->width,
+                    .height = chart->height,
+                    .rows = chart->rows,
+                    .cols = chart->cols,
+                    .panel_count = count < APP_CHART_MAX_PANELS ? count : APP_CHART_MAX_PANELS,
+                    .panels = panels};
+    return render->plot(render->context, &plot, path, err, err_size);
+}
+
+int app_crater_plots(const Scene *scene, const char *out_dir, const AppRender *render, char *err,
+                     size_t err_size)
+{
+    if (!render || !render->plot)
         return 0;
     char path[OBS_PATH + 32], title[160];
     AppChart plot;
@@ -596,7 +652,7 @@ int app_crater_plots(const Scene *scene, const char *out_dir, AppChartWriter wri
     int rc = 0;
     if (app_chart_energy_run(&plot, out_dir, scene->name) == 0) {
         snprintf(path, sizeof path, "%s/energy_panels.png", out_dir);
-        rc = writer(context, &plot, path, err, err_size);
+        rc = app_chart_write(&plot, render, path, err, err_size);
     }
     app_chart_free(&plot);
     snprintf(title, sizeof title, "%s: free-surface profile evolution (000 fig. 7.30)",
@@ -604,7 +660,7 @@ int app_crater_plots(const Scene *scene, const char *out_dir, AppChartWriter wri
     app_chart_init(&plot, 1, 1, title);
     if (rc == 0 && app_chart_profiles_run(&plot, 0, out_dir, 8, NULL) == 0) {
         snprintf(path, sizeof path, "%s/profiles.png", out_dir);
-        rc = writer(context, &plot, path, err, err_size);
+        rc = app_chart_write(&plot, render, path, err, err_size);
     }
     app_chart_free(&plot);
     return rc;

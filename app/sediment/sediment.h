@@ -12,6 +12,7 @@
 #ifndef APP_SEDIMENT_H
 #define APP_SEDIMENT_H
 
+#include "experiment.h"
 #include "scene.h"
 
 #include "sim/sim.h"
@@ -73,24 +74,6 @@ double app_sediment_saturation(const double *t, const double *q, int count, doub
 double app_sediment_threshold(const double *shields, const double *q_star, int count, double level,
                               double *below, double *above);
 
-/// Curve handed to the plot hook (plain data; app/sablier.c draws it with render/).
-typedef struct AppSedimentCurve {
-    const char *label; ///< legend text, NULL = none
-    int count;
-    const double *x, *y;
-    int line, marker, dashed; ///< 1 = on
-} AppSedimentCurve;
-
-/// Rendering given by app/sablier.c: a one-panel plot writer and the runner's figure and movie
-/// hooks (an AppRenderHooks, used for every member with --render). Either may be NULL.
-typedef struct AppSedimentRender {
-    void *context;
-    int (*plot)(void *context, const char *path, const char *title, const char *x_label,
-                const char *y_label, const AppSedimentCurve *curves, int curve_count, char *err,
-                size_t err_size);
-    const void *run;
-} AppSedimentRender;
-
 #define APP_SEDIMENT_USAGE                                                                         \
     "usage: sablier sediment SCENE --shields T1,T2,... [--jobs J] [--level Q] [--out DIR]\n"       \
     "                        [--set KEY=VALUE]... [--render] [--quiet]\n"                          \
@@ -102,6 +85,15 @@ typedef struct AppSedimentRender {
     "  --render    each member's own figures and movies (default: none)\n"
 
 /// `sablier sediment`: parses argv (argv[1] is "sediment"), runs the scan; returns the exit status.
-int app_sediment_command(int argc, char **argv, const AppSedimentRender *render);
+int app_sediment_command(int argc, char **argv, const AppEnv *env);
+/// `sablier sediment` (one entry).
+extern const AppCommand app_sediment_commands[];
+
+/// The sediment family (app/experiment.h): the `fluid` group, sediment.csv at every energy row,
+/// <stage>.fluid.csv at each stage end, sediment.json at the end; figures get the column's
+/// velocity and concentration profiles beside the bed.
+extern const AppExperiment app_sediment_experiment;
+/// The scene's sediment state (NULL when it has no `fluid` group).
+AppSediment *app_sediment_of(const Scene *scene);
 
 #endif

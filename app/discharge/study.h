@@ -3,57 +3,18 @@
  * `discharge` builds one pile and discharges it at a few widths (figures, movies); `study` runs
  * independent samples over base lengths and widths in parallel processes, resumes where it
  * stopped, and reduces them to per-(L, w) tables, fits (w_t, w_c), F(s) and plots. Rendering
- * comes through hooks that app/sablier.c fills (NULL hooks: figures, movies and plots skipped). */
+ * comes through the AppRender of app/render_hooks.h (NULL: figures, movies and plots skipped). */
 #ifndef APP_STUDY_H
 #define APP_STUDY_H
 
 #include "discharge.h"
+#include "render_hooks.h"
 #include "run.h"
 
 #include <stddef.h>
 
-typedef struct AppPlotSeries {
-    const char *label;
-    int count;
-    const double *x, *y, *y_err; ///< y_err may be NULL
-    int line, dashed;
-    int marker;      ///< 0 none, 1 circle, 2 square, 3 triangle, 4 cross (RenderMarker order)
-    int same_colour; ///< 1: the colour of the series before (a fit drawn with its data)
-} AppPlotSeries;
-
-typedef struct AppPlot {
-    const char *title, *x_label, *y_label;
-    int y_log;
-    int series_count;
-    const AppPlotSeries *series;
-} AppPlot;
-
-/// A heat map on square cells (the species maps, 004 fig. 3.4): values row-major, index
-/// j * nx + i, row 0 at the bottom; NaN = empty cell.
-typedef struct AppMap {
-    const char *title, *x_label, *y_label, *bar_label;
-    int nx, ny;
-    double x0, y0, cell; ///< lower-left corner of cell (0, 0) and side, d
-    const double *values;
-} AppMap;
-
-typedef struct AppDischargeRender {
-    void *context;
-    /// A pile snapshot: species colours from the scene's `render` group; arch_marks (frame
-    /// order, -1 none; NULL = no arch) highlighted with a zoomed inset and force chains.
-    int (*figure)(void *context, const Scene *scene, const SimFrame *frame, const int *arch_marks,
-                  const char *title, const char *path, char *err, size_t err_size);
-    int (*plot)(void *context, const Scene *scene, const AppPlot *plot, const char *path, char *err,
-                size_t err_size);
-    const AppRenderHooks *movie; ///< movie_open / movie_close of the stage runner
-    int (*map)(void *context, const Scene *scene, const AppMap *map, const char *path, char *err,
-               size_t err_size); ///< NULL: no species-map figures
-} AppDischargeRender;
-
-/// `sablier discharge SCENE ...`; returns the exit status.
-int app_discharge_command(int argc, char **argv, const AppDischargeRender *render);
-/// `sablier study SCENE ...`; returns the exit status.
-int app_study_command(int argc, char **argv, const AppDischargeRender *render);
+/// `sablier study SCENE ...`; returns the exit status (env may be NULL: no rendering).
+int app_study_command(int argc, char **argv, const AppEnv *env);
 
 extern const char APP_DISCHARGE_USAGE[];
 extern const char APP_STUDY_USAGE[];
@@ -97,7 +58,7 @@ int app_species_marked(const Scene *scene, const char **what);
 /// Reduces finished runs of a study folder to tables (per-(L, w) CSV, study.csv, fits.csv, F(s))
 /// and plots; returns 0, or -1 with a message.
 int app_study_reduce(const Scene *scene, const char *dir, const double *lengths, int length_count,
-                     const double *widths, int width_count, int samples,
-                     const AppDischargeRender *render, char *err, size_t err_size);
+                     const double *widths, int width_count, int samples, const AppRender *render,
+                     char *err, size_t err_size);
 
 #endif

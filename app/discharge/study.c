@@ -5,6 +5,8 @@
  * width (004 §3.1: "the same samples are discharged at every w"). */
 #include "study.h"
 
+#include "drivers.h"
+#include "pool.h"
 #include "util.h"
 
 #include <errno.h>
@@ -20,26 +22,10 @@
 #include <unistd.h>
 
 #define PATH         2048
-#define MAX_SETS     64
 #define MAX_LENGTHS  16
 #define MAX_WIDTHS   128
 #define NOTHING      ((double)NAN)
 #define SPECIES_CELL 5.0 /* side of the species-map cells, d (004 §3.4) */
-
-const char APP_DISCHARGE_USAGE[] =
-    "usage: sablier discharge SCENE [--out DIR] [--width W]... [--pile STATE] [--seed N]\n"
-    "                         [--set KEY=VALUE]... [--figures] [--movie] [--quiet]\n"
-    "\n"
-    "Builds an open pile (rows rained on the base, relaxed to static equilibrium; thesis 004)\n"
-    "and discharges it through a central orifice of each width W (in grain diameters).\n"
-    "  --out DIR      output folder (default out/<scene name>/)\n"
-    "  --width W      orifice width, d (repeatable; default the scene's discharge.widths)\n"
-    "  --pile STATE   discharge this saved pile instead of building one\n"
-    "  --seed N       deposition seed (default the scene's seed)\n"
-    "  --figures      pile.png and w<W>.png (species colours, arch highlighted with an inset)\n"
-    "  --movie        deposition.mp4 and w<W>.mp4\n"
-    "Writes pile.state, deposition.csv, discharge.csv (s, h, arch, composition) and\n"
-    "w<W>.state.\n";
 
 const char APP_STUDY_USAGE[] =
     "usage: sablier study SCENE [--L 25,50,...] [--widths 1.0:7.0:0.2] [--samples N]\n"
@@ -58,359 +44,7 @@ const char APP_STUDY_USAGE[] =
     "  --jobs J        parallel processes (default 2)\n"
     "  --reduce-only   only rebuild tables and plots from finished runs\n";
 
-static double now_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 /* "--name VALUE" or "--name=VALUE"; 1 matched, 0 not, -1 missing value. */
-
-static int parse_real(const char *text, double *out)
-{
-    char *end;
-    errno = 0;
-    *out = strtod(text, &end);
-    return end != text && !*end && !errno && isfinite(*out) ? 0 : -1;
-}
-
-/* "1.0:7.0:0.2" or "1,2.5,3"; widths rounded to 1e-9 so names and matches are exact. */
-static int parse_list(const char *text, double *out, int max)
-{
-    char buffer[1024];
-    snprintf(buffer, sizeof buffer, "%s", text);
-    int n = 0;
-    if (strchr(buffer, ':')) {
-        double a, b, step;
-        char *p1 = strchr(buffer, ':'), *p2;
-        *p1 = '\0';
-        p2 = strchr(p1 + 1, ':');
-        if (!p2)
-            return -1;
-        *p2 = '\0';
-        if (parse_real(buffer, &a) || parse_real(p1 + 1, &b) || parse_real(p2 + 1, &step) ||
-            !(step > 0.0) || b < a)
-            return -1;
-        for (long k = 0; n < max; ++k) {
-            double v = a + (double)k * step;
-            if (v > b + 1e-9 * step)
-                break;
-            out[n++] = floor(v * 1e9 + 0.5) / 1e9;
-        }
-        return n;
-    }
-    for (char *tok = strtok(buffer, ","); tok && n < max; tok = strtok(NULL, ",")) {
-        if (parse_real(tok, &out[n]))
-            return -1;
-        out[n] = floor(out[n] * 1e9 + 0.5) / 1e9;
-        ++n;
-    }
-    return n;
-}
-
-static int make_dirs(const char *path)
-{
-    return app_make_dirs(path);
-}
-
-static void width_name(double w, char *out, size_t size)
-{
-    snprintf(out, size, "w%.1f", w);
-    if (fabs(w * 10.0 - floor(w * 10.0 + 0.5)) > 1e-6)
-        snprintf(out, size, "w%g", w);
-}
-
-static Scene *load_scene(const char *path, const char *const *sets, int set_count, double L,
-                         char *err, size_t err_size)
-{
-    const char *all[MAX_SETS + 1];
-    char length[64];
-    int n = 0;
-    for (int k = 0; k < set_count && n < MAX_SETS; ++k)
-        all[n++] = sets[k];
-    if (L > 0.0) {
-        snprintf(length, sizeof length, "discharge.base_length=%.10g", L);
-        all[n++] = length;
-    }
-    Scene *scene = scene_load(path, all, n, err, err_size);
-    if (scene && !scene->discharge) {
-        snprintf(err, err_size, "%s:1: the scene has no `discharge` group (docs/discharge.md)",
-                 path);
-        scene_free(scene);
-        return NULL;
-    }
-    return scene;
-}
-
-/* ---------------------------------------------------------------- movies and figures */
-
-typedef struct Movie {
-    const AppDischargeRender *render;
-    int open;
-} Movie;
-
-static int movie_start(Movie *m, const Scene *scene, const char *path, AppFrames *frames,
-                       double frame_time, double dt)
-{
-    memset(frames, 0, sizeof *frames);
-    if (!m->render || !m->render->movie || !m->render->movie->movie_open)
-        return 0;
-    char err[512] = "";
-    if (m->render->movie->movie_open(m->render->movie->context, scene, 0, path, &frames->sink, err,
-                                     sizeof err) != 0) {
-        fprintf(stderr, "sablier: movie %s: %s\n", path, err);
-        return -1;
-    }
-    frames->every = (long)fmax(1.0, floor(frame_time / dt + 0.5));
-    m->open = 1;
-    return 0;
-}
-
-static int movie_finish(Movie *m)
-{
-    if (!m->open)
-        return 0;
-    m->open = 0;
-    char err[512] = "";
-    if (m->render->movie->movie_close(m->render->movie->context, err, sizeof err) != 0) {
-        fprintf(stderr, "sablier: movie: %s\n", err);
-        return -1;
-    }
-    return 0;
-}
-
-static int figure(const AppDischargeRender *render, const Scene *scene, SimWorld *world,
-                  const AppDischarge *result, const char *title, const char *path)
-{
-    if (!render || !render->figure)
-        return 0;
-    SimFrame frame;
-    sim_world_frame(world, &frame);
-    int *marks = NULL;
-    if (result && result->arch > 0) {
-        marks = malloc((size_t)(frame.count + 1) * sizeof *marks);
-        if (!marks)
-            return -1;
-        app_arch_marks(&frame, result, marks);
-    }
-    char err[512] = "";
-    int rc = render->figure(render->context, scene, &frame, marks, title, path, err, sizeof err);
-    if (rc != 0)
-        fprintf(stderr, "sablier: figure %s: %s\n", path, err);
-    free(marks);
-    return rc;
-}
-
-/* ---------------------------------------------------------------- sablier discharge */
-
-int app_discharge_command(int argc, char **argv, const AppDischargeRender *render)
-{
-    const char *scene_path = NULL, *out = NULL, *pile = NULL, *value, *sets[MAX_SETS];
-    int set_count = 0, figures = 0, movies = 0, quiet = 0, width_count = 0, seed_given = 0;
-    double widths[MAX_WIDTHS];
-    unsigned long long seed = 0;
-    for (int i = 2; i < argc; ++i) {
-        int m;
-        if ((m = app_option(argc, argv, &i, "--out", &value)) != 0) {
-            if (m < 0)
-                return 2;
-            out = value;
-        } else if ((m = app_option(argc, argv, &i, "--pile", &value)) != 0) {
-            if (m < 0)
-                return 2;
-            pile = value;
-        } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
-            if (m < 0 || set_count >= MAX_SETS)
-                return app_usage_error(APP_DISCHARGE_USAGE, "bad --set", NULL);
-            sets[set_count++] = value;
-        } else if ((m = app_option(argc, argv, &i, "--width", &value)) != 0) {
-            double w;
-            if (m < 0 || parse_real(value, &w) != 0 || !(w >= 0.0) || width_count >= MAX_WIDTHS)
-                return app_usage_error(APP_DISCHARGE_USAGE, "--width needs a width >= 0 (d), got",
-                                       m < 0 ? "nothing" : value);
-            widths[width_count++] = w;
-        } else if ((m = app_option(argc, argv, &i, "--seed", &value)) != 0) {
-            char *end;
-            if (m < 0)
-                return 2;
-            seed = strtoull(value, &end, 10);
-            if (end == value || *end)
-                return app_usage_error(APP_DISCHARGE_USAGE, "--seed needs an integer, got", value);
-            seed_given = 1;
-        } else if (strcmp(argv[i], "--figures") == 0) {
-            figures = 1;
-        } else if (strcmp(argv[i], "--movie") == 0) {
-            movies = 1;
-        } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
-            quiet = 1;
-        } else if (app_scene_argument(APP_DISCHARGE_USAGE, argv[i], &scene_path) != 0) {
-            return 2;
-        }
-    }
-    if (!scene_path)
-        return app_usage_error(APP_DISCHARGE_USAGE, "missing SCENE", NULL);
-    char err[4096] = "";
-    Scene *scene = load_scene(scene_path, sets, set_count, 0.0, err, sizeof err);
-    if (!scene) {
-        fprintf(stderr, "%s\n", err);
-        return 2;
-    }
-    const AppDischargeDef *def = scene->discharge;
-    if (width_count == 0)
-        for (int k = 0; k < def->width_count; ++k)
-            widths[width_count++] = def->widths[k];
-    char dir[PATH], path[PATH + 64];
-    snprintf(dir, sizeof dir, "%s%s", out ? "" : "out/", out ? out : scene->name);
-    if (make_dirs(dir) != 0) {
-        fprintf(stderr, "sablier: cannot create output folder %s: %s\n", dir, strerror(errno));
-        scene_free(scene);
-        return 2;
-    }
-    AppDischargeGeometry geo;
-    app_discharge_geometry(scene, &geo);
-    Movie movie = {movies ? render : NULL, 0};
-    const double frame_time = geo.row_period / 4.0;
-    int status = 0;
-    char pile_path[PATH + 64];
-    size_t summary_size = 4096 + 512 * (size_t)width_count;
-    char *summary = malloc(summary_size);
-    if (!summary)
-        abort();
-    size_t used = 0;
-    if (!pile) {
-        AppFrames frames;
-        snprintf(path, sizeof path, "%s/deposition.mp4", dir);
-        if (movie_start(&movie, scene, path, &frames, frame_time, geo.dt) != 0)
-            status = 2;
-        snprintf(path, sizeof path, "%s/deposition.csv", dir);
-        char tmp[PATH + 80];
-        snprintf(tmp, sizeof tmp, "%s.tmp", path);
-        FILE *trace = fopen(tmp, "w");
-        if (trace)
-            fprintf(trace, "t,row,released,pile,mobile\n");
-        AppDeposit dep;
-        SimWorld *world = status ? NULL
-                                 : app_deposit(scene, seed_given ? seed : scene->seed, &frames,
-                                               trace, &dep, err, sizeof err);
-        if (movie_finish(&movie) != 0)
-            status = 2;
-        if (trace && (fclose(trace) != 0 || rename(tmp, path) != 0))
-            status = 2;
-        if (!world) {
-            if (!status)
-                fprintf(stderr, "sablier: deposition: %s\n", err);
-            status = status ? status : 1;
-        } else {
-            snprintf(pile_path, sizeof pile_path, "%s/pile.state", dir);
-            SimError error;
-            if (sim_world_save(world, pile_path, &error) != SIM_OK) {
-                fprintf(stderr, "sablier: %s\n", error.message);
-                status = 2;
-            }
-            if (figures) {
-                snprintf(path, sizeof path, "%s/pile.png", dir);
-                char title[128];
-                snprintf(title, sizeof title, "pile L = %g d, %d grains", def->base_length,
-                         dep.pile);
-                if (figure(render, scene, world, NULL, title, path) != 0)
-                    status = 2;
-            }
-            if (!quiet)
-                fprintf(stderr,
-                        "sablier: deposition L = %g d: %d rows, %d released, %d in the pile, %ld "
-                        "lost, %s at t = %.6g (%ld steps, %.3g s)\n",
-                        def->base_length, dep.rows, dep.released, dep.pile, dep.lost,
-                        dep.equilibrium ? "static equilibrium" : "NOT at equilibrium (cap)",
-                        dep.time, dep.steps, dep.wall_seconds);
-            used += (size_t)snprintf(
-                summary + used, summary_size - used,
-                "{\n  \"scene\": \"%s\",\n  \"base_length\": %.10g,\n  \"seed\": %llu,\n"
-                "  \"g\": %.10g,\n  \"dt\": %.10g,\n  \"row_period\": %.10g,\n  \"row_size\": %d,\n"
-                "  \"deposition\": {\"rows\": %d, \"released\": %d, \"pile\": %d, \"lost\": %ld, "
-                "\"equilibrium\": %s, \"height\": %.10g, \"time\": %.10g, \"steps\": %ld, "
-                "\"wall_seconds\": %.4g},\n  \"discharges\": [",
-                scene->name, def->base_length, seed_given ? seed : (unsigned long long)scene->seed,
-                geo.g, geo.dt, geo.row_period, geo.row_size, dep.rows, dep.released, dep.pile,
-                dep.lost, dep.equilibrium ? "true" : "false", dep.height, dep.time, dep.steps,
-                dep.wall_seconds);
-            sim_world_destroy(world);
-        }
-        pile = pile_path;
-    } else {
-        used += (size_t)snprintf(
-            summary + used, summary_size - used,
-            "{\n  \"scene\": \"%s\",\n  \"pile\": \"%s\",\n  \"discharges\": [", scene->name, pile);
-    }
-    size_t csv_size = 512 + 256 * (size_t)width_count;
-    char *csv = malloc(csv_size);
-    if (!csv)
-        abort();
-    size_t csv_used = (size_t)snprintf(csv, csv_size, "%s\n", app_discharge_csv_header());
-    for (int k = 0; status == 0 && k < width_count; ++k) {
-        char wname[32];
-        width_name(widths[k], wname, sizeof wname);
-        AppFrames frames;
-        snprintf(path, sizeof path, "%s/%s.mp4", dir, wname);
-        if (movie_start(&movie, scene, path, &frames, frame_time, geo.dt) != 0) {
-            status = 2;
-            break;
-        }
-        AppDischarge r;
-        SimWorld *world = app_discharge(scene, pile, widths[k], &frames, &r, err, sizeof err);
-        if (movie_finish(&movie) != 0)
-            status = 2;
-        if (!world) {
-            fprintf(stderr, "sablier: discharge w = %g d: %s\n", widths[k], err);
-            status = 1;
-            break;
-        }
-        snprintf(path, sizeof path, "%s/%s.state", dir, wname);
-        SimError error;
-        if (sim_world_save(world, path, &error) != SIM_OK)
-            status = 2;
-        if (figures) {
-            char title[160];
-            snprintf(title, sizeof title, "w = %g d: s = %ld, h = %.3g d, arch of %d grains",
-                     widths[k], r.through, r.height, r.arch);
-            snprintf(path, sizeof path, "%s/%s.png", dir, wname);
-            if (figure(render, scene, world, &r, title, path) != 0)
-                status = 2;
-        }
-        sim_world_destroy(world);
-        char row[512];
-        app_discharge_csv_row(&r, 0, def->base_length, row, sizeof row);
-        csv_used += (size_t)snprintf(csv + csv_used, csv_size - csv_used, "%s\n", row);
-        used += (size_t)snprintf(
-            summary + used, summary_size - used,
-            "%s\n    {\"w\": %.10g, \"s\": %ld, \"edges\": %ld, \"h\": %.10g, \"pile\": %d, "
-            "\"arch\": %d, \"arch_species\": [%d, %d], \"equilibrium\": %s, \"time\": %.10g, "
-            "\"wall_seconds\": %.4g}",
-            k ? "," : "", r.width, r.through, r.edges, r.height, r.pile, r.arch, r.arch_species[0],
-            r.arch_species[1], r.equilibrium ? "true" : "false", r.time, r.wall_seconds);
-        if (!quiet)
-            fprintf(stderr,
-                    "sablier: discharge w = %g d: s = %ld through, %ld over the edges, h = %.4g d, "
-                    "arch %d grains, %s (%.3g s)\n",
-                    widths[k], r.through, r.edges, r.height, r.arch,
-                    r.equilibrium ? "static equilibrium" : "NOT at equilibrium (cap)",
-                    r.wall_seconds);
-    }
-    snprintf(path, sizeof path, "%s/discharge.csv", dir);
-    if (width_count > 0 && status == 0 && app_write_atomic(path, csv) != 0)
-        status = 2;
-    if (used > 0) {
-        snprintf(summary + used, summary_size - used, "\n  ],\n  \"status\": \"%s\"\n}\n",
-                 status == 0 ? "ok" : "error");
-        snprintf(path, sizeof path, "%s/summary.json", dir);
-        if (app_write_atomic(path, summary) != 0 && status == 0)
-            status = 2;
-    }
-    free(csv);
-    free(summary);
-    scene_free(scene);
-    return status;
-}
 
 /* ---------------------------------------------------------------- species maps (004 §3.4) */
 
@@ -524,7 +158,7 @@ int app_species_marked(const Scene *scene, const char **what)
 {
     if (what)
         *what = NULL;
-    const AppDischargeDef *def = scene->discharge;
+    const AppDischargeDef *def = app_discharge_of(scene);
     if (!def || def->species_count != 2 || !(def->fractions[0] > 0.0) || !(def->fractions[1] > 0.0))
         return -1;
     double d0 = def->diameters[0], d1 = def->diameters[1];
@@ -542,29 +176,60 @@ int app_species_marked(const Scene *scene, const char **what)
     return -1;
 }
 
-/* The pile's map record of a sample (004 §3.4), appended to text; -1 when the scene has no two
- * distinct species. */
+/* ---------------------------------------------------------------- texts */
+
+/* A growing text (sample tables, map records). */
+typedef struct Text {
+    char *s;
+    size_t len, cap;
+} Text;
+
+/* Appends n bytes of `add`: 0, or -1 when out of memory (the text unchanged). */
+static int text_add(Text *t, const char *add, size_t n)
+{
+    if (t->len + n + 1 > t->cap) {
+        size_t cap = 2 * (t->len + n + 1);
+        char *grown = realloc(t->s, cap);
+        if (!grown)
+            return -1;
+        t->s = grown;
+        t->cap = cap;
+    }
+    memcpy(t->s + t->len, add, n);
+    t->len += n;
+    t->s[t->len] = '\0';
+    return 0;
+}
+
+static int out_of_memory(char *err, size_t err_size)
+{
+    snprintf(err, err_size, "out of memory");
+    return -1;
+}
+
+/* The pile's map record of a sample (004 §3.4), appended to *text: 1, 0 when the scene has no
+ * two distinct species, -1 when out of memory. */
 static int map_record(const Scene *scene, SimWorld *world, double L, const char *tag, char **text)
 {
     int marked = app_species_marked(scene, NULL);
     if (marked < 0)
-        return -1;
+        return 0;
     AppSpeciesMap map;
     if (app_species_map_init(&map, L, SPECIES_CELL) != 0)
-        return -1;
+        return 0;
     SimFrame frame;
     sim_world_frame(world, &frame);
     app_species_map_add(&map, &frame, marked);
     int need = app_species_map_format(&map, tag, NULL, 0);
     size_t old = *text ? strlen(*text) : 0;
     char *grown = realloc(*text, old + (size_t)need + 2);
-    if (!grown)
-        abort();
-    app_species_map_format(&map, tag, grown + old, (size_t)need + 1);
-    memcpy(grown + old + need, "\n", 2);
-    *text = grown;
+    if (grown) {
+        app_species_map_format(&map, tag, grown + old, (size_t)need + 1);
+        memcpy(grown + old + need, "\n", 2);
+        *text = grown;
+    }
     app_species_map_free(&map);
-    return 0;
+    return grown ? 1 : -1;
 }
 
 /* ---------------------------------------------------------------- study: one sample */
@@ -588,7 +253,8 @@ static void sample_paths(const char *dir, double L, int sample, char *csv, char 
     snprintf(pile, PATH, "%s/L%g/samples/s%06d.state", dir, L, sample);
 }
 
-/* Widths already done in a sample file (column 3 of each data row). */
+/* Widths already done in a sample file (column 3 of each data row), the file's data rows in
+ * *text (NULL when there is no file): their count, or -1 when out of memory. */
 static int read_done(const char *path, const double *widths, int count, unsigned char *done,
                      char **text)
 {
@@ -597,13 +263,10 @@ static int read_done(const char *path, const double *widths, int count, unsigned
     FILE *f = fopen(path, "r");
     if (!f)
         return 0;
-    size_t cap = 4096, len = 0;
-    char *buffer = malloc(cap), line[1024];
-    int n = 0;
-    if (!buffer)
-        abort();
-    buffer[0] = '\0';
-    while (fgets(line, sizeof line, f)) {
+    Text kept = {NULL, 0, 0};
+    char line[1024];
+    int n = 0, bad = text_add(&kept, "", 0);
+    while (!bad && fgets(line, sizeof line, f)) {
         long sample;
         double L, w;
         if (sscanf(line, "%ld,%lf,%lf", &sample, &L, &w) != 3)
@@ -613,166 +276,217 @@ static int read_done(const char *path, const double *widths, int count, unsigned
                 done[k] = 1;
                 ++n;
             }
-        size_t l = strlen(line);
-        if (len + l + 1 > cap) {
-            cap = 2 * (len + l + 1);
-            char *grown = realloc(buffer, cap);
-            if (!grown)
-                abort();
-            buffer = grown;
-        }
-        memcpy(buffer + len, line, l + 1);
-        len += l;
+        bad = text_add(&kept, line, strlen(line));
     }
     fclose(f);
-    *text = buffer;
+    if (bad) {
+        free(kept.s);
+        return -1;
+    }
+    *text = kept.s;
     return n;
 }
 
-/* The species-map records of a sample (s<k>.map) worth keeping on resume: the pile's, and those
- * of widths already in the sample's table (a record written just before an interruption is
- * redone with its width). */
-static char *read_maps(const char *path, const double *widths, int count, const unsigned char *done)
+/* The species-map records of a sample (s<k>.map) worth keeping on resume, into *kept (NULL when
+ * none): the pile's, and those of widths already in the sample's table (a record written just
+ * before an interruption is redone with its width). 0, or -1 when out of memory. */
+static int read_maps(const char *path, const double *widths, int count, const unsigned char *done,
+                     char **kept)
 {
-    char *kept = NULL, *line = NULL;
-    size_t used = 0, cap = 0;
+    Text t = {NULL, 0, 0};
+    char *line = NULL;
+    size_t cap = 0;
+    int bad = 0;
     FILE *f = fopen(path, "r");
     if (f) {
         ssize_t len;
-        while ((len = getline(&line, &cap, f)) > 0) {
+        while (!bad && (len = getline(&line, &cap, f)) > 0) {
             int keep = strncmp(line, "pile,", 5) == 0;
             double w = strtod(line, NULL);
             for (int k = 0; k < count && !keep; ++k)
                 keep = done[k] && fabs(widths[k] - w) < 1e-6;
-            if (!keep)
-                continue;
-            char *grown = realloc(kept, used + (size_t)len + 1);
-            if (!grown)
-                abort();
-            kept = grown;
-            memcpy(kept + used, line, (size_t)len + 1);
-            used += (size_t)len;
+            if (keep)
+                bad = text_add(&t, line, (size_t)len);
         }
         fclose(f);
     }
     free(line);
-    return kept;
+    if (bad)
+        free(t.s);
+    *kept = bad ? NULL : t.s;
+    return bad ? -1 : 0;
 }
 
-static int run_sample(const Scene *scene, const Study *st, double L, int sample)
+/* The pile's deposition record: fixed fields, then the profile of the top per d-wide strip
+ * (malloc'd, NULL when out of memory). */
+static char *deposition_line(SimWorld *world, const AppDeposit *dep, double L, int sample)
 {
-    char csv[PATH], dep_path[PATH], pile[PATH], maps_path[PATH], err[4096] = "";
-    sample_paths(st->dir, L, sample, csv, dep_path, pile);
-    snprintf(maps_path, sizeof maps_path, "%s/L%g/samples/s%06d.map", st->dir, L, sample);
-    unsigned char done[MAX_WIDTHS];
-    char *text = NULL;
-    int n_done = read_done(csv, st->widths, st->width_count, done, &text);
-    if (n_done == st->width_count) {
-        free(text);
-        return 0;
-    }
-    char *maps = read_maps(maps_path, st->widths, st->width_count, done);
-    struct stat sb;
-    if (stat(pile, &sb) != 0) {
-        AppDeposit dep;
-        SimWorld *world =
-            app_deposit(scene, scene->seed + (uint64_t)sample, NULL, NULL, &dep, err, sizeof err);
-        if (!world) {
-            fprintf(stderr, "sablier: study L = %g sample %d: deposition: %s\n", L, sample, err);
-            free(text);
-            free(maps);
-            return 1;
-        }
-        /* deposition record: fixed fields, then the profile of the top per d-wide strip */
-        int bins = (int)floor(L + 0.5);
-        double *heights = malloc((size_t)(bins + 1) * sizeof *heights);
-        size_t size = 512 + 24 * (size_t)bins;
-        char *line = malloc(size);
-        if (!heights || !line)
-            abort();
-        sim_world_surface_profile(world, -0.5 * L, 0.5 * L, bins, heights);
-        size_t used =
-            (size_t)snprintf(line, size, "%d,%g,%d,%d,%d,%ld,%d,%.10g,%.10g,%ld,%.4g", sample, L,
-                             dep.rows, dep.released, dep.pile, dep.lost, dep.equilibrium,
-                             dep.height, dep.time, dep.steps, dep.wall_seconds);
-        for (int b = 0; b < bins; ++b)
-            used += (size_t)snprintf(line + used, size - used, ",%.6g",
-                                     isfinite(heights[b]) ? heights[b] : 0.0);
-        snprintf(line + used, size - used, "\n");
-        /* the pile's species map before discharge (004 §3.4), kept before the checkpoint */
-        char *fresh = NULL;
-        int bad = 0;
-        if (map_record(scene, world, L, "pile", &fresh) == 0) {
-            for (char *p = maps; p && *p;) { /* keep the widths' records, not an old pile's */
-                char *eol = strchr(p, '\n');
-                size_t n = eol ? (size_t)(eol - p) + 1 : strlen(p), have = strlen(fresh);
-                if (strncmp(p, "pile,", 5) != 0) {
-                    char *grown = realloc(fresh, have + n + 1);
-                    if (!grown)
-                        abort();
-                    fresh = grown;
-                    memcpy(fresh + have, p, n);
-                    fresh[have + n] = '\0';
-                }
-                p += n;
-            }
-            free(maps);
-            maps = fresh;
-            bad = app_write_atomic(maps_path, maps) != 0;
-        }
-        SimError error;
-        bad = bad || sim_world_save(world, pile, &error) != SIM_OK ||
-              app_write_atomic(dep_path, line);
-        sim_world_destroy(world);
+    int bins = (int)floor(L + 0.5);
+    double *heights = malloc((size_t)(bins + 1) * sizeof *heights);
+    size_t size = 512 + 24 * (size_t)bins;
+    char *line = malloc(size);
+    if (!heights || !line) {
         free(heights);
         free(line);
-        if (bad) {
-            fprintf(stderr, "sablier: study: cannot write %s\n", pile);
-            free(text);
-            free(maps);
-            return 2;
-        }
+        return NULL;
     }
-    size_t cap = (text ? strlen(text) : 0) + 256 * (size_t)st->width_count + 512;
-    char *out = malloc(cap);
-    if (!out)
-        abort();
-    snprintf(out, cap, "%s", text ? text : "");
-    free(text);
-    int status = 0;
+    sim_world_surface_profile(world, -0.5 * L, 0.5 * L, bins, heights);
+    size_t used =
+        (size_t)snprintf(line, size, "%d,%g,%d,%d,%d,%ld,%d,%.10g,%.10g,%ld,%.4g", sample, L,
+                         dep->rows, dep->released, dep->pile, dep->lost, dep->equilibrium,
+                         dep->height, dep->time, dep->steps, dep->wall_seconds);
+    for (int b = 0; b < bins; ++b)
+        used += (size_t)snprintf(line + used, size - used, ",%.6g",
+                                 isfinite(heights[b]) ? heights[b] : 0.0);
+    snprintf(line + used, size - used, "\n");
+    free(heights);
+    return line;
+}
+
+/* A fresh pile record followed by the widths' records of `old` (not an old pile's): the new
+ * text, or NULL when out of memory (fresh freed). */
+static char *with_width_records(char *fresh, const char *old)
+{
+    Text t = {fresh, strlen(fresh), strlen(fresh) + 1};
+    for (const char *p = old; p && *p;) {
+        const char *eol = strchr(p, '\n');
+        size_t n = eol ? (size_t)(eol - p) + 1 : strlen(p);
+        if (strncmp(p, "pile,", 5) != 0 && text_add(&t, p, n) != 0) {
+            free(t.s);
+            return NULL;
+        }
+        p += n;
+    }
+    return t.s;
+}
+
+/* Deposits the sample's pile and writes its checkpoint, deposition record and pile map record
+ * (kept in *maps): 0, or the sample's exit status. */
+static int deposit_sample(const Scene *scene, double L, int sample, const char *pile,
+                          const char *dep_path, const char *maps_path, char **maps)
+{
+    char err[4096] = "";
+    AppDeposit dep;
+    SimWorld *world =
+        app_deposit(scene, scene->seed + (uint64_t)sample, NULL, NULL, &dep, err, sizeof err);
+    if (!world) {
+        fprintf(stderr, "sablier: study L = %g sample %d: deposition: %s\n", L, sample, err);
+        return 1;
+    }
+    char *line = deposition_line(world, &dep, L, sample);
+    /* the pile's species map before discharge (004 §3.4), kept before the checkpoint */
+    char *fresh = NULL;
+    int recorded = line ? map_record(scene, world, L, "pile", &fresh) : -1, bad = 0;
+    if (recorded > 0) { /* keep the widths' records, not an old pile's */
+        fresh = with_width_records(fresh, *maps);
+        recorded = fresh ? 1 : -1;
+    }
+    if (recorded > 0) {
+        free(*maps);
+        *maps = fresh;
+        bad = app_write_atomic(maps_path, *maps) != 0;
+    }
+    SimError error;
+    if (recorded >= 0)
+        bad = bad || sim_world_save(world, pile, &error) != SIM_OK ||
+              app_write_atomic(dep_path, line);
+    sim_world_destroy(world);
+    free(line);
+    if (recorded < 0) {
+        free(fresh);
+        fprintf(stderr, "sablier: study: out of memory\n");
+        return 2;
+    }
+    if (bad) {
+        fprintf(stderr, "sablier: study: cannot write %s\n", pile);
+        return 2;
+    }
+    return 0;
+}
+
+/* Where one sample's files are and what of it is done. */
+typedef struct Sample {
+    const Scene *scene;
+    const Study *st;
+    double L;
+    int sample;
+    char csv[PATH], dep[PATH], pile[PATH], maps_path[PATH];
+    unsigned char done[MAX_WIDTHS];
+} Sample;
+
+/* Discharges the pile at every width not done yet, each kept in the sample's table (`out`, the
+ * rows so far) and its map record (maps) as soon as it is done: 0, or the sample's exit status. */
+static int discharge_widths(const Sample *sm, char **maps, char *out, size_t cap)
+{
+    const Study *st = sm->st;
+    char err[4096] = "";
     for (int k = 0; k < st->width_count; ++k) {
-        if (done[k])
+        if (sm->done[k])
             continue;
         AppDischarge r;
-        SimWorld *world = app_discharge(scene, pile, st->widths[k], NULL, &r, err, sizeof err);
+        SimWorld *world =
+            app_discharge(sm->scene, sm->pile, st->widths[k], NULL, &r, err, sizeof err);
         if (!world) {
-            fprintf(stderr, "sablier: study L = %g sample %d w = %g: %s\n", L, sample,
+            fprintf(stderr, "sablier: study L = %g sample %d w = %g: %s\n", sm->L, sm->sample,
                     st->widths[k], err);
-            status = 1;
-            break;
+            return 1;
         }
         /* species map after a discharge an arch stopped (004 §3.4: jammed samples only) */
         char tag[32];
         snprintf(tag, sizeof tag, "%.10g", st->widths[k]);
-        int mapped = r.arch > 0 && map_record(scene, world, L, tag, &maps) == 0;
+        int mapped = r.arch > 0 ? map_record(sm->scene, world, sm->L, tag, maps) : 0;
         sim_world_destroy(world);
-        if (mapped && app_write_atomic(maps_path, maps) != 0) {
-            status = 2;
-            break;
+        if (mapped < 0) {
+            fprintf(stderr, "sablier: study: out of memory\n");
+            return 2;
         }
+        if (mapped && app_write_atomic(sm->maps_path, *maps) != 0)
+            return 2;
         char row[512];
-        app_discharge_csv_row(&r, sample, L, row, sizeof row);
+        app_discharge_csv_row(&r, sm->sample, sm->L, row, sizeof row);
         size_t len = strlen(out);
         snprintf(out + len, cap - len, "%s\n", row);
-        if (app_write_atomic(csv, out) != 0) { /* each width is kept as soon as it is done */
-            status = 2;
-            break;
-        }
+        if (app_write_atomic(sm->csv, out) != 0) /* each width is kept as soon as it is done */
+            return 2;
     }
+    return 0;
+}
+
+/* One sample, in a child process: its pile (deposited unless a checkpoint is there) discharged
+ * at every width not done yet. Returns the exit status. */
+static int run_sample(const Scene *scene, const Study *st, double L, int sample)
+{
+    Sample sm = {.scene = scene, .st = st, .L = L, .sample = sample};
+    sample_paths(st->dir, L, sample, sm.csv, sm.dep, sm.pile);
+    snprintf(sm.maps_path, sizeof sm.maps_path, "%s/L%g/samples/s%06d.map", st->dir, L, sample);
+    char *text = NULL, *maps = NULL, *out = NULL;
+    int n_done = read_done(sm.csv, st->widths, st->width_count, sm.done, &text);
+    if (n_done == st->width_count) {
+        free(text);
+        return 0;
+    }
+    int status =
+        n_done < 0 || read_maps(sm.maps_path, st->widths, st->width_count, sm.done, &maps) != 0 ? -1
+                                                                                                : 0;
+    struct stat sb;
+    if (status == 0 && stat(sm.pile, &sb) != 0)
+        status = deposit_sample(scene, L, sample, sm.pile, sm.dep, sm.maps_path, &maps);
+    size_t cap = (text ? strlen(text) : 0) + 256 * (size_t)st->width_count + 512;
+    if (status == 0 && !(out = malloc(cap)))
+        status = -1;
+    if (status == 0) {
+        snprintf(out, cap, "%s", text ? text : "");
+        status = discharge_widths(&sm, &maps, out, cap);
+        if (status == 0)
+            remove(sm.pile); /* every width done: the pile is no longer needed */
+    }
+    if (status < 0) {
+        fprintf(stderr, "sablier: study: out of memory\n");
+        status = 2;
+    }
+    free(text);
     free(out);
     free(maps);
-    if (status == 0)
-        remove(pile); /* every width done: the pile is no longer needed */
     return status;
 }
 
@@ -782,16 +496,45 @@ typedef struct Task {
     int length, sample;
 } Task;
 
-static int run_study(const Study *st, Scene **scenes)
+/* The samples' pool: the tasks still to run and the progress lines. */
+typedef struct StudyRun {
+    const Study *st;
+    Scene **scenes;
+    const Task *tasks;
+    int count, finished, failed;
+    double start;
+} StudyRun;
+
+static int study_run_task(void *ctx, int index)
 {
-    int total = st->length_count * st->samples, next = 0, running = 0, failed = 0, finished = 0;
-    Task *tasks = calloc((size_t)total + 1, sizeof *tasks);
-    pid_t *pids = calloc((size_t)st->jobs, sizeof *pids);
-    Task *slots = calloc((size_t)st->jobs, sizeof *slots);
-    if (!tasks || !pids || !slots)
-        abort();
+    const StudyRun *run = ctx;
+    Task t = run->tasks[index];
+    return run_sample(run->scenes[t.length], run->st, run->st->lengths[t.length], t.sample);
+}
+
+static void study_task_done(void *ctx, int index, int status)
+{
+    StudyRun *run = ctx;
+    if (status == APP_POOL_NOT_STARTED) {
+        run->failed = 1;
+        fprintf(stderr, "sablier: study: fork failed: %s\n", strerror(errno));
+        return;
+    }
+    int ok = status == 0, finished = ++run->finished;
+    run->failed |= !ok;
+    double elapsed = app_now_seconds() - run->start;
+    Task t = run->tasks[index];
+    fprintf(stderr, "sablier: study: L = %g sample %d %s (%d/%d, %.0f s, ETA %.0f s)\n",
+            run->st->lengths[t.length], t.sample, ok ? "done" : "FAILED", finished, run->count,
+            elapsed, elapsed / finished * (run->count - finished));
+}
+
+/* The samples not finished yet, samples outer (every L advances together): their count, or -1
+ * when out of memory. */
+static int pending_tasks(const Study *st, Task *tasks)
+{
     int n = 0;
-    for (int s = 0; s < st->samples; ++s) /* samples outer: every L advances together */
+    for (int s = 0; s < st->samples; ++s)
         for (int l = 0; l < st->length_count; ++l) {
             char csv[PATH], dep[PATH], pile[PATH];
             sample_paths(st->dir, st->lengths[l], s, csv, dep, pile);
@@ -799,62 +542,80 @@ static int run_study(const Study *st, Scene **scenes)
             char *text;
             int k = read_done(csv, st->widths, st->width_count, done, &text);
             free(text);
+            if (k < 0)
+                return -1;
             if (k == st->width_count)
                 continue;
             tasks[n++] = (Task){l, s};
         }
-    fprintf(stderr, "sablier: study: %d of %d samples to run (%d jobs)\n", n, total, st->jobs);
-    double start = now_seconds();
-    fflush(NULL);
-    while (next < n || running > 0) {
-        while (running < st->jobs && next < n) {
-            int slot = 0;
-            while (pids[slot] != 0)
-                ++slot;
-            Task t = tasks[next++];
-            pid_t pid = fork();
-            if (pid < 0) {
-                fprintf(stderr, "sablier: study: fork failed: %s\n", strerror(errno));
-                failed = 1;
-                next = n;
-                break;
-            }
-            if (pid == 0) {
-                int rc = run_sample(scenes[t.length], st, st->lengths[t.length], t.sample);
-                fflush(NULL);
-                _exit(rc);
-            }
-            pids[slot] = pid;
-            slots[slot] = t;
-            ++running;
-        }
-        if (running == 0)
-            break;
-        int wstatus;
-        pid_t pid = wait(&wstatus);
-        if (pid < 0)
-            break;
-        for (int slot = 0; slot < st->jobs; ++slot) {
-            if (pids[slot] != pid)
-                continue;
-            pids[slot] = 0;
-            --running;
-            ++finished;
-            int ok = WIFEXITED(wstatus) && WEXITSTATUS(wstatus) == 0;
-            failed |= !ok;
-            double elapsed = now_seconds() - start;
-            fprintf(stderr, "sablier: study: L = %g sample %d %s (%d/%d, %.0f s, ETA %.0f s)\n",
-                    st->lengths[slots[slot].length], slots[slot].sample, ok ? "done" : "FAILED",
-                    finished, n, elapsed, elapsed / finished * (n - finished));
-        }
+    return n;
+}
+
+/* Runs the samples not finished yet: 0, 1 when one failed, 2 when out of memory. */
+static int run_study(const Study *st, Scene **scenes)
+{
+    int total = st->length_count * st->samples;
+    Task *tasks = calloc((size_t)total + 1, sizeof *tasks);
+    int n = tasks ? pending_tasks(st, tasks) : -1;
+    if (n < 0) {
+        fprintf(stderr, "sablier: study: out of memory\n");
+        free(tasks);
+        return 2;
     }
+    fprintf(stderr, "sablier: study: %d of %d samples to run (%d jobs)\n", n, total, st->jobs);
+    StudyRun run = {st, scenes, tasks, n, 0, 0, app_now_seconds()};
+    AppPool pool = {.count = n,
+                    .jobs = st->jobs,
+                    .ctx = &run,
+                    .run = study_run_task,
+                    .done = study_task_done,
+                    .signal_status = 1};
+    if (app_pool_run(&pool) != 0)
+        run.failed = 1;
     free(tasks);
-    free(pids);
-    free(slots);
-    return failed ? 1 : 0;
+    return run.failed ? 1 : 0;
 }
 
 /* ---------------------------------------------------------------- reduction */
+
+/* A one-panel plot of the reduction: the series' fields in order, and same = 1 for the colour
+ * of the series before (a fit drawn with its data). */
+#define SERIES(label_, count_, x_, y_, y_err_, line_, dashed_, marker_, same_)                     \
+    ((AppPlotSeries){.label = (label_),                                                            \
+                     .count = (count_),                                                            \
+                     .x = (x_),                                                                    \
+                     .y = (y_),                                                                    \
+                     .y_err = (y_err_),                                                            \
+                     .line = (line_),                                                              \
+                     .dashed = (dashed_),                                                          \
+                     .marker = (AppMarker)(marker_),                                               \
+                     .rgb = (same_) ? APP_RGB_PREVIOUS : APP_RGB_AUTO})
+
+typedef struct StudyPlot {
+    const char *title, *x_label, *y_label;
+    int y_log;
+    int series_count;
+    const AppPlotSeries *series;
+} StudyPlot;
+
+static int study_plot(const AppRender *render, const Scene *scene, const StudyPlot *p,
+                      const char *path, char *err, size_t err_size)
+{
+    AppPlotPanel panel = {.x_label = p->x_label,
+                          .y_label = p->y_label,
+                          .y_log = p->y_log,
+                          .legend = APP_LEGEND_UPPER_RIGHT,
+                          .series_count = p->series_count < 64 ? p->series_count : 64,
+                          .series = p->series};
+    AppPlot plot = {.title = p->title,
+                    .width = 1000,
+                    .height = 700,
+                    .panel_count = 1,
+                    .panels = &panel,
+                    .scene = scene->name,
+                    .seed = scene->seed};
+    return render->plot(render->context, &plot, path, err, err_size);
+}
 
 static void gaussian_fit(const double *w, const double *sigma, int n, double *peak, double *A,
                          double *B, double *C)
@@ -972,7 +733,7 @@ static int compare_long(const void *a, const void *b)
 /* Species maps of one L (004 §3.4, fig. 3.4): the piles before discharge, and after the
  * discharges an arch stopped, per width; fractions are ratios of sums over samples. */
 static int species_maps(const Scene *scene, const char *dir, double L, const double *widths,
-                        int width_count, int samples, const AppDischargeRender *render, char *err,
+                        int width_count, int samples, const AppRender *render, char *err,
                         size_t err_size)
 {
     const char *what;
@@ -1079,8 +840,8 @@ static int species_maps(const Scene *scene, const char *dir, double L, const dou
 }
 
 int app_study_reduce(const Scene *scene, const char *dir, const double *lengths, int length_count,
-                     const double *widths, int width_count, int samples,
-                     const AppDischargeRender *render, char *err, size_t err_size)
+                     const double *widths, int width_count, int samples, const AppRender *render,
+                     char *err, size_t err_size)
 {
     char path[PATH + 64];
     size_t cells_n = (size_t)length_count * (size_t)width_count;
@@ -1206,7 +967,7 @@ int app_study_reduce(const Scene *scene, const char *dir, const double *lengths,
         fs_used = (size_t)snprintf(fs, fs_cap, "w,s,F\n");
         for (int k = 0; k < width_count; ++k) {
             char wname[32];
-            width_name(widths[k], wname, sizeof wname);
+            app_discharge_width_name(widths[k], wname, sizeof wname);
             snprintf(path, sizeof path, "%s/L%g/%s.csv", dir, L, wname);
             if (app_write_atomic(path, tables[k]) != 0)
                 status = -1;
@@ -1327,59 +1088,58 @@ int app_study_reduce(const Scene *scene, const char *dir, const double *lengths,
         for (int l = 0; l < length_count; ++l) {
             snprintf(labels[l], sizeof labels[l], "L = %g d", lengths[l]);
             size_t o = (size_t)l * (size_t)width_count;
-            series[ns++] = (AppPlotSeries){labels[l], width_count, widths,    h_mean + o, h_err + o,
-                                           1,         0,           1 + l % 4, 0};
+            series[ns++] =
+                SERIES(labels[l], width_count, widths, h_mean + o, h_err + o, 1, 0, 1 + l % 4, 0);
         }
-        AppPlot plot = {"<h> after discharge (004 fig. 2.13)", "w / d", "<h> / d", 0, ns, series};
+        StudyPlot plot = {"<h> after discharge (004 fig. 2.13)", "w / d", "<h> / d", 0, ns, series};
         snprintf(path, sizeof path, "%s/h_mean.png", dir);
-        status |= render->plot(render->context, scene, &plot, path, err, err_size);
+        status |= study_plot(render, scene, &plot, path, err, err_size);
         ns = 0;
         for (int l = 0; l < length_count; ++l) {
             size_t o = (size_t)l * (size_t)width_count;
             series[ns++] =
-                (AppPlotSeries){labels[l], width_count, widths, h_sd + o, NULL, 0, 0, 1 + l % 4, 0};
+                SERIES(labels[l], width_count, widths, h_sd + o, NULL, 0, 0, 1 + l % 4, 0);
             if (isfinite(fitC[l])) {
                 for (int j = 0; j < 200; ++j) {
                     double w = widths[0] + (widths[width_count - 1] - widths[0]) * j / 199.0;
                     curve_x[l][j] = w;
                     curve_y[l][j] = exp(fitA[l] + fitB[l] * w + fitC[l] * w * w);
                 }
-                series[ns++] = (AppPlotSeries){NULL, 200, curve_x[l], curve_y[l], NULL, 1, 0, 0, 1};
+                series[ns++] = SERIES(NULL, 200, curve_x[l], curve_y[l], NULL, 1, 0, 0, 1);
             }
         }
-        plot = (AppPlot){
+        plot = (StudyPlot){
             "sigma_h and Gaussian fits (004 fig. 2.14)", "w / d", "sigma_h / d", 0, ns, series};
         snprintf(path, sizeof path, "%s/sigma_h.png", dir);
-        status |= render->plot(render->context, scene, &plot, path, err, err_size);
+        status |= study_plot(render, scene, &plot, path, err, err_size);
         double line_x[2] = {0.0, 0.0}, line_y[2];
         for (int l = 0; l < length_count; ++l)
             line_x[1] = fmax(line_x[1], inv[l]);
         line_y[0] = wc;
         line_y[1] = wc + slope * line_x[1];
-        series[0] = (AppPlotSeries){"w_t", length_count, inv, w_t, NULL, 0, 0, 1, 0};
-        series[1] = (AppPlotSeries){"linear fit", 2, line_x, line_y, NULL, 1, 1, 0, 0};
+        series[0] = SERIES("w_t", length_count, inv, w_t, NULL, 0, 0, 1, 0);
+        series[1] = SERIES("linear fit", 2, line_x, line_y, NULL, 1, 1, 0, 0);
         char title[128];
         snprintf(title, sizeof title, "w_t against 1/L: w_c = %.3g +- %.2g d (004 fig. 2.15)", wc,
                  wc_err);
-        plot = (AppPlot){title, "1/L (1/d)", "w_t / d", 0, isfinite(wc) ? 2 : 1, series};
+        plot = (StudyPlot){title, "1/L (1/d)", "w_t / d", 0, isfinite(wc) ? 2 : 1, series};
         snprintf(path, sizeof path, "%s/wt.png", dir);
-        status |= render->plot(render->context, scene, &plot, path, err, err_size);
+        status |= study_plot(render, scene, &plot, path, err, err_size);
         ns = 0;
         for (int l = 0; l < length_count && ns + 2 <= 2 * MAX_LENGTHS; ++l) {
             size_t o = (size_t)l * (size_t)width_count;
-            series[ns++] = (AppPlotSeries){labels[l], width_count, widths, qs_pile + o, NULL, 1,
-                                           1,         1 + l % 4,   0};
             series[ns++] =
-                (AppPlotSeries){NULL, width_count, widths, qs_arch + o, NULL, 1, 0, 1 + l % 4, 1};
+                SERIES(labels[l], width_count, widths, qs_pile + o, NULL, 1, 1, 1 + l % 4, 0);
+            series[ns++] = SERIES(NULL, width_count, widths, qs_arch + o, NULL, 1, 0, 1 + l % 4, 1);
         }
-        plot = (AppPlot){"species-0 fraction: pile (dashed) and arch (004 figs. 3.6, 3.8)",
-                         "w / d",
-                         "q",
-                         0,
-                         ns,
-                         series};
+        plot = (StudyPlot){"species-0 fraction: pile (dashed) and arch (004 figs. 3.6, 3.8)",
+                           "w / d",
+                           "q",
+                           0,
+                           ns,
+                           series};
         snprintf(path, sizeof path, "%s/composition.png", dir);
-        status |= render->plot(render->context, scene, &plot, path, err, err_size);
+        status |= study_plot(render, scene, &plot, path, err, err_size);
         /* F(s) on semi-log axes for each L, a few widths */
         for (int l = 0; l < length_count; ++l) {
             double *xs = calloc((size_t)samples * 8 + 8, sizeof(double));
@@ -1403,15 +1163,14 @@ int app_study_reduce(const Scene *scene, const char *dir, const double *lengths,
                     ++m;
                 }
                 snprintf(wl[j], sizeof wl[j], "w = %g d", widths[k]);
-                series[ns++] =
-                    (AppPlotSeries){wl[j], m, xs + off, ys + off, NULL, 1, 0, 1 + j % 4, 0};
+                series[ns++] = SERIES(wl[j], m, xs + off, ys + off, NULL, 1, 0, 1 + j % 4, 0);
                 off += (size_t)samples;
             }
             snprintf(title, sizeof title, "F(s), L = %g d (004 fig. 2.16)", lengths[l]);
-            plot = (AppPlot){title, "s (grains)", "F(s) = P(size >= s)", 1, ns, series};
+            plot = (StudyPlot){title, "s (grains)", "F(s) = P(size >= s)", 1, ns, series};
             snprintf(path, sizeof path, "%s/L%g/Fs.png", dir, lengths[l]);
             if (ns > 0)
-                status |= render->plot(render->context, scene, &plot, path, err, err_size);
+                status |= study_plot(render, scene, &plot, path, err, err_size);
             free(xs);
             free(ys);
         }
@@ -1429,11 +1188,12 @@ int app_study_reduce(const Scene *scene, const char *dir, const double *lengths,
 
 /* ---------------------------------------------------------------- sablier study */
 
-int app_study_command(int argc, char **argv, const AppDischargeRender *render)
+int app_study_command(int argc, char **argv, const AppEnv *env)
 {
+    const AppRender *render = env ? env->render : NULL;
     Study st;
     memset(&st, 0, sizeof st);
-    const char *scene_path = NULL, *out = NULL, *value, *sets[MAX_SETS];
+    const char *scene_path = NULL, *out = NULL, *value, *sets[APP_MAX_SETS];
     const char *lengths_text = NULL, *widths_text = "1.0:7.0:0.2";
     int set_count = 0, reduce_only = 0;
     long samples = 10, jobs = 2;
@@ -1445,7 +1205,7 @@ int app_study_command(int argc, char **argv, const AppDischargeRender *render)
                 return 2;
             out = value;
         } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
-            if (m < 0 || set_count >= MAX_SETS)
+            if (m < 0 || set_count >= APP_MAX_SETS)
                 return app_usage_error(APP_STUDY_USAGE, "bad --set", NULL);
             sets[set_count++] = value;
         } else if ((m = app_option(argc, argv, &i, "--L", &value)) != 0) {
@@ -1472,12 +1232,12 @@ int app_study_command(int argc, char **argv, const AppDischargeRender *render)
     }
     if (!scene_path)
         return app_usage_error(APP_STUDY_USAGE, "missing SCENE", NULL);
-    st.width_count = parse_list(widths_text, st.widths, MAX_WIDTHS);
+    st.width_count = app_discharge_parse_widths(widths_text, st.widths, MAX_WIDTHS);
     if (st.width_count <= 0)
         return app_usage_error(APP_STUDY_USAGE, "--widths must be A:B:STEP or a list, got",
                                widths_text);
     if (lengths_text) {
-        st.length_count = parse_list(lengths_text, st.lengths, MAX_LENGTHS);
+        st.length_count = app_discharge_parse_widths(lengths_text, st.lengths, MAX_LENGTHS);
         if (st.length_count <= 0)
             return app_usage_error(APP_STUDY_USAGE, "--L must be a list of lengths, got",
                                    lengths_text);
@@ -1488,19 +1248,19 @@ int app_study_command(int argc, char **argv, const AppDischargeRender *render)
     }
     char err[4096] = "";
     Scene *scenes[MAX_LENGTHS] = {NULL};
-    Scene *base = load_scene(scene_path, sets, set_count, 0.0, err, sizeof err);
+    Scene *base = app_discharge_load_scene(scene_path, sets, set_count, 0.0, err, sizeof err);
     if (!base) {
         fprintf(stderr, "%s\n", err);
         return 2;
     }
     if (st.length_count == 0) {
-        st.lengths[0] = base->discharge->base_length;
+        st.lengths[0] = app_discharge_of(base)->base_length;
         st.length_count = 1;
     }
     int status = 0;
     for (int l = 0; l < st.length_count && status == 0; ++l)
-        if (!(scenes[l] =
-                  load_scene(scene_path, sets, set_count, st.lengths[l], err, sizeof err))) {
+        if (!(scenes[l] = app_discharge_load_scene(scene_path, sets, set_count, st.lengths[l], err,
+                                                   sizeof err))) {
             fprintf(stderr, "%s\n", err);
             status = 2;
         }
@@ -1516,7 +1276,7 @@ int app_study_command(int argc, char **argv, const AppDischargeRender *render)
     for (int l = 0; l < st.length_count && status == 0; ++l) {
         char sub[PATH + 64];
         snprintf(sub, sizeof sub, "%s/L%g/samples", dir, st.lengths[l]);
-        if (make_dirs(sub) != 0) {
+        if (app_make_dirs(sub) != 0) {
             fprintf(stderr, "sablier: cannot create %s: %s\n", sub, strerror(errno));
             status = 2;
         }

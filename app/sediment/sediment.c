@@ -7,7 +7,7 @@
  * A scene gives either these three or rho_f, nu and u* directly. */
 #include "sediment.h"
 
-#include "run.h"
+#include "experiments.h"
 #include "util.h"
 
 #include <errno.h>
@@ -36,6 +36,8 @@ struct AppSediment {
     char json_path[SCENE_PATH_MAX + 32];
     double *t, *q;
     int count, capacity;
+    AppPlotPanel side_panels[2]; /* figure_extras: profiles beside the bed */
+    AppPlotSeries side_series[2];
 };
 
 /* ---------------------------------------------------------------- parsing */
@@ -458,358 +460,100 @@ int app_sediment_end(AppSediment *s, int ok, char *err, size_t err_size)
     return 0;
 }
 
-/* ---------------------------------------------------------------- Shields scans */
+/* ---------------------------------------------------------------- the experiment */
 
-double app_sediment_threshold(const double *shields, const double *q_star, int count, double level,
-                              double *below, double *above)
+static int sediment_parse(const config_setting_t *root, const config_setting_t *group, Scene *scene,
+                          void **state, char *err, size_t err_size)
 {
-    *below = NAN;
-    *above = NAN;
-    /* the two lowest transporting values, then the highest quiet one under the first */
-    double t1 = INFINITY, q1 = NAN, t2 = INFINITY, q2 = NAN;
-    for (int k = 0; k < count; ++k) {
-        if (!isfinite(q_star[k]) || !isfinite(shields[k]) || !(q_star[k] > level))
-            continue;
-        if (shields[k] < t1) {
-            t2 = t1;
-            q2 = q1;
-            t1 = shields[k];
-            q1 = q_star[k];
-        } else if (shields[k] < t2) {
-            t2 = shields[k];
-            q2 = q_star[k];
-        }
-    }
-    if (!isfinite(t1))
-        return NAN;
-    *above = t1;
-    double t0 = -INFINITY;
-    for (int k = 0; k < count; ++k)
-        if (isfinite(q_star[k]) && isfinite(shields[k]) && !(q_star[k] > level) &&
-            shields[k] < t1 && shields[k] > t0)
-            t0 = shields[k];
-    if (!isfinite(t0))
-        return NAN;
-    *below = t0;
-    if (!isfinite(t2) || !(q2 > q1))
-        return 0.5 * (t0 + t1);
-    double c = t1 - q1 * (t2 - t1) / (q2 - q1); /* zero-flux intercept */
-    return c < t0 ? t0 : c > t1 ? t1 : c;
+    (void)root;
+    *state = NULL;
+    if (!group)
+        return 0;
+    *state = app_sediment_parse(group, scene, err, err_size);
+    return *state ? 0 : -1;
 }
 
-#define SCAN_MAX  64
-#define SCAN_PATH (SCENE_PATH_MAX + 64)
-
-typedef struct Scan {
-    const char *scene_path, *out_dir;
-    const char *sets[SCAN_MAX + 1];
-    int set_count, jobs, quiet, render_runs;
-    double shields[SCAN_MAX], level;
-    int count;
-    const AppSedimentRender *render;
-} Scan;
-
-static void member_dir(const Scan *sc, int k, char *dir, size_t size)
+static void sediment_free(void *state)
 {
-    snprintf(dir, size, "%s/shields=%g", sc->out_dir, sc->shields[k]);
+    app_sediment_free(state);
 }
 
-/* One member, in a child process: the scene with fluid.shields = Theta_k. */
-static int run_member(const Scan *sc, int k)
+static int sediment_begin(void *state, AppContext *c)
 {
-    const char *sets[SCAN_MAX + 2];
-    char shields_set[64], dir[SCAN_PATH], err[2048] = "";
-    for (int j = 0; j < sc->set_count; ++j)
-        sets[j] = sc->sets[j];
-    snprintf(shields_set, sizeof shields_set, "fluid.shields=%.17g", sc->shields[k]);
-    sets[sc->set_count] = shields_set;
-    Scene *scene = scene_load(sc->scene_path, sets, sc->set_count + 1, err, sizeof err);
-    if (!scene) {
-        fprintf(stderr, "%s\n", err);
-        return 2;
-    }
-    if (!scene->sediment) {
-        fprintf(stderr, "sablier: sediment: %s has no `fluid` group\n", sc->scene_path);
-        scene_free(scene);
-        return 2;
-    }
-    member_dir(sc, k, dir, sizeof dir);
-    AppRunOptions ro = app_run_options_default();
-    ro.out_dir = dir;
-    ro.quiet = 1;
-    ro.render = sc->render_runs && sc->render ? sc->render->run : NULL;
-    int rc = app_run(scene, &ro);
-    scene_free(scene);
-    return rc;
+    return app_sediment_begin(state, c->out_dir, c->err, c->err_size);
 }
 
-/* The number after "key": in a member's sediment.json (NAN for null or absent). */
-static double json_number(const char *text, const char *key)
+static int sediment_stage_begin(void *state, AppContext *c)
 {
-    char pattern[64];
-    snprintf(pattern, sizeof pattern, "\"%s\":", key);
-    const char *p = text ? strstr(text, pattern) : NULL;
-    if (!p)
-        return NAN;
-    p += strlen(pattern);
-    char *end;
-    double v = strtod(p, &end);
-    return end == p ? (double)NAN : v;
-}
-
-static char *read_text(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    char *text = malloc(65536);
-    size_t n = text ? fread(text, 1, 65535, f) : 0;
-    fclose(f);
-    if (text)
-        text[n] = '\0';
-    return text;
-}
-
-static int write_scan_outputs(const Scan *sc, const int *status)
-{
-    double q[SCAN_MAX], q_star[SCAN_MAX], t_sat[SCAN_MAX];
-    int idx[SCAN_MAX];
-    for (int k = 0; k < sc->count; ++k) {
-        char dir[SCAN_PATH], path[SCAN_PATH + 32];
-        member_dir(sc, k, dir, sizeof dir);
-        snprintf(path, sizeof path, "%s/sediment.json", dir);
-        char *text = status[k] == 0 ? read_text(path) : NULL;
-        q[k] = json_number(text, "q_sat");
-        q_star[k] = json_number(text, "q_sat_star");
-        t_sat[k] = json_number(text, "t_sat");
-        free(text);
-        idx[k] = k;
-    }
-    for (int a = 1; a < sc->count; ++a) /* by Shields number, for the CSV and the curve */
-        for (int b = a; b > 0 && sc->shields[idx[b]] < sc->shields[idx[b - 1]]; --b) {
-            int t = idx[b];
-            idx[b] = idx[b - 1];
-            idx[b - 1] = t;
-        }
-    double below, above;
-    double theta_c =
-        app_sediment_threshold(sc->shields, q_star, sc->count, sc->level, &below, &above);
-    char path[SCAN_PATH];
-    snprintf(path, sizeof path, "%s/flux.csv", sc->out_dir);
-    FILE *f = app_tmp_open(path, "shields,q_sat,q_sat_star,t_sat,transport,status");
-    if (!f) {
-        fprintf(stderr, "sablier: sediment: cannot write %s.tmp\n", path);
-        return 1;
-    }
-    double xs[SCAN_MAX], ys[SCAN_MAX];
-    int n = 0;
-    for (int j = 0; j < sc->count; ++j) {
-        int k = idx[j];
-        fprintf(f, "%.9g,%.9g,%.9g,%.9g,%d,%d\n", sc->shields[k], q[k], q_star[k], t_sat[k],
-                q_star[k] > sc->level, status[k]);
-        if (isfinite(q_star[k])) {
-            xs[n] = sc->shields[k];
-            ys[n++] = q_star[k];
-        }
-    }
-    if (app_tmp_commit(&f, path) != 0) {
-        fprintf(stderr, "sablier: sediment: cannot write %s\n", path);
-        return 1;
-    }
-    snprintf(path, sizeof path, "%s/threshold.json", sc->out_dir);
-    f = app_tmp_open(path, NULL);
-    if (!f) {
-        fprintf(stderr, "sablier: sediment: cannot write %s.tmp\n", path);
-        return 1;
-    }
-    char v[3][32];
-    const double vals[3] = {theta_c, below, above};
-    for (int k = 0; k < 3; ++k)
-        snprintf(v[k], sizeof v[k], isfinite(vals[k]) ? "%.9g" : "null", vals[k]);
-    fprintf(f,
-            "{\n  \"level\": %.9g,\n  \"shields_threshold\": %s,\n  \"bracket_below\": %s,\n"
-            "  \"bracket_above\": %s,\n  \"members\": %d\n}\n",
-            sc->level, v[0], v[1], v[2], sc->count);
-    if (app_tmp_commit(&f, path) != 0) {
-        fprintf(stderr, "sablier: sediment: cannot write %s\n", path);
-        return 1;
-    }
-    fprintf(stderr, "sablier: sediment: threshold Theta_c = %s (bracket %s .. %s, q* > %g)\n", v[0],
-            v[1], v[2], sc->level);
-    if (sc->render && sc->render->plot && n > 0) {
-        double y_lo = INFINITY, y_hi = -INFINITY;
-        for (int k = 0; k < n; ++k) {
-            y_lo = fmin(y_lo, ys[k]);
-            y_hi = fmax(y_hi, ys[k]);
-        }
-        double cx[2] = {theta_c, theta_c}, cy[2] = {fmin(0.0, y_lo), y_hi};
-        double lx[2] = {xs[0], xs[n - 1]}, ly[2] = {sc->level, sc->level};
-        char label[96];
-        snprintf(label, sizeof label, "threshold %.3g", theta_c);
-        AppSedimentCurve curves[3] = {
-            {"q*_sat (mean over the last third)", n, xs, ys, 1, 1, 0},
-            {"transport level", 2, lx, ly, 1, 0, 1},
-            {label, isfinite(theta_c) ? 2 : 0, cx, cy, 1, 0, 1},
-        };
-        char err[512] = "";
-        snprintf(path, sizeof path, "%s/flux.png", sc->out_dir);
-        if (sc->render->plot(sc->render->context, path, "Bed-load flux against Shields number",
-                             "Shields number Theta", "q* = q / (d sqrt((D_R - 1) g d))", curves,
-                             isfinite(theta_c) ? 3 : 2, err, sizeof err) != 0)
-            fprintf(stderr, "sablier: sediment: %s: %s\n", path, err);
-    }
+    app_sediment_stage(state, c->scene, c->stage, c->world);
     return 0;
 }
 
-static int parse_list(const char *text, double *values, int max)
+static void sediment_sample(void *state, AppContext *c)
 {
-    int n = 0;
-    const char *p = text;
-    while (*p) {
-        if (n == max)
-            return -1;
-        char *end;
-        values[n] = strtod(p, &end);
-        if (end == p || !isfinite(values[n]) || values[n] < 0.0)
-            return -1;
-        ++n;
-        p = end;
-        if (*p == ',')
-            ++p;
-        else if (*p)
-            return -1;
-    }
-    return n;
+    app_sediment_row(state, c->world);
 }
 
-static int scan_usage(const char *message, const char *arg)
+static int sediment_stage_end(void *state, AppContext *c)
 {
-    fprintf(stderr, "sablier: sediment: %s%s%s\n\n%s", message, arg ? " " : "", arg ? arg : "",
-            APP_SEDIMENT_USAGE);
-    return 2;
+    return app_sediment_stage_end(state, c->world, c->out_dir, c->scene->stages[c->stage].name,
+                                  c->err, c->err_size);
 }
 
-int app_sediment_command(int argc, char **argv, const AppSedimentRender *render)
+static int sediment_end(void *state, AppContext *c, int ok)
 {
-    Scan sc;
-    memset(&sc, 0, sizeof sc);
-    sc.jobs = 2;
-    sc.level = 1e-3;
-    sc.render = render;
-    const char *list = NULL;
-    for (int i = 2; i < argc; ++i) {
-        const char *a = argv[i];
-        int has_value = i + 1 < argc;
-        if (strcmp(a, "--shields") == 0 && has_value) {
-            list = argv[++i];
-        } else if (strcmp(a, "--jobs") == 0 && has_value) {
-            char *end;
-            long j = strtol(argv[++i], &end, 10);
-            if (*end || j < 1 || j > 64)
-                return scan_usage("--jobs needs a count in [1, 64], got", argv[i]);
-            sc.jobs = (int)j;
-        } else if (strcmp(a, "--level") == 0 && has_value) {
-            char *end;
-            sc.level = strtod(argv[++i], &end);
-            if (*end || !isfinite(sc.level))
-                return scan_usage("--level needs a number, got", argv[i]);
-        } else if (strcmp(a, "--out") == 0 && has_value) {
-            sc.out_dir = argv[++i];
-        } else if (strcmp(a, "--set") == 0 && has_value) {
-            if (sc.set_count == SCAN_MAX)
-                return scan_usage("too many --set options", NULL);
-            sc.sets[sc.set_count++] = argv[++i];
-        } else if (strcmp(a, "--render") == 0) {
-            sc.render_runs = 1;
-        } else if (strcmp(a, "--quiet") == 0 || strcmp(a, "-q") == 0) {
-            sc.quiet = 1;
-        } else if (a[0] == '-' && a[1]) {
-            return scan_usage(has_value ? "unknown option" : "unknown option or missing value", a);
-        } else if (!sc.scene_path) {
-            sc.scene_path = a;
-        } else {
-            return scan_usage("one scene at a time; extra argument", a);
-        }
-    }
-    if (!sc.scene_path)
-        return scan_usage("missing SCENE", NULL);
-    if (!list)
-        return scan_usage("missing --shields T1,T2,...", NULL);
-    sc.count = parse_list(list, sc.shields, SCAN_MAX);
-    if (sc.count < 1)
-        return scan_usage("--shields needs up to 64 numbers >= 0 separated by commas, got", list);
-    char default_out[SCAN_PATH];
-    const char *base =
-        strrchr(sc.scene_path, '/') ? strrchr(sc.scene_path, '/') + 1 : sc.scene_path;
-    snprintf(default_out, sizeof default_out, "out/sediment-%.*s", (int)strcspn(base, "."), base);
-    if (!sc.out_dir)
-        sc.out_dir = default_out;
-    { /* check the scene once before forking: bad input exits 2 with its file:line message */
-        char err[2048] = "";
-        Scene *scene = scene_load(sc.scene_path, sc.sets, sc.set_count, err, sizeof err);
-        if (!scene) {
-            fprintf(stderr, "%s\n", err);
-            return 2;
-        }
-        int has_fluid = scene->sediment != NULL;
-        scene_free(scene);
-        if (!has_fluid) {
-            fprintf(stderr, "%s:1: sediment: the scene has no `fluid` group\n", sc.scene_path);
-            return 2;
-        }
-    }
-    if (app_make_dirs(sc.out_dir) != 0) {
-        fprintf(stderr, "sablier: sediment: cannot create %s\n", sc.out_dir);
-        return 2;
-    }
-    int status[SCAN_MAX];
-    pid_t pids[SCAN_MAX];
-    int slot_member[SCAN_MAX], next = 0, running = 0, failed = 0;
-    for (int k = 0; k < sc.count; ++k)
-        status[k] = -1;
-    for (int j = 0; j < sc.jobs; ++j)
-        pids[j] = 0;
-    fflush(NULL);
-    while (next < sc.count || running > 0) {
-        while (running < sc.jobs && next < sc.count) {
-            int slot = 0;
-            while (pids[slot] != 0)
-                ++slot;
-            pid_t pid = fork();
-            if (pid < 0) {
-                fprintf(stderr, "sablier: sediment: fork failed: %s\n", strerror(errno));
-                failed = 1;
-                next = sc.count;
-                break;
-            }
-            if (pid == 0) {
-                int rc = run_member(&sc, next);
-                fflush(NULL);
-                _exit(rc);
-            }
-            pids[slot] = pid;
-            slot_member[slot] = next++;
-            ++running;
-        }
-        if (running == 0)
-            break;
-        int wstatus;
-        pid_t pid = wait(&wstatus);
-        if (pid < 0)
-            break;
-        for (int slot = 0; slot < sc.jobs; ++slot) {
-            if (pids[slot] != pid)
-                continue;
-            pids[slot] = 0;
-            --running;
-            int k = slot_member[slot];
-            status[k] = WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : 1;
-            failed |= status[k] != 0;
-            if (!sc.quiet)
-                fprintf(stderr, "sablier: sediment: Theta = %g %s\n", sc.shields[k],
-                        status[k] == 0 ? "done" : "FAILED");
-        }
-    }
-    int rc = write_scan_outputs(&sc, status);
-    return failed ? 1 : rc;
+    return app_sediment_end(state, ok, c->err, c->err_size);
 }
+
+/* Thesis 002 fig. 31 analogue: the fluid column's velocity and concentration profiles beside the
+ * bed, on the bed view's heights. */
+static int sediment_figure_extras(void *state, const SimFrame *frame, AppFigureExtras *extras)
+{
+    (void)frame;
+    AppSediment *s = state;
+    SimFluidProfile p;
+    sim_fluid_profile(s->fluid, &p);
+    s->side_series[0] = (AppPlotSeries){
+        .label = "u(y)", .count = p.cells, .x = p.u, .y = p.y, .line = 1, .rgb = 0x1f77b4};
+    s->side_series[1] = (AppPlotSeries){.label = "phi(y)",
+                                        .count = p.cells,
+                                        .x = p.solid_fraction,
+                                        .y = p.y,
+                                        .line = 1,
+                                        .rgb = 0xd62728};
+    s->side_panels[0] = (AppPlotPanel){.title = "fluid velocity",
+                                       .x_label = "u",
+                                       .y_label = "y",
+                                       .legend = APP_LEGEND_NONE,
+                                       .series_count = 1,
+                                       .series = &s->side_series[0]};
+    s->side_panels[1] = (AppPlotPanel){.title = "grain fraction",
+                                       .x_label = "phi",
+                                       .legend = APP_LEGEND_NONE,
+                                       .x_max = 1.0,
+                                       .series_count = 1,
+                                       .series = &s->side_series[1]};
+    extras->side_panels = s->side_panels;
+    extras->side_panel_count = 2;
+    return 1;
+}
+
+AppSediment *app_sediment_of(const Scene *scene)
+{
+    return scene_experiment_state(scene, &app_sediment_experiment);
+}
+
+const AppExperiment app_sediment_experiment = {
+    .name = "sediment",
+    .group = "fluid",
+    .parse = sediment_parse,
+    .free = sediment_free,
+    .begin = sediment_begin,
+    .stage_begin = sediment_stage_begin,
+    .sample = sediment_sample,
+    .stage_end = sediment_stage_end,
+    .end = sediment_end,
+    .figure_extras = sediment_figure_extras,
+    .commands = app_sediment_commands,
+    .command_count = 1,
+};

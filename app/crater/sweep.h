@@ -13,7 +13,8 @@
 #ifndef APP_SWEEP_H
 #define APP_SWEEP_H
 
-#include "observe.h"
+#include "crater.h"
+#include "experiment.h"
 
 typedef struct AppSweepOptions {
     const char *self;        ///< the sablier executable the members run
@@ -29,13 +30,14 @@ typedef struct AppSweepOptions {
     int set_count;
     const char *const *vary; ///< "KEY=v1,v2,...": one member per combination
     int vary_count;
-    AppChartWriter plot; ///< comparison figures; NULL = none
-    void *plot_context;
+    const AppRender *render; ///< comparison figures; NULL = none
 } AppSweepOptions;
 
 AppSweepOptions app_sweep_options_default(void);
 
 /// Runs a sweep; prints messages on stderr; returns the exit status (0, 1 or 2).
 int app_sweep(const AppSweepOptions *options);
+/// `sablier sweep` (one entry).
+extern const AppCommand app_sweep_commands[];
 
 #endif

@@ -8,6 +8,7 @@
  * sim_frame_find_arch) and the species composition (004 §3.4). */
 #include "discharge.h"
 
+#include "experiments.h"
 #include "util.h"
 
 #include <math.h>
@@ -18,13 +19,6 @@
 #include <time.h>
 
 #define PI 3.14159265358979323846
-
-static double now_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 /* ---------------------------------------------------------------- parsing */
 
@@ -161,7 +155,7 @@ int app_discharge_parse(const config_setting_t *g, const char *scene_path, int s
 
 void app_discharge_geometry(const Scene *scene, AppDischargeGeometry *geo)
 {
-    const AppDischargeDef *def = scene->discharge;
+    const AppDischargeDef *def = app_discharge_of(scene);
     const double L = def->base_length, p = def->polydispersity;
     memset(geo, 0, sizeof *geo);
     geo->d_min = INFINITY;
@@ -343,13 +337,13 @@ static int rain_row(SimWorld *world, const AppDischargeDef *def, const AppDischa
 SimWorld *app_deposit(const Scene *scene, uint64_t seed, const AppFrames *frames, FILE *trace,
                       AppDeposit *out, char *err, size_t err_size)
 {
-    const AppDischargeDef *def = scene->discharge;
+    const AppDischargeDef *def = app_discharge_of(scene);
     memset(out, 0, sizeof *out);
     if (!def) {
         snprintf(err, err_size, "%s: the scene has no `discharge` group", scene->path);
         return NULL;
     }
-    double wall0 = now_seconds();
+    double wall0 = app_now_seconds();
     AppDischargeGeometry geo;
     app_discharge_geometry(scene, &geo);
     /* The base and the first row: a world needs a mobile grain to size its time step checks. */
@@ -417,7 +411,7 @@ SimWorld *app_deposit(const Scene *scene, uint64_t seed, const AppFrames *frames
     SimFrame frame;
     sim_world_frame(world, &frame);
     out->height = app_central_height(&frame, 0.0, 0.5 * geo.d_mean);
-    out->wall_seconds = now_seconds() - wall0;
+    out->wall_seconds = app_now_seconds() - wall0;
     return world;
 }
 
@@ -476,14 +470,14 @@ void app_discharge_measure(SimWorld *world, const AppDischargeDef *def, AppDisch
 SimWorld *app_discharge(const Scene *scene, const char *pile_path, double width,
                         const AppFrames *frames, AppDischarge *out, char *err, size_t err_size)
 {
-    const AppDischargeDef *def = scene->discharge;
+    const AppDischargeDef *def = app_discharge_of(scene);
     memset(out, 0, sizeof *out);
     out->width = width;
     if (!def) {
         snprintf(err, err_size, "%s: the scene has no `discharge` group", scene->path);
         return NULL;
     }
-    double wall0 = now_seconds();
+    double wall0 = app_now_seconds();
     AppDischargeGeometry geo;
     app_discharge_geometry(scene, &geo);
     SimError error;
@@ -531,7 +525,7 @@ SimWorld *app_discharge(const Scene *scene, const char *pile_path, double width,
     out->through -= before0;
     out->edges -= before1;
     out->time = sim_world_time(world) - t0;
-    out->wall_seconds = now_seconds() - wall0;
+    out->wall_seconds = app_now_seconds() - wall0;
     return world;
 }
 
@@ -561,3 +555,48 @@ void app_discharge_csv_row(const AppDischarge *r, long sample, double base_lengt
              r->arch_species[0], r->arch_species[1], r->pile_species[0], r->pile_species[1],
              r->equilibrium, r->settled_before, r->time, r->steps, r->wall_seconds);
 }
+
+/* ---------------------------------------------------------------- the experiment */
+
+static int discharge_parse(const config_setting_t *root, const config_setting_t *group,
+                           Scene *scene, void **state, char *err, size_t err_size)
+{
+    (void)root;
+    *state = NULL;
+    if (!group)
+        return 0;
+    AppDischargeDef *def = calloc(1, sizeof *def);
+    if (!def) {
+        snprintf(err, err_size, "%s: out of memory", scene->path);
+        return -1;
+    }
+    if (app_discharge_parse(group, scene->path, scene->def.species_count, def, err, err_size) !=
+        0) {
+        free(def);
+        return -1;
+    }
+    *state = def;
+    return 0;
+}
+
+static void discharge_free(void *state)
+{
+    free(state);
+}
+
+const AppDischargeDef *app_discharge_of(const Scene *scene)
+{
+    return scene_experiment_state(scene, &app_discharge_experiment);
+}
+
+/* The protocol runs its own piles (deposition, relaxation, discharges) rather than the stage
+ * runner: `sablier run` of a discharge scene runs its stages as any scene, and the commands
+ * `discharge` and `study` (command.c, study.c) run the protocol. */
+const AppExperiment app_discharge_experiment = {
+    .name = "discharge",
+    .group = "discharge",
+    .parse = discharge_parse,
+    .free = discharge_free,
+    .commands = app_discharge_commands,
+    .command_count = 2,
+};

@@ -23,6 +23,7 @@
 #ifndef APP_BNE_H
 #define APP_BNE_H
 
+#include "experiment.h"
 #include "scene.h"
 
 #include "sim/sim.h"
@@ -32,7 +33,6 @@
 #include <stdio.h>
 
 typedef struct AppBne AppBne;
-struct AppRenderHooks; /* run.h */
 
 /// What one run measured.
 typedef struct AppBneResult {
@@ -49,32 +49,13 @@ typedef struct AppBneResult {
     const double *height;            ///< intruder centre in the box frame, m
 } AppBneResult;
 
-/// Parses `bne` (the scene's motions, grains and stages must be parsed); adjusts the named
-/// motion's amplitude and frequency. NULL with "file:line: message" in err on bad input.
-AppBne *app_bne_parse(const config_setting_t *group, Scene *scene, char *err, size_t err_size);
-void app_bne_free(AppBne *bne);
-
-/// Stops the motion before the shaking stage and phases it to start at rest offset there
-/// (called by scene_world_def).
-void app_bne_adjust_def(const AppBne *bne, int stage, SimWorldDef *def);
-/// 1 when stage k must re-create its world (the motion starts) instead of continuing in memory.
-int app_bne_restart(const AppBne *bne, int stage);
-
-/// Runner hooks (see sediment.h).
-int app_bne_begin(AppBne *bne, const char *out_dir, char *err, size_t err_size);
-void app_bne_stage(AppBne *bne, const Scene *scene, int stage, SimWorld *world);
-void app_bne_row(AppBne *bne, SimWorld *world);
-int app_bne_end(AppBne *bne, int ok, char *err, size_t err_size);
-
-/// Phase sampling hooks of the runner (no-ops when bne is NULL or has no phase field): the
-/// earliest step after `done` (steps from the start of stage `stage`) at which a phase sample is
-/// due, or `next` when that comes first; the sample itself when step `done` is due; and, at the
-/// end of the shaking stage, phase_field.csv (phase_fields.csv with several phases) and
-/// phase_field.png through render->figure (skipped when render is NULL). 0, or -1 with err.
-long app_bne_next_step(const AppBne *bne, int stage, long done, long next);
-void app_bne_step(AppBne *bne, SimWorld *world, int stage, long done);
-int app_bne_stage_end(AppBne *bne, const Scene *scene, int stage, SimWorld *world,
-                      const struct AppRenderHooks *render, char *err, size_t err_size);
+/// The Brazil-nut family (app/experiment.h): parses `bne`, stops the named motion before the
+/// shaking stage and phases it to start at rest offset there (adjust_def), re-creates the world
+/// at the shaking stage, writes bne.csv at every energy row, the phase samples at their steps,
+/// phase_field.csv and phase_field.png at the end of the shaking stage, and bne.json at the end.
+extern const AppExperiment app_bne_experiment;
+/// The scene's Brazil-nut state (NULL when it has no `bne` group).
+AppBne *app_bne_of(const Scene *scene);
 
 /* ---------------------------------------------------------------- phase-averaged field */
 
@@ -138,17 +119,6 @@ int app_bne_ldf(const double *const *t, const double *const *height, const int *
                 double tau, int bins, double v_min, double v_max, double *centre,
                 double *probability, double *rate_function);
 
-/// Plot writer given by app/sablier.c (render/): one panel of curves. Returns 0 or -1.
-typedef struct AppBneCurve {
-    const char *label;
-    int count;
-    const double *x, *y, *y_err; ///< y_err may be NULL
-} AppBneCurve;
-
-typedef int (*AppBnePlot)(void *context, const char *path, const char *title, const char *x_label,
-                          const char *y_label, const AppBneCurve *curves, int curve_count,
-                          char *err, size_t err_size);
-
 typedef struct AppBneSamplesOptions {
     const char *scene_path;
     const char *out_dir;
@@ -159,12 +129,13 @@ typedef struct AppBneSamplesOptions {
     long seed0;
     double ldf_periods; ///< window of the large-deviation function, in shaking periods (0 = off)
     int quiet;
-    const void *render; ///< AppRenderHooks for each run's movies and figures, or NULL
-    AppBnePlot plot;    ///< rise curves and LDF plots, or NULL
-    void *plot_context;
+    const AppRender *render; ///< each run's movies and figures, or NULL
+    const AppRender *plot;   ///< rise curves and LDF plots, or NULL
 } AppBneSamplesOptions;
 
 /// Runs the samples; returns the exit status (0, 1, 2).
 int app_bne_samples(const AppBneSamplesOptions *options);
+/// `sablier bne` (one entry).
+extern const AppCommand app_bne_commands[];
 
 #endif

@@ -2,7 +2,7 @@
 /* bne.c: Brazil-nut measures and samples (thesis 002 ch. 5; see bne.h and docs/brazil_nut.md). */
 #include "bne.h"
 
-#include "run.h"
+#include "experiments.h"
 #include "util.h"
 
 #include <math.h>
@@ -101,7 +101,7 @@ static int parse_phase_field(AppBne *b, const config_setting_t *g, const char *p
     return 0;
 }
 
-AppBne *app_bne_parse(const config_setting_t *g, Scene *scene, char *err, size_t err_size)
+static AppBne *bne_parse_group(const config_setting_t *g, Scene *scene, char *err, size_t err_size)
 {
     AppParse p = {scene->path, err, err_size, "bne"};
     static const char *const keys[] = {"intruder", "motion",    "gamma",       "period",
@@ -191,8 +191,9 @@ AppBne *app_bne_parse(const config_setting_t *g, Scene *scene, char *err, size_t
     return b;
 }
 
-void app_bne_free(AppBne *b)
+static void bne_free(void *state)
 {
+    AppBne *b = state;
     if (!b)
         return;
     app_tmp_discard(&b->csv, b->csv_path); /* a run that never finished: no bne.csv */
@@ -207,8 +208,9 @@ void app_bne_free(AppBne *b)
     free(b);
 }
 
-void app_bne_adjust_def(const AppBne *b, int stage, SimWorldDef *def)
+static void bne_adjust_def(const void *state, int stage, SimWorldDef *def)
 {
+    const AppBne *b = state;
     SimMotion *mo = &def->motions[b->motion];
     if (stage < b->stage) {
         mo->amplitude = 0.0; /* preparation at rest */
@@ -224,9 +226,10 @@ void app_bne_adjust_def(const AppBne *b, int stage, SimWorldDef *def)
     mo->phase = -fmod(2.0 * BNE_PI * b->frequency * b->last_time, 2.0 * BNE_PI);
 }
 
-int app_bne_restart(const AppBne *b, int stage)
+static int bne_restart(const void *state, int stage)
 {
-    return b && stage == b->stage && stage > 0;
+    const AppBne *b = state;
+    return stage == b->stage && stage > 0;
 }
 
 /* ---------------------------------------------------------------- measures */
@@ -268,15 +271,17 @@ static double surface_height(SimWorld *world, const SimFrame *f)
     return n ? sum / n : (double)NAN;
 }
 
-int app_bne_begin(AppBne *b, const char *out_dir, char *err, size_t err_size)
+static int bne_begin(void *state, AppContext *c)
 {
+    AppBne *b = state;
+    const char *out_dir = c->out_dir;
     snprintf(b->out_dir, sizeof b->out_dir, "%s", out_dir);
     snprintf(b->csv_path, sizeof b->csv_path, "%s/bne.csv", out_dir);
     snprintf(b->json_path, sizeof b->json_path, "%s/bne.json", out_dir);
     b->csv = app_tmp_open(
         b->csv_path, "t,t_shake,cycles,box_offset,intruder_y,intruder_top,surface,surface_start");
     if (!b->csv) {
-        snprintf(err, err_size, "cannot write %s.tmp", b->csv_path);
+        snprintf(c->err, c->err_size, "cannot write %s.tmp", b->csv_path);
         return -1;
     }
     b->count = 0;
@@ -286,11 +291,12 @@ int app_bne_begin(AppBne *b, const char *out_dir, char *err, size_t err_size)
     return 0;
 }
 
-void app_bne_stage(AppBne *b, const Scene *scene, int stage, SimWorld *world)
+static int bne_stage_begin(void *state, AppContext *c)
 {
-    (void)scene;
-    if (stage != b->stage)
-        return;
+    AppBne *b = state;
+    SimWorld *world = c->world;
+    if (c->stage != b->stage)
+        return 0;
     b->t0 = sim_world_time(world);
     b->phase = -fmod(2.0 * BNE_PI * b->frequency * b->last_time, 2.0 * BNE_PI);
     SimFrame f;
@@ -303,10 +309,13 @@ void app_bne_stage(AppBne *b, const Scene *scene, int stage, SimWorld *world)
     b->count = 0;
     if (b->pf_on)
         phase_field_start(b, world, &f);
+    return 0;
 }
 
-void app_bne_row(AppBne *b, SimWorld *world)
+static void bne_sample(void *state, AppContext *c)
 {
+    AppBne *b = state;
+    SimWorld *world = c->world;
     double t = sim_world_time(world);
     b->last_time = t;
     if (!b->measuring)
@@ -363,8 +372,11 @@ static void json_num(char *out, size_t size, double v)
     snprintf(out, size, isfinite(v) ? "%.9g" : "null", v);
 }
 
-int app_bne_end(AppBne *b, int ok, char *err, size_t err_size)
+static int bne_end(void *state, AppContext *c, int ok)
 {
+    AppBne *b = state;
+    char *err = c->err;
+    size_t err_size = c->err_size;
     if (b->csv && app_tmp_commit(&b->csv, b->csv_path) != 0) {
         snprintf(err, err_size, "cannot write %s", b->csv_path);
         return -1;
@@ -688,17 +700,20 @@ static void phase_field_start(AppBne *b, SimWorld *world, const SimFrame *f)
     b->pf_ready = 1;
 }
 
-long app_bne_next_step(const AppBne *b, int stage, long done, long next)
+static long bne_next_step(const void *state, const AppContext *c, long done, long next)
 {
-    if (!b || !b->pf_ready || stage != b->stage)
+    const AppBne *b = state;
+    if (!b->pf_ready || c->stage != b->stage)
         return next;
     long s = app_bne_phase_step(b->pf_phase, b->pf_phases, b->period, b->pf_dt, b->pf_next);
     return s > done && s < next ? s : next;
 }
 
-void app_bne_step(AppBne *b, SimWorld *world, int stage, long done)
+static void bne_step(void *state, AppContext *c, long done)
 {
-    if (!b || !b->pf_ready || stage != b->stage)
+    AppBne *b = state;
+    SimWorld *world = c->world;
+    if (!b->pf_ready || c->stage != b->stage)
         return;
     SimFrame f;
     int framed = 0;
@@ -738,9 +753,8 @@ void app_bne_step(AppBne *b, SimWorld *world, int stage, long done)
  * per-grain velocity arrows. So each arrow is a node's value exactly, drawn from a grain centre
  * within half a cell of the node. Nodes with a mean solid fraction below 0.1 are left out, as the
  * renderer masks its own field. */
-static int phase_figure(AppBne *b, const Scene *scene, SimWorld *world,
-                        const struct AppRenderHooks *render, const char *path, char *err,
-                        size_t err_size)
+static int phase_figure(AppBne *b, const Scene *scene, SimWorld *world, const AppRender *render,
+                        const char *path, char *err, size_t err_size)
 {
     const AppBneField *field = &b->pf_mean;
     SimFrame f;
@@ -828,18 +842,24 @@ static int phase_figure(AppBne *b, const Scene *scene, SimWorld *world,
                  b->pf_phase);
     else
         snprintf(figure.style.title, sizeof figure.style.title, "box-frame cycle-mean velocity");
-    int rc =
-        arrows > 0 ? render->figure(render->context, scene, &figure, &f, path, err, err_size) : 0;
+    int rc = arrows > 0
+                 ? render->figure(render->context, scene, &figure, &f, NULL, path, err, err_size)
+                 : 0;
     free(vx);
     free(vy);
     free(best);
     return rc == 0 ? 0 : -1;
 }
 
-int app_bne_stage_end(AppBne *b, const Scene *scene, int stage, SimWorld *world,
-                      const struct AppRenderHooks *render, char *err, size_t err_size)
+static int bne_stage_end(void *state, AppContext *c)
 {
-    if (!b || !b->pf_on || stage != b->stage)
+    AppBne *b = state;
+    const Scene *scene = c->scene;
+    SimWorld *world = c->world;
+    const AppRender *render = c->render;
+    char *err = c->err;
+    size_t err_size = c->err_size;
+    if (!b->pf_on || c->stage != b->stage)
         return 0;
     if (!b->pf_ready) {
         snprintf(err, err_size, "%s: bne.phase_field: %s", scene->path, b->pf_error);
@@ -887,306 +907,38 @@ int app_bne_stage_end(AppBne *b, const Scene *scene, int stage, SimWorld *world,
     return 0;
 }
 
-/* ---------------------------------------------------------------- large deviations */
+/* ---------------------------------------------------------------- the experiment */
 
-int app_bne_ldf(const double *const *t, const double *const *height, const int *count, int records,
-                double tau, int bins, double v_min, double v_max, double *centre,
-                double *probability, double *rate_function)
+static int bne_parse(const config_setting_t *root, const config_setting_t *group, Scene *scene,
+                     void **state, char *err, size_t err_size)
 {
-    /* windows: from each record, consecutive non-overlapping spans of length tau */
-    int capacity = 0, n = 0;
-    for (int r = 0; r < records; ++r)
-        capacity += count[r];
-    double *v = malloc((size_t)(capacity > 0 ? capacity : 1) * sizeof *v);
-    if (!v || bins < 1)
-        return free(v), 0;
-    for (int r = 0; r < records; ++r) {
-        int k = 0;
-        while (k < count[r]) {
-            int j = k;
-            while (j < count[r] && t[r][j] < t[r][k] + tau - 1e-9 * tau)
-                ++j;
-            if (j >= count[r])
-                break;
-            v[n++] = (height[r][j] - height[r][k]) / (t[r][j] - t[r][k]);
-            k = j;
-        }
-    }
-    if (!(v_min < v_max)) {
-        v_min = INFINITY;
-        v_max = -INFINITY;
-        for (int k = 0; k < n; ++k) {
-            v_min = fmin(v_min, v[k]);
-            v_max = fmax(v_max, v[k]);
-        }
-        if (!(v_min < v_max)) {
-            v_min -= 0.5;
-            v_max += 0.5;
-        }
-    }
-    double width = (v_max - v_min) / bins, p_max = 0.0;
-    for (int b = 0; b < bins; ++b) {
-        centre[b] = v_min + (b + 0.5) * width;
-        probability[b] = 0.0;
-    }
-    for (int k = 0; k < n; ++k) {
-        int b = (int)floor((v[k] - v_min) / width);
-        b = b < 0 ? 0 : b >= bins ? bins - 1 : b;
-        probability[b] += 1.0 / n;
-    }
-    for (int b = 0; b < bins; ++b)
-        p_max = fmax(p_max, probability[b]);
-    for (int b = 0; b < bins; ++b)
-        rate_function[b] = probability[b] > 0.0 ? -log(probability[b] / p_max) / tau : (double)NAN;
-    free(v);
-    return n;
+    (void)root;
+    *state = NULL;
+    if (!group)
+        return 0;
+    *state = bne_parse_group(group, scene, err, err_size);
+    return *state ? 0 : -1;
 }
 
-/* ---------------------------------------------------------------- samples */
-
-typedef struct Record {
-    double value;
-    long seed;
-    AppBneResult result;
-    double *t, *h;
-} Record;
-
-static int split_vary(const char *vary, char *key, size_t key_size, double *values, int max)
+AppBne *app_bne_of(const Scene *scene)
 {
-    const char *eq = vary ? strchr(vary, '=') : NULL;
-    if (!eq || eq == vary || (size_t)(eq - vary) >= key_size)
-        return -1;
-    snprintf(key, key_size, "%.*s", (int)(eq - vary), vary);
-    int n = 0;
-    const char *p = eq + 1;
-    while (*p && n < max) {
-        char *end;
-        values[n] = strtod(p, &end);
-        if (end == p || !isfinite(values[n]))
-            return -1;
-        ++n;
-        p = end;
-        if (*p == ',')
-            ++p;
-        else if (*p)
-            return -1;
-    }
-    return n;
+    return scene_experiment_state(scene, &app_bne_experiment);
 }
 
-int app_bne_samples(const AppBneSamplesOptions *o)
-{
-    char key[128] = "";
-    double values[64];
-    int value_count = 1;
-    values[0] = NAN;
-    if (o->vary) {
-        value_count = split_vary(o->vary, key, sizeof key, values, 64);
-        if (value_count < 1) {
-            fprintf(stderr, "sablier: bne: --vary must read KEY=v1,v2,..., got %s\n", o->vary);
-            return 2;
-        }
-    }
-    if (o->seeds < 1 || o->set_count > 60) {
-        fprintf(stderr, "sablier: bne: --seeds must be >= 1\n");
-        return 2;
-    }
-    if (app_make_dirs(o->out_dir) != 0) {
-        fprintf(stderr, "sablier: bne: cannot create %s\n", o->out_dir);
-        return 2;
-    }
-    int total = value_count * o->seeds, done = 0, status = 0;
-    Record *records = calloc((size_t)total, sizeof *records);
-    if (!records)
-        return 2;
-    for (int v = 0; v < value_count && status == 0; ++v)
-        for (int s = 0; s < o->seeds && status == 0; ++s) {
-            const char *sets[64];
-            char seed_set[64], vary_set[200], dir[BNE_PATH], err[2048] = "";
-            int n = 0;
-            for (int k = 0; k < o->set_count; ++k)
-                sets[n++] = o->sets[k];
-            long seed = o->seed0 + s;
-            snprintf(seed_set, sizeof seed_set, "seed=%ld", seed);
-            sets[n++] = seed_set;
-            if (o->vary) {
-                snprintf(vary_set, sizeof vary_set, "%s=%.17g", key, values[v]);
-                sets[n++] = vary_set;
-                snprintf(dir, sizeof dir, "%s/%s=%g/seed-%ld", o->out_dir, key, values[v], seed);
-            } else {
-                snprintf(dir, sizeof dir, "%s/seed-%ld", o->out_dir, seed);
-            }
-            Scene *scene = scene_load(o->scene_path, sets, n, err, sizeof err);
-            if (!scene) {
-                fprintf(stderr, "%s\n", err);
-                status = 2;
-                break;
-            }
-            if (!scene->bne) {
-                fprintf(stderr, "sablier: bne: %s has no `bne` group\n", o->scene_path);
-                scene_free(scene);
-                status = 2;
-                break;
-            }
-            AppRunOptions ro = app_run_options_default();
-            ro.out_dir = dir;
-            ro.quiet = 1;
-            ro.render = o->render;
-            int rc = app_run(scene, &ro);
-            Record *rec = &records[done];
-            rec->value = values[v];
-            rec->seed = seed;
-            if (rc == 0) {
-                rec->result = app_bne_result(scene->bne);
-                size_t bytes =
-                    (size_t)(rec->result.count > 0 ? rec->result.count : 1) * sizeof(double);
-                rec->t = malloc(bytes);
-                rec->h = malloc(bytes);
-                if (rec->t && rec->h && rec->result.count > 0) {
-                    memcpy(rec->t, rec->result.t, bytes);
-                    memcpy(rec->h, rec->result.height, bytes);
-                }
-                rec->result.t = rec->t;
-                rec->result.height = rec->h;
-                ++done;
-                if (!o->quiet)
-                    fprintf(stderr, "sablier: bne: %s%s%g seed %ld: rise time %g, rate %g\n", key,
-                            o->vary ? "=" : "", o->vary ? values[v] : 0.0, seed,
-                            rec->result.rise_time, rec->result.rise_rate);
-            } else {
-                status = rc;
-            }
-            scene_free(scene);
-        }
-    /* samples.csv, rise.csv (mean +- std of the rise h - h0 against time), ldf.csv */
-    char path[BNE_PATH];
-    snprintf(path, sizeof path, "%s/samples.csv", o->out_dir);
-    FILE *f = fopen(path, "w");
-    FILE *rise = NULL, *ldf = NULL;
-    if (f) {
-        fprintf(f, "value,seed,gamma,period,rise_time,rise_rate,start_height,end_height,surface\n");
-        for (int k = 0; k < done; ++k) {
-            const AppBneResult *r = &records[k].result;
-            fprintf(f, "%.9g,%ld,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", records[k].value,
-                    records[k].seed, r->gamma, r->period, r->rise_time, r->rise_rate,
-                    r->start_height, r->end_height, r->surface);
-        }
-        fclose(f);
-    }
-    snprintf(path, sizeof path, "%s/rise.csv", o->out_dir);
-    rise = fopen(path, "w");
-    snprintf(path, sizeof path, "%s/ldf.csv", o->out_dir);
-    ldf = o->ldf_periods > 0.0 ? fopen(path, "w") : NULL;
-    if (rise)
-        fprintf(rise, "value,t,mean_rise,std_rise,samples\n");
-    if (ldf)
-        fprintf(ldf, "value,tau,v,probability,rate_function\n");
-    AppBneCurve curves[64], ldf_curves[64];
-    double *store[5 * 64];
-    int stored = 0, curve_count = 0;
-    char labels[64][192];
-    for (int v = 0; v < value_count; ++v) {
-        int first = -1, n = 0, len = 0;
-        for (int k = 0; k < done; ++k)
-            if (records[k].value == values[v] || (isnan(values[v]) && isnan(records[k].value))) {
-                if (first < 0)
-                    first = k;
-                len = n == 0 || records[k].result.count < len ? records[k].result.count : len;
-                ++n;
-            }
-        if (n == 0 || len == 0)
-            continue;
-        double *mean = calloc((size_t)len, sizeof *mean), *sd = calloc((size_t)len, sizeof *sd);
-        if (!mean || !sd) {
-            free(mean);
-            free(sd);
-            continue;
-        }
-        for (int j = 0; j < len; ++j) {
-            double sum = 0.0, sum2 = 0.0;
-            for (int k = first; k < done; ++k)
-                if (records[k].value == values[v] ||
-                    (isnan(values[v]) && isnan(records[k].value))) {
-                    double x = records[k].h[j] - records[k].result.start_height;
-                    sum += x;
-                    sum2 += x * x;
-                }
-            mean[j] = sum / n;
-            sd[j] = n > 1 ? sqrt(fmax(0.0, (sum2 - sum * sum / n) / (n - 1))) : 0.0;
-            if (rise)
-                fprintf(rise, "%.9g,%.9g,%.9g,%.9g,%d\n", values[v], records[first].t[j], mean[j],
-                        sd[j], n);
-        }
-        snprintf(labels[curve_count], sizeof labels[0], "%s%s%g (%d)", o->vary ? key : "samples",
-                 o->vary ? " = " : "", o->vary ? values[v] : (double)n, n);
-        /* the plot shows about 15 error bars per curve, staggered between curves (every sample's
-         * spread is in rise.csv) */
-        double *bar = malloc((size_t)len * sizeof *bar);
-        int step = len / 15 > 1 ? len / 15 : 1, offset = step * v / value_count;
-        for (int j = 0; bar && j < len; ++j)
-            bar[j] = j % step == offset ? sd[j] : (double)NAN;
-        curves[curve_count] =
-            (AppBneCurve){labels[curve_count], len, records[first].t, mean, bar ? bar : sd};
-        store[stored++] = mean;
-        store[stored++] = sd;
-        if (bar)
-            store[stored++] = bar;
-        if (ldf) {
-            const double *ts[256], *hs[256];
-            int cs[256], r = 0;
-            for (int k = first; k < done && r < 256; ++k)
-                if (records[k].value == values[v] ||
-                    (isnan(values[v]) && isnan(records[k].value))) {
-                    ts[r] = records[k].t;
-                    hs[r] = records[k].h;
-                    cs[r] = records[k].result.count;
-                    ++r;
-                }
-            double tau = o->ldf_periods * records[first].result.period;
-            double *c = calloc(24, sizeof *c), *pr = calloc(24, sizeof *pr),
-                   *rf = calloc(24, sizeof *rf);
-            if (c && pr && rf) {
-                int windows = app_bne_ldf(ts, hs, cs, r, tau, 24, 0.0, 0.0, c, pr, rf);
-                for (int b = 0; b < 24 && windows > 0; ++b)
-                    fprintf(ldf, "%.9g,%.9g,%.9g,%.9g,%.9g\n", values[v], tau, c[b], pr[b], rf[b]);
-                ldf_curves[curve_count] = (AppBneCurve){labels[curve_count], 24, c, rf, NULL};
-                store[stored++] = c;
-                store[stored++] = rf;
-                free(pr);
-            } else {
-                free(c);
-                free(pr);
-                free(rf);
-                ldf_curves[curve_count] = (AppBneCurve){labels[curve_count], 0, NULL, NULL, NULL};
-            }
-        }
-        ++curve_count;
-    }
-    if (rise)
-        fclose(rise);
-    if (ldf)
-        fclose(ldf);
-    if (o->plot && curve_count > 0) {
-        char err[512] = "";
-        snprintf(path, sizeof path, "%s/rise.png", o->out_dir);
-        if (o->plot(o->plot_context, path, "Intruder rise (mean +- std over seeds)",
-                    "time since shaking starts", "intruder height rise", curves, curve_count, err,
-                    sizeof err) != 0)
-            fprintf(stderr, "sablier: bne: %s: %s\n", path, err);
-        if (ldf) {
-            snprintf(path, sizeof path, "%s/ldf.png", o->out_dir);
-            if (o->plot(o->plot_context, path, "Large-deviation function of the rise rate",
-                        "windowed rise rate v", "I(v) = -ln(P(v)/P_max) / tau", ldf_curves,
-                        curve_count, err, sizeof err) != 0)
-                fprintf(stderr, "sablier: bne: %s: %s\n", path, err);
-        }
-    }
-    for (int k = 0; k < stored; ++k)
-        free(store[k]);
-    for (int k = 0; k < total; ++k) {
-        free(records[k].t);
-        free(records[k].h);
-    }
-    free(records);
-    return status;
-}
+const AppExperiment app_bne_experiment = {
+    .name = "bne",
+    .group = "bne",
+    .parse = bne_parse,
+    .free = bne_free,
+    .adjust_def = bne_adjust_def,
+    .restart = bne_restart,
+    .begin = bne_begin,
+    .stage_begin = bne_stage_begin,
+    .sample = bne_sample,
+    .next_step = bne_next_step,
+    .step = bne_step,
+    .stage_end = bne_stage_end,
+    .end = bne_end,
+    .commands = app_bne_commands,
+    .command_count = 1,
+};

@@ -15,6 +15,7 @@
 #ifndef APP_DISCHARGE_H
 #define APP_DISCHARGE_H
 
+#include "experiment.h"
 #include "scene.h"
 
 #include "sim/sim.h"
@@ -146,5 +147,12 @@ void app_arch_marks(const SimFrame *frame, const AppDischarge *result, int *mark
 const char *app_discharge_csv_header(void);
 void app_discharge_csv_row(const AppDischarge *r, long sample, double base_length, char *out,
                            size_t size);
+
+/// The discharge family (app/experiment.h): the `discharge` group and the commands `discharge`
+/// and `study` (app_discharge_commands, two entries).
+extern const AppExperiment app_discharge_experiment;
+extern const AppCommand app_discharge_commands[];
+/// The scene's discharge protocol (NULL when it has no `discharge` group).
+const AppDischargeDef *app_discharge_of(const Scene *scene);
 
 #endif

@@ -10,9 +10,11 @@
  *     app_observer_sample(obs, world, stage, t0);   // one profile + crater row
  *     app_observer_close(obs, world, err, sizeof err);
  */
-#ifndef APP_OBSERVE_H
-#define APP_OBSERVE_H
+#ifndef APP_CRATER_H
+#define APP_CRATER_H
 
+#include "experiment.h"
+#include "render_hooks.h"
 #include "scene.h"
 
 #include "sim/sim.h"
@@ -67,10 +69,12 @@ AppBed app_bed_measure(SimWorld *world, const AppProfile *profile);
 
 typedef struct AppObserver AppObserver;
 
-/// Opens profile.csv and crater.csv in out_dir. NULL with a message on error.
-AppObserver *app_observer_open(const Scene *scene, const char *out_dir, char *err, size_t err_size);
-/// Before a stage's edits: a stage that digs first measures the bed it digs into.
-void app_observer_before_edit(AppObserver *observer, SimWorld *world, int stage);
+/// Opens profile.csv and crater.csv in out_dir; profiles in bins about `profile_bin` wide (0 = the
+/// mean diameter). NULL with a message on error.
+AppObserver *app_observer_open(const Scene *scene, double profile_bin, const char *out_dir,
+                               char *err, size_t err_size);
+/// Before a stage digs the cavity [x0, x1] (m): measures the bed it digs into.
+void app_observer_before_dig(AppObserver *observer, SimWorld *world, double x0, double x1);
 /// After a stage's edits: records the scales of t* and E* at the start of the last stage.
 void app_observer_stage_start(AppObserver *observer, SimWorld *world, int stage);
 /// One profile.csv block and one crater.csv row (after a dig) at the world's time; stage_start
@@ -106,9 +110,9 @@ typedef struct AppChart {
     AppChartPanel panels[APP_CHART_MAX_PANELS];
 } AppChart;
 
-/// Draws and writes a plot (format from the extension); 0, or -1 with a message.
-typedef int (*AppChartWriter)(void *context, const AppChart *plot, const char *path, char *err,
-                              size_t err_size);
+/// Draws and writes a chart through render->plot (nothing when render has no plot); 0, or -1.
+int app_chart_write(const AppChart *chart, const AppRender *render, const char *path, char *err,
+                    size_t err_size);
 
 void app_chart_init(AppChart *plot, int rows, int cols, const char *title);
 void app_chart_free(AppChart *plot);
@@ -128,10 +132,31 @@ int app_chart_profiles_run(AppChart *plot, int panel, const char *run_dir, int c
 /// Reads one value of a run folder's observables.csv; NAN when absent.
 double app_observable(const char *run_dir, const char *key);
 
-/// The figures of a crater run, written when the scene writes profiles (output.profile_every >
-/// 0): energy_panels.png (E* against t*) and profiles.png (profile evolution, fig. 7.30).
-/// 0, or -1 with a message.
-int app_crater_plots(const Scene *scene, const char *out_dir, AppChartWriter writer, void *context,
-                     char *err, size_t err_size);
+/// The figures of a crater run: energy_panels.png (E* against t*) and profiles.png (profile
+/// evolution, fig. 7.30), from the run folder's CSV files. 0, or -1 with a message.
+int app_crater_plots(const Scene *scene, const char *out_dir, const AppRender *render, char *err,
+                     size_t err_size);
+
+/// Free-surface height near x: highest top (y + r) of mobile grains with |x_i - x| <= half_width,
+/// m. Returns 0 and sets *top, or -1 when no mobile grain is in the band.
+int app_surface_height(const SimFrame *frame, double x, double half_width, double *top);
+
+/* ---------------------------------------------------------------- the crater experiment */
+
+/// A stage's cavity (000 §4.1 stage 2): `dig = { center_x; width; height; top; }` in the stage.
+typedef struct AppCraterDig {
+    int dig;                        ///< 1: remove a rectangle at the stage start
+    double center_x, width, height; ///< m
+    int top_surface;                ///< 1: the cavity top is the free surface near center_x
+    double top;                     ///< m, when top_surface is 0
+} AppCraterDig;
+
+typedef struct AppCraterState AppCraterState;
+extern const AppExperiment app_crater_experiment;
+
+/// The scene's crater settings (NULL when it neither digs nor writes profiles).
+const AppCraterState *app_crater_of(const Scene *scene);
+/// Stage k's cavity (dig = 0 when the stage does not dig, or the scene has no crater state).
+AppCraterDig app_crater_dig(const Scene *scene, int stage);
 
 #endif

@@ -1,0 +1,405 @@
+/* SPDX-License-Identifier: MIT */
+/* bne/samples.c: the Brazil-nut family's multi-run driver, `sablier bne` (thesis 002 ch. 5): a
+ * scene run for several seeds and values of one key through the stage runner, reduced to mean
+ * +- standard deviation rise curves, rise times and the large-deviation function of the windowed
+ * rise rate (docs/brazil_nut.md). */
+#include "bne.h"
+#include "run.h"
+#include "util.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define BNE_PATH (SCENE_PATH_MAX + 2 * SCENE_NAME_MAX)
+
+/* ---------------------------------------------------------------- large deviations */
+
+int app_bne_ldf(const double *const *t, const double *const *height, const int *count, int records,
+                double tau, int bins, double v_min, double v_max, double *centre,
+                double *probability, double *rate_function)
+{
+    /* windows: from each record, consecutive non-overlapping spans of length tau */
+    int capacity = 0, n = 0;
+    for (int r = 0; r < records; ++r)
+        capacity += count[r];
+    double *v = malloc((size_t)(capacity > 0 ? capacity : 1) * sizeof *v);
+    if (!v || bins < 1)
+        return free(v), 0;
+    for (int r = 0; r < records; ++r) {
+        int k = 0;
+        while (k < count[r]) {
+            int j = k;
+            while (j < count[r] && t[r][j] < t[r][k] + tau - 1e-9 * tau)
+                ++j;
+            if (j >= count[r])
+                break;
+            v[n++] = (height[r][j] - height[r][k]) / (t[r][j] - t[r][k]);
+            k = j;
+        }
+    }
+    if (!(v_min < v_max)) {
+        v_min = INFINITY;
+        v_max = -INFINITY;
+        for (int k = 0; k < n; ++k) {
+            v_min = fmin(v_min, v[k]);
+            v_max = fmax(v_max, v[k]);
+        }
+        if (!(v_min < v_max)) {
+            v_min -= 0.5;
+            v_max += 0.5;
+        }
+    }
+    double width = (v_max - v_min) / bins, p_max = 0.0;
+    for (int b = 0; b < bins; ++b) {
+        centre[b] = v_min + (b + 0.5) * width;
+        probability[b] = 0.0;
+    }
+    for (int k = 0; k < n; ++k) {
+        int b = (int)floor((v[k] - v_min) / width);
+        b = b < 0 ? 0 : b >= bins ? bins - 1 : b;
+        probability[b] += 1.0 / n;
+    }
+    for (int b = 0; b < bins; ++b)
+        p_max = fmax(p_max, probability[b]);
+    for (int b = 0; b < bins; ++b)
+        rate_function[b] = probability[b] > 0.0 ? -log(probability[b] / p_max) / tau : (double)NAN;
+    free(v);
+    return n;
+}
+
+/* ---------------------------------------------------------------- samples */
+
+typedef struct Record {
+    double value;
+    long seed;
+    AppBneResult result;
+    double *t, *h;
+} Record;
+
+/* One panel of curves, as every `sablier bne` plot (legend upper left). */
+static int bne_plot(const AppRender *render, const char *path, const char *title,
+                    const char *x_label, const char *y_label, const AppPlotSeries *series,
+                    int count, char *err, size_t err_size)
+{
+    AppPlotPanel panel = {.x_label = x_label,
+                          .y_label = y_label,
+                          .legend = APP_LEGEND_UPPER_LEFT,
+                          .series_count = count < 64 ? count : 64,
+                          .series = series};
+    AppPlot plot = {.title = title,
+                    .width = 1000,
+                    .height = 700,
+                    .rows = 1,
+                    .cols = 1,
+                    .panel_count = 1,
+                    .panels = &panel,
+                    .scene = "bne"};
+    return render->plot(render->context, &plot, path, err, err_size);
+}
+
+int app_bne_samples(const AppBneSamplesOptions *o)
+{
+    char key[128] = "";
+    double values[64];
+    int value_count = 1;
+    values[0] = NAN;
+    if (o->vary) {
+        value_count = app_parse_key_values(o->vary, key, sizeof key, values, 64);
+        if (value_count < 1) {
+            fprintf(stderr, "sablier: bne: --vary must read KEY=v1,v2,..., got %s\n", o->vary);
+            return 2;
+        }
+    }
+    if (o->seeds < 1 || o->set_count > 60) {
+        fprintf(stderr, "sablier: bne: --seeds must be >= 1\n");
+        return 2;
+    }
+    if (app_make_dirs(o->out_dir) != 0) {
+        fprintf(stderr, "sablier: bne: cannot create %s\n", o->out_dir);
+        return 2;
+    }
+    int total = value_count * o->seeds, done = 0, status = 0;
+    Record *records = calloc((size_t)total, sizeof *records);
+    if (!records)
+        return 2;
+    for (int v = 0; v < value_count && status == 0; ++v)
+        for (int s = 0; s < o->seeds && status == 0; ++s) {
+            const char *sets[64];
+            char seed_set[64], vary_set[200], dir[BNE_PATH], err[2048] = "";
+            int n = 0;
+            for (int k = 0; k < o->set_count; ++k)
+                sets[n++] = o->sets[k];
+            long seed = o->seed0 + s;
+            snprintf(seed_set, sizeof seed_set, "seed=%ld", seed);
+            sets[n++] = seed_set;
+            if (o->vary) {
+                snprintf(vary_set, sizeof vary_set, "%s=%.17g", key, values[v]);
+                sets[n++] = vary_set;
+                snprintf(dir, sizeof dir, "%s/%s=%g/seed-%ld", o->out_dir, key, values[v], seed);
+            } else {
+                snprintf(dir, sizeof dir, "%s/seed-%ld", o->out_dir, seed);
+            }
+            Scene *scene = scene_load(o->scene_path, sets, n, err, sizeof err);
+            if (!scene) {
+                fprintf(stderr, "%s\n", err);
+                status = 2;
+                break;
+            }
+            if (!app_bne_of(scene)) {
+                fprintf(stderr, "sablier: bne: %s has no `bne` group\n", o->scene_path);
+                scene_free(scene);
+                status = 2;
+                break;
+            }
+            AppRunOptions ro = app_run_options_default();
+            ro.out_dir = dir;
+            ro.quiet = 1;
+            ro.render = o->render;
+            int rc = app_run(scene, &ro);
+            Record *rec = &records[done];
+            rec->value = values[v];
+            rec->seed = seed;
+            if (rc == 0) {
+                rec->result = app_bne_result(app_bne_of(scene));
+                size_t bytes =
+                    (size_t)(rec->result.count > 0 ? rec->result.count : 1) * sizeof(double);
+                rec->t = malloc(bytes);
+                rec->h = malloc(bytes);
+                if (rec->t && rec->h && rec->result.count > 0) {
+                    memcpy(rec->t, rec->result.t, bytes);
+                    memcpy(rec->h, rec->result.height, bytes);
+                }
+                rec->result.t = rec->t;
+                rec->result.height = rec->h;
+                ++done;
+                if (!o->quiet)
+                    fprintf(stderr, "sablier: bne: %s%s%g seed %ld: rise time %g, rate %g\n", key,
+                            o->vary ? "=" : "", o->vary ? values[v] : 0.0, seed,
+                            rec->result.rise_time, rec->result.rise_rate);
+            } else {
+                status = rc;
+            }
+            scene_free(scene);
+        }
+    /* samples.csv, rise.csv (mean +- std of the rise h - h0 against time), ldf.csv */
+    char path[BNE_PATH];
+    snprintf(path, sizeof path, "%s/samples.csv", o->out_dir);
+    FILE *f = fopen(path, "w");
+    FILE *rise = NULL, *ldf = NULL;
+    if (f) {
+        fprintf(f, "value,seed,gamma,period,rise_time,rise_rate,start_height,end_height,surface\n");
+        for (int k = 0; k < done; ++k) {
+            const AppBneResult *r = &records[k].result;
+            fprintf(f, "%.9g,%ld,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", records[k].value,
+                    records[k].seed, r->gamma, r->period, r->rise_time, r->rise_rate,
+                    r->start_height, r->end_height, r->surface);
+        }
+        fclose(f);
+    }
+    snprintf(path, sizeof path, "%s/rise.csv", o->out_dir);
+    rise = fopen(path, "w");
+    snprintf(path, sizeof path, "%s/ldf.csv", o->out_dir);
+    ldf = o->ldf_periods > 0.0 ? fopen(path, "w") : NULL;
+    if (rise)
+        fprintf(rise, "value,t,mean_rise,std_rise,samples\n");
+    if (ldf)
+        fprintf(ldf, "value,tau,v,probability,rate_function\n");
+    AppPlotSeries curves[64], ldf_curves[64];
+    double *store[5 * 64];
+    int stored = 0, curve_count = 0;
+    char labels[64][192];
+    for (int v = 0; v < value_count; ++v) {
+        int first = -1, n = 0, len = 0;
+        for (int k = 0; k < done; ++k)
+            if (records[k].value == values[v] || (isnan(values[v]) && isnan(records[k].value))) {
+                if (first < 0)
+                    first = k;
+                len = n == 0 || records[k].result.count < len ? records[k].result.count : len;
+                ++n;
+            }
+        if (n == 0 || len == 0)
+            continue;
+        double *mean = calloc((size_t)len, sizeof *mean), *sd = calloc((size_t)len, sizeof *sd);
+        if (!mean || !sd) {
+            free(mean);
+            free(sd);
+            continue;
+        }
+        for (int j = 0; j < len; ++j) {
+            double sum = 0.0, sum2 = 0.0;
+            for (int k = first; k < done; ++k)
+                if (records[k].value == values[v] ||
+                    (isnan(values[v]) && isnan(records[k].value))) {
+                    double x = records[k].h[j] - records[k].result.start_height;
+                    sum += x;
+                    sum2 += x * x;
+                }
+            mean[j] = sum / n;
+            sd[j] = n > 1 ? sqrt(fmax(0.0, (sum2 - sum * sum / n) / (n - 1))) : 0.0;
+            if (rise)
+                fprintf(rise, "%.9g,%.9g,%.9g,%.9g,%d\n", values[v], records[first].t[j], mean[j],
+                        sd[j], n);
+        }
+        snprintf(labels[curve_count], sizeof labels[0], "%s%s%g (%d)", o->vary ? key : "samples",
+                 o->vary ? " = " : "", o->vary ? values[v] : (double)n, n);
+        /* the plot shows about 15 error bars per curve, staggered between curves (every sample's
+         * spread is in rise.csv) */
+        double *bar = malloc((size_t)len * sizeof *bar);
+        int step = len / 15 > 1 ? len / 15 : 1, offset = step * v / value_count;
+        for (int j = 0; bar && j < len; ++j)
+            bar[j] = j % step == offset ? sd[j] : (double)NAN;
+        curves[curve_count] = (AppPlotSeries){.label = labels[curve_count],
+                                              .count = len,
+                                              .x = records[first].t,
+                                              .y = mean,
+                                              .y_err = bar ? bar : sd,
+                                              .line = 1,
+                                              .rgb = APP_RGB_AUTO};
+        store[stored++] = mean;
+        store[stored++] = sd;
+        if (bar)
+            store[stored++] = bar;
+        if (ldf) {
+            const double *ts[256], *hs[256];
+            int cs[256], r = 0;
+            for (int k = first; k < done && r < 256; ++k)
+                if (records[k].value == values[v] ||
+                    (isnan(values[v]) && isnan(records[k].value))) {
+                    ts[r] = records[k].t;
+                    hs[r] = records[k].h;
+                    cs[r] = records[k].result.count;
+                    ++r;
+                }
+            double tau = o->ldf_periods * records[first].result.period;
+            double *c = calloc(24, sizeof *c), *pr = calloc(24, sizeof *pr),
+                   *rf = calloc(24, sizeof *rf);
+            if (c && pr && rf) {
+                int windows = app_bne_ldf(ts, hs, cs, r, tau, 24, 0.0, 0.0, c, pr, rf);
+                for (int b = 0; b < 24 && windows > 0; ++b)
+                    fprintf(ldf, "%.9g,%.9g,%.9g,%.9g,%.9g\n", values[v], tau, c[b], pr[b], rf[b]);
+                ldf_curves[curve_count] = (AppPlotSeries){.label = labels[curve_count],
+                                                          .count = 24,
+                                                          .x = c,
+                                                          .y = rf,
+                                                          .line = 1,
+                                                          .rgb = APP_RGB_AUTO};
+                store[stored++] = c;
+                store[stored++] = rf;
+                free(pr);
+            } else {
+                free(c);
+                free(pr);
+                free(rf);
+                ldf_curves[curve_count] =
+                    (AppPlotSeries){.label = labels[curve_count], .line = 1, .rgb = APP_RGB_AUTO};
+            }
+        }
+        ++curve_count;
+    }
+    if (rise)
+        fclose(rise);
+    if (ldf)
+        fclose(ldf);
+    if (o->plot && o->plot->plot && curve_count > 0) {
+        char err[512] = "";
+        snprintf(path, sizeof path, "%s/rise.png", o->out_dir);
+        if (bne_plot(o->plot, path, "Intruder rise (mean +- std over seeds)",
+                     "time since shaking starts", "intruder height rise", curves, curve_count, err,
+                     sizeof err) != 0)
+            fprintf(stderr, "sablier: bne: %s: %s\n", path, err);
+        if (ldf) {
+            snprintf(path, sizeof path, "%s/ldf.png", o->out_dir);
+            if (bne_plot(o->plot, path, "Large-deviation function of the rise rate",
+                         "windowed rise rate v", "I(v) = -ln(P(v)/P_max) / tau", ldf_curves,
+                         curve_count, err, sizeof err) != 0)
+                fprintf(stderr, "sablier: bne: %s: %s\n", path, err);
+        }
+    }
+    for (int k = 0; k < stored; ++k)
+        free(store[k]);
+    for (int k = 0; k < total; ++k) {
+        free(records[k].t);
+        free(records[k].h);
+    }
+    free(records);
+    return status;
+}
+
+/* ---------------------------------------------------------------- the command */
+
+static const char USAGE_BNE[] =
+    "usage: sablier bne SCENE [--seeds N] [--seed0 S] [--vary KEY=v1,v2,...] [--ldf PERIODS]\n"
+    "                   [--out DIR] [--set KEY=VALUE]... [--movies] [--quiet]\n"
+    "Runs a scene with a `bne` group for N seeds (default 5) and each value of KEY; writes\n"
+    "DIR/samples.csv (rise time and rate per run), rise.csv and rise.png (mean +- std of the\n"
+    "intruder's rise against time), ldf.csv and ldf.png (large-deviation function of the rise\n"
+    "rate over windows of PERIODS shaking periods, default 5; docs/brazil_nut.md). Each run's own\n"
+    "outputs go to DIR/KEY=value/seed-S/ (movies and figures only with --movies).\n";
+
+static int bne_command(int argc, char **argv, const AppEnv *env)
+{
+    const char *path = NULL, *value, *sets[APP_MAX_SETS], *out = NULL;
+    int set_count = 0, movies = 0;
+    long seeds = 5, seed0 = 1;
+    AppBneSamplesOptions o;
+    memset(&o, 0, sizeof o);
+    o.ldf_periods = 5.0;
+    for (int i = 2; i < argc; ++i) {
+        int m;
+        if ((m = app_option(argc, argv, &i, "--out", &value)) != 0) {
+            if (m < 0)
+                return 2;
+            out = value;
+        } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
+            if (m < 0 || app_collect_set(sets, &set_count, APP_MAX_SETS, value) < 0)
+                return 2;
+        } else if ((m = app_option(argc, argv, &i, "--vary", &value)) != 0) {
+            if (m < 0)
+                return 2;
+            o.vary = value;
+        } else if ((m = app_option(argc, argv, &i, "--seeds", &value)) != 0) {
+            if (m < 0 || app_parse_count(value, 1, 10000, &seeds) < 0)
+                return app_usage_error(USAGE_BNE, "--seeds needs a count in [1, 10000], got",
+                                       m < 0 ? "nothing" : value);
+        } else if ((m = app_option(argc, argv, &i, "--seed0", &value)) != 0) {
+            if (m < 0 || app_parse_count(value, 0, 1000000000, &seed0) < 0)
+                return app_usage_error(USAGE_BNE, "--seed0 needs a seed >= 0, got",
+                                       m < 0 ? "nothing" : value);
+        } else if ((m = app_option(argc, argv, &i, "--ldf", &value)) != 0) {
+            char *end = NULL;
+            o.ldf_periods = m < 0 ? -1.0 : strtod(value, &end);
+            if (m < 0 || !end || *end || !(o.ldf_periods >= 0.0))
+                return app_usage_error(USAGE_BNE, "--ldf needs a number of periods >= 0, got",
+                                       m < 0 ? "nothing" : value);
+        } else if (strcmp(argv[i], "--movies") == 0) {
+            movies = 1;
+        } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
+            o.quiet = 1;
+        } else if (app_scene_argument(USAGE_BNE, argv[i], &path) != 0) {
+            return 2;
+        }
+    }
+    if (!path)
+        return app_usage_error(USAGE_BNE, "missing SCENE", NULL);
+    char default_out[SCENE_PATH_MAX];
+    const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
+    snprintf(default_out, sizeof default_out, "out/bne-%.*s", (int)strcspn(base, "."), base);
+    o.scene_path = path;
+    o.out_dir = out ? out : default_out;
+    o.sets = sets;
+    o.set_count = set_count;
+    o.seeds = (int)seeds;
+    o.seed0 = seed0;
+    if (movies)
+        o.render = env->render;
+    o.plot = env->render;
+    return app_bne_samples(&o);
+}
+
+const AppCommand app_bne_commands[] = {
+    {"bne",
+     "bne SCENE      Brazil-nut samples over seeds and one varied key: rise curves, LDF (002)",
+     USAGE_BNE, bne_command},
+};

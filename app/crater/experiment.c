@@ -1,0 +1,298 @@
+/* SPDX-License-Identifier: MIT */
+/* crater/experiment.c: the crater-collapse family (thesis 000) behind app/experiment.h. Owns the
+ * stages' `dig` keys (a cavity dug at the stage start, 000 §4.1 stage 2) and `output.profile_every`
+ * / `output.profile_bin` (free-surface profiles), runs the observer of crater.c during a run and
+ * draws the energy and profile figures after it; `sablier sweep` (sweep.c) is its driver. */
+#include "crater.h"
+#include "experiments.h"
+#include "sweep.h"
+#include "util.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct AppCraterState {
+    AppCraterDig dig[SCENE_MAX_STAGES];
+    double profile_every; /* s between free-surface profiles (0 = stage ends only) */
+    double profile_bin;   /* m, 0 = the mean diameter */
+    AppObserver *observer;
+    long every_profile; /* steps, in the current stage; > stage steps: off */
+    long done;          /* steps of the current stage, as last seen */
+    char json[1024];    /* summary.json members, taken before the observer closes */
+};
+
+const AppCraterState *app_crater_of(const Scene *scene)
+{
+    return scene_experiment_state(scene, &app_crater_experiment);
+}
+
+AppCraterDig app_crater_dig(const Scene *scene, int stage)
+{
+    const AppCraterState *c = app_crater_of(scene);
+    AppCraterDig none = {0};
+    return c && stage >= 0 && stage < SCENE_MAX_STAGES ? c->dig[stage] : none;
+}
+
+/* ---------------------------------------------------------------- parse */
+
+static const char *type_name(const config_setting_t *s)
+{
+    switch (config_setting_type(s)) {
+    case CONFIG_TYPE_GROUP:
+        return "a group";
+    case CONFIG_TYPE_INT:
+    case CONFIG_TYPE_INT64:
+        return "an integer";
+    case CONFIG_TYPE_FLOAT:
+        return "a number";
+    case CONFIG_TYPE_STRING:
+        return "a string";
+    case CONFIG_TYPE_BOOL:
+        return "a boolean";
+    default:
+        return "a list";
+    }
+}
+
+/* `key` of g as a number (messages as the scene loader's): 1 found, 0 absent, -1 bad. */
+static int number(AppParse *p, const config_setting_t *g, const char *key, int required,
+                  double *out)
+{
+    const config_setting_t *s = config_setting_get_member(g, key);
+    if (!s)
+        return required ? app_parse_fail(p, g, "missing required key `%s` in dig", key) : 0;
+    int type = config_setting_type(s);
+    if (type == CONFIG_TYPE_INT || type == CONFIG_TYPE_INT64)
+        *out = (double)config_setting_get_int64(s);
+    else if (type == CONFIG_TYPE_FLOAT)
+        *out = config_setting_get_float(s);
+    else
+        return app_parse_fail(p, s, "`%s` must be a number, not %s", key, type_name(s));
+    if (!isfinite(*out))
+        return app_parse_fail(p, s, "`%s` must be a finite number", key);
+    return 1;
+}
+
+static int at_least(AppParse *p, const config_setting_t *g, const char *key, double v, int strict)
+{
+    if (strict ? v > 0.0 : v >= 0.0)
+        return 0;
+    const config_setting_t *s = config_setting_get_member(g, key);
+    return app_parse_fail(
+        p, s ? s : g, strict ? "`%s` must be > 0 (got %g)" : "`%s` must be >= 0 (got %g)", key, v);
+}
+
+/* dig = { center_x; width; height; top = "surface" | m; } (000 §4.1 stage 2) */
+static int parse_dig(AppParse *p, const config_setting_t *g, AppCraterDig *dig)
+{
+    static const char *const keys[] = {"center_x", "width", "height", "top", NULL};
+    if (config_setting_type(g) != CONFIG_TYPE_GROUP)
+        return app_parse_fail(p, g, "`dig` must be a group { ... }, not %s", type_name(g));
+    for (int k = 0; k < config_setting_length(g); ++k) {
+        const config_setting_t *s = config_setting_get_elem(g, (unsigned)k);
+        int known = 0;
+        for (int j = 0; keys[j]; ++j)
+            known |= strcmp(keys[j], config_setting_name(s)) == 0;
+        if (!known)
+            return app_parse_fail(p, s, "unknown key `%s` in dig", config_setting_name(s));
+    }
+    dig->dig = 1;
+    dig->top_surface = 1;
+    if (number(p, g, "center_x", 1, &dig->center_x) < 0 ||
+        number(p, g, "width", 1, &dig->width) < 0 || at_least(p, g, "width", dig->width, 1) < 0 ||
+        number(p, g, "height", 1, &dig->height) < 0 || at_least(p, g, "height", dig->height, 1) < 0)
+        return -1;
+    const config_setting_t *top = config_setting_get_member(g, "top");
+    if (top && config_setting_type(top) == CONFIG_TYPE_STRING) {
+        if (strcmp(config_setting_get_string(top), "surface") != 0)
+            return app_parse_fail(p, top, "`top` must be \"surface\" or a height in m");
+    } else if (top) {
+        dig->top_surface = 0;
+        if (number(p, g, "top", 0, &dig->top) < 0)
+            return -1;
+    }
+    return 0;
+}
+
+static int crater_parse(const config_setting_t *root, const config_setting_t *group, Scene *scene,
+                        void **state, char *err, size_t err_size)
+{
+    (void)group;
+    AppParse p = {.path = scene->path, .err = err, .err_size = err_size, .group = NULL};
+    AppCraterState c;
+    memset(&c, 0, sizeof c);
+    const config_setting_t *output = config_setting_get_member(root, "output");
+    if (output && (number(&p, output, "profile_every", 0, &c.profile_every) < 0 ||
+                   at_least(&p, output, "profile_every", c.profile_every, 0) < 0 ||
+                   number(&p, output, "profile_bin", 0, &c.profile_bin) < 0 ||
+                   at_least(&p, output, "profile_bin", c.profile_bin, 0) < 0))
+        return -1;
+    const config_setting_t *stages = config_setting_get_member(root, "stages");
+    int used = c.profile_every > 0.0;
+    for (int k = 0; stages && k < scene->stage_count && k < config_setting_length(stages); ++k) {
+        const config_setting_t *g = config_setting_get_elem(stages, (unsigned)k);
+        const config_setting_t *dig = g ? config_setting_get_member(g, "dig") : NULL;
+        if (dig && parse_dig(&p, dig, &c.dig[k]) < 0)
+            return -1;
+        used |= c.dig[k].dig;
+    }
+    *state = NULL;
+    if (!used)
+        return 0;
+    AppCraterState *out = malloc(sizeof *out);
+    if (!out) {
+        snprintf(err, err_size, "%s: out of memory", scene->path);
+        return -1;
+    }
+    *out = c;
+    *state = out;
+    return 0;
+}
+
+static void crater_free(void *state)
+{
+    free(state);
+}
+
+static void crater_describe_stage(const void *state, int stage, FILE *out)
+{
+    const AppCraterDig *d = &((const AppCraterState *)state)->dig[stage];
+    if (!d->dig)
+        return;
+    fprintf(out, ", dig center_x %g m width %g m height %g m top ", d->center_x, d->width,
+            d->height);
+    if (d->top_surface)
+        fprintf(out, "surface");
+    else
+        fprintf(out, "%g m", d->top);
+}
+
+/* ---------------------------------------------------------------- run hooks */
+
+static int crater_begin(void *state, AppContext *ctx)
+{
+    AppCraterState *c = state;
+    const Scene *scene = ctx->scene;
+    int observe = c->profile_every > 0.0;
+    for (int k = 0; k < scene->stage_count; ++k)
+        observe |= c->dig[k].dig && !scene->stages[k].skip;
+    c->json[0] = '\0';
+    if (!observe)
+        return 0;
+    c->observer = app_observer_open(scene, c->profile_bin, ctx->out_dir, ctx->err, ctx->err_size);
+    return c->observer ? 0 : -1;
+}
+
+/* The bed measured, then the cavity dug (000 §4.1 stage 2). */
+static int crater_stage_edit(void *state, AppContext *ctx)
+{
+    AppCraterState *c = state;
+    const AppCraterDig *d = &c->dig[ctx->stage];
+    if (!d->dig)
+        return 0;
+    double x0 = d->center_x - 0.5 * d->width, x1 = d->center_x + 0.5 * d->width;
+    app_observer_before_dig(c->observer, ctx->world, x0, x1);
+    SimFrame frame;
+    sim_world_frame(ctx->world, &frame);
+    double top = d->top;
+    if (d->top_surface && app_surface_height(&frame, d->center_x, 0.5 * d->width, &top) != 0) {
+        snprintf(ctx->err, ctx->err_size,
+                 "stage %s: dig: no mobile grain within width/2 of center_x = %g m",
+                 ctx->scene->stages[ctx->stage].name, d->center_x);
+        return -1;
+    }
+    ctx->removed += sim_world_remove_rect(ctx->world, x0, top - d->height, x1, top + d->height);
+    return 0;
+}
+
+static int crater_stage_begin(void *state, AppContext *ctx)
+{
+    AppCraterState *c = state;
+    c->done = 0;
+    c->every_profile = ctx->stage_steps + 1;
+    if (!c->observer)
+        return 0;
+    if (c->profile_every > 0.0) {
+        double dt = sim_world_time_step(ctx->world);
+        c->every_profile = (long)fmax(1.0, (double)llround(c->profile_every / dt));
+    }
+    app_observer_stage_start(c->observer, ctx->world, ctx->stage);
+    app_observer_sample(c->observer, ctx->world, ctx->stage, ctx->stage_start);
+    return 0;
+}
+
+static long crater_next_step(const void *state, const AppContext *ctx, long done, long next)
+{
+    const AppCraterState *c = state;
+    long every = c->every_profile;
+    if (every <= ctx->stage_steps && (done / every + 1) * every < next)
+        next = (done / every + 1) * every;
+    return next;
+}
+
+static void crater_step(void *state, AppContext *ctx, long done)
+{
+    AppCraterState *c = state;
+    c->done = done;
+    if (c->observer && done > 0 && done < ctx->stage_steps && done % c->every_profile == 0)
+        app_observer_sample(c->observer, ctx->world, ctx->stage, ctx->stage_start);
+}
+
+static int crater_stage_end(void *state, AppContext *ctx)
+{
+    AppCraterState *c = state;
+    if (c->observer && c->done > 0)
+        app_observer_sample(c->observer, ctx->world, ctx->stage, ctx->stage_start);
+    return 0;
+}
+
+static int crater_end(void *state, AppContext *ctx, int ok)
+{
+    (void)ok;
+    AppCraterState *c = state;
+    if (!c->observer)
+        return 0;
+    app_observer_json(c->observer, c->json, sizeof c->json);
+    int rc = app_observer_close(c->observer, ctx->world, ctx->err, ctx->err_size);
+    c->observer = NULL;
+    return rc;
+}
+
+static void crater_summary_json(const void *state, char *out, size_t size)
+{
+    snprintf(out, size, "%s", ((const AppCraterState *)state)->json);
+}
+
+static int crater_figures(const void *state, const AppContext *ctx)
+{
+    const AppCraterState *c = state;
+    if (!(c->profile_every > 0.0))
+        return 0;
+    return app_crater_plots(ctx->scene, ctx->out_dir, ctx->render, ctx->err, ctx->err_size);
+}
+
+static const char *const STAGE_KEYS[] = {"dig", NULL};
+static const char *const OUTPUT_KEYS[] = {"profile_every", "profile_bin", NULL};
+
+const AppExperiment app_crater_experiment = {
+    .name = "crater",
+    .group = NULL,
+    .stage_keys = STAGE_KEYS,
+    .output_keys = OUTPUT_KEYS,
+    .parse = crater_parse,
+    .free = crater_free,
+    .describe_stage = crater_describe_stage,
+    .begin = crater_begin,
+    .stage_edit = crater_stage_edit,
+    .stage_begin = crater_stage_begin,
+    .next_step = crater_next_step,
+    .step = crater_step,
+    .stage_end = crater_stage_end,
+    .end = crater_end,
+    .summary_json = crater_summary_json,
+    .figures = crater_figures,
+    .commands = app_sweep_commands,
+    .command_count = 1,
+};

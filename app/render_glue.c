@@ -1,0 +1,346 @@
+/* SPDX-License-Identifier: MIT */
+/* render_glue.c: the app layer's AppRender (render_hooks.h) filled with render/ calls. The only
+ * app file besides sablier.c that sees render/; it knows no experiment family: what a family adds
+ * to a figure comes as AppFigureExtras (marks, side panels). */
+#include "render_glue.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+RenderStyle app_render_style(const SceneStyle *s)
+{
+    RenderStyle r = render_style_default();
+    if (s->width > 0)
+        r.width = s->width;
+    if (s->height > 0)
+        r.height = s->height;
+    if (s->color_by >= 0)
+        r.color_by = (RenderColorBy)s->color_by;
+    if (s->colormap >= 0)
+        r.colormap = (RenderColormap)s->colormap;
+    if (!isnan(s->range_min)) {
+        r.range_min = s->range_min;
+        r.range_max = s->range_max;
+    }
+    if (!isnan(s->band_height))
+        r.band_height = s->band_height;
+    if (!isnan(s->chain_threshold))
+        r.chain_threshold = s->chain_threshold;
+    if (!isnan(s->chain_width_max))
+        r.chain_width_max = s->chain_width_max;
+    if (!isnan(s->view_x0)) {
+        r.view_x0 = s->view_x0;
+        r.view_y0 = s->view_y0;
+        r.view_x1 = s->view_x1;
+        r.view_y1 = s->view_y1;
+    }
+    int *flags[] = {&r.outline,        &r.orientation_tick, &r.force_chains, &r.velocity_arrows,
+                    &r.velocity_field, &r.colorbar,         &r.time_stamp,   &r.scale_bar};
+    const int values[] = {s->outline,         s->orientation_tick, s->force_chains,
+                          s->velocity_arrows, s->velocity_field,   s->colorbar,
+                          s->time_stamp,      s->scale_bar};
+    for (size_t k = 0; k < sizeof values / sizeof values[0]; ++k)
+        if (values[k] >= 0)
+            *flags[k] = values[k];
+    if (s->background_rgb >= 0)
+        r.background_rgb = (uint32_t)s->background_rgb;
+    if (s->fill_rgb >= 0)
+        r.fill_rgb = (uint32_t)s->fill_rgb;
+    if (s->fixed_rgb >= 0)
+        r.fixed_rgb = (uint32_t)s->fixed_rgb;
+    if (s->title[0])
+        r.title = s->title;
+    /* colour-bar label and unit follow the quantity */
+    static const char *const labels[][2] = {
+        {"", ""}, {"contact force", "N"}, {"speed", "m/s"}, {"species", ""}, {"height", "m"}};
+    if (r.color_by >= RENDER_COLOR_FIXED && r.color_by <= RENDER_COLOR_HEIGHT) {
+        r.colorbar_label = labels[r.color_by][0];
+        r.colorbar_unit = labels[r.color_by][1];
+    }
+    return r;
+}
+
+typedef struct Renderer {
+    RenderMovie *movie;
+    int quiet;
+} Renderer;
+
+static int hook_movie_open(void *context, const Scene *scene, int stage, const char *path,
+                           SimFrameSink *sink, char *err, size_t err_size)
+{
+    (void)stage;
+    Renderer *renderer = context;
+    RenderStyle style = app_render_style(&scene->style);
+    style.width += style.width % 2; /* H.264 needs even sizes */
+    style.height += style.height % 2;
+    RenderMovieDef def = {
+        .path = path,
+        .drawer = scene->output.drawer == 1 ? RENDER_DRAWER_OSMESA : RENDER_DRAWER_CAIRO,
+        .fps = scene->output.fps,
+        .crf = scene->output.crf,
+        .quiet = 1,
+        .meta = {.scene = scene->name, .seed = scene->seed},
+    };
+    renderer->movie = render_movie_open(&def, &style, err, err_size);
+    if (!renderer->movie)
+        return -1;
+    *sink = render_movie_sink(renderer->movie);
+    return 0;
+}
+
+static int hook_movie_close(void *context, char *err, size_t err_size)
+{
+    Renderer *renderer = context;
+    int rc = render_movie_close(renderer->movie, err, err_size);
+    renderer->movie = NULL;
+    return rc == 0 ? 0 : -1;
+}
+
+/* Panels beside a grain figure on the same heights (thesis 002 fig. 31 for the sediment bed):
+ * the grains (render_cairo_draw) and the plot (render_plot_draw) side by side, the plot's y axis
+ * the grain view's y range, its height adjusted until the two scales match to a pixel. Each
+ * series is clipped to that range; an x range left unset runs from 0 to 1.05 max |x|. */
+static int side_figure(const SimFrame *frame, const RenderStyle *style, const RenderMeta *meta,
+                       const AppFigureExtras *extras, const char *path, char *err, size_t err_size)
+{
+    enum { MAX_PANELS = 4, MAX_SERIES = 4 };
+
+    RenderView view;
+    render_view_fit(frame, style, &view);
+    double y_top = view.center_y + 0.5 * view.plot_h / view.scale;
+    double y_bottom = view.center_y - 0.5 * view.plot_h / view.scale;
+    int panel_count = extras->side_panel_count < MAX_PANELS ? extras->side_panel_count : MAX_PANELS;
+    size_t points = 0;
+    for (int k = 0; k < panel_count; ++k)
+        for (int j = 0; j < extras->side_panels[k].series_count && j < MAX_SERIES; ++j)
+            points += (size_t)extras->side_panels[k].series[j].count;
+    double *buffer = malloc(2 * (points + 1) * sizeof *buffer);
+    if (!buffer) {
+        snprintf(err, err_size, "out of memory");
+        return -1;
+    }
+    RenderSeries series[MAX_PANELS][MAX_SERIES];
+    RenderPanel panels[MAX_PANELS];
+    memset(series, 0, sizeof series);
+    memset(panels, 0, sizeof panels);
+    double *next = buffer;
+    for (int k = 0; k < panel_count; ++k) {
+        const AppPlotPanel *in = &extras->side_panels[k];
+        double x_max = 0.0;
+        int n_series = in->series_count < MAX_SERIES ? in->series_count : MAX_SERIES;
+        for (int j = 0; j < n_series; ++j) {
+            const AppPlotSeries *s = &in->series[j];
+            double *x = next, *y = next + s->count;
+            int n = 0;
+            for (int i = 0; i < s->count; ++i)
+                if (s->y[i] >= y_bottom && s->y[i] <= y_top) {
+                    x[n] = s->x[i];
+                    y[n++] = s->y[i];
+                    x_max = fmax(x_max, fabs(s->x[i]));
+                }
+            next += 2 * (size_t)s->count;
+            series[k][j] = (RenderSeries){.label = s->label,
+                                          .count = n,
+                                          .x = x,
+                                          .y = y,
+                                          .rgb = s->rgb < 0 ? RENDER_RGB_AUTO : (uint32_t)s->rgb,
+                                          .line = s->line,
+                                          .dashed = s->dashed,
+                                          .marker = (RenderMarker)s->marker};
+        }
+        panels[k].title = in->title;
+        panels[k].x.label = in->x_label;
+        panels[k].x.min = in->x_min;
+        panels[k].x.max = in->x_max > in->x_min ? in->x_max : x_max > 0.0 ? 1.05 * x_max : 1.0;
+        panels[k].y.label = in->y_label;
+        panels[k].y.min = y_bottom;
+        panels[k].y.max = y_top;
+        panels[k].series_count = n_series;
+        panels[k].series = series[k];
+    }
+    RenderImage bed = {0}, plot = {0}, out = {0};
+    RenderPlot r = {.width = style->width > 0 ? style->width / 2 : 600,
+                    .height = style->height,
+                    .rows = 1,
+                    .cols = panel_count,
+                    .panels = panels,
+                    .font_size = 14.0};
+    if (r.width < 360)
+        r.width = 360;
+    int rc = render_cairo_draw(frame, style, &bed) == 0 ? 0 : -1;
+    if (rc != 0)
+        snprintf(err, err_size, "cannot draw the bed");
+    double top_px = 0.0, bottom_px = 0.0, x_px;
+    for (int pass = 0; pass < 3 && rc == 0; ++pass) { /* match the vertical scales */
+        render_image_free(&plot);
+        rc = render_plot_draw(&r, &plot, err, err_size);
+        if (rc != 0 || render_plot_map(&r, 0, 0.0, y_top, &x_px, &top_px) != 0 ||
+            render_plot_map(&r, 0, 0.0, y_bottom, &x_px, &bottom_px) != 0)
+            break;
+        int grow = (int)lround(view.plot_h - (bottom_px - top_px));
+        if (grow == 0)
+            break;
+        r.height += grow;
+    }
+    if (rc == 0) {
+        int shift = (int)lround(view.plot_y - top_px); /* plot rows move down by this */
+        int top = shift < 0 ? -shift : 0;
+        int height = bed.height + top > plot.height + shift + top ? bed.height + top
+                                                                  : plot.height + shift + top;
+        rc = render_image_alloc(&out, bed.width + plot.width, height, RENDER_PIXEL_RGBA);
+        for (int row = 0; rc == 0 && row < height; ++row)
+            for (int col = 0; col < out.width; ++col) {
+                uint8_t rgba[4] = {255, 255, 255, 255};
+                int br = row - top, pr = row - top - shift;
+                if (col < bed.width && br >= 0 && br < bed.height)
+                    render_image_get_rgba(&bed, col, br, rgba);
+                else if (col >= bed.width && pr >= 0 && pr < plot.height)
+                    render_image_get_rgba(&plot, col - bed.width, pr, rgba);
+                memcpy(out.pixels + (size_t)row * (size_t)out.stride + 4 * (size_t)col, rgba, 4);
+            }
+        if (rc != 0)
+            snprintf(err, err_size, "out of memory");
+    }
+    if (rc == 0) {
+        char seed[32];
+        snprintf(seed, sizeof seed, "%llu", (unsigned long long)meta->seed);
+        const char *text[] = {"Software", "sablier", "Scene", meta->scene, "Seed", seed, NULL};
+        rc = render_png_write(&out, path, text, err, err_size) == 0 ? 0 : -1;
+    }
+    render_image_free(&bed);
+    render_image_free(&plot);
+    render_image_free(&out);
+    free(buffer);
+    return rc;
+}
+
+static int hook_figure(void *context, const Scene *scene, const SceneFigure *figure,
+                       const SimFrame *frame, const AppFigureExtras *extras, const char *path,
+                       char *err, size_t err_size)
+{
+    (void)context;
+    RenderStyle style = app_render_style(&figure->style);
+    RenderMeta meta = {.scene = scene->name, .seed = scene->seed};
+    if (extras && extras->title)
+        style.title = extras->title;
+    if (extras && extras->marks) { /* an arch: highlighted, zoomed inset, force chains */
+        style.arch_ids = extras->marks;
+        style.arch_inset = 1;
+        style.force_chains = 1;
+    }
+    size_t len = strlen(path);
+    if (extras && extras->side_panel_count > 0 && len > 4 && strcmp(path + len - 4, ".png") == 0)
+        return side_figure(frame, &style, &meta, extras, path, err, err_size);
+    return render_figure_write(frame, &style, &meta, path, err, err_size) == 0 ? 0 : -1;
+}
+
+static RenderLegend legend_of(const AppPlotPanel *p)
+{
+    switch (p->legend) {
+    case APP_LEGEND_NONE:
+        return RENDER_LEGEND_NONE;
+    case APP_LEGEND_UPPER_RIGHT:
+        return RENDER_LEGEND_UPPER_RIGHT;
+    case APP_LEGEND_UPPER_LEFT:
+        return RENDER_LEGEND_UPPER_LEFT;
+    default:
+        return p->series_count > 1 ? RENDER_LEGEND_UPPER_RIGHT : RENDER_LEGEND_NONE;
+    }
+}
+
+static uint32_t rgb_of(long rgb)
+{
+    return rgb == APP_RGB_AUTO       ? RENDER_RGB_AUTO
+           : rgb == APP_RGB_PREVIOUS ? RENDER_RGB_PREVIOUS
+                                     : (uint32_t)rgb;
+}
+
+static int hook_plot(void *context, const AppPlot *plot, const char *path, char *err,
+                     size_t err_size)
+{
+    (void)context;
+
+    enum { MAX_PANELS = 8, MAX_SERIES = 64 };
+
+    int count = plot->panel_count < MAX_PANELS ? plot->panel_count : MAX_PANELS;
+    RenderPanel panels[MAX_PANELS];
+    RenderSeries *series = calloc((size_t)(count > 0 ? count : 1) * MAX_SERIES, sizeof *series);
+    if (!series) {
+        snprintf(err, err_size, "out of memory");
+        return -1;
+    }
+    memset(panels, 0, sizeof panels);
+    for (int p = 0; p < count; ++p) {
+        const AppPlotPanel *in = &plot->panels[p];
+        int n = in->series_count < MAX_SERIES ? in->series_count : MAX_SERIES;
+        RenderSeries *out = series + (size_t)p * MAX_SERIES;
+        for (int k = 0; k < n; ++k) {
+            const AppPlotSeries *s = &in->series[k];
+            out[k] = (RenderSeries){.label = s->label,
+                                    .count = s->count,
+                                    .x = s->x,
+                                    .y = s->y,
+                                    .y_err = s->y_err,
+                                    .rgb = rgb_of(s->rgb),
+                                    .line = s->line,
+                                    .dashed = s->dashed,
+                                    .marker = (RenderMarker)s->marker};
+        }
+        panels[p] = (RenderPanel){
+            .title = in->title,
+            .x = {.label = in->x_label, .min = in->x_min, .max = in->x_max},
+            .y = {.label = in->y_label, .log = in->y_log, .min = in->y_min, .max = in->y_max},
+            .series_count = n,
+            .series = out,
+            .legend = legend_of(in)};
+    }
+    RenderPlot r = {.width = plot->width > 0 ? plot->width : 1000,
+                    .height = plot->height > 0 ? plot->height : 700,
+                    .rows = plot->rows,
+                    .cols = plot->cols,
+                    .panels = panels,
+                    .title = plot->title,
+                    .font_size = plot->font_size};
+    RenderMeta meta = {.scene = plot->scene ? plot->scene : "", .seed = plot->seed};
+    int rc = render_plot_write(&r, &meta, path, err, err_size) == 0 ? 0 : -1;
+    free(series);
+    return rc;
+}
+
+/* Heat maps (the species maps, 004 fig. 3.4) on their cells, viridis, range from the data. */
+static int hook_map(void *context, const Scene *scene, const AppMap *map, const char *path,
+                    char *err, size_t err_size)
+{
+    (void)context;
+    RenderMap r = {.width = 1000,
+                   .height = 700,
+                   .nx = map->nx,
+                   .ny = map->ny,
+                   .x0 = map->x0,
+                   .y0 = map->y0,
+                   .cell = map->cell,
+                   .values = map->values,
+                   .colormap = RENDER_CMAP_VIRIDIS,
+                   .title = map->title,
+                   .x_label = map->x_label,
+                   .y_label = map->y_label,
+                   .bar_label = map->bar_label};
+    RenderMeta meta = {.scene = scene ? scene->name : "", .seed = scene ? scene->seed : 0};
+    return render_map_write(&r, &meta, path, err, err_size) == 0 ? 0 : -1;
+}
+
+const AppRender *app_render_glue(void)
+{
+    static Renderer renderer = {.quiet = 1};
+    static const AppRender render = {
+        .context = &renderer,
+        .movie_open = hook_movie_open,
+        .movie_close = hook_movie_close,
+        .figure = hook_figure,
+        .plot = hook_plot,
+        .map = hook_map,
+    };
+    return &render;
+}

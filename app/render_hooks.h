@@ -1,0 +1,119 @@
+/* SPDX-License-Identifier: MIT */
+/* render_hooks.h: what the app layer asks of a renderer, as plain data (types only). The runner,
+ * the experiment families and their multi-run drivers describe movies, figures, plots and maps
+ * with these types; app/render_glue.c (the one app file that sees render/) fills an AppRender
+ * with render/ calls. A NULL AppRender, or a NULL hook in it, means "not built": the caller skips
+ * that output.
+ *
+ *     AppPlotSeries s = {.label = "q*", .count = n, .x = theta, .y = q, .line = 1};
+ *     AppPlotPanel p = {.x_label = "Shields", .y_label = "q*", .series_count = 1, .series = &s};
+ *     AppPlot plot = {.title = "flux", .panel_count = 1, .panels = &p};
+ *     if (render && render->plot) render->plot(render->context, &plot, "flux.png", err, size);
+ */
+#ifndef APP_RENDER_HOOKS_H
+#define APP_RENDER_HOOKS_H
+
+#include "sim/sim.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+struct Scene;
+struct SceneFigure;
+
+/// Marker shapes; same order as RenderMarker.
+typedef enum AppMarker {
+    APP_MARKER_NONE = 0,
+    APP_MARKER_CIRCLE = 1,
+    APP_MARKER_SQUARE = 2,
+    APP_MARKER_TRIANGLE = 3,
+    APP_MARKER_CROSS = 4,
+} AppMarker;
+
+/// Where a panel's legend goes. AUTO: upper right when the panel has more than one series.
+typedef enum AppLegend {
+    APP_LEGEND_AUTO = 0,
+    APP_LEGEND_NONE = 1,
+    APP_LEGEND_UPPER_RIGHT = 2,
+    APP_LEGEND_UPPER_LEFT = 3,
+} AppLegend;
+
+/// Colour of a series: automatic (the next of the palette), or the previous series' colour (a
+/// fit drawn with its data); any other value is 0xRRGGBB.
+#define APP_RGB_AUTO     (-1L)
+#define APP_RGB_PREVIOUS (-2L)
+
+typedef struct AppPlotSeries {
+    const char *label; ///< legend text, NULL = none
+    int count;
+    const double *x, *y, *y_err; ///< y_err may be NULL
+    int line, dashed;            ///< 1 = on
+    AppMarker marker;
+    long rgb; ///< APP_RGB_AUTO (use 0 only for black: designated initialisers set rgb explicitly)
+} AppPlotSeries;
+
+typedef struct AppPlotPanel {
+    const char *title, *x_label, *y_label; ///< NULL = none
+    int y_log;
+    AppLegend legend;
+    /// Axis ranges; min >= max: from the data.
+    double x_min, x_max, y_min, y_max;
+    int series_count;
+    const AppPlotSeries *series;
+} AppPlotPanel;
+
+/// One figure of panels on a rows x cols grid (row-major).
+typedef struct AppPlot {
+    const char *title; ///< NULL = none
+    int width, height; ///< pixels; 0 = 1000 x 700
+    int rows, cols;    ///< 0 = 1 x panel_count
+    double font_size;  ///< 0 = the renderer's default
+    int panel_count;
+    const AppPlotPanel *panels;
+    const char *scene; ///< PNG metadata (NULL = "")
+    uint64_t seed;
+} AppPlot;
+
+/// A heat map on square cells: values row-major, index j * nx + i, row 0 at the bottom; NaN =
+/// empty cell.
+typedef struct AppMap {
+    const char *title, *x_label, *y_label, *bar_label;
+    int nx, ny;
+    double x0, y0, cell; ///< lower-left corner of cell (0, 0) and side
+    const double *values;
+} AppMap;
+
+/// What an experiment adds to a grain figure. Zero-initialised: nothing.
+typedef struct AppFigureExtras {
+    const char *title; ///< replaces the style's title when not NULL
+    /// Per-grain marks in frame order (1 marked, -1 not; NULL = none): drawn highlighted with a
+    /// zoomed inset and the force chains through them (thesis 004 arches).
+    const int *marks;
+    /// Profile panels drawn beside the grains on the same heights (PNG only): each series is x(y)
+    /// and is clipped to the figure's vertical range; an x range left unset runs from 0 to 1.05
+    /// max |x| of the clipped data (1 when that is 0).
+    const AppPlotPanel *side_panels;
+    int side_panel_count;
+} AppFigureExtras;
+
+/// The renderer's services. Each returns 0, or -1 with a message in err.
+typedef struct AppRender {
+    void *context;
+    /// Opens the movie of one stage at `path` and fills `sink` with its frame consumer.
+    int (*movie_open)(void *context, const struct Scene *scene, int stage, const char *path,
+                      SimFrameSink *sink, char *err, size_t err_size);
+    /// Finishes the movie opened last (flush, rename). Called once per successful open.
+    int (*movie_close)(void *context, char *err, size_t err_size);
+    /// Writes one grain figure of a frame to `path` (format from the extension); extras may be
+    /// NULL.
+    int (*figure)(void *context, const struct Scene *scene, const struct SceneFigure *figure,
+                  const SimFrame *frame, const AppFigureExtras *extras, const char *path, char *err,
+                  size_t err_size);
+    /// Draws and writes a plot (format from the extension).
+    int (*plot)(void *context, const AppPlot *plot, const char *path, char *err, size_t err_size);
+    /// Draws and writes a heat map; `scene` gives the PNG metadata (may be NULL).
+    int (*map)(void *context, const struct Scene *scene, const AppMap *map, const char *path,
+               char *err, size_t err_size);
+} AppRender;
+
+#endif
