@@ -288,9 +288,10 @@ static int write_lammps_data(const char *path, const SimGrainSet *g, double dens
 static void layout_bytes(const SimWorld *w, double *per_grain, double *per_entry,
                          double *list_total)
 {
-    const size_t doubles = 0 SIM_GRAIN_DOUBLE_ARRAYS(COUNT_ONE);
+    const size_t doubles = 0 SIM_GRAIN_DOUBLE_ARRAYS(COUNT_ONE) + (size_t)w->scratch_count;
     const size_t ints = 0 SIM_GRAIN_INT_ARRAYS(COUNT_ONE);
-    /* SoA arrays (capacity), flags + id, cells (items, of), guard snapshot (7 doubles, 4 ints) */
+    /* SoA arrays with the integrator's scratch arrays (capacity), flags + id, cells (items, of),
+     * guard snapshot (7 doubles, 4 ints) */
     double grain =
         (double)w->capacity * (double)(doubles * sizeof(double) + ints * sizeof(int) +
                                        sizeof(unsigned) + sizeof(uint32_t)) +

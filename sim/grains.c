@@ -23,6 +23,8 @@ int sim_grains_reserve(SimWorld *world, int capacity)
     SIM_GRAIN_INT_ARRAYS(GROW)
     GROW(flags)
     GROW(id)
+    for (int k = 0; k < world->scratch_count; ++k)
+        GROW(scratch[k])
 #undef GROW
     world->capacity = capacity;
     return 0;
@@ -33,12 +35,12 @@ int sim_grains_reserve(SimWorld *world, int capacity)
 void sim_grains_permute(SimWorld *world, const int *order, int count)
 {
     size_t bytes = (size_t)(world->capacity > 0 ? world->capacity : 1) * sizeof(double);
-    void *scratch = malloc(bytes);
-    if (!scratch)
+    void *buffer = malloc(bytes);
+    if (!buffer)
         abort(); /* out of memory while permuting: nothing sensible to continue with */
 #define PERMUTE_AS(type, name)                                                                     \
     {                                                                                              \
-        type *tmp = scratch;                                                                       \
+        type *tmp = buffer;                                                                        \
         for (int k = 0; k < count; ++k)                                                            \
             tmp[k] = world->name[order[k]];                                                        \
         memcpy(world->name, tmp, (size_t)count * sizeof *world->name);                             \
@@ -49,8 +51,10 @@ void sim_grains_permute(SimWorld *world, const int *order, int count)
     SIM_GRAIN_INT_ARRAYS(PERMUTE_INT)
     PERMUTE_AS(unsigned, flags)
     PERMUTE_AS(uint32_t, id)
+    for (int a = 0; a < world->scratch_count; ++a)
+        PERMUTE_DOUBLE(scratch[a])
 #undef PERMUTE_AS
-    free(scratch);
+    free(buffer);
 }
 
 void sim_grains_free(SimWorld *world)
@@ -60,5 +64,7 @@ void sim_grains_free(SimWorld *world)
     SIM_GRAIN_INT_ARRAYS(RELEASE)
     RELEASE(flags)
     RELEASE(id)
+    for (int k = 0; k < SIM_SCRATCH_MAX; ++k)
+        RELEASE(scratch[k])
 #undef RELEASE
 }

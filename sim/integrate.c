@@ -18,9 +18,52 @@ static inline double displacement2(const SimWorld *w, int i)
     return dx * dx + dy * dy;
 }
 
+/* Scratch arrays (SimWorld.scratch) per integrator, rotational ones last so that a world without
+ * rotation allocates only those before them. */
+enum { VV_VX_HALF, VV_VY_HALF, VV_OMEGA_HALF, VV_ARRAYS }; /* v(t + dt/2), omega(t + dt/2) */
+
+enum { STORMER_X_PREV, STORMER_Y_PREV, STORMER_ARRAYS }; /* x(t - dt) */
+
+enum { GEAR_AX, GEAR_AY, GEAR_BX, GEAR_BY, GEAR_ALPHA, GEAR_BETA, GEAR_ARRAYS }; /* a, da/dt */
+
+/* RK4: the start state, the weighted sums of the stages' slopes, then the same for rotation. */
+enum {
+    RK4_X0,
+    RK4_Y0,
+    RK4_VX0,
+    RK4_VY0,
+    RK4_SUM_VX,
+    RK4_SUM_VY,
+    RK4_SUM_AX,
+    RK4_SUM_AY,
+    RK4_ANGLE0,
+    RK4_OMEGA0,
+    RK4_SUM_OMEGA,
+    RK4_SUM_ALPHA,
+    RK4_ARRAYS
+};
+
+_Static_assert((int)RK4_ARRAYS == (int)SIM_SCRATCH_MAX, "RK4 uses the most scratch arrays");
+
+int sim_integrator_scratch_count(SimIntegrator integrator, int rotation)
+{
+    switch (integrator) {
+    case SIM_INTEGRATOR_VELOCITY_VERLET:
+        return rotation ? VV_ARRAYS : VV_OMEGA_HALF;
+    case SIM_INTEGRATOR_STORMER_VERLET:
+        return STORMER_ARRAYS;
+    case SIM_INTEGRATOR_GEAR:
+        return rotation ? GEAR_ARRAYS : GEAR_ALPHA;
+    case SIM_INTEGRATOR_RK4:
+        return rotation ? RK4_ARRAYS : RK4_ANGLE0;
+    default: /* symplectic Euler keeps nothing */
+        return 0;
+    }
+}
+
 /* ---- velocity Verlet: kick-drift, forces, kick. The dissipative forces see the predicted
  * velocity v(t + dt) ~ v(t + dt/2) + a(t) dt/2 (as thesis 004's code does), which keeps the
- * scheme second order with damping; aux0..2 hold the half-step velocities. */
+ * scheme second order with damping; the VV_* scratch arrays hold the half-step velocities. */
 /* The opening kick and drift. `closing`: first apply the previous step's closing kick, deferred
  * by sim_world_step (same arithmetic as velocity_verlet_close, so the same bits; it saves one pass
  * over the grains per step). */
@@ -30,7 +73,7 @@ static inline __attribute__((always_inline)) void velocity_verlet_open(SimWorld 
     const int n = w->mobile_count;
     const double dt = w->dt, half = 0.5 * dt, gx = w->def.gravity_x, gy = w->def.gravity_y;
     double *restrict x = w->x, *restrict y = w->y, *restrict vx = w->vx, *restrict vy = w->vy;
-    double *restrict hx = w->aux0, *restrict hy = w->aux1;
+    double *restrict hx = w->scratch[VV_VX_HALF], *restrict hy = w->scratch[VV_VY_HALF];
     const double *restrict fx = w->fx, *restrict fy = w->fy, *restrict im = w->inv_mass;
     const double *restrict xr = w->x_ref, *restrict yr = w->y_ref;
     const double limit2 = w->disp_limit2;
@@ -52,7 +95,8 @@ static inline __attribute__((always_inline)) void velocity_verlet_open(SimWorld 
         moved |= dx * dx + dy * dy > limit2;
     }
     if (rot) {
-        double *restrict omega = w->omega, *restrict hw = w->aux2, *restrict angle = w->angle;
+        double *restrict omega = w->omega, *restrict hw = w->scratch[VV_OMEGA_HALF],
+                         *restrict angle = w->angle;
         const double *restrict torque = w->torque, *restrict ii = w->inv_inertia;
 #pragma GCC ivdep
         for (int i = 0; i < n; ++i) {
@@ -73,7 +117,7 @@ static void velocity_verlet_close(SimWorld *w, const int rot)
     const int n = w->mobile_count;
     const double half = 0.5 * w->dt, gx = w->def.gravity_x, gy = w->def.gravity_y;
     double *restrict vx = w->vx, *restrict vy = w->vy;
-    const double *restrict hx = w->aux0, *restrict hy = w->aux1;
+    const double *restrict hx = w->scratch[VV_VX_HALF], *restrict hy = w->scratch[VV_VY_HALF];
     const double *restrict fx = w->fx, *restrict fy = w->fy, *restrict im = w->inv_mass;
 #pragma GCC ivdep
     for (int i = 0; i < n; ++i) {
@@ -82,7 +126,7 @@ static void velocity_verlet_close(SimWorld *w, const int rot)
     }
     if (rot) {
         double *restrict omega = w->omega;
-        const double *restrict hw = w->aux2, *restrict torque = w->torque;
+        const double *restrict hw = w->scratch[VV_OMEGA_HALF], *restrict torque = w->torque;
         const double *restrict ii = w->inv_inertia;
 #pragma GCC ivdep
         for (int i = 0; i < n; ++i)
@@ -139,12 +183,12 @@ static inline void symplectic_euler(SimWorld *w, const int rot)
 /* ---- position (Stormer) Verlet, 000 eq. 4.18: x' = 2x - x_prev + a dt^2. The velocity used by
  * the dissipative forces and reported is the backward difference (x' - x) / dt: eq. 4.19's
  * central difference needs x' before the forces that produce it (000 notes §2.2). Angles use
- * explicit Euler for omega as in the thesis. aux0/aux1 hold the previous positions. */
+ * explicit Euler for omega as in the thesis. STORMER_X_PREV/Y_PREV hold the previous positions. */
 static inline void stormer_verlet(SimWorld *w, const int rot)
 {
     const int n = w->mobile_count;
     const double dt = w->dt, dt2 = dt * dt, gx = w->def.gravity_x, gy = w->def.gravity_y;
-    double *xp = w->aux0, *yp = w->aux1;
+    double *xp = w->scratch[STORMER_X_PREV], *yp = w->scratch[STORMER_Y_PREV];
     int moved = 0;
     const double limit2 = w->disp_limit2;
     for (int i = 0; i < n; ++i) {
@@ -171,14 +215,16 @@ static inline void stormer_verlet(SimWorld *w, const int rot)
 
 /* ---- Gear predictor-corrector with four values (x, v, a, b = da/dt): third order (002).
  * Corrector coefficients for second-order equations: 1/6, 5/6, 1, 1/3 on the scaled values
- * (x, v dt, a dt^2/2, b dt^3/6). aux0..3 = ax, ay, bx, by; aux4..5 = angular a, b. */
+ * (x, v dt, a dt^2/2, b dt^3/6). Scratch: GEAR_AX..BY = a and b of x and y; GEAR_ALPHA, GEAR_BETA =
+ * angular a and b (rotation only). */
 static inline void gear(SimWorld *w, const int rot)
 {
     int n = w->mobile_count;
     const double dt = w->dt, dt2 = dt * dt, dt3 = dt2 * dt;
     const double gx = w->def.gravity_x, gy = w->def.gravity_y;
-    double *ax = w->aux0, *ay = w->aux1, *bx = w->aux2, *by = w->aux3;
-    double *aw = w->aux4, *bw = w->aux5;
+    double *ax = w->scratch[GEAR_AX], *ay = w->scratch[GEAR_AY];
+    double *bx = w->scratch[GEAR_BX], *by = w->scratch[GEAR_BY];
+    double *aw = w->scratch[GEAR_ALPHA], *bw = w->scratch[GEAR_BETA]; /* NULL without rotation */
     int moved = 0;
     const double limit2 = w->disp_limit2;
     for (int i = 0; i < n; ++i) {
@@ -224,7 +270,8 @@ static inline void gear(SimWorld *w, const int rot)
 }
 
 /* ---- classical Runge-Kutta of order 4 on (x, v). Four force evaluations per step (the last one
- * serves the next step). aux0..5 = start state (x, y, vx, vy, angle, omega); aux6..11 = sums. */
+ * serves the next step). Scratch: RK4_X0..VY0, RK4_ANGLE0, RK4_OMEGA0 = start state; RK4_SUM_* =
+ * weighted sums of the slopes (angular ones with rotation only). */
 static void rk4_stage(SimWorld *w, const int rot, double position_step, double velocity_step,
                       double weight, double time)
 {
@@ -234,25 +281,25 @@ static void rk4_stage(SimWorld *w, const int rot, double position_step, double v
     const double limit2 = w->disp_limit2;
     for (int i = 0; i < n; ++i) {
         double ax = w->fx[i] * w->inv_mass[i] + gx, ay = w->fy[i] * w->inv_mass[i] + gy;
-        w->aux6[i] += weight * w->vx[i];
-        w->aux7[i] += weight * w->vy[i];
-        w->aux8[i] += weight * ax;
-        w->aux9[i] += weight * ay;
+        w->scratch[RK4_SUM_VX][i] += weight * w->vx[i];
+        w->scratch[RK4_SUM_VY][i] += weight * w->vy[i];
+        w->scratch[RK4_SUM_AX][i] += weight * ax;
+        w->scratch[RK4_SUM_AY][i] += weight * ay;
         double vx = w->vx[i], vy = w->vy[i];
-        w->x[i] = w->aux0[i] + position_step * vx;
-        w->y[i] = w->aux1[i] + position_step * vy;
-        w->vx[i] = w->aux2[i] + velocity_step * ax;
-        w->vy[i] = w->aux3[i] + velocity_step * ay;
+        w->x[i] = w->scratch[RK4_X0][i] + position_step * vx;
+        w->y[i] = w->scratch[RK4_Y0][i] + position_step * vy;
+        w->vx[i] = w->scratch[RK4_VX0][i] + velocity_step * ax;
+        w->vy[i] = w->scratch[RK4_VY0][i] + velocity_step * ay;
         moved |= displacement2(w, i) > limit2;
     }
     if (rot) {
         for (int i = 0; i < n; ++i) {
             double alpha = w->torque[i] * w->inv_inertia[i];
-            w->aux10[i] += weight * w->omega[i];
-            w->aux11[i] += weight * alpha;
+            w->scratch[RK4_SUM_OMEGA][i] += weight * w->omega[i];
+            w->scratch[RK4_SUM_ALPHA][i] += weight * alpha;
             double om = w->omega[i];
-            w->angle[i] = w->aux4[i] + position_step * om;
-            w->omega[i] = w->aux5[i] + velocity_step * alpha;
+            w->angle[i] = w->scratch[RK4_ANGLE0][i] + position_step * om;
+            w->omega[i] = w->scratch[RK4_OMEGA0][i] + velocity_step * alpha;
         }
     }
     w->need_rebuild |= moved;
@@ -263,19 +310,19 @@ static inline void rk4(SimWorld *w, const int rot)
 {
     int n = w->mobile_count;
     const double dt = w->dt, t = w->time;
-    memcpy(w->aux0, w->x, (size_t)n * sizeof(double));
-    memcpy(w->aux1, w->y, (size_t)n * sizeof(double));
-    memcpy(w->aux2, w->vx, (size_t)n * sizeof(double));
-    memcpy(w->aux3, w->vy, (size_t)n * sizeof(double));
-    memset(w->aux6, 0, (size_t)n * sizeof(double));
-    memset(w->aux7, 0, (size_t)n * sizeof(double));
-    memset(w->aux8, 0, (size_t)n * sizeof(double));
-    memset(w->aux9, 0, (size_t)n * sizeof(double));
+    memcpy(w->scratch[RK4_X0], w->x, (size_t)n * sizeof(double));
+    memcpy(w->scratch[RK4_Y0], w->y, (size_t)n * sizeof(double));
+    memcpy(w->scratch[RK4_VX0], w->vx, (size_t)n * sizeof(double));
+    memcpy(w->scratch[RK4_VY0], w->vy, (size_t)n * sizeof(double));
+    memset(w->scratch[RK4_SUM_VX], 0, (size_t)n * sizeof(double));
+    memset(w->scratch[RK4_SUM_VY], 0, (size_t)n * sizeof(double));
+    memset(w->scratch[RK4_SUM_AX], 0, (size_t)n * sizeof(double));
+    memset(w->scratch[RK4_SUM_AY], 0, (size_t)n * sizeof(double));
     if (rot) {
-        memcpy(w->aux4, w->angle, (size_t)n * sizeof(double));
-        memcpy(w->aux5, w->omega, (size_t)n * sizeof(double));
-        memset(w->aux10, 0, (size_t)n * sizeof(double));
-        memset(w->aux11, 0, (size_t)n * sizeof(double));
+        memcpy(w->scratch[RK4_ANGLE0], w->angle, (size_t)n * sizeof(double));
+        memcpy(w->scratch[RK4_OMEGA0], w->omega, (size_t)n * sizeof(double));
+        memset(w->scratch[RK4_SUM_OMEGA], 0, (size_t)n * sizeof(double));
+        memset(w->scratch[RK4_SUM_ALPHA], 0, (size_t)n * sizeof(double));
     }
     /* k1 at the start state (forces already there), k2, k3 at t + dt/2, k4 at t + dt. */
     rk4_stage(w, rot, 0.5 * dt, 0.5 * dt, 1.0, t + 0.5 * dt);
@@ -286,21 +333,21 @@ static inline void rk4(SimWorld *w, const int rot)
     int moved = 0;
     const double limit2 = w->disp_limit2;
     for (int i = 0; i < n; ++i) {
-        double sx = w->aux6[i] + w->vx[i], sy = w->aux7[i] + w->vy[i];
-        double sax = w->aux8[i] + w->fx[i] * w->inv_mass[i] + gx;
-        double say = w->aux9[i] + w->fy[i] * w->inv_mass[i] + gy;
-        w->x[i] = w->aux0[i] + sixth * sx;
-        w->y[i] = w->aux1[i] + sixth * sy;
-        w->vx[i] = w->aux2[i] + sixth * sax;
-        w->vy[i] = w->aux3[i] + sixth * say;
+        double sx = w->scratch[RK4_SUM_VX][i] + w->vx[i], sy = w->scratch[RK4_SUM_VY][i] + w->vy[i];
+        double sax = w->scratch[RK4_SUM_AX][i] + w->fx[i] * w->inv_mass[i] + gx;
+        double say = w->scratch[RK4_SUM_AY][i] + w->fy[i] * w->inv_mass[i] + gy;
+        w->x[i] = w->scratch[RK4_X0][i] + sixth * sx;
+        w->y[i] = w->scratch[RK4_Y0][i] + sixth * sy;
+        w->vx[i] = w->scratch[RK4_VX0][i] + sixth * sax;
+        w->vy[i] = w->scratch[RK4_VY0][i] + sixth * say;
         moved |= displacement2(w, i) > limit2;
     }
     if (rot) {
         for (int i = 0; i < n; ++i) {
-            double so = w->aux10[i] + w->omega[i];
-            double sa = w->aux11[i] + w->torque[i] * w->inv_inertia[i];
-            w->angle[i] = w->aux4[i] + sixth * so;
-            w->omega[i] = w->aux5[i] + sixth * sa;
+            double so = w->scratch[RK4_SUM_OMEGA][i] + w->omega[i];
+            double sa = w->scratch[RK4_SUM_ALPHA][i] + w->torque[i] * w->inv_inertia[i];
+            w->angle[i] = w->scratch[RK4_ANGLE0][i] + sixth * so;
+            w->omega[i] = w->scratch[RK4_OMEGA0][i] + sixth * sa;
         }
     }
     w->need_rebuild |= moved;
@@ -342,18 +389,26 @@ void sim_integrator_start(SimWorld *w)
     const int n = w->mobile_count;
     const double dt = w->dt, gx = w->def.gravity_x, gy = w->def.gravity_y;
     if (w->def.integrator == SIM_INTEGRATOR_STORMER_VERLET) {
+        double *xp = w->scratch[STORMER_X_PREV], *yp = w->scratch[STORMER_Y_PREV];
         for (int i = 0; i < n; ++i) { /* Taylor start: x_prev = x - v dt + a dt^2 / 2 */
             double ax = w->fx[i] * w->inv_mass[i] + gx, ay = w->fy[i] * w->inv_mass[i] + gy;
-            w->aux0[i] = w->x[i] - w->vx[i] * dt + 0.5 * ax * dt * dt;
-            w->aux1[i] = w->y[i] - w->vy[i] * dt + 0.5 * ay * dt * dt;
+            xp[i] = w->x[i] - w->vx[i] * dt + 0.5 * ax * dt * dt;
+            yp[i] = w->y[i] - w->vy[i] * dt + 0.5 * ay * dt * dt;
         }
     } else if (w->def.integrator == SIM_INTEGRATOR_GEAR) {
+        double *ax = w->scratch[GEAR_AX], *ay = w->scratch[GEAR_AY];
+        double *bx = w->scratch[GEAR_BX], *by = w->scratch[GEAR_BY];
         for (int i = 0; i < n; ++i) {
-            w->aux0[i] = w->fx[i] * w->inv_mass[i] + gx;
-            w->aux1[i] = w->fy[i] * w->inv_mass[i] + gy;
-            w->aux2[i] = w->aux3[i] = 0.0;
-            w->aux4[i] = w->torque[i] * w->inv_inertia[i];
-            w->aux5[i] = 0.0;
+            ax[i] = w->fx[i] * w->inv_mass[i] + gx;
+            ay[i] = w->fy[i] * w->inv_mass[i] + gy;
+            bx[i] = by[i] = 0.0;
+        }
+        if (w->rotation) {
+            double *aw = w->scratch[GEAR_ALPHA], *bw = w->scratch[GEAR_BETA];
+            for (int i = 0; i < n; ++i) {
+                aw[i] = w->torque[i] * w->inv_inertia[i];
+                bw[i] = 0.0;
+            }
         }
     }
 }

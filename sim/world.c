@@ -735,6 +735,7 @@ SimWorld *sim_world_create(const SimWorldDef *def, SimError *error)
     w->contact_pass = sim_contact_pass_select(key);
     w->wall_pass = sim_wall_pass_select(key);
     w->integrate = sim_integrator_select(def->integrator, w->rotation);
+    w->scratch_count = sim_integrator_scratch_count(def->integrator, w->rotation);
     w->body_force = def->body_force;
     w->time = def->start_time;
     w->timing = timing_of(def);
@@ -976,9 +977,8 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
         w->inv_mass[i] = fixed ? 0.0 : 1.0 / m;
         w->inv_inertia[i] = fixed || !w->rotation ? 0.0 : 1.0 / inertia;
         w->fx[i] = w->fy[i] = w->torque[i] = 0.0;
-        for (double *aux[] = {w->aux0, w->aux1, w->aux2, w->aux3, w->aux4, w->aux5}, **a = aux;
-             a < aux + 6; ++a)
-            (*a)[i] = 0.0;
+        for (int a = 0; a < w->scratch_count; ++a)
+            w->scratch[a][i] = 0.0;
         w->max_radius = fmax(w->max_radius, w->radius[i]);
     }
     /* Mobile grains first: old mobile, new mobile, old fixed, new fixed. */

@@ -50,15 +50,20 @@ typedef struct WallList {
     double *hist_r;
 } WallList;
 
-/* The per-grain arrays, permuted, compacted and grown together (X-macros). */
+/* The per-grain arrays, permuted, compacted and grown together (X-macros; the integrator's
+ * scratch arrays below go with them). */
 /* clang-format off */
 #define SIM_GRAIN_DOUBLE_ARRAYS(X)                                                      \
     X(x) X(y) X(vx) X(vy) X(angle) X(omega) X(fx) X(fy) X(torque) X(radius)            \
     X(inv_mass) X(inv_inertia) X(mass) X(inertia) X(x_ref) X(y_ref) X(x_base)           \
-    X(y_base) X(force_mag) X(aux0) X(aux1) X(aux2) X(aux3) X(aux4) X(aux5) X(aux6)     \
-    X(aux7) X(aux8) X(aux9) X(aux10) X(aux11)
+    X(y_base) X(force_mag)
 /* clang-format on */
 #define SIM_GRAIN_INT_ARRAYS(X) X(species) X(motion)
+
+/* Per-grain arrays an integrator keeps between force evaluations (half-step velocities, previous
+ * positions, derivatives, start states). integrate.c names them per integrator; only the first
+ * scratch_count are allocated (sim_integrator_scratch_count), the others stay NULL. */
+enum { SIM_SCRATCH_MAX = 12 };
 
 struct SimWorld {
     SimWorldDef def; /* copy; def.grains and def.walls point into the world's own storage */
@@ -73,10 +78,10 @@ struct SimWorld {
     double *x, *y, *vx, *vy, *angle, *omega;
     double *fx, *fy, *torque;
     double *radius, *inv_mass, *inv_inertia, *mass, *inertia;
-    double *x_ref, *y_ref;             /* positions at the last neighbour build */
-    double *x_base, *y_base;           /* rest positions of fixed grains with motion */
-    double *aux0, *aux1, *aux2, *aux3; /* integrator state (Gear, RK4, Stormer) */
-    double *aux4, *aux5, *aux6, *aux7, *aux8, *aux9, *aux10, *aux11;
+    double *x_ref, *y_ref;            /* positions at the last neighbour build */
+    double *x_base, *y_base;          /* rest positions of fixed grains with motion */
+    double *scratch[SIM_SCRATCH_MAX]; /* integrator state, see SIM_SCRATCH_MAX */
+    int scratch_count;
     int *species, *motion;
     unsigned *flags;
     uint32_t *id;
@@ -199,6 +204,8 @@ void sim_contacts_visit(SimWorld *world, ContactVisit *visit, void *context);
 
 /* integrate.c */
 StageFn *sim_integrator_select(SimIntegrator integrator, int rotation);
+/* How many scratch arrays (SimWorld.scratch) the integrator uses, with or without rotation. */
+int sim_integrator_scratch_count(SimIntegrator integrator, int rotation);
 void sim_integrator_start(SimWorld *world);
 /* Applies a deferred closing kick (velocity Verlet), if any. */
 void sim_integrator_finish(SimWorld *world);
