@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# Layering rules of docs/dev/architecture.md, one rule per call, run from the repository root:
+#   layers.sh render-no-app   render/ never includes an app/ header
+#   layers.sh core-no-family  the app core (app/*.c, app/*.h) includes no family header
+#   layers.sh families-apart  a family folder app/F/ never includes another family's header
+# A family is a folder app/F/. An include names a header by path ("bne/bne.h", "app/bne/bne.h")
+# or, since app/ and each family folder are include folders, by its bare name ("bne.h").
+# Prints each offending line as file:line: include, and exits 1 when there is any.
+set -euo pipefail
+rule=${1:?usage: layers.sh render-no-app|core-no-family|families-apart}
+cd "$(dirname "$0")/../.."
+
+families=()
+for d in app/*/; do
+  families+=("$(basename "$d")")
+done
+
+# headers_of DIR...: the bare names of the headers under DIR
+headers_of() {
+  find "$@" -name '*.h' -printf '%f\n' | sort -u
+}
+
+# offending FILES -- NAMES...: include lines of FILES naming any of NAMES (path or bare name)
+offending() {
+  local files=() names=()
+  while [ "$1" != "--" ]; do files+=("$1"); shift; done
+  shift
+  names=("$@")
+  [ ${#files[@]} -gt 0 ] && [ ${#names[@]} -gt 0 ] || return 0
+  local alternatives
+  alternatives=$(printf '%s\n' "${names[@]}" | sed 's/[.]/\\./g' | paste -sd'|')
+  grep -nHE "^[[:space:]]*#[[:space:]]*include[[:space:]]*\"([^\"]*/)?(${alternatives})\"" \
+    "${files[@]}" || true
+}
+
+found=""
+case "$rule" in
+render-no-app)
+  mapfile -t names < <(headers_of app)
+  mapfile -t files < <(find render -name '*.[ch]')
+  found=$(offending "${files[@]}" -- "${names[@]}")
+  found=$(
+    {
+      echo "$found"
+      grep -nHE '^[[:space:]]*#[[:space:]]*include[[:space:]]*"(\.\./)*app/' "${files[@]}" || true
+    } | sed '/^$/d' | sort -u
+  )
+  ;;
+core-no-family)
+  mapfile -t files < <(find app -maxdepth 1 -name '*.[ch]')
+  dirs=()
+  for f in "${families[@]}"; do dirs+=("app/$f"); done
+  mapfile -t names < <(headers_of "${dirs[@]}")
+  found=$(offending "${files[@]}" -- "${names[@]}")
+  ;;
+families-apart)
+  for f in "${families[@]}"; do
+    others=()
+    for g in "${families[@]}"; do [ "$g" = "$f" ] || others+=("app/$g"); done
+    [ ${#others[@]} -gt 0 ] || continue
+    mapfile -t names < <(headers_of "${others[@]}")
+    mapfile -t files < <(find "app/$f" -name '*.[ch]')
+    found+=$(offending "${files[@]}" -- "${names[@]}")$'\n'
+  done
+  ;;
+*)
+  echo "layers.sh: unknown rule $rule" >&2
+  exit 2
+  ;;
+esac
+found=$(echo "$found" | sed '/^$/d')
+if [ -n "$found" ]; then
+  echo "layering rule $rule broken (docs/dev/architecture.md):"
+  echo "$found"
+  exit 1
+fi
+echo "layering rule $rule: ok (families: ${families[*]})"
