@@ -438,14 +438,22 @@ static void unstable_message(Run *run, int k)
              saved ? "saved to" : "could not be saved to", path);
 }
 
-static int run_stage(Run *run, int k)
+/* The stage's cadences, in steps from its start: chunks of sim_world_step end on output times. */
+typedef struct StageClock {
+    double dt; /* s */
+    long total, every_energy, every_frame, every_trace;
+    int movie; /* 1: a movie is open (sink) */
+    SimFrameSink sink;
+} StageClock;
+
+/* World, edits, the families' stage_begin, t*, the start figures and the movie. 0, or the exit
+ * status. */
+static int stage_start(Run *run, int k, StageClock *clock)
 {
     const Scene *scene = run->scene;
     const SceneStage *stage = &scene->stages[k];
     const SceneOutput *out = &scene->output;
-    StageReport *report = &run->stages[k];
     const AppRender *render = run->options->render;
-    double wall_start = app_now_seconds();
     run->context.stage = k;
     if (stage_world(run, k) != 0)
         return 2;
@@ -453,8 +461,8 @@ static int run_stage(Run *run, int k)
     run->context.stage_steps = (long)llround(stage->duration / dt);
     if (stage_edit(run, k) != 0)
         return 2;
-    report->start_time = sim_world_time(run->world);
-    run->context.stage_start = report->start_time;
+    run->stages[k].start_time = sim_world_time(run->world);
+    run->context.stage_start = run->stages[k].start_time;
     if (family_hooks(run, HOOK_STAGE_BEGIN) != 0)
         return 2;
     /* t* = t / sqrt(D/g) (000 eq. 6.1) */
@@ -465,67 +473,95 @@ static int run_stage(Run *run, int k)
         out->t_star_length > 0.0 && g > 0.0 ? sqrt(out->t_star_length / g) : frame.time_scale;
     if (figures_due(run, k, 0, 0, dt) != 0)
         return 2;
-    int movie = stage->movie && render && render->movie_open;
     if ((stage->movie || out->figure_count > 0) && !render && !run->render_warned) {
         fprintf(stderr, "sablier: warning: rendering is not built: figures and movies are "
                         "skipped\n");
         run->render_warned = 1;
     }
-    SimFrameSink sink = {0};
-    if (movie) {
+    *clock = (StageClock){
+        .dt = dt,
+        .total = (long)llround(stage->duration / dt),
+        .every_energy = (long)fmax(1.0, (double)llround(out->energy_every / dt)),
+        .every_frame = (long)fmax(1.0, (double)llround(1.0 / (out->frame_rate * dt))),
+        .every_trace = (long)fmax(1.0, (double)llround(out->trace_every / dt)),
+        .movie = stage->movie && render && render->movie_open,
+    };
+    if (clock->movie) {
         char path[PATH_SIZE], err[512] = "";
         out_path(run, path, stage->name, ".mp4");
-        if (render->movie_open(render->context, scene, k, path, &sink, err, sizeof err) != 0) {
+        if (render->movie_open(render->context, scene, k, path, &clock->sink, err, sizeof err) !=
+            0) {
             snprintf(run->message, sizeof run->message, "movie %s: %s", path, err);
+            clock->movie = 0;
             return 2;
         }
     }
-    /* Chunks end on output times, counted in steps from the stage start. */
-    long total = (long)llround(stage->duration / dt);
-    long every_energy = (long)fmax(1.0, (double)llround(out->energy_every / dt));
-    long every_frame = (long)fmax(1.0, (double)llround(1.0 / (out->frame_rate * dt)));
-    long every_trace = (long)fmax(1.0, (double)llround(out->trace_every / dt));
+    return 0;
+}
+
+/* What is due at step `done`: energy row, movie frame, trace rows, the families' steps, timed
+ * figures. 0, or the exit status. */
+static int outputs_due(Run *run, int k, StageClock *clock, long done)
+{
+    int frame_due = clock->movie && clock->sink.consume && done % clock->every_frame == 0;
+    int trace_due = run->trace && done % clock->every_trace == 0;
+    if (done % clock->every_energy == 0 || done == clock->total)
+        energy_row(run, k);
+    if (frame_due || trace_due) {
+        SimFrame frame;
+        sim_world_frame(run->world, &frame);
+        if (frame_due && clock->sink.consume(clock->sink.context, &frame) != 0)
+            clock->sink.consume = NULL; /* the movie's sticky error is reported at close */
+        if (trace_due)
+            trace_rows(run, &frame);
+    }
+    family_step(run, done); /* profiles, phase samples, ... */
+    return figures_due(run, k, 2, done, clock->dt) != 0 ? 2 : 0;
+}
+
+/* The next step after `done` at which anything is due. */
+static long next_due(const Run *run, int k, const StageClock *clock, long done)
+{
+    long next = clock->total;
+    long marks[3] = {clock->every_energy, clock->movie ? clock->every_frame : clock->total,
+                     run->trace ? clock->every_trace : clock->total};
+    for (int m = 0; m < 3; ++m) {
+        long candidate = (done / marks[m] + 1) * marks[m];
+        if (candidate < next)
+            next = candidate;
+    }
+    next = next_figure_step(run, k, done, clock->dt, next);
+    return family_next_step(run, done, next);
+}
+
+/* 1 when the stage's settle test passes at step `done`. */
+static int settled(Run *run, const SceneStage *stage, const StageClock *clock, long done)
+{
+    double elapsed = (double)done * clock->dt;
+    if (!(stage->settle_kinetic > 0.0) || done % clock->every_energy != 0 || done == 0 ||
+        elapsed < stage->settle_after - 0.5 * clock->dt)
+        return 0;
+    SimEnergy e = sim_world_energy(run->world);
+    return e.kinetic + e.rotational < stage->settle_kinetic;
+}
+
+/* Steps the stage in chunks that end on output times, until its end or the settle test. 0, or
+ * the exit status. */
+static int stage_loop(Run *run, int k, StageClock *clock)
+{
+    const SceneStage *stage = &run->scene->stages[k];
+    StageReport *report = &run->stages[k];
     long done = 0;
     int status = 0;
     double last_progress = app_now_seconds(), step_wall = 0.0;
     for (;;) {
-        int frame_due = movie && sink.consume && done % every_frame == 0;
-        int trace_due = run->trace && done % every_trace == 0;
-        if (done % every_energy == 0 || done == total)
-            energy_row(run, k);
-        if (frame_due || trace_due) {
-            sim_world_frame(run->world, &frame);
-            if (frame_due && sink.consume(sink.context, &frame) != 0)
-                sink.consume = NULL; /* the movie's sticky error is reported at close */
-            if (trace_due)
-                trace_rows(run, &frame);
-        }
-        family_step(run, done); /* profiles, phase samples, ... */
-        if (figures_due(run, k, 2, done, dt) != 0) {
-            status = 2;
+        if ((status = outputs_due(run, k, clock, done)) != 0 || done >= clock->total)
+            break;
+        if (settled(run, stage, clock, done)) {
+            report->settled = 1;
             break;
         }
-        if (done >= total)
-            break;
-        double elapsed = (double)done * dt;
-        if (stage->settle_kinetic > 0.0 && done % every_energy == 0 && done > 0 &&
-            elapsed >= stage->settle_after - 0.5 * dt) {
-            SimEnergy e = sim_world_energy(run->world);
-            if (e.kinetic + e.rotational < stage->settle_kinetic) {
-                report->settled = 1;
-                break;
-            }
-        }
-        long next = total;
-        long marks[3] = {every_energy, movie ? every_frame : total,
-                         run->trace ? every_trace : total};
-        for (int m = 0; m < 3; ++m) {
-            long candidate = (done / marks[m] + 1) * marks[m];
-            if (candidate < next)
-                next = candidate;
-        }
-        next = next_figure_step(run, k, done, dt, next);
-        next = family_next_step(run, done, next);
+        long next = next_due(run, k, clock, done);
         double t0 = app_now_seconds();
         SimStatus s = sim_world_step(run->world, next - done, &run->error);
         double t1 = app_now_seconds();
@@ -539,16 +575,26 @@ static int run_stage(Run *run, int k)
             break;
         }
         if (t1 - last_progress > 0.25) {
-            progress(run, k, (double)done * dt, stage->duration, (double)done * dt / step_wall, 0);
+            progress(run, k, (double)done * clock->dt, stage->duration,
+                     (double)done * clock->dt / step_wall, 0);
             last_progress = t1;
         }
     }
     run->step_seconds += step_wall;
     run->steps += report->steps;
+    return status;
+}
+
+/* The movie closed, the checkpoint written, the families' stage_end and the end figures. */
+static int stage_finish(Run *run, int k, StageClock *clock, int status)
+{
+    const SceneStage *stage = &run->scene->stages[k];
+    const AppRender *render = run->options->render;
+    StageReport *report = &run->stages[k];
     report->end_time = sim_world_time(run->world);
     report->mobile = sim_world_mobile_count(run->world);
     run->simulated += report->end_time - report->start_time;
-    if (movie) {
+    if (clock->movie) {
         char err[512] = "";
         if (render->movie_close(render->context, err, sizeof err) != 0 && status == 0) {
             snprintf(run->message, sizeof run->message, "movie of stage %s: %s", stage->name, err);
@@ -563,9 +609,23 @@ static int run_stage(Run *run, int k)
         snprintf(run->message, sizeof run->message, "checkpoint %s: %s", path, run->error.message);
         return 2;
     }
-    if (family_hooks(run, HOOK_STAGE_END) != 0 || figures_due(run, k, 1, 0, dt) != 0)
+    if (family_hooks(run, HOOK_STAGE_END) != 0 || figures_due(run, k, 1, 0, clock->dt) != 0)
         return 2;
-    report->wall_seconds = app_now_seconds() - wall_start;
+    return 0;
+}
+
+static int run_stage(Run *run, int k)
+{
+    double wall_start = app_now_seconds();
+    StageClock clock;
+    memset(&clock, 0, sizeof clock);
+    int status = stage_start(run, k, &clock);
+    if (status != 0)
+        return status;
+    status = stage_finish(run, k, &clock, stage_loop(run, k, &clock));
+    if (status != 0)
+        return status;
+    run->stages[k].wall_seconds = app_now_seconds() - wall_start;
     progress(run, k, 0.0, 0.0, 0.0, 1);
     return 0;
 }

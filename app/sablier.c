@@ -413,14 +413,19 @@ static int name_index(const char *value, const char *const *names)
 }
 #endif
 
-static int command_render(int argc, char **argv)
-{
 #ifdef SABLIER_HAVE_RENDER
+typedef struct RenderArgs {
+    const char *state, *out, *scene_path, *sets[MAX_SETS];
+    int set_count;
+    SceneStyle over; /* only what the command line set */
+} RenderArgs;
+
+/* The options of `sablier render`: 0, or the exit status of a usage error. */
+static int render_args(int argc, char **argv, RenderArgs *a)
+{
     static const char *const color_names[] = {"fixed", "force", "speed", "species", "height", NULL};
     static const char *const cmap_names[] = {"viridis", "yellow_red", "greys", NULL};
-    const char *state = NULL, *out = NULL, *scene_path = NULL, *value, *sets[MAX_SETS];
-    int set_count = 0;
-    SceneStyle over = scene_style_unset();
+    const char *value;
     for (int i = 2; i < argc; ++i) {
         int m;
         long count;
@@ -428,61 +433,76 @@ static int command_render(int argc, char **argv)
             (m = app_option(argc, argv, &i, "--out", &value)) != 0) {
             if (m < 0)
                 return 2;
-            out = value;
+            a->out = value;
         } else if ((m = app_option(argc, argv, &i, "--scene", &value)) != 0) {
             if (m < 0)
                 return 2;
-            scene_path = value;
+            a->scene_path = value;
         } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
-            if (m < 0 || app_collect_set(sets, &set_count, MAX_SETS, value) < 0)
+            if (m < 0 || app_collect_set(a->sets, &a->set_count, MAX_SETS, value) < 0)
                 return 2;
         } else if ((m = app_option(argc, argv, &i, "--color-by", &value)) != 0) {
-            if (m < 0 || (over.color_by = name_index(value, color_names)) < 0)
+            if (m < 0 || (a->over.color_by = name_index(value, color_names)) < 0)
                 return app_usage_error(USAGE_RENDER, "unknown --color-by", m < 0 ? "" : value);
         } else if ((m = app_option(argc, argv, &i, "--colormap", &value)) != 0) {
-            if (m < 0 || (over.colormap = name_index(value, cmap_names)) < 0)
+            if (m < 0 || (a->over.colormap = name_index(value, cmap_names)) < 0)
                 return app_usage_error(USAGE_RENDER, "unknown --colormap", m < 0 ? "" : value);
         } else if ((m = app_option(argc, argv, &i, "--width", &value)) != 0) {
             if (m < 0 || app_parse_count(value, 16, 16384, &count) < 0)
                 return app_usage_error(USAGE_RENDER, "--width must be in [16, 16384], got",
                                        m < 0 ? "" : value);
-            over.width = (int)count;
+            a->over.width = (int)count;
         } else if ((m = app_option(argc, argv, &i, "--height", &value)) != 0) {
             if (m < 0 || app_parse_count(value, 16, 16384, &count) < 0)
                 return app_usage_error(USAGE_RENDER, "--height must be in [16, 16384], got",
                                        m < 0 ? "" : value);
-            over.height = (int)count;
+            a->over.height = (int)count;
         } else if ((m = app_option(argc, argv, &i, "--chain-threshold", &value)) != 0) {
             char *end;
-            over.chain_threshold = m > 0 ? strtod(value, &end) : -1.0;
-            if (m < 0 || *end || !(over.chain_threshold >= 0.0))
+            a->over.chain_threshold = m > 0 ? strtod(value, &end) : -1.0;
+            if (m < 0 || *end || !(a->over.chain_threshold >= 0.0))
                 return app_usage_error(USAGE_RENDER, "bad --chain-threshold", m < 0 ? "" : value);
         } else if ((m = app_option(argc, argv, &i, "--title", &value)) != 0) {
             if (m < 0)
                 return 2;
-            snprintf(over.title, sizeof over.title, "%s", value);
+            snprintf(a->over.title, sizeof a->over.title, "%s", value);
         } else if (strcmp(argv[i], "--force-chains") == 0) {
-            over.force_chains = 1;
+            a->over.force_chains = 1;
         } else if (strcmp(argv[i], "--no-force-chains") == 0) {
-            over.force_chains = 0;
+            a->over.force_chains = 0;
         } else if (strcmp(argv[i], "--velocity-field") == 0) {
-            over.velocity_field = 1;
+            a->over.velocity_field = 1;
         } else if (strcmp(argv[i], "--velocity-arrows") == 0) {
-            over.velocity_arrows = 1;
+            a->over.velocity_arrows = 1;
         } else if (strcmp(argv[i], "--colorbar") == 0) {
-            over.colorbar = 1;
+            a->over.colorbar = 1;
         } else if (strcmp(argv[i], "--time-stamp") == 0) {
-            over.time_stamp = 1;
+            a->over.time_stamp = 1;
         } else if (strcmp(argv[i], "--scale-bar") == 0) {
-            over.scale_bar = 1;
+            a->over.scale_bar = 1;
         } else if (argv[i][0] == '-' && argv[i][1]) {
             return app_usage_error(USAGE_RENDER, "unknown option", argv[i]);
-        } else if (!state) {
-            state = argv[i];
+        } else if (!a->state) {
+            a->state = argv[i];
         } else {
             return app_usage_error(USAGE_RENDER, "one state at a time; extra argument", argv[i]);
         }
     }
+    return 0;
+}
+#endif
+
+static int command_render(int argc, char **argv)
+{
+#ifdef SABLIER_HAVE_RENDER
+    RenderArgs args = {.over = scene_style_unset()};
+    int bad = render_args(argc, argv, &args);
+    if (bad)
+        return bad;
+    const char *state = args.state, *out = args.out, *scene_path = args.scene_path;
+    const char *const *sets = args.sets;
+    int set_count = args.set_count;
+    SceneStyle over = args.over;
     if (!state || !out)
         return app_usage_error(USAGE_RENDER, state ? "missing -o FIG" : "missing STATE", NULL);
     if (set_count && !scene_path)
