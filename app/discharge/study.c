@@ -11,13 +11,12 @@
 
 #include <errno.h>
 #include <math.h>
-#include <signal.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/types.h>
-#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -184,20 +183,44 @@ typedef struct Text {
     size_t len, cap;
 } Text;
 
+/* Room for n more bytes: 0, or -1 when out of memory (the text unchanged). */
+static int text_reserve(Text *t, size_t n)
+{
+    if (t->len + n + 1 <= t->cap)
+        return 0;
+    size_t cap = 2 * (t->len + n + 1);
+    char *grown = realloc(t->s, cap);
+    if (!grown)
+        return -1;
+    t->s = grown;
+    t->cap = cap;
+    return 0;
+}
+
 /* Appends n bytes of `add`: 0, or -1 when out of memory (the text unchanged). */
 static int text_add(Text *t, const char *add, size_t n)
 {
-    if (t->len + n + 1 > t->cap) {
-        size_t cap = 2 * (t->len + n + 1);
-        char *grown = realloc(t->s, cap);
-        if (!grown)
-            return -1;
-        t->s = grown;
-        t->cap = cap;
-    }
+    if (text_reserve(t, n) != 0)
+        return -1;
     memcpy(t->s + t->len, add, n);
     t->len += n;
     t->s[t->len] = '\0';
+    return 0;
+}
+
+/* Appends a formatted string: 0, or -1 when out of memory (the text unchanged). */
+__attribute__((format(printf, 2, 3))) static int text_printf(Text *t, const char *format, ...)
+{
+    va_list args;
+    va_start(args, format);
+    int n = vsnprintf(NULL, 0, format, args);
+    va_end(args);
+    if (n < 0 || text_reserve(t, (size_t)n) != 0)
+        return -1;
+    va_start(args, format);
+    vsnprintf(t->s + t->len, t->cap - t->len, format, args);
+    va_end(args);
+    t->len += (size_t)n;
     return 0;
 }
 
@@ -730,23 +753,13 @@ static int compare_long(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Species maps of one L (004 §3.4, fig. 3.4): the piles before discharge, and after the
- * discharges an arch stopped, per width; fractions are ratios of sums over samples. */
-static int species_maps(const Scene *scene, const char *dir, double L, const double *widths,
-                        int width_count, int samples, const AppRender *render, char *err,
-                        size_t err_size)
+/* ---------------------------------------------------------------- species maps of a study */
+
+/* Every sample's map records of one L, summed: maps[0] the piles before discharge, maps[k + 1]
+ * after the discharges at widths[k] an arch stopped; piles[] the records of each. */
+static void read_species_maps(const char *dir, double L, const double *widths, int width_count,
+                              int samples, AppSpeciesMap *maps, int *piles)
 {
-    const char *what;
-    if (app_species_marked(scene, &what) < 0)
-        return 0;
-    AppSpeciesMap *maps = calloc((size_t)width_count + 1, sizeof *maps); /* [0] = before */
-    int *piles = calloc((size_t)width_count + 1, sizeof *piles);
-    if (!maps || !piles)
-        abort();
-    int status = 0;
-    for (int k = 0; k <= width_count; ++k)
-        if (app_species_map_init(&maps[k], L, SPECIES_CELL) != 0)
-            abort();
     char path[PATH + 64], *line = NULL;
     size_t cap = 0;
     for (int s = 0; s < samples; ++s) {
@@ -771,419 +784,609 @@ static int species_maps(const Scene *scene, const char *dir, double L, const dou
         fclose(f);
     }
     free(line);
-    const AppSpeciesMap *m = &maps[0];
+}
+
+/* What the species maps of one L are written from. */
+typedef struct MapOutput {
+    const Scene *scene;
+    const char *dir, *what;
+    double L;
+    const AppRender *render;
+    char *text; /* room for every map's CSV */
+    size_t text_cap;
+    char *err;
+    size_t err_size;
+} MapOutput;
+
+/* The map of the piles before discharge: species_map.csv and .png. 0, or -1. */
+static int write_pile_map(const MapOutput *o, const AppSpeciesMap *m, int piles, double *values)
+{
+    int status = 0;
+    char path[PATH + 64];
     size_t cells = (size_t)m->nx * (size_t)m->ny;
-    size_t text_cap = 64 + 96 * cells * (size_t)(width_count + 1), used = 0;
-    char *text = malloc(text_cap);
-    double *values = malloc(cells * sizeof *values);
-    if (!text || !values)
-        abort();
-    /* before discharge */
-    used = (size_t)snprintf(text, text_cap, "x,y,count,fraction\n");
+    size_t used = (size_t)snprintf(o->text, o->text_cap, "x,y,count,fraction\n");
     for (int j = 0; j < m->ny; ++j)
         for (int i = 0; i < m->nx; ++i) {
             values[(size_t)j * (size_t)m->nx + (size_t)i] = app_species_map_fraction(m, i, j);
-            used += (size_t)snprintf(text + used, text_cap - used, "%.6g,%.6g,%ld,%.8g\n",
+            used += (size_t)snprintf(o->text + used, o->text_cap - used, "%.6g,%.6g,%ld,%.8g\n",
                                      m->x0 + (i + 0.5) * m->cell, m->y0 + (j + 0.5) * m->cell,
                                      m->count[(size_t)j * (size_t)m->nx + (size_t)i],
                                      values[(size_t)j * (size_t)m->nx + (size_t)i]);
         }
-    snprintf(path, sizeof path, "%s/L%g/species_map.csv", dir, L);
-    if (piles[0] > 0 && app_write_atomic(path, text) != 0)
+    snprintf(path, sizeof path, "%s/L%g/species_map.csv", o->dir, o->L);
+    if (piles > 0 && app_write_atomic(path, o->text) != 0)
         status = -1;
-    if (piles[0] > 0 && render && render->map) {
+    if (piles > 0 && o->render && o->render->map) {
         char title[192], bar[64];
         snprintf(title, sizeof title,
                  "fraction of %s grains before discharge, L = %g d, %d piles, %g d cells (004 "
                  "fig. 3.4)",
-                 what, L, piles[0], SPECIES_CELL);
-        snprintf(bar, sizeof bar, "%s", strcmp(what, "small") == 0 ? "q_s" : "q_d");
+                 o->what, o->L, piles, SPECIES_CELL);
+        snprintf(bar, sizeof bar, "%s", strcmp(o->what, "small") == 0 ? "q_s" : "q_d");
         int rows = 1; /* drawn up to the highest row with grains */
         for (size_t c = 0; c < cells; ++c)
             if (m->count[c] > 0)
                 rows = (int)(c / (size_t)m->nx) + 1;
         AppMap map = {title, "x / d", "y / d", bar, m->nx, rows, m->x0, m->y0, m->cell, values};
-        snprintf(path, sizeof path, "%s/L%g/species_map.png", dir, L);
-        if (render->map(render->context, scene, &map, path, err, err_size) != 0)
+        snprintf(path, sizeof path, "%s/L%g/species_map.png", o->dir, o->L);
+        if (o->render->map(o->render->context, o->scene, &map, path, o->err, o->err_size) != 0)
             status = -1;
     }
-    /* after the discharges an arch stopped, per width */
-    used = (size_t)snprintf(text, text_cap, "w,jammed,x,y,count,fraction\n");
-    int any = 0;
+    return status;
+}
+
+/* The maps after the discharges an arch stopped, per width: species_map_jammed.csv. 0, or -1;
+ * *any = 1 when there is one. */
+static int write_jammed_maps(const MapOutput *o, const AppSpeciesMap *maps, const int *piles,
+                             const double *widths, int width_count, int *any)
+{
+    size_t used = (size_t)snprintf(o->text, o->text_cap, "w,jammed,x,y,count,fraction\n");
+    *any = 0;
     for (int k = 1; k <= width_count; ++k) {
         const AppSpeciesMap *a = &maps[k];
         if (piles[k] == 0)
             continue;
-        any = 1;
+        *any = 1;
         for (int j = 0; j < a->ny; ++j)
             for (int i = 0; i < a->nx; ++i)
-                used += (size_t)snprintf(text + used, text_cap - used,
+                used += (size_t)snprintf(o->text + used, o->text_cap - used,
                                          "%.10g,%d,%.6g,%.6g,%ld,%.8g\n", widths[k - 1], piles[k],
                                          a->x0 + (i + 0.5) * a->cell, a->y0 + (j + 0.5) * a->cell,
                                          a->count[(size_t)j * (size_t)a->nx + (size_t)i],
                                          app_species_map_fraction(a, i, j));
     }
-    snprintf(path, sizeof path, "%s/L%g/species_map_jammed.csv", dir, L);
-    if (any && app_write_atomic(path, text) != 0)
-        status = -1;
-    fprintf(stderr,
-            "sablier: study: L = %g d: species maps (%s grains) over %d piles before "
-            "discharge%s\n",
-            L, what, piles[0], any ? ", and jammed piles per width" : "");
-    free(text);
+    char path[PATH + 64];
+    snprintf(path, sizeof path, "%s/L%g/species_map_jammed.csv", o->dir, o->L);
+    return *any && app_write_atomic(path, o->text) != 0 ? -1 : 0;
+}
+
+/* Species maps of one L (004 §3.4, fig. 3.4): the piles before discharge, and after the
+ * discharges an arch stopped, per width; fractions are ratios of sums over samples. 0, -1 when a
+ * file could not be written or drawn, -2 when out of memory. */
+static int species_maps(const Scene *scene, const char *dir, double L, const double *widths,
+                        int width_count, int samples, const AppRender *render, char *err,
+                        size_t err_size)
+{
+    MapOutput o = {scene, dir, NULL, L, render, NULL, 0, err, err_size};
+    if (app_species_marked(scene, &o.what) < 0)
+        return 0;
+    AppSpeciesMap *maps = calloc((size_t)width_count + 1, sizeof *maps); /* [0] = before */
+    int *piles = calloc((size_t)width_count + 1, sizeof *piles);
+    int ready = maps && piles, status = 0;
+    for (int k = 0; ready && k <= width_count; ++k)
+        ready = app_species_map_init(&maps[k], L, SPECIES_CELL) == 0;
+    double *values = NULL;
+    if (ready) {
+        read_species_maps(dir, L, widths, width_count, samples, maps, piles);
+        size_t cells = (size_t)maps[0].nx * (size_t)maps[0].ny;
+        o.text_cap = 64 + 96 * cells * (size_t)(width_count + 1);
+        o.text = malloc(o.text_cap);
+        values = malloc(cells * sizeof *values);
+        ready = o.text && values;
+    }
+    if (ready) {
+        int any = 0;
+        if (write_pile_map(&o, &maps[0], piles[0], values) != 0)
+            status = -1;
+        if (write_jammed_maps(&o, maps, piles, widths, width_count, &any) != 0)
+            status = -1;
+        fprintf(stderr,
+                "sablier: study: L = %g d: species maps (%s grains) over %d piles before "
+                "discharge%s\n",
+                L, o.what, piles[0], any ? ", and jammed piles per width" : "");
+    }
+    free(o.text);
     free(values);
-    for (int k = 0; k <= width_count; ++k)
+    for (int k = 0; maps && k <= width_count; ++k)
         app_species_map_free(&maps[k]);
     free(maps);
     free(piles);
+    return ready ? status : -2;
+}
+
+/* ---------------------------------------------------------------- reduction */
+
+/* A study's reduction: the inputs, the cells and statistics per (L, w) at [l * width_count + k],
+ * and the fits per L. */
+typedef struct Reduction {
+    const Scene *scene;
+    const char *dir;
+    const double *lengths, *widths;
+    int length_count, width_count, samples;
+    const AppRender *render;
+    char *err;
+    size_t err_size;
+    int status; /* -1 once a file could not be written or a plot drawn */
+    Cell *cells;
+    double *h_mean, *h_sd, *h_err, *qs_pile, *qs_arch;
+    Text study; /* study.csv */
+    double w_t[MAX_LENGTHS], fitA[MAX_LENGTHS], fitB[MAX_LENGTHS], fitC[MAX_LENGTHS];
+    double inv[MAX_LENGTHS], wc, slope, wc_err; /* w_t against 1/L */
+    int fit_n;
+} Reduction;
+
+static void reduction_free(Reduction *R)
+{
+    size_t cells_n = (size_t)R->length_count * (size_t)R->width_count;
+    for (size_t i = 0; R->cells && i < cells_n; ++i)
+        free(R->cells[i].sizes);
+    free(R->cells);
+    free(R->h_mean);
+    free(R->h_sd);
+    free(R->h_err);
+    free(R->qs_pile);
+    free(R->qs_arch);
+    free(R->study.s);
+}
+
+/* 0, or -1 when out of memory. */
+static int reduction_init(Reduction *R)
+{
+    size_t cells_n = (size_t)R->length_count * (size_t)R->width_count;
+    R->cells = calloc(cells_n + 1, sizeof *R->cells);
+    R->h_mean = calloc(cells_n + 1, sizeof(double));
+    R->h_sd = calloc(cells_n + 1, sizeof(double));
+    R->h_err = calloc(cells_n + 1, sizeof(double));
+    R->qs_pile = calloc(cells_n + 1, sizeof(double));
+    R->qs_arch = calloc(cells_n + 1, sizeof(double));
+    if (!R->cells || !R->h_mean || !R->h_sd || !R->h_err || !R->qs_pile || !R->qs_arch)
+        return -1;
+    return text_printf(&R->study, "L,w,samples,h_mean,h_sd,h_err,s_mean,s_sd,edges_mean,jammed,"
+                                  "catastrophic,arch_mean,qs_pile,qs_arch,qs_arch_mean\n");
+}
+
+/* Sums over the piles' deposition records of one L: the profile (and its squares); returns the
+ * records read. */
+static int read_profiles(const Reduction *R, double L, int bins, double *profile, double *profile2)
+{
+    int profiles = 0;
+    for (int s = 0; s < R->samples; ++s) {
+        char csv[PATH], dep[PATH], pile[PATH];
+        sample_paths(R->dir, L, s, csv, dep, pile);
+        FILE *f = fopen(dep, "r");
+        if (!f)
+            continue;
+        static char line[1 << 16];
+        if (fgets(line, sizeof line, f)) {
+            char *p = line;
+            for (int field = 0; field < 11 && p; ++field) {
+                p = strchr(p, ',');
+                p = p ? p + 1 : NULL;
+            }
+            for (int b = 0; b < bins && p; ++b) {
+                double v = strtod(p, NULL);
+                profile[b] += v;
+                profile2[b] += v * v;
+                p = strchr(p, ',');
+                p = p ? p + 1 : NULL;
+            }
+            ++profiles;
+        }
+        fclose(f);
+    }
+    return profiles;
+}
+
+/* One sample's row (s through, edges, h, the pile and its arch) into its cell: 0, or -1 when out
+ * of memory. */
+static int cell_add(Cell *c, long through, long edges, double h, int pile_n, int arch, int a0,
+                    int p0)
+{
+    ++c->n;
+    c->h += h;
+    c->h2 += h * h;
+    c->s += (double)through;
+    c->s2 += (double)through * (double)through;
+    c->edges += (double)edges;
+    c->jammed += arch > 0;
+    c->catastrophic += h == 0.0;
+    c->arch += arch;
+    c->pile0 += p0;
+    c->pile_all += pile_n;
+    if (arch > 0) {
+        c->arch0 += a0;
+        c->arch_all += arch;
+        c->arch_ratio += (double)a0 / arch;
+        ++c->arch_ratio_n;
+    }
+    if (c->size_count == c->size_cap) {
+        int size_cap = c->size_cap ? 2 * c->size_cap : 64;
+        long *grown = realloc(c->sizes, (size_t)size_cap * sizeof *grown);
+        if (!grown)
+            return -1;
+        c->sizes = grown;
+        c->size_cap = size_cap;
+    }
+    c->sizes[c->size_count++] = through;
+    return 0;
+}
+
+/* Every sample table of L = lengths[l], row by row, into the per-width tables and cells: 0, or
+ * -1 when out of memory. */
+static int read_sample_rows(Reduction *R, int l, Text *tables)
+{
+    double L = R->lengths[l];
+    for (int s = 0; s < R->samples; ++s) {
+        char csv[PATH], dep[PATH], pile[PATH];
+        sample_paths(R->dir, L, s, csv, dep, pile);
+        FILE *f = fopen(csv, "r");
+        if (!f)
+            continue;
+        char line[1024];
+        int bad = 0;
+        while (!bad && fgets(line, sizeof line, f)) {
+            long sample, through, edges;
+            double Lr, w, h;
+            int pile_n, arch, a0, a1, p0, p1;
+            if (sscanf(line, "%ld,%lf,%lf,%ld,%ld,%lf,%d,%d,%d,%d,%d,%d", &sample, &Lr, &w,
+                       &through, &edges, &h, &pile_n, &arch, &a0, &a1, &p0, &p1) != 12)
+                continue;
+            int k = 0;
+            while (k < R->width_count && fabs(R->widths[k] - w) > 1e-6)
+                ++k;
+            if (k == R->width_count)
+                continue;
+            Cell *c = &R->cells[(size_t)l * (size_t)R->width_count + (size_t)k];
+            bad = text_add(&tables[k], line, strlen(line)) != 0 ||
+                  cell_add(c, through, edges, h, pile_n, arch, a0, p0) != 0;
+        }
+        fclose(f);
+        if (bad)
+            return -1;
+    }
+    return 0;
+}
+
+/* The statistics of cell i (L and w) and its study.csv row: 0, or -1 when out of memory. */
+static int cell_stats(Reduction *R, size_t i, double L, double w)
+{
+    Cell *c = &R->cells[i];
+    double n = c->n;
+    R->h_mean[i] = n > 0 ? c->h / n : NOTHING;
+    R->h_sd[i] = n > 1 ? sqrt(fmax(0.0, (c->h2 - c->h * c->h / n) / (n - 1.0))) : NOTHING;
+    R->h_err[i] = n > 1 ? R->h_sd[i] / sqrt(n) : NOTHING;
+    R->qs_pile[i] = c->pile_all > 0 ? c->pile0 / c->pile_all : NOTHING;
+    R->qs_arch[i] = c->arch_all > 0 ? c->arch0 / c->arch_all : NOTHING;
+    double s_mean = n > 0 ? c->s / n : NOTHING;
+    double s_sd = n > 1 ? sqrt(fmax(0.0, (c->s2 - c->s * c->s / n) / (n - 1.0))) : NOTHING;
+    return text_printf(
+        &R->study, "%g,%.10g,%d,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", L,
+        w, c->n, R->h_mean[i], R->h_sd[i], R->h_err[i], s_mean, s_sd,
+        n > 0 ? c->edges / n : NOTHING, n > 0 ? c->jammed / n : NOTHING,
+        n > 0 ? c->catastrophic / n : NOTHING, n > 0 ? c->arch / n : NOTHING, R->qs_pile[i],
+        R->qs_arch[i], c->arch_ratio_n ? c->arch_ratio / c->arch_ratio_n : NOTHING);
+}
+
+/* F(s) = P(size >= s) of one cell (004 fig. 2.16), its sizes sorted, into fs: 0, or -1 when out
+ * of memory. */
+static int cell_fs(Cell *c, double w, Text *fs)
+{
+    if (c->size_count == 0)
+        return 0;
+    qsort(c->sizes, (size_t)c->size_count, sizeof *c->sizes, compare_long);
+    for (int j = 0; j < c->size_count; ++j) {
+        if (j > 0 && c->sizes[j] == c->sizes[j - 1])
+            continue;
+        if (text_printf(fs, "%.10g,%ld,%.8g\n", w, c->sizes[j],
+                        (double)(c->size_count - j) / c->size_count) != 0)
+            return -1;
+    }
+    return 0;
+}
+
+/* Per width of L = lengths[l]: L<L>/w<W>.csv, the cell's statistics and study.csv row; then
+ * L<L>/Fs.csv. 0, or -1 when out of memory. */
+static int write_width_tables(Reduction *R, int l, const Text *tables)
+{
+    double L = R->lengths[l];
+    char path[PATH + 64];
+    Text fs = {NULL, 0, 0};
+    int bad = text_printf(&fs, "w,s,F\n");
+    for (int k = 0; !bad && k < R->width_count; ++k) {
+        char wname[32];
+        app_discharge_width_name(R->widths[k], wname, sizeof wname);
+        snprintf(path, sizeof path, "%s/L%g/%s.csv", R->dir, L, wname);
+        if (app_write_atomic(path, tables[k].s) != 0)
+            R->status = -1;
+        size_t i = (size_t)l * (size_t)R->width_count + (size_t)k;
+        bad = cell_stats(R, i, L, R->widths[k]) != 0 || cell_fs(&R->cells[i], R->widths[k], &fs);
+    }
+    snprintf(path, sizeof path, "%s/L%g/Fs.csv", R->dir, L);
+    if (!bad && app_write_atomic(path, fs.s) != 0)
+        R->status = -1;
+    free(fs.s);
+    return bad ? -1 : 0;
+}
+
+/* The mean profile and local slope over l = 10 d of L (004 figs. 2.9-2.10): L<L>/profile.csv.
+ * 0, or -1 when out of memory. */
+static int write_profile(Reduction *R, double L, int bins, const double *profile,
+                         const double *profile2, int profiles)
+{
+    Text text = {NULL, 0, 0};
+    int bad = text_printf(&text, "x,h_mean,h_sd,slope\n");
+    for (int b = 0; !bad && b < bins; ++b) {
+        double m = profile[b] / profiles;
+        double sd =
+            profiles > 1 ? sqrt(fmax(0.0, (profile2[b] - profile[b] * m) / (profiles - 1.0))) : 0.0;
+        int lo = b - 5, hi = b + 5;
+        double slope =
+            lo >= 0 && hi < bins ? (profile[hi] - profile[lo]) / profiles / 10.0 : NOTHING;
+        bad = text_printf(&text, "%.6g,%.8g,%.8g,%.8g\n", -0.5 * L + b + 0.5, m, sd, slope);
+    }
+    char path[PATH + 64];
+    snprintf(path, sizeof path, "%s/L%g/profile.csv", R->dir, L);
+    if (!bad && app_write_atomic(path, text.s) != 0)
+        R->status = -1;
+    free(text.s);
+    return bad ? -1 : 0;
+}
+
+/* The tables of L = lengths[l]: per width, F(s), the mean profile, the species maps, and the
+ * Gaussian fit of sigma_h. 0, or -1 when out of memory. */
+static int reduce_length(Reduction *R, int l)
+{
+    double L = R->lengths[l];
+    int bins = (int)floor(L + 0.5), bad = 0;
+    Text *tables = calloc((size_t)R->width_count, sizeof *tables); /* every sample's row */
+    double *profile = calloc((size_t)bins + 1, sizeof(double));
+    double *profile2 = calloc((size_t)bins + 1, sizeof(double));
+    bad = !tables || !profile || !profile2;
+    for (int k = 0; !bad && k < R->width_count; ++k)
+        bad = text_printf(&tables[k], "%s\n", app_discharge_csv_header());
+    int profiles = bad ? 0 : read_profiles(R, L, bins, profile, profile2);
+    bad = bad || read_sample_rows(R, l, tables) != 0 || write_width_tables(R, l, tables) != 0;
+    if (!bad && profiles > 0)
+        bad = write_profile(R, L, bins, profile, profile2, profiles);
+    for (int k = 0; tables && k < R->width_count; ++k)
+        free(tables[k].s);
+    free(tables);
+    free(profile);
+    free(profile2);
+    if (bad)
+        return out_of_memory(R->err, R->err_size);
+    int maps = species_maps(R->scene, R->dir, L, R->widths, R->width_count, R->samples, R->render,
+                            R->err, R->err_size);
+    if (maps == -2)
+        return out_of_memory(R->err, R->err_size);
+    if (maps != 0)
+        R->status = -1;
+    size_t o = (size_t)l * (size_t)R->width_count;
+    gaussian_fit(R->widths, R->h_sd + o, R->width_count, &R->w_t[l], &R->fitA[l], &R->fitB[l],
+                 &R->fitC[l]);
+    return 0;
+}
+
+/* w_t against 1/L, w_c the intercept (004 fig. 2.15): fits.csv and its line on stderr. 0, or
+ * -1 when out of memory. */
+static int write_fits(Reduction *R)
+{
+    double fit_x[MAX_LENGTHS] = {0}, fit_y[MAX_LENGTHS] = {0};
+    R->wc = R->slope = NAN;
+    R->wc_err = 0.0;
+    R->fit_n = 0;
+    for (int l = 0; l < R->length_count; ++l) {
+        R->inv[l] = 1.0 / R->lengths[l];
+        if (isfinite(R->w_t[l])) {
+            fit_x[R->fit_n] = R->inv[l];
+            fit_y[R->fit_n++] = R->w_t[l];
+        }
+    }
+    app_linear_fit(fit_x, fit_y, R->fit_n, &R->wc, &R->slope, &R->wc_err);
+    Text text = {NULL, 0, 0};
+    int bad = text_printf(&text, "L,inv_L,w_t\n");
+    for (int l = 0; !bad && l < R->length_count; ++l)
+        bad = text_printf(&text, "%g,%.8g,%.8g\n", R->lengths[l], R->inv[l], R->w_t[l]);
+    bad = bad || text_printf(&text, "# w_c = %.6g +- %.3g d, slope %.6g d^2\n", R->wc, R->wc_err,
+                             R->slope);
+    char path[PATH + 64];
+    snprintf(path, sizeof path, "%s/fits.csv", R->dir);
+    if (!bad && app_write_atomic(path, text.s) != 0)
+        R->status = -1;
+    free(text.s);
+    if (bad)
+        return out_of_memory(R->err, R->err_size);
+    fprintf(stderr, "sablier: study: w_t =");
+    for (int l = 0; l < R->length_count; ++l)
+        fprintf(stderr, " %.3g (L = %g)", R->w_t[l], R->lengths[l]);
+    fprintf(stderr, "; w_c = %.3g +- %.2g d (%d lengths)\n", R->wc, R->wc_err, R->fit_n);
+    return 0;
+}
+
+/* ---------------------------------------------------------------- reduction plots */
+
+/* One study plot into DIR/NAME: 0, or -1 (err says why). */
+static int reduction_plot(const Reduction *R, const StudyPlot *plot, const char *name)
+{
+    char path[PATH + 64];
+    snprintf(path, sizeof path, "%s/%s", R->dir, name);
+    return study_plot(R->render, R->scene, plot, path, R->err, R->err_size);
+}
+
+/* <h> with error bars, and sigma_h with its Gaussian fits (004 figs. 2.13-2.14). */
+static int plot_heights(const Reduction *R)
+{
+    AppPlotSeries series[2 * MAX_LENGTHS + 2];
+    char labels[MAX_LENGTHS][32];
+    double curve_x[MAX_LENGTHS][200], curve_y[MAX_LENGTHS][200];
+    const double *widths = R->widths;
+    int width_count = R->width_count, ns = 0, status = 0;
+    for (int l = 0; l < R->length_count; ++l) {
+        snprintf(labels[l], sizeof labels[l], "L = %g d", R->lengths[l]);
+        size_t o = (size_t)l * (size_t)width_count;
+        series[ns++] =
+            SERIES(labels[l], width_count, widths, R->h_mean + o, R->h_err + o, 1, 0, 1 + l % 4, 0);
+    }
+    StudyPlot plot = {"<h> after discharge (004 fig. 2.13)", "w / d", "<h> / d", 0, ns, series};
+    status |= reduction_plot(R, &plot, "h_mean.png");
+    ns = 0;
+    for (int l = 0; l < R->length_count; ++l) {
+        size_t o = (size_t)l * (size_t)width_count;
+        series[ns++] =
+            SERIES(labels[l], width_count, widths, R->h_sd + o, NULL, 0, 0, 1 + l % 4, 0);
+        if (isfinite(R->fitC[l])) {
+            for (int j = 0; j < 200; ++j) {
+                double w = widths[0] + (widths[width_count - 1] - widths[0]) * j / 199.0;
+                curve_x[l][j] = w;
+                curve_y[l][j] = exp(R->fitA[l] + R->fitB[l] * w + R->fitC[l] * w * w);
+            }
+            series[ns++] = SERIES(NULL, 200, curve_x[l], curve_y[l], NULL, 1, 0, 0, 1);
+        }
+    }
+    plot = (StudyPlot){
+        "sigma_h and Gaussian fits (004 fig. 2.14)", "w / d", "sigma_h / d", 0, ns, series};
+    status |= reduction_plot(R, &plot, "sigma_h.png");
     return status;
+}
+
+/* w_t against 1/L with its line (004 fig. 2.15), and the arch composition (004 figs. 3.6,
+ * 3.8). */
+static int plot_fits(const Reduction *R)
+{
+    AppPlotSeries series[2 * MAX_LENGTHS + 2];
+    char labels[MAX_LENGTHS][32], title[128];
+    int status = 0, ns = 0;
+    double line_x[2] = {0.0, 0.0}, line_y[2];
+    for (int l = 0; l < R->length_count; ++l)
+        line_x[1] = fmax(line_x[1], R->inv[l]);
+    line_y[0] = R->wc;
+    line_y[1] = R->wc + R->slope * line_x[1];
+    series[0] = SERIES("w_t", R->length_count, R->inv, R->w_t, NULL, 0, 0, 1, 0);
+    series[1] = SERIES("linear fit", 2, line_x, line_y, NULL, 1, 1, 0, 0);
+    snprintf(title, sizeof title, "w_t against 1/L: w_c = %.3g +- %.2g d (004 fig. 2.15)", R->wc,
+             R->wc_err);
+    StudyPlot plot = {title, "1/L (1/d)", "w_t / d", 0, isfinite(R->wc) ? 2 : 1, series};
+    status |= reduction_plot(R, &plot, "wt.png");
+    for (int l = 0; l < R->length_count && ns + 2 <= 2 * MAX_LENGTHS; ++l) {
+        snprintf(labels[l], sizeof labels[l], "L = %g d", R->lengths[l]);
+        size_t o = (size_t)l * (size_t)R->width_count;
+        series[ns++] =
+            SERIES(labels[l], R->width_count, R->widths, R->qs_pile + o, NULL, 1, 1, 1 + l % 4, 0);
+        series[ns++] =
+            SERIES(NULL, R->width_count, R->widths, R->qs_arch + o, NULL, 1, 0, 1 + l % 4, 1);
+    }
+    plot = (StudyPlot){"species-0 fraction: pile (dashed) and arch (004 figs. 3.6, 3.8)",
+                       "w / d",
+                       "q",
+                       0,
+                       ns,
+                       series};
+    status |= reduction_plot(R, &plot, "composition.png");
+    return status;
+}
+
+/* F(s) on semi-log axes for L = lengths[l], a few widths (004 fig. 2.16): 0, -1 when not drawn,
+ * -2 when out of memory. */
+static int plot_fs(const Reduction *R, int l)
+{
+    AppPlotSeries series[8];
+    int samples = R->samples, width_count = R->width_count, ns = 0, status = 0;
+    double *xs = calloc((size_t)samples * 8 + 8, sizeof(double));
+    double *ys = calloc((size_t)samples * 8 + 8, sizeof(double));
+    char wl[8][32], title[128], path[PATH + 64];
+    if (!xs || !ys) {
+        free(xs);
+        free(ys);
+        return -2;
+    }
+    size_t off = 0;
+    for (int j = 0; j < 8 && j < width_count; ++j) {
+        int k = width_count <= 8 ? j : j * (width_count - 1) / 7;
+        const Cell *c = &R->cells[(size_t)l * (size_t)width_count + (size_t)k];
+        if (c->size_count == 0)
+            continue;
+        int m = 0;
+        for (int q = 0; q < c->size_count && m < samples; ++q) {
+            if (q > 0 && c->sizes[q] == c->sizes[q - 1])
+                continue;
+            xs[off + (size_t)m] = (double)c->sizes[q];
+            ys[off + (size_t)m] = (double)(c->size_count - q) / c->size_count;
+            ++m;
+        }
+        snprintf(wl[j], sizeof wl[j], "w = %g d", R->widths[k]);
+        series[ns++] = SERIES(wl[j], m, xs + off, ys + off, NULL, 1, 0, 1 + j % 4, 0);
+        off += (size_t)samples;
+    }
+    snprintf(title, sizeof title, "F(s), L = %g d (004 fig. 2.16)", R->lengths[l]);
+    StudyPlot plot = {title, "s (grains)", "F(s) = P(size >= s)", 1, ns, series};
+    snprintf(path, sizeof path, "%s/L%g/Fs.png", R->dir, R->lengths[l]);
+    if (ns > 0)
+        status = study_plot(R->render, R->scene, &plot, path, R->err, R->err_size);
+    free(xs);
+    free(ys);
+    return status ? -1 : 0;
+}
+
+/* Every plot of the reduction: 0, -1 when one was not drawn, -2 when out of memory. */
+static int reduction_plots(const Reduction *R)
+{
+    int status = plot_heights(R);
+    status |= plot_fits(R);
+    for (int l = 0; l < R->length_count; ++l) {
+        int rc = plot_fs(R, l);
+        if (rc == -2)
+            return -2;
+        status |= rc;
+    }
+    return status ? -1 : 0;
 }
 
 int app_study_reduce(const Scene *scene, const char *dir, const double *lengths, int length_count,
                      const double *widths, int width_count, int samples, const AppRender *render,
                      char *err, size_t err_size)
 {
-    char path[PATH + 64];
-    size_t cells_n = (size_t)length_count * (size_t)width_count;
-    Cell *cells = calloc(cells_n + 1, sizeof *cells);
-    double *h_mean = calloc(cells_n + 1, sizeof(double)),
-           *h_sd = calloc(cells_n + 1, sizeof(double));
-    double *h_err = calloc(cells_n + 1, sizeof(double)),
-           *qs_pile = calloc(cells_n + 1, sizeof(double));
-    double *qs_arch = calloc(cells_n + 1, sizeof(double));
-    double w_t[MAX_LENGTHS], fitA[MAX_LENGTHS], fitB[MAX_LENGTHS], fitC[MAX_LENGTHS];
-    if (!cells || !h_mean || !h_sd || !h_err || !qs_pile || !qs_arch)
-        abort();
-    int status = 0;
-    size_t study_cap = 256 + 256 * cells_n, study_used = 0;
-    char *study = malloc(study_cap);
-    if (!study)
-        abort();
-    study_used += (size_t)snprintf(study, study_cap,
-                                   "L,w,samples,h_mean,h_sd,h_err,s_mean,s_sd,edges_mean,jammed,"
-                                   "catastrophic,arch_mean,qs_pile,qs_arch,qs_arch_mean\n");
-    for (int l = 0; l < length_count; ++l) {
-        double L = lengths[l];
-        /* per-(L, w) tables: every sample's row */
-        size_t *table_cap = calloc((size_t)width_count, sizeof *table_cap);
-        char **tables = calloc((size_t)width_count, sizeof *tables);
-        if (!tables || !table_cap)
-            abort();
-        for (int k = 0; k < width_count; ++k) {
-            table_cap[k] = 4096;
-            tables[k] = malloc(table_cap[k]);
-            if (!tables[k])
-                abort();
-            snprintf(tables[k], table_cap[k], "%s\n", app_discharge_csv_header());
-        }
-        /* mean profile over the piles' deposition records */
-        int bins = (int)floor(L + 0.5), profiles = 0;
-        double *profile = calloc((size_t)bins + 1, sizeof(double));
-        double *profile2 = calloc((size_t)bins + 1, sizeof(double));
-        if (!profile || !profile2)
-            abort();
-        for (int s = 0; s < samples; ++s) {
-            char csv[PATH], dep[PATH], pile[PATH];
-            sample_paths(dir, L, s, csv, dep, pile);
-            FILE *f = fopen(dep, "r");
-            if (f) {
-                static char line[1 << 16];
-                if (fgets(line, sizeof line, f)) {
-                    char *p = line;
-                    for (int field = 0; field < 11 && p; ++field) {
-                        p = strchr(p, ',');
-                        p = p ? p + 1 : NULL;
-                    }
-                    for (int b = 0; b < bins && p; ++b) {
-                        double v = strtod(p, NULL);
-                        profile[b] += v;
-                        profile2[b] += v * v;
-                        p = strchr(p, ',');
-                        p = p ? p + 1 : NULL;
-                    }
-                    ++profiles;
-                }
-                fclose(f);
-            }
-            f = fopen(csv, "r");
-            if (!f)
-                continue;
-            char line[1024];
-            while (fgets(line, sizeof line, f)) {
-                long sample, through, edges;
-                double Lr, w, h;
-                int pile_n, arch, a0, a1, p0, p1;
-                if (sscanf(line, "%ld,%lf,%lf,%ld,%ld,%lf,%d,%d,%d,%d,%d,%d", &sample, &Lr, &w,
-                           &through, &edges, &h, &pile_n, &arch, &a0, &a1, &p0, &p1) != 12)
-                    continue;
-                int k = 0;
-                while (k < width_count && fabs(widths[k] - w) > 1e-6)
-                    ++k;
-                if (k == width_count)
-                    continue;
-                size_t len = strlen(tables[k]), add = strlen(line);
-                if (len + add + 1 > table_cap[k]) {
-                    table_cap[k] = 2 * (len + add + 1);
-                    char *grown = realloc(tables[k], table_cap[k]);
-                    if (!grown)
-                        abort();
-                    tables[k] = grown;
-                }
-                memcpy(tables[k] + len, line, add + 1);
-                Cell *c = &cells[(size_t)l * (size_t)width_count + (size_t)k];
-                ++c->n;
-                c->h += h;
-                c->h2 += h * h;
-                c->s += (double)through;
-                c->s2 += (double)through * (double)through;
-                c->edges += (double)edges;
-                c->jammed += arch > 0;
-                c->catastrophic += h == 0.0;
-                c->arch += arch;
-                c->pile0 += p0;
-                c->pile_all += pile_n;
-                if (arch > 0) {
-                    c->arch0 += a0;
-                    c->arch_all += arch;
-                    c->arch_ratio += (double)a0 / arch;
-                    ++c->arch_ratio_n;
-                }
-                if (c->size_count == c->size_cap) {
-                    c->size_cap = c->size_cap ? 2 * c->size_cap : 64;
-                    long *grown = realloc(c->sizes, (size_t)c->size_cap * sizeof *grown);
-                    if (!grown)
-                        abort();
-                    c->sizes = grown;
-                }
-                c->sizes[c->size_count++] = through;
-            }
-            fclose(f);
-        }
-        /* tables, stats, F(s) */
-        size_t fs_cap = 64, fs_used = 0;
-        char *fs = malloc(fs_cap);
-        if (!fs)
-            abort();
-        fs_used = (size_t)snprintf(fs, fs_cap, "w,s,F\n");
-        for (int k = 0; k < width_count; ++k) {
-            char wname[32];
-            app_discharge_width_name(widths[k], wname, sizeof wname);
-            snprintf(path, sizeof path, "%s/L%g/%s.csv", dir, L, wname);
-            if (app_write_atomic(path, tables[k]) != 0)
-                status = -1;
-            free(tables[k]);
-            size_t i = (size_t)l * (size_t)width_count + (size_t)k;
-            Cell *c = &cells[i];
-            double n = c->n;
-            h_mean[i] = n > 0 ? c->h / n : NOTHING;
-            h_sd[i] = n > 1 ? sqrt(fmax(0.0, (c->h2 - c->h * c->h / n) / (n - 1.0))) : NOTHING;
-            h_err[i] = n > 1 ? h_sd[i] / sqrt(n) : NOTHING;
-            qs_pile[i] = c->pile_all > 0 ? c->pile0 / c->pile_all : NOTHING;
-            qs_arch[i] = c->arch_all > 0 ? c->arch0 / c->arch_all : NOTHING;
-            double s_mean = n > 0 ? c->s / n : NOTHING;
-            double s_sd = n > 1 ? sqrt(fmax(0.0, (c->s2 - c->s * c->s / n) / (n - 1.0))) : NOTHING;
-            study_used += (size_t)snprintf(
-                study + study_used, study_cap - study_used,
-                "%g,%.10g,%d,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", L,
-                widths[k], c->n, h_mean[i], h_sd[i], h_err[i], s_mean, s_sd,
-                n > 0 ? c->edges / n : NOTHING, n > 0 ? c->jammed / n : NOTHING,
-                n > 0 ? c->catastrophic / n : NOTHING, n > 0 ? c->arch / n : NOTHING, qs_pile[i],
-                qs_arch[i], c->arch_ratio_n ? c->arch_ratio / c->arch_ratio_n : NOTHING);
-            /* F(s) = P(size >= s) (004 fig. 2.16) */
-            if (c->size_count > 0) {
-                qsort(c->sizes, (size_t)c->size_count, sizeof *c->sizes, compare_long);
-                for (int j = 0; j < c->size_count; ++j) {
-                    if (j > 0 && c->sizes[j] == c->sizes[j - 1])
-                        continue;
-                    if (fs_used + 96 > fs_cap) {
-                        fs_cap = 2 * fs_cap + 96;
-                        char *grown = realloc(fs, fs_cap);
-                        if (!grown)
-                            abort();
-                        fs = grown;
-                    }
-                    fs_used += (size_t)snprintf(fs + fs_used, fs_cap - fs_used, "%.10g,%ld,%.8g\n",
-                                                widths[k], c->sizes[j],
-                                                (double)(c->size_count - j) / c->size_count);
-                }
-            }
-        }
-        snprintf(path, sizeof path, "%s/L%g/Fs.csv", dir, L);
-        if (app_write_atomic(path, fs) != 0)
-            status = -1;
-        free(fs);
-        free(tables);
-        free(table_cap);
-        /* mean profile and local slope over l = 10 d (004 figs. 2.9-2.10) */
-        if (profiles > 0) {
-            size_t cap = 64 + 96 * (size_t)bins, used = 0;
-            char *text = malloc(cap);
-            if (!text)
-                abort();
-            used += (size_t)snprintf(text, cap, "x,h_mean,h_sd,slope\n");
-            for (int b = 0; b < bins; ++b) {
-                double m = profile[b] / profiles;
-                double sd = profiles > 1
-                                ? sqrt(fmax(0.0, (profile2[b] - profile[b] * m) / (profiles - 1.0)))
-                                : 0.0;
-                int lo = b - 5, hi = b + 5;
-                double slope =
-                    lo >= 0 && hi < bins ? (profile[hi] - profile[lo]) / profiles / 10.0 : NOTHING;
-                used += (size_t)snprintf(text + used, cap - used, "%.6g,%.8g,%.8g,%.8g\n",
-                                         -0.5 * L + b + 0.5, m, sd, slope);
-            }
-            snprintf(path, sizeof path, "%s/L%g/profile.csv", dir, L);
-            if (app_write_atomic(path, text) != 0)
-                status = -1;
-            free(text);
-        }
-        free(profile);
-        free(profile2);
-        if (species_maps(scene, dir, L, widths, width_count, samples, render, err, err_size) != 0)
-            status = -1;
-        gaussian_fit(widths, h_sd + (size_t)l * (size_t)width_count, width_count, &w_t[l], &fitA[l],
-                     &fitB[l], &fitC[l]);
+    Reduction R = {.scene = scene,
+                   .dir = dir,
+                   .lengths = lengths,
+                   .widths = widths,
+                   .length_count = length_count,
+                   .width_count = width_count,
+                   .samples = samples,
+                   .render = render,
+                   .err = err,
+                   .err_size = err_size};
+    int rc = reduction_init(&R) != 0 ? out_of_memory(err, err_size) : 0;
+    for (int l = 0; rc == 0 && l < length_count; ++l)
+        rc = reduce_length(&R, l);
+    if (rc == 0) {
+        if (app_species_marked(scene, NULL) < 0)
+            fprintf(stderr, "sablier: study: no species maps: the scene's discharge rows have "
+                            "one species (or two of the same diameter and density)\n");
+        char path[PATH + 64];
+        snprintf(path, sizeof path, "%s/study.csv", dir);
+        if (app_write_atomic(path, R.study.s) != 0)
+            R.status = -1;
+        rc = write_fits(&R);
     }
-    if (app_species_marked(scene, NULL) < 0)
-        fprintf(stderr, "sablier: study: no species maps: the scene's discharge rows have one "
-                        "species (or two of the same diameter and density)\n");
-    snprintf(path, sizeof path, "%s/study.csv", dir);
-    if (app_write_atomic(path, study) != 0)
-        status = -1;
-    free(study);
-    /* w_t against 1/L, w_c the intercept (004 fig. 2.15) */
-    double inv[MAX_LENGTHS], wc = NAN, slope = NAN, wc_err = 0.0;
-    int fit_n = 0;
-    double fit_x[MAX_LENGTHS] = {0}, fit_y[MAX_LENGTHS] = {0};
-    for (int l = 0; l < length_count; ++l) {
-        inv[l] = 1.0 / lengths[l];
-        if (isfinite(w_t[l])) {
-            fit_x[fit_n] = inv[l];
-            fit_y[fit_n++] = w_t[l];
-        }
+    if (rc == 0 && render && render->plot && R.status == 0) {
+        int plots = reduction_plots(&R);
+        if (plots == -2)
+            rc = out_of_memory(err, err_size);
+        else if (plots != 0)
+            R.status = -1;
     }
-    app_linear_fit(fit_x, fit_y, fit_n, &wc, &slope, &wc_err);
-    {
-        char text[4096];
-        size_t used = (size_t)snprintf(text, sizeof text, "L,inv_L,w_t\n");
-        for (int l = 0; l < length_count; ++l)
-            used += (size_t)snprintf(text + used, sizeof text - used, "%g,%.8g,%.8g\n", lengths[l],
-                                     inv[l], w_t[l]);
-        snprintf(text + used, sizeof text - used, "# w_c = %.6g +- %.3g d, slope %.6g d^2\n", wc,
-                 wc_err, slope);
-        snprintf(path, sizeof path, "%s/fits.csv", dir);
-        if (app_write_atomic(path, text) != 0)
-            status = -1;
-        fprintf(stderr, "sablier: study: w_t =");
-        for (int l = 0; l < length_count; ++l)
-            fprintf(stderr, " %.3g (L = %g)", w_t[l], lengths[l]);
-        fprintf(stderr, "; w_c = %.3g +- %.2g d (%d lengths)\n", wc, wc_err, fit_n);
-    }
-    /* plots */
-    if (render && render->plot && status == 0) {
-        AppPlotSeries series[2 * MAX_LENGTHS + 2];
-        char labels[MAX_LENGTHS][32];
-        double curve_x[MAX_LENGTHS][200], curve_y[MAX_LENGTHS][200];
-        int ns = 0;
-        for (int l = 0; l < length_count; ++l) {
-            snprintf(labels[l], sizeof labels[l], "L = %g d", lengths[l]);
-            size_t o = (size_t)l * (size_t)width_count;
-            series[ns++] =
-                SERIES(labels[l], width_count, widths, h_mean + o, h_err + o, 1, 0, 1 + l % 4, 0);
-        }
-        StudyPlot plot = {"<h> after discharge (004 fig. 2.13)", "w / d", "<h> / d", 0, ns, series};
-        snprintf(path, sizeof path, "%s/h_mean.png", dir);
-        status |= study_plot(render, scene, &plot, path, err, err_size);
-        ns = 0;
-        for (int l = 0; l < length_count; ++l) {
-            size_t o = (size_t)l * (size_t)width_count;
-            series[ns++] =
-                SERIES(labels[l], width_count, widths, h_sd + o, NULL, 0, 0, 1 + l % 4, 0);
-            if (isfinite(fitC[l])) {
-                for (int j = 0; j < 200; ++j) {
-                    double w = widths[0] + (widths[width_count - 1] - widths[0]) * j / 199.0;
-                    curve_x[l][j] = w;
-                    curve_y[l][j] = exp(fitA[l] + fitB[l] * w + fitC[l] * w * w);
-                }
-                series[ns++] = SERIES(NULL, 200, curve_x[l], curve_y[l], NULL, 1, 0, 0, 1);
-            }
-        }
-        plot = (StudyPlot){
-            "sigma_h and Gaussian fits (004 fig. 2.14)", "w / d", "sigma_h / d", 0, ns, series};
-        snprintf(path, sizeof path, "%s/sigma_h.png", dir);
-        status |= study_plot(render, scene, &plot, path, err, err_size);
-        double line_x[2] = {0.0, 0.0}, line_y[2];
-        for (int l = 0; l < length_count; ++l)
-            line_x[1] = fmax(line_x[1], inv[l]);
-        line_y[0] = wc;
-        line_y[1] = wc + slope * line_x[1];
-        series[0] = SERIES("w_t", length_count, inv, w_t, NULL, 0, 0, 1, 0);
-        series[1] = SERIES("linear fit", 2, line_x, line_y, NULL, 1, 1, 0, 0);
-        char title[128];
-        snprintf(title, sizeof title, "w_t against 1/L: w_c = %.3g +- %.2g d (004 fig. 2.15)", wc,
-                 wc_err);
-        plot = (StudyPlot){title, "1/L (1/d)", "w_t / d", 0, isfinite(wc) ? 2 : 1, series};
-        snprintf(path, sizeof path, "%s/wt.png", dir);
-        status |= study_plot(render, scene, &plot, path, err, err_size);
-        ns = 0;
-        for (int l = 0; l < length_count && ns + 2 <= 2 * MAX_LENGTHS; ++l) {
-            size_t o = (size_t)l * (size_t)width_count;
-            series[ns++] =
-                SERIES(labels[l], width_count, widths, qs_pile + o, NULL, 1, 1, 1 + l % 4, 0);
-            series[ns++] = SERIES(NULL, width_count, widths, qs_arch + o, NULL, 1, 0, 1 + l % 4, 1);
-        }
-        plot = (StudyPlot){"species-0 fraction: pile (dashed) and arch (004 figs. 3.6, 3.8)",
-                           "w / d",
-                           "q",
-                           0,
-                           ns,
-                           series};
-        snprintf(path, sizeof path, "%s/composition.png", dir);
-        status |= study_plot(render, scene, &plot, path, err, err_size);
-        /* F(s) on semi-log axes for each L, a few widths */
-        for (int l = 0; l < length_count; ++l) {
-            double *xs = calloc((size_t)samples * 8 + 8, sizeof(double));
-            double *ys = calloc((size_t)samples * 8 + 8, sizeof(double));
-            char wl[8][32];
-            if (!xs || !ys)
-                abort();
-            ns = 0;
-            size_t off = 0;
-            for (int j = 0; j < 8 && j < width_count; ++j) {
-                int k = width_count <= 8 ? j : j * (width_count - 1) / 7;
-                Cell *c = &cells[(size_t)l * (size_t)width_count + (size_t)k];
-                if (c->size_count == 0)
-                    continue;
-                int m = 0;
-                for (int q = 0; q < c->size_count && m < samples; ++q) {
-                    if (q > 0 && c->sizes[q] == c->sizes[q - 1])
-                        continue;
-                    xs[off + (size_t)m] = (double)c->sizes[q];
-                    ys[off + (size_t)m] = (double)(c->size_count - q) / c->size_count;
-                    ++m;
-                }
-                snprintf(wl[j], sizeof wl[j], "w = %g d", widths[k]);
-                series[ns++] = SERIES(wl[j], m, xs + off, ys + off, NULL, 1, 0, 1 + j % 4, 0);
-                off += (size_t)samples;
-            }
-            snprintf(title, sizeof title, "F(s), L = %g d (004 fig. 2.16)", lengths[l]);
-            plot = (StudyPlot){title, "s (grains)", "F(s) = P(size >= s)", 1, ns, series};
-            snprintf(path, sizeof path, "%s/L%g/Fs.png", dir, lengths[l]);
-            if (ns > 0)
-                status |= study_plot(render, scene, &plot, path, err, err_size);
-            free(xs);
-            free(ys);
-        }
-    }
-    for (size_t i = 0; i < cells_n; ++i)
-        free(cells[i].sizes);
-    free(cells);
-    free(h_mean);
-    free(h_sd);
-    free(h_err);
-    free(qs_pile);
-    free(qs_arch);
-    return status ? -1 : 0;
+    reduction_free(&R);
+    return rc != 0 || R.status != 0 ? -1 : 0;
 }
 
 /* ---------------------------------------------------------------- sablier study */
