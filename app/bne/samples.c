@@ -99,15 +99,264 @@ static int bne_plot(const AppRender *render, const char *path, const char *title
     return render->plot(render->context, &plot, path, err, err_size);
 }
 
-int app_bne_samples(const AppBneSamplesOptions *o)
-{
-    char key[128] = "";
+/* What `sablier bne` runs and what its runs gave. */
+typedef struct Samples {
+    const AppBneSamplesOptions *o;
+    char key[128];
     double values[64];
-    int value_count = 1;
-    values[0] = NAN;
+    int value_count;
+    Record *records; /* done of them, in run order */
+    int done;
+} Samples;
+
+/* The curves of the reduction, and the arrays they point to (freed at the end). */
+typedef struct Curves {
+    AppPlotSeries rise[64], ldf[64];
+    double *store[5 * 64];
+    int stored, count;
+    char labels[64][192];
+} Curves;
+
+static int same_value(double a, double b)
+{
+    return a == b || (isnan(a) && isnan(b));
+}
+
+/* One run: the scene with seed (and the varied key = value), through the stage runner, into
+ * rec. Returns the run's exit status. */
+static int run_one(Samples *S, double value, long seed, Record *rec)
+{
+    const AppBneSamplesOptions *o = S->o;
+    const char *sets[64];
+    char seed_set[64], vary_set[200], dir[BNE_PATH], err[2048] = "";
+    int n = 0;
+    for (int k = 0; k < o->set_count; ++k)
+        sets[n++] = o->sets[k];
+    snprintf(seed_set, sizeof seed_set, "seed=%ld", seed);
+    sets[n++] = seed_set;
     if (o->vary) {
-        value_count = app_parse_key_values(o->vary, key, sizeof key, values, 64);
-        if (value_count < 1) {
+        snprintf(vary_set, sizeof vary_set, "%s=%.17g", S->key, value);
+        sets[n++] = vary_set;
+        snprintf(dir, sizeof dir, "%s/%s=%g/seed-%ld", o->out_dir, S->key, value, seed);
+    } else {
+        snprintf(dir, sizeof dir, "%s/seed-%ld", o->out_dir, seed);
+    }
+    Scene *scene = scene_load(o->scene_path, sets, n, err, sizeof err);
+    if (!scene) {
+        fprintf(stderr, "%s\n", err);
+        return 2;
+    }
+    if (!app_bne_of(scene)) {
+        fprintf(stderr, "sablier: bne: %s has no `bne` group\n", o->scene_path);
+        scene_free(scene);
+        return 2;
+    }
+    AppRunOptions ro = app_run_options_default();
+    ro.out_dir = dir;
+    ro.quiet = 1;
+    ro.render = o->render;
+    int rc = app_run(scene, &ro);
+    rec->value = value;
+    rec->seed = seed;
+    if (rc == 0) {
+        rec->result = app_bne_result(app_bne_of(scene));
+        size_t bytes = (size_t)(rec->result.count > 0 ? rec->result.count : 1) * sizeof(double);
+        rec->t = malloc(bytes);
+        rec->h = malloc(bytes);
+        if (rec->t && rec->h && rec->result.count > 0) {
+            memcpy(rec->t, rec->result.t, bytes);
+            memcpy(rec->h, rec->result.height, bytes);
+        }
+        rec->result.t = rec->t;
+        rec->result.height = rec->h;
+        if (!o->quiet)
+            fprintf(stderr, "sablier: bne: %s%s%g seed %ld: rise time %g, rate %g\n", S->key,
+                    o->vary ? "=" : "", o->vary ? value : 0.0, seed, rec->result.rise_time,
+                    rec->result.rise_rate);
+    }
+    scene_free(scene);
+    return rc;
+}
+
+/* Every value and seed, in order, until one fails: 0, or that run's exit status. */
+static int run_samples(Samples *S)
+{
+    for (int v = 0; v < S->value_count; ++v)
+        for (int s = 0; s < S->o->seeds; ++s) {
+            int rc = run_one(S, S->values[v], S->o->seed0 + s, &S->records[S->done]);
+            if (rc != 0)
+                return rc;
+            ++S->done;
+        }
+    return 0;
+}
+
+/* samples.csv: rise time and rate per run. */
+static void write_samples_csv(const Samples *S, const char *path)
+{
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return;
+    fprintf(f, "value,seed,gamma,period,rise_time,rise_rate,start_height,end_height,surface\n");
+    for (int k = 0; k < S->done; ++k) {
+        const AppBneResult *r = &S->records[k].result;
+        fprintf(f, "%.9g,%ld,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", S->records[k].value,
+                S->records[k].seed, r->gamma, r->period, r->rise_time, r->rise_rate,
+                r->start_height, r->end_height, r->surface);
+    }
+    fclose(f);
+}
+
+/* The large-deviation function of the runs of values[v] (the first at records[first]): its
+ * ldf.csv rows and curve C->ldf[C->count]. */
+static void ldf_curve(const Samples *S, int v, int first, FILE *ldf, Curves *C)
+{
+    const double *ts[256], *hs[256];
+    int cs[256], r = 0;
+    for (int k = first; k < S->done && r < 256; ++k)
+        if (same_value(S->records[k].value, S->values[v])) {
+            ts[r] = S->records[k].t;
+            hs[r] = S->records[k].h;
+            cs[r] = S->records[k].result.count;
+            ++r;
+        }
+    double tau = S->o->ldf_periods * S->records[first].result.period;
+    double *c = calloc(24, sizeof *c), *pr = calloc(24, sizeof *pr), *rf = calloc(24, sizeof *rf);
+    if (c && pr && rf) {
+        int windows = app_bne_ldf(ts, hs, cs, r, tau, 24, 0.0, 0.0, c, pr, rf);
+        for (int b = 0; b < 24 && windows > 0; ++b)
+            fprintf(ldf, "%.9g,%.9g,%.9g,%.9g,%.9g\n", S->values[v], tau, c[b], pr[b], rf[b]);
+        C->ldf[C->count] = (AppPlotSeries){.label = C->labels[C->count],
+                                           .count = 24,
+                                           .x = c,
+                                           .y = rf,
+                                           .line = 1,
+                                           .rgb = APP_RGB_AUTO};
+        C->store[C->stored++] = c;
+        C->store[C->stored++] = rf;
+        free(pr);
+    } else {
+        free(c);
+        free(pr);
+        free(rf);
+        C->ldf[C->count] =
+            (AppPlotSeries){.label = C->labels[C->count], .line = 1, .rgb = APP_RGB_AUTO};
+    }
+}
+
+/* The runs of values[v]: mean +- std of the rise h - h0 against time (rise.csv rows and curve
+ * C->rise[C->count]) and their LDF (when ldf is open); nothing when there is no run. */
+static void value_curves(const Samples *S, int v, FILE *rise, FILE *ldf, Curves *C)
+{
+    const AppBneSamplesOptions *o = S->o;
+    const Record *records = S->records;
+    double value = S->values[v];
+    int first = -1, n = 0, len = 0;
+    for (int k = 0; k < S->done; ++k)
+        if (same_value(records[k].value, value)) {
+            if (first < 0)
+                first = k;
+            len = n == 0 || records[k].result.count < len ? records[k].result.count : len;
+            ++n;
+        }
+    if (n == 0 || len == 0)
+        return;
+    double *mean = calloc((size_t)len, sizeof *mean), *sd = calloc((size_t)len, sizeof *sd);
+    if (!mean || !sd) {
+        free(mean);
+        free(sd);
+        return;
+    }
+    for (int j = 0; j < len; ++j) {
+        double sum = 0.0, sum2 = 0.0;
+        for (int k = first; k < S->done; ++k)
+            if (same_value(records[k].value, value)) {
+                double x = records[k].h[j] - records[k].result.start_height;
+                sum += x;
+                sum2 += x * x;
+            }
+        mean[j] = sum / n;
+        sd[j] = n > 1 ? sqrt(fmax(0.0, (sum2 - sum * sum / n) / (n - 1))) : 0.0;
+        if (rise)
+            fprintf(rise, "%.9g,%.9g,%.9g,%.9g,%d\n", value, records[first].t[j], mean[j], sd[j],
+                    n);
+    }
+    snprintf(C->labels[C->count], sizeof C->labels[0], "%s%s%g (%d)", o->vary ? S->key : "samples",
+             o->vary ? " = " : "", o->vary ? value : (double)n, n);
+    /* the plot shows about 15 error bars per curve, staggered between curves (every sample's
+     * spread is in rise.csv) */
+    double *bar = malloc((size_t)len * sizeof *bar);
+    int step = len / 15 > 1 ? len / 15 : 1, offset = step * v / S->value_count;
+    for (int j = 0; bar && j < len; ++j)
+        bar[j] = j % step == offset ? sd[j] : (double)NAN;
+    C->rise[C->count] = (AppPlotSeries){.label = C->labels[C->count],
+                                        .count = len,
+                                        .x = records[first].t,
+                                        .y = mean,
+                                        .y_err = bar ? bar : sd,
+                                        .line = 1,
+                                        .rgb = APP_RGB_AUTO};
+    C->store[C->stored++] = mean;
+    C->store[C->stored++] = sd;
+    if (bar)
+        C->store[C->stored++] = bar;
+    if (ldf)
+        ldf_curve(S, v, first, ldf, C);
+    ++C->count;
+}
+
+/* rise.csv and ldf.csv (when ldf_periods > 0), and their curves. 1 when ldf.csv was opened. */
+static int write_curves(const Samples *S, Curves *C)
+{
+    char path[BNE_PATH];
+    snprintf(path, sizeof path, "%s/rise.csv", S->o->out_dir);
+    FILE *rise = fopen(path, "w");
+    snprintf(path, sizeof path, "%s/ldf.csv", S->o->out_dir);
+    FILE *ldf = S->o->ldf_periods > 0.0 ? fopen(path, "w") : NULL;
+    if (rise)
+        fprintf(rise, "value,t,mean_rise,std_rise,samples\n");
+    if (ldf)
+        fprintf(ldf, "value,tau,v,probability,rate_function\n");
+    for (int v = 0; v < S->value_count; ++v)
+        value_curves(S, v, rise, ldf, C);
+    if (rise)
+        fclose(rise);
+    if (!ldf)
+        return 0;
+    fclose(ldf);
+    return 1;
+}
+
+/* rise.png, and ldf.png when ldf.csv was written (with_ldf). */
+static void write_plots(const Samples *S, const Curves *C, int with_ldf)
+{
+    const AppBneSamplesOptions *o = S->o;
+    if (!o->plot || !o->plot->plot || C->count == 0)
+        return;
+    char path[BNE_PATH], err[512] = "";
+    snprintf(path, sizeof path, "%s/rise.png", o->out_dir);
+    if (bne_plot(o->plot, path, "Intruder rise (mean +- std over seeds)",
+                 "time since shaking starts", "intruder height rise", C->rise, C->count, err,
+                 sizeof err) != 0)
+        fprintf(stderr, "sablier: bne: %s: %s\n", path, err);
+    if (with_ldf) {
+        snprintf(path, sizeof path, "%s/ldf.png", o->out_dir);
+        if (bne_plot(o->plot, path, "Large-deviation function of the rise rate",
+                     "windowed rise rate v", "I(v) = -ln(P(v)/P_max) / tau", C->ldf, C->count, err,
+                     sizeof err) != 0)
+            fprintf(stderr, "sablier: bne: %s: %s\n", path, err);
+    }
+}
+
+/* The options' checks and the output folder: 0, or the exit status. */
+static int samples_setup(Samples *S)
+{
+    const AppBneSamplesOptions *o = S->o;
+    S->value_count = 1;
+    S->values[0] = NAN;
+    if (o->vary) {
+        S->value_count = app_parse_key_values(o->vary, S->key, sizeof S->key, S->values, 64);
+        if (S->value_count < 1) {
             fprintf(stderr, "sablier: bne: --vary must read KEY=v1,v2,..., got %s\n", o->vary);
             return 2;
         }
@@ -120,210 +369,38 @@ int app_bne_samples(const AppBneSamplesOptions *o)
         fprintf(stderr, "sablier: bne: cannot create %s\n", o->out_dir);
         return 2;
     }
-    int total = value_count * o->seeds, done = 0, status = 0;
-    Record *records = calloc((size_t)total, sizeof *records);
-    if (!records)
+    return 0;
+}
+
+int app_bne_samples(const AppBneSamplesOptions *o)
+{
+    Samples S = {.o = o};
+    int status = samples_setup(&S);
+    if (status != 0)
+        return status;
+    int total = S.value_count * o->seeds;
+    S.records = calloc((size_t)total, sizeof *S.records);
+    Curves *C = calloc(1, sizeof *C);
+    if (!S.records || !C) {
+        free(S.records);
+        free(C);
         return 2;
-    for (int v = 0; v < value_count && status == 0; ++v)
-        for (int s = 0; s < o->seeds && status == 0; ++s) {
-            const char *sets[64];
-            char seed_set[64], vary_set[200], dir[BNE_PATH], err[2048] = "";
-            int n = 0;
-            for (int k = 0; k < o->set_count; ++k)
-                sets[n++] = o->sets[k];
-            long seed = o->seed0 + s;
-            snprintf(seed_set, sizeof seed_set, "seed=%ld", seed);
-            sets[n++] = seed_set;
-            if (o->vary) {
-                snprintf(vary_set, sizeof vary_set, "%s=%.17g", key, values[v]);
-                sets[n++] = vary_set;
-                snprintf(dir, sizeof dir, "%s/%s=%g/seed-%ld", o->out_dir, key, values[v], seed);
-            } else {
-                snprintf(dir, sizeof dir, "%s/seed-%ld", o->out_dir, seed);
-            }
-            Scene *scene = scene_load(o->scene_path, sets, n, err, sizeof err);
-            if (!scene) {
-                fprintf(stderr, "%s\n", err);
-                status = 2;
-                break;
-            }
-            if (!app_bne_of(scene)) {
-                fprintf(stderr, "sablier: bne: %s has no `bne` group\n", o->scene_path);
-                scene_free(scene);
-                status = 2;
-                break;
-            }
-            AppRunOptions ro = app_run_options_default();
-            ro.out_dir = dir;
-            ro.quiet = 1;
-            ro.render = o->render;
-            int rc = app_run(scene, &ro);
-            Record *rec = &records[done];
-            rec->value = values[v];
-            rec->seed = seed;
-            if (rc == 0) {
-                rec->result = app_bne_result(app_bne_of(scene));
-                size_t bytes =
-                    (size_t)(rec->result.count > 0 ? rec->result.count : 1) * sizeof(double);
-                rec->t = malloc(bytes);
-                rec->h = malloc(bytes);
-                if (rec->t && rec->h && rec->result.count > 0) {
-                    memcpy(rec->t, rec->result.t, bytes);
-                    memcpy(rec->h, rec->result.height, bytes);
-                }
-                rec->result.t = rec->t;
-                rec->result.height = rec->h;
-                ++done;
-                if (!o->quiet)
-                    fprintf(stderr, "sablier: bne: %s%s%g seed %ld: rise time %g, rate %g\n", key,
-                            o->vary ? "=" : "", o->vary ? values[v] : 0.0, seed,
-                            rec->result.rise_time, rec->result.rise_rate);
-            } else {
-                status = rc;
-            }
-            scene_free(scene);
-        }
+    }
+    status = run_samples(&S);
     /* samples.csv, rise.csv (mean +- std of the rise h - h0 against time), ldf.csv */
     char path[BNE_PATH];
     snprintf(path, sizeof path, "%s/samples.csv", o->out_dir);
-    FILE *f = fopen(path, "w");
-    FILE *rise = NULL, *ldf = NULL;
-    if (f) {
-        fprintf(f, "value,seed,gamma,period,rise_time,rise_rate,start_height,end_height,surface\n");
-        for (int k = 0; k < done; ++k) {
-            const AppBneResult *r = &records[k].result;
-            fprintf(f, "%.9g,%ld,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", records[k].value,
-                    records[k].seed, r->gamma, r->period, r->rise_time, r->rise_rate,
-                    r->start_height, r->end_height, r->surface);
-        }
-        fclose(f);
-    }
-    snprintf(path, sizeof path, "%s/rise.csv", o->out_dir);
-    rise = fopen(path, "w");
-    snprintf(path, sizeof path, "%s/ldf.csv", o->out_dir);
-    ldf = o->ldf_periods > 0.0 ? fopen(path, "w") : NULL;
-    if (rise)
-        fprintf(rise, "value,t,mean_rise,std_rise,samples\n");
-    if (ldf)
-        fprintf(ldf, "value,tau,v,probability,rate_function\n");
-    AppPlotSeries curves[64], ldf_curves[64];
-    double *store[5 * 64];
-    int stored = 0, curve_count = 0;
-    char labels[64][192];
-    for (int v = 0; v < value_count; ++v) {
-        int first = -1, n = 0, len = 0;
-        for (int k = 0; k < done; ++k)
-            if (records[k].value == values[v] || (isnan(values[v]) && isnan(records[k].value))) {
-                if (first < 0)
-                    first = k;
-                len = n == 0 || records[k].result.count < len ? records[k].result.count : len;
-                ++n;
-            }
-        if (n == 0 || len == 0)
-            continue;
-        double *mean = calloc((size_t)len, sizeof *mean), *sd = calloc((size_t)len, sizeof *sd);
-        if (!mean || !sd) {
-            free(mean);
-            free(sd);
-            continue;
-        }
-        for (int j = 0; j < len; ++j) {
-            double sum = 0.0, sum2 = 0.0;
-            for (int k = first; k < done; ++k)
-                if (records[k].value == values[v] ||
-                    (isnan(values[v]) && isnan(records[k].value))) {
-                    double x = records[k].h[j] - records[k].result.start_height;
-                    sum += x;
-                    sum2 += x * x;
-                }
-            mean[j] = sum / n;
-            sd[j] = n > 1 ? sqrt(fmax(0.0, (sum2 - sum * sum / n) / (n - 1))) : 0.0;
-            if (rise)
-                fprintf(rise, "%.9g,%.9g,%.9g,%.9g,%d\n", values[v], records[first].t[j], mean[j],
-                        sd[j], n);
-        }
-        snprintf(labels[curve_count], sizeof labels[0], "%s%s%g (%d)", o->vary ? key : "samples",
-                 o->vary ? " = " : "", o->vary ? values[v] : (double)n, n);
-        /* the plot shows about 15 error bars per curve, staggered between curves (every sample's
-         * spread is in rise.csv) */
-        double *bar = malloc((size_t)len * sizeof *bar);
-        int step = len / 15 > 1 ? len / 15 : 1, offset = step * v / value_count;
-        for (int j = 0; bar && j < len; ++j)
-            bar[j] = j % step == offset ? sd[j] : (double)NAN;
-        curves[curve_count] = (AppPlotSeries){.label = labels[curve_count],
-                                              .count = len,
-                                              .x = records[first].t,
-                                              .y = mean,
-                                              .y_err = bar ? bar : sd,
-                                              .line = 1,
-                                              .rgb = APP_RGB_AUTO};
-        store[stored++] = mean;
-        store[stored++] = sd;
-        if (bar)
-            store[stored++] = bar;
-        if (ldf) {
-            const double *ts[256], *hs[256];
-            int cs[256], r = 0;
-            for (int k = first; k < done && r < 256; ++k)
-                if (records[k].value == values[v] ||
-                    (isnan(values[v]) && isnan(records[k].value))) {
-                    ts[r] = records[k].t;
-                    hs[r] = records[k].h;
-                    cs[r] = records[k].result.count;
-                    ++r;
-                }
-            double tau = o->ldf_periods * records[first].result.period;
-            double *c = calloc(24, sizeof *c), *pr = calloc(24, sizeof *pr),
-                   *rf = calloc(24, sizeof *rf);
-            if (c && pr && rf) {
-                int windows = app_bne_ldf(ts, hs, cs, r, tau, 24, 0.0, 0.0, c, pr, rf);
-                for (int b = 0; b < 24 && windows > 0; ++b)
-                    fprintf(ldf, "%.9g,%.9g,%.9g,%.9g,%.9g\n", values[v], tau, c[b], pr[b], rf[b]);
-                ldf_curves[curve_count] = (AppPlotSeries){.label = labels[curve_count],
-                                                          .count = 24,
-                                                          .x = c,
-                                                          .y = rf,
-                                                          .line = 1,
-                                                          .rgb = APP_RGB_AUTO};
-                store[stored++] = c;
-                store[stored++] = rf;
-                free(pr);
-            } else {
-                free(c);
-                free(pr);
-                free(rf);
-                ldf_curves[curve_count] =
-                    (AppPlotSeries){.label = labels[curve_count], .line = 1, .rgb = APP_RGB_AUTO};
-            }
-        }
-        ++curve_count;
-    }
-    if (rise)
-        fclose(rise);
-    if (ldf)
-        fclose(ldf);
-    if (o->plot && o->plot->plot && curve_count > 0) {
-        char err[512] = "";
-        snprintf(path, sizeof path, "%s/rise.png", o->out_dir);
-        if (bne_plot(o->plot, path, "Intruder rise (mean +- std over seeds)",
-                     "time since shaking starts", "intruder height rise", curves, curve_count, err,
-                     sizeof err) != 0)
-            fprintf(stderr, "sablier: bne: %s: %s\n", path, err);
-        if (ldf) {
-            snprintf(path, sizeof path, "%s/ldf.png", o->out_dir);
-            if (bne_plot(o->plot, path, "Large-deviation function of the rise rate",
-                         "windowed rise rate v", "I(v) = -ln(P(v)/P_max) / tau", ldf_curves,
-                         curve_count, err, sizeof err) != 0)
-                fprintf(stderr, "sablier: bne: %s: %s\n", path, err);
-        }
-    }
-    for (int k = 0; k < stored; ++k)
-        free(store[k]);
+    write_samples_csv(&S, path);
+    int with_ldf = write_curves(&S, C);
+    write_plots(&S, C, with_ldf);
+    for (int k = 0; k < C->stored; ++k)
+        free(C->store[k]);
     for (int k = 0; k < total; ++k) {
-        free(records[k].t);
-        free(records[k].h);
+        free(S.records[k].t);
+        free(S.records[k].h);
     }
-    free(records);
+    free(S.records);
+    free(C);
     return status;
 }
 
