@@ -1391,14 +1391,36 @@ int app_study_reduce(const Scene *scene, const char *dir, const double *lengths,
 
 /* ---------------------------------------------------------------- sablier study */
 
-int app_study_command(int argc, char **argv, const AppEnv *env)
+/* The command line of `sablier study` (the lists and counts go into its Study). */
+typedef struct StudyArgs {
+    const char *scene_path, *out, *sets[APP_MAX_SETS];
+    int set_count, reduce_only;
+} StudyArgs;
+
+/* --L and --widths into st: 0, or the exit status of a bad list. */
+static int parse_lists(Study *st, const char *lengths_text, const char *widths_text)
 {
-    const AppRender *render = env ? env->render : NULL;
-    Study st;
-    memset(&st, 0, sizeof st);
-    const char *scene_path = NULL, *out = NULL, *value, *sets[APP_MAX_SETS];
-    const char *lengths_text = NULL, *widths_text = "1.0:7.0:0.2";
-    int set_count = 0, reduce_only = 0;
+    st->width_count = app_discharge_parse_widths(widths_text, st->widths, MAX_WIDTHS);
+    if (st->width_count <= 0)
+        return app_usage_error(APP_STUDY_USAGE, "--widths must be A:B:STEP or a list, got",
+                               widths_text);
+    if (lengths_text) {
+        st->length_count = app_discharge_parse_widths(lengths_text, st->lengths, MAX_LENGTHS);
+        if (st->length_count <= 0)
+            return app_usage_error(APP_STUDY_USAGE, "--L must be a list of lengths, got",
+                                   lengths_text);
+        for (int l = 0; l < st->length_count; ++l)
+            if (!(st->lengths[l] >= 2.0))
+                return app_usage_error(APP_STUDY_USAGE, "--L lengths must be >= 2 d, got",
+                                       lengths_text);
+    }
+    return 0;
+}
+
+/* 0, or the exit status of a bad command line (message on stderr). */
+static int parse_study_args(int argc, char **argv, StudyArgs *a, Study *st)
+{
+    const char *value, *lengths_text = NULL, *widths_text = "1.0:7.0:0.2";
     long samples = 10, jobs = 2;
     for (int i = 2; i < argc; ++i) {
         int m;
@@ -1406,11 +1428,11 @@ int app_study_command(int argc, char **argv, const AppEnv *env)
         if ((m = app_option(argc, argv, &i, "--out", &value)) != 0) {
             if (m < 0)
                 return 2;
-            out = value;
+            a->out = value;
         } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
-            if (m < 0 || set_count >= APP_MAX_SETS)
+            if (m < 0 || a->set_count >= APP_MAX_SETS)
                 return app_usage_error(APP_STUDY_USAGE, "bad --set", NULL);
-            sets[set_count++] = value;
+            a->sets[a->set_count++] = value;
         } else if ((m = app_option(argc, argv, &i, "--L", &value)) != 0) {
             if (m < 0)
                 return 2;
@@ -1428,27 +1450,30 @@ int app_study_command(int argc, char **argv, const AppEnv *env)
                 return app_usage_error(APP_STUDY_USAGE, "--jobs needs a count in [1, 256], got",
                                        m < 0 ? "nothing" : value);
         } else if (strcmp(argv[i], "--reduce-only") == 0) {
-            reduce_only = 1;
-        } else if (app_scene_argument(APP_STUDY_USAGE, argv[i], &scene_path) != 0) {
+            a->reduce_only = 1;
+        } else if (app_scene_argument(APP_STUDY_USAGE, argv[i], &a->scene_path) != 0) {
             return 2;
         }
     }
-    if (!scene_path)
+    if (!a->scene_path)
         return app_usage_error(APP_STUDY_USAGE, "missing SCENE", NULL);
-    st.width_count = app_discharge_parse_widths(widths_text, st.widths, MAX_WIDTHS);
-    if (st.width_count <= 0)
-        return app_usage_error(APP_STUDY_USAGE, "--widths must be A:B:STEP or a list, got",
-                               widths_text);
-    if (lengths_text) {
-        st.length_count = app_discharge_parse_widths(lengths_text, st.lengths, MAX_LENGTHS);
-        if (st.length_count <= 0)
-            return app_usage_error(APP_STUDY_USAGE, "--L must be a list of lengths, got",
-                                   lengths_text);
-        for (int l = 0; l < st.length_count; ++l)
-            if (!(st.lengths[l] >= 2.0))
-                return app_usage_error(APP_STUDY_USAGE, "--L lengths must be >= 2 d, got",
-                                       lengths_text);
-    }
+    st->samples = (int)samples;
+    st->jobs = (int)jobs;
+    return parse_lists(st, lengths_text, widths_text);
+}
+
+int app_study_command(int argc, char **argv, const AppEnv *env)
+{
+    const AppRender *render = env ? env->render : NULL;
+    Study st;
+    memset(&st, 0, sizeof st);
+    StudyArgs args;
+    memset(&args, 0, sizeof args);
+    int rc = parse_study_args(argc, argv, &args, &st);
+    if (rc != 0)
+        return rc;
+    const char *scene_path = args.scene_path, *out = args.out, *const *sets = args.sets;
+    int set_count = args.set_count, reduce_only = args.reduce_only;
     char err[4096] = "";
     Scene *scenes[MAX_LENGTHS] = {NULL};
     Scene *base = app_discharge_load_scene(scene_path, sets, set_count, 0.0, err, sizeof err);
@@ -1474,8 +1499,6 @@ int app_study_command(int argc, char **argv, const AppEnv *env)
     st.sets = sets;
     st.set_count = set_count;
     st.dir = dir;
-    st.samples = (int)samples;
-    st.jobs = (int)jobs;
     for (int l = 0; l < st.length_count && status == 0; ++l) {
         char sub[PATH + 64];
         snprintf(sub, sizeof sub, "%s/L%g/samples", dir, st.lengths[l]);
