@@ -98,6 +98,28 @@ static int hook_movie_close(void *context, char *err, size_t err_size)
     return rc == 0 ? 0 : -1;
 }
 
+/* The grains' image and the plot side by side, the plot's rows moved down by `shift`, on white. */
+static int side_by_side(const RenderImage *bed, const RenderImage *plot, int shift,
+                        RenderImage *out)
+{
+    int top = shift < 0 ? -shift : 0;
+    int height = bed->height + top > plot->height + shift + top ? bed->height + top
+                                                                : plot->height + shift + top;
+    if (render_image_alloc(out, bed->width + plot->width, height, RENDER_PIXEL_RGBA) != 0)
+        return -1;
+    for (int row = 0; row < height; ++row)
+        for (int col = 0; col < out->width; ++col) {
+            uint8_t rgba[4] = {255, 255, 255, 255};
+            int br = row - top, pr = row - top - shift;
+            if (col < bed->width && br >= 0 && br < bed->height)
+                render_image_get_rgba(bed, col, br, rgba);
+            else if (col >= bed->width && pr >= 0 && pr < plot->height)
+                render_image_get_rgba(plot, col - bed->width, pr, rgba);
+            memcpy(out->pixels + (size_t)row * (size_t)out->stride + 4 * (size_t)col, rgba, 4);
+        }
+    return 0;
+}
+
 /* Panels beside a grain figure on the same heights (thesis 002 fig. 31 for the sediment bed):
  * the grains (render_cairo_draw) and the plot (render_plot_draw) side by side, the plot's y axis
  * the grain view's y range, its height adjusted until the two scales match to a pixel. Each
@@ -184,24 +206,9 @@ static int side_figure(const SimFrame *frame, const RenderStyle *style, const Re
             break;
         r.height += grow;
     }
-    if (rc == 0) {
-        int shift = (int)lround(view.plot_y - top_px); /* plot rows move down by this */
-        int top = shift < 0 ? -shift : 0;
-        int height = bed.height + top > plot.height + shift + top ? bed.height + top
-                                                                  : plot.height + shift + top;
-        rc = render_image_alloc(&out, bed.width + plot.width, height, RENDER_PIXEL_RGBA);
-        for (int row = 0; rc == 0 && row < height; ++row)
-            for (int col = 0; col < out.width; ++col) {
-                uint8_t rgba[4] = {255, 255, 255, 255};
-                int br = row - top, pr = row - top - shift;
-                if (col < bed.width && br >= 0 && br < bed.height)
-                    render_image_get_rgba(&bed, col, br, rgba);
-                else if (col >= bed.width && pr >= 0 && pr < plot.height)
-                    render_image_get_rgba(&plot, col - bed.width, pr, rgba);
-                memcpy(out.pixels + (size_t)row * (size_t)out.stride + 4 * (size_t)col, rgba, 4);
-            }
-        if (rc != 0)
-            snprintf(err, err_size, "out of memory");
+    if (rc == 0 && side_by_side(&bed, &plot, (int)lround(view.plot_y - top_px), &out) != 0) {
+        snprintf(err, err_size, "out of memory");
+        rc = -1;
     }
     if (rc == 0) {
         char seed[32];
