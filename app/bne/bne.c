@@ -2,6 +2,7 @@
 /* bne.c: Brazil-nut measures and samples (thesis 002 ch. 5; see bne.h and docs/brazil_nut.md). */
 #include "bne.h"
 
+#include "config.h"
 #include "experiments.h"
 #include "util.h"
 
@@ -59,105 +60,81 @@ static void phase_field_reset(AppBne *b);
 /* ---------------------------------------------------------------- parsing */
 
 /* bne.phase_field: the phase-averaged velocity field (docs/brazil_nut.md). */
-static int parse_phase_field(AppBne *b, const config_setting_t *g, const char *path, char *err,
-                             size_t err_size)
+static int parse_phase_field(AppBne *b, const config_setting_t *g, AppConfig *p)
 {
-    AppParse p = {path, err, err_size, "bne.phase_field"};
     static const char *const keys[] = {"phase", "phases", "skip_cycles", "cell",
                                        "width", "region", NULL};
-    if (app_parse_group_keys(&p, g, keys) < 0)
+    if (app_config_keys(p, g, NULL, keys, NULL) < 0)
         return -1;
     b->pf_on = 1;
     b->pf_phases = 1;
     b->pf_skip = 1;
-    if (app_parse_number(&p, g, "phase", 0.0, &b->pf_phase) < 0 ||
-        app_parse_int(&p, g, "phases", 1, 1000, &b->pf_phases) < 0 ||
-        app_parse_int(&p, g, "skip_cycles", 0, 1000000, &b->pf_skip) < 0 ||
-        app_parse_number(&p, g, "cell", 0.0, &b->pf_cell) < 0 ||
-        app_parse_number(&p, g, "width", 0.0, &b->pf_width) < 0)
+    if (app_config_number_min(p, g, "phase", 0.0, &b->pf_phase) < 0 ||
+        app_config_int_in(p, g, "phases", 1, 1000, &b->pf_phases) < 0 ||
+        app_config_int_in(p, g, "skip_cycles", 0, 1000000, &b->pf_skip) < 0 ||
+        app_config_number_min(p, g, "cell", 0.0, &b->pf_cell) < 0 ||
+        app_config_number_min(p, g, "width", 0.0, &b->pf_width) < 0)
         return -1;
     if (!(b->pf_phase < 1.0))
-        return app_parse_fail(&p, config_setting_get_member(g, "phase"),
-                              "`phase` is a fraction of the period in [0, 1), got %g", b->pf_phase);
-    const config_setting_t *r = config_setting_get_member(g, "region");
-    if (r) {
-        int ok = config_setting_type(r) == CONFIG_TYPE_ARRAY && config_setting_length(r) == 4;
-        for (int k = 0; ok && k < 4; ++k) {
-            const config_setting_t *e = config_setting_get_elem(r, (unsigned)k);
-            int type = config_setting_type(e);
-            if (type == CONFIG_TYPE_FLOAT)
-                b->pf_region[k] = config_setting_get_float(e);
-            else if (type == CONFIG_TYPE_INT || type == CONFIG_TYPE_INT64)
-                b->pf_region[k] = (double)config_setting_get_int64(e);
-            else
-                ok = 0;
-            ok = ok && isfinite(b->pf_region[k]);
-        }
-        if (!ok || !(b->pf_region[2] > b->pf_region[0]) || !(b->pf_region[3] > b->pf_region[1]))
-            return app_parse_fail(&p, r,
-                                  "`region` must be [x0, y0, x1, y1] (m, box frame) with x1 > x0 "
-                                  "and y1 > y0");
+        return app_config_fail(p, app_config_member(g, "phase"),
+                               "`phase` is a fraction of the period in [0, 1), got %g",
+                               b->pf_phase);
+    const config_setting_t *r = app_config_member(g, "region");
+    int ok = !r || (config_setting_type(r) == CONFIG_TYPE_ARRAY && config_setting_length(r) == 4);
+    for (int k = 0; r && ok && k < 4; ++k) {
+        int type = config_setting_type(config_setting_get_elem(r, (unsigned)k));
+        ok = type == CONFIG_TYPE_FLOAT || type == CONFIG_TYPE_INT || type == CONFIG_TYPE_INT64;
     }
+    if (!ok || app_config_vector(p, g, "region", b->pf_region, 4) < 0 ||
+        (r && (!(b->pf_region[2] > b->pf_region[0]) || !(b->pf_region[3] > b->pf_region[1]))))
+        return app_config_fail(p, r,
+                               "`region` must be [x0, y0, x1, y1] (m, box frame) with x1 > x0 "
+                               "and y1 > y0");
     return 0;
 }
 
-static AppBne *bne_parse_group(const config_setting_t *g, Scene *scene, char *err, size_t err_size)
+/* intruder = grain id; motion = "name" (the motion shaking the box). */
+static int parse_intruder_motion(AppConfig *p, const config_setting_t *g, const Scene *scene,
+                                 AppBne *b)
 {
-    AppParse p = {scene->path, err, err_size, "bne"};
-    static const char *const keys[] = {"intruder", "motion",    "gamma",       "period",
-                                       "stage",    "tolerance", "phase_field", NULL};
-    if (app_parse_group_keys(&p, g, keys) < 0)
-        return NULL;
-    if (!(scene->def.effects & SIM_EFFECT_VIBRATION)) {
-        app_parse_fail(&p, g, "the box is shaken by a motion: declare effect vibration");
-        return NULL;
-    }
-    AppBne *b = calloc(1, sizeof *b);
-    if (!b) {
-        app_parse_fail(&p, g, "out of memory");
-        return NULL;
-    }
-    const config_setting_t *s = config_setting_get_member(g, "intruder");
+    const config_setting_t *s = app_config_member(g, "intruder");
     if (!s ||
         (config_setting_type(s) != CONFIG_TYPE_INT &&
          config_setting_type(s) != CONFIG_TYPE_INT64) ||
-        config_setting_get_int64(s) < 0 || config_setting_get_int64(s) >= scene->grains.count) {
-        app_parse_fail(&p, s ? s : g, "`intruder` (the id of a grain of the scene) is required");
-        free(b);
-        return NULL;
-    }
+        config_setting_get_int64(s) < 0 || config_setting_get_int64(s) >= scene->grains.count)
+        return app_config_fail(p, s ? s : g,
+                               "`intruder` (the id of a grain of the scene) is required");
     b->intruder = (uint32_t)config_setting_get_int64(s);
-    const char *motion = NULL, *stage = NULL;
+    const char *motion = NULL;
     b->motion = -1;
-    if (!config_setting_lookup_string(g, "motion", &motion)) {
-        app_parse_fail(&p, g, "`motion` (the name of the motion shaking the box) is required");
-        free(b);
-        return NULL;
-    }
+    int found = app_config_string(p, g, "motion", &motion);
+    if (found < 0)
+        return -1;
+    if (!found)
+        return app_config_fail(p, g,
+                               "`motion` (the name of the motion shaking the box) is required");
     for (int m = 0; m < scene->def.motion_count; ++m)
         if (strcmp(scene->motion_names[m], motion) == 0)
             b->motion = m;
-    if (b->motion < 0) {
-        app_parse_fail(&p, config_setting_get_member(g, "motion"), "no motion named `%s`", motion);
-        free(b);
-        return NULL;
-    }
+    if (b->motion < 0)
+        return app_config_fail(p, app_config_member(g, "motion"), "no motion named `%s`", motion);
+    return 0;
+}
+
+/* period, gamma (or the motion's amplitude), tolerance; the motion is set to match. */
+static int parse_shaking(AppConfig *p, const config_setting_t *g, Scene *scene, AppBne *b)
+{
     SimMotion *mo = &scene->def.motions[b->motion];
     b->gravity = hypot(scene->def.gravity_x, scene->def.gravity_y);
     b->period = mo->frequency > 0.0 ? 1.0 / mo->frequency : 0.0;
     b->tolerance = 0.5;
     b->gamma = NAN;
-    if (app_parse_number(&p, g, "period", 1e-12, &b->period) < 0 ||
-        app_parse_number(&p, g, "gamma", 0.0, &b->gamma) < 0 ||
-        app_parse_number(&p, g, "tolerance", 0.0, &b->tolerance) < 0) {
-        free(b);
-        return NULL;
-    }
-    if (!(b->period > 0.0)) {
-        app_parse_fail(&p, g, "`period` is required when the motion has no frequency");
-        free(b);
-        return NULL;
-    }
+    if (app_config_number_min(p, g, "period", 1e-12, &b->period) < 0 ||
+        app_config_number_min(p, g, "gamma", 0.0, &b->gamma) < 0 ||
+        app_config_number_min(p, g, "tolerance", 0.0, &b->tolerance) < 0)
+        return -1;
+    if (!(b->period > 0.0))
+        return app_config_fail(p, g, "`period` is required when the motion has no frequency");
     b->frequency = 1.0 / b->period;
     double omega = 2.0 * BNE_PI * b->frequency;
     if (isfinite(b->gamma)) /* Gamma = A w^2 / g (002 eq. 12) */
@@ -171,20 +148,42 @@ static AppBne *bne_parse_group(const config_setting_t *g, Scene *scene, char *er
     mo->phase = 0.0;
     b->dir_x = mo->direction_x;
     b->dir_y = mo->direction_y;
+    return 0;
+}
+
+static AppBne *bne_parse_group(const config_setting_t *g, Scene *scene, char *err, size_t err_size)
+{
+    AppConfig p = {.path = scene->path, .err = err, .err_size = err_size, .group = "bne"};
+    static const char *const keys[] = {"intruder", "motion",    "gamma",       "period",
+                                       "stage",    "tolerance", "phase_field", NULL};
+    if (app_config_keys(&p, g, NULL, keys, NULL) < 0)
+        return NULL;
+    if (!(scene->def.effects & SIM_EFFECT_VIBRATION)) {
+        app_config_fail(&p, g, "the box is shaken by a motion: declare effect vibration");
+        return NULL;
+    }
+    AppBne *b = calloc(1, sizeof *b);
+    if (!b) {
+        app_config_fail(&p, g, "out of memory");
+        return NULL;
+    }
+    const char *stage = NULL;
+    int ok = parse_intruder_motion(&p, g, scene, b) == 0 && parse_shaking(&p, g, scene, b) == 0 &&
+             app_config_string(&p, g, "stage", &stage) >= 0;
     b->mass_model = scene->def.mass_model;
     for (int k = 0; k < SIM_MAX_SPECIES; ++k)
         b->density[k] = scene->def.materials[k].density;
     b->stage = scene->stage_count - 1;
-    if (config_setting_lookup_string(g, "stage", &stage)) {
-        b->stage = scene_stage_index(scene, stage);
-        if (b->stage < 0) {
-            app_parse_fail(&p, config_setting_get_member(g, "stage"), "no stage named `%s`", stage);
-            free(b);
-            return NULL;
-        }
+    if (ok && stage && (b->stage = scene_stage_index(scene, stage)) < 0) {
+        app_config_fail(&p, app_config_member(g, "stage"), "no stage named `%s`", stage);
+        ok = 0;
     }
-    const config_setting_t *pf = config_setting_get_member(g, "phase_field");
-    if (pf && parse_phase_field(b, pf, scene->path, err, err_size) < 0) {
+    AppConfig pf = {
+        .path = scene->path, .err = err, .err_size = err_size, .group = "bne.phase_field"};
+    const config_setting_t *field = app_config_member(g, "phase_field");
+    if (ok && field && parse_phase_field(b, field, &pf) < 0)
+        ok = 0;
+    if (!ok) {
         free(b);
         return NULL;
     }

@@ -3,6 +3,7 @@
  * stages' `dig` keys (a cavity dug at the stage start, 000 §4.1 stage 2) and `output.profile_every`
  * / `output.profile_bin` (free-surface profiles), runs the observer of crater.c during a run and
  * draws the energy and profile figures after it; `sablier sweep` (sweep.c) is its driver. */
+#include "config.h"
 #include "crater.h"
 #include "experiments.h"
 #include "sweep.h"
@@ -37,80 +38,31 @@ AppCraterDig app_crater_dig(const Scene *scene, int stage)
 
 /* ---------------------------------------------------------------- parse */
 
-static const char *type_name(const config_setting_t *s)
-{
-    switch (config_setting_type(s)) {
-    case CONFIG_TYPE_GROUP:
-        return "a group";
-    case CONFIG_TYPE_INT:
-    case CONFIG_TYPE_INT64:
-        return "an integer";
-    case CONFIG_TYPE_FLOAT:
-        return "a number";
-    case CONFIG_TYPE_STRING:
-        return "a string";
-    case CONFIG_TYPE_BOOL:
-        return "a boolean";
-    default:
-        return "a list";
-    }
-}
-
-/* `key` of g as a number (messages as the scene loader's): 1 found, 0 absent, -1 bad. */
-static int number(AppParse *p, const config_setting_t *g, const char *key, int required,
-                  double *out)
-{
-    const config_setting_t *s = config_setting_get_member(g, key);
-    if (!s)
-        return required ? app_parse_fail(p, g, "missing required key `%s` in dig", key) : 0;
-    int type = config_setting_type(s);
-    if (type == CONFIG_TYPE_INT || type == CONFIG_TYPE_INT64)
-        *out = (double)config_setting_get_int64(s);
-    else if (type == CONFIG_TYPE_FLOAT)
-        *out = config_setting_get_float(s);
-    else
-        return app_parse_fail(p, s, "`%s` must be a number, not %s", key, type_name(s));
-    if (!isfinite(*out))
-        return app_parse_fail(p, s, "`%s` must be a finite number", key);
-    return 1;
-}
-
-static int at_least(AppParse *p, const config_setting_t *g, const char *key, double v, int strict)
-{
-    if (strict ? v > 0.0 : v >= 0.0)
-        return 0;
-    const config_setting_t *s = config_setting_get_member(g, key);
-    return app_parse_fail(
-        p, s ? s : g, strict ? "`%s` must be > 0 (got %g)" : "`%s` must be >= 0 (got %g)", key, v);
-}
-
-/* dig = { center_x; width; height; top = "surface" | m; } (000 §4.1 stage 2) */
-static int parse_dig(AppParse *p, const config_setting_t *g, AppCraterDig *dig)
+/* dig = { center_x; width; height; top = "surface" | m; } (000 §4.1 stage 2), in stage g */
+static int parse_dig(AppConfig *p, const config_setting_t *stage, AppCraterDig *dig)
 {
     static const char *const keys[] = {"center_x", "width", "height", "top", NULL};
-    if (config_setting_type(g) != CONFIG_TYPE_GROUP)
-        return app_parse_fail(p, g, "`dig` must be a group { ... }, not %s", type_name(g));
-    for (int k = 0; k < config_setting_length(g); ++k) {
-        const config_setting_t *s = config_setting_get_elem(g, (unsigned)k);
-        int known = 0;
-        for (int j = 0; keys[j]; ++j)
-            known |= strcmp(keys[j], config_setting_name(s)) == 0;
-        if (!known)
-            return app_parse_fail(p, s, "unknown key `%s` in dig", config_setting_name(s));
-    }
+    const config_setting_t *g;
+    int found = app_config_group(p, stage, "dig", &g);
+    if (found <= 0)
+        return found;
+    if (app_config_keys(p, g, "dig", keys, NULL) < 0)
+        return -1;
     dig->dig = 1;
     dig->top_surface = 1;
-    if (number(p, g, "center_x", 1, &dig->center_x) < 0 ||
-        number(p, g, "width", 1, &dig->width) < 0 || at_least(p, g, "width", dig->width, 1) < 0 ||
-        number(p, g, "height", 1, &dig->height) < 0 || at_least(p, g, "height", dig->height, 1) < 0)
+    if (app_config_need_number(p, g, "center_x", "dig", &dig->center_x) < 0 ||
+        app_config_need_number(p, g, "width", "dig", &dig->width) < 0 ||
+        app_config_positive(p, g, "width", dig->width) < 0 ||
+        app_config_need_number(p, g, "height", "dig", &dig->height) < 0 ||
+        app_config_positive(p, g, "height", dig->height) < 0)
         return -1;
-    const config_setting_t *top = config_setting_get_member(g, "top");
+    const config_setting_t *top = app_config_member(g, "top");
     if (top && config_setting_type(top) == CONFIG_TYPE_STRING) {
         if (strcmp(config_setting_get_string(top), "surface") != 0)
-            return app_parse_fail(p, top, "`top` must be \"surface\" or a height in m");
+            return app_config_fail(p, top, "`top` must be \"surface\" or a height in m");
     } else if (top) {
         dig->top_surface = 0;
-        if (number(p, g, "top", 0, &dig->top) < 0)
+        if (app_config_number(p, g, "top", &dig->top) < 0)
             return -1;
     }
     return 0;
@@ -120,21 +72,20 @@ static int crater_parse(const config_setting_t *root, const config_setting_t *gr
                         void **state, char *err, size_t err_size)
 {
     (void)group;
-    AppParse p = {.path = scene->path, .err = err, .err_size = err_size, .group = NULL};
+    AppConfig p = {.path = scene->path, .err = err, .err_size = err_size, .group = NULL};
     AppCraterState c;
     memset(&c, 0, sizeof c);
     const config_setting_t *output = config_setting_get_member(root, "output");
-    if (output && (number(&p, output, "profile_every", 0, &c.profile_every) < 0 ||
-                   at_least(&p, output, "profile_every", c.profile_every, 0) < 0 ||
-                   number(&p, output, "profile_bin", 0, &c.profile_bin) < 0 ||
-                   at_least(&p, output, "profile_bin", c.profile_bin, 0) < 0))
+    if (output && (app_config_number(&p, output, "profile_every", &c.profile_every) < 0 ||
+                   app_config_non_negative(&p, output, "profile_every", c.profile_every) < 0 ||
+                   app_config_number(&p, output, "profile_bin", &c.profile_bin) < 0 ||
+                   app_config_non_negative(&p, output, "profile_bin", c.profile_bin) < 0))
         return -1;
     const config_setting_t *stages = config_setting_get_member(root, "stages");
     int used = c.profile_every > 0.0;
     for (int k = 0; stages && k < scene->stage_count && k < config_setting_length(stages); ++k) {
         const config_setting_t *g = config_setting_get_elem(stages, (unsigned)k);
-        const config_setting_t *dig = g ? config_setting_get_member(g, "dig") : NULL;
-        if (dig && parse_dig(&p, dig, &c.dig[k]) < 0)
+        if (parse_dig(&p, g, &c.dig[k]) < 0)
             return -1;
         used |= c.dig[k].dig;
     }

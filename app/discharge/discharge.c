@@ -8,6 +8,7 @@
  * sim_frame_find_arch) and the species composition (004 §3.4). */
 #include "discharge.h"
 
+#include "config.h"
 #include "experiments.h"
 #include "util.h"
 
@@ -22,37 +23,10 @@
 
 /* ---------------------------------------------------------------- parsing */
 
-static int numbers(AppParse *p, const config_setting_t *g, const char *key, int max, double *out,
-                   int *count)
-{
-    const config_setting_t *s = config_setting_get_member(g, key);
-    if (!s)
-        return 0;
-    if (config_setting_type(s) != CONFIG_TYPE_ARRAY && config_setting_type(s) != CONFIG_TYPE_LIST)
-        return app_parse_fail(p, s, "`%s` must be an array of numbers", key);
-    int n = config_setting_length(s);
-    if (n < 1 || n > max)
-        return app_parse_fail(p, s, "`%s` must have 1 to %d entries", key, max);
-    for (int k = 0; k < n; ++k) {
-        const config_setting_t *e = config_setting_get_elem(s, (unsigned)k);
-        int type = config_setting_type(e);
-        if (type == CONFIG_TYPE_FLOAT)
-            out[k] = config_setting_get_float(e);
-        else if (type == CONFIG_TYPE_INT || type == CONFIG_TYPE_INT64)
-            out[k] = (double)config_setting_get_int64(e);
-        else
-            return app_parse_fail(p, s, "`%s` must be an array of numbers", key);
-        if (!isfinite(out[k]) || out[k] < 0.0)
-            return app_parse_fail(p, s, "`%s` entries must be finite and >= 0", key);
-    }
-    *count = n;
-    return 1;
-}
-
 int app_discharge_parse(const config_setting_t *g, const char *scene_path, int species_count,
                         AppDischargeDef *def, char *err, size_t err_size)
 {
-    AppParse p = {scene_path, err, err_size, "discharge"};
+    AppConfig p = {.path = scene_path, .err = err, .err_size = err_size, .group = "discharge"};
     static const char *const keys[] = {
         "base_length",      "base_diameter", "gravity",     "release_height",  "row_period",
         "row_fill",         "row_jitter",    "max_rows",    "stationary_rows", "stationary_gain",
@@ -74,56 +48,48 @@ int app_discharge_parse(const config_setting_t *g, const char *scene_path, int s
     def->fractions[0] = 1.0;
     for (int k = 0; k < SIM_MAX_SPECIES; ++k)
         def->diameters[k] = 1.0;
-    if (app_parse_group_keys(&p, g, keys) < 0)
+    if (app_config_keys(&p, g, NULL, keys, NULL) < 0)
         return -1;
     const config_setting_t *s = config_setting_get_member(g, "base_length");
     if (!s)
-        return app_parse_fail(&p, g, "`base_length` (L, in grain diameters) is required");
-    if (app_parse_number(&p, g, "base_length", 2.0, &def->base_length) < 0 ||
-        app_parse_number(&p, g, "base_diameter", 1e-3, &def->base_diameter) < 0 ||
-        app_parse_number(&p, g, "release_height", 0.0, &def->release_height) < 0 ||
-        app_parse_number(&p, g, "row_period", 0.0, &def->row_period) < 0 ||
-        app_parse_number(&p, g, "row_fill", 1e-3, &def->row_fill) < 0 ||
-        app_parse_number(&p, g, "row_jitter", 0.0, &def->row_jitter) < 0 ||
-        app_parse_int(&p, g, "max_rows", 0, 1000000000L, &def->max_rows) < 0 ||
-        app_parse_int(&p, g, "stationary_rows", 0, 1000000000L, &def->stationary_rows) < 0 ||
-        app_parse_number(&p, g, "stationary_gain", 0.0, &def->stationary_gain) < 0 ||
-        app_parse_number(&p, g, "dt_divisor", 1.0, &def->dt_divisor) < 0 ||
-        app_parse_number(&p, g, "tolerance", 0.0, &def->tolerance) < 0 ||
-        app_parse_int(&p, g, "check_every", 1, 1000000000L, &def->check_every) < 0 ||
-        app_parse_number(&p, g, "relax_time", 0.0, &def->relax_time) < 0 ||
-        app_parse_number(&p, g, "discharge_time", 0.0, &def->discharge_time) < 0 ||
-        app_parse_number(&p, g, "polydispersity", 0.0, &def->polydispersity) < 0 ||
-        app_parse_int(&p, g, "base_species", 0, 1000000000L, &def->base_species) < 0 ||
-        app_parse_number(&p, g, "exit_half_width", 0.0, &def->exit_half_width) < 0)
+        return app_config_fail(&p, g, "`base_length` (L, in grain diameters) is required");
+    if (app_config_number_min(&p, g, "base_length", 2.0, &def->base_length) < 0 ||
+        app_config_number_min(&p, g, "base_diameter", 1e-3, &def->base_diameter) < 0 ||
+        app_config_number_min(&p, g, "release_height", 0.0, &def->release_height) < 0 ||
+        app_config_number_min(&p, g, "row_period", 0.0, &def->row_period) < 0 ||
+        app_config_number_min(&p, g, "row_fill", 1e-3, &def->row_fill) < 0 ||
+        app_config_number_min(&p, g, "row_jitter", 0.0, &def->row_jitter) < 0 ||
+        app_config_int_in(&p, g, "max_rows", 0, 1000000000L, &def->max_rows) < 0 ||
+        app_config_int_in(&p, g, "stationary_rows", 0, 1000000000L, &def->stationary_rows) < 0 ||
+        app_config_number_min(&p, g, "stationary_gain", 0.0, &def->stationary_gain) < 0 ||
+        app_config_number_min(&p, g, "dt_divisor", 1.0, &def->dt_divisor) < 0 ||
+        app_config_number_min(&p, g, "tolerance", 0.0, &def->tolerance) < 0 ||
+        app_config_int_in(&p, g, "check_every", 1, 1000000000L, &def->check_every) < 0 ||
+        app_config_number_min(&p, g, "relax_time", 0.0, &def->relax_time) < 0 ||
+        app_config_number_min(&p, g, "discharge_time", 0.0, &def->discharge_time) < 0 ||
+        app_config_number_min(&p, g, "polydispersity", 0.0, &def->polydispersity) < 0 ||
+        app_config_int_in(&p, g, "base_species", 0, 1000000000L, &def->base_species) < 0 ||
+        app_config_number_min(&p, g, "exit_half_width", 0.0, &def->exit_half_width) < 0)
         return -1;
     if (def->row_fill > 1.0 || def->row_jitter > 1.0 || def->polydispersity >= 0.5) {
         s = config_setting_get_member(g, def->row_fill > 1.0     ? "row_fill"
                                          : def->row_jitter > 1.0 ? "row_jitter"
                                                                  : "polydispersity");
-        return app_parse_fail(&p, s, "row_fill and row_jitter must be <= 1, polydispersity < 0.5");
+        return app_config_fail(&p, s, "row_fill and row_jitter must be <= 1, polydispersity < 0.5");
     }
     if (def->base_species >= species_count)
-        return app_parse_fail(&p, config_setting_get_member(g, "base_species"),
-                              "`base_species` %d is not a species (0 to %d)", def->base_species,
-                              species_count - 1);
-    const char *gravity = NULL;
-    if ((s = config_setting_get_member(g, "gravity")) != NULL) {
-        if (config_setting_type(s) != CONFIG_TYPE_STRING)
-            return app_parse_fail(&p, s, "`gravity` must be \"thesis\" or \"scene\"");
-        gravity = config_setting_get_string(s);
-        if (strcmp(gravity, "thesis") != 0 && strcmp(gravity, "scene") != 0)
-            return app_parse_fail(&p, s, "`gravity` must be \"thesis\" or \"scene\", got \"%s\"",
-                                  gravity);
-        def->thesis_gravity = strcmp(gravity, "thesis") == 0;
-    }
-    if ((s = config_setting_get_member(g, "arch_force_check")) != NULL) {
-        if (config_setting_type(s) != CONFIG_TYPE_BOOL)
-            return app_parse_fail(&p, s, "`arch_force_check` must be true or false");
-        def->arch_force_check = config_setting_get_bool(s);
-    }
+        return app_config_fail(&p, config_setting_get_member(g, "base_species"),
+                               "`base_species` %d is not a species (0 to %d)", def->base_species,
+                               species_count - 1);
+    static const char *const gravities[] = {"thesis", "scene", NULL};
+    int gravity = 0;
+    if (app_config_choice(&p, g, "gravity", gravities, &gravity) < 0 ||
+        app_config_bool(&p, g, "arch_force_check", &def->arch_force_check) < 0)
+        return -1;
+    if (app_config_member(g, "gravity"))
+        def->thesis_gravity = gravity == 0;
     int n = 0;
-    int got = numbers(&p, g, "fractions", SIM_MAX_SPECIES, def->fractions, &n);
+    int got = app_config_array(&p, g, "fractions", SIM_MAX_SPECIES, def->fractions, &n);
     if (got < 0)
         return -1;
     if (got > 0) {
@@ -131,21 +97,21 @@ int app_discharge_parse(const config_setting_t *g, const char *scene_path, int s
         for (int k = 0; k < n; ++k)
             sum += def->fractions[k];
         if (n > species_count || !(sum > 0.0))
-            return app_parse_fail(&p, config_setting_get_member(g, "fractions"),
-                                  "`fractions` needs one entry per species (%d) and a positive sum",
-                                  species_count);
+            return app_config_fail(
+                &p, config_setting_get_member(g, "fractions"),
+                "`fractions` needs one entry per species (%d) and a positive sum", species_count);
         for (int k = 0; k < n; ++k)
             def->fractions[k] /= sum;
     }
-    got = numbers(&p, g, "diameters", SIM_MAX_SPECIES, def->diameters, &n);
+    got = app_config_array(&p, g, "diameters", SIM_MAX_SPECIES, def->diameters, &n);
     if (got < 0)
         return -1;
     for (int k = 0; got > 0 && k < n; ++k)
         if (!(def->diameters[k] > 0.0) || n > species_count)
-            return app_parse_fail(&p, config_setting_get_member(g, "diameters"),
-                                  "`diameters` needs one positive entry per species (%d)",
-                                  species_count);
-    got = numbers(&p, g, "widths", 64, def->widths, &def->width_count);
+            return app_config_fail(&p, config_setting_get_member(g, "diameters"),
+                                   "`diameters` needs one positive entry per species (%d)",
+                                   species_count);
+    got = app_config_array(&p, g, "widths", 64, def->widths, &def->width_count);
     if (got < 0)
         return -1;
     return 0;

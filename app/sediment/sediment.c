@@ -7,6 +7,7 @@
  * A scene gives either these three or rho_f, nu and u* directly. */
 #include "sediment.h"
 
+#include "config.h"
 #include "experiments.h"
 #include "util.h"
 
@@ -42,44 +43,6 @@ struct AppSediment {
 
 /* ---------------------------------------------------------------- parsing */
 
-/* 1 found, 0 absent, -1 bad. */
-static int number(AppParse *p, const config_setting_t *g, const char *key, double *out)
-{
-    const config_setting_t *s = config_setting_get_member(g, key);
-    if (!s)
-        return 0;
-    int type = config_setting_type(s);
-    if (type == CONFIG_TYPE_FLOAT)
-        *out = config_setting_get_float(s);
-    else if (type == CONFIG_TYPE_INT || type == CONFIG_TYPE_INT64)
-        *out = (double)config_setting_get_int64(s);
-    else
-        return app_parse_fail(p, s, "`%s` must be a number", key);
-    if (!isfinite(*out))
-        return app_parse_fail(p, s, "`%s` must be finite", key);
-    return 1;
-}
-
-static int positive(AppParse *p, const config_setting_t *g, const char *key, double *out)
-{
-    int found = number(p, g, key, out);
-    if (found > 0 && !(*out > 0.0))
-        return app_parse_fail(p, config_setting_get_member(g, key), "`%s` must be > 0, got %g", key,
-                              *out);
-    return found;
-}
-
-static int boolean(AppParse *p, const config_setting_t *g, const char *key, int *out)
-{
-    const config_setting_t *s = config_setting_get_member(g, key);
-    if (!s)
-        return 0;
-    if (config_setting_type(s) != CONFIG_TYPE_BOOL)
-        return app_parse_fail(p, s, "`%s` must be true or false", key);
-    *out = config_setting_get_bool(s);
-    return 1;
-}
-
 /* Before the flow stage the grains settle dry (a viscous fluid at small Galileo numbers would
  * take thousands of time units to let a rain settle); from it on the fluid acts. */
 static void sediment_force(void *context, const SimBodyForceView *view)
@@ -89,31 +52,28 @@ static void sediment_force(void *context, const SimBodyForceView *view)
         s->fluid_force.apply(s->fluid_force.context, view);
 }
 
-AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *err, size_t err_size)
+/* The fluid's control numbers as given: density_ratio, galileo, shields (002 eqs. 40-42) or
+ * density, viscosity, shear_velocity; the other physical keys of the group. */
+typedef struct SedimentInput {
+    int has_dr, has_ga, has_sh, has_rho, has_nu, has_us;
+    double y0, y1;
+    const char *flow_stage;
+} SedimentInput;
+
+/* A number > 0 when present. */
+static int positive(AppConfig *p, const config_setting_t *g, const char *key, double *out)
 {
-    AppParse p = {scene->path, err, err_size, "fluid"};
-    if (err_size)
-        err[0] = '\0';
-    if (!g)
-        return NULL;
-    static const char *const keys[] = {
-        "density_ratio", "galileo",      "shields", "density",    "viscosity", "shear_velocity",
-        "diameter",      "y0",           "y1",      "cells",      "turbulent", "kappa",
-        "van_driest",    "bed_fraction", "c_inf",   "reynolds_c", "buoyancy",  "geometry",
-        "flow_stage",    "drag_limit",   "start",   NULL};
-    if (app_parse_group_keys(&p, g, keys) < 0)
-        return NULL;
-    if (!(scene->def.effects & SIM_EFFECT_PERIODIC_X)) {
-        app_parse_fail(&p, g,
-                       "the fluid column is horizontally averaged: it needs effect periodic_x");
-        return NULL;
-    }
-    SimFluidDef fd = sim_fluid_def_default();
-    AppSedimentNumbers num = {0};
-    const SimWorldDef *def = &scene->def;
-    double gravity = hypot(def->gravity_x, def->gravity_y);
-    double rho_p = def->materials[0].density;
-    /* d: mean diameter of the scene's mobile grains unless given */
+    int found = app_config_number(p, g, key, out);
+    if (found > 0 && app_config_positive(p, g, key, *out) < 0)
+        return -1;
+    return found;
+}
+
+/* The six control keys and the physical ones; `diameter` defaults to the mean diameter of the
+ * scene's mobile grains. */
+static int parse_physical(AppConfig *p, const config_setting_t *g, const Scene *scene,
+                          SedimentInput *in, AppSedimentNumbers *num, SimFluidDef *fd)
+{
     double sum = 0.0;
     int mobile = 0;
     for (int i = 0; i < scene->grains.count; ++i)
@@ -121,144 +81,196 @@ AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *e
             sum += 2.0 * scene->grains.radius[i];
             ++mobile;
         }
-    num.diameter = mobile ? sum / mobile : 1.0;
-    int has_dr = 0, has_ga = 0, has_sh = 0, has_rho = 0, has_nu = 0, has_us = 0, cells = 0;
-    double y0 = 0.0, y1 = 0.0;
-    const char *geometry = NULL, *flow_stage = NULL;
-    if ((has_dr = positive(&p, g, "density_ratio", &num.density_ratio)) < 0 ||
-        (has_ga = positive(&p, g, "galileo", &num.galileo)) < 0 ||
-        (has_sh = number(&p, g, "shields", &num.shields)) < 0 ||
-        (has_rho = positive(&p, g, "density", &fd.density)) < 0 ||
-        (has_nu = positive(&p, g, "viscosity", &fd.viscosity)) < 0 ||
-        (has_us = number(&p, g, "shear_velocity", &fd.shear_velocity)) < 0 ||
-        positive(&p, g, "diameter", &num.diameter) < 0 || positive(&p, g, "kappa", &fd.kappa) < 0 ||
-        positive(&p, g, "van_driest", &fd.van_driest) < 0 ||
-        positive(&p, g, "bed_fraction", &fd.bed_fraction) < 0 ||
-        number(&p, g, "c_inf", &fd.drag_c_inf) < 0 ||
-        number(&p, g, "reynolds_c", &fd.drag_reynolds) < 0 ||
-        boolean(&p, g, "turbulent", &fd.turbulent) < 0 ||
-        boolean(&p, g, "buoyancy", &fd.buoyancy) < 0 ||
-        boolean(&p, g, "drag_limit", &fd.drag_limit) < 0)
-        return NULL;
-    const config_setting_t *s;
-    if (!(s = config_setting_get_member(g, "y0")) || number(&p, g, "y0", &y0) < 0 ||
-        !(s = config_setting_get_member(g, "y1")) || number(&p, g, "y1", &y1) < 0) {
-        if (!err[0])
-            app_parse_fail(&p, g, "`y0` and `y1` (the column's bottom and top, m) are required");
-        return NULL;
-    }
-    s = config_setting_get_member(g, "cells");
-    if (!s || (config_setting_type(s) != CONFIG_TYPE_INT &&
-               config_setting_type(s) != CONFIG_TYPE_INT64)) {
-        app_parse_fail(&p, s ? s : g, "`cells` (number of fluid layers, an integer) is required");
-        return NULL;
-    }
-    cells = config_setting_get_int(s);
-    if (config_setting_lookup_string(g, "geometry", &geometry)) {
-        if (strcmp(geometry, "disk") && strcmp(geometry, "sphere")) {
-            app_parse_fail(&p, config_setting_get_member(g, "geometry"),
-                           "unknown geometry `%s` (expected disk or sphere)", geometry);
-            return NULL;
-        }
-        fd.geometry = strcmp(geometry, "sphere") == 0 ? SIM_FLUID_SPHERE : SIM_FLUID_DISK;
-    } else {
-        fd.geometry = def->mass_model == SIM_MASS_SPHERE ? SIM_FLUID_SPHERE : SIM_FLUID_DISK;
-    }
-    if ((fd.geometry == SIM_FLUID_SPHERE) != (def->mass_model == SIM_MASS_SPHERE)) {
-        app_parse_fail(
-            &p, config_setting_get_member(g, "geometry"),
-            "geometry `%s` disagrees with mass_model: buoyancy and the density ratio would not "
-            "match the grains' masses",
-            geometry);
-        return NULL;
-    }
-    int dimensionless = has_dr || has_ga || has_sh, dimensional = has_rho || has_nu || has_us;
-    if (dimensionless == dimensional) {
-        app_parse_fail(&p, g,
-                       dimensionless
-                           ? "give either density_ratio, galileo and shields or density, "
-                             "viscosity and shear_velocity, not both"
-                           : "give density_ratio, galileo and shields (002 eqs. 40-42) or density, "
-                             "viscosity and shear_velocity");
-        return NULL;
-    }
-    const double d = num.diameter;
+    num->diameter = mobile ? sum / mobile : 1.0;
+    if ((in->has_dr = positive(p, g, "density_ratio", &num->density_ratio)) < 0 ||
+        (in->has_ga = positive(p, g, "galileo", &num->galileo)) < 0 ||
+        (in->has_sh = app_config_number(p, g, "shields", &num->shields)) < 0 ||
+        (in->has_rho = positive(p, g, "density", &fd->density)) < 0 ||
+        (in->has_nu = positive(p, g, "viscosity", &fd->viscosity)) < 0 ||
+        (in->has_us = app_config_number(p, g, "shear_velocity", &fd->shear_velocity)) < 0 ||
+        positive(p, g, "diameter", &num->diameter) < 0 || positive(p, g, "kappa", &fd->kappa) < 0 ||
+        positive(p, g, "van_driest", &fd->van_driest) < 0 ||
+        positive(p, g, "bed_fraction", &fd->bed_fraction) < 0 ||
+        app_config_number(p, g, "c_inf", &fd->drag_c_inf) < 0 ||
+        app_config_number(p, g, "reynolds_c", &fd->drag_reynolds) < 0 ||
+        app_config_bool(p, g, "turbulent", &fd->turbulent) < 0 ||
+        app_config_bool(p, g, "buoyancy", &fd->buoyancy) < 0 ||
+        app_config_bool(p, g, "drag_limit", &fd->drag_limit) < 0)
+        return -1;
+    return 0;
+}
+
+/* y0, y1 (the column's bottom and top) and cells: required. */
+static int parse_column(AppConfig *p, const config_setting_t *g, SedimentInput *in, SimFluidDef *fd)
+{
+    if (app_config_number(p, g, "y0", &in->y0) <= 0 || app_config_number(p, g, "y1", &in->y1) <= 0)
+        return app_config_fail(p, g, "`y0` and `y1` (the column's bottom and top, m) are required");
+    const config_setting_t *s = app_config_member(g, "cells");
+    if (!s ||
+        (config_setting_type(s) != CONFIG_TYPE_INT && config_setting_type(s) != CONFIG_TYPE_INT64))
+        return app_config_fail(p, s ? s : g,
+                               "`cells` (number of fluid layers, an integer) is required");
+    fd->cells = config_setting_get_int(s);
+    fd->y0 = in->y0;
+    fd->y1 = in->y1;
+    return 0;
+}
+
+/* geometry = "disk" | "sphere", by default and necessarily that of mass_model. */
+static int parse_geometry(AppConfig *p, const config_setting_t *g, const SimWorldDef *def,
+                          SimFluidDef *fd)
+{
+    static const char *const geometries[] = {"disk", "sphere", NULL};
+    int sphere = def->mass_model == SIM_MASS_SPHERE;
+    int found = app_config_choice(p, g, "geometry", geometries, &sphere);
+    if (found < 0)
+        return -1;
+    fd->geometry = sphere ? SIM_FLUID_SPHERE : SIM_FLUID_DISK;
+    if (sphere != (def->mass_model == SIM_MASS_SPHERE))
+        return app_config_fail(p, app_config_member(g, "geometry"),
+                               "geometry `%s` disagrees with mass_model: buoyancy and the density "
+                               "ratio would not match the grains' masses",
+                               geometries[sphere]);
+    return 0;
+}
+
+/* The numbers from the fluid or the fluid from the numbers (002 eqs. 40-42). */
+static int derive_numbers(AppConfig *p, const config_setting_t *g, const Scene *scene,
+                          const SedimentInput *in, AppSedimentNumbers *num, SimFluidDef *fd)
+{
+    const SimWorldDef *def = &scene->def;
+    double gravity = hypot(def->gravity_x, def->gravity_y);
+    double rho_p = def->materials[0].density;
+    int dimensionless = in->has_dr || in->has_ga || in->has_sh;
+    int dimensional = in->has_rho || in->has_nu || in->has_us;
+    if (dimensionless == dimensional)
+        return app_config_fail(p, g,
+                               dimensionless
+                                   ? "give either density_ratio, galileo and shields or density, "
+                                     "viscosity and shear_velocity, not both"
+                                   : "give density_ratio, galileo and shields (002 eqs. 40-42) or "
+                                     "density, viscosity and shear_velocity");
+    const double d = num->diameter;
     if (dimensionless) {
-        if (!(has_dr && has_ga && has_sh)) {
-            app_parse_fail(&p, g, "density_ratio, galileo and shields go together");
-            return NULL;
-        }
-        if (!(num.density_ratio > 1.0) || num.shields < 0.0) {
-            app_parse_fail(&p, config_setting_get_member(g, "density_ratio"),
-                           "density_ratio must be > 1 and shields >= 0");
-            return NULL;
-        }
-        double scale = sqrt((num.density_ratio - 1.0) * gravity * d);
-        fd.density = rho_p / num.density_ratio;
-        fd.viscosity = d * scale / num.galileo;
-        fd.shear_velocity = sqrt(num.shields) * scale;
+        if (!(in->has_dr && in->has_ga && in->has_sh))
+            return app_config_fail(p, g, "density_ratio, galileo and shields go together");
+        if (!(num->density_ratio > 1.0) || num->shields < 0.0)
+            return app_config_fail(p, app_config_member(g, "density_ratio"),
+                                   "density_ratio must be > 1 and shields >= 0");
+        double scale = sqrt((num->density_ratio - 1.0) * gravity * d);
+        fd->density = rho_p / num->density_ratio;
+        fd->viscosity = d * scale / num->galileo;
+        fd->shear_velocity = sqrt(num->shields) * scale;
     } else {
-        if (!(has_rho && has_nu && has_us)) {
-            app_parse_fail(&p, g, "density, viscosity and shear_velocity go together");
-            return NULL;
-        }
-        num.density_ratio = rho_p / fd.density;
-        double scale = sqrt(fmax(num.density_ratio - 1.0, 0.0) * gravity * d);
-        num.galileo = d * scale / fd.viscosity;
-        num.shields =
-            scale > 0.0 ? fd.shear_velocity * fd.shear_velocity / (scale * scale) : (double)NAN;
+        if (!(in->has_rho && in->has_nu && in->has_us))
+            return app_config_fail(p, g, "density, viscosity and shear_velocity go together");
+        num->density_ratio = rho_p / fd->density;
+        double scale = sqrt(fmax(num->density_ratio - 1.0, 0.0) * gravity * d);
+        num->galileo = d * scale / fd->viscosity;
+        num->shields =
+            scale > 0.0 ? fd->shear_velocity * fd->shear_velocity / (scale * scale) : (double)NAN;
     }
-    num.flux_scale = d * sqrt(fmax(num.density_ratio - 1.0, 0.0) * gravity * d);
-    fd.y0 = y0;
-    fd.y1 = y1;
-    fd.cells = cells;
-    fd.width = def->domain_x1 - def->domain_x0;
-    fd.depth = fd.geometry == SIM_FLUID_SPHERE ? 2.0 * d / 3.0 : 1.0;
-    fd.gravity_x = def->gravity_x;
-    fd.gravity_y = def->gravity_y;
+    num->flux_scale = d * sqrt(fmax(num->density_ratio - 1.0, 0.0) * gravity * d);
+    return 0;
+}
+
+/* The column's place in the scene: width, depth, gravity and time step; then sim's checks. */
+static int complete_fluid(AppConfig *p, const config_setting_t *g, const Scene *scene,
+                          const AppSedimentNumbers *num, SimFluidDef *fd)
+{
+    const SimWorldDef *def = &scene->def;
+    fd->width = def->domain_x1 - def->domain_x0;
+    fd->depth = fd->geometry == SIM_FLUID_SPHERE ? 2.0 * num->diameter / 3.0 : 1.0;
+    fd->gravity_x = def->gravity_x;
+    fd->gravity_y = def->gravity_y;
     SimTiming timing = sim_world_def_timing(def);
-    fd.time_step = scene->stages[0].time_step > 0.0 ? scene->stages[0].time_step : timing.time_step;
-    if (config_setting_lookup_string(g, "flow_stage", &flow_stage) &&
-        scene_stage_index(scene, flow_stage) < 0) {
-        app_parse_fail(&p, config_setting_get_member(g, "flow_stage"), "no stage named `%s`",
-                       flow_stage);
-        return NULL;
-    }
+    fd->time_step =
+        scene->stages[0].time_step > 0.0 ? scene->stages[0].time_step : timing.time_step;
     SimError e;
-    if (sim_fluid_def_validate(&fd, &e) != SIM_OK) {
+    if (sim_fluid_def_validate(fd, &e) != SIM_OK) {
         const char *key = strchr(e.field, '.') ? strchr(e.field, '.') + 1 : e.field;
-        app_parse_fail(&p,
-                       config_setting_get_member(g, key) ? config_setting_get_member(g, key) : g,
-                       "%s", e.message);
-        return NULL;
+        return app_config_fail(p, app_config_member(g, key) ? app_config_member(g, key) : g, "%s",
+                               e.message);
     }
+    return 0;
+}
+
+/* flow_stage = "name": the fluid acts from that stage on (default: from the start). */
+static int parse_flow_stage(AppConfig *p, const config_setting_t *g, const Scene *scene,
+                            SedimentInput *in)
+{
+    if (app_config_string(p, g, "flow_stage", &in->flow_stage) < 0)
+        return -1;
+    if (in->flow_stage && scene_stage_index(scene, in->flow_stage) < 0)
+        return app_config_fail(p, app_config_member(g, "flow_stage"), "no stage named `%s`",
+                               in->flow_stage);
+    return 0;
+}
+
+/* start = "steady" (the steady profile above the bed, the default) | "rest". */
+static int parse_start(AppConfig *p, const config_setting_t *g, int *steady)
+{
+    static const char *const starts[] = {"steady", "rest", NULL};
+    int start = 0;
+    if (app_config_choice(p, g, "start", starts, &start) < 0)
+        return -1;
+    *steady = start == 0;
+    return 0;
+}
+
+/* The fluid and the state; the fluid's force becomes the scene's body force. */
+static AppSediment *sediment_create(AppConfig *p, const config_setting_t *g, Scene *scene,
+                                    const SimFluidDef *fd, const AppSedimentNumbers *num,
+                                    const SedimentInput *in, int steady)
+{
+    SimError e;
     AppSediment *sed = calloc(1, sizeof *sed);
-    if (!sed || !(sed->fluid = sim_fluid_create(&fd, &e))) {
+    if (!sed || !(sed->fluid = sim_fluid_create(fd, &e))) {
         free(sed);
-        app_parse_fail(&p, g, "cannot create the fluid: out of memory");
+        app_config_fail(p, g, "cannot create the fluid: out of memory");
         return NULL;
     }
-    sed->numbers = num;
-    sed->width = fd.width;
-    sed->shear_velocity = fd.shear_velocity;
-    if (flow_stage)
-        snprintf(sed->flow_stage, sizeof sed->flow_stage, "%s", flow_stage);
-    sed->flowing = flow_stage == NULL;
-    sed->steady_start = 1;
-    const char *start = NULL;
-    if (config_setting_lookup_string(g, "start", &start)) {
-        if (strcmp(start, "steady") && strcmp(start, "rest")) {
-            app_parse_fail(&p, config_setting_get_member(g, "start"),
-                           "unknown start `%s` (expected steady or rest)", start);
-            app_sediment_free(sed);
-            return NULL;
-        }
-        sed->steady_start = strcmp(start, "steady") == 0;
-    }
+    sed->numbers = *num;
+    sed->width = fd->width;
+    sed->shear_velocity = fd->shear_velocity;
+    if (in->flow_stage)
+        snprintf(sed->flow_stage, sizeof sed->flow_stage, "%s", in->flow_stage);
+    sed->flowing = in->flow_stage == NULL;
+    sed->steady_start = steady;
     sed->fluid_force = sim_fluid_body_force(sed->fluid);
     scene->def.body_force.apply = sediment_force;
     scene->def.body_force.context = sed;
     return sed;
+}
+
+AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *err, size_t err_size)
+{
+    static const char *const keys[] = {
+        "density_ratio", "galileo",      "shields", "density",    "viscosity", "shear_velocity",
+        "diameter",      "y0",           "y1",      "cells",      "turbulent", "kappa",
+        "van_driest",    "bed_fraction", "c_inf",   "reynolds_c", "buoyancy",  "geometry",
+        "flow_stage",    "drag_limit",   "start",   NULL};
+    AppConfig p = {.path = scene->path, .err = err, .err_size = err_size, .group = "fluid"};
+    if (err_size)
+        err[0] = '\0';
+    if (!g || app_config_keys(&p, g, NULL, keys, NULL) < 0)
+        return NULL;
+    if (!(scene->def.effects & SIM_EFFECT_PERIODIC_X)) {
+        app_config_fail(&p, g,
+                        "the fluid column is horizontally averaged: it needs effect periodic_x");
+        return NULL;
+    }
+    SimFluidDef fd = sim_fluid_def_default();
+    AppSedimentNumbers num = {0};
+    SedimentInput in = {0};
+    int steady = 1;
+    if (parse_physical(&p, g, scene, &in, &num, &fd) < 0 || parse_column(&p, g, &in, &fd) < 0 ||
+        parse_geometry(&p, g, &scene->def, &fd) < 0 ||
+        derive_numbers(&p, g, scene, &in, &num, &fd) < 0 ||
+        parse_flow_stage(&p, g, scene, &in) < 0 || complete_fluid(&p, g, scene, &num, &fd) < 0 ||
+        parse_start(&p, g, &steady) < 0)
+        return NULL;
+    return sediment_create(&p, g, scene, &fd, &num, &in, steady);
 }
 
 void app_sediment_free(AppSediment *s)

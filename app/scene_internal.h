@@ -1,0 +1,85 @@
+/* SPDX-License-Identifier: MIT */
+/* scene_internal.h: what the scene loader's files share (not part of the API; scene.h is).
+ *
+ *     scene.c          scene_load: read the file, apply --set, parse in order, check; the top-level
+ *                      physics (effects, time, guard, contact, periodic, drag); the public helpers
+ *     scene_set.c      --set KEY=VALUE overrides, applied to the libconfig tree before parsing
+ *     scene_grains.c   species, motions, grain builders (list, rain, box, rows, columns), walls,
+ *                      sinks
+ *     scene_stages.c   stages
+ *     scene_output.c   output, render styles, figures
+ *     scene_check.c    where-mapping (field -> file:line), start overlaps, scene_validate_def
+ *     config.c         the typed getters every file uses (config.h) */
+#ifndef APP_SCENE_INTERNAL_H
+#define APP_SCENE_INTERNAL_H
+
+#include "config.h"
+#include "scene.h"
+
+#include <libconfig.h>
+
+#define WHERE_MAX (SCENE_PATH_MAX + 96)
+
+typedef struct WhereItem {
+    char field[64];
+    char where[WHERE_MAX];
+} WhereItem;
+
+struct SceneWhere {
+    int count, capacity;
+    WhereItem *items;
+    int *grain_item; /* per scene grain: index into items */
+    int grain_capacity;
+    char stage_dt[SCENE_MAX_STAGES][WHERE_MAX];
+    char stage_load[SCENE_MAX_STAGES][WHERE_MAX];
+    char fallback[WHERE_MAX];
+};
+
+/// One scene_load in progress.
+typedef struct Loader {
+    Scene *scene;
+    config_t config;
+    AppConfig p; ///< errors: path = the scene file, err = scene_load's buffer
+    unsigned effects;
+    const config_setting_t *effects_setting;
+    char dir[SCENE_PATH_MAX]; ///< the scene's folder: @include and checkpoint paths
+    double box_height;        ///< grains.box y1 - y0, m: default D of t*
+    char *set_keys[64];       ///< copies of --set keys, pointed to by setting hooks
+    int set_count;
+} Loader;
+
+/* scene.c */
+/// A key that only makes sense with an effect: refused when the effect is not declared.
+int loader_gate(Loader *L, const config_setting_t *g, const char *key, unsigned effect);
+/// Names used in file names: letters, digits, '_', '-', '.'.
+int loader_check_file_name(Loader *L, const config_setting_t *g, const char *key, const char *v);
+/// The keys the registered experiment families own (app/experiments.c): their top-level groups
+/// (which = 0), stage keys (1) or output keys (2); NULL-ended.
+const char *const *loader_family_keys(int which);
+
+/* scene_set.c */
+/// Applies one "KEY=VALUE" to the libconfig tree. 0, or -1 with "--set KEY: message".
+int loader_apply_set(Loader *L, const char *assignment);
+
+/* scene_grains.c */
+int loader_parse_species(Loader *L, const config_setting_t *root);
+int loader_parse_motions(Loader *L, const config_setting_t *root);
+int loader_parse_grains(Loader *L, const config_setting_t *root);
+int loader_parse_walls(Loader *L, const config_setting_t *root);
+int loader_parse_sinks(Loader *L, const config_setting_t *root);
+
+/* scene_stages.c */
+int loader_parse_stages(Loader *L, const config_setting_t *root);
+
+/* scene_output.c */
+int loader_parse_output(Loader *L, const config_setting_t *root);
+
+/* scene_check.c */
+/// Records that SimWorldDef field `field` ("materials[0].normal_stiffness") was set by s.
+void loader_where_add(Loader *L, const char *field, const config_setting_t *s);
+/// Records the location of every grain added since `first` as the location of setting s.
+void loader_where_grains(Loader *L, int first, const config_setting_t *s, const char *field);
+/// Grains overlapping grains (a mobile one involved) or walls at the start. 0, or -1.
+int loader_check_overlaps(Loader *L);
+
+#endif

@@ -1,0 +1,327 @@
+/* SPDX-License-Identifier: MIT */
+/* scene_output.c: the scene's `output` group (movies, energy and trace rows, t*), its `render`
+ * style and the `figures` drawn after a run, each with the render style under its own keys. */
+#include "scene_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const STYLE_KEYS[] = {"width",           "height",
+                                         "color_by",        "colormap",
+                                         "range",           "band_height",
+                                         "outline",         "orientation_tick",
+                                         "force_chains",    "chain_threshold",
+                                         "chain_width_max", "velocity_arrows",
+                                         "velocity_field",  "colorbar",
+                                         "time_stamp",      "scale_bar",
+                                         "background",      "fill",
+                                         "fixed_color",     "view",
+                                         "title",           NULL};
+
+SceneStyle scene_style_unset(void)
+{
+    SceneStyle s;
+    memset(&s, 0, sizeof s);
+    s.width = s.height = s.color_by = s.colormap = -1;
+    s.outline = s.orientation_tick = s.force_chains = -1;
+    s.velocity_arrows = s.velocity_field = s.colorbar = s.time_stamp = s.scale_bar = -1;
+    const double unset = (double)NAN;
+    s.range_min = s.range_max = s.band_height = unset;
+    s.chain_threshold = s.chain_width_max = unset;
+    s.view_x0 = s.view_y0 = s.view_x1 = s.view_y1 = unset;
+    s.background_rgb = s.fill_rgb = s.fixed_rgb = -1;
+    return s;
+}
+
+static int get_color(Loader *L, const config_setting_t *g, const char *key, long *out)
+{
+    const char *text = NULL;
+    int found = app_config_string(&L->p, g, key, &text);
+    if (found <= 0)
+        return found;
+    char *end = NULL;
+    long v = text && text[0] == '#' && strlen(text) == 7 ? strtol(text + 1, &end, 16) : -1;
+    if (v < 0 || !end || *end != '\0')
+        return app_config_fail(&L->p, app_config_member(g, key),
+                               "`%s` must be a colour \"#rrggbb\"", key);
+    *out = v;
+    return 1;
+}
+
+static int get_pixels(Loader *L, const config_setting_t *g, const char *key, int *out)
+{
+    long long v;
+    int found = app_config_int(&L->p, g, key, &v);
+    if (found <= 0)
+        return found;
+    /* H.264 needs even sizes; figures accept any */
+    if (v < 16 || v > 16384)
+        return app_config_fail(&L->p, app_config_member(g, key),
+                               "`%s` must be in [16, 16384] pixels", key);
+    *out = (int)v;
+    return 1;
+}
+
+static int parse_style(Loader *L, const config_setting_t *g, SceneStyle *s)
+{
+    static const char *const color_by[] = {"fixed", "force", "speed", "species", "height", NULL};
+    static const char *const colormaps[] = {"viridis", "yellow_red", "greys", NULL};
+    static const char *const flags[] = {"outline",         "orientation_tick", "force_chains",
+                                        "velocity_arrows", "velocity_field",   "colorbar",
+                                        "time_stamp",      "scale_bar"};
+    int *flag_fields[] = {&s->outline,         &s->orientation_tick, &s->force_chains,
+                          &s->velocity_arrows, &s->velocity_field,   &s->colorbar,
+                          &s->time_stamp,      &s->scale_bar};
+    double range[2] = {0.0, 0.0}, view[4] = {0.0, 0.0, 0.0, 0.0};
+    const char *title = NULL;
+    if (get_pixels(L, g, "width", &s->width) < 0 || get_pixels(L, g, "height", &s->height) < 0 ||
+        app_config_choice(&L->p, g, "color_by", color_by, &s->color_by) < 0 ||
+        app_config_choice(&L->p, g, "colormap", colormaps, &s->colormap) < 0)
+        return -1;
+    for (int k = 0; k < 8; ++k)
+        if (app_config_bool(&L->p, g, flags[k], flag_fields[k]) < 0)
+            return -1;
+    int found = app_config_vector(&L->p, g, "range", range, 2);
+    if (found < 0)
+        return -1;
+    if (found) {
+        if (!(range[1] > range[0]))
+            return app_config_fail(&L->p, app_config_member(g, "range"),
+                                   "`range` = [min, max] needs max > min");
+        s->range_min = range[0];
+        s->range_max = range[1];
+    }
+    found = app_config_vector(&L->p, g, "view", view, 4);
+    if (found < 0)
+        return -1;
+    if (found) {
+        if (!(view[2] > view[0] && view[3] > view[1]))
+            return app_config_fail(&L->p, app_config_member(g, "view"),
+                                   "`view` = [x0, y0, x1, y1] needs x1 > x0, y1 > y0");
+        s->view_x0 = view[0];
+        s->view_y0 = view[1];
+        s->view_x1 = view[2];
+        s->view_y1 = view[3];
+    }
+    if (app_config_number(&L->p, g, "band_height", &s->band_height) < 0 ||
+        (app_config_member(g, "band_height") &&
+         app_config_positive(&L->p, g, "band_height", s->band_height) < 0) ||
+        app_config_number(&L->p, g, "chain_threshold", &s->chain_threshold) < 0 ||
+        (app_config_member(g, "chain_threshold") &&
+         app_config_non_negative(&L->p, g, "chain_threshold", s->chain_threshold) < 0) ||
+        app_config_number(&L->p, g, "chain_width_max", &s->chain_width_max) < 0 ||
+        (app_config_member(g, "chain_width_max") &&
+         app_config_positive(&L->p, g, "chain_width_max", s->chain_width_max) < 0) ||
+        get_color(L, g, "background", &s->background_rgb) < 0 ||
+        get_color(L, g, "fill", &s->fill_rgb) < 0 ||
+        get_color(L, g, "fixed_color", &s->fixed_rgb) < 0)
+        return -1;
+    found = app_config_string(&L->p, g, "title", &title);
+    if (found < 0)
+        return -1;
+    if (found)
+        snprintf(s->title, sizeof s->title, "%s", title);
+    return 0;
+}
+
+/* Figure keys override the scene's render keys. */
+static void style_merge(SceneStyle *out, const SceneStyle *over)
+{
+    int *ints[] = {&out->width,        &out->height,          &out->color_by,
+                   &out->colormap,     &out->outline,         &out->orientation_tick,
+                   &out->force_chains, &out->velocity_arrows, &out->velocity_field,
+                   &out->colorbar,     &out->time_stamp,      &out->scale_bar};
+    const int *over_ints[] = {&over->width,        &over->height,          &over->color_by,
+                              &over->colormap,     &over->outline,         &over->orientation_tick,
+                              &over->force_chains, &over->velocity_arrows, &over->velocity_field,
+                              &over->colorbar,     &over->time_stamp,      &over->scale_bar};
+    for (size_t k = 0; k < sizeof ints / sizeof ints[0]; ++k)
+        if (*over_ints[k] >= 0)
+            *ints[k] = *over_ints[k];
+    double *doubles[] = {&out->range_min, &out->range_max, &out->band_height, &out->chain_threshold,
+                         &out->chain_width_max};
+    const double *over_doubles[] = {&over->range_min, &over->range_max, &over->band_height,
+                                    &over->chain_threshold, &over->chain_width_max};
+    for (size_t k = 0; k < sizeof doubles / sizeof doubles[0]; ++k)
+        if (!isnan(*over_doubles[k]))
+            *doubles[k] = *over_doubles[k];
+    if (!isnan(over->view_x0)) {
+        out->view_x0 = over->view_x0;
+        out->view_y0 = over->view_y0;
+        out->view_x1 = over->view_x1;
+        out->view_y1 = over->view_y1;
+    }
+    if (over->background_rgb >= 0)
+        out->background_rgb = over->background_rgb;
+    if (over->fill_rgb >= 0)
+        out->fill_rgb = over->fill_rgb;
+    if (over->fixed_rgb >= 0)
+        out->fixed_rgb = over->fixed_rgb;
+    if (over->title[0])
+        snprintf(out->title, sizeof out->title, "%s", over->title);
+}
+
+static int parse_figures(Loader *L, const config_setting_t *output)
+{
+    static const char *const keys[] = {"name", "stage", "at", "format", NULL};
+    static const char *const at_names[] = {"start", "end", NULL};
+    static const char *const formats[] = {"png", "pdf", "svg", NULL};
+    Scene *scene = L->scene;
+    const config_setting_t *list;
+    if (app_config_list(&L->p, output, "figures", &list) <= 0)
+        return L->p.failed ? -1 : 0;
+    int count = config_setting_length(list);
+    if (count > SCENE_MAX_FIGURES)
+        return app_config_fail(&L->p, list, "at most %d figures", SCENE_MAX_FIGURES);
+    for (int k = 0; k < count; ++k) {
+        const config_setting_t *g = config_setting_get_elem(list, (unsigned)k);
+        SceneFigure *f = &scene->output.figures[k];
+        char what[48];
+        snprintf(what, sizeof what, "figure %d", k);
+        const char *name = NULL, *stage = NULL;
+        int at = 1, format = 0;
+        SceneStyle own = scene_style_unset();
+        if (app_config_keys(&L->p, g, what, keys, STYLE_KEYS) < 0 ||
+            app_config_need(&L->p, g, "name", what) < 0 ||
+            app_config_string(&L->p, g, "name", &name) < 0 ||
+            loader_check_file_name(L, g, "name", name) < 0 ||
+            app_config_string(&L->p, g, "stage", &stage) < 0 ||
+            app_config_choice(&L->p, g, "format", formats, &format) < 0 ||
+            parse_style(L, g, &own) < 0)
+            return -1;
+        /* at = "start" | "end" | seconds after the stage start (000 figs. 7.2, 7.9-7.23) */
+        const config_setting_t *at_setting = app_config_member(g, "at");
+        double at_time = 0.0;
+        if (at_setting && config_setting_type(at_setting) != CONFIG_TYPE_STRING) {
+            if (app_config_number_of(&L->p, at_setting, "at", &at_time) < 0)
+                return -1;
+            if (!(at_time >= 0.0))
+                return app_config_fail(&L->p, at_setting,
+                                       "`at` must be \"start\", \"end\" or a time >= 0 s");
+            at = 2;
+        } else if (app_config_choice(&L->p, g, "at", at_names, &at) < 0) {
+            return -1;
+        }
+        snprintf(f->name, sizeof f->name, "%s", name);
+        for (int j = 0; j < k; ++j)
+            if (strcmp(scene->output.figures[j].name, name) == 0 &&
+                strcmp(scene->output.figures[j].format, formats[format]) == 0)
+                return app_config_fail(&L->p, app_config_member(g, "name"),
+                                       "figure `%s` is declared twice", name);
+        f->stage = scene->stage_count - 1;
+        if (stage) {
+            f->stage = scene_stage_index(scene, stage);
+            if (f->stage < 0)
+                return app_config_fail(&L->p, app_config_member(g, "stage"), "no stage named `%s`",
+                                       stage);
+        }
+        f->at_end = at;
+        f->at_time = at_time;
+        snprintf(f->format, sizeof f->format, "%s", formats[format]);
+        f->style = scene->style;
+        style_merge(&f->style, &own);
+        scene->output.figure_count = k + 1;
+    }
+    return 0;
+}
+
+/* movie = true | false | ["stage", ...]; a stage's own `movie` wins */
+static int parse_movie(Loader *L, const config_setting_t *output)
+{
+    Scene *scene = L->scene;
+    const config_setting_t *movie = app_config_member(output, "movie");
+    for (int k = 0; k < scene->stage_count; ++k) {
+        int wanted = 0;
+        if (movie && config_setting_type(movie) == CONFIG_TYPE_BOOL)
+            wanted = config_setting_get_bool(movie);
+        if (scene->stages[k].movie < 0)
+            scene->stages[k].movie = wanted;
+    }
+    if (!movie || config_setting_type(movie) == CONFIG_TYPE_BOOL)
+        return 0;
+    if (config_setting_type(movie) != CONFIG_TYPE_ARRAY)
+        return app_config_fail(&L->p, movie,
+                               "`movie` must be true, false or an array of stage names");
+    for (int j = 0; j < config_setting_length(movie); ++j) {
+        const config_setting_t *e = config_setting_get_elem(movie, (unsigned)j);
+        int stage = config_setting_type(e) == CONFIG_TYPE_STRING
+                        ? scene_stage_index(scene, config_setting_get_string(e))
+                        : -1;
+        if (stage < 0)
+            return app_config_fail(
+                &L->p, e, "`movie` names no stage `%s`",
+                config_setting_type(e) == CONFIG_TYPE_STRING ? config_setting_get_string(e) : "?");
+        scene->stages[stage].movie = 1;
+    }
+    return 0;
+}
+
+/* trace = [id, ...]: grains whose paths go to trace.csv */
+static int parse_trace(Loader *L, const config_setting_t *output)
+{
+    SceneOutput *out = &L->scene->output;
+    const config_setting_t *trace = app_config_member(output, "trace");
+    if (!trace)
+        return 0;
+    int n = config_setting_type(trace) == CONFIG_TYPE_ARRAY ? config_setting_length(trace) : -1;
+    if (n < 0 || n > SCENE_MAX_TRACE)
+        return app_config_fail(&L->p, trace, "`trace` must be an array of at most %d grain ids",
+                               SCENE_MAX_TRACE);
+    for (int j = 0; j < n; ++j) {
+        const config_setting_t *e = config_setting_get_elem(trace, (unsigned)j);
+        if (config_setting_type(e) != CONFIG_TYPE_INT || config_setting_get_int(e) < 0)
+            return app_config_fail(&L->p, e, "`trace` must list grain ids (integers >= 0)");
+        out->trace_ids[j] = (uint32_t)config_setting_get_int(e);
+    }
+    out->trace_count = n;
+    return 0;
+}
+
+int loader_parse_output(Loader *L, const config_setting_t *root)
+{
+    static const char *const keys[] = {"frame_rate",    "fps",          "crf",   "movie",
+                                       "drawer",        "energy_every", "trace", "trace_every",
+                                       "t_star_length", "figures",      NULL};
+    static const char *const drawers[] = {"cairo", "osmesa", NULL};
+    Scene *scene = L->scene;
+    SceneOutput *out = &scene->output;
+    const config_setting_t *render, *output;
+    out->frame_rate = 25.0;
+    out->fps = 25.0;
+    out->crf = 20;
+    out->energy_every = 0.01;
+    out->trace_every = -1.0;
+    scene->style = scene_style_unset();
+    if (app_config_group(&L->p, root, "render", &render) < 0 ||
+        app_config_keys(&L->p, render, "render", STYLE_KEYS, NULL) < 0 ||
+        (render && parse_style(L, render, &scene->style) < 0))
+        return -1;
+    if (app_config_group(&L->p, root, "output", &output) < 0 ||
+        app_config_keys(&L->p, output, "output", keys, loader_family_keys(2)) < 0)
+        return -1;
+    long long crf = out->crf;
+    if (app_config_number(&L->p, output, "frame_rate", &out->frame_rate) < 0 ||
+        app_config_positive(&L->p, output, "frame_rate", out->frame_rate) < 0 ||
+        app_config_number(&L->p, output, "fps", &out->fps) < 0 ||
+        app_config_positive(&L->p, output, "fps", out->fps) < 0 ||
+        app_config_int(&L->p, output, "crf", &crf) < 0 ||
+        app_config_choice(&L->p, output, "drawer", drawers, &out->drawer) < 0 ||
+        app_config_number(&L->p, output, "energy_every", &out->energy_every) < 0 ||
+        app_config_positive(&L->p, output, "energy_every", out->energy_every) < 0 ||
+        app_config_number(&L->p, output, "trace_every", &out->trace_every) < 0 ||
+        (app_config_member(output, "trace_every") &&
+         app_config_positive(&L->p, output, "trace_every", out->trace_every) < 0) ||
+        app_config_number(&L->p, output, "t_star_length", &out->t_star_length) < 0 ||
+        app_config_non_negative(&L->p, output, "t_star_length", out->t_star_length) < 0)
+        return -1;
+    if (crf < 0 || crf > 51)
+        return app_config_fail(&L->p, app_config_member(output, "crf"), "`crf` must be in [0, 51]");
+    out->crf = (int)crf;
+    if (out->trace_every < 0.0)
+        out->trace_every = out->energy_every;
+    if (parse_movie(L, output) < 0 || parse_trace(L, output) < 0)
+        return -1;
+    return parse_figures(L, output);
+}

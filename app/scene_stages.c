@@ -1,0 +1,185 @@
+/* SPDX-License-Identifier: MIT */
+/* scene_stages.c: the scene's `stages` list (docs/scenes.md): each stage's name, where its
+ * grains come from (`load`), its time, settle test, removals and movie flag. A scene without
+ * `stages` has one stage, "run". */
+#include "scene_internal.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int parse_stage_time(Loader *L, const config_setting_t *time, SceneStage *stage)
+{
+    static const char *const keys[] = {"dt", "end", NULL};
+    if (app_config_keys(&L->p, time, "stage time", keys, NULL) < 0 ||
+        app_config_number(&L->p, time, "dt", &stage->time_step) < 0 ||
+        app_config_non_negative(&L->p, time, "dt", stage->time_step) < 0 ||
+        app_config_number(&L->p, time, "end", &stage->duration) < 0 ||
+        app_config_non_negative(&L->p, time, "end", stage->duration) < 0)
+        return -1;
+    return 0;
+}
+
+/* time: the stage's own `time` group (g may be NULL) on top of the scene's `time`. */
+static int parse_times(Loader *L, const config_setting_t *g, int k, const config_setting_t *time)
+{
+    Scene *scene = L->scene;
+    SceneStage *stage = &scene->stages[k];
+    stage->time_step = scene->def.time_step;
+    stage->duration = 0.0;
+    if (app_config_number(&L->p, time, "end", &stage->duration) < 0 ||
+        app_config_non_negative(&L->p, time, "end", stage->duration) < 0)
+        return -1;
+    const config_setting_t *dt_setting = app_config_member(time, "dt");
+    const config_setting_t *stage_time = NULL;
+    if (app_config_group(&L->p, g, "time", &stage_time) < 0)
+        return -1;
+    if (stage_time) {
+        if (parse_stage_time(L, stage_time, stage) < 0)
+            return -1;
+        if (app_config_member(stage_time, "dt"))
+            dt_setting = app_config_member(stage_time, "dt");
+    }
+    app_config_where(&L->p, dt_setting, scene->where->stage_dt[k], WHERE_MAX);
+    app_config_where(&L->p, g ? g : time, scene->where->stage_load[k], WHERE_MAX);
+    return 0;
+}
+
+/* A checkpoint file named by `load`, relative to the scene's folder; it must be readable. */
+static int checkpoint_path(Loader *L, const config_setting_t *g, const char *load,
+                           SceneStage *stage)
+{
+    size_t dir_length = load[0] == '/' ? 0 : strlen(L->dir) + 1;
+    if (dir_length + strlen(load) >= sizeof stage->load_path)
+        return app_config_fail(&L->p, app_config_member(g, "load"), "checkpoint path too long");
+    if (dir_length) {
+        memcpy(stage->load_path, L->dir, dir_length - 1);
+        stage->load_path[dir_length - 1] = '/';
+    }
+    memcpy(stage->load_path + dir_length, load, strlen(load) + 1);
+    FILE *f = fopen(stage->load_path, "rb");
+    if (!f)
+        return app_config_fail(&L->p, app_config_member(g, "load"),
+                               "cannot read checkpoint `%s`: %s", stage->load_path,
+                               strerror(errno));
+    fclose(f);
+    return 0;
+}
+
+/* load = "previous" | "scene" | "none" | a checkpoint file. */
+static int parse_load(Loader *L, const config_setting_t *g, int k)
+{
+    SceneStage *stage = &L->scene->stages[k];
+    const char *load = NULL;
+    stage->load = k == 0 ? SCENE_LOAD_SCENE : SCENE_LOAD_PREVIOUS;
+    if (app_config_string(&L->p, g, "load", &load) < 0)
+        return -1;
+    if (!load)
+        return 0;
+    app_config_where(&L->p, app_config_member(g, "load"), L->scene->where->stage_load[k],
+                     WHERE_MAX);
+    if (strcmp(load, "previous") == 0) {
+        if (k == 0)
+            return app_config_fail(&L->p, app_config_member(g, "load"),
+                                   "the first stage has no previous stage");
+        stage->load = SCENE_LOAD_PREVIOUS;
+    } else if (strcmp(load, "none") == 0 || strcmp(load, "scene") == 0) {
+        stage->load = SCENE_LOAD_SCENE;
+    } else {
+        stage->load = SCENE_LOAD_FILE;
+        return checkpoint_path(L, g, load, stage);
+    }
+    return 0;
+}
+
+/* settle = { kinetic_below (J); after (s); }: 000 §4.1 stop when E_kin + E_rot < tol */
+static int parse_settle(Loader *L, const config_setting_t *g, SceneStage *stage)
+{
+    static const char *const settle_keys[] = {"kinetic_below", "after", NULL};
+    const config_setting_t *settle;
+    stage->settle_after = 0.2;
+    if (app_config_group(&L->p, g, "settle", &settle) < 0 ||
+        app_config_keys(&L->p, settle, "settle", settle_keys, NULL) < 0)
+        return -1;
+    if (settle && (app_config_need_number(&L->p, settle, "kinetic_below", "settle",
+                                          &stage->settle_kinetic) < 0 ||
+                   app_config_positive(&L->p, settle, "kinetic_below", stage->settle_kinetic) < 0 ||
+                   app_config_number(&L->p, settle, "after", &stage->settle_after) < 0 ||
+                   app_config_non_negative(&L->p, settle, "after", stage->settle_after) < 0))
+        return -1;
+    return 0;
+}
+
+/* remove_ids = [id, ...]: grains removed at the stage start. */
+static int parse_remove_ids(Loader *L, const config_setting_t *g, SceneStage *stage)
+{
+    const config_setting_t *ids = app_config_member(g, "remove_ids");
+    if (!ids)
+        return 0;
+    if (config_setting_type(ids) != CONFIG_TYPE_ARRAY)
+        return app_config_fail(&L->p, ids, "`remove_ids` must be an array of grain ids");
+    int n = config_setting_length(ids);
+    stage->remove_ids = calloc((size_t)(n > 0 ? n : 1), sizeof *stage->remove_ids);
+    if (!stage->remove_ids)
+        return app_config_fail(&L->p, ids, "out of memory");
+    for (int j = 0; j < n; ++j) {
+        const config_setting_t *e = config_setting_get_elem(ids, (unsigned)j);
+        if (config_setting_type(e) != CONFIG_TYPE_INT || config_setting_get_int(e) < 0)
+            return app_config_fail(&L->p, e, "`remove_ids` must list grain ids (integers >= 0)");
+        stage->remove_ids[j] = (uint32_t)config_setting_get_int(e);
+    }
+    stage->remove_count = n;
+    return 0;
+}
+
+/* Stage k from group g (NULL: the single stage of a scene without `stages`). */
+static int parse_stage(Loader *L, const config_setting_t *g, int k, const config_setting_t *time)
+{
+    static const char *const keys[] = {"name",       "load",  "time", "settle",
+                                       "remove_ids", "movie", "skip", NULL};
+    Scene *scene = L->scene;
+    SceneStage *stage = &scene->stages[k];
+    char what[96];
+    snprintf(what, sizeof what, "stage %d", k);
+    const char *name = "run";
+    if (g && (app_config_keys(&L->p, g, what, keys, loader_family_keys(1)) < 0 ||
+              app_config_need(&L->p, g, "name", what) < 0 ||
+              app_config_string(&L->p, g, "name", &name) < 0 ||
+              loader_check_file_name(L, g, "name", name) < 0))
+        return -1;
+    snprintf(stage->name, sizeof stage->name, "%s", name);
+    for (int j = 0; j < k; ++j)
+        if (strcmp(scene->stages[j].name, name) == 0)
+            return app_config_fail(&L->p, app_config_member(g, "name"),
+                                   "stage name `%s` is used twice", name);
+    if (parse_times(L, g, k, time) < 0 || parse_load(L, g, k) < 0 ||
+        parse_settle(L, g, stage) < 0 || parse_remove_ids(L, g, stage) < 0)
+        return -1;
+    stage->movie = -1; /* unset: output.movie decides */
+    if (app_config_bool(&L->p, g, "movie", &stage->movie) < 0 ||
+        app_config_bool(&L->p, g, "skip", &stage->skip) < 0)
+        return -1;
+    return 0;
+}
+
+int loader_parse_stages(Loader *L, const config_setting_t *root)
+{
+    Scene *scene = L->scene;
+    const config_setting_t *time = app_config_member(root, "time");
+    const config_setting_t *list;
+    if (app_config_list(&L->p, root, "stages", &list) < 0)
+        return -1;
+    if (!list) {
+        scene->stage_count = 1;
+        return parse_stage(L, NULL, 0, time);
+    }
+    int count = config_setting_length(list);
+    if (count < 1 || count > SCENE_MAX_STAGES)
+        return app_config_fail(&L->p, list, "`stages` must list 1 to %d stages", SCENE_MAX_STAGES);
+    scene->stage_count = count;
+    for (int k = 0; k < count; ++k)
+        if (parse_stage(L, config_setting_get_elem(list, (unsigned)k), k, time) < 0)
+            return -1;
+    return 0;
+}
