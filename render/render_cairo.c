@@ -167,6 +167,7 @@ typedef struct DrawScene {
     int *arch_order;          /* arch grains sorted by (arch id, x) */
     int arch_count;
     double period;
+    double *heads; /* arrow heads, 6 doubles per arrow (grain arrows or field arrows) */
 } DrawScene;
 
 /* Merge sort (stable, deterministic) with a context argument, which qsort lacks; no global state,
@@ -212,6 +213,7 @@ static void draw_scene_free(DrawScene *sc)
 {
     free(sc->chains);
     free(sc->arch_order);
+    free(sc->heads);
     render_field_free(&sc->field);
 }
 
@@ -278,6 +280,19 @@ static int draw_scene_init(DrawScene *sc, const SimFrame *frame, const RenderSty
                 sc->field_arrow_scale = vmax > 0 ? 0.9 * def.cell / vmax : 0;
             }
         }
+    }
+    /* The drawers return nothing: what they need is allocated here, where failing is reported. */
+    size_t arrows = 0;
+    if (sc->style.velocity_arrows && frame->vx && frame->vy && sc->style.arrow_scale > 0)
+        arrows = (size_t)(frame->count > 0 ? frame->count : 1);
+    if (sc->has_field && sc->field_arrow_scale > 0) {
+        size_t nodes = (size_t)sc->field.nx * (size_t)sc->field.ny;
+        arrows = nodes > arrows ? nodes : arrows;
+    }
+    if (arrows > 0) {
+        sc->heads = malloc(arrows * 6 * sizeof *sc->heads);
+        if (!sc->heads)
+            return -1;
     }
     return 0;
 }
@@ -490,9 +505,7 @@ static void draw_grain_arrows(cairo_t *cr, const DrawScene *sc, const RenderView
     const SimFrame *f = sc->frame;
     if (!sc->style.velocity_arrows || !f->vx || !f->vy || !(sc->style.arrow_scale > 0))
         return;
-    double *heads = malloc((size_t)(f->count > 0 ? f->count : 1) * 6 * sizeof *heads);
-    if (!heads)
-        return;
+    double *heads = sc->heads;
     int n = 0;
     double lw = fmin(2.0, fmax(0.8, 0.08 * sc->view.mean_diameter * v->scale));
     cairo_new_path(cr);
@@ -508,7 +521,6 @@ static void draw_grain_arrows(cairo_t *cr, const DrawScene *sc, const RenderView
         arrow_path(cr, px, py, dx, dy, lw, heads, &n);
     }
     stroke_arrows(cr, heads, n, lw, arrow_rgb, 0);
-    free(heads);
 }
 
 static void draw_field(cairo_t *cr, const DrawScene *sc, const RenderView *v)
@@ -517,9 +529,7 @@ static void draw_field(cairo_t *cr, const DrawScene *sc, const RenderView *v)
     double scale = sc->field_arrow_scale;
     if (!sc->has_field || !(scale > 0))
         return;
-    double *heads = malloc((size_t)fd->nx * (size_t)fd->ny * 6 * sizeof *heads);
-    if (!heads)
-        return;
+    double *heads = sc->heads;
     int n = 0;
     double lw = fmin(2.5, fmax(1.0, 0.1 * sc->view.mean_diameter * v->scale));
     cairo_new_path(cr);
@@ -541,7 +551,6 @@ static void draw_field(cairo_t *cr, const DrawScene *sc, const RenderView *v)
         }
     }
     stroke_arrows(cr, heads, n, lw, field_rgb, 1);
-    free(heads);
 }
 
 static void draw_arches(cairo_t *cr, const DrawScene *sc, const RenderView *v)
