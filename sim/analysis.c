@@ -30,8 +30,12 @@ double sim_world_hexatic_order(SimWorld *w)
     const int n = w->count;
     double *re = calloc((size_t)n + 1, sizeof *re), *im = calloc((size_t)n + 1, sizeof *im);
     int *count = calloc((size_t)n + 1, sizeof *count);
-    if (!re || !im || !count)
-        abort();
+    if (!re || !im || !count) {
+        free(re);
+        free(im);
+        free(count);
+        return NAN;
+    }
     const int periodic = (w->effects & SIM_EFFECT_PERIODIC_X) != 0;
     for (int i = 0; i < w->mobile_count; ++i) {
         for (int k = w->nl.start[i]; k < w->nl.start[i + 1]; ++k) {
@@ -144,7 +148,8 @@ SimEquilibrium sim_world_equilibrium(SimWorld *w, double tolerance)
     /* slip speeds below the kinetic criterion's speed sqrt(tolerance g d) count as static */
     EquilibriumScan scan = {w, calloc((size_t)w->count + 1, sizeof(int)), 0.0, 0,
                             sqrt(tolerance * g * d)};
-    if (!scan.contacts)
+    if (!scan.contacts) /* SimEquilibrium has no error field, and "not in equilibrium" would be a
+                         * wrong answer that a settle loop acts on: stop here */
         abort();
     sim_contacts_visit(w, equilibrium_visit, &scan);
     for (int i = 0; i < w->mobile_count; ++i)

@@ -71,7 +71,8 @@ static void *grow(void *p, size_t n, size_t size)
 {
     void *q = realloc(p, n * size);
     if (!q)
-        abort(); /* builders run at set-up; out of memory there is fatal */
+        abort(); /* the builders return nothing (or an index or count their callers use without
+                  * a check) and run at set-up, before any world: out of memory there is fatal */
     return q;
 }
 
@@ -156,7 +157,7 @@ int sim_build_rain(SimGrainBuffer *b, const SimRainDef *def, SimRng *rng)
     /* Column offsets drawn once; row offsets per row (separate draws, as in the thesis). */
     double *column_offset = malloc((size_t)columns * sizeof *column_offset);
     if (!column_offset)
-        abort();
+        abort(); /* as in grow(): a builder has no error return */
     const double jitter_room_x = fmax(0.0, 0.5 * (pitch_x - 2.0 * r_hi)); /* never overlap */
     for (int c = 0; c < columns; ++c)
         column_offset[c] = (2.0 * sim_rng_uniform(rng) - 1.0) *

@@ -25,7 +25,8 @@ static void sum_visit(void *context, const SimContact *c, double energy)
     if (w->contact_count >= w->contact_capacity) {
         int cap = w->contact_capacity ? 2 * w->contact_capacity : 1024;
         SimContact *p = realloc(w->contacts, (size_t)cap * sizeof *p);
-        if (!p)
+        if (!p) /* sim_world_frame has no error return, and a frame short of contacts would be
+                 * drawn and analysed as if complete: stop here */
             abort();
         w->contacts = p;
         w->contact_capacity = cap;
@@ -123,7 +124,7 @@ double sim_world_coordination(SimWorld *w)
         return 0.0;
     int *count = calloc((size_t)w->count + 1, sizeof *count);
     if (!count)
-        abort();
+        return NAN;
     sim_contacts_visit(w, coordination_visit, count);
     long sum = 0;
     for (int i = 0; i < w->mobile_count; ++i)
@@ -275,7 +276,8 @@ uint64_t sim_world_hash(const SimWorld *w)
 {
     uint64_t h = 1469598103934665603ull;
     IdIndex *order = malloc((size_t)(w->count > 0 ? w->count : 1) * sizeof *order);
-    if (!order)
+    if (!order) /* every uint64_t is a valid hash: no value can say "failed", and a wrong one
+                 * would pass or fail a determinism check falsely: stop here */
         abort();
     for (int i = 0; i < w->count; ++i)
         order[i] = (IdIndex){w->id[i], i};

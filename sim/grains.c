@@ -5,11 +5,21 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Grows the grain arrays, and the per-grain arrays of the neighbour build (list starts, cells), to
+ * `capacity` grains, so that a build inside a step has only the lists themselves to grow. */
 int sim_grains_reserve(SimWorld *world, int capacity)
 {
     if (capacity <= world->capacity)
         return 0;
     size_t n = (size_t)capacity;
+    {
+        size_t old = world->nl.start ? (size_t)world->capacity + 1 : 0;
+        int *p = realloc(world->nl.start, (n + 1) * sizeof *p);
+        if (!p)
+            return -1;
+        memset(p + old, 0, (n + 1 - old) * sizeof *p); /* an empty list until the first build */
+        world->nl.start = p;
+    }
 #define GROW(name)                                                                                 \
     {                                                                                              \
         void *p = realloc(world->name, n * sizeof *world->name);                                   \
@@ -25,19 +35,22 @@ int sim_grains_reserve(SimWorld *world, int capacity)
     GROW(id)
     for (int k = 0; k < world->scratch_count; ++k)
         GROW(scratch[k])
+    GROW(cell_items)
+    GROW(cell_of)
 #undef GROW
     world->capacity = capacity;
     return 0;
 }
 
 /* Reorders the first `count` grains so that new index k holds old index order[k]. Grains beyond
- * `count` are dropped (used for removal as well as sorting). */
-void sim_grains_permute(SimWorld *world, const int *order, int count)
+ * `count` are dropped (used for removal as well as sorting). -1 when out of memory, with the
+ * grains as they were. */
+int sim_grains_permute(SimWorld *world, const int *order, int count)
 {
     size_t bytes = (size_t)(world->capacity > 0 ? world->capacity : 1) * sizeof(double);
     void *buffer = malloc(bytes);
     if (!buffer)
-        abort(); /* out of memory while permuting: nothing sensible to continue with */
+        return -1;
 #define PERMUTE_AS(type, name)                                                                     \
     {                                                                                              \
         type *tmp = buffer;                                                                        \
@@ -55,6 +68,7 @@ void sim_grains_permute(SimWorld *world, const int *order, int count)
         PERMUTE_DOUBLE(scratch[a])
 #undef PERMUTE_AS
     free(buffer);
+    return 0;
 }
 
 void sim_grains_free(SimWorld *world)

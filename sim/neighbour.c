@@ -47,49 +47,56 @@ static const HistoryRecord *record_find(const HistoryRecord *records, int count,
     return NULL;
 }
 
-static void *grow(void *p, size_t count, size_t size)
-{
-    void *q = realloc(p, (count ? count : 1) * size);
-    if (!q)
-        abort(); /* out of memory in the neighbour list: no way to continue the run */
-    return q;
-}
+/* Out of memory the build cannot return an error (it runs inside a step): the growers below
+ * leave the array as it was, record the failure (world->out_of_memory, which sim_world_step
+ * reports) and the build ends with empty lists. */
+#define GROW(array, count)                                                                         \
+    do {                                                                                           \
+        void *grown_ = realloc(array, ((count) > 0 ? (count) : 1) * sizeof *(array));              \
+        if (!grown_) {                                                                             \
+            sim_world_out_of_memory(world, "the neighbour list");                                  \
+            return -1;                                                                             \
+        }                                                                                          \
+        (array) = grown_;                                                                          \
+    } while (0)
 
-static void list_reserve(SimWorld *world, int capacity)
+static int list_reserve(SimWorld *world, int capacity)
 {
     NeighbourList *nl = &world->nl;
     if (capacity <= nl->capacity)
-        return;
+        return 0;
     size_t n = (size_t)capacity;
-    nl->j = grow(nl->j, n, sizeof *nl->j);
-    nl->gamma = grow(nl->gamma, n, sizeof *nl->gamma);
-    nl->pair = grow(nl->pair, n, sizeof *nl->pair);
-    nl->owner = grow(nl->owner, n, sizeof *nl->owner);
-    nl->out = grow(nl->out, 4 * n, sizeof *nl->out);
+    GROW(nl->j, n);
+    GROW(nl->gamma, n);
+    GROW(nl->pair, n);
+    GROW(nl->owner, n);
+    GROW(nl->out, 4 * n);
     if (world->effects & SIM_EFFECT_PERIODIC_X)
-        nl->shift = grow(nl->shift, n, sizeof *nl->shift);
+        GROW(nl->shift, n);
     if (world->has_history) {
-        nl->hist_t = grow(nl->hist_t, n, sizeof *nl->hist_t);
-        nl->hist_r = grow(nl->hist_r, n, sizeof *nl->hist_r);
+        GROW(nl->hist_t, n);
+        GROW(nl->hist_r, n);
     }
     nl->capacity = capacity;
+    return 0;
 }
 
-static void wall_list_reserve(SimWorld *world, int capacity)
+static int wall_list_reserve(SimWorld *world, int capacity)
 {
     WallList *wl = &world->wl;
     if (capacity <= wl->capacity)
-        return;
+        return 0;
     size_t n = (size_t)capacity;
-    wl->grain = grow(wl->grain, n, sizeof *wl->grain);
-    wl->wall = grow(wl->wall, n, sizeof *wl->wall);
-    wl->gamma = grow(wl->gamma, n, sizeof *wl->gamma);
-    wl->pair = grow(wl->pair, n, sizeof *wl->pair);
+    GROW(wl->grain, n);
+    GROW(wl->wall, n);
+    GROW(wl->gamma, n);
+    GROW(wl->pair, n);
     if (world->has_history) {
-        wl->hist_t = grow(wl->hist_t, n, sizeof *wl->hist_t);
-        wl->hist_r = grow(wl->hist_r, n, sizeof *wl->hist_r);
+        GROW(wl->hist_t, n);
+        GROW(wl->hist_r, n);
     }
     wl->capacity = capacity;
+    return 0;
 }
 
 void sim_neighbour_free(SimWorld *world)
@@ -169,7 +176,7 @@ static int cell_index(double t, int n)
 
 /* Grid over the grains; periodic x uses the domain. Cells are at least 2 r_max + skin wide, and
  * the cell count is capped so that a stray grain far away cannot make the grid huge. */
-static void grid_setup(SimWorld *world)
+static int grid_setup(SimWorld *world)
 {
     const int n = world->count;
     const int periodic = (world->effects & SIM_EFFECT_PERIODIC_X) != 0;
@@ -214,9 +221,10 @@ static void grid_setup(SimWorld *world)
     world->cell_h = cell;
     int cells = world->ncx * world->ncy;
     if (cells + 1 > world->cell_capacity) {
-        world->cell_start = grow(world->cell_start, (size_t)cells + 1, sizeof(int));
+        GROW(world->cell_start, (size_t)cells + 1);
         world->cell_capacity = cells + 1;
     }
+    return 0;
 }
 
 static void grid_fill(SimWorld *world)
@@ -243,12 +251,14 @@ static void grid_fill(SimWorld *world)
 }
 
 /* Mobile grains in cell order, then fixed grains in cell order. */
-static void spatial_sort(SimWorld *world)
+static int spatial_sort(SimWorld *world)
 {
     const int n = world->count, mobile = world->mobile_count;
     int *order = malloc((size_t)(n > 0 ? n : 1) * sizeof *order);
-    if (!order)
-        abort();
+    if (!order) {
+        sim_world_out_of_memory(world, "sorting the grains");
+        return -1;
+    }
     int m = 0, f = mobile;
     for (int k = 0; k < n; ++k) {
         int i = world->cell_items[k];
@@ -257,23 +267,33 @@ static void spatial_sort(SimWorld *world)
         else
             order[f++] = i;
     }
-    sim_grains_permute(world, order, n);
+    int rc = sim_grains_permute(world, order, n);
     free(order);
+    if (rc != 0)
+        sim_world_out_of_memory(world, "sorting the grains");
+    return rc;
 }
 
+/* The history of the current lists by ids, sorted: pair records returned, wall records in *walls
+ * (both malloc'd; NULL when there is none). -1 in *status when out of memory. */
 static HistoryRecord *collect_history(const SimWorld *world, int *count, HistoryRecord **walls,
-                                      int *wall_count)
+                                      int *wall_count, int *status)
 {
     *count = *wall_count = 0;
     *walls = NULL;
+    *status = 0;
     if (!world->has_history || !world->nl.start || world->drop_history)
         return NULL;
     const NeighbourList *nl = &world->nl;
     int total = nl->start[world->mobile_count];
     HistoryRecord *records = malloc((size_t)(total > 0 ? total : 1) * sizeof *records);
     HistoryRecord *wr = malloc((size_t)(world->wl.count > 0 ? world->wl.count : 1) * sizeof *wr);
-    if (!records || !wr)
-        abort();
+    if (!records || !wr) {
+        free(records);
+        free(wr);
+        *status = -1;
+        return NULL;
+    }
     int c = 0;
     for (int i = 0; i < world->mobile_count; ++i) {
         for (int k = nl->start[i]; k < nl->start[i + 1]; ++k) {
@@ -303,7 +323,7 @@ static HistoryRecord *collect_history(const SimWorld *world, int *count, History
     return records;
 }
 
-static void build_pairs(SimWorld *world, const HistoryRecord *records, int record_count)
+static int build_pairs(SimWorld *world, const HistoryRecord *records, int record_count)
 {
     const int mobile = world->mobile_count;
     const int periodic = (world->effects & SIM_EFFECT_PERIODIC_X) != 0;
@@ -314,9 +334,9 @@ static void build_pairs(SimWorld *world, const HistoryRecord *records, int recor
     const double reach = world->skin_auto ? world->skin_max : skin;
     long wide = 0, touching = 0;
     NeighbourList *nl = &world->nl;
-    nl->start = grow(nl->start, (size_t)mobile + 1, sizeof *nl->start);
-    if (nl->capacity < 4 * mobile + 16)
-        list_reserve(world, 4 * mobile + 16);
+    /* nl->start holds capacity + 1 entries (sim_grains_reserve) */
+    if (nl->capacity < 4 * mobile + 16 && list_reserve(world, 4 * mobile + 16) != 0)
+        return -1;
     int k = 0;
     for (int i = 0; i < mobile; ++i) {
         nl->start[i] = k;
@@ -352,8 +372,8 @@ static void build_pairs(SimWorld *world, const HistoryRecord *records, int recor
                     double cut = rs + skin;
                     if (d2 >= cut * cut)
                         continue;
-                    if (k >= nl->capacity)
-                        list_reserve(world, 2 * nl->capacity);
+                    if (k >= nl->capacity && list_reserve(world, 2 * nl->capacity) != 0)
+                        return -1;
                     int si = world->species[i], sj = world->species[j];
                     nl->j[k] = j;
                     nl->owner[k] = i;
@@ -379,6 +399,7 @@ static void build_pairs(SimWorld *world, const HistoryRecord *records, int recor
     if (world->skin_auto)
         world->skin_density =
             mobile > 0 && reach > 0.0 ? (double)(wide - touching) / ((double)mobile * reach) : 0.0;
+    return 0;
 }
 
 static double segment_distance2(const SimWall *w, double px, double py)
@@ -391,19 +412,19 @@ static double segment_distance2(const SimWall *w, double px, double py)
     return dx * dx + dy * dy;
 }
 
-static void build_walls(SimWorld *world, const HistoryRecord *records, int record_count)
+static int build_walls(SimWorld *world, const HistoryRecord *records, int record_count)
 {
     WallList *wl = &world->wl;
     wl->count = 0;
     if (world->wall_count == 0)
-        return;
+        return 0;
     for (int i = 0; i < world->mobile_count; ++i) {
         double cut = world->radius[i] + world->skin;
         for (int w = 0; w < world->wall_count; ++w) {
             if (segment_distance2(&world->walls[w], world->x[i], world->y[i]) >= cut * cut)
                 continue;
-            if (wl->count >= wl->capacity)
-                wall_list_reserve(world, 2 * wl->capacity + 64);
+            if (wl->count >= wl->capacity && wall_list_reserve(world, 2 * wl->capacity + 64) != 0)
+                return -1;
             int k = wl->count++;
             int sw = world->walls[w].species;
             wl->grain[k] = i;
@@ -419,28 +440,36 @@ static void build_walls(SimWorld *world, const HistoryRecord *records, int recor
             }
         }
     }
+    return 0;
 }
 
-/* History records of the current lists (for checkpoints): `*records` and `*walls` are malloc'd. */
-void sim_neighbour_history(const SimWorld *world, void **records, int *count, void **walls,
-                           int *wall_count)
+/* History records of the current lists (for checkpoints): `*records` and `*walls` are malloc'd.
+ * -1 when out of memory. */
+int sim_neighbour_history(const SimWorld *world, void **records, int *count, void **walls,
+                          int *wall_count)
 {
     HistoryRecord *w = NULL;
-    *records = collect_history(world, count, &w, wall_count);
+    int status;
+    *records = collect_history(world, count, &w, wall_count, &status);
     *walls = w;
+    return status;
 }
 
 /* Installs saved records (arrays of {uint64 key, double t, double r}) for the next build. */
-void sim_neighbour_stash_records(SimWorld *world, const void *records, int count, const void *walls,
-                                 int wall_count)
+int sim_neighbour_stash_records(SimWorld *world, const void *records, int count, const void *walls,
+                                int wall_count)
 {
     struct HistoryStash *s = calloc(1, sizeof *s);
     if (!s)
-        abort();
+        return -1;
     s->records = malloc((size_t)(count > 0 ? count : 1) * sizeof *s->records);
     s->walls = malloc((size_t)(wall_count > 0 ? wall_count : 1) * sizeof *s->walls);
-    if (!s->records || !s->walls)
-        abort();
+    if (!s->records || !s->walls) {
+        free(s->records);
+        free(s->walls);
+        free(s);
+        return -1;
+    }
     memcpy(s->records, records, (size_t)count * sizeof *s->records);
     memcpy(s->walls, walls, (size_t)wall_count * sizeof *s->walls);
     s->count = count;
@@ -453,20 +482,27 @@ void sim_neighbour_stash_records(SimWorld *world, const void *records, int count
         free(world->stash);
     }
     world->stash = s;
+    return 0;
 }
 
-void sim_neighbour_stash_history(SimWorld *world)
+int sim_neighbour_stash_history(SimWorld *world)
 {
     struct HistoryStash *s = calloc(1, sizeof *s);
     if (!s)
-        abort();
-    s->records = collect_history(world, &s->count, &s->walls, &s->wall_count);
+        return -1;
+    int status;
+    s->records = collect_history(world, &s->count, &s->walls, &s->wall_count, &status);
+    if (status != 0) {
+        free(s);
+        return -1;
+    }
     if (world->stash) { /* an older stash is superseded */
         free(world->stash->records);
         free(world->stash->walls);
         free(world->stash);
     }
     world->stash = s;
+    return 0;
 }
 
 void sim_neighbour_build(SimWorld *world)
@@ -481,10 +517,13 @@ void sim_neighbour_build(SimWorld *world)
         free(world->stash);
         world->stash = NULL;
     } else {
-        records = collect_history(world, &record_count, &wall_records, &wall_record_count);
+        int status;
+        records = collect_history(world, &record_count, &wall_records, &wall_record_count, &status);
+        if (status != 0)
+            sim_world_out_of_memory(world, "collecting the contact history");
     }
     world->drop_history = 0;
-    sim_world_compact(world);
+    int failed = world->out_of_memory != NULL || sim_world_compact(world) != 0;
 
     if (world->effects & SIM_EFFECT_PERIODIC_X) { /* wrap mobile grains into [x0, x1) */
         const double x0 = world->def.domain_x0, span = world->def.domain_x1 - x0;
@@ -499,18 +538,24 @@ void sim_neighbour_build(SimWorld *world)
         }
     }
 
-    size_t n = (size_t)(world->count > 0 ? world->count : 1);
-    world->cell_items = grow(world->cell_items, n, sizeof(int));
-    world->cell_of = grow(world->cell_of, n, sizeof(int));
-    grid_setup(world);
-    grid_fill(world);
-    spatial_sort(world);
-    grid_fill(world); /* same cells, new indices */
-
-    build_pairs(world, records, record_count);
-    build_walls(world, wall_records, wall_record_count);
+    /* cell_items and cell_of hold capacity entries (sim_grains_reserve) */
+    failed = failed || grid_setup(world) != 0;
+    if (!failed) {
+        grid_fill(world);
+        failed = spatial_sort(world) != 0;
+    }
+    if (!failed) {
+        grid_fill(world); /* same cells, new indices */
+        failed = build_pairs(world, records, record_count) != 0 ||
+                 build_walls(world, wall_records, wall_record_count) != 0;
+    }
     free(records);
     free(wall_records);
+    if (failed) { /* empty lists: every reader stays in bounds; the step reports the failure */
+        memset(world->nl.start, 0, (size_t)(world->mobile_count + 1) * sizeof *world->nl.start);
+        world->wl.count = 0;
+        sim_world_out_of_memory(world, "the neighbour build");
+    }
 
     memcpy(world->x_ref, world->x, (size_t)world->count * sizeof(double));
     memcpy(world->y_ref, world->y, (size_t)world->count * sizeof(double));
@@ -520,7 +565,8 @@ void sim_neighbour_build(SimWorld *world)
 }
 
 /* Largest overlap ratio xi / d_min between two grains of a definition (set-up check), found with
- * the same cell grid as the neighbour build. Coincident centres count as infinite overlap. */
+ * the same cell grid as the neighbour build. Coincident centres count as infinite overlap; NAN
+ * when out of memory. */
 double sim_def_worst_overlap(const SimWorldDef *def, int *first, int *second)
 {
     const SimGrainSet *g = &def->grains;
@@ -534,10 +580,17 @@ double sim_def_worst_overlap(const SimWorldDef *def, int *first, int *second)
     t.effects = def->effects & SIM_EFFECT_PERIODIC_X;
     t.def.domain_x0 = def->domain_x0;
     t.def.domain_x1 = def->domain_x1;
-    t.x = grow(NULL, n, sizeof(double));
-    t.y = grow(NULL, n, sizeof(double));
-    t.cell_items = grow(NULL, n, sizeof(int));
-    t.cell_of = grow(NULL, n, sizeof(int));
+    t.x = malloc(n * sizeof(double));
+    t.y = malloc(n * sizeof(double));
+    t.cell_items = malloc(n * sizeof(int));
+    t.cell_of = malloc(n * sizeof(int));
+    if (!t.x || !t.y || !t.cell_items || !t.cell_of) {
+        free(t.x);
+        free(t.y);
+        free(t.cell_items);
+        free(t.cell_of);
+        return NAN;
+    }
     double r_max = 0.0;
     for (int i = 0; i < g->count; ++i) {
         t.x[i] = g->x[i];
@@ -550,7 +603,14 @@ double sim_def_worst_overlap(const SimWorldDef *def, int *first, int *second)
             t.x[i] = t.x[i] - span * floor((t.x[i] - x0) / span);
     }
     t.cell_size = 2.0 * r_max;
-    grid_setup(&t);
+    if (grid_setup(&t) != 0) {
+        free(t.x);
+        free(t.y);
+        free(t.cell_items);
+        free(t.cell_of);
+        free(t.cell_start);
+        return NAN;
+    }
     grid_fill(&t);
     const double span = def->domain_x1 - def->domain_x0;
     double worst = 0.0;

@@ -230,6 +230,7 @@ typedef enum SimStatus {
     SIM_ERROR_INVALID = 2,  ///< bad definition (maps to exit status 2)
     SIM_ERROR_UNSTABLE = 1, ///< NaN, overlap beyond bound, blow-up (exit status 1)
     SIM_ERROR_IO = 3,       ///< file could not be read or written
+    SIM_ERROR_MEMORY = 4,   ///< out of memory (docs/dev/errors.md; maps to exit status 2)
 } SimStatus;
 
 /// Error report: field is a dotted path into SimWorldDef ("time_step", "materials[1].restitution",
@@ -263,7 +264,9 @@ SimWorld *sim_world_create(const SimWorldDef *def, SimError *error);
 void sim_world_destroy(SimWorld *world);
 
 /// Advance by `steps` time steps. Returns SIM_OK or SIM_ERROR_UNSTABLE (error filled; the world is
-/// rolled back to the last good guard check, so saving it then saves the last good state).
+/// rolled back to the last good guard check, so saving it then saves the last good state), or
+/// SIM_ERROR_MEMORY when memory ran out in the step or in an edit before it (neighbour lists,
+/// removal, sorting): that world cannot continue and is only fit for sim_world_destroy.
 SimStatus sim_world_step(SimWorld *world, long steps, SimError *error);
 
 double sim_world_time(const SimWorld *world); ///< s
@@ -336,7 +339,8 @@ typedef struct SimEnergy {
 } SimEnergy;
 
 SimEnergy sim_world_energy(SimWorld *world);
-/// Mean coordination number of mobile grains (contacts per grain, wall contacts included).
+/// Mean coordination number of mobile grains (contacts per grain, wall contacts included); NAN
+/// when out of memory.
 double sim_world_coordination(SimWorld *world);
 /// Packing fraction (area of disks in the region / area of the region), disks clipped exactly.
 double sim_world_packing_fraction(const SimWorld *world, double x0, double y0, double x1,
@@ -362,7 +366,8 @@ uint64_t sim_world_hash(const SimWorld *world);
 void sim_world_surface_profile(const SimWorld *world, double x0, double x1, int bins,
                                double *heights);
 /// Mean local hexatic order |psi_6| of mobile grains with at least two neighbours closer than
-/// 1.1 (r_i + r_j); about 1 for a triangular crystal, about 0.4-0.6 for a random packing.
+/// 1.1 (r_i + r_j); about 1 for a triangular crystal, about 0.4-0.6 for a random packing; NAN
+/// when out of memory.
 double sim_world_hexatic_order(SimWorld *world);
 
 /// Static-equilibrium test of thesis 004 §3.1 (all criteria must hold).

@@ -24,6 +24,15 @@ static SimStatus io_fail(SimError *error, const char *path, const char *what)
     return SIM_ERROR_IO;
 }
 
+static SimStatus memory_fail(SimError *error, const char *path, const char *what)
+{
+    errno = 0;
+    io_fail(error, path, what);
+    if (error)
+        error->status = SIM_ERROR_MEMORY;
+    return SIM_ERROR_MEMORY;
+}
+
 typedef struct StateHeader {
     char magic[16];
     int32_t count, mobile_count, wall_count, reserved;
@@ -37,6 +46,8 @@ SimStatus sim_world_save(SimWorld *w, const char *path, SimError *error)
     char tmp[4096];
     if (snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp)
         return io_fail(error, path, "path too long");
+    if (w->out_of_memory) /* its lists are empty: the contact history is lost */
+        return memory_fail(error, path, "the world ran out of memory; its state is incomplete");
     errno = 0;
     FILE *f = fopen(tmp, "wb");
     if (!f)
@@ -74,7 +85,11 @@ SimStatus sim_world_save(SimWorld *w, const char *path, SimError *error)
     void *records = NULL, *walls = NULL;
     int32_t counts[2] = {0, 0};
     int rc = 0, wc = 0;
-    sim_neighbour_history(w, &records, &rc, &walls, &wc);
+    if (sim_neighbour_history(w, &records, &rc, &walls, &wc) != 0) {
+        fclose(f);
+        remove(tmp);
+        return memory_fail(error, tmp, "out of memory collecting the contact history");
+    }
     counts[0] = rc;
     counts[1] = wc;
     ok = ok && fwrite(counts, sizeof counts, 1, f) == 1;
@@ -217,12 +232,17 @@ SimStatus sim_world_restore_contacts(SimWorld *w, const char *path, SimError *er
     }
     for (int s = 0; s < SIM_MAX_SINKS; ++s)
         w->removed[s] = h.removed[s];
-    if (w->has_history) {
-        sim_neighbour_stash_records(w, records, counts[0], walls, counts[1]);
-        sim_world_rebuild_now(w);
-    }
+    int stashed = !w->has_history ||
+                  sim_neighbour_stash_records(w, records, counts[0], walls, counts[1]) == 0;
     free(records);
     free(walls);
+    if (!stashed)
+        return memory_fail(error, path, "out of memory installing the contact history");
+    if (w->has_history) {
+        sim_world_rebuild_now(w);
+        if (w->out_of_memory)
+            return memory_fail(error, path, "out of memory rebuilding the lists");
+    }
     return SIM_OK;
 }
 

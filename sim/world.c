@@ -412,6 +412,8 @@ SimStatus sim_world_def_validate(const SimWorldDef *def, SimError *error)
         return s;
     int a, b;
     double worst = sim_def_worst_overlap(def, &a, &b);
+    if (isnan(worst))
+        return fail(error, SIM_ERROR_MEMORY, "grains", "out of memory checking the overlaps");
     if (worst > def->max_initial_overlap) {
         char f[64];
         snprintf(f, sizeof f, "grains[%d]", a);
@@ -722,7 +724,7 @@ SimWorld *sim_world_create(const SimWorldDef *def, SimError *error)
         return NULL;
     SimWorld *w = calloc(1, sizeof *w);
     if (!w) {
-        fail(error, SIM_ERROR_INVALID, "", "out of memory");
+        fail(error, SIM_ERROR_MEMORY, "", "out of memory creating the world");
         return NULL;
     }
     w->def = *def;
@@ -744,7 +746,7 @@ SimWorld *sim_world_create(const SimWorldDef *def, SimError *error)
 
     if (load_grains(w, &def->grains) != 0) {
         sim_world_destroy(w);
-        fail(error, SIM_ERROR_INVALID, "", "out of memory");
+        fail(error, SIM_ERROR_MEMORY, "", "out of memory creating the world");
         return NULL;
     }
     w->wall_count = def->wall_count;
@@ -758,7 +760,7 @@ SimWorld *sim_world_create(const SimWorldDef *def, SimError *error)
     if (!w->walls_base || !w->walls || !w->wall_vx || !w->wall_vy || !w->wall_ref_dx ||
         !w->wall_ref_dy) {
         sim_world_destroy(w);
-        fail(error, SIM_ERROR_INVALID, "", "out of memory");
+        fail(error, SIM_ERROR_MEMORY, "", "out of memory creating the world");
         return NULL;
     }
     if (def->wall_count > 0) {
@@ -783,6 +785,12 @@ SimWorld *sim_world_create(const SimWorldDef *def, SimError *error)
     w->jump_grain = -1;
     rebuild(w);
     reevaluate_forces(w); /* no time has passed: no contact-history increment */
+    if (w->out_of_memory) {
+        fail(error, SIM_ERROR_MEMORY, "", "out of memory in %s creating the world",
+             w->out_of_memory);
+        sim_world_destroy(w);
+        return NULL;
+    }
     sim_integrator_start(w);
     setup_guard(w);
     guard_snapshot(w);
@@ -803,6 +811,8 @@ void sim_world_destroy(SimWorld *w)
     free(w->wall_ref_dy);
     free(w->good.data);
     free(w->good.ints);
+    free(w->good.flags);
+    free(w->good.ids);
     free(w->contacts);
     free(w);
 }
@@ -827,14 +837,16 @@ static int in_sink(const SimSink *s, double x, double y)
 }
 
 /* Drops flagged grains (keeping order) after contact history was collected; called from the
- * neighbour build. */
-void sim_world_compact(SimWorld *w)
+ * neighbour build, which ends with empty lists when this fails. */
+int sim_world_compact(SimWorld *w)
 {
     if (!w->pending_removal)
-        return;
+        return 0;
     int *order = malloc((size_t)(w->count > 0 ? w->count : 1) * sizeof *order);
-    if (!order)
-        abort();
+    if (!order) {
+        sim_world_out_of_memory(w, "removing grains");
+        return -1;
+    }
     int k = 0, mobile = 0;
     for (int i = 0; i < w->count; ++i)
         if (!(w->flags[i] & SIM_GRAIN_REMOVED)) {
@@ -842,11 +854,16 @@ void sim_world_compact(SimWorld *w)
             if (i < w->mobile_count)
                 ++mobile;
         }
-    sim_grains_permute(w, order, k);
+    int rc = sim_grains_permute(w, order, k);
     free(order);
+    if (rc != 0) {
+        sim_world_out_of_memory(w, "removing grains");
+        return -1;
+    }
     w->count = k;
     w->mobile_count = mobile;
     w->pending_removal = 0;
+    return 0;
 }
 
 /* Flags grains for removal, then rebuilds (history is collected before compaction) and
@@ -954,7 +971,7 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
             }
     int old = w->count, old_mobile = w->mobile_count;
     if (sim_grains_reserve(w, old + g->count + 1) != 0)
-        return fail(error, SIM_ERROR_INVALID, "grains", "out of memory");
+        return fail(error, SIM_ERROR_MEMORY, "grains", "out of memory adding %d grains", g->count);
     /* Write the newcomers after the grains in place, then reorder. */
     for (int k = 0; k < g->count; ++k) {
         int i = old + k, fixed = g->flags && (g->flags[k] & SIM_GRAIN_FIXED);
@@ -983,8 +1000,8 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
     }
     /* Mobile grains first: old mobile, new mobile, old fixed, new fixed. */
     int total = old + g->count, *order = malloc((size_t)total * sizeof *order), n = 0;
-    if (!order)
-        abort();
+    if (!order) /* nothing changed yet: the newcomers lie beyond count */
+        return fail(error, SIM_ERROR_MEMORY, "grains", "out of memory adding %d grains", g->count);
     for (int i = 0; i < old_mobile; ++i)
         order[n++] = i;
     for (int i = old; i < total; ++i)
@@ -997,8 +1014,10 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
         if (w->flags[i] & SIM_GRAIN_FIXED)
             order[n++] = i;
     /* Contact history is keyed by ids: stash it before the indices move. */
-    sim_neighbour_stash_history(w);
-    sim_grains_permute(w, order, total);
+    if (sim_neighbour_stash_history(w) != 0 || sim_grains_permute(w, order, total) != 0) {
+        free(order); /* the world as it was (a stash, if made, holds the same history by ids) */
+        return fail(error, SIM_ERROR_MEMORY, "grains", "out of memory adding %d grains", g->count);
+    }
     free(order);
     w->count = total;
     w->mobile_count = mobile;
@@ -1013,6 +1032,9 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
     w->cell_size = 2.0 * w->max_radius + w->skin_max;
     rebuild(w);
     reevaluate_forces(w);
+    if (w->out_of_memory)
+        return fail(error, SIM_ERROR_MEMORY, "grains", "out of memory in %s after adding grains",
+                    w->out_of_memory);
     return SIM_OK;
 }
 
@@ -1030,24 +1052,26 @@ static void guard_snapshot(SimWorld *w)
 {
     size_t n = (size_t)(w->count > 0 ? w->count : 1);
     double *d = realloc(w->good.data, 7 * n * sizeof *d);
-    int *q = realloc(w->good.ints, 4 * n * sizeof *q);
-    if (!d || !q) {
-        w->good.data = d ? d : w->good.data;
-        w->good.ints = q ? q : w->good.ints;
+    w->good.data = d ? d : w->good.data;
+    int *q = realloc(w->good.ints, 2 * n * sizeof *q);
+    w->good.ints = q ? q : w->good.ints;
+    unsigned *flags = realloc(w->good.flags, n * sizeof *flags);
+    w->good.flags = flags ? flags : w->good.flags;
+    uint32_t *ids = realloc(w->good.ids, n * sizeof *ids);
+    w->good.ids = ids ? ids : w->good.ids;
+    if (!d || !q || !flags || !ids) { /* no snapshot: a failing guard then cannot roll back */
         w->good.valid = 0;
         return;
     }
-    w->good.data = d;
-    w->good.ints = q;
     const double *src[7] = {w->x, w->y, w->vx, w->vy, w->angle, w->omega, w->radius};
     for (int a = 0; a < 7; ++a)
         memcpy(d + (size_t)a * n, src[a], (size_t)w->count * sizeof *d);
     for (int i = 0; i < w->count; ++i) {
         q[i] = w->species[i];
         q[n + (size_t)i] = w->motion[i];
-        q[2 * n + (size_t)i] = (int)w->flags[i];
-        q[3 * n + (size_t)i] = (int)w->id[i];
     }
+    memcpy(flags, w->flags, (size_t)w->count * sizeof *flags);
+    memcpy(ids, w->id, (size_t)w->count * sizeof *ids);
     w->good.count = w->count;
     w->good.mobile_count = w->mobile_count;
     w->good.time = w->time;
@@ -1063,14 +1087,6 @@ static void guard_restore(SimWorld *w)
     size_t n = (size_t)(w->good.count > 0 ? w->good.count : 1);
     const double *d = w->good.data;
     const int *q = w->good.ints;
-    unsigned *flags = malloc(n * sizeof *flags);
-    uint32_t *ids = malloc(n * sizeof *ids);
-    if (!flags || !ids)
-        abort();
-    for (size_t i = 0; i < (size_t)w->good.count; ++i) {
-        flags[i] = (unsigned)q[2 * n + i];
-        ids[i] = (uint32_t)q[3 * n + i];
-    }
     SimGrainSet g = {.count = w->good.count,
                      .x = d,
                      .y = d + n,
@@ -1081,12 +1097,11 @@ static void guard_restore(SimWorld *w)
                      .radius = d + 6 * n,
                      .species = q,
                      .motion = q + n,
-                     .flags = flags,
-                     .id = ids};
-    /* load_grains writes the world's arrays from the snapshot (separate storage). */
+                     .flags = w->good.flags,
+                     .id = w->good.ids};
+    /* load_grains writes the world's arrays from the snapshot (separate storage); the capacity
+     * holds the snapshot's grains already, so it cannot fail. */
     load_grains(w, &g);
-    free(flags);
-    free(ids);
     w->time = w->good.time;
     w->step = w->good.step;
     w->need_rebuild = 1;
@@ -1178,11 +1193,24 @@ static SimStatus jump_failure(SimWorld *w, SimError *error)
     return SIM_ERROR_UNSTABLE;
 }
 
+/* A pass inside a step or an edit ran out of memory (world->out_of_memory): the lists are empty,
+ * so the state no longer follows the physics. Sticky: every later step reports it too. */
+static SimStatus memory_failure(SimWorld *w, SimError *error)
+{
+    sim_integrator_finish(w);
+    fail(error, SIM_ERROR_MEMORY, "", "step %ld: out of memory in %s; the run cannot continue",
+         w->step, w->out_of_memory);
+    error->step = w->step;
+    return SIM_ERROR_MEMORY;
+}
+
 SimStatus sim_world_step(SimWorld *w, long steps, SimError *error)
 {
     SimError local;
     if (!error)
         error = &local;
+    if (w->out_of_memory && steps > 0)
+        return memory_failure(w, error);
     for (long s = 0; s < steps; ++s) {
         /* Nothing looks at the velocities between two steps of this loop unless the guard is
          * due: the closing kick can wait for the next step's opening loop. */
@@ -1190,6 +1218,8 @@ SimStatus sim_world_step(SimWorld *w, long steps, SimError *error)
         w->integrate(w);
         ++w->step;
         w->time = w->def.start_time + (double)w->step * w->dt;
+        if (w->out_of_memory)
+            return memory_failure(w, error);
         if (w->jump_grain >= 0) {
             sim_integrator_finish(w);
             jump_failure(w, error);

@@ -97,6 +97,10 @@ struct SimWorld {
     int pending_removal; /* grains flagged SIM_GRAIN_REMOVED wait for the next build */
     int drop_history;    /* the list refers to a state that was replaced: carry nothing over */
     int jump_grain;      /* index of a grain that moved over half its radius in a step, or -1 */
+    /* What ran out of memory in a pass that cannot return an error (neighbour build, removal,
+     * sorting), or NULL. Sticky: sim_world_step reports it as SIM_ERROR_MEMORY from then on; the
+     * lists are left empty, so every reader stays in bounds (docs/dev/errors.md). */
+    const char *out_of_memory;
     struct HistoryStash
         *stash; /* history collected before a reorder (sim_neighbour_stash_history) */
 
@@ -147,8 +151,10 @@ struct SimWorld {
         int valid, count, mobile_count;
         double time;
         long step;
-        double *data; /* x, y, vx, vy, angle, omega, radius per grain */
-        int *ints;    /* species, motion, flags, id per grain */
+        double *data;    /* x, y, vx, vy, angle, omega, radius per grain */
+        int *ints;       /* species, motion per grain */
+        unsigned *flags; /* per grain */
+        uint32_t *ids;   /* per grain */
     } good;
 
     /* frame scratch */
@@ -163,27 +169,39 @@ struct SimWorld {
 /* Internal flag of grains waiting to be compacted away at the next build. */
 #define SIM_GRAIN_REMOVED (1u << 31)
 
+/* Records the first allocation failure of a pass that has no error return (see out_of_memory). */
+static inline void sim_world_out_of_memory(SimWorld *world, const char *what)
+{
+    if (!world->out_of_memory)
+        world->out_of_memory = what;
+}
+
 /* world.c */
 /* Moves prescribed grains and walls to `time`, rebuilds the lists when the skin is used up, and
  * computes all forces: contacts, walls, body forces (no gravity: the integrators add it). */
 void sim_world_forces_at(SimWorld *world, double time);
-/* Drops grains flagged SIM_GRAIN_REMOVED (called by the neighbour build). */
-void sim_world_compact(SimWorld *world);
+/* Drops grains flagged SIM_GRAIN_REMOVED (called by the neighbour build); -1 when out of memory
+ * (nothing dropped). */
+int sim_world_compact(SimWorld *world);
 
 /* neighbour.c */
+/* Rebuilds the lists; out of memory, it leaves them empty and sets world->out_of_memory. */
 void sim_neighbour_build(SimWorld *world);
 void sim_neighbour_free(SimWorld *world);
 double sim_def_worst_overlap(const SimWorldDef *def, int *first, int *second);
-/* Collects contact history by ids now, for the next build (before grains are reordered). */
-void sim_neighbour_stash_history(SimWorld *world);
+/* Collects contact history by ids now, for the next build (before grains are reordered); -1 when
+ * out of memory (the world unchanged). */
+int sim_neighbour_stash_history(SimWorld *world);
 
 /* History records (24 bytes each: uint64 key, double t, double r) for checkpoints. */
 enum { SIM_HISTORY_RECORD_SIZE = 24 };
 
-void sim_neighbour_history(const SimWorld *world, void **records, int *count, void **walls,
-                           int *wall_count);
-void sim_neighbour_stash_records(SimWorld *world, const void *records, int count, const void *walls,
-                                 int wall_count);
+/* The history of the current lists as records (malloc'd); -1 when out of memory. */
+int sim_neighbour_history(const SimWorld *world, void **records, int *count, void **walls,
+                          int *wall_count);
+/* Installs saved history records for the next build; -1 when out of memory (nothing installed). */
+int sim_neighbour_stash_records(SimWorld *world, const void *records, int count, const void *walls,
+                                int wall_count);
 /* world.c: rebuild the lists now (used after installing history). */
 void sim_world_rebuild_now(SimWorld *world);
 /* gamma_n of a pair of species (the mean of the two species' damping specifications) for a
@@ -213,7 +231,8 @@ double sim_stability_limit(SimIntegrator integrator, double omega, double zeta);
 
 /* grains.c */
 int sim_grains_reserve(SimWorld *world, int capacity);
-void sim_grains_permute(SimWorld *world, const int *order, int count);
+/* -1 when out of memory (the grains left as they were). */
+int sim_grains_permute(SimWorld *world, const int *order, int count);
 void sim_grains_free(SimWorld *world);
 
 #endif
