@@ -222,19 +222,37 @@ int app_parse_key_values(const char *text, char *key, size_t key_size, double *v
     if (!eq || eq == text || (size_t)(eq - text) >= key_size)
         return -1;
     snprintf(key, key_size, "%.*s", (int)(eq - text), text);
+    static const AppNumberList how = {.min = -INFINITY};
+    return app_parse_numbers(eq + 1, &how, values, max);
+}
+
+const char *app_list_item(const char **list, size_t *length)
+{
+    const char *item = *list;
+    if (!item || !*item)
+        return NULL;
+    size_t n = strcspn(item, ",");
+    *length = n;
+    *list = item + n + (item[n] == ',');
+    return item;
+}
+
+int app_parse_numbers(const char *text, const AppNumberList *how, double *values, int max)
+{
     int n = 0;
-    const char *p = eq + 1;
-    while (*p && n < max) {
+    size_t length;
+    for (const char *item; (item = app_list_item(&text, &length)) != NULL;) {
+        if (length == 0 && how->skip_empty)
+            continue;
+        if (n == max)
+            return how->exact ? -1 : n;
         char *end;
-        values[n] = strtod(p, &end);
-        if (end == p || !isfinite(values[n]))
+        errno = 0;
+        double v = strtod(item, &end);
+        if (end == item || end != item + length || !isfinite(v) || v < how->min ||
+            (how->strict && errno))
             return -1;
-        ++n;
-        p = end;
-        if (*p == ',')
-            ++p;
-        else if (*p)
-            return -1;
+        values[n++] = v;
     }
     return n;
 }

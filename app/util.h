@@ -57,9 +57,26 @@ int app_collect_set(const char **sets, int *count, int max, const char *value);
 /// A decimal integer in [min, max]: 0 and *out, or -1.
 int app_parse_count(const char *text, long min, long max, long *out);
 
-/// A `KEY=v1,v2,...` list of numbers: the key into key[key_size] and at most `max` values.
-/// Returns the number of values, or -1 when malformed (no '=', empty key, a value that is not a
-/// finite number).
+/// The items of a comma list, one at a time: the next item of *list (up to a comma or the end),
+/// its length in *length (0 for an empty item: ",," or a leading comma), and *list moved past it
+/// and its comma; NULL at the end (a comma at the very end ends the list).
+const char *app_list_item(const char **list, size_t *length);
+
+/// How app_parse_numbers reads a list (the drivers' lists differ in these, as they always have).
+typedef struct AppNumberList {
+    double min;     ///< smallest value accepted (-INFINITY: any finite number)
+    int skip_empty; ///< 1: empty items are skipped; 0: an empty item is malformed
+    int strict;     ///< 1: a value strtod finds out of range (ERANGE: 1e-400) is malformed
+    int exact;      ///< 1: more than max values is malformed; 0: the first max are read
+} AppNumberList;
+
+/// A comma list of finite numbers (each item all of one strtod number) into at most `max`
+/// values: the count (0 for an empty list), or -1 when malformed.
+int app_parse_numbers(const char *text, const AppNumberList *how, double *values, int max);
+
+/// A `KEY=v1,v2,...` list of numbers: the key into key[key_size] and at most `max` values (the
+/// first max; app_parse_numbers, empty items malformed). Returns the number of values, or -1
+/// when malformed (no '=', empty key, a value that is not a finite number).
 int app_parse_key_values(const char *text, char *key, size_t key_size, double *values, int max);
 
 /// Monotonic wall clock, s (for timings only; never for results).

@@ -43,12 +43,10 @@ int app_discharge_parse_widths(const char *text, double *out, int max)
         }
         return n;
     }
-    for (char *tok = strtok(buffer, ","); tok && n < max; tok = strtok(NULL, ",")) {
-        if (app_discharge_parse_real(tok, &out[n]))
-            return -1;
-        out[n] = floor(out[n] * 1e9 + 0.5) / 1e9;
-        ++n;
-    }
+    static const AppNumberList list = {.min = -INFINITY, .skip_empty = 1, .strict = 1};
+    n = app_parse_numbers(buffer, &list, out, max);
+    for (int k = 0; k < n; ++k)
+        out[k] = floor(out[k] * 1e9 + 0.5) / 1e9;
     return n;
 }
 

@@ -152,30 +152,50 @@ static char *read_text(const char *path)
     return text;
 }
 
-static int write_scan_outputs(const Scan *sc, const int *status)
-{
+/* The members' results, read back from their sediment.json, and the threshold. */
+typedef struct ScanResult {
     double q[SCAN_MAX], q_star[SCAN_MAX], t_sat[SCAN_MAX];
-    int idx[SCAN_MAX];
+    int idx[SCAN_MAX]; /* members by Shields number */
+    double theta_c, below, above;
+    double xs[SCAN_MAX], ys[SCAN_MAX]; /* the flux curve: finite q* */
+    int n;
+} ScanResult;
+
+static void read_results(const Scan *sc, const int *status, ScanResult *r)
+{
     for (int k = 0; k < sc->count; ++k) {
         char dir[SCAN_PATH], path[SCAN_PATH + 32];
         member_dir(sc, k, dir, sizeof dir);
         snprintf(path, sizeof path, "%s/sediment.json", dir);
         char *text = status[k] == 0 ? read_text(path) : NULL;
-        q[k] = json_number(text, "q_sat");
-        q_star[k] = json_number(text, "q_sat_star");
-        t_sat[k] = json_number(text, "t_sat");
+        r->q[k] = json_number(text, "q_sat");
+        r->q_star[k] = json_number(text, "q_sat_star");
+        r->t_sat[k] = json_number(text, "t_sat");
         free(text);
-        idx[k] = k;
+        r->idx[k] = k;
     }
+    int *idx = r->idx;
     for (int a = 1; a < sc->count; ++a) /* by Shields number, for the CSV and the curve */
         for (int b = a; b > 0 && sc->shields[idx[b]] < sc->shields[idx[b - 1]]; --b) {
             int t = idx[b];
             idx[b] = idx[b - 1];
             idx[b - 1] = t;
         }
-    double below, above;
-    double theta_c =
-        app_sediment_threshold(sc->shields, q_star, sc->count, sc->level, &below, &above);
+    r->theta_c =
+        app_sediment_threshold(sc->shields, r->q_star, sc->count, sc->level, &r->below, &r->above);
+    r->n = 0;
+    for (int j = 0; j < sc->count; ++j) {
+        int k = idx[j];
+        if (isfinite(r->q_star[k])) {
+            r->xs[r->n] = sc->shields[k];
+            r->ys[r->n++] = r->q_star[k];
+        }
+    }
+}
+
+/* flux.csv: one row per member by Shields number. 0, or 1. */
+static int write_flux(const Scan *sc, const int *status, const ScanResult *r)
+{
     char path[SCAN_PATH];
     snprintf(path, sizeof path, "%s/flux.csv", sc->out_dir);
     FILE *f = app_tmp_open(path, "shields,q_sat,q_sat_star,t_sat,transport,status");
@@ -183,29 +203,30 @@ static int write_scan_outputs(const Scan *sc, const int *status)
         fprintf(stderr, "sablier: sediment: cannot write %s.tmp\n", path);
         return 1;
     }
-    double xs[SCAN_MAX], ys[SCAN_MAX];
-    int n = 0;
     for (int j = 0; j < sc->count; ++j) {
-        int k = idx[j];
-        fprintf(f, "%.9g,%.9g,%.9g,%.9g,%d,%d\n", sc->shields[k], q[k], q_star[k], t_sat[k],
-                q_star[k] > sc->level, status[k]);
-        if (isfinite(q_star[k])) {
-            xs[n] = sc->shields[k];
-            ys[n++] = q_star[k];
-        }
+        int k = r->idx[j];
+        fprintf(f, "%.9g,%.9g,%.9g,%.9g,%d,%d\n", sc->shields[k], r->q[k], r->q_star[k],
+                r->t_sat[k], r->q_star[k] > sc->level, status[k]);
     }
     if (app_tmp_commit(&f, path) != 0) {
         fprintf(stderr, "sablier: sediment: cannot write %s\n", path);
         return 1;
     }
+    return 0;
+}
+
+/* threshold.json and the threshold's line on stderr. 0, or 1. */
+static int write_threshold(const Scan *sc, const ScanResult *r)
+{
+    char path[SCAN_PATH];
     snprintf(path, sizeof path, "%s/threshold.json", sc->out_dir);
-    f = app_tmp_open(path, NULL);
+    FILE *f = app_tmp_open(path, NULL);
     if (!f) {
         fprintf(stderr, "sablier: sediment: cannot write %s.tmp\n", path);
         return 1;
     }
     char v[3][32];
-    const double vals[3] = {theta_c, below, above};
+    const double vals[3] = {r->theta_c, r->below, r->above};
     for (int k = 0; k < 3; ++k)
         snprintf(v[k], sizeof v[k], isfinite(vals[k]) ? "%.9g" : "null", vals[k]);
     fprintf(f,
@@ -218,79 +239,74 @@ static int write_scan_outputs(const Scan *sc, const int *status)
     }
     fprintf(stderr, "sablier: sediment: threshold Theta_c = %s (bracket %s .. %s, q* > %g)\n", v[0],
             v[1], v[2], sc->level);
-    if (sc->render && sc->render->plot && n > 0) {
-        double y_lo = INFINITY, y_hi = -INFINITY;
-        for (int k = 0; k < n; ++k) {
-            y_lo = fmin(y_lo, ys[k]);
-            y_hi = fmax(y_hi, ys[k]);
-        }
-        double cx[2] = {theta_c, theta_c}, cy[2] = {fmin(0.0, y_lo), y_hi};
-        double lx[2] = {xs[0], xs[n - 1]}, ly[2] = {sc->level, sc->level};
-        char label[96];
-        snprintf(label, sizeof label, "threshold %.3g", theta_c);
-        AppPlotSeries curves[3] = {
-            {.label = "q*_sat (mean over the last third)",
-             .count = n,
-             .x = xs,
-             .y = ys,
-             .line = 1,
-             .marker = APP_MARKER_CIRCLE,
-             .rgb = APP_RGB_AUTO},
-            {.label = "transport level",
-             .count = 2,
-             .x = lx,
-             .y = ly,
-             .line = 1,
-             .dashed = 1,
-             .rgb = APP_RGB_AUTO},
-            {.label = label,
-             .count = isfinite(theta_c) ? 2 : 0,
-             .x = cx,
-             .y = cy,
-             .line = 1,
-             .dashed = 1,
-             .rgb = APP_RGB_AUTO},
-        };
-        AppPlotPanel panel = {.x_label = "Shields number Theta",
-                              .y_label = "q* = q / (d sqrt((D_R - 1) g d))",
-                              .legend = APP_LEGEND_UPPER_LEFT,
-                              .series_count = isfinite(theta_c) ? 3 : 2,
-                              .series = curves};
-        AppPlot plot = {.title = "Bed-load flux against Shields number",
-                        .width = 1000,
-                        .height = 700,
-                        .rows = 1,
-                        .cols = 1,
-                        .panel_count = 1,
-                        .panels = &panel,
-                        .scene = "sediment"};
-        char err[512] = "";
-        snprintf(path, sizeof path, "%s/flux.png", sc->out_dir);
-        if (sc->render->plot(sc->render->context, &plot, path, err, sizeof err) != 0)
-            fprintf(stderr, "sablier: sediment: %s: %s\n", path, err);
-    }
     return 0;
 }
 
-static int parse_list(const char *text, double *values, int max)
+/* flux.png: q* against Theta, the transport level and the threshold (a failure is reported, not
+ * fatal). */
+static void plot_flux(const Scan *sc, const ScanResult *r)
 {
-    int n = 0;
-    const char *p = text;
-    while (*p) {
-        if (n == max)
-            return -1;
-        char *end;
-        values[n] = strtod(p, &end);
-        if (end == p || !isfinite(values[n]) || values[n] < 0.0)
-            return -1;
-        ++n;
-        p = end;
-        if (*p == ',')
-            ++p;
-        else if (*p)
-            return -1;
+    int n = r->n;
+    double theta_c = r->theta_c, y_lo = INFINITY, y_hi = -INFINITY;
+    for (int k = 0; k < n; ++k) {
+        y_lo = fmin(y_lo, r->ys[k]);
+        y_hi = fmax(y_hi, r->ys[k]);
     }
-    return n;
+    double cx[2] = {theta_c, theta_c}, cy[2] = {fmin(0.0, y_lo), y_hi};
+    double lx[2] = {r->xs[0], r->xs[n - 1]}, ly[2] = {sc->level, sc->level};
+    char label[96];
+    snprintf(label, sizeof label, "threshold %.3g", theta_c);
+    AppPlotSeries curves[3] = {
+        {.label = "q*_sat (mean over the last third)",
+         .count = n,
+         .x = r->xs,
+         .y = r->ys,
+         .line = 1,
+         .marker = APP_MARKER_CIRCLE,
+         .rgb = APP_RGB_AUTO},
+        {.label = "transport level",
+         .count = 2,
+         .x = lx,
+         .y = ly,
+         .line = 1,
+         .dashed = 1,
+         .rgb = APP_RGB_AUTO},
+        {.label = label,
+         .count = isfinite(theta_c) ? 2 : 0,
+         .x = cx,
+         .y = cy,
+         .line = 1,
+         .dashed = 1,
+         .rgb = APP_RGB_AUTO},
+    };
+    AppPlotPanel panel = {.x_label = "Shields number Theta",
+                          .y_label = "q* = q / (d sqrt((D_R - 1) g d))",
+                          .legend = APP_LEGEND_UPPER_LEFT,
+                          .series_count = isfinite(theta_c) ? 3 : 2,
+                          .series = curves};
+    AppPlot plot = {.title = "Bed-load flux against Shields number",
+                    .width = 1000,
+                    .height = 700,
+                    .rows = 1,
+                    .cols = 1,
+                    .panel_count = 1,
+                    .panels = &panel,
+                    .scene = "sediment"};
+    char path[SCAN_PATH], err[512] = "";
+    snprintf(path, sizeof path, "%s/flux.png", sc->out_dir);
+    if (sc->render->plot(sc->render->context, &plot, path, err, sizeof err) != 0)
+        fprintf(stderr, "sablier: sediment: %s: %s\n", path, err);
+}
+
+static int write_scan_outputs(const Scan *sc, const int *status)
+{
+    ScanResult r;
+    read_results(sc, status, &r);
+    if (write_flux(sc, status, &r) != 0 || write_threshold(sc, &r) != 0)
+        return 1;
+    if (sc->render && sc->render->plot && r.n > 0)
+        plot_flux(sc, &r);
+    return 0;
 }
 
 static int scan_usage(const char *message, const char *arg)
@@ -298,6 +314,64 @@ static int scan_usage(const char *message, const char *arg)
     fprintf(stderr, "sablier: sediment: %s%s%s\n\n%s", message, arg ? " " : "", arg ? arg : "",
             APP_SEDIMENT_USAGE);
     return 2;
+}
+
+/* The command line into sc and *list (the --shields text): 0, or the exit status. */
+static int parse_scan_args(int argc, char **argv, Scan *sc, const char **list)
+{
+    for (int i = 2; i < argc; ++i) {
+        const char *a = argv[i];
+        int has_value = i + 1 < argc;
+        if (strcmp(a, "--shields") == 0 && has_value) {
+            *list = argv[++i];
+        } else if (strcmp(a, "--jobs") == 0 && has_value) {
+            char *end;
+            long j = strtol(argv[++i], &end, 10);
+            if (*end || j < 1 || j > 64)
+                return scan_usage("--jobs needs a count in [1, 64], got", argv[i]);
+            sc->jobs = (int)j;
+        } else if (strcmp(a, "--level") == 0 && has_value) {
+            char *end;
+            sc->level = strtod(argv[++i], &end);
+            if (*end || !isfinite(sc->level))
+                return scan_usage("--level needs a number, got", argv[i]);
+        } else if (strcmp(a, "--out") == 0 && has_value) {
+            sc->out_dir = argv[++i];
+        } else if (strcmp(a, "--set") == 0 && has_value) {
+            if (sc->set_count == SCAN_MAX)
+                return scan_usage("too many --set options", NULL);
+            sc->sets[sc->set_count++] = argv[++i];
+        } else if (strcmp(a, "--render") == 0) {
+            sc->render_runs = 1;
+        } else if (strcmp(a, "--quiet") == 0 || strcmp(a, "-q") == 0) {
+            sc->quiet = 1;
+        } else if (a[0] == '-' && a[1]) {
+            return scan_usage(has_value ? "unknown option" : "unknown option or missing value", a);
+        } else if (!sc->scene_path) {
+            sc->scene_path = a;
+        } else {
+            return scan_usage("one scene at a time; extra argument", a);
+        }
+    }
+    return 0;
+}
+
+/* The scene checked once before forking: bad input exits 2 with its file:line message. */
+static int check_scene(const Scan *sc)
+{
+    char err[2048] = "";
+    Scene *scene = scene_load(sc->scene_path, sc->sets, sc->set_count, err, sizeof err);
+    if (!scene) {
+        fprintf(stderr, "%s\n", err);
+        return 2;
+    }
+    int has_fluid = app_sediment_of(scene) != NULL;
+    scene_free(scene);
+    if (!has_fluid) {
+        fprintf(stderr, "%s:1: sediment: the scene has no `fluid` group\n", sc->scene_path);
+        return 2;
+    }
+    return 0;
 }
 
 int app_sediment_command(int argc, char **argv, const AppEnv *env)
@@ -308,45 +382,15 @@ int app_sediment_command(int argc, char **argv, const AppEnv *env)
     sc.level = 1e-3;
     sc.render = env ? env->render : NULL;
     const char *list = NULL;
-    for (int i = 2; i < argc; ++i) {
-        const char *a = argv[i];
-        int has_value = i + 1 < argc;
-        if (strcmp(a, "--shields") == 0 && has_value) {
-            list = argv[++i];
-        } else if (strcmp(a, "--jobs") == 0 && has_value) {
-            char *end;
-            long j = strtol(argv[++i], &end, 10);
-            if (*end || j < 1 || j > 64)
-                return scan_usage("--jobs needs a count in [1, 64], got", argv[i]);
-            sc.jobs = (int)j;
-        } else if (strcmp(a, "--level") == 0 && has_value) {
-            char *end;
-            sc.level = strtod(argv[++i], &end);
-            if (*end || !isfinite(sc.level))
-                return scan_usage("--level needs a number, got", argv[i]);
-        } else if (strcmp(a, "--out") == 0 && has_value) {
-            sc.out_dir = argv[++i];
-        } else if (strcmp(a, "--set") == 0 && has_value) {
-            if (sc.set_count == SCAN_MAX)
-                return scan_usage("too many --set options", NULL);
-            sc.sets[sc.set_count++] = argv[++i];
-        } else if (strcmp(a, "--render") == 0) {
-            sc.render_runs = 1;
-        } else if (strcmp(a, "--quiet") == 0 || strcmp(a, "-q") == 0) {
-            sc.quiet = 1;
-        } else if (a[0] == '-' && a[1]) {
-            return scan_usage(has_value ? "unknown option" : "unknown option or missing value", a);
-        } else if (!sc.scene_path) {
-            sc.scene_path = a;
-        } else {
-            return scan_usage("one scene at a time; extra argument", a);
-        }
-    }
+    int rc = parse_scan_args(argc, argv, &sc, &list);
+    if (rc != 0)
+        return rc;
     if (!sc.scene_path)
         return scan_usage("missing SCENE", NULL);
     if (!list)
         return scan_usage("missing --shields T1,T2,...", NULL);
-    sc.count = parse_list(list, sc.shields, SCAN_MAX);
+    static const AppNumberList shields_list = {.min = 0.0, .exact = 1};
+    sc.count = app_parse_numbers(list, &shields_list, sc.shields, SCAN_MAX);
     if (sc.count < 1)
         return scan_usage("--shields needs up to 64 numbers >= 0 separated by commas, got", list);
     char default_out[SCAN_PATH];
@@ -355,20 +399,8 @@ int app_sediment_command(int argc, char **argv, const AppEnv *env)
     snprintf(default_out, sizeof default_out, "out/sediment-%.*s", (int)strcspn(base, "."), base);
     if (!sc.out_dir)
         sc.out_dir = default_out;
-    { /* check the scene once before forking: bad input exits 2 with its file:line message */
-        char err[2048] = "";
-        Scene *scene = scene_load(sc.scene_path, sc.sets, sc.set_count, err, sizeof err);
-        if (!scene) {
-            fprintf(stderr, "%s\n", err);
-            return 2;
-        }
-        int has_fluid = app_sediment_of(scene) != NULL;
-        scene_free(scene);
-        if (!has_fluid) {
-            fprintf(stderr, "%s:1: sediment: the scene has no `fluid` group\n", sc.scene_path);
-            return 2;
-        }
-    }
+    if (check_scene(&sc) != 0)
+        return 2;
     if (app_make_dirs(sc.out_dir) != 0) {
         fprintf(stderr, "sablier: sediment: cannot create %s\n", sc.out_dir);
         return 2;
@@ -384,7 +416,7 @@ int app_sediment_command(int argc, char **argv, const AppEnv *env)
                     .signal_status = 1};
     if (app_pool_run(&pool) != 0)
         run.failed = 1;
-    int rc = write_scan_outputs(&sc, run.status);
+    rc = write_scan_outputs(&sc, run.status);
     return run.failed ? 1 : rc;
 }
 
