@@ -3,6 +3,7 @@
  * member's outputs are those of the same `sablier run` command line whatever the job count. */
 #include "sweep.h"
 
+#include "pool.h"
 #include "run.h"
 #include "scene.h"
 #include "util.h"
@@ -15,7 +16,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -32,7 +32,6 @@ typedef struct Member {
     int set_count;
     char sets[MAX_SETS][SWEEP_STRING];
     char dir[SWEEP_PATH];
-    pid_t pid;
     int status; /* exit status; -1 not run */
     double started, wall_seconds;
 } Member;
@@ -247,14 +246,16 @@ static int expand_vary(Sweep *w, char vary[][SWEEP_STRING], int vary_count)
         }
         snprintf(keys[v], sizeof keys[v], "%.*s", (int)(eq - vary[v]), vary[v]);
         counts[v] = 0;
-        char copy[SWEEP_STRING], *save = NULL;
-        snprintf(copy, sizeof copy, "%s", eq + 1);
-        for (char *item = strtok_r(copy, ",", &save); item; item = strtok_r(NULL, ",", &save)) {
+        const char *list = eq + 1, *item;
+        size_t length;
+        while ((item = app_list_item(&list, &length)) != NULL) {
+            if (length == 0) /* ",," and a leading comma: no value */
+                continue;
             if (counts[v] >= MAX_VALUES) {
                 fprintf(stderr, "sablier: sweep: at most %d values per key\n", MAX_VALUES);
                 return -1;
             }
-            snprintf(values[v][counts[v]++], 64, "%s", item);
+            snprintf(values[v][counts[v]++], 64, "%.*s", (int)length, item);
         }
         total *= counts[v];
     }
@@ -356,82 +357,89 @@ static int member_argv(const Sweep *w, const Member *m, int bed_run, char **argv
     return n;
 }
 
-static pid_t spawn(const Sweep *w, Member *m, int bed_run)
+/* The pool of one run_members: the bed (bed_run = 1) or the members. */
+typedef struct SweepRun {
+    Sweep *w;
+    Member *members;
+    int bed_run;
+    char *argv[3 * MAX_SETS * 2 + 32]; /* of the member being started; argv[0] NULL: none */
+} SweepRun;
+
+static void not_started(const SweepRun *run, Member *m)
 {
-    char *argv[3 * MAX_SETS * 2 + 32];
-    if (app_make_dirs(m->dir) != 0)
-        return -1;
-    if (member_argv(w, m, bed_run, argv, (int)(sizeof argv / sizeof argv[0])) < 0)
-        return -1;
-    char log[SWEEP_PATH + 16];
-    snprintf(log, sizeof log, "%s/log.txt", m->dir);
-    fflush(NULL);
-    pid_t pid = fork();
-    if (pid == 0) {
-        int fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (fd >= 0) {
-            dup2(fd, STDOUT_FILENO);
-            dup2(fd, STDERR_FILENO);
-            close(fd);
-        }
-        execv(w->o->self, argv);
-        fprintf(stderr, "sablier: sweep: cannot run %s: %s\n", w->o->self, strerror(errno));
-        _exit(2);
+    if (!run->bed_run)
+        fprintf(stderr, "sablier: sweep: cannot start member %s in %s\n", m->label, m->dir);
+    m->status = 2;
+}
+
+/* Parent, before member i's fork: its folder and command line. */
+static int member_start(void *ctx, int i)
+{
+    SweepRun *run = ctx;
+    Member *m = &run->members[i];
+    if (run->argv[0])
+        free_argv(run->argv);
+    run->argv[0] = NULL;
+    if (app_make_dirs(m->dir) != 0 ||
+        member_argv(run->w, m, run->bed_run, run->argv,
+                    (int)(sizeof run->argv / sizeof run->argv[0])) < 0) {
+        not_started(run, m);
+        return 1;
     }
-    free_argv(argv);
-    m->pid = pid;
     m->started = now_seconds();
-    return pid;
+    return 0;
 }
 
-static void finish(Member *m, int wait_status)
+/* Child: `sablier run` of member i, its output into DIR/log.txt. */
+static int member_exec(void *ctx, int i)
 {
-    m->wall_seconds = now_seconds() - m->started;
-    m->status = WIFEXITED(wait_status) ? WEXITSTATUS(wait_status) : 2;
-    m->pid = 0;
-}
-
-/* Runs the members `jobs` at a time. */
-static void run_members(Sweep *w)
-{
-    int next = 0, running = 0, done = 0;
-    while (done < w->member_count) {
-        while (running < w->o->jobs && next < w->member_count) {
-            Member *m = &w->members[next++];
-            if (spawn(w, m, 0) < 0) {
-                fprintf(stderr, "sablier: sweep: cannot start member %s in %s\n", m->label, m->dir);
-                m->status = 2;
-                ++done;
-                continue;
-            }
-            ++running;
-        }
-        if (running == 0)
-            continue;
-        int wait_status;
-        pid_t pid = waitpid(-1, &wait_status, 0);
-        if (pid < 0) {
-            if (errno == EINTR)
-                continue;
-            break;
-        }
-        for (int k = 0; k < w->member_count; ++k) {
-            Member *m = &w->members[k];
-            if (m->pid != pid)
-                continue;
-            finish(m, wait_status);
-            --running;
-            ++done;
-            if (!w->o->quiet)
-                fprintf(stderr,
-                        "sablier: sweep: member %d/%d %s: %s (%.1f s), crater height %.4g m\n",
-                        k + 1, w->member_count, m->label,
-                        m->status == 0   ? "ok"
-                        : m->status == 1 ? "unstable"
-                                         : "error",
-                        m->wall_seconds, app_observable(m->dir, "crater_height_m"));
-        }
+    const SweepRun *run = ctx;
+    char log[SWEEP_PATH + 16];
+    snprintf(log, sizeof log, "%s/log.txt", run->members[i].dir);
+    int fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+        dup2(fd, STDOUT_FILENO);
+        dup2(fd, STDERR_FILENO);
+        close(fd);
     }
+    execv(run->w->o->self, run->argv);
+    fprintf(stderr, "sablier: sweep: cannot run %s: %s\n", run->w->o->self, strerror(errno));
+    return 2;
+}
+
+static void member_done(void *ctx, int i, int status)
+{
+    SweepRun *run = ctx;
+    Member *m = &run->members[i];
+    if (status == APP_POOL_NOT_STARTED) {
+        not_started(run, m);
+        return;
+    }
+    m->wall_seconds = now_seconds() - m->started;
+    m->status = status;
+    if (!run->bed_run && !run->w->o->quiet)
+        fprintf(stderr, "sablier: sweep: member %d/%d %s: %s (%.1f s), crater height %.4g m\n",
+                i + 1, run->w->member_count, m->label,
+                m->status == 0   ? "ok"
+                : m->status == 1 ? "unstable"
+                                 : "error",
+                m->wall_seconds, app_observable(m->dir, "crater_height_m"));
+}
+
+/* Runs `count` members (the bed: bed_run = 1), `jobs` at a time (app/pool.h). */
+static void run_members(Sweep *w, Member *members, int count, int bed_run)
+{
+    SweepRun run = {.w = w, .members = members, .bed_run = bed_run};
+    AppPool pool = {.count = count,
+                    .jobs = w->o->jobs,
+                    .ctx = &run,
+                    .start = member_start,
+                    .run = member_exec,
+                    .done = member_done,
+                    .signal_status = 2};
+    app_pool_run(&pool);
+    if (run.argv[0])
+        free_argv(run.argv);
 }
 
 /* ---------------------------------------------------------------- outputs */
@@ -538,6 +546,70 @@ static int write_plots(const Sweep *w)
 
 /* ---------------------------------------------------------------- the sweep */
 
+/* The scene's stage names and the bed stage (named, or the one before the first dig) into w:
+ * 0, or -1 (message on stderr). */
+static int find_bed_stage(Sweep *w, const Scene *scene, const char *bed_name)
+{
+    snprintf(w->name, sizeof w->name, "%s", scene->name);
+    w->stage_count = scene->stage_count;
+    for (int k = 0; k < scene->stage_count; ++k)
+        snprintf(w->stage_names[k], SCENE_NAME_MAX, "%s", scene->stages[k].name);
+    w->bed_stage = -1;
+    if (bed_name[0]) {
+        w->bed_stage = scene_stage_index(scene, bed_name);
+        if (w->bed_stage < 0)
+            fprintf(stderr, "sablier: sweep: the scene has no stage `%s`\n", bed_name);
+    } else {
+        for (int k = 1; k < scene->stage_count && w->bed_stage < 0; ++k)
+            if (app_crater_dig(scene, k).dig)
+                w->bed_stage = k - 1;
+        if (w->bed_stage < 0)
+            fprintf(stderr, "sablier: sweep: no stage digs; name the bed stage (--bed-stage)\n");
+    }
+    if (w->bed_stage < 0)
+        return -1;
+    if (w->bed_stage + 1 >= w->stage_count) {
+        fprintf(stderr, "sablier: sweep: no stage after the bed stage `%s`\n",
+                w->stage_names[w->bed_stage]);
+        return -1;
+    }
+    return 0;
+}
+
+/* Every member's folder, and its scene must load (the bed checkpoint is not there yet: not
+ * checked). 0, or 2 (message on stderr). */
+static int check_members(Sweep *w)
+{
+    const AppSweepOptions *o = w->o;
+    char err[4096];
+    for (int i = 0; i < w->member_count; ++i) {
+        Member *m = &w->members[i];
+        char name[80];
+        slug(name, sizeof name, m->label);
+        if (snprintf(m->dir, sizeof m->dir, "%s/%02d-%s", w->out_dir, i + 1, name) >=
+            (int)sizeof m->dir) {
+            fprintf(stderr, "sablier: sweep: output folder name too long\n");
+            return 2;
+        }
+        m->status = -1;
+        const char *sets[3 * MAX_SETS + SCENE_MAX_STAGES];
+        int n = 0;
+        for (int k = 0; k < o->set_count; ++k)
+            sets[n++] = o->sets[k];
+        for (int k = 0; k < w->set_count; ++k)
+            sets[n++] = w->sets[k];
+        for (int k = 0; k < m->set_count; ++k)
+            sets[n++] = m->sets[k];
+        Scene *member = scene_load(w->scene_path, sets, n, err, sizeof err);
+        if (!member) {
+            fprintf(stderr, "sablier: sweep: member %s: %s\n", m->label, err);
+            return 2;
+        }
+        scene_free(member);
+    }
+    return 0;
+}
+
 static int setup(Sweep *w)
 {
     const AppSweepOptions *o = w->o;
@@ -576,30 +648,10 @@ static int setup(Sweep *w)
         fprintf(stderr, "%s\n", err);
         return 2;
     }
-    snprintf(w->name, sizeof w->name, "%s", scene->name);
-    w->stage_count = scene->stage_count;
-    for (int k = 0; k < scene->stage_count; ++k)
-        snprintf(w->stage_names[k], SCENE_NAME_MAX, "%s", scene->stages[k].name);
-    w->bed_stage = -1;
-    if (bed_name[0]) {
-        w->bed_stage = scene_stage_index(scene, bed_name);
-        if (w->bed_stage < 0)
-            fprintf(stderr, "sablier: sweep: the scene has no stage `%s`\n", bed_name);
-    } else {
-        for (int k = 1; k < scene->stage_count && w->bed_stage < 0; ++k)
-            if (app_crater_dig(scene, k).dig)
-                w->bed_stage = k - 1;
-        if (w->bed_stage < 0)
-            fprintf(stderr, "sablier: sweep: no stage digs; name the bed stage (--bed-stage)\n");
-    }
+    int bed = find_bed_stage(w, scene, bed_name);
     scene_free(scene);
-    if (w->bed_stage < 0)
+    if (bed != 0)
         return 2;
-    if (w->bed_stage + 1 >= w->stage_count) {
-        fprintf(stderr, "sablier: sweep: no stage after the bed stage `%s`\n",
-                w->stage_names[w->bed_stage]);
-        return 2;
-    }
     if (o->out_dir) {
         snprintf(w->out_dir, sizeof w->out_dir, "%s", o->out_dir);
     } else {
@@ -611,33 +663,7 @@ static int setup(Sweep *w)
         else
             snprintf(w->out_dir, sizeof w->out_dir, "out/%s-sweep", w->name);
     }
-    /* every member's scene must load (the bed checkpoint is not there yet: not checked) */
-    for (int i = 0; i < w->member_count; ++i) {
-        Member *m = &w->members[i];
-        char name[80];
-        slug(name, sizeof name, m->label);
-        if (snprintf(m->dir, sizeof m->dir, "%s/%02d-%s", w->out_dir, i + 1, name) >=
-            (int)sizeof m->dir) {
-            fprintf(stderr, "sablier: sweep: output folder name too long\n");
-            return 2;
-        }
-        m->status = -1;
-        const char *sets[3 * MAX_SETS + SCENE_MAX_STAGES];
-        int n = 0;
-        for (int k = 0; k < o->set_count; ++k)
-            sets[n++] = o->sets[k];
-        for (int k = 0; k < w->set_count; ++k)
-            sets[n++] = w->sets[k];
-        for (int k = 0; k < m->set_count; ++k)
-            sets[n++] = m->sets[k];
-        Scene *member = scene_load(w->scene_path, sets, n, err, sizeof err);
-        if (!member) {
-            fprintf(stderr, "sablier: sweep: member %s: %s\n", m->label, err);
-            return 2;
-        }
-        scene_free(member);
-    }
-    return 0;
+    return check_members(w);
 }
 
 int app_sweep(const AppSweepOptions *o)
@@ -674,12 +700,9 @@ int app_sweep(const AppSweepOptions *o)
             if (!o->quiet)
                 fprintf(stderr, "sablier: sweep: settling the bed (stages up to %s) in %s\n",
                         w->stage_names[w->bed_stage], bed.dir);
-            int wait_status = 0;
             if (!o->dry_run && status == 0) {
-                pid_t pid = spawn(w, &bed, 1);
-                if (pid < 0 || waitpid(pid, &wait_status, 0) != pid)
-                    wait_status = 2 << 8;
-                finish(&bed, wait_status);
+                bed.status = 2; /* until it ends */
+                run_members(w, &bed, 1, 1);
                 if (bed.status != 0) {
                     fprintf(stderr,
                             "sablier: sweep: the bed run failed (status %d): see %s/log.txt\n",
@@ -716,7 +739,7 @@ int app_sweep(const AppSweepOptions *o)
         if (!o->quiet)
             fprintf(stderr, "sablier: sweep: %d members from %s, %d at a time, into %s\n",
                     w->member_count, w->bed_state, o->jobs, w->out_dir);
-        run_members(w);
+        run_members(w, w->members, w->member_count, 0);
         for (int i = 0; i < w->member_count; ++i)
             if (w->members[i].status != 0 && status != 2)
                 status = w->members[i].status == 1 ? 1 : 2;
