@@ -403,8 +403,10 @@ int sim_world_remove_rect(SimWorld *world, double x0, double y0, double x1, doub
 /// Remove the grains with these stable ids (mobile or fixed); returns how many were found.
 int sim_world_remove_ids(SimWorld *world, const uint32_t *ids, int count);
 /// Add grains to a running world (rain-like deposition, 004 §3.1). Their ids must not be in use;
-/// without ids they get fresh ones above every id in use. Returns SIM_OK or SIM_ERROR_INVALID
-/// (bad grain, unknown species, an overlap above max_initial_overlap with a grain present).
+/// without ids they get fresh ones above every id in use. Returns SIM_OK, SIM_ERROR_INVALID
+/// (bad grain, unknown species, an overlap above max_initial_overlap with a grain present) or
+/// SIM_ERROR_MEMORY (the world unchanged, unless the failure came in the rebuild after the
+/// addition: then sim_world_step reports it too).
 SimStatus sim_world_add_grains(SimWorld *world, const SimGrainSet *grains, SimError *error);
 /// Set every velocity and angular velocity to zero.
 void sim_world_freeze(SimWorld *world);
