@@ -4,10 +4,9 @@
  * "--set KEY: message" for a value that came from a --set override) in the context's buffer.
  *
  *     AppConfig p = {.path = scene->path, .err = err, .err_size = err_size, .group = "bne"};
- *     double gamma = NAN;
+ *     double gamma = NAN;   // stays NAN when the key is absent
  *     if (app_config_keys(&p, g, NULL, keys, NULL) < 0 ||
- *         app_config_number(&p, g, "gamma", &gamma) < 0 ||
- *         (isfinite(gamma) && app_config_non_negative(&p, g, "gamma", gamma) < 0))
+ *         app_config_number_min(&p, g, "gamma", 0.0, &gamma) < 0)
  *         return -1;   // err: "scene.scene:12: bne: `gamma` must be >= 0 (got -1)"
  *
  * Getters return 1 when the key is present and valid, 0 when it is absent (the output untouched)

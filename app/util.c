@@ -4,80 +4,10 @@
 
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-int app_parse_fail(AppParse *p, const config_setting_t *s, const char *format, ...)
-{
-    char message[512];
-    va_list args;
-    va_start(args, format);
-    vsnprintf(message, sizeof message, format, args);
-    va_end(args);
-    const char *file = s ? config_setting_source_file(s) : NULL;
-    unsigned line = s ? config_setting_source_line(s) : 0u;
-    if (s && config_setting_get_hook(s))
-        snprintf(p->err, p->err_size, "--set %s: %s", (const char *)config_setting_get_hook(s),
-                 message);
-    else
-        snprintf(p->err, p->err_size, "%s:%u: %s%s%s", file ? file : p->path, line ? line : 1u,
-                 p->group ? p->group : "", p->group ? ": " : "", message);
-    return -1;
-}
-
-int app_parse_number(AppParse *p, const config_setting_t *g, const char *key, double min,
-                     double *out)
-{
-    const config_setting_t *s = config_setting_get_member(g, key);
-    if (!s)
-        return 0;
-    int type = config_setting_type(s);
-    if (type == CONFIG_TYPE_FLOAT)
-        *out = config_setting_get_float(s);
-    else if (type == CONFIG_TYPE_INT || type == CONFIG_TYPE_INT64)
-        *out = (double)config_setting_get_int64(s);
-    else
-        return app_parse_fail(p, s, "`%s` must be a number", key);
-    if (!isfinite(*out) || *out < min)
-        return app_parse_fail(p, s, "`%s` must be a finite number >= %g, got %g", key, min, *out);
-    return 1;
-}
-
-int app_parse_int(AppParse *p, const config_setting_t *g, const char *key, long min, long max,
-                  int *out)
-{
-    const config_setting_t *s = config_setting_get_member(g, key);
-    if (!s)
-        return 0;
-    int type = config_setting_type(s);
-    if (type != CONFIG_TYPE_INT && type != CONFIG_TYPE_INT64)
-        return app_parse_fail(p, s, "`%s` must be an integer", key);
-    long long v = config_setting_get_int64(s);
-    if (v < min || v > max)
-        return app_parse_fail(p, s, "`%s` must be an integer in [%ld, %ld], got %lld", key, min,
-                              max, v);
-    *out = (int)v;
-    return 1;
-}
-
-int app_parse_group_keys(AppParse *p, const config_setting_t *g, const char *const *keys)
-{
-    if (config_setting_type(g) != CONFIG_TYPE_GROUP)
-        return app_parse_fail(p, g, "`%s` must be a group { ... }", p->group);
-    for (int k = 0; k < config_setting_length(g); ++k) {
-        const config_setting_t *s = config_setting_get_elem(g, (unsigned)k);
-        const char *name = config_setting_name(s);
-        int known = 0;
-        for (int j = 0; keys[j] && !known; ++j)
-            known = strcmp(keys[j], name) == 0;
-        if (!known)
-            return app_parse_fail(p, s, "unknown key `%s`", name);
-    }
-    return 0;
-}
 
 int app_series_grow(double **t, double **v, int *capacity, int initial)
 {

@@ -1,36 +1,11 @@
 /* SPDX-License-Identifier: MIT */
-/* util.h: small helpers shared by the app/ modules (scene-group errors, command options). */
+/* util.h: small helpers shared by the app/ modules (output files, command options, comma lists).
+ * The typed scene-file getters are config.h. */
 #ifndef APP_UTIL_H
 #define APP_UTIL_H
 
-#include <libconfig.h>
 #include <stddef.h>
 #include <stdio.h>
-
-/// Where a scene group's errors go: "file:line: GROUP: message", or "--set KEY: message" for a
-/// value that came from a --set override.
-typedef struct AppParse {
-    const char *path; ///< scene file, for settings without a source file
-    char *err;        ///< message buffer
-    size_t err_size;
-    const char *group; ///< scene group named in the message ("bne", "fluid"); NULL: none
-} AppParse;
-
-/// Writes the message for setting `s` (NULL: the scene file, line 1) and returns -1.
-__attribute__((format(printf, 3, 4))) int app_parse_fail(AppParse *p, const config_setting_t *s,
-                                                         const char *format, ...);
-
-/// Member `key` of group `g` as a finite number >= min (ints accepted): 1 found, 0 absent, -1 bad
-/// (message written).
-int app_parse_number(AppParse *p, const config_setting_t *g, const char *key, double min,
-                     double *out);
-/// Member `key` of group `g` as an integer in [min, max]: 1 found, 0 absent, -1 bad.
-int app_parse_int(AppParse *p, const config_setting_t *g, const char *key, long min, long max,
-                  int *out);
-
-/// Checks that `g` is a group whose keys are all in `keys` (NULL-ended); otherwise writes the
-/// message ("`GROUP` must be a group", "unknown key `K`") and returns -1.
-int app_parse_group_keys(AppParse *p, const config_setting_t *g, const char *const *keys);
 
 /// Output files are written to PATH.tmp and renamed when complete. Opens PATH.tmp for writing and
 /// writes `header` and a newline when not NULL; NULL when it cannot be opened.

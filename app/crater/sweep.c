@@ -3,6 +3,7 @@
  * member's outputs are those of the same `sablier run` command line whatever the job count. */
 #include "sweep.h"
 
+#include "config.h"
 #include "pool.h"
 #include "run.h"
 #include "scene.h"
@@ -89,54 +90,21 @@ static int add_set(char sets[][SWEEP_STRING], int *count, const char *text)
 
 /* ---------------------------------------------------------------- definition file */
 
-static int def_fail(const char *file, const config_setting_t *s, const char *message)
-{
-    fprintf(stderr, "%s:%d: %s\n", file, s ? config_setting_source_line(s) : 0, message);
-    return -1;
-}
-
-static int read_string_array(const char *file, const config_setting_t *a, char sets[][SWEEP_STRING],
+static int read_string_array(AppConfig *p, const config_setting_t *a, char sets[][SWEEP_STRING],
                              int *count)
 {
     if (!a)
         return 0;
     if (config_setting_type(a) != CONFIG_TYPE_ARRAY)
-        return def_fail(file, a, "`set` must be an array of \"KEY=VALUE\" strings");
+        return app_config_fail(p, a, "`set` must be an array of \"KEY=VALUE\" strings");
     for (int k = 0; k < config_setting_length(a); ++k) {
         const config_setting_t *e = config_setting_get_elem(a, (unsigned)k);
         const char *text = config_setting_get_string(e);
         if (!text || !strchr(text, '='))
-            return def_fail(file, e, "`set` elements are \"KEY=VALUE\" strings");
+            return app_config_fail(p, e, "`set` elements are \"KEY=VALUE\" strings");
         if (add_set(sets, count, text) != 0)
-            return def_fail(file, e, "too many or too long `set` elements");
+            return app_config_fail(p, e, "too many or too long `set` elements");
     }
-    return 0;
-}
-
-static int check_keys(const char *file, const config_setting_t *g, const char *const *keys)
-{
-    for (int k = 0; k < config_setting_length(g); ++k) {
-        const config_setting_t *e = config_setting_get_elem(g, (unsigned)k);
-        int known = 0;
-        for (const char *const *key = keys; *key; ++key)
-            known |= strcmp(config_setting_name(e), *key) == 0;
-        if (!known) {
-            char message[160];
-            snprintf(message, sizeof message, "unknown key `%s`", config_setting_name(e));
-            return def_fail(file, e, message);
-        }
-    }
-    return 0;
-}
-
-static int number_value(const config_setting_t *s, double *out)
-{
-    if (config_setting_type(s) == CONFIG_TYPE_INT || config_setting_type(s) == CONFIG_TYPE_INT64)
-        *out = (double)config_setting_get_int64(s);
-    else if (config_setting_type(s) == CONFIG_TYPE_FLOAT)
-        *out = config_setting_get_float(s);
-    else
-        return -1;
     return 0;
 }
 
@@ -146,6 +114,8 @@ static int read_definition(Sweep *w, const char *file, char vary[][SWEEP_STRING]
                                        "members", "vary",      NULL};
     static const char *const member_keys[] = {"label", "value", "set", NULL};
     static const char *const vary_keys[] = {"key", "values", NULL};
+    char err[2048];
+    AppConfig p = {.path = file, .err = err, .err_size = sizeof err};
     config_t config;
     config_init(&config);
     int rc = 0;
@@ -158,7 +128,7 @@ static int read_definition(Sweep *w, const char *file, char vary[][SWEEP_STRING]
     }
     const config_setting_t *root = config_root_setting(&config);
     const char *text;
-    rc = check_keys(file, root, keys);
+    rc = app_config_keys(&p, root, NULL, keys, NULL);
     if (rc == 0 && config_setting_lookup_string(root, "scene", &text) && !w->o->scene_path) {
         /* relative to the definition's folder */
         const char *slash = strrchr(file, '/');
@@ -173,32 +143,33 @@ static int read_definition(Sweep *w, const char *file, char vary[][SWEEP_STRING]
     if (rc == 0 && config_setting_lookup_string(root, "bed_stage", &text) && !w->o->bed_stage)
         snprintf(w->bed_name, sizeof w->bed_name, "%s", text);
     if (rc == 0)
-        rc =
-            read_string_array(file, config_setting_get_member(root, "set"), w->sets, &w->set_count);
+        rc = read_string_array(&p, config_setting_get_member(root, "set"), w->sets, &w->set_count);
     const config_setting_t *members = config_setting_get_member(root, "members");
     if (rc == 0 && members) {
         if (config_setting_type(members) != CONFIG_TYPE_LIST)
-            rc = def_fail(file, members, "`members` must be a list of groups ( {...}, ... )");
+            rc = app_config_fail(&p, members, "`members` must be a list of groups ( {...}, ... )");
         for (int k = 0; rc == 0 && k < config_setting_length(members); ++k) {
             const config_setting_t *g = config_setting_get_elem(members, (unsigned)k);
             if (w->member_count >= MAX_MEMBERS) {
-                rc = def_fail(file, g, "too many members");
+                rc = app_config_fail(&p, g, "too many members");
                 break;
             }
             Member *m = &w->members[w->member_count];
             memset(m, 0, sizeof *m);
             m->value = (double)k;
             const config_setting_t *value = config_setting_get_member(g, "value");
-            if (config_setting_type(g) != CONFIG_TYPE_GROUP || check_keys(file, g, member_keys) ||
+            if (config_setting_type(g) != CONFIG_TYPE_GROUP ||
+                app_config_keys(&p, g, NULL, member_keys, NULL) ||
                 !config_setting_lookup_string(g, "label", &text)) {
-                rc = def_fail(file, g, "a member is { label = \"...\"; value = x; set = [...]; }");
+                rc = app_config_fail(&p, g,
+                                     "a member is { label = \"...\"; value = x; set = [...]; }");
                 break;
             }
             snprintf(m->label, sizeof m->label, "%s", text);
-            if (value && number_value(value, &m->value) != 0)
-                rc = def_fail(file, value, "`value` must be a number");
+            if (value && app_config_number_of(&p, value, "value", &m->value) < 0)
+                rc = -1;
             if (rc == 0)
-                rc = read_string_array(file, config_setting_get_member(g, "set"), m->sets,
+                rc = read_string_array(&p, config_setting_get_member(g, "set"), m->sets,
                                        &m->set_count);
             w->member_count++;
         }
@@ -206,29 +177,34 @@ static int read_definition(Sweep *w, const char *file, char vary[][SWEEP_STRING]
     const config_setting_t *v = config_setting_get_member(root, "vary");
     if (rc == 0 && v) {
         if (config_setting_type(v) != CONFIG_TYPE_LIST)
-            rc = def_fail(file, v, "`vary` must be a list ( { key = \"...\"; values = [...]; } )");
+            rc = app_config_fail(&p, v,
+                                 "`vary` must be a list ( { key = \"...\"; values = [...]; } )");
         for (int k = 0; rc == 0 && k < config_setting_length(v); ++k) {
             const config_setting_t *g = config_setting_get_elem(v, (unsigned)k);
             const config_setting_t *values = config_setting_get_member(g, "values");
-            if (config_setting_type(g) != CONFIG_TYPE_GROUP || check_keys(file, g, vary_keys) ||
+            if (config_setting_type(g) != CONFIG_TYPE_GROUP ||
+                app_config_keys(&p, g, NULL, vary_keys, NULL) ||
                 !config_setting_lookup_string(g, "key", &text) || !values ||
                 config_setting_type(values) != CONFIG_TYPE_ARRAY || *vary_count >= MAX_VARY) {
-                rc =
-                    def_fail(file, g, "a vary element is { key = \"...\"; values = [a, b, ...]; }");
+                rc = app_config_fail(&p, g,
+                                     "a vary element is { key = \"...\"; values = [a, b, ...]; }");
                 break;
             }
             char *out = vary[(*vary_count)++];
             size_t n = (size_t)snprintf(out, SWEEP_STRING, "%s=", text);
             for (int j = 0; j < config_setting_length(values) && n < SWEEP_STRING; ++j) {
                 double x;
-                if (number_value(config_setting_get_elem(values, (unsigned)j), &x) != 0) {
-                    rc = def_fail(file, values, "`values` must be numbers");
+                if (app_config_number_of(&p, config_setting_get_elem(values, (unsigned)j), "values",
+                                         &x) < 0) {
+                    rc = -1;
                     break;
                 }
                 n += (size_t)snprintf(out + n, SWEEP_STRING - n, "%s%.10g", j ? "," : "", x);
             }
         }
     }
+    if (rc != 0)
+        fprintf(stderr, "%s\n", err);
     config_destroy(&config);
     return rc;
 }
