@@ -20,8 +20,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define PI 3.14159265358979323846
-
 /* ---------------------------------------------------------------- scene-wide checks */
 
 int loader_gate(Loader *L, const config_setting_t *g, const char *key, unsigned effect)
@@ -103,7 +101,7 @@ static void drag_apply(void *context, const SimBodyForceView *view)
         /* Stokes drag on a sphere of diameter d: 3 pi eta d (v - u) */
         double c = drag->model == SCENE_DRAG_LINEAR
                        ? drag->coefficient
-                       : 3.0 * PI * drag->viscosity * 2.0 * view->radius[i];
+                       : 3.0 * SIM_PI * drag->viscosity * 2.0 * view->radius[i];
         view->fx[i] -= c * (view->vx[i] - drag->fluid_vx);
         view->fy[i] -= c * (view->vy[i] - drag->fluid_vy);
     }

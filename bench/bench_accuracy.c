@@ -132,10 +132,10 @@ static double grain_x(SimWorld *w)
  * 3.13-3.14, 3.22 with gamma_n from e_n (eq. 3.25); e_n = 1 gives pi / omega_n. */
 static double impact_contact_time(double restitution)
 {
-    const double m = density * 4.0 / 3.0 * M_PI * r_med * r_med * r_med;
+    const double m = density * 4.0 / 3.0 * SIM_PI * r_med * r_med * r_med;
     const double omega = sqrt(stiffness / m), le = log(restitution);
-    const double zeta = -le / sqrt(M_PI * M_PI + le * le);
-    return M_PI / (omega * sqrt(1.0 - zeta * zeta));
+    const double zeta = -le / sqrt(SIM_PI * SIM_PI + le * le);
+    return SIM_PI / (omega * sqrt(1.0 - zeta * zeta));
 }
 
 static SimWorldDef impact_def(SimIntegrator integrator, double restitution, double gap, double *gx,

@@ -151,7 +151,7 @@ int main(int argc, char **argv)
         repeats = 64;
 
     /* Settled pile: 000 geometry, box about as wide as the pile is high. */
-    const int columns = (int)ceil(sqrt(grains * M_PI * r_med * r_med / 0.8) / (2 * r_max));
+    const int columns = (int)ceil(sqrt(grains * SIM_PI * r_med * r_med / 0.8) / (2 * r_max));
     const double width = columns * 2.0 * r_max;
     SimGrainBuffer buffer;
     sim_grain_buffer_init(&buffer);
@@ -160,7 +160,7 @@ int main(int argc, char **argv)
     int floor_end = buffer.count;
     /* Side columns three pile heights tall: the rain lattice is about 2.4 times as tall as the
      * settled pile. */
-    const double pile_height = grains * M_PI * r_med * r_med / (0.8 * width);
+    const double pile_height = grains * SIM_PI * r_med * r_med / (0.8 * width);
     sim_build_fixed_column(&buffer, 0.0, 2 * r_max, 3.0 * pile_height + 4 * r_max, r_max, 0, -1);
     sim_build_fixed_column(&buffer, width, 2 * r_max, 3.0 * pile_height + 4 * r_max, r_max, 0, -1);
     SimRainDef rain =

@@ -16,8 +16,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define PI 3.14159265358979323846
-
 static const uint32_t outline_rgb = 0x2a2a2a;
 static const uint32_t wall_rgb = 0x3c3c3c;
 static const uint32_t arrow_rgb = 0x161616;
@@ -350,14 +348,14 @@ static void draw_disks(cairo_t *cr, const DrawScene *sc, const RenderView *v)
                 if (current != outline_rgb)
                     render_set_rgb(cr, current = outline_rgb);
                 cairo_new_path(cr);
-                cairo_arc(cr, px, py, r, 0, 2 * PI);
+                cairo_arc(cr, px, py, r, 0, 2 * SIM_PI);
                 cairo_fill(cr);
                 inner = r - w;
             }
             if (current != rgb)
                 render_set_rgb(cr, current = rgb);
             cairo_new_path(cr);
-            cairo_arc(cr, px, py, inner, 0, 2 * PI);
+            cairo_arc(cr, px, py, inner, 0, 2 * SIM_PI);
             cairo_fill(cr);
         }
     }
@@ -572,7 +570,7 @@ static void draw_arches(cairo_t *cr, const DrawScene *sc, const RenderView *v)
             double px, py, r = f->radius[i] * v->scale;
             render_view_to_pixel(v, f->x[i], f->y[i], &px, &py);
             cairo_new_sub_path(cr);
-            cairo_arc(cr, px, py, fmax(1.0, r - 0.5 * ring), 0, 2 * PI);
+            cairo_arc(cr, px, py, fmax(1.0, r - 0.5 * ring), 0, 2 * SIM_PI);
         }
         cairo_set_line_width(cr, pass == 0 ? ring + 2 : ring);
         cairo_stroke(cr);
@@ -594,7 +592,7 @@ static void draw_arches(cairo_t *cr, const DrawScene *sc, const RenderView *v)
             double px, py;
             render_view_to_pixel(v, f->x[sc->arch_order[k]], f->y[sc->arch_order[k]], &px, &py);
             cairo_new_sub_path(cr);
-            cairo_arc(cr, px, py, pass == 0 ? 0.9 * ring + 1 : 0.9 * ring, 0, 2 * PI);
+            cairo_arc(cr, px, py, pass == 0 ? 0.9 * ring + 1 : 0.9 * ring, 0, 2 * SIM_PI);
         }
         cairo_fill(cr);
     }
@@ -731,10 +729,10 @@ static void draw_colorbar(cairo_t *cr, const DrawScene *sc)
         for (int k = 0; k <= top; ++k) {
             double cy = y + (k + 1.6) * 1.6 * fs;
             render_set_rgb(cr, outline_rgb);
-            cairo_arc(cr, x + 0.5 * fs, cy, 0.5 * fs, 0, 2 * PI);
+            cairo_arc(cr, x + 0.5 * fs, cy, 0.5 * fs, 0, 2 * SIM_PI);
             cairo_fill(cr);
             render_set_rgb(cr, render_species_rgb(k));
-            cairo_arc(cr, x + 0.5 * fs, cy, 0.5 * fs - 1, 0, 2 * PI);
+            cairo_arc(cr, x + 0.5 * fs, cy, 0.5 * fs - 1, 0, 2 * SIM_PI);
             cairo_fill(cr);
             char text[32];
             snprintf(text, sizeof text, "%d", k);
@@ -775,7 +773,7 @@ static void draw_colorbar(cairo_t *cr, const DrawScene *sc)
     /* Rotated label along the bar. */
     cairo_save(cr);
     cairo_translate(cr, x + w + 0.9 * fs + widest, top + 0.5 * h);
-    cairo_rotate(cr, -0.5 * PI);
+    cairo_rotate(cr, -0.5 * SIM_PI);
     render_text_draw(cr, 0, 0, title, 0.5, 0);
     cairo_restore(cr);
 }

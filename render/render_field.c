@@ -10,19 +10,15 @@
 
 double render_kernel(RenderKernel kernel, double r, double width)
 {
-    const double pi = 3.14159265358979323846;
     if (!(width > 0) || !(r < width))
         return 0;
     if (kernel == RENDER_KERNEL_GAUSSIAN) {
         /* sigma = width / 3, cut at 3 sigma and renormalised for the cut tail (1 - e^-4.5). */
         double sigma = width / 3.0;
-        double norm = 2 * pi * sigma * sigma * (1.0 - exp(-4.5));
+        double norm = 2 * SIM_PI * sigma * sigma * (1.0 - exp(-4.5));
         return exp(-0.5 * (r * r) / (sigma * sigma)) / norm;
     }
-    /* Lucy with cutoff c = width: W = 5 / (pi c^2) (1 + 3 s)(1 - s)^3, s = r / c; the integral
-     * 2 pi c^2 int_0^1 s (1 + 3 s)(1 - s)^3 ds = pi c^2 / 5. */
-    double s = r / width, u = 1 - s;
-    return 5.0 / (pi * width * width) * (1 + 3 * s) * u * u * u;
+    return sim_kernel_lucy(r, width); /* the kernel the app's coarse-grained fields use too */
 }
 
 void render_field_free(RenderField *field)
@@ -38,7 +34,6 @@ void render_field_free(RenderField *field)
 
 int render_velocity_field(const SimFrame *frame, const RenderFieldDef *def, RenderField *out)
 {
-    const double pi = 3.14159265358979323846;
     out->vx = out->vy = out->packing = NULL;
     out->nx = out->ny = 0;
     if (!(def->cell > 0) || !(def->width > 0) || !(def->x1 > def->x0) || !(def->y1 > def->y0))
@@ -70,7 +65,7 @@ int render_velocity_field(const SimFrame *frame, const RenderFieldDef *def, Rend
         double r = frame->radius[g];
         double m = pow(r, (double)def->mass_power);
         double vx = frame->vx ? frame->vx[g] : 0, vy = frame->vy ? frame->vy[g] : 0;
-        double area = pi * r * r;
+        double area = SIM_PI * r * r;
         /* Periodic images that can reach the region. */
         for (int image = -1; image <= 1; ++image) {
             if (image != 0 && !(period > 0))

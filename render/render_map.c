@@ -156,14 +156,14 @@ static void draw_map(cairo_t *cr, void *context)
     if (m->y_label) {
         cairo_save(cr);
         cairo_translate(cr, g.ax - 4.6 * g.fs, g.ay + 0.5 * g.ah);
-        cairo_rotate(cr, -M_PI / 2);
+        cairo_rotate(cr, -SIM_PI / 2);
         render_text_draw(cr, 0, 0, m->y_label, 0.5, 0.5);
         cairo_restore(cr);
     }
     if (m->bar_label) {
         cairo_save(cr);
         cairo_translate(cr, g.bx + g.bw + 4.3 * g.fs, g.by + 0.5 * g.bh);
-        cairo_rotate(cr, -M_PI / 2);
+        cairo_rotate(cr, -SIM_PI / 2);
         render_text_draw(cr, 0, 0, m->bar_label, 0.5, 0.5);
         cairo_restore(cr);
     }

@@ -12,8 +12,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define PI 3.14159265358979323846
-
 static const uint32_t axis_rgb = 0x1a1a1a;
 static const uint32_t grid_rgb = 0xe4e4e4;
 /* Okabe & Ito (2008) order, colour-blind safe. */
@@ -243,7 +241,7 @@ static void marker_path(cairo_t *cr, RenderMarker m, double x, double y, double 
     switch (m) {
     case RENDER_MARKER_CIRCLE:
         cairo_new_sub_path(cr);
-        cairo_arc(cr, x, y, r, 0, 2 * PI);
+        cairo_arc(cr, x, y, r, 0, 2 * SIM_PI);
         break;
     case RENDER_MARKER_SQUARE:
         cairo_rectangle(cr, x - 0.85 * r, y - 0.85 * r, 1.7 * r, 1.7 * r);
@@ -524,7 +522,7 @@ static void draw_panel(cairo_t *cr, const RenderPlot *p, int index)
     if (pn->y.label) {
         cairo_save(cr);
         cairo_translate(cr, g.cx + 0.4 * fs, g.ay + 0.5 * g.ah);
-        cairo_rotate(cr, -0.5 * PI);
+        cairo_rotate(cr, -0.5 * SIM_PI);
         render_text_draw(cr, 0, 0, pn->y.label, 0.5, 0);
         cairo_restore(cr);
     }

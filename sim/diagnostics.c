@@ -292,3 +292,12 @@ uint64_t sim_world_hash(const SimWorld *w)
     free(order);
     return h;
 }
+
+double sim_kernel_lucy(double r, double c)
+{
+    if (!(c > 0.0) || !(r < c))
+        return 0.0;
+    /* the integral 2 pi c^2 int_0^1 s (1 + 3 s)(1 - s)^3 ds = pi c^2 / 5 */
+    double s = r / c, u = 1.0 - s;
+    return 5.0 / (SIM_PI * c * c) * (1.0 + 3.0 * s) * u * u * u;
+}

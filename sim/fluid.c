@@ -28,7 +28,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FLUID_PI             3.14159265358979323846
 /* 1 - phi never below this: a layer packed full of grains keeps a little fluid inertia. */
 #define MIN_FLUID_FRACTION   0.02
 /* Newton iterations per turbulent step (2-4 are typical at DEM steps). */
@@ -409,7 +408,7 @@ static void fluid_apply(void *context, const SimBodyForceView *view)
     const double g_x = d->gravity_x, g_y = d->gravity_y;
     for (int i = 0; i < view->count; ++i) {
         const double yc = view->y[i], r = view->radius[i], dia = 2.0 * r;
-        const double area = FLUID_PI * r * r;
+        const double area = SIM_PI * r * r;
         /* area-weighted fluid velocity over the layers the grain covers */
         int k0 = (int)floor((yc - r - d->y0) / h), k1 = (int)floor((yc + r - d->y0) / h);
         double inside = 0.0, uw = 0.0;
@@ -444,7 +443,7 @@ static void fluid_apply(void *context, const SimBodyForceView *view)
         double speed = sqrt(rel_x * rel_x + rel_y * rel_y);
         /* C_d |du| = (sqrt(C_inf |du|) + sqrt(R_c nu / d))^2: finite as |du| -> 0 */
         double s = sqrt(d->drag_c_inf * speed) + sqrt(d->drag_reynolds * d->viscosity / dia);
-        double frontal = d->geometry == SIM_FLUID_SPHERE ? 0.25 * FLUID_PI * dia * dia : dia;
+        double frontal = d->geometry == SIM_FLUID_SPHERE ? 0.25 * SIM_PI * dia * dia : dia;
         double coef = 0.5 * rho * frontal * s * s; /* 002 eqs. 23-25: F = coef (u - v), kg/s */
         const double mass = view->mass[i];
         if (d->drag_limit && f->limit_dt > 0.0 && mass > 0.0) {

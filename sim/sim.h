@@ -25,6 +25,9 @@
 
 #define SIM_VERSION "0.1.0"
 
+/// pi for every layer (strict C17 has no M_PI).
+#define SIM_PI 3.14159265358979323846
+
 /* ---------------------------------------------------------------- effects */
 
 /// Physical effects a scene can declare; an undeclared effect costs nothing at run time.
@@ -360,6 +363,11 @@ void sim_world_momentum(const SimWorld *world, double *px, double *py);
 uint64_t sim_world_hash(const SimWorld *world);
 
 /* ---------------------------------------------------------------- analysis */
+
+/// Lucy kernel of cutoff radius c, normalised over the plane (Lucy 1977; the MercuryCG default,
+/// Weinhart et al. 2012): W(r) = 5 / (pi c^2) (1 + 3 s)(1 - s)^3 with s = r / c for r < c, else
+/// 0 (also 0 when c <= 0); 1/m^2. The one coarse-graining kernel of app/ and render/.
+double sim_kernel_lucy(double r, double c);
 
 /// Free surface: for each of `bins` equal bins over [x0, x1], the highest top (y + r) of a mobile
 /// grain whose centre lies in the bin, m; NAN for an empty bin (000 §5.4).

@@ -5,8 +5,6 @@
 
 #include "sim.h"
 
-#define SIM_PI 3.14159265358979323846 /* sim/ builds in strict C17: no M_PI */
-
 #include <stddef.h>
 #include <stdint.h>
 

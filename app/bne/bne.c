@@ -12,7 +12,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define BNE_PI   3.14159265358979323846
 #define BNE_PATH (SCENE_PATH_MAX + 2 * SCENE_NAME_MAX)
 
 struct AppBne {
@@ -136,7 +135,7 @@ static int parse_shaking(AppConfig *p, const config_setting_t *g, Scene *scene, 
     if (!(b->period > 0.0))
         return app_config_fail(p, g, "`period` is required when the motion has no frequency");
     b->frequency = 1.0 / b->period;
-    double omega = 2.0 * BNE_PI * b->frequency;
+    double omega = 2.0 * SIM_PI * b->frequency;
     if (isfinite(b->gamma)) /* Gamma = A w^2 / g (002 eq. 12) */
         b->amplitude = b->gamma * b->gravity / (omega * omega);
     else {
@@ -222,7 +221,7 @@ static void bne_adjust_def(const void *state, int stage, SimWorldDef *def)
     if (stage == b->stage && stage > 0 && def->max_initial_overlap < 0.5)
         def->max_initial_overlap = 0.5;
     /* offset A sin(w (t - t0)): the box leaves its rest position at the stage start t0 */
-    mo->phase = -fmod(2.0 * BNE_PI * b->frequency * b->last_time, 2.0 * BNE_PI);
+    mo->phase = -fmod(2.0 * SIM_PI * b->frequency * b->last_time, 2.0 * SIM_PI);
 }
 
 static int bne_restart(const void *state, int stage)
@@ -235,7 +234,7 @@ static int bne_restart(const void *state, int stage)
 
 static double box_offset(const AppBne *b, double t)
 {
-    return b->amplitude * sin(2.0 * BNE_PI * b->frequency * t + b->phase) * b->dir_y;
+    return b->amplitude * sin(2.0 * SIM_PI * b->frequency * t + b->phase) * b->dir_y;
 }
 
 static int intruder_index(const SimFrame *f, uint32_t id)
@@ -297,7 +296,7 @@ static int bne_stage_begin(void *state, AppContext *c)
     if (c->stage != b->stage)
         return 0;
     b->t0 = sim_world_time(world);
-    b->phase = -fmod(2.0 * BNE_PI * b->frequency * b->last_time, 2.0 * BNE_PI);
+    b->phase = -fmod(2.0 * SIM_PI * b->frequency * b->last_time, 2.0 * SIM_PI);
     SimFrame f;
     sim_world_frame(world, &f);
     int i = intruder_index(&f, b->intruder);
@@ -422,8 +421,8 @@ static int bne_end(void *state, AppContext *c, int ok)
  * formula, sim/world.c: A sin(w t + phase)). */
 static double box_motion(const AppBne *b, double t, double *velocity)
 {
-    double arg = 2.0 * BNE_PI * b->frequency * t + b->phase;
-    *velocity = b->amplitude * 2.0 * BNE_PI * b->frequency * cos(arg);
+    double arg = 2.0 * SIM_PI * b->frequency * t + b->phase;
+    *velocity = b->amplitude * 2.0 * SIM_PI * b->frequency * cos(arg);
     return b->amplitude * sin(arg);
 }
 
@@ -432,16 +431,6 @@ long app_bne_phase_step(double phase, int phases, double period, double dt, long
     long n = m / phases, k = m % phases;
     double tau = ((double)n + phase + (double)k / (double)phases) * period;
     return (long)llround(tau / dt);
-}
-
-/* Lucy kernel of cutoff c normalised over the plane: W = 5 / (pi c^2) (1 + 3 s)(1 - s)^3, s = r/c
- * (Lucy 1977; the MercuryCG default, as render/render_field.c draws the last frame's field). */
-static double lucy(double r, double c)
-{
-    if (!(r < c))
-        return 0.0;
-    double s = r / c, u = 1.0 - s;
-    return 5.0 / (BNE_PI * c * c) * (1.0 + 3.0 * s) * u * u * u;
 }
 
 static int field_alloc(AppBneField *f, int nx, int ny)
@@ -514,8 +503,8 @@ void app_bne_field_add(AppBneField *f, const SimFrame *frame, double shift_x, do
         int species = frame->species ? frame->species[g] : 0;
         species = species < 0 || species >= SIM_MAX_SPECIES ? 0 : species;
         double volume =
-            f->mass_model == SIM_MASS_SPHERE ? 4.0 / 3.0 * BNE_PI * r * r * r : BNE_PI * r * r;
-        double m = f->density[species] * volume, area = BNE_PI * r * r;
+            f->mass_model == SIM_MASS_SPHERE ? 4.0 / 3.0 * SIM_PI * r * r * r : SIM_PI * r * r;
+        double m = f->density[species] * volume, area = SIM_PI * r * r;
         double vx = frame->vx[g] - velocity_x, vy = frame->vy[g] - velocity_y;
         for (int image = -1; image <= 1; ++image) { /* periodic images that reach the grid */
             if (image != 0 && !(period > 0.0))
@@ -533,7 +522,7 @@ void app_bne_field_add(AppBneField *f, const SimFrame *frame, double shift_x, do
                 double dy = f->y0 + (j + 0.5) * cell - y;
                 for (int i = i0; i <= i1; ++i) {
                     double dx = f->x0 + (i + 0.5) * cell - x;
-                    double k = lucy(sqrt(dx * dx + dy * dy), w);
+                    double k = sim_kernel_lucy(sqrt(dx * dx + dy * dy), w); /* Lucy 1977 */
                     if (!(k > 0.0))
                         continue;
                     size_t idx = (size_t)j * (size_t)f->nx + (size_t)i;

@@ -20,8 +20,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#define SEDIMENT_PI 3.14159265358979323846
-
 struct AppSediment {
     SimFluid *fluid;
     AppSedimentNumbers numbers;
@@ -300,7 +298,7 @@ double app_sediment_flux(const SimFrame *frame, double width)
 {
     double q = 0.0;
     for (int i = 0; i < frame->mobile_count; ++i)
-        q += SEDIMENT_PI * frame->radius[i] * frame->radius[i] * frame->vx[i];
+        q += SIM_PI * frame->radius[i] * frame->radius[i] * frame->vx[i];
     return q / width;
 }
 
