@@ -3,30 +3,32 @@
  *
  * How to add an experiment (docs/dev/architecture.md has a worked example):
  *  1. make a folder app/<family>/ with <family>.h and a file that defines
- *         const AppExperiment app_<family>_experiment = {.name = "<family>", .group = "<key>",
- * ...}; filling only the hooks of experiment.h you need (parse, begin, sample, stage_end, ...);
- *  2. add its .c files to APP_FAMILY_SOURCES in app/CMakeLists.txt;
- *  3. add one `extern` line and one entry to the list below.
- * The scene key `<key>`, the family's stage/output keys, its commands and their --help lines are
- * then accepted and listed by the core. Scenes go in scenes/<family>/, tests in tests/app/, docs
- * in docs/<family>.md. */
+ *         const AppExperiment app_<family>_experiment = {.name = "<family>", ...};
+ *     filling only the hooks of experiment.h you need (parse, begin, sample, stage_end, ...);
+ *     app/CMakeLists.txt builds every .c file of every folder under app/;
+ *  2. add one line APP_FAMILY(<family>) to APP_FAMILIES below.
+ * The family's scene group, stage and output keys, its commands and their --help lines are then
+ * accepted and listed by the core. Scenes go in scenes/<family>/, tests in tests/app/, docs in
+ * docs/<family>.md. */
 #include "experiments.h"
 
 #include <string.h>
 
-extern const AppExperiment app_crater_experiment;
-extern const AppExperiment app_discharge_experiment;
-extern const AppExperiment app_bne_experiment;
-extern const AppExperiment app_sediment_experiment;
+/* One line per family. The order is the order of `sablier --help`'s family commands and of the
+ * runner's hook calls. */
+#define APP_FAMILIES                                                                               \
+    APP_FAMILY(crater)                                                                             \
+    APP_FAMILY(discharge)                                                                          \
+    APP_FAMILY(bne)                                                                                \
+    APP_FAMILY(sediment)
 
-/* The order is the order of `sablier --help`'s family commands and of the runner's hook calls. */
-const AppExperiment *const app_experiments[] = {
-    &app_crater_experiment,
-    &app_discharge_experiment,
-    &app_bne_experiment,
-    &app_sediment_experiment,
-    NULL,
-};
+#define APP_FAMILY(name) extern const AppExperiment app_##name##_experiment;
+APP_FAMILIES
+#undef APP_FAMILY
+
+#define APP_FAMILY(name) &app_##name##_experiment,
+const AppExperiment *const app_experiments[] = {APP_FAMILIES NULL};
+#undef APP_FAMILY
 
 int app_experiment_count(void)
 {
