@@ -414,6 +414,30 @@ static int name_index(const char *value, const char *const *names)
 #endif
 
 #ifdef SABLIER_HAVE_RENDER
+/* The style with what the command line set (fields of `over` that are set) on top. */
+static SceneStyle style_overlay(SceneStyle style, const SceneStyle *over)
+{
+    int *dst[] = {&style.width,           &style.height,       &style.color_by,
+                  &style.colormap,        &style.force_chains, &style.velocity_field,
+                  &style.velocity_arrows, &style.colorbar,     &style.time_stamp,
+                  &style.scale_bar};
+    const int src[] = {over->width,           over->height,       over->color_by,
+                       over->colormap,        over->force_chains, over->velocity_field,
+                       over->velocity_arrows, over->colorbar,     over->time_stamp,
+                       over->scale_bar};
+    for (size_t k = 0; k < sizeof src / sizeof src[0]; ++k)
+        if (src[k] >= 0)
+            *dst[k] = src[k];
+    if (!isnan(over->chain_threshold))
+        style.chain_threshold = over->chain_threshold;
+    if (over->title[0])
+        snprintf(style.title, sizeof style.title, "%s", over->title);
+    return style;
+}
+
+#endif
+
+#ifdef SABLIER_HAVE_RENDER
 typedef struct RenderArgs {
     const char *state, *out, *scene_path, *sets[MAX_SETS];
     int set_count;
@@ -532,28 +556,9 @@ static int command_render(int argc, char **argv)
     }
     if (!scene && style.color_by < 0 && over.color_by < 0)
         over.color_by = SCENE_COLOR_SPECIES;
-    /* figure-style overlay: only what the command line set */
     SceneFigure figure;
     memset(&figure, 0, sizeof figure);
-    figure.style = style;
-    {
-        int *dst[] = {&figure.style.width,           &figure.style.height,
-                      &figure.style.color_by,        &figure.style.colormap,
-                      &figure.style.force_chains,    &figure.style.velocity_field,
-                      &figure.style.velocity_arrows, &figure.style.colorbar,
-                      &figure.style.time_stamp,      &figure.style.scale_bar};
-        const int src[] = {over.width,           over.height,       over.color_by,
-                           over.colormap,        over.force_chains, over.velocity_field,
-                           over.velocity_arrows, over.colorbar,     over.time_stamp,
-                           over.scale_bar};
-        for (size_t k = 0; k < sizeof src / sizeof src[0]; ++k)
-            if (src[k] >= 0)
-                *dst[k] = src[k];
-        if (!isnan(over.chain_threshold))
-            figure.style.chain_threshold = over.chain_threshold;
-        if (over.title[0])
-            snprintf(figure.style.title, sizeof figure.style.title, "%s", over.title);
-    }
+    figure.style = style_overlay(style, &over);
     RenderStyle render_style = app_render_style(&figure.style);
     RenderMeta meta = {.scene = scene ? scene->name : "", .seed = scene ? scene->seed : 0};
     SimFrame frame;
