@@ -232,8 +232,10 @@ static int parse_movie(Loader *L, const config_setting_t *output)
 {
     Scene *scene = L->scene;
     const config_setting_t *movie = app_config_member(output, "movie");
+    int own[SCENE_MAX_STAGES]; /* 1: the stage sets its own `movie` */
     for (int k = 0; k < scene->stage_count; ++k) {
         int wanted = 0;
+        own[k] = scene->stages[k].movie >= 0;
         if (movie && config_setting_type(movie) == CONFIG_TYPE_BOOL)
             wanted = config_setting_get_bool(movie);
         if (scene->stages[k].movie < 0)
@@ -253,7 +255,8 @@ static int parse_movie(Loader *L, const config_setting_t *output)
             return app_config_fail(
                 &L->p, e, "`movie` names no stage `%s`",
                 config_setting_type(e) == CONFIG_TYPE_STRING ? config_setting_get_string(e) : "?");
-        scene->stages[stage].movie = 1;
+        if (!own[stage])
+            scene->stages[stage].movie = 1;
     }
     return 0;
 }

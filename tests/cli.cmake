@@ -54,6 +54,13 @@ sablier_cli_test(set_undeclared_effect "check|${CLI_TINY}|--set|species.0.mu=0.5
                  ERR "--set species.0.mu: `mu` needs effect \"friction\"")
 sablier_cli_test(set_int_key "check|${CLI_TINY}|--set|seed=1.5" 2 ERR "--set seed: `seed` must be an integer")
 
+# a stage's own `movie` wins over output.movie's list (quick.scene lists collapse)
+sablier_cli_test(stage_movie_off
+                 "check|${PROJECT_SOURCE_DIR}/scenes/crater/quick.scene|--set|stages.collapse.movie=false"
+                 0 OUT "stage deposit: [^\n]*, movie\n.*stage collapse: [^\n]*0.5 s[)]\n")
+sablier_cli_test(stage_movie_listed "check|${PROJECT_SOURCE_DIR}/scenes/crater/quick.scene" 0
+                 OUT "stage collapse: [^\n]*, movie\n")
+
 # every shipped scene passes `check`
 file(GLOB_RECURSE shipped CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/scenes/*.scene)
 foreach(scene ${shipped})
