@@ -473,7 +473,8 @@ static int stage_start(Run *run, int k, StageClock *clock)
         out->t_star_length > 0.0 && g > 0.0 ? sqrt(out->t_star_length / g) : frame.time_scale;
     if (figures_due(run, k, 0, 0, dt) != 0)
         return 2;
-    if ((stage->movie || out->figure_count > 0) && !render && !run->render_warned) {
+    if ((stage->movie || out->figure_count > 0) && !render && !run->options->render_off &&
+        !run->render_warned) {
         fprintf(stderr, "sablier: warning: rendering is not built: figures and movies are "
                         "skipped\n");
         run->render_warned = 1;

@@ -23,6 +23,7 @@ typedef struct AppRunOptions {
     int quiet;                   ///< 1: one line per stage only
     int threads;                 ///< for encoding/rendering; the simulation is serial
     const AppRender *render;     ///< NULL: figures and movies skipped with one warning
+    int render_off;              ///< 1: the caller chose no rendering (NULL render, no warning)
     const char *sablier_version; ///< for summary.json
     const char *render_versions; ///< render_library_versions(), or NULL
 } AppRunOptions;

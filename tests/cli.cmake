@@ -5,13 +5,16 @@ set(CLI_WORK ${CMAKE_CURRENT_BINARY_DIR}/cli_work)
 set(CLI_TINY ${PROJECT_SOURCE_DIR}/scenes/validation/drop_elastic.scene)
 
 function(sablier_cli_test name args rc)
-  cmake_parse_arguments(T "" "OUT;ERR" "" ${ARGN})
+  cmake_parse_arguments(T "" "OUT;ERR;NOT_ERR" "" ${ARGN})
   set(defs -DSABLIER=$<TARGET_FILE:sablier> "-DARGS=${args}" -DRC=${rc})
   if(DEFINED T_OUT)
     list(APPEND defs "-DOUT=${T_OUT}")
   endif()
   if(DEFINED T_ERR)
     list(APPEND defs "-DERR=${T_ERR}")
+  endif()
+  if(DEFINED T_NOT_ERR)
+    list(APPEND defs "-DNOT_ERR=${T_NOT_ERR}")
   endif()
   add_test(NAME cli.${name} COMMAND ${CMAKE_COMMAND} ${defs} -P ${CLI_DIR}/expect.cmake
            WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
@@ -60,6 +63,11 @@ sablier_cli_test(stage_movie_off
                  0 OUT "stage deposit: [^\n]*, movie\n.*stage collapse: [^\n]*0.5 s[)]\n")
 sablier_cli_test(stage_movie_listed "check|${PROJECT_SOURCE_DIR}/scenes/crater/quick.scene" 0
                  OUT "stage collapse: [^\n]*, movie\n")
+
+# a driver that runs its members without rendering on purpose does not warn "not built"
+sablier_cli_test(sediment_no_render_warning
+                 "sediment|${PROJECT_SOURCE_DIR}/scenes/sediment/viscous.scene|--shields|0.1|--jobs|1|--quiet|--out|${CLI_WORK}/sediment_no_render|--set|stages.settle.time.end=0.2|--set|stages.flow.time.end=0.2"
+                 0 ERR "stage flow: 0.2 s simulated" NOT_ERR "rendering is not built")
 
 # every shipped scene passes `check`
 file(GLOB_RECURSE shipped CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/scenes/*.scene)

@@ -155,6 +155,7 @@ static int run_one(Samples *S, double value, long seed, Record *rec)
     ro.out_dir = dir;
     ro.quiet = 1;
     ro.render = o->render;
+    ro.render_off = o->render == NULL; /* --movies not given: no "not built" warning */
     int rc = app_run(scene, &ro);
     rec->value = value;
     rec->seed = seed;

@@ -93,6 +93,7 @@ static int run_member(const Scan *sc, int k)
     ro.out_dir = dir;
     ro.quiet = 1;
     ro.render = sc->render_runs ? sc->render : NULL;
+    ro.render_off = !sc->render_runs; /* --render not given: no "not built" warning */
     int rc = app_run(scene, &ro);
     scene_free(scene);
     return rc;

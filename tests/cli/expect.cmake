@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: MIT
 # cmake -P expect.cmake -DSABLIER=... -DARGS="a|b|c" -DRC=0 [-DOUT=regex] [-DERR=regex]
-# [-DWORKDIR=dir]: runs `sablier a b c`, checks the exit status and matches stdout / stderr.
+# [-DWORKDIR=dir] [-DNOT_ERR=regex]: runs `sablier a b c`, checks the exit status and matches
+# stdout / stderr (NOT_ERR: stderr must not match).
 string(REPLACE "|" ";" args "${ARGS}")
 if(NOT WORKDIR)
   set(WORKDIR ".")
@@ -15,4 +16,7 @@ if(DEFINED OUT AND NOT out MATCHES "${OUT}")
 endif()
 if(DEFINED ERR AND NOT err MATCHES "${ERR}")
   message(FATAL_ERROR "sablier ${args}: stderr does not match `${ERR}`:\n${err}")
+endif()
+if(DEFINED NOT_ERR AND err MATCHES "${NOT_ERR}")
+  message(FATAL_ERROR "sablier ${args}: stderr matches `${NOT_ERR}`:\n${err}")
 endif()
