@@ -566,12 +566,10 @@ static int command_render(int argc, char **argv)
     memset(&columns, 0, sizeof columns);
     SimWorld *world = NULL;
     if (scene) {
+        /* sim_world_load: the state's grains are restored ones, exempt from the start-overlap
+         * bound (sim.h) */
         SimWorldDef def = scene_world_def(scene, scene->stage_count - 1);
-        def.grains = grains;
-        def.walls = walls;
-        def.wall_count = wall_count;
-        def.start_time = time;
-        world = sim_world_create(&def, &error);
+        world = sim_world_load(state, &def, &error);
         if (!world) {
             fprintf(stderr, "sablier: render: %s does not fit scene %s: %s: %s\n", state,
                     scene->path, error.field, error.message);

@@ -217,7 +217,8 @@ typedef struct SimWorldDef {
     double guard_max_overlap;   ///< stop when xi / d_min of a pair exceeds this (default 0.5)
     double guard_max_speed;     ///< stop when a grain exceeds this speed, m/s; 0 = automatic
     int guard_every;            ///< steps between guard checks (default 100)
-    double max_initial_overlap; ///< refuse start overlaps above this fraction of d_min (0.1)
+    double max_initial_overlap; ///< refuse start overlaps of new grains above this fraction of
+                                ///< d_min (0.1); restored grains (sim_world_load) are exempt
     double length_scale;        ///< D of t* = t / sqrt(D/g) and E* = E/(m g D), m (0 = mean d)
     double start_time;          ///< s
 } SimWorldDef;
@@ -437,6 +438,10 @@ void sim_grain_set_free(SimGrainSet *grains);
 /// own grains, walls and start time are not used; the contact history is not restored: see
 /// sim_world_restore_contacts). NULL on failure: error->status is SIM_ERROR_IO when the file
 /// cannot be read, another status when the state does not fit `def`.
+/// Restored grains are exempt from def.max_initial_overlap (grain-grain and grain-wall): the
+/// bound is for new grains (sim_world_create, sim_world_add_grains), while a state the engine
+/// saved must reload whatever its overlaps (a deep or soft pile settles above the bound); every
+/// other check of sim_world_create applies, and the run guard watches overlaps from then on.
 SimWorld *sim_world_load(const char *path, const SimWorldDef *def, SimError *error);
 
 /* ---------------------------------------------------------------- builders */

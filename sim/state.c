@@ -259,7 +259,8 @@ SimWorld *sim_world_load(const char *path, const SimWorldDef *def, SimError *err
     d.walls = walls;
     d.wall_count = wall_count;
     d.start_time = time;
-    SimWorld *world = sim_world_create(&d, error);
+    /* Restored grains: exempt from the start-overlap bound (sim_world_create_restored). */
+    SimWorld *world = sim_world_create_restored(&d, error);
     sim_grain_set_free(&grains);
     free(walls);
     return world;

@@ -306,7 +306,9 @@ static SimStatus validate_materials(const SimWorldDef *def, SimError *error)
     return SIM_OK;
 }
 
-static SimStatus validate_grains(const SimWorldDef *def, SimError *error)
+/* `restored`: the grains come from a checkpoint the engine wrote (sim_world_load): they are
+ * exempt from the start-overlap bound (see validate_def). */
+static SimStatus validate_grains(const SimWorldDef *def, int restored, SimError *error)
 {
     const SimGrainSet *g = &def->grains;
     char f[64];
@@ -341,7 +343,7 @@ static SimStatus validate_grains(const SimWorldDef *def, SimError *error)
             CHECK(def->effects & SIM_EFFECT_VIBRATION, f,
                   "wall %d has a prescribed motion but the vibration effect is not declared", w);
         for (int i = 0; i < g->count; ++i) {
-            if (g->flags && (g->flags[i] & SIM_GRAIN_FIXED))
+            if (restored || (g->flags && (g->flags[i] & SIM_GRAIN_FIXED)))
                 continue;
             double d = segment_distance(wall, g->x[i], g->y[i]);
             /* A settled bed rests on its walls with a small overlap: refuse only above the
@@ -359,7 +361,13 @@ static SimStatus validate_grains(const SimWorldDef *def, SimError *error)
     return SIM_OK;
 }
 
-SimStatus sim_world_def_validate(const SimWorldDef *def, SimError *error)
+/* The checks of a definition. The start-overlap bound (max_initial_overlap, grain-grain and
+ * grain-wall) is for new grains: a user-supplied grain list that overlaps more is a mistake (a
+ * pile placed too densely would explode). Restored grains are exempt (`restored`, from
+ * sim_world_load): a state the engine itself saved was reached by the physics, and a deep or
+ * soft pile settles with overlaps above the bound, so its checkpoint must reload whatever its
+ * overlaps (the run guard, guard_max_overlap, still watches them as the run goes on). */
+static SimStatus validate_def(const SimWorldDef *def, int restored, SimError *error)
 {
     SimStatus s;
     if (error)
@@ -408,10 +416,10 @@ SimStatus sim_world_def_validate(const SimWorldDef *def, SimError *error)
     }
     if ((s = validate_materials(def, error)) != SIM_OK)
         return s;
-    if ((s = validate_grains(def, error)) != SIM_OK)
+    if ((s = validate_grains(def, restored, error)) != SIM_OK)
         return s;
-    int a, b;
-    double worst = sim_def_worst_overlap(def, &a, &b);
+    int a = -1, b = -1;
+    double worst = restored ? 0.0 : sim_def_worst_overlap(def, &a, &b);
     if (isnan(worst))
         return fail(error, SIM_ERROR_MEMORY, "grains", "out of memory checking the overlaps");
     if (worst > def->max_initial_overlap) {
@@ -447,6 +455,11 @@ SimStatus sim_world_def_validate(const SimWorldDef *def, SimError *error)
               1.0 / def->max_dt_fraction);
     }
     return SIM_OK;
+}
+
+SimStatus sim_world_def_validate(const SimWorldDef *def, SimError *error)
+{
+    return validate_def(def, 0, error);
 }
 
 /* ------------------------------------------------------------------ grains in and out */
@@ -718,9 +731,11 @@ static void setup_guard(SimWorld *w)
     w->guard_next = w->step + w->def.guard_every;
 }
 
-SimWorld *sim_world_create(const SimWorldDef *def, SimError *error)
+/* sim_world_create, and sim_world_create_restored for the grains of a checkpoint (validate_def:
+ * restored grains are exempt from the start-overlap bound). */
+static SimWorld *create(const SimWorldDef *def, int restored, SimError *error)
 {
-    if (sim_world_def_validate(def, error) != SIM_OK)
+    if (validate_def(def, restored, error) != SIM_OK)
         return NULL;
     SimWorld *w = calloc(1, sizeof *w);
     if (!w) {
@@ -795,6 +810,16 @@ SimWorld *sim_world_create(const SimWorldDef *def, SimError *error)
     setup_guard(w);
     guard_snapshot(w);
     return w;
+}
+
+SimWorld *sim_world_create(const SimWorldDef *def, SimError *error)
+{
+    return create(def, 0, error);
+}
+
+SimWorld *sim_world_create_restored(const SimWorldDef *def, SimError *error)
+{
+    return create(def, 1, error);
 }
 
 void sim_world_destroy(SimWorld *w)

@@ -175,6 +175,9 @@ static inline void sim_world_out_of_memory(SimWorld *world, const char *what)
 }
 
 /* world.c */
+/* sim_world_create for grains restored from a checkpoint (sim_world_load): every check of
+ * sim_world_create except the start-overlap bound, which is for new grains only. */
+SimWorld *sim_world_create_restored(const SimWorldDef *def, SimError *error);
 /* Moves prescribed grains and walls to `time`, rebuilds the lists when the skin is used up, and
  * computes all forces: contacts, walls, body forces (no gravity: the integrators add it). */
 void sim_world_forces_at(SimWorld *world, double time);
