@@ -18,6 +18,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /// Provenance written into PNG text chunks and PDF/SVG metadata.
 typedef struct RenderMeta {
     const char *scene; ///< scene name
@@ -272,5 +276,9 @@ int render_diff_images(const RenderImage *a, const RenderImage *b, const RenderD
 
 /// Versions of the linked libraries, e.g. "cairo 1.16.0, libpng 1.6.39, libavcodec 59.37.100".
 const char *render_library_versions(void);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

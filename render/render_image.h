@@ -6,6 +6,10 @@
 
 #include <stdint.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef enum RenderPixelFormat {
     RENDER_PIXEL_BGRA_PREMUL = 0, ///< Cairo ARGB32 on little-endian: bytes B,G,R,A, premultiplied
     RENDER_PIXEL_RGBA = 1,        ///< bytes R,G,B,A, straight alpha, rows top-down
@@ -23,5 +27,9 @@ int render_image_alloc(RenderImage *image, int width, int height, RenderPixelFor
 void render_image_free(RenderImage *image);
 /// Reads pixel (x, y) as straight-alpha 8-bit R, G, B, A whatever the format.
 void render_image_get_rgba(const RenderImage *image, int x, int y, uint8_t rgba[4]);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -6,6 +6,10 @@
 
 #include "sim/sim.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef enum RenderColorBy {
     RENDER_COLOR_FIXED = 0,   ///< one fill colour
     RENDER_COLOR_FORCE = 1,   ///< per-grain contact-force magnitude (SimFrame.force), N
@@ -67,5 +71,9 @@ typedef struct RenderStyle {
 /// Defaults: 1280x720, sand-coloured outlined disks on white, fit view, colour bar, time stamp
 /// and scale bar on; colour map viridis, chains off.
 RenderStyle render_style_default(void);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -23,6 +23,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define SIM_VERSION "0.1.0"
 
 /// pi for every layer (strict C17 has no M_PI).
@@ -602,5 +606,9 @@ void sim_fluid_steady_reference(const SimFluidDef *def, double bed_level, const 
                                 int count, double *u);
 /// Drag coefficient C_d = (sqrt(C_inf) + sqrt(R_c / Re_p))^2 (002 eq. 24); Re_p > 0.
 double sim_fluid_drag_coefficient(const SimFluidDef *def, double reynolds);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* SIM_H */
