@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages sablier needs, only those missing. Run as root (or with sudo).
 set -euo pipefail
-packages=(gcc make cmake pkg-config libconfig-dev libcairo2-dev libpng-dev libosmesa6-dev
-          libavcodec-dev libavformat-dev libswscale-dev libavutil-dev fonts-dejavu-core clang-format-14)
+# g++, dpkg-dev and file: the C++ client, dpkg-shlibdeps and cpack's DEB step of tests/install/check.sh
+packages=(gcc g++ make cmake pkg-config dpkg-dev file libconfig-dev libcairo2-dev libpng-dev
+          libosmesa6-dev libavcodec-dev libavformat-dev libswscale-dev libavutil-dev fonts-dejavu-core
+          clang-format-14)
 if [ "${SABLIER_SETUP_EXTRA:-}" != "" ]; then
   read -r -a extra <<<"$SABLIER_SETUP_EXTRA"
   packages+=("${extra[@]}")

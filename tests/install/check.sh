@@ -1,0 +1,170 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# CI stage "install, out-of-tree clients, package" (docs/install.md).
+#
+#   tests/install/check.sh [BUILD_DIR] [--no-package]
+#
+# Builds BUILD_DIR (default: a fresh Release build in a temporary folder; .ci/run passes the
+# build/ that `make test` then reuses), installs it into a temporary prefix and checks the tree;
+# builds the programs of examples/installed/ outside the tree against that prefix, once with
+# pkg-config and once with CMake's find_package(sablier), and checks that the C and C++ programs,
+# shared and static, print the same lines; checks the man page against every command's --help;
+# then, unless --no-package, makes the .deb with cpack and checks its control file and contents
+# and that the extracted `sablier` runs (--version, a shipped scene). A build configured with
+# SABLIER_WITH_RENDER=OFF installs the sim library only, and that is what is checked.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+jobs=${JOBS:-$(nproc)}
+build=""
+package=1
+for arg in "$@"; do
+  case $arg in
+    --no-package) package=0 ;;
+    *) build=$arg ;;
+  esac
+done
+
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/sablier-install.XXXXXX")
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "install check: $*" >&2; exit 1; }
+step() { echo "-- $*"; }
+
+if [ -z "$build" ]; then
+  build=$tmp/build
+  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_COMPILE_WARNING_AS_ERROR=ON >/dev/null
+fi
+build=$(cd "$build" && pwd)
+cmake --build "$build" -j "$jobs" >/dev/null
+cache() { sed -n "s/^$1:[A-Z]*=//p" "$build/CMakeCache.txt"; }
+version=$(cache CMAKE_PROJECT_VERSION)
+libdir=$(cache CMAKE_INSTALL_LIBDIR)
+render=$(cache SABLIER_WITH_RENDER)
+case $render in ON | on | TRUE | true | 1) render=1 ;; *) render=0 ;; esac
+libs=(sim)
+[ $render = 1 ] && libs+=(render)
+
+# ---- install tree
+prefix=$tmp/prefix
+step "cmake --install $build --prefix <tmp>/prefix"
+cmake --install "$build" --prefix "$prefix" >/dev/null
+expect=(bin/sablier include/sablier/sim/sim.h share/man/man1/sablier.1
+        share/doc/sablier/README.md share/doc/sablier/install.md share/doc/sablier/cli.md
+        share/sablier/scenes/crater/quick.scene
+        "$libdir/cmake/sablier/sablierConfig.cmake" "$libdir/cmake/sablier/sablierConfigVersion.cmake"
+        "$libdir/cmake/sablier/sablierTargets.cmake")
+for lib in "${libs[@]}"; do
+  expect+=("$libdir/libsablier-$lib.a" "$libdir/libsablier-$lib.so" "$libdir/libsablier-$lib.so.0"
+           "$libdir/libsablier-$lib.so.$version" "$libdir/pkgconfig/sablier-$lib.pc")
+done
+[ $render = 1 ] && expect+=(include/sablier/render/render.h include/sablier/render/render_image.h
+                            include/sablier/render/render_style.h)
+for f in "${expect[@]}"; do
+  [ -e "$prefix/$f" ] || fail "missing $f in the install tree"
+done
+if [ $render = 0 ]; then
+  [ ! -e "$prefix/$libdir/pkgconfig/sablier-render.pc" ] || fail "sim-only build installed sablier-render.pc"
+  [ ! -e "$prefix/include/sablier/render" ] || fail "sim-only build installed render headers"
+fi
+for lib in "${libs[@]}"; do
+  soname=$(readelf -d "$prefix/$libdir/libsablier-$lib.so.$version" | sed -n 's/.*SONAME.*\[\(.*\)\]/\1/p')
+  [ "$soname" = "libsablier-$lib.so.0" ] || fail "libsablier-$lib soname is '$soname'"
+done
+echo "   $(cd "$prefix" && find . -type f -o -type l | grep -vc 'share/doc\|share/sablier') files" \
+     "besides docs and scenes; sonames libsablier-{$(IFS=,; echo "${libs[*]}")}.so.0"
+
+# ---- versions agree: the command, the library header, pkg-config and the man page
+export PKG_CONFIG_PATH=$prefix/$libdir/pkgconfig
+export LD_LIBRARY_PATH=$prefix/$libdir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+[ "$("$prefix/bin/sablier" --version | head -1)" = "sablier $version" ] || fail "sablier --version is not $version"
+[ "$(pkg-config --modversion sablier-sim)" = "$version" ] || fail "sablier-sim.pc version"
+grep -q "^#define SIM_VERSION \"$version\"" "$prefix/include/sablier/sim/sim.h" || fail "SIM_VERSION is not $version"
+grep -q "^\.TH SABLIER 1 .*\"sablier $version\"" "$prefix/share/man/man1/sablier.1" || fail "sablier.1 is not for $version"
+
+# ---- the man page names every option of every command's --help
+step "sablier(1) against sablier --help and each COMMAND --help"
+man=$prefix/share/man/man1/sablier.1
+commands=$("$prefix/bin/sablier" --help | sed -n '/^commands:/,/^$/{s/^  \([a-z][a-z]*\) .*/\1/p}')
+[ -n "$commands" ] || fail "no commands in sablier --help"
+for cmd in $commands; do
+  grep -q "^\.BI \"$cmd \|^\.BI $cmd \|^\.B $cmd\$" "$man" || fail "sablier.1 has no entry for '$cmd'"
+  for opt in $("$prefix/bin/sablier" "$cmd" --help | grep -o -- '--[a-z][a-z0-9-]*' | sort -u); do
+    grep -qF -- "${opt//-/\\-}" "$man" || fail "sablier.1 does not mention $cmd's option $opt"
+  done
+done
+echo "   $(echo $commands | wc -w) commands, every option documented"
+
+# ---- out-of-tree clients: pkg-config
+src=$root/examples/installed
+out=$tmp/clients
+mkdir -p "$out"
+cflags=(-Wall -Wextra -Wpedantic -Werror)
+step "out of tree with pkg-config: C17, C++17, static"
+cc -std=c17 "${cflags[@]}" "$src/hello_sim.c" $(pkg-config --cflags --libs sablier-sim) -o "$out/pc_c"
+c++ -std=c++17 "${cflags[@]}" "$src/hello_sim.cpp" $(pkg-config --cflags --libs sablier-sim) -o "$out/pc_cpp"
+# static: the archive by name, the rest from Libs.private
+cc -std=c17 "${cflags[@]}" "$src/hello_sim.c" $(pkg-config --cflags sablier-sim) \
+   $(pkg-config --static --libs sablier-sim | sed 's/-lsablier-sim/-l:libsablier-sim.a/') -o "$out/pc_c_static"
+if [ $render = 1 ]; then
+  cc -std=c17 "${cflags[@]}" "$src/hello_render.c" $(pkg-config --cflags --libs sablier-render) -o "$out/pc_render"
+fi
+
+# ---- out-of-tree clients: CMake package
+step "out of tree with find_package(sablier): C17, C++17, static"
+cmake -S "$src" -B "$tmp/cmake-clients" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release \
+      -DCMAKE_COMPILE_WARNING_AS_ERROR=ON >/dev/null
+cmake --build "$tmp/cmake-clients" -j "$jobs" >/dev/null
+
+# ---- they all print the same lines
+"$out/pc_c" >"$out/pc_c.txt"
+grep -q '^hash 0x[0-9a-f]\{16\}$' "$out/pc_c.txt" || fail "hello_sim printed no hash"
+for p in "$out/pc_cpp" "$out/pc_c_static" "$tmp/cmake-clients/hello_sim" "$tmp/cmake-clients/hello_sim_cpp" \
+         "$tmp/cmake-clients/hello_sim_static"; do
+  "$p" >"$p.txt"
+  cmp -s "$out/pc_c.txt" "$p.txt" || { diff "$out/pc_c.txt" "$p.txt" >&2; fail "${p#$tmp/} differs from the C program"; }
+done
+sed 's/^/   /' "$out/pc_c.txt"
+echo "   the same from C and C++, shared and static, pkg-config and find_package (6 programs)"
+if [ $render = 1 ]; then
+  "$out/pc_render" "$out/a.png" >/dev/null
+  "$tmp/cmake-clients/hello_render" "$out/b.png" >/dev/null
+  "$tmp/cmake-clients/hello_render_static" "$out/c.png" >/dev/null
+  cmp -s "$out/a.png" "$out/b.png" && cmp -s "$out/a.png" "$out/c.png" || fail "hello_render figures differ"
+  echo "   hello_render: the same 640x480 figure from pkg-config, find_package and the static library"
+fi
+
+[ $package = 1 ] || exit 0
+
+# ---- Debian package
+step "cpack -G DEB"
+cpack -G DEB -B "$tmp/deb" --config "$build/CPackConfig.cmake" >"$tmp/cpack.log" 2>&1 ||
+  { cat "$tmp/cpack.log" >&2; fail "cpack -G DEB failed"; }
+debs=("$tmp"/deb/sablier_*.deb)
+deb=${debs[0]}
+[ -f "$deb" ] || fail "cpack made no .deb"
+info=$(dpkg-deb -I "$deb")
+field() { sed -n "s/^ $1: //p" <<<"$info"; }
+[ "$(field Package)" = sablier ] || fail "package name is '$(field Package)'"
+[ -n "$(field Maintainer)" ] || fail "no Maintainer"
+depends=$(field Depends)
+need=(libc6 libconfig9)
+[ $render = 1 ] && need+=(libcairo2 libpng16-16 libosmesa6 libavcodec59 libavformat59 libswscale6 libavutil57
+                          fonts-dejavu-core)
+for d in "${need[@]}"; do
+  grep -Eq "(^|, )$d( |,|$)" <<<"$depends" || fail "Depends lacks $d: $depends"
+done
+echo "   $(basename "$deb"): $(field Version), Depends: $depends"
+contents=$(dpkg-deb -c "$deb" | awk '{print $6}')
+for f in ./usr/bin/sablier ./usr/lib/libsablier-sim.so.$version ./usr/lib/pkgconfig/sablier-sim.pc \
+         ./usr/lib/cmake/sablier/sablierConfig.cmake ./usr/include/sablier/sim/sim.h \
+         ./usr/share/man/man1/sablier.1 ./usr/share/doc/sablier/install.md \
+         ./usr/share/sablier/scenes/validation/drop_elastic.scene; do
+  grep -qx -- "$f" <<<"$contents" || fail "the .deb lacks $f"
+done
+dpkg-deb -x "$deb" "$tmp/root"
+grep -qx 'prefix=/usr' "$tmp/root/usr/lib/pkgconfig/sablier-sim.pc" || fail "the .deb's sablier-sim.pc prefix is not /usr"
+LD_LIBRARY_PATH=$tmp/root/usr/lib "$tmp/root/usr/bin/sablier" --version | sed 's/^/   /'
+LD_LIBRARY_PATH=$tmp/root/usr/lib "$tmp/root/usr/bin/sablier" run \
+  "$tmp/root/usr/share/sablier/scenes/validation/drop_elastic.scene" --out "$tmp/run" --quiet >"$tmp/run.log" 2>&1 ||
+  { cat "$tmp/run.log" >&2; fail "the packaged sablier's run of drop_elastic.scene failed"; }
+grep -q '"status": *"ok"' "$tmp/run/summary.json" || fail "the packaged sablier's run of drop_elastic.scene failed"
+echo "   the extracted sablier ran the shipped scenes/validation/drop_elastic.scene: status ok"
