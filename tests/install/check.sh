@@ -167,4 +167,11 @@ LD_LIBRARY_PATH=$tmp/root/usr/lib "$tmp/root/usr/bin/sablier" run \
   "$tmp/root/usr/share/sablier/scenes/validation/drop_elastic.scene" --out "$tmp/run" --quiet >"$tmp/run.log" 2>&1 ||
   { cat "$tmp/run.log" >&2; fail "the packaged sablier's run of drop_elastic.scene failed"; }
 grep -q '"status": *"ok"' "$tmp/run/summary.json" || fail "the packaged sablier's run of drop_elastic.scene failed"
-echo "   the extracted sablier ran the shipped scenes/validation/drop_elastic.scene: status ok"
+if [ $render = 1 ]; then
+  LD_LIBRARY_PATH=$tmp/root/usr/lib "$tmp/root/usr/bin/sablier" render "$tmp/run/run.state" \
+    -o "$tmp/run/run.png" --colorbar --time-stamp >"$tmp/render.log" 2>&1 ||
+    { cat "$tmp/render.log" >&2; fail "the packaged sablier could not render its run"; }
+  [ -s "$tmp/run/run.png" ] || fail "the packaged sablier wrote no run.png"
+fi
+echo "   the extracted sablier ran the shipped scenes/validation/drop_elastic.scene: status ok" \
+     "$([ $render = 1 ] && echo "(and drew run.png)")"
