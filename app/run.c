@@ -370,6 +370,7 @@ static int stage_world(Run *run, int k)
     }
     if (!world)
         return -1;
+    sim_world_set_threads(world, run->options->threads); /* same bits for any count */
     if (run->world)
         sim_world_destroy(run->world);
     run->world = world;

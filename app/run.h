@@ -21,7 +21,7 @@
 typedef struct AppRunOptions {
     const char *out_dir;         ///< created if missing
     int quiet;                   ///< 1: one line per stage only
-    int threads;                 ///< for encoding/rendering; the simulation is serial
+    int threads;                 ///< physics step, encoding, rendering (same results for any)
     const AppRender *render;     ///< NULL: figures and movies skipped with one warning
     int render_off;              ///< 1: the caller chose no rendering (NULL render, no warning)
     const char *sablier_version; ///< for summary.json

@@ -60,7 +60,8 @@ static const char USAGE_RUN[] =
     "  --out DIR          output folder (default out/<scene name>/)\n"
     "  --set KEY=VALUE    override a scene key by its dotted path, e.g. time.dt=2e-5,\n"
     "                     species.0.k_n=1e6, stages.collapse.time.end=2 (see docs/scenes.md)\n"
-    "  --threads N        threads for encoding and rendering (results do not depend on N)\n"
+    "  --threads N        threads for the physics step, encoding and rendering (results do not\n"
+    "                     depend on N)\n"
     "  --quiet            one line per stage, no progress\n";
 
 static const char USAGE_CHECK[] =

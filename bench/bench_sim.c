@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* bench_sim: physics speed benchmark. Reports particle-steps per second of the step pipeline on a
  * settled pile of about 7000 polydisperse disks (thesis 000 standard case: 100p x 100p container
- * of fixed boundary grains of radius r_max, rain-like deposition, 000 §4.3 material), one thread,
+ * of fixed boundary grains of radius r_max, rain-like deposition, 000 §4.3 material), on --threads
+ * threads (default one; the state hash printed at the end is the same for every count),
  * for three contact laws: regularised Coulomb (000 eq. 3.28), the tangential spring (004 eqs.
  * 1.12-1.13) and frictionless. It also reports contacts per grain, neighbour-list rebuilds and
  * memory per grain and per contact.
@@ -23,10 +24,13 @@
  * Usage: bench_sim [--grains N] [--steps M] [--repeats K] [--warmup W] [--csv PATH]
  *                  [--cache PATH] [--fresh] [--settle-time S] [--lammps-data PATH]
  *                  [--only regularised,spring,frictionless] [--machine NAME] [--skin S]
- * --skin S: a fixed Verlet skin of S m for the timed runs (default 0: sablier's automatic skin). */
+ *                  [--threads T]
+ * --skin S: a fixed Verlet skin of S m for the timed runs (default 0: sablier's automatic skin).
+ * --threads T: threads of the timed runs' step (default 1; the results are the same bits). */
 #include "sim/sim.h"
 #include "sim/world.h"
 
+#include <inttypes.h>
 #include <malloc.h>
 #include <math.h>
 #include <stdio.h>
@@ -42,6 +46,7 @@ static const double standard_n = 7284; /* 000 standard initial condition */
 
 typedef struct Options {
     int grains, repeats, warmup, fresh;
+    int threads; /* of the timed runs' step (sim_world_set_threads) */
     long steps;
     double settle_time; /* s, cap on the deposition */
     double skin;        /* m, of the timed runs; 0 = automatic */
@@ -77,6 +82,7 @@ typedef struct Result {
     double layout_bytes_per_grain, layout_bytes_per_entry, layout_bytes_per_contact;
     double heap_bytes, heap_bytes_per_grain;
     double time_step;
+    uint64_t hash; /* sim_world_hash at the end: the same for every thread count */
 } Result;
 
 static double clock_s(clockid_t clock)
@@ -118,14 +124,19 @@ static int usage(const char *msg)
             "bench_sim: %s\n"
             "usage: bench_sim [--grains N] [--steps M] [--repeats K] [--warmup W] [--csv PATH]\n"
             "                 [--cache PATH] [--fresh] [--settle-time S] [--lammps-data PATH]\n"
-            "                 [--only NAME[,NAME]] [--machine NAME] [--skin S]\n",
+            "                 [--only NAME[,NAME]] [--machine NAME] [--skin S] [--threads T]\n",
             msg);
     return 2;
 }
 
 static int parse_options(int argc, char **argv, Options *o)
 {
-    *o = (Options){.grains = 7000, .repeats = 5, .warmup = 500, .steps = 2000, .settle_time = 8.0};
+    *o = (Options){.grains = 7000,
+                   .repeats = 5,
+                   .warmup = 500,
+                   .steps = 2000,
+                   .settle_time = 8.0,
+                   .threads = 1};
     for (int a = 1; a < argc; ++a) {
         const char *arg = argv[a];
         const char *val = a + 1 < argc ? argv[a + 1] : NULL;
@@ -145,6 +156,8 @@ static int parse_options(int argc, char **argv, Options *o)
             o->warmup = atoi(val);
         } else if (!strcmp(arg, "--settle-time")) {
             o->settle_time = atof(val);
+        } else if (!strcmp(arg, "--threads")) {
+            o->threads = atoi(val);
         } else if (!strcmp(arg, "--skin")) {
             o->skin = atof(val);
         } else if (!strcmp(arg, "--csv")) {
@@ -163,9 +176,9 @@ static int parse_options(int argc, char **argv, Options *o)
         a += takes;
     }
     if (o->grains < 10 || o->steps < 1 || o->repeats < 1 || o->warmup < 0 ||
-        !(o->settle_time > 0.0) || !(o->skin >= 0.0))
+        !(o->settle_time > 0.0) || !(o->skin >= 0.0) || o->threads < 1)
         return usage("grains >= 10, steps >= 1, repeats >= 1, warmup >= 0, settle-time > 0, "
-                     "skin >= 0");
+                     "skin >= 0, threads >= 1");
     if (!o->cache[0])
         snprintf(o->cache, sizeof o->cache, "/tmp/sablier-bench-pile-%d.state", o->grains);
     return 0;
@@ -296,9 +309,11 @@ static void layout_bytes(const SimWorld *w, double *per_grain, double *per_entry
         (double)w->capacity * (double)(doubles * sizeof(double) + ints * sizeof(int) +
                                        sizeof(unsigned) + sizeof(uint32_t)) +
         (double)w->count * (2.0 * sizeof(int) + 7.0 * sizeof(double) + 4.0 * sizeof(int)) +
-        (double)w->cell_capacity * sizeof(int) + (double)(w->mobile_count + 1) * sizeof(int);
-    /* partner, owner, gamma_n, pair index, the vector pass's four per-entry results */
-    double entry = 2.0 * sizeof(int) + sizeof(double) + sizeof(uint8_t) + 4.0 * sizeof(double);
+        (double)w->cell_capacity * sizeof(int) + (double)(w->mobile_count + 1) * sizeof(int) +
+        (double)w->nl.in_capacity * sizeof(int);
+    /* partner, owner, gamma_n, pair index, the vector pass's four per-entry results, the
+     * transposed list of the threaded reduction (in_entry) */
+    double entry = 3.0 * sizeof(int) + sizeof(double) + sizeof(uint8_t) + 4.0 * sizeof(double);
     if (w->effects & SIM_EFFECT_PERIODIC_X)
         entry += sizeof(double);
     if (w->has_history)
@@ -332,6 +347,7 @@ static int run_variant(const Options *o, const Variant *v, Result *r)
         fprintf(stderr, "bench_sim: %s: %s: %s\n", o->cache, err.field, err.message);
         return err.status == SIM_ERROR_IO ? 1 : 2;
     }
+    sim_world_set_threads(w, o->threads);
     /* Warm-up: spring history builds up, caches and the branch predictor settle. */
     if (sim_world_step(w, o->warmup, &err) != SIM_OK) {
         fprintf(stderr, "bench_sim: %s: warm-up failed: %s\n", v->name, err.message);
@@ -391,6 +407,7 @@ static int run_variant(const Options *o, const Variant *v, Result *r)
         .heap_bytes = heap1 - heap0,
         .heap_bytes_per_grain = (heap1 - heap0) / mobile,
         .time_step = sim_world_time_step(w),
+        .hash = sim_world_hash(w),
     };
     free(times);
     sim_world_destroy(w);
@@ -483,12 +500,12 @@ int main(int argc, char **argv)
         ++n;
     }
 
-    printf("# sablier %s, one thread; %d mobile + %d fixed grains, dt %.4g s, %d x %ld steps "
+    printf("# sablier %s, %d thread(s); %d mobile + %d fixed grains, dt %.4g s, %d x %ld steps "
            "after %d warm-up steps; M/s = million particle-steps per second (mobile grains "
            "only; best and median repeat of wall time, best of CPU time); rebuild/k = list "
            "rebuilds per 1000 steps; skin/d = Verlet skin at the end / mean diameter (%s); "
            "B/grain, B/contact from the array layout\n",
-           SIM_VERSION, n ? results[0].mobile : 0, n ? results[0].fixed : 0,
+           SIM_VERSION, o.threads, n ? results[0].mobile : 0, n ? results[0].fixed : 0,
            n ? results[0].time_step : 0.0, o.repeats, o.steps, o.warmup,
            o.skin > 0.0 ? "fixed by --skin" : "automatic");
     printf("%-13s %9s %9s %9s %9s %8s %8s %9s %9s %7s %9s %9s\n", "law", "best_M/s", "median",
@@ -500,6 +517,9 @@ int main(int argc, char **argv)
                results[k].best_s, results[k].contacts_per_grain, results[k].coordination,
                results[k].entries_per_grain, results[k].rebuilds_per_1000, results[k].skin_d,
                results[k].layout_bytes_per_grain, results[k].layout_bytes_per_contact);
+    for (int k = 0; k < n; ++k)
+        printf("# %s: state hash after the timed runs 0x%016" PRIx64 "\n", results[k].name,
+               results[k].hash);
     for (int k = 0; k < n; ++k) {
         if (results[k].heap_bytes > 0.0)
             printf("# %s: heap grown by create + warm-up: %.0f B (%.0f B per mobile grain)\n",

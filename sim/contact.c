@@ -258,21 +258,27 @@ KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict 
         store(nl->out + 2 * cap, entry, lanes, sel_v(touching, f_t, ((VecD){0.0, 0.0, 0.0, 0.0})));
 }
 
-KERNEL void pair_forces(SimWorld *world, const unsigned key)
+/* Entries [k0, k1) of the half list: k0 is a multiple of SIM_LANES and so is k1 unless it is
+ * the end of the list (sim_parallel_ranges' bounds), so only the list's last block is short. */
+KERNEL void pair_range(SimWorld *world, const unsigned key, const int k0, const int k1)
 {
-    const int total = world->nl.start[world->mobile_count];
     int entry[SIM_LANES];
-    int k0 = 0;
-    for (; k0 + SIM_LANES <= total; k0 += SIM_LANES) {
+    int k = k0;
+    for (; k + SIM_LANES <= k1; k += SIM_LANES) {
         for (int l = 0; l < SIM_LANES; ++l)
-            entry[l] = k0 + l;
+            entry[l] = k + l;
         pair_block(world, key, entry, SIM_LANES);
     }
-    if (k0 < total) {
+    if (k < k1) {
         for (int l = 0; l < SIM_LANES; ++l)
-            entry[l] = k0 + l < total ? k0 + l : total - 1;
-        pair_block(world, key, entry, total - k0);
+            entry[l] = k + l < k1 ? k + l : k1 - 1;
+        pair_block(world, key, entry, k1 - k);
     }
+}
+
+KERNEL void pair_forces(SimWorld *world, const unsigned key)
+{
+    pair_range(world, key, 0, world->nl.start[world->mobile_count]);
 }
 
 /* Phase 2. The scalar loop `for i: sum_i = 0; for k of i: sum_i += f_k; f_j -= f_k; then
@@ -331,6 +337,66 @@ KERNEL void grain_pass(SimWorld *world, const unsigned key)
         fy[i] += any ? out_y[last] : 0.0;
         if (KEY_ROTATION(key))
             torque[i] += any ? out_t[last] : 0.0;
+    }
+}
+
+/* Phase 2 for threads (sim_world_set_threads): the same sums per grain, gathered instead of
+ * scattered, so that grains [g0, g1) are written by one thread only. The serial loop above gives
+ * grain g first the entries whose partner is g, in ascending k (each subtracted from fx[g], and
+ * for torques -r_g f_t then +M, in that order), and then, for a mobile g, the partial sum of its
+ * own entries (started at 0.0, adding fx_k; torque -r_g f_t - M per entry), added once (0.0 when
+ * it owns none). The transposed list (nl.in_start, in_entry) holds the partner entries in
+ * ascending k, so every addition below is one of the serial loop's, in its order: the results
+ * are the same bits for any split of the grains. nl.out is only read here. */
+KERNEL void reduce_range(SimWorld *world, const unsigned key, const int g0, const int g1)
+{
+    const int mobile = world->mobile_count;
+    const size_t cap = (size_t)world->nl.capacity;
+    const double *restrict radius = world->radius;
+    double *restrict fx = world->fx, *restrict fy = world->fy, *restrict torque = world->torque;
+    const int *restrict start = world->nl.start;
+    const int *restrict in_start = world->nl.in_start, *restrict in_entry = world->nl.in_entry;
+    const double *restrict out_x = world->nl.out, *restrict out_y = world->nl.out + cap;
+    const double *restrict out_t = world->nl.out + 2 * cap;
+    const double *restrict out_m = world->nl.out + 3 * cap;
+    const unsigned law = key & KEY_TANGENTIAL;
+    for (int g = g0; g < g1; ++g) {
+        const double rg = radius[g];
+        double fxg = fx[g], fyg = fy[g], tg = KEY_ROTATION(key) ? torque[g] : 0.0;
+        for (int q = in_start[g]; q < in_start[g + 1]; ++q) {
+            const int k = in_entry[q];
+            if (KEY_ROTATION(key)) {
+                if (law != SIM_TANGENTIAL_NONE)
+                    tg -= rg * out_t[k];
+                if (key & KEY_ROLLING)
+                    tg += out_m[k];
+            }
+            fxg -= out_x[k];
+            fyg -= out_y[k];
+        }
+        if (g < mobile) {
+            const int first = start[g], end = start[g + 1];
+            double sum_x = 0.0, sum_y = 0.0, sum_t = 0.0;
+            for (int k = first; k < end; ++k) {
+                if (KEY_ROTATION(key)) {
+                    if (law != SIM_TANGENTIAL_NONE)
+                        sum_t -= rg * out_t[k];
+                    if (key & KEY_ROLLING)
+                        sum_t -= out_m[k];
+                }
+                sum_x += out_x[k];
+                sum_y += out_y[k];
+            }
+            const int any = end > first;
+            fxg += any ? sum_x : 0.0;
+            fyg += any ? sum_y : 0.0;
+            if (KEY_ROTATION(key))
+                tg += any ? sum_t : 0.0;
+        }
+        fx[g] = fxg;
+        fy[g] = fyg;
+        if (KEY_ROTATION(key))
+            torque[g] = tg;
     }
 }
 
@@ -427,12 +493,30 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
 /* clang-format on */
 
 #define DEFINE_PASS(h, l)                                                                          \
-    static void grain_pass_##h##_##l(SimWorld *world)                                              \
+    static int pair_range_##h##_##l(SimWorld *world, int begin, int end)                           \
     {                                                                                              \
         if (world->def.species_count == 1)                                                         \
-            grain_pass(world, (unsigned)((h)*8 + (l)) | KEY_UNIFORM);                              \
+            pair_range(world, (unsigned)((h)*8 + (l)) | KEY_UNIFORM, begin, end);                  \
         else                                                                                       \
+            pair_range(world, (unsigned)((h)*8 + (l)), begin, end);                                \
+        return 0;                                                                                  \
+    }                                                                                              \
+    static int reduce_range_##h##_##l(SimWorld *world, int begin, int end)                         \
+    {                                                                                              \
+        reduce_range(world, (unsigned)((h)*8 + (l)), begin, end);                                  \
+        return 0;                                                                                  \
+    }                                                                                              \
+    static void grain_pass_##h##_##l(SimWorld *world)                                              \
+    {                                                                                              \
+        if (world->threads > 1 && world->nl.in_ready) {                                            \
+            sim_parallel_ranges(world, pair_range_##h##_##l, world->nl.start[world->mobile_count], \
+                                SIM_LANES);                                                        \
+            sim_parallel_ranges(world, reduce_range_##h##_##l, world->count, 1);                   \
+        } else if (world->def.species_count == 1) {                                                \
+            grain_pass(world, (unsigned)((h)*8 + (l)) | KEY_UNIFORM);                              \
+        } else {                                                                                   \
             grain_pass(world, (unsigned)((h)*8 + (l)));                                            \
+        }                                                                                          \
     }                                                                                              \
     static void wall_pass_##h##_##l(SimWorld *world)                                               \
     {                                                                                              \

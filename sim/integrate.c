@@ -67,10 +67,9 @@ int sim_integrator_scratch_count(SimIntegrator integrator, int rotation)
 /* The opening kick and drift. `closing`: first apply the previous step's closing kick, deferred
  * by sim_world_step (same arithmetic as velocity_verlet_close, so the same bits; it saves one pass
  * over the grains per step). */
-static inline __attribute__((always_inline)) void velocity_verlet_open(SimWorld *w, const int rot,
-                                                                       const int closing)
+static inline __attribute__((always_inline)) int
+velocity_verlet_open(SimWorld *w, const int rot, const int closing, const int i0, const int i1)
 {
-    const int n = w->mobile_count;
     const double dt = w->dt, half = 0.5 * dt, gx = w->def.gravity_x, gy = w->def.gravity_y;
     double *restrict x = w->x, *restrict y = w->y, *restrict vx = w->vx, *restrict vy = w->vy;
     double *restrict hx = w->scratch[VV_VX_HALF], *restrict hy = w->scratch[VV_VY_HALF];
@@ -80,7 +79,7 @@ static inline __attribute__((always_inline)) void velocity_verlet_open(SimWorld 
     int moved = 0;
     /* The arrays never alias (restrict is not enough for GCC to vectorise): */
 #pragma GCC ivdep
-    for (int i = 0; i < n; ++i) {
+    for (int i = i0; i < i1; ++i) {
         double ax = fx[i] * im[i] + gx, ay = fy[i] * im[i] + gy;
         double vxi = closing ? hx[i] + half * ax : vx[i];
         double vyi = closing ? hy[i] + half * ay : vy[i];
@@ -99,7 +98,7 @@ static inline __attribute__((always_inline)) void velocity_verlet_open(SimWorld 
                          *restrict angle = w->angle;
         const double *restrict torque = w->torque, *restrict ii = w->inv_inertia;
 #pragma GCC ivdep
-        for (int i = 0; i < n; ++i) {
+        for (int i = i0; i < i1; ++i) {
             double wi = closing ? hw[i] + half * torque[i] * ii[i] : omega[i];
             double alpha = torque[i] * ii[i];
             double wh = wi + half * alpha;
@@ -108,19 +107,19 @@ static inline __attribute__((always_inline)) void velocity_verlet_open(SimWorld 
             omega[i] = wh + half * alpha;
         }
     }
-    w->need_rebuild |= moved;
+    return moved;
 }
 
 /* The closing kick with the new forces. */
-static void velocity_verlet_close(SimWorld *w, const int rot)
+static inline __attribute__((always_inline)) int velocity_verlet_close(SimWorld *w, const int rot,
+                                                                       const int i0, const int i1)
 {
-    const int n = w->mobile_count;
     const double half = 0.5 * w->dt, gx = w->def.gravity_x, gy = w->def.gravity_y;
     double *restrict vx = w->vx, *restrict vy = w->vy;
     const double *restrict hx = w->scratch[VV_VX_HALF], *restrict hy = w->scratch[VV_VY_HALF];
     const double *restrict fx = w->fx, *restrict fy = w->fy, *restrict im = w->inv_mass;
 #pragma GCC ivdep
-    for (int i = 0; i < n; ++i) {
+    for (int i = i0; i < i1; ++i) {
         vx[i] = hx[i] + half * (fx[i] * im[i] + gx);
         vy[i] = hy[i] + half * (fy[i] * im[i] + gy);
     }
@@ -129,29 +128,54 @@ static void velocity_verlet_close(SimWorld *w, const int rot)
         const double *restrict hw = w->scratch[VV_OMEGA_HALF], *restrict torque = w->torque;
         const double *restrict ii = w->inv_inertia;
 #pragma GCC ivdep
-        for (int i = 0; i < n; ++i)
+        for (int i = i0; i < i1; ++i)
             omega[i] = hw[i] + half * torque[i] * ii[i];
     }
+    return 0;
 }
+
+/* The passes over fixed grain ranges (sim_parallel_ranges): each grain on its own, so the same
+ * bits for any thread count; `moved` is an OR. */
+#define VV_RANGES(rot, closing)                                                                    \
+    static int vv_open_##rot##_##closing(SimWorld *w, int begin, int end)                          \
+    {                                                                                              \
+        return velocity_verlet_open(w, rot, closing, begin, end);                                  \
+    }
+VV_RANGES(0, 0)
+VV_RANGES(0, 1)
+VV_RANGES(1, 0)
+VV_RANGES(1, 1)
+
+static int vv_close_0(SimWorld *w, int begin, int end)
+{
+    return velocity_verlet_close(w, 0, begin, end);
+}
+
+static int vv_close_1(SimWorld *w, int begin, int end)
+{
+    return velocity_verlet_close(w, 1, begin, end);
+}
+
+/* Ranges of 8 grains: whole vectors, and no two threads on one cache line of a double array. */
+enum { VV_ALIGN = 8 };
 
 static inline void velocity_verlet(SimWorld *w, const int rot)
 {
-    if (w->kick_pending)
-        velocity_verlet_open(w, rot, 1);
-    else
-        velocity_verlet_open(w, rot, 0);
+    RangeFn *open = rot ? (w->kick_pending ? vv_open_1_1 : vv_open_1_0)
+                        : (w->kick_pending ? vv_open_0_1 : vv_open_0_0);
+    w->need_rebuild |= sim_parallel_ranges(w, open, w->mobile_count, VV_ALIGN);
     w->kick_pending = 0;
     sim_world_forces_at(w, w->time + w->dt);
     if (w->defer_kick)
         w->kick_pending = 1;
     else
-        velocity_verlet_close(w, rot);
+        sim_parallel_ranges(w, rot ? vv_close_1 : vv_close_0, w->mobile_count, VV_ALIGN);
 }
 
 void sim_integrator_finish(SimWorld *w)
 {
     if (w->kick_pending) {
-        velocity_verlet_close(w, w->rotation);
+        sim_parallel_ranges(w, w->rotation ? vv_close_1 : vv_close_0, w->mobile_count, VV_ALIGN);
         w->kick_pending = 0;
     }
 }

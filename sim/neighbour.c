@@ -71,6 +71,7 @@ static int list_reserve(SimWorld *world, int capacity)
     GROW(nl->pair, n);
     GROW(nl->owner, n);
     GROW(nl->out, 4 * n);
+    GROW(nl->in_entry, n);
     if (world->effects & SIM_EFFECT_PERIODIC_X)
         GROW(nl->shift, n);
     if (world->has_history) {
@@ -109,6 +110,8 @@ void sim_neighbour_free(SimWorld *world)
     free(nl->shift);
     free(nl->owner);
     free(nl->out);
+    free(nl->in_start);
+    free(nl->in_entry);
     free(nl->hist_t);
     free(nl->hist_r);
     WallList *wl = &world->wl;
@@ -402,6 +405,32 @@ static int build_pairs(SimWorld *world, const HistoryRecord *records, int record
     return 0;
 }
 
+/* The list transposed (NeighbourList.in_start, in_entry): a counting sort of the entries by
+ * partner, filled in entry order so that each grain's entries stay ascending. */
+static int build_incoming(SimWorld *world)
+{
+    NeighbourList *nl = &world->nl;
+    const int n = world->count, total = nl->start[world->mobile_count];
+    if (n + 1 > nl->in_capacity) {
+        GROW(nl->in_start, (size_t)n + 1);
+        nl->in_capacity = n + 1;
+    }
+    int *in = nl->in_start;
+    memset(in, 0, (size_t)(n + 1) * sizeof *in);
+    for (int k = 0; k < total; ++k)
+        ++in[nl->j[k] + 1];
+    for (int g = 0; g < n; ++g)
+        in[g + 1] += in[g];
+    /* in[g] runs as the fill position of g, then everything moves up one place */
+    for (int k = 0; k < total; ++k)
+        nl->in_entry[in[nl->j[k]]++] = k;
+    for (int g = n; g > 0; --g)
+        in[g] = in[g - 1];
+    in[0] = 0;
+    nl->in_ready = 1;
+    return 0;
+}
+
 static double segment_distance2(const SimWall *w, double px, double py)
 {
     double ex = w->x1 - w->x0, ey = w->y1 - w->y0;
@@ -544,16 +573,19 @@ void sim_neighbour_build(SimWorld *world)
         grid_fill(world);
         failed = spatial_sort(world) != 0;
     }
+    world->nl.in_ready = 0;
     if (!failed) {
         grid_fill(world); /* same cells, new indices */
         failed = build_pairs(world, records, record_count) != 0 ||
-                 build_walls(world, wall_records, wall_record_count) != 0;
+                 build_walls(world, wall_records, wall_record_count) != 0 ||
+                 build_incoming(world) != 0;
     }
     free(records);
     free(wall_records);
     if (failed) { /* empty lists: every reader stays in bounds; the step reports the failure */
         memset(world->nl.start, 0, (size_t)(world->mobile_count + 1) * sizeof *world->nl.start);
         world->wl.count = 0;
+        world->nl.in_ready = 0; /* the contact pass takes the serial scatter */
         sim_world_out_of_memory(world, "the neighbour build");
     }
 

@@ -288,6 +288,14 @@ int sim_world_mobile_count(const SimWorld *world);
 double sim_world_skin(const SimWorld *world);
 /// Neighbour-list builds so far (the one at creation included).
 long sim_world_list_builds(const SimWorld *world);
+/// Threads of the physics step (default 1; values below 1 mean 1): the world keeps threads - 1
+/// POSIX worker threads until destroyed (fewer when the system refuses some; sim_world_threads
+/// says how many run). The contact forces, their per-grain sums and the velocity-Verlet
+/// integration run over fixed ranges, and every sum is taken in the same order as with one
+/// thread: the results are the same bits whatever the count. The list build, sorting, wall
+/// contacts, body forces and the other integrators stay on the calling thread.
+void sim_world_set_threads(SimWorld *world, int threads);
+int sim_world_threads(const SimWorld *world);
 
 /* ---------------------------------------------------------------- frame view */
 

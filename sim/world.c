@@ -754,6 +754,7 @@ static SimWorld *create(const SimWorldDef *def, int restored, SimError *error)
     w->integrate = sim_integrator_select(def->integrator, w->rotation);
     w->scratch_count = sim_integrator_scratch_count(def->integrator, w->rotation);
     w->body_force = def->body_force;
+    w->threads = 1;
     w->time = def->start_time;
     w->timing = timing_of(def);
     w->dt = w->timing.time_step;
@@ -826,6 +827,7 @@ void sim_world_destroy(SimWorld *w)
 {
     if (!w)
         return;
+    sim_parallel_free(w);
     sim_grains_free(w);
     sim_neighbour_free(w);
     free(w->walls_base);

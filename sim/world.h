@@ -35,6 +35,12 @@ typedef struct NeighbourList {
     double *hist_r; /* rolling torque M, N m (rolling only) */
     int *owner;     /* i of entry k (the flat, vectorised force pass) */
     double *out;    /* per-entry results of that pass: 4 arrays of capacity (fx, fy, f_t, M) */
+    /* The list transposed, for the threaded reduction (contact.c): the entries k whose partner
+     * j is grain g are in_entry[in_start[g] .. in_start[g+1]), ascending k (the order in which
+     * the serial scatter adds them to g). in_ready: built for the present grains. */
+    int *in_start; /* in_capacity >= count + 1 */
+    int *in_entry; /* capacity */
+    int in_capacity, in_ready;
 } NeighbourList;
 
 /* Grain-wall candidate list: entries (grain, wall). */
@@ -133,6 +139,13 @@ struct SimWorld {
     double grid_x0, grid_y0;
     int *cell_start, *cell_items, *cell_of;
 
+    /* Threads of the step (sim_world_set_threads, default 1; parallel.c). The threaded passes
+     * split their loops into fixed ranges whose results do not depend on the split
+     * (sim_parallel_ranges). */
+    int threads;
+    struct SimPool *pool;             /* threads - 1 workers (parallel.c), NULL with one thread */
+    struct SimPoolWorker *pool_slots; /* their arguments */
+
     /* stages chosen at create (sim_world_forces_at calls the passes, sim_world_step integrate) */
     StageFn *contact_pass;
     StageFn *wall_pass;
@@ -229,6 +242,17 @@ void sim_integrator_start(SimWorld *world);
 /* Applies a deferred closing kick (velocity Verlet), if any. */
 void sim_integrator_finish(SimWorld *world);
 double sim_stability_limit(SimIntegrator integrator, double omega, double zeta);
+
+/* parallel.c */
+/* A loop body over the index range [begin, end); returns flags that the caller ORs. */
+typedef int RangeFn(SimWorld *world, int begin, int end);
+/* Runs fn over [0, n) split into world->threads fixed, contiguous ranges (bounds multiples of
+ * `align`, the last one ending at n), in parallel when threads > 1; returns the OR of the
+ * results. The split changes only who computes what: a body that writes only to its own
+ * indices, from data no other range writes, gives the same bits for every thread count. */
+int sim_parallel_ranges(SimWorld *world, RangeFn *fn, int n, int align);
+/* Stops and frees the world's threads (sim_world_destroy). */
+void sim_parallel_free(SimWorld *world);
 
 /* grains.c */
 int sim_grains_reserve(SimWorld *world, int capacity);
