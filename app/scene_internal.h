@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* scene_internal.h: what the scene loader's files share (not part of the API; scene.h is).
  *
- *     scene.c          scene_load: read the file, apply --set, parse in order, check; the top-level
+ *     scene_load.c     scene_load: read the file, apply --set, parse in order, check; the top-level
  *                      physics (effects, time, guard, contact, periodic, drag); the public helpers
+ *     scene_keys.c     the key rules every file shares (effect gates, file names, family keys)
  *     scene_set.c      --set KEY=VALUE overrides, applied to the libconfig tree before parsing
  *     scene_grains.c   species, motions, grain builders (list, rain, box, rows, columns), walls,
  *                      sinks
@@ -48,7 +49,7 @@ typedef struct Loader {
     int set_count;
 } Loader;
 
-/* scene.c */
+/* scene_keys.c */
 /// A key that only makes sense with an effect: refused when the effect is not declared.
 int loader_gate(Loader *L, const config_setting_t *g, const char *key, unsigned effect);
 /// Names used in file names: letters, digits, '_', '-', '.'.
