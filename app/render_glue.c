@@ -65,7 +65,20 @@ RenderStyle app_render_style(const SceneStyle *s)
 typedef struct Renderer {
     RenderMovie *movie;
     int quiet;
+    char comment[2048]; /* provenance of the figures (PNG Comment) */
 } Renderer;
+
+static void hook_provenance(void *context, const char *comment)
+{
+    Renderer *renderer = context;
+    snprintf(renderer->comment, sizeof renderer->comment, "%s", comment ? comment : "");
+}
+
+static const char *renderer_comment(const void *context)
+{
+    const Renderer *renderer = context;
+    return renderer && renderer->comment[0] ? renderer->comment : NULL;
+}
 
 static int hook_movie_open(void *context, const Scene *scene, int stage, const char *path,
                            SimFrameSink *sink, char *err, size_t err_size)
@@ -229,7 +242,8 @@ static int hook_figure(void *context, const Scene *scene, const SceneFigure *fig
 {
     (void)context;
     RenderStyle style = app_render_style(&figure->style);
-    RenderMeta meta = {.scene = scene->name, .seed = scene->seed};
+    RenderMeta meta = {
+        .scene = scene->name, .seed = scene->seed, .comment = renderer_comment(context)};
     if (extras && extras->title)
         style.title = extras->title;
     if (extras && extras->marks) { /* an arch: highlighted, zoomed inset, force chains */
@@ -310,7 +324,9 @@ static int hook_plot(void *context, const AppPlot *plot, const char *path, char 
                     .panels = panels,
                     .title = plot->title,
                     .font_size = plot->font_size};
-    RenderMeta meta = {.scene = plot->scene ? plot->scene : "", .seed = plot->seed};
+    RenderMeta meta = {.scene = plot->scene ? plot->scene : "",
+                       .seed = plot->seed,
+                       .comment = renderer_comment(context)};
     int rc = render_plot_write(&r, &meta, path, err, err_size) == 0 ? 0 : -1;
     free(series);
     return rc;
@@ -334,7 +350,9 @@ static int hook_map(void *context, const Scene *scene, const AppMap *map, const 
                    .x_label = map->x_label,
                    .y_label = map->y_label,
                    .bar_label = map->bar_label};
-    RenderMeta meta = {.scene = scene ? scene->name : "", .seed = scene ? scene->seed : 0};
+    RenderMeta meta = {.scene = scene ? scene->name : "",
+                       .seed = scene ? scene->seed : 0,
+                       .comment = renderer_comment(context)};
     return render_map_write(&r, &meta, path, err, err_size) == 0 ? 0 : -1;
 }
 
@@ -348,6 +366,7 @@ const AppRender *app_render_glue(void)
         .figure = hook_figure,
         .plot = hook_plot,
         .map = hook_map,
+        .provenance = hook_provenance,
     };
     return &render;
 }

@@ -114,6 +114,9 @@ typedef struct AppRender {
     /// Draws and writes a heat map; `scene` gives the PNG metadata (may be NULL).
     int (*map)(void *context, const struct Scene *scene, const AppMap *map, const char *path,
                char *err, size_t err_size);
+    /// Sets the provenance line (command, scene SHA-256, revision, date) that every figure
+    /// written from now on carries as its PNG Comment text chunk; NULL or "" for none.
+    void (*provenance)(void *context, const char *comment);
 } AppRender;
 
 #endif

@@ -10,6 +10,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -18,7 +19,19 @@
 #include <time.h>
 #include <unistd.h>
 
-#define PATH_SIZE (SCENE_PATH_MAX + 2 * SCENE_NAME_MAX)
+#define PATH_SIZE          (SCENE_PATH_MAX + 2 * SCENE_NAME_MAX)
+#define RESOLVED_NAME      "scene.resolved.cfg" /* the scene as run, beside its outputs */
+/* A stage steps at most this many steps between two looks at the signal flag (the chunks end on
+ * output times anyway; their lengths do not change the bits). */
+#define SIGNAL_CHECK_STEPS 2000
+
+/* The signal that asked the run to stop (0: none). */
+static volatile sig_atomic_t run_signal;
+
+static void on_signal(int signo)
+{
+    run_signal = signo; /* the handler is reset (SA_RESETHAND): a second signal kills */
+}
 
 typedef struct StageReport {
     long steps;
@@ -85,38 +98,6 @@ static void out_path(const Run *run, char *out, const char *name, const char *su
     snprintf(out, PATH_SIZE, "%s/%s%s", run->options->out_dir, name, suffix);
 }
 
-/* ---------------------------------------------------------------- JSON */
-
-static void json_string(char *out, size_t size, const char *text)
-{
-    size_t n = 0;
-    if (size < 3)
-        return;
-    out[n++] = '"';
-    for (const unsigned char *c = (const unsigned char *)(text ? text : ""); *c && n + 8 < size;
-         ++c) {
-        if (*c == '"' || *c == '\\') {
-            out[n++] = '\\';
-            out[n++] = (char)*c;
-        } else if (*c < 0x20) {
-            n += (size_t)snprintf(out + n, size - n, "\\u%04x", *c);
-        } else {
-            out[n++] = (char)*c;
-        }
-    }
-    out[n++] = '"';
-    out[n] = '\0';
-}
-
-/* A double as JSON (NaN and infinities have no JSON form: null). */
-static void json_number(char *out, size_t size, double v)
-{
-    if (isfinite(v))
-        snprintf(out, size, "%.10g", v);
-    else
-        snprintf(out, size, "null");
-}
-
 static int write_summary(const Run *run, double wall_seconds)
 {
     const Scene *scene = run->scene;
@@ -126,23 +107,27 @@ static int write_summary(const Run *run, double wall_seconds)
         return -1;
     char name[256], file[2 * SCENE_PATH_MAX], message[2200], render[600], effects[256],
         effects_json[300], n1[40], n2[40], n3[40], n4[40];
-    json_string(name, sizeof name, scene->name);
-    json_string(file, sizeof file, scene->path);
-    json_string(message, sizeof message, run->message);
-    json_string(render, sizeof render,
-                run->options->render_versions ? run->options->render_versions : "not built");
+    app_json_string(name, sizeof name, scene->name);
+    app_json_string(file, sizeof file, scene->path);
+    app_json_string(message, sizeof message, run->message);
+    app_json_string(render, sizeof render,
+                    run->options->render_versions ? run->options->render_versions : "not built");
     scene_effect_names(scene->def.effects, effects, sizeof effects);
-    json_string(effects_json, sizeof effects_json, effects);
+    app_json_string(effects_json, sizeof effects_json, effects);
     int grains = run->world ? sim_world_grain_count(run->world) : scene->grains.count;
     int mobile =
         run->world ? sim_world_mobile_count(run->world) : scene->grains.count - scene->fixed_count;
-    json_number(n1, sizeof n1, run->simulated);
-    json_number(n2, sizeof n2, wall_seconds);
-    json_number(n3, sizeof n3,
-                run->step_seconds > 0.0 ? run->particle_steps / run->step_seconds : 0.0);
-    json_number(n4, sizeof n4,
-                run->contacts_samples ? run->contacts_sum / (double)run->contacts_samples : 0.0);
-    const char *status = run->status == 0 ? "ok" : run->status == 1 ? "unstable" : "error";
+    app_json_number(n1, sizeof n1, run->simulated);
+    app_json_number(n2, sizeof n2, wall_seconds);
+    app_json_number(n3, sizeof n3,
+                    run->step_seconds > 0.0 ? run->particle_steps / run->step_seconds : 0.0);
+    app_json_number(n4, sizeof n4,
+                    run->contacts_samples ? run->contacts_sum / (double)run->contacts_samples
+                                          : 0.0);
+    const char *status = run->status == 0                ? "ok"
+                         : run->status == 1              ? "unstable"
+                         : run->status > APP_EXIT_SIGNAL ? "interrupted"
+                                                         : "error";
     size_t n = (size_t)snprintf(
         text, size,
         "{\n  \"scene\": %s,\n  \"scene_file\": %s,\n  \"seed\": %llu,\n  \"grains\": %d,\n"
@@ -156,10 +141,10 @@ static int write_summary(const Run *run, double wall_seconds)
     for (int k = 0; k < run->stages_done && n < size; ++k) {
         const StageReport *s = &run->stages[k];
         char stage_name[160], a[40], b[40], c[40];
-        json_string(stage_name, sizeof stage_name, scene->stages[k].name);
-        json_number(a, sizeof a, s->start_time);
-        json_number(b, sizeof b, s->end_time);
-        json_number(c, sizeof c, s->wall_seconds);
+        app_json_string(stage_name, sizeof stage_name, scene->stages[k].name);
+        app_json_number(a, sizeof a, s->start_time);
+        app_json_number(b, sizeof b, s->end_time);
+        app_json_number(c, sizeof c, s->wall_seconds);
         n += (size_t)snprintf(text + n, size - n,
                               "%s\n    {\"name\": %s, \"steps\": %ld, \"start_time\": %s, "
                               "\"end_time\": %s, \"wall_seconds\": %s, \"settled\": %s, "
@@ -169,13 +154,18 @@ static int write_summary(const Run *run, double wall_seconds)
     }
     if (n < size) {
         char sablier[80];
-        json_string(sablier, sizeof sablier, run->options->sablier_version);
+        app_json_string(sablier, sizeof sablier, run->options->sablier_version);
         n += (size_t)snprintf(text + n, size - n,
                               "\n  ],\n  \"versions\": {\"sablier\": %s, \"sim\": \"%s\", "
-                              "\"libconfig\": \"%s\", \"render\": %s}\n}\n",
+                              "\"libconfig\": \"%s\", \"render\": %s},\n",
                               sablier, SIM_VERSION,
                               scene_libconfig_version() + strlen("libconfig "), render);
     }
+    if (n < size) /* last: the fields above keep their lines whatever the command line */
+        n += app_provenance_json(&run->options->provenance, scene->sha256, RESOLVED_NAME, text + n,
+                                 size - n);
+    if (n < size)
+        n += (size_t)snprintf(text + n, size - n, "}\n");
     char path[PATH_SIZE];
     out_path(run, path, "summary", ".json");
     int rc = n < size ? app_write_atomic(path, text) : -1;
@@ -563,7 +553,13 @@ static int stage_loop(Run *run, int k, StageClock *clock)
             report->settled = 1;
             break;
         }
+        if (run_signal) {
+            status = APP_EXIT_SIGNAL + run_signal;
+            break;
+        }
         long next = next_due(run, k, clock, done);
+        if (next - done > SIGNAL_CHECK_STEPS)
+            next = done + SIGNAL_CHECK_STEPS;
         double t0 = app_now_seconds();
         SimStatus s = sim_world_step(run->world, next - done, &run->error);
         double t1 = app_now_seconds();
@@ -603,13 +599,21 @@ static int stage_finish(Run *run, int k, StageClock *clock, int status)
             status = 2;
         }
     }
-    if (status != 0)
+    int interrupted = status > APP_EXIT_SIGNAL;
+    if (status != 0 && !interrupted)
         return status;
     char path[PATH_SIZE];
-    out_path(run, path, stage->name, ".state");
+    out_path(run, path, stage->name, interrupted ? ".interrupted.state" : ".state");
     if (sim_world_save(run->world, path, &run->error) != SIM_OK) {
         snprintf(run->message, sizeof run->message, "checkpoint %s: %s", path, run->error.message);
         return 2;
+    }
+    if (interrupted) {
+        snprintf(run->message, sizeof run->message,
+                 "interrupted by %s in stage %s at t = %.9g s; its state is saved to %s",
+                 status == APP_EXIT_SIGNAL + SIGINT ? "SIGINT" : "SIGTERM", stage->name,
+                 report->end_time, path);
+        return status;
     }
     if (family_hooks(run, HOOK_STAGE_END) != 0 || figures_due(run, k, 1, 0, clock->dt) != 0)
         return 2;
@@ -625,9 +629,9 @@ static int run_stage(Run *run, int k)
     if (status != 0)
         return status;
     status = stage_finish(run, k, &clock, stage_loop(run, k, &clock));
+    run->stages[k].wall_seconds = app_now_seconds() - wall_start;
     if (status != 0)
         return status;
-    run->stages[k].wall_seconds = app_now_seconds() - wall_start;
     progress(run, k, 0.0, 0.0, 0.0, 1);
     return 0;
 }
@@ -676,6 +680,95 @@ static void families_figures(Run *run)
     }
 }
 
+/* The output folder made ready: created; the files a previous run listed in its manifest removed
+ * (but the states this scene loads); a folder with another run's summary.json and no manifest
+ * refused without `force`; the resolved scene copied in. 0, or -1 with a message on stderr. */
+static int prepare_folder(Run *run)
+{
+    const Scene *scene = run->scene;
+    const char *dir = run->options->out_dir;
+    if (app_make_dirs(dir) != 0) {
+        fprintf(stderr, "sablier: cannot create output folder %s: %s\n", dir, strerror(errno));
+        return -1;
+    }
+    char path[PATH_SIZE], err[PATH_SIZE + 200];
+    out_path(run, path, "manifest", ".txt");
+    int has_manifest = access(path, F_OK) == 0;
+    out_path(run, path, "summary", ".json");
+    if (!has_manifest && !run->options->force && access(path, F_OK) == 0) {
+        fprintf(stderr,
+                "sablier: %s holds the outputs of another run (summary.json without a "
+                "manifest.txt): choose another --out, remove them, or use --force\n",
+                dir);
+        return -1;
+    }
+    const char *keep[SCENE_MAX_STAGES];
+    int keep_count = 0;
+    for (int k = 0; k < scene->stage_count; ++k)
+        if (scene->stages[k].load == SCENE_LOAD_FILE)
+            keep[keep_count++] = scene->stages[k].load_path;
+    if (app_manifest_remove_stale(dir, keep, keep_count, err, sizeof err) < 0) {
+        fprintf(stderr, "sablier: %s\n", err);
+        return -1;
+    }
+    out_path(run, path, "scene.resolved", ".cfg");
+    if (scene->resolved && app_write_atomic(path, scene->resolved) != 0) {
+        fprintf(stderr, "sablier: cannot write %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
+/* SIGINT and SIGTERM set run_signal while a run is in progress (old handlers in `saved`). */
+static void catch_signals(struct sigaction saved[2], int restore)
+{
+    const int signals[2] = {SIGINT, SIGTERM};
+    for (int k = 0; k < 2; ++k) {
+        if (restore) {
+            sigaction(signals[k], &saved[k], NULL);
+            continue;
+        }
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = on_signal;
+        sa.sa_flags = SA_RESETHAND | SA_RESTART;
+        sigemptyset(&sa.sa_mask);
+        sigaction(signals[k], &sa, &saved[k]);
+    }
+}
+
+/* The energy and trace CSV files opened. 0, or 2. */
+static int open_csv(Run *run)
+{
+    out_path(run, run->energy_path, "energy", ".csv");
+    run->energy = app_tmp_open(run->energy_path,
+                               "t,t_star,e_kin,e_pot,e_rot,e_el,e_total,grains,contacts,stage");
+    if (run->scene->output.trace_count > 0) {
+        out_path(run, run->trace_path, "trace", ".csv");
+        run->trace = app_tmp_open(run->trace_path, "t,id,x,y,vx,vy,omega,fx,fy,torque");
+    }
+    if (!run->energy || (run->scene->output.trace_count > 0 && !run->trace)) {
+        snprintf(run->message, sizeof run->message, "cannot write in %s: %s", run->options->out_dir,
+                 strerror(errno));
+        return 2;
+    }
+    return 0;
+}
+
+/* The stages, in order, until one fails or a signal stops the run. */
+static void run_stages(Run *run)
+{
+    const Scene *scene = run->scene;
+    if (run->status == 0 && family_hooks(run, HOOK_BEGIN) != 0)
+        run->status = 2;
+    for (int k = 0; run->status == 0 && k < scene->stage_count; ++k) {
+        run->stages_done = k + 1;
+        if (scene->stages[k].skip)
+            continue; /* e.g. a sweep member that starts from a saved bed */
+        run->status = run_stage(run, k);
+    }
+}
+
 int app_run(const Scene *scene, const AppRunOptions *options)
 {
     Run *run = calloc(1, sizeof *run);
@@ -693,32 +786,21 @@ int app_run(const Scene *scene, const AppRunOptions *options)
                                 .err_size = sizeof run->message};
     run->progress_tty = !options->quiet && isatty(STDERR_FILENO);
     double wall_start = app_now_seconds();
-    if (app_make_dirs(options->out_dir) != 0) {
-        fprintf(stderr, "sablier: cannot create output folder %s: %s\n", options->out_dir,
-                strerror(errno));
+    time_t started = time(NULL);
+    if (prepare_folder(run) != 0) {
         free(run);
         return 2;
     }
-    out_path(run, run->energy_path, "energy", ".csv");
-    run->energy = app_tmp_open(run->energy_path,
-                               "t,t_star,e_kin,e_pot,e_rot,e_el,e_total,grains,contacts,stage");
-    if (scene->output.trace_count > 0) {
-        out_path(run, run->trace_path, "trace", ".csv");
-        run->trace = app_tmp_open(run->trace_path, "t,id,x,y,vx,vy,omega,fx,fy,torque");
+    if (options->render && options->render->provenance) {
+        char comment[2048];
+        app_provenance_comment(&options->provenance, scene->sha256, comment, sizeof comment);
+        options->render->provenance(options->render->context, comment);
     }
-    if (!run->energy || (scene->output.trace_count > 0 && !run->trace)) {
-        snprintf(run->message, sizeof run->message, "cannot write in %s: %s", options->out_dir,
-                 strerror(errno));
-        run->status = 2;
-    }
-    if (run->status == 0 && family_hooks(run, HOOK_BEGIN) != 0)
-        run->status = 2;
-    for (int k = 0; run->status == 0 && k < scene->stage_count; ++k) {
-        run->stages_done = k + 1;
-        if (scene->stages[k].skip)
-            continue; /* e.g. a sweep member that starts from a saved bed */
-        run->status = run_stage(run, k);
-    }
+    struct sigaction saved[2];
+    run_signal = 0;
+    catch_signals(saved, 0);
+    run->status = open_csv(run);
+    run_stages(run);
     families_end(run);
     /* The CSV files are complete records up to here, failure included. */
     if (app_tmp_commit(&run->energy, run->energy_path) != 0 ||
@@ -735,6 +817,12 @@ int app_run(const Scene *scene, const AppRunOptions *options)
         run->status = 2;
     }
     families_figures(run); /* after summary.json, as before: a figure failure exits 2 */
+    if (app_manifest_write(options->out_dir, started) != 0 && run->status == 0) {
+        snprintf(run->message, sizeof run->message, "cannot write %s/manifest.txt",
+                 options->out_dir);
+        run->status = 2;
+    }
+    catch_signals(saved, 1);
     if (run->status != 0)
         fprintf(stderr, "sablier: %s\n", run->message);
     int status = run->status;

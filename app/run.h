@@ -11,6 +11,7 @@
 #ifndef APP_RUN_H
 #define APP_RUN_H
 
+#include "provenance.h"
 #include "render_hooks.h"
 #include "scene.h"
 
@@ -26,11 +27,21 @@ typedef struct AppRunOptions {
     int render_off;              ///< 1: the caller chose no rendering (NULL render, no warning)
     const char *sablier_version; ///< for summary.json
     const char *render_versions; ///< render_library_versions(), or NULL
+    AppProvenance provenance;    ///< the command line and --set overrides, for summary.json
+    int force; ///< 1: run into a folder that holds outputs of an unknown run (no manifest.txt)
 } AppRunOptions;
 
 AppRunOptions app_run_options_default(void);
 
-/// Runs every stage; returns the exit status (0, 1 or 2) after printing any message on stderr.
+/// Exit statuses of app_run besides 0 (ok), 1 (simulation failed) and 2 (bad input, I/O):
+/// 128 + the signal for a run interrupted by SIGINT (130) or SIGTERM (143), which finishes its
+/// step, saves DIR/STAGE.interrupted.state, commits every output and writes summary.json with
+/// "status": "interrupted".
+#define APP_EXIT_SIGNAL 128
+
+/// Runs every stage; returns the exit status after printing any message on stderr. SIGINT and
+/// SIGTERM are caught while it runs (a second one kills at once); the caller's handlers are
+/// restored on return.
 int app_run(const Scene *scene, const AppRunOptions *options);
 
 /// mkdir -p; 0 on success.

@@ -14,6 +14,8 @@
 #include "render_glue.h"
 #endif
 
+#include "revision.h" /* SABLIER_REVISION, made at build time (cmake/revision.cmake) */
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -56,13 +58,20 @@ static void print_usage(FILE *out)
 
 static const char USAGE_RUN[] =
     "usage: sablier run SCENE [--out DIR] [--set KEY=VALUE]... [--threads N] [--quiet]\n"
+    "                   [--force]\n"
     "\n"
     "  --out DIR          output folder (default out/<scene name>/)\n"
     "  --set KEY=VALUE    override a scene key by its dotted path, e.g. time.dt=2e-5,\n"
     "                     species.0.k_n=1e6, stages.collapse.time.end=2 (see docs/scenes.md)\n"
     "  --threads N        threads for the physics step, encoding and rendering (results do not\n"
     "                     depend on N)\n"
-    "  --quiet            one line per stage, no progress\n";
+    "  --quiet            one line per stage, no progress\n"
+    "  --force            run into a folder that holds another run's outputs without a\n"
+    "                     manifest.txt (a previous sablier run's own files are replaced anyway)\n"
+    "\n"
+    "SIGINT or SIGTERM stops the run after the current step: the running stage's state goes to\n"
+    "DIR/STAGE.interrupted.state, every output is committed, summary.json says \"interrupted\";\n"
+    "exit status 130 (SIGINT) or 143 (SIGTERM).\n";
 
 static const char USAGE_CHECK[] =
     "usage: sablier check SCENE [--set KEY=VALUE]...\n"
@@ -121,7 +130,7 @@ static const char *render_versions(void)
 static int command_run(int argc, char **argv)
 {
     const char *scene_path = NULL, *out = NULL, *value, *sets[MAX_SETS];
-    int set_count = 0, quiet = 0;
+    int set_count = 0, quiet = 0, force = 0;
     long threads = 1;
     for (int i = 2; i < argc; ++i) {
         int m;
@@ -138,6 +147,8 @@ static int command_run(int argc, char **argv)
                                        m < 0 ? "nothing" : value);
         } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
             quiet = 1;
+        } else if (strcmp(argv[i], "--force") == 0) {
+            force = 1;
         } else if (app_scene_argument(USAGE_RUN, argv[i], &scene_path) != 0) {
             return 2;
         }
@@ -158,6 +169,12 @@ static int command_run(int argc, char **argv)
     options.threads = (int)threads;
     options.sablier_version = SABLIER_VERSION;
     options.render_versions = render_versions();
+    options.force = force;
+    options.provenance = (AppProvenance){.argc = argc,
+                                         .argv = argv,
+                                         .sets = sets,
+                                         .set_count = set_count,
+                                         .revision = SABLIER_REVISION};
 #ifdef SABLIER_HAVE_RENDER
     options.render = app_render_glue();
 #endif

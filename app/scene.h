@@ -135,6 +135,8 @@ typedef struct Scene {
     SceneOutput output;
     SceneStyle style; ///< `render` group
     SceneWhere *where;
+    char sha256[65]; ///< SHA-256 of the scene file as read (hex; "" when unreadable)
+    char *resolved;  ///< the scene as loaded: includes expanded, --set applied (libconfig text)
     /// Per experiment family, in registry order (app/experiments.h): its parsed state, NULL when
     /// the scene does not use it. Read through the family's own accessor.
     void *experiments[APP_EXPERIMENT_MAX];

@@ -9,6 +9,7 @@
  * it. This file holds scene_load and the top-level physics; scene_internal.h lists the others
  * (scene_keys.c: the key rules every part of the loader shares). */
 #include "experiments.h"
+#include "provenance.h"
 #include "scene.h"
 #include "scene_internal.h"
 
@@ -357,6 +358,22 @@ static Scene *scene_new(Loader *L, const char *path, char *err, size_t err_size)
     return scene;
 }
 
+/* The provenance of the scene: its file's SHA-256 and the resolved text (includes expanded,
+ * overrides applied) that a run copies beside its outputs. 0, or -1 (no memory). */
+static int resolve_scene(Loader *L, const char *path)
+{
+    if (app_sha256_file(path, L->scene->sha256) != 0)
+        L->scene->sha256[0] = '\0';
+    size_t size = 0;
+    FILE *text = open_memstream(&L->scene->resolved, &size);
+    if (!text) {
+        snprintf(L->p.err, L->p.err_size, "%s: out of memory", path);
+        return -1;
+    }
+    config_write(&L->config, text);
+    return fclose(text) == 0 ? 0 : -1;
+}
+
 /* Reads the file into L->config (initialised) and applies the --set overrides. 0, or -1. */
 static int read_scene(Loader *L, const char *path, const char *const *sets, int set_count)
 {
@@ -376,7 +393,7 @@ static int read_scene(Loader *L, const char *path, const char *const *sets, int 
     for (int k = 0; k < set_count; ++k)
         if (loader_apply_set(L, sets[k]) != 0)
             return -1;
-    return 0;
+    return resolve_scene(L, path);
 }
 
 /* The scene's own groups in order, then each family's. 0, or -1. */
@@ -464,6 +481,7 @@ void scene_free(Scene *scene)
         free(scene->stages[k].remove_ids);
     sim_grain_buffer_free(&scene->grains);
     free(scene->walls);
+    free(scene->resolved);
     for (int f = 0; app_experiments[f]; ++f)
         if (scene->experiments[f] && app_experiments[f]->free)
             app_experiments[f]->free(scene->experiments[f]);

@@ -114,3 +114,9 @@ if(NOT SABLIER_WITH_RENDER)
   sablier_cli_test(diff_not_built "diff|a.png|b.png" 2 ERR "rendering is not built")
   sablier_cli_test(render_not_built "render|a.state|-o|a.png" 2 ERR "rendering is not built")
 endif()
+
+# SIGINT/SIGTERM, stale outputs, foreign folders and provenance (issue 18 parts 1 and 3)
+add_test(NAME cli.interrupt
+         COMMAND bash ${CLI_DIR}/interrupt.sh $<TARGET_FILE:sablier>
+                 ${PROJECT_SOURCE_DIR}/scenes/crater/quick.scene ${CLI_TINY} ${CLI_WORK}/interrupt)
+set_tests_properties(cli.interrupt PROPERTIES LABELS cli)

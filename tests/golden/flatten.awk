@@ -25,6 +25,8 @@ function clean(v,    k) {
   return v
 }
 function emit(line, name, path, v) {
+  # provenance (summary.json): the command line, date, host and revision of this very run
+  if (mode == "json" && (path == "provenance" || index(path, "provenance.") == 1)) return
   if (ignored(name, path)) v = "(ignored)"
   else v = clean(v)
   printf "%d\t%s\t%s\n", line, path, v

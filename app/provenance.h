@@ -1,0 +1,50 @@
+/* SPDX-License-Identifier: MIT */
+/* provenance.h: how an output folder was made (docs/cli.md "Provenance"): the command line, the
+ * --set overrides, the scene file's SHA-256 and its resolved copy, the source revision, the date,
+ * host and CPU; and the folder's manifest, which lets the next run into it remove what this one
+ * wrote. */
+#ifndef APP_PROVENANCE_H
+#define APP_PROVENANCE_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <time.h>
+
+/// SHA-256 (FIPS 180-4) of n bytes.
+void app_sha256(const void *data, size_t n, uint8_t digest[32]);
+/// SHA-256 of a file as 64 lowercase hex digits. 0, or -1 when it cannot be read.
+int app_sha256_file(const char *path, char hex[65]);
+
+/// A JSON string literal (quotes, escapes) of text into out[size]; cut to fit.
+void app_json_string(char *out, size_t size, const char *text);
+/// A double as JSON (%.10g; NaN and infinities have no JSON form: null).
+void app_json_number(char *out, size_t size, double v);
+
+/// What a run records of its making.
+typedef struct AppProvenance {
+    int argc; ///< the command line (0: not known, e.g. a library caller)
+    char *const *argv;
+    const char *const *sets; ///< the --set overrides, in order
+    int set_count;
+    const char *revision; ///< version control revision of the build, or NULL/""
+} AppProvenance;
+
+/// The last member `"provenance": {...}\n` of summary.json (scene_sha256 and resolved file given
+/// by the caller). Returns the length written (cut to size).
+size_t app_provenance_json(const AppProvenance *p, const char *scene_sha256,
+                           const char *resolved_name, char *out, size_t size);
+/// The same on one line for a PNG text chunk ("command: ...; scene sha256: ...; ...").
+void app_provenance_comment(const AppProvenance *p, const char *scene_sha256, char *out,
+                            size_t size);
+
+/// The manifest of an output folder: every regular file under dir (recursively) modified at or
+/// after `since` (the run's start), as relative paths one per line, into dir/manifest.txt
+/// (atomically). 0, or -1.
+int app_manifest_write(const char *dir, time_t since);
+/// Removes the files a previous run listed in dir/manifest.txt (relative paths inside dir only;
+/// `keep` paths, e.g. the states this run loads, are kept) and the manifest itself. Returns the
+/// number removed; -1 with a message in err when a listed file cannot be removed.
+int app_manifest_remove_stale(const char *dir, const char *const *keep, int keep_count, char *err,
+                              size_t err_size);
+
+#endif
