@@ -437,6 +437,16 @@ typedef struct StageClock {
     SimFrameSink sink;
 } StageClock;
 
+/* A cadence of `steps` (a number of steps, maybe huge or not finite) as a count in [1, 1e15]:
+ * at least every step, at most once in any stage (a stage has at most SCENE_MAX_STEPS), never
+ * an overflowed conversion (energy_every = 1e308 means the first and last rows only). */
+static long cadence_steps(double steps)
+{
+    if (!(steps >= 1.0))
+        return 1;
+    return steps < 1e15 ? (long)llround(steps) : (long)1e15;
+}
+
 /* World, edits, the families' stage_begin, t*, the start figures and the movie. 0, or the exit
  * status. */
 static int stage_start(Run *run, int k, StageClock *clock)
@@ -472,10 +482,10 @@ static int stage_start(Run *run, int k, StageClock *clock)
     }
     *clock = (StageClock){
         .dt = dt,
-        .total = (long)llround(stage->duration / dt),
-        .every_energy = (long)fmax(1.0, (double)llround(out->energy_every / dt)),
-        .every_frame = (long)fmax(1.0, (double)llround(1.0 / (out->frame_rate * dt))),
-        .every_trace = (long)fmax(1.0, (double)llround(out->trace_every / dt)),
+        .total = (long)llround(stage->duration / dt), /* <= SCENE_MAX_STEPS (scene_load) */
+        .every_energy = cadence_steps(out->energy_every / dt),
+        .every_frame = cadence_steps(1.0 / (out->frame_rate * dt)),
+        .every_trace = cadence_steps(out->trace_every / dt),
         .movie = stage->movie && render && render->movie_open,
     };
     if (clock->movie) {

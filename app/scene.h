@@ -119,6 +119,10 @@ typedef struct SceneOutput {
 
 typedef struct SceneWhere SceneWhere; /* private: field path -> file:line */
 
+/// The most steps one stage may take (about three years of a 10 000 steps/s run); beyond it
+/// the loader refuses the stage (step counts are 64-bit, their time sums exact).
+#define SCENE_MAX_STEPS 1e12
+
 typedef struct Scene {
     char path[SCENE_PATH_MAX];
     char name[SCENE_NAME_MAX];

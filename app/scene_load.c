@@ -374,10 +374,123 @@ static int resolve_scene(Loader *L, const char *path)
     return fclose(text) == 0 ? 0 : -1;
 }
 
+/* libconfig keeps an integer literal in 32 bits unless it ends in L (4294969314 reads as 2018),
+ * so the loader refuses a literal outside [-2^31, 2^31) without the suffix before libconfig
+ * reads the file: `file:line: integer 4294969314 is out of range ...`. Strings and comments are
+ * skipped; @include files are checked the same way (to a depth of 10). */
+static int int_literal_fail(Loader *L, const char *path, int line, const char *start, size_t n)
+{
+    snprintf(L->p.err, L->p.err_size,
+             "%s:%d: integer %.*s is out of range of libconfig's 32-bit integers (write it "
+             "with the suffix L for a 64-bit integer, or as a float)",
+             path, line, (int)(n > 40 ? 40 : n), start);
+    return -1;
+}
+
+static int is_name_char(char c)
+{
+    return isalnum((unsigned char)c) || c == '_' || c == '.' || c == '-' || c == '*';
+}
+
+/* One integer literal at text[*at] (a digit): 0, or -1 when it does not fit 32 bits. */
+static int check_literal(Loader *L, const char *path, int line, const char *text, size_t *at)
+{
+    size_t k = *at, start = k;
+    if (start > 0 && (text[start - 1] == '-' || text[start - 1] == '+'))
+        --start;
+    int hex = text[k] == '0' && (text[k + 1] == 'x' || text[k + 1] == 'X');
+    if (hex)
+        k += 2;
+    while (hex ? isxdigit((unsigned char)text[k]) : isdigit((unsigned char)text[k]))
+        ++k;
+    int is_float = !hex && (text[k] == '.' || text[k] == 'e' || text[k] == 'E');
+    int suffix = text[k] == 'L' || text[k] == 'l';
+    *at = k;
+    if (is_float || suffix)
+        return 0;
+    errno = 0;
+    char *end = NULL;
+    long long v = strtoll(text + start, &end, hex ? 16 : 10);
+    int fits = errno == 0 && (hex ? (unsigned long long)v <= 0xffffffffull
+                                  : v >= -2147483648ll && v <= 2147483647ll);
+    return fits ? 0 : int_literal_fail(L, path, line, text + start, k - start);
+}
+
+static int check_int_literals(Loader *L, const char *path, int depth);
+
+/* An `@include "NAME"` at text[*at]: the included file checked (NAME against the scene's folder,
+ * as libconfig resolves it). */
+static int check_include(Loader *L, const char *text, size_t size, size_t *at, int depth)
+{
+    size_t k = *at + 8;
+    while (k < size && (text[k] == ' ' || text[k] == '\t'))
+        ++k;
+    if (k >= size || text[k] != '"' || depth >= 10)
+        return 0;
+    size_t end = k + 1;
+    while (end < size && text[end] != '"' && text[end] != '\n')
+        ++end;
+    *at = end;
+    char name[SCENE_PATH_MAX], path[2 * SCENE_PATH_MAX + 2];
+    snprintf(name, sizeof name, "%.*s", (int)(end - k - 1), text + k + 1);
+    snprintf(path, sizeof path, "%s/%s", L->dir, name);
+    return check_int_literals(L, path, depth + 1);
+}
+
+static int check_int_literals(Loader *L, const char *path, int depth)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return 0; /* libconfig reports it */
+    char *text = NULL;
+    size_t size = 0;
+    FILE *copy = open_memstream(&text, &size);
+    int c;
+    while (copy && (c = fgetc(f)) != EOF)
+        fputc(c, copy);
+    fclose(f);
+    if (!copy || fclose(copy) != 0) {
+        free(text);
+        return 0;
+    }
+    int line = 1, rc = 0;
+    for (size_t k = 0; k < size && rc == 0; ++k) {
+        char ch = text[k];
+        if (ch == '\n') {
+            ++line;
+        } else if (ch == '@' && strncmp(text + k, "@include", 8) == 0) {
+            rc = check_include(L, text, size, &k, depth);
+        } else if (ch == '#' || (ch == '/' && text[k + 1] == '/')) {
+            while (k + 1 < size && text[k + 1] != '\n')
+                ++k;
+        } else if (ch == '/' && text[k + 1] == '*') {
+            for (k += 2; k + 1 < size && !(text[k] == '*' && text[k + 1] == '/'); ++k)
+                line += text[k] == '\n';
+            ++k;
+        } else if (ch == '"') {
+            for (++k; k < size && text[k] != '"'; ++k) {
+                k += text[k] == '\\' && k + 1 < size;
+                line += text[k] == '\n';
+            }
+        } else if (isdigit((unsigned char)ch) &&
+                   (k == 0 || !is_name_char(text[k - 1]) || text[k - 1] == '-')) {
+            rc = check_literal(L, path, line, text, &k);
+            --k;
+        } else if (isalpha((unsigned char)ch) || ch == '_') {
+            while (k + 1 < size && is_name_char(text[k + 1]))
+                ++k; /* a name (k_n2, e1): no literal inside */
+        }
+    }
+    free(text);
+    return rc;
+}
+
 /* Reads the file into L->config (initialised) and applies the --set overrides. 0, or -1. */
 static int read_scene(Loader *L, const char *path, const char *const *sets, int set_count)
 {
     config_set_include_dir(&L->config, L->dir);
+    if (check_int_literals(L, path, 0) != 0)
+        return -1;
     if (!config_read_file(&L->config, path)) {
         if (config_error_type(&L->config) == CONFIG_ERR_FILE_IO)
             snprintf(L->p.err, L->p.err_size, "%s: cannot read scene file: %s", path,
@@ -432,9 +545,31 @@ static int finish_output(Loader *L)
     return 0;
 }
 
+/* Stage k's step count, duration / dt, within what a run can count (a `time.end = 1e15`, a
+ * denormal dt or `steps_per_contact = 1e308` would overflow it and run nothing). 0, or -1. */
+static int check_step_count(const Scene *scene, int k, char *err, size_t err_size)
+{
+    SimWorldDef def = scene_world_def(scene, k);
+    double dt = def.time_step > 0.0 ? def.time_step : sim_world_def_timing(&def).time_step;
+    if (!(dt > 0.0)) /* chosen when the stage's state is loaded */
+        return 0;
+    double steps = scene->stages[k].duration / dt;
+    if (isfinite(dt) && dt >= 1e-300 && steps <= SCENE_MAX_STEPS)
+        return 0;
+    snprintf(err, err_size,
+             "%s: stage %s would take %.3g steps of dt = %.3g s (time.end %g s): more than the "
+             "%.0e steps a run counts; lower time.end or raise the time step",
+             scene->where->stage_dt[k], scene->stages[k].name, steps, dt, scene->stages[k].duration,
+             SCENE_MAX_STEPS);
+    return -1;
+}
+
 /* Each distinct stage time step against the contacts and sim's checks. 0, or -1. */
 static int validate_stages(const Scene *scene, char *err, size_t err_size)
 {
+    for (int k = 0; k < scene->stage_count; ++k)
+        if (check_step_count(scene, k, err, err_size) != 0)
+            return -1;
     for (int k = 0; k < scene->stage_count; ++k) {
         int seen = 0; /* validate each distinct time step once */
         for (int j = 0; j < k; ++j)

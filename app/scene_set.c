@@ -162,8 +162,45 @@ static config_setting_t *child(config_setting_t *s, const char *part)
 /* Walks KEY's path (dots, or [k] for list elements: species[0].k_n is species.0.k_n) from the
  * root. A missing key is added inside an existing group; its type follows the value, and the
  * scene checks reject it later if it is not a key the group accepts. NULL: reported. */
+/* A --set path: names and indices joined by dots, an index also as [N] right after a name:
+ * `time.dt`, `species.0.k_n`, `species[0].k_n`. No empty part (`.time`, `time..dt`, `dt.`), no
+ * unclosed or stray bracket, nothing but digits inside one. NULL, or what is wrong. */
+static const char *key_syntax(const char *key)
+{
+    int part = 0; /* characters in the present part */
+    for (const char *c = key; *c; ++c) {
+        if (*c == '.') {
+            if (part == 0)
+                return "empty part in the key (two dots, or a dot at an end)";
+            part = 0;
+        } else if (*c == '[') {
+            if (part == 0)
+                return "`[` must follow a name";
+            const char *d = c + 1;
+            while (*d >= '0' && *d <= '9')
+                ++d;
+            if (d == c + 1 || *d != ']')
+                return "an index in brackets must be digits closed by `]`";
+            if (d[1] != '\0' && d[1] != '.' && d[1] != '[')
+                return "`]` must end the key or be followed by `.`";
+            c = d;
+            part = 1;
+        } else if (*c == ']') {
+            return "`]` without `[`";
+        } else {
+            ++part;
+        }
+    }
+    return part == 0 ? "empty part in the key (two dots, or a dot at an end)" : NULL;
+}
+
 static config_setting_t *walk(Loader *L, char *key, const char *value)
 {
+    const char *bad = key_syntax(key);
+    if (bad) {
+        set_fail(L, key, "%s", bad);
+        return NULL;
+    }
     size_t key_length = strlen(key);
     char *path = malloc(key_length + 1);
     if (!path) {

@@ -120,3 +120,12 @@ add_test(NAME cli.interrupt
          COMMAND bash ${CLI_DIR}/interrupt.sh $<TARGET_FILE:sablier>
                  ${PROJECT_SOURCE_DIR}/scenes/crater/quick.scene ${CLI_TINY} ${CLI_WORK}/interrupt)
 set_tests_properties(cli.interrupt PROPERTIES LABELS cli)
+add_test(NAME cli.cadence_huge
+         COMMAND bash ${CLI_DIR}/cadence.sh $<TARGET_FILE:sablier> ${CLI_TINY} ${CLI_WORK}/cadence)
+set_tests_properties(cli.cadence_huge PROPERTIES LABELS cli)
+
+# --set paths are strict: no empty part, no unclosed or stray bracket (issue 18 part 4)
+sablier_cli_test(set_leading_dot "check|${CLI_TINY}|--set|.time.dt=1e-5" 2
+                 ERR "--set .time.dt: empty part in the key")
+sablier_cli_test(set_double_dot "check|${CLI_TINY}|--set|time..dt=1e-5" 2
+                 ERR "--set time..dt: empty part in the key")

@@ -184,6 +184,35 @@ static int effect_names(void)
     return 0;
 }
 
+/* --set paths are strict: every malformed one is refused, naming what is wrong. */
+static int set_key_syntax(void)
+{
+    const char *bad[][2] = {{".time.dt=1e-5", "empty part"},
+                            {"time..dt=1e-5", "empty part"},
+                            {"time.dt.=1e-5", "empty part"},
+                            {"species[0.k_n=1e6", "digits closed by `]`"},
+                            {"species[x].k_n=1e6", "digits closed by `]`"},
+                            {"species.0]=1", "`]` without `[`"},
+                            {"species[0]k_n=1e6", "followed by `.`"},
+                            {"[0].k_n=1e6", "must follow a name"}};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; ++k) {
+        char err[2048] = "";
+        const char *sets[] = {bad[k][0]};
+        Scene *s = scene_load(DROP, sets, 1, err, sizeof err);
+        if (s || !strstr(err, bad[k][1]) || !strstr(err, "--set ")) {
+            fprintf(stderr, "--set %s: %s\n", bad[k][0], s ? "accepted" : err);
+            scene_free(s);
+            return 1;
+        }
+    }
+    const char *good[] = {"species[0].k_n=2e6"};
+    char err[2048];
+    Scene *s = scene_load(DROP, good, 1, err, sizeof err);
+    TEST_ASSERT(s);
+    scene_free(s);
+    return 0;
+}
+
 /* A run without renderer writes energy.csv, summary.json and the checkpoint. */
 static int run_writes_outputs(void)
 {
@@ -197,8 +226,9 @@ static int run_writes_outputs(void)
     options.quiet = 1;
     TEST_ASSERT(app_run(s, &options) == 0);
     struct stat st;
-    const char *files[] = {"energy.csv", "summary.json", "run.state", "trace.csv"};
-    for (int k = 0; k < 4; ++k) {
+    const char *files[] = {"energy.csv", "summary.json", "run.state",
+                           "trace.csv",  "manifest.txt", "scene.resolved.cfg"};
+    for (int k = 0; k < 6; ++k) {
         snprintf(path, sizeof path, "%s/%s", dir, files[k]);
         TEST_ASSERT(stat(path, &st) == 0 && st.st_size > 0);
         remove(path);
@@ -212,4 +242,4 @@ static int run_writes_outputs(void)
 
 TEST_MAIN(TEST_CASE(quick_scene_parameters), TEST_CASE(set_overrides), TEST_CASE(error_lines),
           TEST_CASE(rain_follows_seed), TEST_CASE(surface_height), TEST_CASE(effect_names),
-          TEST_CASE(run_writes_outputs))
+          TEST_CASE(run_writes_outputs), TEST_CASE(set_key_syntax))
