@@ -85,7 +85,7 @@ static const char USAGE_DIFF[] =
     "\n"
     "  --out DIFF.png     write an image of the differences\n"
     "  --threshold N      a pixel differs when a channel differs by more than N (0-255)\n"
-    "  --shift N          ignore differences matched within N pixels\n"
+    "  --shift N          ignore differences matched within N pixels (0-32)\n"
     "  --max-pixels N     the images match when at most N pixels differ\n"
     "Prints one JSON line; exit 0 match, 1 differ, 2 bad input.\n";
 
@@ -299,8 +299,12 @@ static int command_diff(int argc, char **argv)
         else if ((m = app_option(argc, argv, &i, "--max-pixels", &value)) != 0)
             target = &max_pixels;
         if (target) {
-            if (m < 0 || app_parse_count(value, 0, 1000000000L, target) < 0)
-                return app_usage_error(USAGE_DIFF, "expected a count >= 0, got",
+            /* a shift is searched in a (2N+1)^2 window per differing pixel: at most 32 */
+            long max = target == &shift ? 32 : 1000000000L;
+            if (m < 0 || app_parse_count(value, 0, max, target) < 0)
+                return app_usage_error(USAGE_DIFF,
+                                       target == &shift ? "--shift needs a count in [0, 32], got"
+                                                        : "expected a count >= 0, got",
                                        m < 0 ? "nothing" : value);
         } else if (argv[i][0] == '-' && argv[i][1]) {
             return app_usage_error(USAGE_DIFF, "unknown option", argv[i]);

@@ -204,6 +204,16 @@ static int parse_figures(Loader *L, const config_setting_t *output)
         } else if (app_config_choice(&L->p, g, "at", at_names, &at) < 0) {
             return -1;
         }
+        /* names of the run's own outputs (run.c, the crater figures hook) */
+        static const char *const reserved[] = {"energy_panels",  "profiles", "summary",
+                                               "energy",         "trace",    "manifest",
+                                               "scene.resolved", NULL};
+        for (int r = 0; reserved[r]; ++r)
+            if (strcmp(name, reserved[r]) == 0)
+                return app_config_fail(&L->p, app_config_member(g, "name"),
+                                       "figure name `%s` is taken by one of the run's own "
+                                       "outputs; choose another",
+                                       name);
         snprintf(f->name, sizeof f->name, "%s", name);
         for (int j = 0; j < k; ++j)
             if (strcmp(scene->output.figures[j].name, name) == 0 &&
@@ -217,6 +227,10 @@ static int parse_figures(Loader *L, const config_setting_t *output)
                 return app_config_fail(&L->p, app_config_member(g, "stage"), "no stage named `%s`",
                                        stage);
         }
+        if (at == 2 && at_time > scene->stages[f->stage].duration)
+            return app_config_fail(
+                &L->p, at_setting, "figure `%s` at %g s is after the end of stage %s (%g s long)",
+                name, at_time, scene->stages[f->stage].name, scene->stages[f->stage].duration);
         f->at_end = at;
         f->at_time = at_time;
         snprintf(f->format, sizeof f->format, "%s", formats[format]);

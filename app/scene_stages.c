@@ -64,6 +64,17 @@ static int checkpoint_path(Loader *L, const config_setting_t *g, const char *loa
                                "cannot read checkpoint `%s`: %s", stage->load_path,
                                strerror(errno));
     fclose(f);
+    /* the whole state read now, so that a bad file stops the run before any stage */
+    SimGrainSet grains;
+    SimWall *walls = NULL;
+    int wall_count = 0;
+    double time = 0.0;
+    SimError error;
+    if (sim_state_load(stage->load_path, &grains, &walls, &wall_count, &time, &error) != SIM_OK)
+        return app_config_fail(&L->p, app_config_member(g, "load"), "checkpoint `%s`: %s",
+                               stage->load_path, error.message);
+    sim_grain_set_free(&grains);
+    free(walls);
     return 0;
 }
 
@@ -148,6 +159,11 @@ static int parse_stage(Loader *L, const config_setting_t *g, int k, const config
               app_config_string(&L->p, g, "name", &name) < 0 ||
               loader_check_file_name(L, g, "name", name) < 0))
         return -1;
+    if (strchr(name, '.')) /* STAGE.state, STAGE.last_good.state: a dot makes them collide */
+        return app_config_fail(&L->p, app_config_member(g, "name"),
+                               "stage name `%s` must not contain `.` (its files are "
+                               "<stage>.state, <stage>.last_good.state, <stage>.mp4)",
+                               name);
     snprintf(stage->name, sizeof stage->name, "%s", name);
     for (int j = 0; j < k; ++j)
         if (strcmp(scene->stages[j].name, name) == 0)

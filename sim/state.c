@@ -5,9 +5,11 @@
 #include "world.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 static const char magic[16] = "SABLIER-STATE-1\n";
 
@@ -145,7 +147,24 @@ SimStatus sim_state_load(const char *path, SimGrainSet *grains, SimWall **walls,
         errno = 0;
         return io_fail(error, path, "not a sablier state file (bad header)");
     }
+    if (!isfinite(h.time) || h.step < 0) {
+        fclose(f);
+        errno = 0;
+        return io_fail(error, path, "not a sablier state file (time not finite)");
+    }
+    /* the arrays the header announces must be in the file before anything is allocated */
     size_t n = (size_t)h.count, alloc = n ? n : 1;
+    double need = (double)sizeof h +
+                  (double)n * (7.0 * sizeof(double) + sizeof(int) * 2.0 + sizeof(unsigned) +
+                               sizeof(uint32_t)) +
+                  (double)(n - (size_t)h.mobile_count) * 2.0 * sizeof(double) +
+                  (double)h.wall_count * (double)sizeof(SimWall);
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || (double)st.st_size < need) {
+        fclose(f);
+        errno = 0;
+        return io_fail(error, path, "truncated state file (shorter than its header says)");
+    }
     double *d[7];
     for (int a = 0; a < 7; ++a)
         d[a] = malloc(alloc * sizeof(double));
@@ -206,7 +225,7 @@ SimStatus sim_world_restore_contacts(SimWorld *w, const char *path, SimError *er
         return io_fail(error, path, "cannot open state file");
     StateHeader h;
     int ok = fread(&h, sizeof h, 1, f) == 1 && memcmp(h.magic, magic, sizeof magic) == 0 &&
-             h.count >= 0 && h.wall_count >= 0;
+             h.count >= 0 && h.wall_count >= 0 && h.mobile_count >= 0 && h.mobile_count <= h.count;
     /* skip the grain and wall sections (layout of sim_world_save) */
     long skip = (long)h.count * (7 * (long)sizeof(double) + 2 * (long)sizeof(int) +
                                  (long)sizeof(unsigned) + (long)sizeof(uint32_t)) +
@@ -215,10 +234,16 @@ SimStatus sim_world_restore_contacts(SimWorld *w, const char *path, SimError *er
     ok = ok && fseek(f, skip, SEEK_CUR) == 0;
     int32_t counts[2];
     ok = ok && fread(counts, sizeof counts, 1, f) == 1 && counts[0] >= 0 && counts[1] >= 0;
+    /* the records the counts announce must be in the file before they are allocated */
+    struct stat st;
+    long here = ok ? ftell(f) : -1;
+    ok = ok && here >= 0 && fstat(fileno(f), &st) == 0 &&
+         ((double)counts[0] + (double)counts[1]) * SIM_HISTORY_RECORD_SIZE <=
+             (double)st.st_size - (double)here;
     void *records = NULL, *walls = NULL;
     if (ok) {
-        records = malloc((size_t)(counts[0] + 1) * SIM_HISTORY_RECORD_SIZE);
-        walls = malloc((size_t)(counts[1] + 1) * SIM_HISTORY_RECORD_SIZE);
+        records = malloc(((size_t)counts[0] + 1) * SIM_HISTORY_RECORD_SIZE);
+        walls = malloc(((size_t)counts[1] + 1) * SIM_HISTORY_RECORD_SIZE);
         ok = records && walls &&
              fread(records, SIM_HISTORY_RECORD_SIZE, (size_t)counts[0], f) == (size_t)counts[0] &&
              fread(walls, SIM_HISTORY_RECORD_SIZE, (size_t)counts[1], f) == (size_t)counts[1];

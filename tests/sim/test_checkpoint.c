@@ -255,5 +255,67 @@ static int deep_soft_pile_reloads(void)
     return 0;
 }
 
+/* Rewrites `size` bytes at `offset` of a file. 0, or -1. */
+static int patch_file(const char *path, long offset, const void *bytes, size_t size)
+{
+    FILE *f = fopen(path, "r+b");
+    if (!f)
+        return -1;
+    int ok = fseek(f, offset, SEEK_SET) == 0 && fwrite(bytes, 1, size, f) == size;
+    return fclose(f) == 0 && ok ? 0 : -1;
+}
+
+/* A state whose time is not finite, or whose header announces more grains or contact records
+ * than the file holds, is refused before anything is allocated for them. */
+static int bad_states_refused(void)
+{
+    SimWorldDef def = bed_def();
+    SimGrainBuffer b;
+    sim_grain_buffer_init(&b);
+    sim_grain_buffer_add(&b, 0.5, 0.5, 0.05, 0, 0u, -1);
+    SimWorld *w = tu_create(&def, &b);
+    sim_grain_buffer_free(&b);
+    TEST_ASSERT(w);
+    char path[32];
+    TEST_ASSERT(test_tmp_file(path) == 0);
+    SimError err;
+    SimGrainSet g;
+    SimWall *walls = NULL;
+    int wall_count = 0;
+    double time = 0.0;
+    const double nan = NAN;
+    const int32_t huge = 2000000000;
+
+    /* header: magic[16], count, mobile_count, wall_count, reserved (int32), time (double) */
+    const struct {
+        long offset;
+        const void *bytes;
+        size_t size;
+        const char *message;
+    } cases[] = {{32, &nan, sizeof nan, "time not finite"},
+                 {16, &huge, sizeof huge, "shorter than its header says"}};
+
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        TEST_ASSERT(sim_world_save(w, path, &err) == SIM_OK);
+        TEST_ASSERT(patch_file(path, cases[k].offset, cases[k].bytes, cases[k].size) == 0);
+        TEST_ASSERT(sim_state_load(path, &g, &walls, &wall_count, &time, &err) != SIM_OK);
+        TEST_ASSERT(strstr(err.message, cases[k].message));
+    }
+    /* the contact-history count beyond the file: refused, not allocated */
+    TEST_ASSERT(sim_world_save(w, path, &err) == SIM_OK);
+    FILE *f = fopen(path, "rb");
+    TEST_ASSERT(f);
+    fseek(f, 0, SEEK_END);
+    long size = ftell(f);
+    fclose(f);
+    const int32_t counts[2] = {huge, 0};
+    long at = size - (long)sizeof counts; /* one grain, no contacts: the counts end the file */
+    TEST_ASSERT(patch_file(path, at, counts, sizeof counts) == 0);
+    TEST_ASSERT(sim_world_restore_contacts(w, path, &err) != SIM_OK);
+    unlink(path);
+    sim_world_destroy(w);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(restart_from_settled_bed), TEST_CASE(restore_contact_history),
-          TEST_CASE(deep_soft_pile_reloads))
+          TEST_CASE(deep_soft_pile_reloads), TEST_CASE(bad_states_refused))
