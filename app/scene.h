@@ -123,6 +123,10 @@ typedef struct SceneWhere SceneWhere; /* private: field path -> file:line */
 /// the loader refuses the stage (step counts are 64-bit, their time sums exact).
 #define SCENE_MAX_STEPS 1e12
 
+/// The most grains a scene may build (rain, rows, columns, box): bounds memory before it is
+/// allocated.
+#define SCENE_MAX_GRAINS 1e7
+
 typedef struct Scene {
     char path[SCENE_PATH_MAX];
     char name[SCENE_NAME_MAX];

@@ -327,9 +327,14 @@ static int parse_rain(Loader *L, const config_setting_t *grains)
     /* Refuse regions that would need absurd memory before building. */
     double cells =
         (rain.x1 - rain.x0) * (rain.y1 - rain.y0) / (4.0 * rain.pitch_radius * rain.pitch_radius);
-    if (cells > 1e7 && rain.max_count == 0)
+    if (cells > SCENE_MAX_GRAINS && rain.max_count == 0)
         return app_config_fail(
             &L->p, g, "grains.rain: the region holds about %.3g grains; set max_count", cells);
+    /* the builder keeps one offset per lattice column, whatever max_count says */
+    if ((rain.x1 - rain.x0) / (2.0 * rain.pitch_radius) > SCENE_MAX_GRAINS)
+        return app_config_fail(&L->p, g,
+                               "grains.rain: the region is %.3g grains wide; at most %.0e",
+                               (rain.x1 - rain.x0) / (2.0 * rain.pitch_radius), SCENE_MAX_GRAINS);
     SimRng rng;
     sim_rng_seed(&rng, L->scene->seed);
     int first = L->scene->grains.count;
@@ -338,6 +343,18 @@ static int parse_rain(Loader *L, const config_setting_t *grains)
         return app_config_fail(&L->p, g, "grains.rain produced no grains");
     loader_where_grains(L, first, g, "grains.rain");
     return 0;
+}
+
+/* A fixed row or column of `span` / (2 radius) + 1 grains within what a scene may hold (a row
+ * with x1 = 1e9 would need gigabytes, or overflow the count). 0, or -1. */
+static int check_line_count(Loader *L, const config_setting_t *g, const char *what, double span,
+                            double radius)
+{
+    double n = span / (2.0 * radius) + 1.0;
+    if (n <= SCENE_MAX_GRAINS)
+        return 0;
+    return app_config_fail(&L->p, g, "%s: %.3g grains in one line; a scene holds at most %.0e",
+                           what, n, SCENE_MAX_GRAINS);
 }
 
 static int parse_box(Loader *L, const config_setting_t *grains)
@@ -361,6 +378,9 @@ static int parse_box(Loader *L, const config_setting_t *grains)
     if (!(x1 - x0 >= 4.0 * r) || !(y1 - y0 >= 2.0 * r))
         return app_config_fail(&L->p, g,
                                "grains.box: needs x1 - x0 >= 4 radius and y1 - y0 >= 2 radius");
+    if (check_line_count(L, g, what, x1 - x0, r) < 0 ||
+        check_line_count(L, g, what, y1 - y0, r) < 0)
+        return -1;
     L->box_height = y1 - y0;
     int first = L->scene->grains.count;
     /* floor row of centres at y0 from x0 to x1, side columns at x0 and x1 above it (000 §1.6) */
@@ -392,6 +412,8 @@ static int parse_rows(Loader *L, const config_setting_t *grains, int columns)
             app_config_need_number(&L->p, g, "radius", what, &r) < 0 ||
             app_config_positive(&L->p, g, "radius", r) < 0 || get_species(L, g, &species) < 0 ||
             get_motion(L, g, &motion) < 0)
+            return -1;
+        if (check_line_count(L, g, what, fabs(columns ? c - b : b - a), r) < 0)
             return -1;
         int first = L->scene->grains.count;
         if (columns) {

@@ -113,9 +113,8 @@ uint32_t render_colormap_rgb(RenderColormap map, double t)
 
 uint32_t render_species_rgb(int species)
 {
-    if (species < 0)
-        species = -species;
-    return species_palette[species % 8];
+    unsigned u = species < 0 ? 0u - (unsigned)species : (unsigned)species; /* INT_MIN too */
+    return species_palette[u % 8u];
 }
 
 static double mean_diameter(const SimFrame *frame)

@@ -2,6 +2,7 @@
 /* build.c: the deterministic RNG and grain builders (fixed-grain walls, rain-like lattice). */
 #include "world.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -122,10 +123,18 @@ SimGrainSet sim_grain_buffer_view(const SimGrainBuffer *b)
                          .id = b->id};
 }
 
+/* floor(n) as a loop count: -1 for NaN or negative, at most INT_MAX - 2 (no out-of-range
+ * conversion; callers bound their sizes, app/scene_grains.c refuses over 1e7 grains). */
+static int lattice_count(double n)
+{
+    n = floor(n);
+    return n >= 0.0 ? (n < (double)(INT_MAX - 2) ? (int)n : INT_MAX - 2) : -1;
+}
+
 void sim_build_fixed_row(SimGrainBuffer *b, double x0, double x1, double y, double radius,
                          int species, int motion)
 {
-    int n = (int)floor((x1 - x0) / (2.0 * radius) + 1e-9) + 1;
+    int n = lattice_count((x1 - x0) / (2.0 * radius) + 1e-9) + 1;
     for (int k = 0; k < n; ++k)
         sim_grain_buffer_add(b, x0 + 2.0 * radius * k, y, radius, species, SIM_GRAIN_FIXED, motion);
 }
@@ -133,7 +142,7 @@ void sim_build_fixed_row(SimGrainBuffer *b, double x0, double x1, double y, doub
 void sim_build_fixed_column(SimGrainBuffer *b, double x, double y0, double y1, double radius,
                             int species, int motion)
 {
-    int n = (int)floor((y1 - y0) / (2.0 * radius) + 1e-9) + 1;
+    int n = lattice_count((y1 - y0) / (2.0 * radius) + 1e-9) + 1;
     for (int k = 0; k < n; ++k)
         sim_grain_buffer_add(b, x, y0 + 2.0 * radius * k, radius, species, SIM_GRAIN_FIXED, motion);
 }
@@ -147,8 +156,8 @@ int sim_build_rain(SimGrainBuffer *b, const SimRainDef *def, SimRng *rng)
     const double pitch_x = 2.0 * def->pitch_radius + def->column_gap;
     const double pitch_y = 2.0 * def->pitch_radius + def->row_gap;
     const double r_hi = def->radius_mean * (1.0 + def->polydispersity);
-    int columns = (int)floor((def->x1 - def->x0 - 2.0 * r_hi) / pitch_x) + 1;
-    int rows = (int)floor((def->y1 - def->y0 - 2.0 * r_hi) / pitch_y) + 1;
+    int columns = lattice_count((def->x1 - def->x0 - 2.0 * r_hi) / pitch_x) + 1;
+    int rows = lattice_count((def->y1 - def->y0 - 2.0 * r_hi) / pitch_y) + 1;
     if (columns < 1 || rows < 1)
         return 0;
     double total = 0.0;
