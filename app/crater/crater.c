@@ -63,7 +63,8 @@ int app_profile_measure(SimWorld *world, double bin_width, AppProfile *p)
     double width = p->x1 - p->x0;
     if (!(width > 0.0) || !(bin_width > 0.0))
         return -1;
-    p->bins = (int)fmax(1.0, floor(width / bin_width + 0.5));
+    /* at most 1e6 bins (a bin width from a loaded state's grains is not checked at load) */
+    p->bins = (int)fmin(1e6, fmax(1.0, floor(width / bin_width + 0.5)));
     p->bin = width / p->bins;
     p->x = malloc((size_t)p->bins * sizeof *p->x);
     p->y = malloc((size_t)p->bins * sizeof *p->y);

@@ -81,6 +81,15 @@ static int crater_parse(const config_setting_t *root, const config_setting_t *gr
                    app_config_number(&p, output, "profile_bin", &c.profile_bin) < 0 ||
                    app_config_non_negative(&p, output, "profile_bin", c.profile_bin) < 0))
         return -1;
+    /* a bin far below a grain measures nothing but memory (profile_bin = 1e-12 took 7.5 GB) */
+    double r_min = INFINITY;
+    for (int i = 0; i < scene->grains.count; ++i)
+        r_min = fmin(r_min, scene->grains.radius[i]);
+    if (c.profile_bin > 0.0 && c.profile_bin < 0.1 * r_min)
+        return app_config_fail(&p, config_setting_get_member(output, "profile_bin"),
+                               "`profile_bin` = %g m is below a tenth of the smallest grain "
+                               "radius (%g m); use 0 (the mean diameter) or a larger bin",
+                               c.profile_bin, r_min);
     const config_setting_t *stages = config_setting_get_member(root, "stages");
     int used = c.profile_every > 0.0;
     for (int k = 0; stages && k < scene->stage_count && k < config_setting_length(stages); ++k) {
