@@ -124,10 +124,11 @@ static int write_summary(const Run *run, double wall_seconds)
     app_json_number(n4, sizeof n4,
                     run->contacts_samples ? run->contacts_sum / (double)run->contacts_samples
                                           : 0.0);
-    const char *status = run->status == 0                ? "ok"
-                         : run->status == 1              ? "unstable"
-                         : run->status > APP_EXIT_SIGNAL ? "interrupted"
-                                                         : "error";
+    const char *status = run->status == 0                    ? "ok"
+                         : run->status == 1                  ? "unstable"
+                         : run->status > APP_EXIT_SIGNAL     ? "interrupted"
+                         : run->status == APP_EXIT_DISK_FULL ? "disk_full"
+                                                             : "error";
     size_t n = (size_t)snprintf(
         text, size,
         "{\n  \"scene\": %s,\n  \"scene_file\": %s,\n  \"seed\": %llu,\n  \"grains\": %d,\n"
@@ -729,6 +730,18 @@ static int prepare_folder(Run *run)
     return 0;
 }
 
+/* A failed output (status 2) that failed for want of space becomes APP_EXIT_DISK_FULL. */
+static void disk_full_status(Run *run)
+{
+    if (run->status != 2 || (!app_out_of_space() && !strstr(run->message, strerror(ENOSPC))))
+        return;
+    run->status = APP_EXIT_DISK_FULL;
+    char text[sizeof run->message];
+    snprintf(text, sizeof text, "%s", run->message);
+    snprintf(run->message, sizeof run->message, "disk full: %.*s", (int)(sizeof run->message - 16),
+             text);
+}
+
 /* SIGINT and SIGTERM set run_signal while a run is in progress (old handlers in `saved`). */
 static void catch_signals(struct sigaction saved[2], int restore)
 {
@@ -813,14 +826,14 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     run_stages(run);
     families_end(run);
     /* The CSV files are complete records up to here, failure included. */
-    if (app_tmp_commit(&run->energy, run->energy_path) != 0 ||
-        app_tmp_commit(&run->trace, run->trace_path) != 0) {
-        if (run->status == 0) {
-            snprintf(run->message, sizeof run->message, "cannot finish the CSV files in %s",
-                     options->out_dir);
-            run->status = 2;
-        }
+    int energy_failed = app_tmp_commit(&run->energy, run->energy_path) != 0;
+    int trace_failed = app_tmp_commit(&run->trace, run->trace_path) != 0; /* both, always */
+    if ((energy_failed || trace_failed) && run->status == 0) {
+        snprintf(run->message, sizeof run->message, "cannot write %s",
+                 energy_failed ? run->energy_path : run->trace_path);
+        run->status = 2;
     }
+    disk_full_status(run);
     if (write_summary(run, app_now_seconds() - wall_start) != 0 && run->status == 0) {
         snprintf(run->message, sizeof run->message, "cannot write %s/summary.json",
                  options->out_dir);
@@ -833,6 +846,7 @@ int app_run(const Scene *scene, const AppRunOptions *options)
         run->status = 2;
     }
     catch_signals(saved, 1);
+    disk_full_status(run);
     if (run->status != 0)
         fprintf(stderr, "sablier: %s\n", run->message);
     int status = run->status;

@@ -80,11 +80,29 @@ FILE *app_tmp_open(const char *path, const char *header)
     return f;
 }
 
+static int out_of_space; /* a write failed with ENOSPC or EDQUOT */
+
+static void note_write_error(void)
+{
+    if (errno == ENOSPC || errno == EDQUOT)
+        out_of_space = 1;
+}
+
+int app_out_of_space(void)
+{
+    return out_of_space;
+}
+
 int app_tmp_commit(FILE **file, const char *path)
 {
     if (!*file)
         return 0;
-    int ok = fclose(*file) == 0;
+    /* a write that failed earlier (ENOSPC while the buffer was flushed) leaves the stream's
+     * error flag: such a file is truncated and must not get its final name */
+    int ok = !ferror(*file);
+    ok = fclose(*file) == 0 && ok;
+    if (!ok)
+        note_write_error();
     *file = NULL;
     char *tmp = tmp_name(path);
     if (!tmp)

@@ -18,6 +18,8 @@ int app_tmp_commit(FILE **file, const char *path);
 void app_tmp_discard(FILE **file, const char *path);
 /// Writes `text` to PATH through PATH.tmp. 0, or -1.
 int app_write_atomic(const char *path, const char *text);
+/// 1 once an output failed because the disk (or the quota) was full (ENOSPC, EDQUOT).
+int app_out_of_space(void);
 
 /// Doubles the capacity (first: `initial`) of two parallel arrays, e.g. a time series t and v.
 /// 0, or -1 when out of memory (the arrays keep their contents).
