@@ -61,7 +61,7 @@ static int name_index(const char *const *names, const char *name)
 
 /* `key` = ["name", ...] of `names`, each at most once: indices into out, their number in *count.
  * 1 when present, 0 absent, -1 bad. */
-static int names_list(AppConfig *p, const config_setting_t *g, const char *key,
+static int names_list(AppConfig *p, const config_setting_t *g, const char *key, const char *what,
                       const char *const *names, unsigned char *out, int *count)
 {
     const config_setting_t *s = app_config_member(g, key);
@@ -81,7 +81,7 @@ static int names_list(AppConfig *p, const config_setting_t *g, const char *key,
             config_setting_type(e) == CONFIG_TYPE_STRING ? config_setting_get_string(e) : NULL;
         int index = name ? name_index(names, name) : -1;
         if (index < 0)
-            return app_config_fail(p, e, "unknown %s `%s` (expected: %s)", key,
+            return app_config_fail(p, e, "unknown %s `%s` (expected: %s)", what,
                                    name ? name : app_config_type_name(e), expected);
         for (int i = 0; i < j; ++i)
             if (out[i] == index)
@@ -101,7 +101,7 @@ static int apply_group(AppConfig *p, const config_setting_t *g, AppDumpSpec *spe
     int n = 0, found;
     long long max_frames = spec->max_frames;
     if (app_config_keys(p, g, NULL, keys, NULL) < 0 ||
-        (found = names_list(p, g, "format", FORMAT_NAMES, formats, &n)) < 0)
+        (found = names_list(p, g, "format", "format", FORMAT_NAMES, formats, &n)) < 0)
         return -1;
     if (found) {
         spec->formats = 0;
@@ -118,7 +118,7 @@ static int apply_group(AppConfig *p, const config_setting_t *g, AppDumpSpec *spe
         spec->every = every;
         *every_at = app_config_member(g, "every");
     }
-    if (names_list(p, g, "fields", FIELD_NAMES, spec->fields, &spec->field_count) < 0 ||
+    if (names_list(p, g, "fields", "field", FIELD_NAMES, spec->fields, &spec->field_count) < 0 ||
         app_config_bool(p, g, "contacts", &spec->contacts) < 0 ||
         app_config_int(p, g, "max_frames", &max_frames) < 0)
         return -1;
@@ -158,7 +158,7 @@ static int stage_spec(AppConfig *p, const config_setting_t *base, const AppDumpS
     int declared = base != NULL;
     char label[SCENE_NAME_MAX + 24];
     snprintf(label, sizeof label, "stage %s: dump", stage->name);
-    p->group = label;
+    p->group = own ? label : "output.dump";
     if (own && config_setting_type(own) == CONFIG_TYPE_BOOL) {
         declared = config_setting_get_bool(own);
         if (declared && !base)
@@ -179,9 +179,9 @@ static int stage_spec(AppConfig *p, const config_setting_t *base, const AppDumpS
     long bound = app_dump_frame_bound(&spec, stage->duration, stage->time_step);
     if (!stage->skip && bound > spec.max_frames)
         return app_config_fail(p, every_at,
-                               "`every` = %g s over the stage's %g s makes up to %ld frames, "
+                               "`every` = %g s over stage `%s` (%g s) makes up to %ld frames, "
                                "more than max_frames = %ld: raise `max_frames` to ask for them",
-                               spec.every, stage->duration, bound, spec.max_frames);
+                               spec.every, stage->name, stage->duration, bound, spec.max_frames);
     scene->output.dump[k] = spec;
     return 0;
 }
