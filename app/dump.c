@@ -59,8 +59,8 @@ static int name_index(const char *const *names, const char *name)
     return -1;
 }
 
-/* `key` = ["name", ...] of `names`, each at most once: indices into out, their number in *count.
- * 1 when present, 0 absent, -1 bad. */
+/* `key` = ["name", ...] of `names`, each at most once: indices into out, their number in *count
+ * (an empty array only for `format`: no dump). 1 when present, 0 absent, -1 bad. */
 static int names_list(AppConfig *p, const config_setting_t *g, const char *key, const char *what,
                       const char *const *names, unsigned char *out, int *count)
 {
@@ -73,8 +73,8 @@ static int names_list(AppConfig *p, const config_setting_t *g, const char *key, 
                  k ? ", " : "", names[k]);
     int type = config_setting_type(s);
     int n = type == CONFIG_TYPE_ARRAY || type == CONFIG_TYPE_LIST ? config_setting_length(s) : -1;
-    if (n < 1)
-        return app_config_fail(p, s, "`%s` must be a non-empty array of names (%s)", key, expected);
+    if (n < (strcmp(key, "format") == 0 ? 0 : 1))
+        return app_config_fail(p, s, "`%s` must be an array of names (%s)", key, expected);
     for (int j = 0; j < n; ++j) {
         const config_setting_t *e = config_setting_get_elem(s, (unsigned)j);
         const char *name =
@@ -172,7 +172,7 @@ static int stage_spec(AppConfig *p, const config_setting_t *base, const AppDumpS
         return app_config_fail(p, own, "`dump` must be a group { every = ...; } or false");
     }
     memset(&scene->output.dump[k], 0, sizeof scene->output.dump[k]);
-    if (!declared)
+    if (!declared || !spec.formats) /* dump = false, or format = [] */
         return 0;
     if (!every_at)
         return app_config_fail(p, where, "`every` is required (simulated seconds between frames)");

@@ -128,6 +128,8 @@ sablier_cli_test(dump_every_step_refused "check|${CLI_QUICK}|--set|stages.collap
 sablier_cli_test(dump_every_step_asked
                  "check|${CLI_QUICK}|--set|stages.collapse.dump.every=5e-5|--set|stages.collapse.dump.max_frames=60001"
                  0 OUT "dump +lammps, vtk [^\n]*at most 60001 frames [(]max_frames 60001[)]")
+sablier_cli_test(dump_format_empty_off "check|${CLI_QUICK}|--set|stages.collapse.dump.format=[]" 0
+                 OUT "stage collapse: [^\n]*\n  time step[^\n]*\n  contact time[^\n]*\n  stability limit[^\n]*\n  steps per contact[^\n]*\noutput ")
 sablier_cli_test(export_no_state "export" 2 ERR "missing STATE")
 sablier_cli_test(export_no_out "export|a.state" 2 ERR "missing -o FILE")
 sablier_cli_test(export_bad_format "export|a.state|--format|xyz|-o|a.out" 2 ERR "unknown --format xyz")
