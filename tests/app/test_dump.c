@@ -268,6 +268,61 @@ static int vtk_contacts_file(void)
     return 0;
 }
 
+/* Across the periodic seam a contact is two lines, each grain to the image of the other; with a
+ * wall, a line from the centre to the contact point. */
+static int vtk_contacts_seam_and_wall(void)
+{
+    double x[3] = {0.099, 1.910, 1.5}, y[3] = {0.5, 0.5, 0.095}, r[3] = {0.1, 0.1, 0.1};
+    SimWall wall = {.x0 = 1.0, .y0 = 0.0, .x1 = 2.0, .y1 = 0.0, .species = 0, .motion = -1};
+    SimWorldDef def = sim_world_def_default();
+    def.effects = SIM_EFFECT_PERIODIC_X;
+    def.domain_x0 = 0.0;
+    def.domain_x1 = 2.0;
+    def.time_step = 1e-5;
+    def.species_count = 1;
+    def.materials[0] = sim_material_default();
+    def.grains = (SimGrainSet){.count = 3, .x = x, .y = y, .radius = r};
+    def.walls = &wall;
+    def.wall_count = 1;
+    SimError e;
+    SimWorld *w = sim_world_create(&def, &e);
+    if (!w)
+        fprintf(stderr, "%s: %s\n", e.field, e.message);
+    TEST_ASSERT(w);
+    SimFrame f;
+    sim_world_frame(w, &f);
+    TEST_ASSERT(f.contact_count == 2);
+    char path[32];
+    TEST_ASSERT(test_tmp_file(path) == 0);
+    TEST_ASSERT(app_dump_vtp_contacts(path, &f) == 0);
+    char *text = read_all(path);
+    TEST_ASSERT(text);
+    /* 3 grains + 2 images + 1 wall contact point; 2 + 1 lines */
+    TEST_ASSERT(strstr(text, "NumberOfPoints=\"6\" NumberOfVerts=\"0\" NumberOfLines=\"3\""));
+    double v[20];
+    TEST_ASSERT(vtk_array(text, "Points", v, 20) == 18);
+    int seam = f.contacts[0].j >= 0 ? 0 : 1, i = f.contacts[seam].i, j = f.contacts[seam].j;
+    double shift = f.x[j] > f.x[i] ? -2.0 : 2.0; /* j's image beside i */
+    int images = 0, contact_point = 0;
+    for (int p = 3; p < 6; ++p) {
+        images += (v[3 * p] == f.x[j] + shift && v[3 * p + 1] == f.y[j]) ||
+                  (v[3 * p] == f.x[i] - shift && v[3 * p + 1] == f.y[i]);
+        contact_point +=
+            v[3 * p] == f.contacts[1 - seam].x && v[3 * p + 1] == f.contacts[1 - seam].y;
+    }
+    TEST_ASSERT(images == 2 && contact_point == 1);
+    double force[4];
+    TEST_ASSERT(vtk_array(text, "normal_force", force, 4) == 3);
+    int lines_of_seam = (force[0] == f.contacts[seam].normal_force) +
+                        (force[1] == f.contacts[seam].normal_force) +
+                        (force[2] == f.contacts[seam].normal_force);
+    TEST_ASSERT(lines_of_seam == 2 && f.contacts[seam].normal_force > 0.0);
+    free(text);
+    remove(path);
+    sim_world_destroy(w);
+    return 0;
+}
+
 /* The keys: output.dump for every stage, a stage's own group on top, `dump = false`. */
 static int scene_dump_keys(void)
 {
@@ -395,5 +450,6 @@ static int failed_run_leaves_no_dump(void)
 }
 
 TEST_MAIN(TEST_CASE(lammps_frame_round_trip), TEST_CASE(lammps_periodic_box),
-          TEST_CASE(vtk_grains_file), TEST_CASE(vtk_contacts_file), TEST_CASE(scene_dump_keys),
+          TEST_CASE(vtk_grains_file), TEST_CASE(vtk_contacts_file),
+          TEST_CASE(vtk_contacts_seam_and_wall), TEST_CASE(scene_dump_keys),
           TEST_CASE(run_writes_dumps), TEST_CASE(failed_run_leaves_no_dump))
