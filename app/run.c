@@ -5,6 +5,7 @@
  * interrupted run never leaves a truncated file under a final name. */
 #include "run.h"
 
+#include "dump.h"
 #include "experiments.h"
 #include "util.h"
 
@@ -433,9 +434,10 @@ static void unstable_message(Run *run, int k)
 /* The stage's cadences, in steps from its start: chunks of sim_world_step end on output times. */
 typedef struct StageClock {
     double dt; /* s */
-    long total, every_energy, every_frame, every_trace;
+    long total, every_energy, every_frame, every_trace, every_dump;
     int movie; /* 1: a movie is open (sink) */
     SimFrameSink sink;
+    AppDump *dump; /* NULL: no per-grain dump declared for the stage */
 } StageClock;
 
 /* A cadence of `steps` (a number of steps, maybe huge or not finite) as a count in [1, 1e15]:
@@ -488,7 +490,11 @@ static int stage_start(Run *run, int k, StageClock *clock)
         .every_frame = cadence_steps(1.0 / (out->frame_rate * dt)),
         .every_trace = cadence_steps(out->trace_every / dt),
         .movie = stage->movie && render && render->movie_open,
+        .every_dump = app_dump_every_steps(&out->dump[k], dt),
     };
+    if (app_dump_open(&clock->dump, scene, k, run->options->out_dir, run->message,
+                      sizeof run->message) != 0)
+        return 2;
     if (clock->movie) {
         char path[PATH_SIZE], err[512] = "";
         out_path(run, path, stage->name, ".mp4");
@@ -508,15 +514,18 @@ static int outputs_due(Run *run, int k, StageClock *clock, long done)
 {
     int frame_due = clock->movie && clock->sink.consume && done % clock->every_frame == 0;
     int trace_due = run->trace && done % clock->every_trace == 0;
+    int dump_due = clock->dump && done % clock->every_dump == 0;
     if (done % clock->every_energy == 0 || done == clock->total)
         energy_row(run, k);
-    if (frame_due || trace_due) {
+    if (frame_due || trace_due || dump_due) {
         SimFrame frame;
         sim_world_frame(run->world, &frame);
         if (frame_due && clock->sink.consume(clock->sink.context, &frame) != 0)
             clock->sink.consume = NULL; /* the movie's sticky error is reported at close */
         if (trace_due)
             trace_rows(run, &frame);
+        if (dump_due)
+            app_dump_frame(clock->dump, &frame);
     }
     family_step(run, done); /* profiles, phase samples, ... */
     return figures_due(run, k, 2, done, clock->dt) != 0 ? 2 : 0;
@@ -526,9 +535,10 @@ static int outputs_due(Run *run, int k, StageClock *clock, long done)
 static long next_due(const Run *run, int k, const StageClock *clock, long done)
 {
     long next = clock->total;
-    long marks[3] = {clock->every_energy, clock->movie ? clock->every_frame : clock->total,
-                     run->trace ? clock->every_trace : clock->total};
-    for (int m = 0; m < 3; ++m) {
+    long marks[4] = {clock->every_energy, clock->movie ? clock->every_frame : clock->total,
+                     run->trace ? clock->every_trace : clock->total,
+                     clock->dump ? clock->every_dump : clock->total};
+    for (int m = 0; m < 4; ++m) {
         long candidate = (done / marks[m] + 1) * marks[m];
         if (candidate < next)
             next = candidate;
@@ -610,7 +620,12 @@ static int stage_finish(Run *run, int k, StageClock *clock, int status)
             status = 2;
         }
     }
-    int interrupted = status > APP_EXIT_SIGNAL;
+    int interrupted = status > APP_EXIT_SIGNAL; /* an interrupted stage keeps its frames */
+    if (app_dump_close(&clock->dump, run->world, status == 0 || interrupted, run->message,
+                       sizeof run->message) != 0 &&
+        (status == 0 || interrupted))
+        status = 2;
+    interrupted = status > APP_EXIT_SIGNAL;
     if (status != 0 && !interrupted)
         return status;
     char path[PATH_SIZE];
@@ -637,8 +652,10 @@ static int run_stage(Run *run, int k)
     StageClock clock;
     memset(&clock, 0, sizeof clock);
     int status = stage_start(run, k, &clock);
-    if (status != 0)
+    if (status != 0) {
+        app_dump_close(&clock.dump, NULL, 0, NULL, 0); /* no half dump */
         return status;
+    }
     status = stage_finish(run, k, &clock, stage_loop(run, k, &clock));
     run->stages[k].wall_seconds = app_now_seconds() - wall_start;
     if (status != 0)

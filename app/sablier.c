@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
-/* sablier.c: the `sablier` command (run, check, diff, render). The one translation unit that sees
- * both sim/ and render/: it maps the scene's plain style data onto RenderStyle and hands the
- * runner its figure and movie hooks. Built without render/ (SABLIER_WITH_RENDER=OFF), figures
+/* sablier.c: the `sablier` command (run, check, diff, render, export). The one translation unit
+ * that sees both sim/ and render/: it maps the scene's plain style data onto RenderStyle and hands
+ * the runner its figure and movie hooks. Built without render/ (SABLIER_WITH_RENDER=OFF), figures
  * and movies are skipped with a warning and `diff`/`render` exit 2. */
+#include "dump.h"
 #include "experiments.h"
 #include "run.h"
 #include "scene.h"
@@ -36,7 +37,8 @@ static const char USAGE_HEAD[] =
     "  run SCENE      run a scene and write its outputs (summary.json, energy.csv, ...)\n"
     "  check SCENE    validate a scene and print what it would run\n"
     "  diff A B       compare two PNG images (exit 0 match, 1 differ, 2 bad input)\n"
-    "  render STATE   draw a saved checkpoint without simulating\n";
+    "  render STATE   draw a saved checkpoint without simulating\n"
+    "  export STATE   write a checkpoint as a LAMMPS dump, a VTK file or CSV\n";
 
 static const char USAGE_TAIL[] =
     "\n"
@@ -260,6 +262,7 @@ static int command_check(int argc, char **argv)
             printf(", remove %d ids", s->remove_count);
         printf("%s\n", s->movie ? ", movie" : "");
         print_timing(scene, k);
+        app_dump_describe(&scene->output.dump[k], s->duration, s->time_step, stdout);
     }
     const SceneOutput *o = &scene->output;
     printf("output   energy every %g s, %g frames per simulated second, %d figures, %d traced "
@@ -349,83 +352,6 @@ static int command_diff(int argc, char **argv)
 }
 
 #ifdef SABLIER_HAVE_RENDER
-/* A frame straight from saved grains (no world): mobile first, no forces or contacts. */
-typedef struct StateFrame {
-    double *x, *y, *angle, *radius, *vx, *vy, *omega, *zero;
-    int *species;
-    unsigned *flags;
-    uint32_t *id;
-} StateFrame;
-
-static int state_frame(const SimGrainSet *g, const SimWall *walls, int wall_count, double time,
-                       StateFrame *s, SimFrame *frame)
-{
-    size_t n = (size_t)(g->count > 0 ? g->count : 1);
-    double **columns[] = {&s->x, &s->y, &s->angle, &s->radius, &s->vx, &s->vy, &s->omega, &s->zero};
-    for (size_t c = 0; c < sizeof columns / sizeof columns[0]; ++c)
-        *columns[c] = calloc(n, sizeof(double));
-    s->species = calloc(n, sizeof(int));
-    s->flags = calloc(n, sizeof(unsigned));
-    s->id = calloc(n, sizeof(uint32_t));
-    for (size_t c = 0; c < sizeof columns / sizeof columns[0]; ++c)
-        if (!*columns[c])
-            return -1;
-    if (!s->species || !s->flags || !s->id)
-        return -1;
-    int k = 0, mobile = 0;
-    for (int pass = 0; pass < 2; ++pass)
-        for (int i = 0; i < g->count; ++i) {
-            unsigned flags = g->flags ? g->flags[i] : 0u;
-            if ((pass == 0) == ((flags & SIM_GRAIN_FIXED) != 0))
-                continue;
-            s->x[k] = g->x[i];
-            s->y[k] = g->y[i];
-            s->radius[k] = g->radius[i];
-            s->angle[k] = g->angle ? g->angle[i] : 0.0;
-            s->vx[k] = g->vx ? g->vx[i] : 0.0;
-            s->vy[k] = g->vy ? g->vy[i] : 0.0;
-            s->omega[k] = g->omega ? g->omega[i] : 0.0;
-            s->species[k] = g->species ? g->species[i] : 0;
-            s->flags[k] = flags;
-            s->id[k] = g->id ? g->id[i] : (uint32_t)i;
-            mobile += pass == 0;
-            ++k;
-        }
-    memset(frame, 0, sizeof *frame);
-    frame->count = g->count;
-    frame->mobile_count = mobile;
-    frame->time = time;
-    frame->x = s->x;
-    frame->y = s->y;
-    frame->angle = s->angle;
-    frame->radius = s->radius;
-    frame->vx = s->vx;
-    frame->vy = s->vy;
-    frame->omega = s->omega;
-    frame->species = s->species;
-    frame->flags = s->flags;
-    frame->id = s->id;
-    frame->force = frame->fx = frame->fy = frame->torque = s->zero;
-    frame->walls = walls;
-    frame->wall_count = wall_count;
-    return 0;
-}
-
-static void state_frame_free(StateFrame *s)
-{
-    free(s->x);
-    free(s->y);
-    free(s->angle);
-    free(s->radius);
-    free(s->vx);
-    free(s->vy);
-    free(s->omega);
-    free(s->zero);
-    free(s->species);
-    free(s->flags);
-    free(s->id);
-}
-
 static int name_index(const char *value, const char *const *names)
 {
     for (int k = 0; names[k]; ++k)
@@ -584,7 +510,7 @@ static int command_render(int argc, char **argv)
     RenderStyle render_style = app_render_style(&figure.style);
     RenderMeta meta = {.scene = scene ? scene->name : "", .seed = scene ? scene->seed : 0};
     SimFrame frame;
-    StateFrame columns;
+    AppStateFrame columns;
     memset(&columns, 0, sizeof columns);
     SimWorld *world = NULL;
     if (scene) {
@@ -599,7 +525,7 @@ static int command_render(int argc, char **argv)
         } else {
             sim_world_frame(world, &frame);
         }
-    } else if (state_frame(&grains, walls, wall_count, time, &columns, &frame) != 0) {
+    } else if (app_state_frame(&grains, walls, wall_count, time, &columns, &frame) != 0) {
         fprintf(stderr, "sablier: render: out of memory\n");
         status = 2;
     }
@@ -610,7 +536,7 @@ static int command_render(int argc, char **argv)
     }
     if (world)
         sim_world_destroy(world);
-    state_frame_free(&columns);
+    app_state_frame_free(&columns);
     sim_grain_set_free(&grains);
     free(walls);
     scene_free(scene);
@@ -655,6 +581,7 @@ int main(int argc, char **argv)
         {"check", command_check, USAGE_CHECK},
         {"diff", command_diff, USAGE_DIFF},
         {"render", command_render, USAGE_RENDER},
+        {"export", app_dump_export, app_dump_export_usage},
     };
 
     for (size_t k = 0; k < sizeof core / sizeof core[0]; ++k) {

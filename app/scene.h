@@ -12,6 +12,7 @@
 #ifndef SCENE_H
 #define SCENE_H
 
+#include "dump.h"
 #include "experiments.h"
 
 #include "sim/sim.h"
@@ -115,6 +116,7 @@ typedef struct SceneOutput {
     double t_star_length; ///< D of t* = t / sqrt(D/g), m (0 = the sim's time scale)
     int figure_count;
     SceneFigure figures[SCENE_MAX_FIGURES];
+    AppDumpSpec dump[SCENE_MAX_STAGES]; ///< per-grain dumps of each stage (app/dump.h)
 } SceneOutput;
 
 typedef struct SceneWhere SceneWhere; /* private: field path -> file:line */

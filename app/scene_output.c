@@ -300,7 +300,7 @@ int loader_parse_output(Loader *L, const config_setting_t *root)
 {
     static const char *const keys[] = {"frame_rate",    "fps",          "crf",   "movie",
                                        "drawer",        "energy_every", "trace", "trace_every",
-                                       "t_star_length", "figures",      NULL};
+                                       "t_star_length", "figures",      "dump",  NULL};
     static const char *const drawers[] = {"cairo", "osmesa", NULL};
     Scene *scene = L->scene;
     SceneOutput *out = &scene->output;
@@ -338,7 +338,8 @@ int loader_parse_output(Loader *L, const config_setting_t *root)
     out->crf = (int)crf;
     if (out->trace_every < 0.0)
         out->trace_every = out->energy_every;
-    if (parse_movie(L, output) < 0 || parse_trace(L, output) < 0)
+    if (parse_movie(L, output) < 0 || parse_trace(L, output) < 0 ||
+        app_dump_parse(&L->p, root, scene) < 0)
         return -1;
     return parse_figures(L, output);
 }

@@ -147,8 +147,8 @@ static int parse_remove_ids(Loader *L, const config_setting_t *g, SceneStage *st
 /* Stage k from group g (NULL: the single stage of a scene without `stages`). */
 static int parse_stage(Loader *L, const config_setting_t *g, int k, const config_setting_t *time)
 {
-    static const char *const keys[] = {"name",       "load",  "time", "settle",
-                                       "remove_ids", "movie", "skip", NULL};
+    static const char *const keys[] = {"name",  "load", "time", "settle", "remove_ids",
+                                       "movie", "skip", "dump", NULL};
     Scene *scene = L->scene;
     SceneStage *stage = &scene->stages[k];
     char what[96];

@@ -23,7 +23,7 @@ endfunction()
 
 # help, version, usage errors
 sablier_cli_test(help "--help" 0 OUT "usage: sablier COMMAND")
-foreach(command run check diff render)
+foreach(command run check diff render export)
   sablier_cli_test(help_${command} "${command}|--help" 0 OUT "usage: sablier ${command}")
 endforeach()
 sablier_cli_test(version "--version" 0 OUT "sablier [0-9]+\\.[0-9]+\\.[0-9]+\nsim [0-9.]+\nlibconfig 1\\.[0-9.]+\nrender: ")
@@ -129,3 +129,28 @@ sablier_cli_test(set_leading_dot "check|${CLI_TINY}|--set|.time.dt=1e-5" 2
                  ERR "--set .time.dt: empty part in the key")
 sablier_cli_test(set_double_dot "check|${CLI_TINY}|--set|time..dt=1e-5" 2
                  ERR "--set time..dt: empty part in the key")
+# per-grain dumps (docs/dumps.md): `check` shows them, bad values are refused, the frame bound
+# is lifted only by max_frames; `sablier export` usage errors
+set(CLI_QUICK ${PROJECT_SOURCE_DIR}/scenes/crater/quick.scene)
+sablier_cli_test(dump_check "check|${CLI_QUICK}" 0
+                 OUT "stage collapse: [^\n]*\n(  [^\n]*\n)*  dump +lammps, vtk [(]\\+ contacts[)] every 0.5 s, at most 7 frames")
+sablier_cli_test(dump_every_zero "check|${CLI_QUICK}|--set|stages.collapse.dump.every=0" 2
+                 ERR "--set stages.collapse.dump.every: `every` must be > 0")
+sablier_cli_test(dump_unknown_field "check|${CLI_QUICK}|--set|stages.collapse.dump.fields=[id,pressure]" 2
+                 ERR "--set stages.collapse.dump.fields: unknown field `pressure`")
+sablier_cli_test(dump_every_step_refused "check|${CLI_QUICK}|--set|stages.collapse.dump.every=5e-5" 2
+                 ERR "makes up to 60001 frames, more than max_frames = 10000")
+sablier_cli_test(dump_every_step_asked
+                 "check|${CLI_QUICK}|--set|stages.collapse.dump.every=5e-5|--set|stages.collapse.dump.max_frames=60001"
+                 0 OUT "dump +lammps, vtk [^\n]*at most 60001 frames [(]max_frames 60001[)]")
+sablier_cli_test(dump_format_empty_off "check|${CLI_QUICK}|--set|stages.collapse.dump.format=[]" 0
+                 OUT "stage collapse: [^\n]*\n  time step[^\n]*\n  contact time[^\n]*\n  stability limit[^\n]*\n  steps per contact[^\n]*\noutput ")
+sablier_cli_test(export_no_state "export" 2 ERR "missing STATE")
+sablier_cli_test(export_no_out "export|a.state" 2 ERR "missing -o FILE")
+sablier_cli_test(export_bad_format "export|a.state|--format|xyz|-o|a.out" 2 ERR "unknown --format xyz")
+sablier_cli_test(export_no_extension "export|a.state|-o|a.out" 2 ERR "give --format")
+sablier_cli_test(export_unknown_option "export|a.state|-o|a.csv|--frob" 2 ERR "unknown option --frob")
+sablier_cli_test(export_missing_state "export|no_such.state|-o|${CLI_WORK}/a.csv" 2
+                 ERR "export: cannot load no_such.state")
+# per-grain dumps read back by LAMMPS and VTK, export against the dump (label clients)
+include(${PROJECT_SOURCE_DIR}/tests/clients/clients.cmake)
