@@ -34,6 +34,7 @@ typedef struct Measure {
     int motion;           /* frame: index of a motion, -1 = lab */
     int fields[SIM_CG_FIELD_COUNT], field_count;
     int figures[SIM_CG_FIELD_COUNT], figure_count; /* indices into fields */
+    int arrows[2], arrow_count;                    /* indices into fields (grid) */
     int nx, ny;                                    /* nodes */
     /* run */
     SimCoarse *cg;
@@ -147,6 +148,22 @@ static int parse_figures(AppConfig *p, const config_setting_t *g, Measure *m)
                                    sim_coarse_field_name((SimCoarseField)named[k]));
         m->figures[m->figure_count++] = found;
     }
+    int pair[SIM_CG_FIELD_COUNT];
+    if (parse_field_list(p, g, "arrows", pair, &n) < 0)
+        return -1;
+    const config_setting_t *where = app_config_member(g, "arrows");
+    if (where && (n != 2 || m->kind != KIND_GRID))
+        return app_config_fail(p, where, "`arrows` is two fields of a grid, e.g. [\"vx\", \"vy\"]");
+    for (int k = 0; k < n; ++k) {
+        m->arrows[k] = -1;
+        for (int q = 0; q < m->field_count; ++q)
+            if (m->fields[q] == pair[k])
+                m->arrows[k] = q;
+        if (m->arrows[k] < 0)
+            return app_config_fail(p, where, "arrow field `%s` is not in `fields`",
+                                   sim_coarse_field_name((SimCoarseField)pair[k]));
+    }
+    m->arrow_count = n;
     return 0;
 }
 
@@ -249,9 +266,9 @@ static int parse_timing(AppConfig *p, const config_setting_t *g, const Scene *sc
 static int parse_one(AppConfig *p, const config_setting_t *g, const Scene *scene, int stage,
                      Measure *m)
 {
-    static const char *const keys[] = {"name",  "kind",  "region", "kernel",  "width",
-                                       "bin",   "cells", "fields", "every",   "window",
-                                       "frame", "line",  "figure", "figures", NULL};
+    static const char *const keys[] = {"name",   "kind",    "region", "kernel", "width", "bin",
+                                       "cells",  "fields",  "every",  "window", "frame", "line",
+                                       "figure", "figures", "arrows", NULL};
     static const char *const flux_keys[] = {"name", "kind", "line", "every", NULL};
     const char *name = NULL;
     int kind = 0;
@@ -620,6 +637,44 @@ static long measures_next_step(const void *state, const AppContext *c, long done
 }
 
 /* A heat map (grid) or a profile plot (field against height or x) of the last row written. */
+static int draw_arrows(const Measure *m, const AppContext *c)
+{
+    int nodes = m->nx * m->ny;
+    const double *u = m->last + (size_t)m->arrows[0] * nodes;
+    const double *v = m->last + (size_t)m->arrows[1] * nodes;
+    double *size = malloc((size_t)nodes * sizeof *size);
+    if (!size)
+        return -1;
+    for (int k = 0; k < nodes; ++k)
+        size[k] = hypot(u[k], v[k]);
+    SimCoarseField fu = (SimCoarseField)m->fields[m->arrows[0]];
+    SimCoarseField fv = (SimCoarseField)m->fields[m->arrows[1]];
+    char path[MEASURE_PATH + SCENE_NAME_MAX], title[160], label[80], err[512] = "";
+    snprintf(path, sizeof path, "%s/%s_arrows.png", c->out_dir, m->name);
+    snprintf(title, sizeof title, "%s: (%s, %s) (%s)", m->name, sim_coarse_field_name(fu),
+             sim_coarse_field_name(fv), m->window > 0.0 ? "window average" : "last sample");
+    snprintf(label, sizeof label, "|(%s, %s)| (%s)", sim_coarse_field_name(fu),
+             sim_coarse_field_name(fv), sim_coarse_field_unit(fu));
+    AppMap map = {.title = title,
+                  .x_label = "x (m)",
+                  .y_label = "y (m)",
+                  .bar_label = label,
+                  .nx = m->nx,
+                  .ny = m->ny,
+                  .x0 = m->region[0],
+                  .y0 = m->region[1],
+                  .cell = m->bin,
+                  .values = size,
+                  .arrow_x = u,
+                  .arrow_y = v,
+                  .arrow_unit = sim_coarse_field_unit(fu)};
+    int rc = c->render->map(c->render->context, c->scene, &map, path, err, sizeof err);
+    if (rc != 0)
+        snprintf(c->err, c->err_size, "measure %s: figure %s: %s", m->name, path, err);
+    free(size);
+    return rc;
+}
+
 static int draw_figure(const Measure *m, const AppContext *c, int figure)
 {
     int f = m->figures[figure], nodes = m->nx * m->ny;
@@ -704,6 +759,9 @@ static int measures_stage_end(void *state, AppContext *c)
         for (int f = 0; c->render && m->have_last && f < m->figure_count; ++f)
             if (draw_figure(m, c, f) != 0)
                 return -1;
+        if (c->render && c->render->map && m->have_last && m->arrow_count == 2 &&
+            draw_arrows(m, c) != 0)
+            return -1;
     }
     return 0;
 }

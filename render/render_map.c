@@ -97,6 +97,61 @@ static void draw_ticks(cairo_t *cr, const RenderMap *m, const Layout *g, int is_
     }
 }
 
+/* One arrow from (x, y) by (dx, dy) pixels, head a quarter of its length (at most 0.6 fs). */
+static void draw_arrow(cairo_t *cr, double x, double y, double dx, double dy, double fs)
+{
+    double len = hypot(dx, dy);
+    if (!(len > 0.5))
+        return;
+    double ux = dx / len, uy = dy / len, head = fmin(0.3 * len, 0.6 * fs);
+    cairo_move_to(cr, x, y);
+    cairo_line_to(cr, x + dx, y + dy);
+    cairo_stroke(cr);
+    cairo_move_to(cr, x + dx, y + dy);
+    cairo_line_to(cr, x + dx - head * (ux + 0.5 * uy), y + dy - head * (uy - 0.5 * ux));
+    cairo_line_to(cr, x + dx - head * (ux - 0.5 * uy), y + dy - head * (uy + 0.5 * ux));
+    cairo_close_path(cr);
+    cairo_fill(cr);
+}
+
+/* The arrow field on the cells' centres (the field's own nodes) and a reference arrow of a
+ * round value above the colour bar, labelled with its unit. */
+static void draw_arrows(cairo_t *cr, const RenderMap *m, const Layout *g)
+{
+    double big = 0.0;
+    long cells = (long)m->nx * m->ny;
+    for (long k = 0; k < cells; ++k)
+        if (isfinite(m->arrow_x[k]) && isfinite(m->arrow_y[k]))
+            big = fmax(big, hypot(m->arrow_x[k], m->arrow_y[k]));
+    if (!(big > 0.0))
+        return;
+    double per_unit = 0.9 * m->cell * g->scale / big; /* pixels per arrow unit */
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, fmax(1.0, 0.08 * g->fs));
+    for (int j = 0; j < m->ny; ++j)
+        for (int i = 0; i < m->nx; ++i) {
+            long k = (long)j * m->nx + i;
+            if (!isfinite(m->arrow_x[k]) || !isfinite(m->arrow_y[k]))
+                continue;
+            double px, py, dx = m->arrow_x[k] * per_unit, dy = -m->arrow_y[k] * per_unit;
+            to_pixel(m, g, m->x0 + (i + 0.5) * m->cell, m->y0 + (j + 0.5) * m->cell, &px, &py);
+            draw_arrow(cr, px - 0.5 * dx, py - 0.5 * dy, dx, dy, g->fs);
+        }
+    /* reference: the largest 1, 2 or 5 times a power of ten not above the longest arrow */
+    double decade = pow(10.0, floor(log10(big))), ref = decade;
+    if (5.0 * decade <= big)
+        ref = 5.0 * decade;
+    else if (2.0 * decade <= big)
+        ref = 2.0 * decade;
+    double y = g->ay + g->ah + 2.3 * g->fs, x = g->bx + g->bw; /* under the colour bar */
+    draw_arrow(cr, x - ref * per_unit, y, ref * per_unit, 0.0, g->fs);
+    char text[64];
+    snprintf(text, sizeof text, "%g %s", ref, m->arrow_unit ? m->arrow_unit : "");
+    render_set_rgb(cr, axis_rgb);
+    render_text_font(cr, g->fs, 0);
+    render_text_draw(cr, x - ref * per_unit - 0.4 * g->fs, y, text, 1, 0.5);
+}
+
 static void draw_map(cairo_t *cr, void *context)
 {
     const RenderMap *m = context;
@@ -130,6 +185,8 @@ static void draw_map(cairo_t *cr, void *context)
         cairo_fill(cr);
     }
     cairo_set_antialias(cr, CAIRO_ANTIALIAS_GOOD);
+    if (m->arrow_x && m->arrow_y)
+        draw_arrows(cr, m, &g);
     render_set_rgb(cr, axis_rgb);
     cairo_set_line_width(cr, 1);
     cairo_rectangle(cr, g.ax + 0.5, g.ay + 0.5, g.aw, g.ah);
