@@ -11,7 +11,7 @@
  *     with the line integral int_0^1 W(r - r_i + s r_ij) ds (WTLS12 eq. 12; Goldhirsch 2010
  *     eq. 40), and for a wall contact f_i (x) (r_i - c) over the segment to the contact point c
  *     (WTLS12 eq. 14). The line integral is taken by 3-point Gauss-Legendre on sub-segments no
- *     longer than a quarter of the kernel width (exact for quintic polynomials; the Lucy kernel
+ *     longer than half the kernel width (exact for quintic polynomials; the Lucy kernel
  *     is C2 and the error is below 1e-4 of the field for the widths the app accepts).
  * With `normalise`, a point's weights are divided by their sum over the whole node lattice times
  * the cell area, so each point deposits exactly its value: the fields integrate to the grains'
@@ -83,7 +83,8 @@ double sim_kernel_1d(SimKernel kernel, double y, double c)
      * chord (r^3: int R^3 dx = x (2x^2 + 5y^2) R / 8 + 3 y^4 / 8 ln(x + R), R(a) = c). */
     double i0 = 2.0 * a;
     double i2 = 2.0 * (a * a * a / 3.0 + y2 * a);
-    double i4 = 2.0 * (pow(a, 5.0) / 5.0 + 2.0 * y2 * a * a * a / 3.0 + y2 * y2 * a);
+    double a3 = a * a * a;
+    double i4 = 2.0 * (a3 * a * a / 5.0 + 2.0 * y2 * a3 / 3.0 + y2 * y2 * a);
     double i3 = 2.0 * (a * (2.0 * a * a + 5.0 * y2) * c / 8.0);
     if (y2 > 0.0)
         i3 += 2.0 * (3.0 * y2 * y2 / 8.0) * log((a + c) / fabs(y));
@@ -412,7 +413,7 @@ static void deposit_contact(SimCoarse *cg, const SimFrame *f, const SimContact *
     double fy = -c->normal_force * ny - c->tangential_force * nx;
     double tensor[4] = {fx * bx, fx * by, fy * bx, fy * by};
     double length = sqrt(bx * bx + by * by);
-    int parts = (int)ceil(length / (0.25 * cg->def.width));
+    int parts = (int)ceil(length / (0.5 * cg->def.width));
     parts = parts < 1 ? 1 : parts;
     double xi = f->x[c->i], yi = f->y[c->i];
     for (int p = 0; p < parts; ++p)
