@@ -45,6 +45,7 @@ typedef struct Measure {
     long every_steps, window_steps, window_end, total_steps, mid_step;
     double t_sum; /* sample times in the open window, s */
     int active;
+    int started;  /* 1 once a sample was taken */
     double *last; /* field_count * nodes: the last row written (figures) */
     int have_last;
     long last_count;
@@ -601,9 +602,11 @@ static void measures_step(void *state, AppContext *c, long done)
                 flux_row(m, c);
             continue;
         }
-        int sample = done % m->every_steps == 0 && (m->window_steps == 0 || done > 0);
+        /* at the start only of the first stage it runs in, and not into a window */
+        int sample = done % m->every_steps == 0 && (done > 0 || (!m->started && !m->window_steps));
         if (!sample)
             continue;
+        m->started = 1;
         if (!framed && frame_masses(ms, c->world, &frame) != 0)
             return;
         framed = 1;

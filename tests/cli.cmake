@@ -114,3 +114,11 @@ if(NOT SABLIER_WITH_RENDER)
   sablier_cli_test(diff_not_built "diff|a.png|b.png" 2 ERR "rendering is not built")
   sablier_cli_test(render_not_built "render|a.state|-o|a.png" 2 ERR "rendering is not built")
 endif()
+
+# the measures layer's .vti files read back by VTK's XML reader (docs/measures.md)
+add_test(NAME cli.measures_vtk
+         COMMAND ${CMAKE_COMMAND} -DSABLIER=$<TARGET_FILE:sablier>
+                 -DSCENE=${PROJECT_SOURCE_DIR}/scenes/measure/column.scene
+                 -DWORK=${CLI_WORK}/measures_vtk -P ${CLI_DIR}/measures_vtk.cmake
+         WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+set_tests_properties(cli.measures_vtk PROPERTIES LABELS cli SKIP_REGULAR_EXPRESSION "skipped")
