@@ -421,6 +421,45 @@ static int flux_counts_exactly(void)
     return 0;
 }
 
+/* Profiles along x of the lattice (Lucy and Gaussian kernels): the exact packing fraction away
+ * from the ends, and the mean velocity in a frame moving with the lattice is 0. */
+static int lattice_profile_x_in_frame(void)
+{
+    const int n = 40;
+    const double a = 0.1, radius = 0.04;
+    Lattice l;
+    TEST_ASSERT(lattice_make(&l, n, a, radius, 0.5, -0.2) == 0);
+    for (int kind = 0; kind < 2; ++kind) {
+        SimCoarseDef d = sim_coarse_def_default();
+        d.kernel = (SimKernel)kind;
+        d.geometry = SIM_COARSE_PROFILE_X;
+        d.width = 0.35;
+        d.x0 = -0.5;
+        d.cell_x = 0.05;
+        d.nx = (int)((n * a + 1.0) / 0.05);
+        d.y0 = 0.0;
+        d.y1 = n * a; /* the strip holds every grain */
+        SimCoarse *cg = sim_coarse_create(&d, NULL);
+        TEST_ASSERT(cg && sim_coarse_add(cg, &l.frame, l.mass, 0.5, -0.2) == SIM_OK);
+        double phi[200], vy[200];
+        TEST_ASSERT(sim_coarse_nodes(cg) <= 200);
+        sim_coarse_field(cg, SIM_CG_PHI, phi);
+        sim_coarse_field(cg, SIM_CG_VY, vy);
+        for (int k = 0; k < sim_coarse_nodes(cg); ++k) {
+            double x, y;
+            sim_coarse_node(cg, k, &x, &y);
+            if (x < 0.6 || x > n * a - 0.6)
+                continue;
+            TEST_REL(phi[k], TPI * radius * radius / (a * a), 1e-4);
+            TEST_NEAR(vy[k], 0.0, 1e-12);
+        }
+        sim_coarse_destroy(cg);
+    }
+    lattice_free(&l);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(kernel_1d_integrates), TEST_CASE(lattice_fields_exact),
-          TEST_CASE(contact_stress_virial), TEST_CASE(settled_column_stress),
-          TEST_CASE(kinetic_stress_gas), TEST_CASE(flux_counts_exactly))
+          TEST_CASE(lattice_profile_x_in_frame), TEST_CASE(contact_stress_virial),
+          TEST_CASE(settled_column_stress), TEST_CASE(kinetic_stress_gas),
+          TEST_CASE(flux_counts_exactly))
