@@ -349,7 +349,10 @@ static int hook_map(void *context, const Scene *scene, const AppMap *map, const 
                    .title = map->title,
                    .x_label = map->x_label,
                    .y_label = map->y_label,
-                   .bar_label = map->bar_label};
+                   .bar_label = map->bar_label,
+                   .arrow_x = map->arrow_x,
+                   .arrow_y = map->arrow_y,
+                   .arrow_unit = map->arrow_unit};
     RenderMeta meta = {.scene = scene ? scene->name : "",
                        .seed = scene ? scene->seed : 0,
                        .comment = renderer_comment(context)};

@@ -81,6 +81,9 @@ typedef struct AppMap {
     int nx, ny;
     double x0, y0, cell; ///< lower-left corner of cell (0, 0) and side
     const double *values;
+    /// Arrows on the cells' centres (NULL = none) with a reference arrow labelled in arrow_unit.
+    const double *arrow_x, *arrow_y;
+    const char *arrow_unit;
 } AppMap;
 
 /// What an experiment adds to a grain figure. Zero-initialised: nothing.

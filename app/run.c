@@ -39,7 +39,9 @@ typedef struct StageReport {
     double start_time, end_time; /* s */
     double wall_seconds;
     int settled;
-    int removed;
+    int removed;  /* grains removed at the start (edits) and by the sinks during the stage */
+    int at_start; /* of which at the start */
+    long sinks[SIM_MAX_SINKS]; /* sink counters at the start, then grains through each sink */
     int mobile;
 } StageReport;
 
@@ -99,6 +101,42 @@ static void out_path(const Run *run, char *out, const char *name, const char *su
     snprintf(out, PATH_SIZE, "%s/%s%s", run->options->out_dir, name, suffix);
 }
 
+/* Grains that left through each sink, in scenes that have sinks (other summaries keep their
+ * form). A stage entry's end: `, "removed_by_sinks": [n, ...]}`. */
+static size_t stage_sinks_json(char *out, size_t size, const Scene *scene, const StageReport *s)
+{
+    size_t n = 0;
+    if (scene->def.sink_count > 0)
+        n += (size_t)snprintf(out, size, ", \"removed_by_sinks\": [");
+    for (int k = 0; k < scene->def.sink_count; ++k)
+        n +=
+            (size_t)snprintf(out + n, n < size ? size - n : 0, "%s%ld", k ? ", " : "", s->sinks[k]);
+    n += (size_t)snprintf(out + n, n < size ? size - n : 0, scene->def.sink_count > 0 ? "]}" : "}");
+    return n;
+}
+
+/* The run's totals: `  "sinks": [{"shape": "below", "removed": n}, ...],\n`. */
+static size_t run_sinks_json(char *out, size_t size, const Run *run)
+{
+    static const char *const shapes[] = {"below", "above", "left", "right", "rect"};
+    const Scene *scene = run->scene;
+    size_t n = 0;
+    if (scene->def.sink_count == 0)
+        return 0;
+    n += (size_t)snprintf(out, size, "  \"sinks\": [");
+    for (int k = 0; k < scene->def.sink_count; ++k) {
+        long total = 0;
+        for (int s = 0; s < run->stages_done; ++s)
+            total += run->stages[s].sinks[k];
+        unsigned shape = (unsigned)scene->def.sinks[k].shape;
+        n += (size_t)snprintf(out + n, n < size ? size - n : 0,
+                              "%s{\"shape\": \"%s\", \"removed\": %ld}", k ? ", " : "",
+                              shape < 5 ? shapes[shape] : "?", total);
+    }
+    n += (size_t)snprintf(out + n, n < size ? size - n : 0, "],\n");
+    return n;
+}
+
 static int write_summary(const Run *run, double wall_seconds)
 {
     const Scene *scene = run->scene;
@@ -139,7 +177,8 @@ static int write_summary(const Run *run, double wall_seconds)
         "  \"effects\": %s,\n  \"threads\": %d,\n",
         name, file, (unsigned long long)scene->seed, grains, mobile, run->steps, n1, n2, n3, n4,
         status, message, effects_json, run->options->threads);
-    n += (size_t)snprintf(text + n, size - n, "%s  \"stages\": [", run->observed);
+    n += run_sinks_json(text + n, size - n, run);
+    n += (size_t)snprintf(text + n, n < size ? size - n : 0, "%s  \"stages\": [", run->observed);
     for (int k = 0; k < run->stages_done && n < size; ++k) {
         const StageReport *s = &run->stages[k];
         char stage_name[160], a[40], b[40], c[40];
@@ -150,9 +189,10 @@ static int write_summary(const Run *run, double wall_seconds)
         n += (size_t)snprintf(text + n, size - n,
                               "%s\n    {\"name\": %s, \"steps\": %ld, \"start_time\": %s, "
                               "\"end_time\": %s, \"wall_seconds\": %s, \"settled\": %s, "
-                              "\"removed\": %d, \"mobile_grains\": %d}",
+                              "\"removed\": %d, \"mobile_grains\": %d",
                               k ? "," : "", stage_name, s->steps, a, b, c,
                               s->settled ? "true" : "false", s->removed, s->mobile);
+        n += stage_sinks_json(text + n, n < size ? size - n : 0, scene, s);
     }
     if (n < size) {
         char sablier[80];
@@ -380,6 +420,9 @@ static int stage_edit(Run *run, int k)
     report->removed += run->context.removed;
     if (stage->remove_count > 0)
         report->removed += sim_world_remove_ids(run->world, stage->remove_ids, stage->remove_count);
+    report->at_start = report->removed;
+    for (int s = 0; s < SIM_MAX_SINKS; ++s) /* the sinks' counters as the stage starts */
+        report->sinks[s] = sim_world_removed_count(run->world, s);
     return 0;
 }
 
@@ -395,7 +438,7 @@ static void progress(Run *run, int k, double elapsed, double duration, double ra
                 "mobile grains%s%s\n",
                 stage->name, r->end_time - r->start_time, r->end_time, r->wall_seconds, r->steps,
                 r->mobile, r->settled ? ", settled" : "",
-                r->removed ? ", grains removed at start" : "");
+                r->at_start ? ", grains removed at start" : "");
         return;
     }
     if (!run->progress_tty)
@@ -612,6 +655,10 @@ static int stage_finish(Run *run, int k, StageClock *clock, int status)
     StageReport *report = &run->stages[k];
     report->end_time = sim_world_time(run->world);
     report->mobile = sim_world_mobile_count(run->world);
+    for (int s = 0; s < SIM_MAX_SINKS; ++s) { /* grains that left through each sink */
+        report->sinks[s] = sim_world_removed_count(run->world, s) - report->sinks[s];
+        report->removed += (int)report->sinks[s];
+    }
     run->simulated += report->end_time - report->start_time;
     if (clock->movie) {
         char err[512] = "";

@@ -199,6 +199,11 @@ typedef struct RenderMap {
     RenderColormap colormap;
     const char *title, *x_label, *y_label, *bar_label; ///< NULL = none
     double font_size; ///< pixels (0 = min(width, height) / 40, at least 10)
+    /// Optional arrow field on the cells' centres (same indexing; NULL = none, non-finite = no
+    /// arrow): the longest arrow spans 0.9 cell, and a reference arrow under the colour bar is
+    /// labelled with its value (a round number) and `arrow_unit`.
+    const double *arrow_x, *arrow_y;
+    const char *arrow_unit;
 } RenderMap;
 
 /// Writes a heat map (cells at equal aspect ratio, axes, colour bar): .png (libpng, text chunks),

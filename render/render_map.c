@@ -18,6 +18,7 @@ typedef struct Layout {
     double ax, ay, aw, ah; /* cell area (axes rectangle), pixels */
     double scale;          /* pixels per data unit */
     double bx, by, bw, bh; /* colour bar rectangle */
+    double ref_y;          /* the reference arrow's line (maps with arrows), pixels */
     double lo, hi;         /* colour range */
 } Layout;
 
@@ -50,8 +51,9 @@ static void layout(const RenderMap *m, Layout *g)
     double right = 2.7 * fs + 3.8 * fs + (m->bar_label ? 1.5 * fs : 0.0);
     double top = (m->title ? 3.0 * fs : 0.8 * fs);
     double bottom = (m->x_label ? 1.9 * fs : 0.4 * fs) + 2.0 * fs;
+    double ref_room = m->arrow_x && m->arrow_y ? 1.6 * fs : 0.0; /* a line for the reference */
     double room_w = fmax(1.0, m->width - left - right),
-           room_h = fmax(1.0, m->height - top - bottom);
+           room_h = fmax(1.0, m->height - top - bottom - ref_room);
     double data_w = m->nx * m->cell, data_h = m->ny * m->cell;
     g->scale = fmin(room_w / data_w, room_h / data_h);
     g->aw = data_w * g->scale;
@@ -62,6 +64,7 @@ static void layout(const RenderMap *m, Layout *g)
     g->bx = floor(g->ax + g->aw + 1.5 * fs);
     g->by = g->ay;
     g->bh = g->ah;
+    g->ref_y = g->ay + g->ah + bottom + 0.6 * fs;
     value_range(m, &g->lo, &g->hi);
 }
 
@@ -97,6 +100,63 @@ static void draw_ticks(cairo_t *cr, const RenderMap *m, const Layout *g, int is_
     }
 }
 
+/* One arrow from (x, y) by (dx, dy) pixels, head a quarter of its length (at most 0.6 fs). */
+static void draw_arrow(cairo_t *cr, double x, double y, double dx, double dy, double fs)
+{
+    double len = hypot(dx, dy);
+    if (!(len > 0.5))
+        return;
+    double ux = dx / len, uy = dy / len, head = fmin(0.3 * len, 0.6 * fs);
+    cairo_move_to(cr, x, y);
+    cairo_line_to(cr, x + dx, y + dy);
+    cairo_stroke(cr);
+    cairo_move_to(cr, x + dx, y + dy);
+    cairo_line_to(cr, x + dx - head * (ux + 0.5 * uy), y + dy - head * (uy - 0.5 * ux));
+    cairo_line_to(cr, x + dx - head * (ux - 0.5 * uy), y + dy - head * (uy + 0.5 * ux));
+    cairo_close_path(cr);
+    cairo_fill(cr);
+}
+
+/* The arrow field on the cells' centres (the field's own nodes) and a reference arrow of a
+ * round value under the colour bar, labelled with its unit. */
+static void draw_arrows(cairo_t *cr, const RenderMap *m, const Layout *g)
+{
+    double big = 0.0;
+    long cells = (long)m->nx * m->ny;
+    for (long k = 0; k < cells; ++k)
+        if (isfinite(m->arrow_x[k]) && isfinite(m->arrow_y[k]))
+            big = fmax(big, hypot(m->arrow_x[k], m->arrow_y[k]));
+    if (!(big > 0.0))
+        return;
+    double per_unit = 0.9 * m->cell * g->scale / big; /* pixels per arrow unit */
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, fmax(1.0, 0.08 * g->fs));
+    for (int j = 0; j < m->ny; ++j)
+        for (int i = 0; i < m->nx; ++i) {
+            long k = (long)j * m->nx + i;
+            if (!isfinite(m->arrow_x[k]) || !isfinite(m->arrow_y[k]))
+                continue;
+            double px, py, dx = m->arrow_x[k] * per_unit, dy = -m->arrow_y[k] * per_unit;
+            to_pixel(m, g, m->x0 + (i + 0.5) * m->cell, m->y0 + (j + 0.5) * m->cell, &px, &py);
+            draw_arrow(cr, px - 0.5 * dx, py - 0.5 * dy, dx, dy, g->fs);
+        }
+    /* reference: the largest 1, 2 or 5 times a power of ten not above the longest arrow nor
+     * longer than 6 font sizes, under the colour bar at the figure's right edge */
+    double top = fmin(big, 6.0 * g->fs / per_unit);
+    double decade = pow(10.0, floor(log10(top))), ref = decade;
+    if (5.0 * decade <= top)
+        ref = 5.0 * decade;
+    else if (2.0 * decade <= top)
+        ref = 2.0 * decade;
+    double y = g->ref_y, x = m->width - 0.8 * g->fs, len = ref * per_unit;
+    draw_arrow(cr, x - len, y, len, 0.0, g->fs);
+    char text[64];
+    snprintf(text, sizeof text, "%g %s", ref, m->arrow_unit ? m->arrow_unit : "");
+    render_set_rgb(cr, axis_rgb);
+    render_text_font(cr, g->fs, 0);
+    render_text_draw(cr, x - len - 0.4 * g->fs, y, text, 1, 0.5);
+}
+
 static void draw_map(cairo_t *cr, void *context)
 {
     const RenderMap *m = context;
@@ -130,6 +190,8 @@ static void draw_map(cairo_t *cr, void *context)
         cairo_fill(cr);
     }
     cairo_set_antialias(cr, CAIRO_ANTIALIAS_GOOD);
+    if (m->arrow_x && m->arrow_y)
+        draw_arrows(cr, m, &g);
     render_set_rgb(cr, axis_rgb);
     cairo_set_line_width(cr, 1);
     cairo_rectangle(cr, g.ax + 0.5, g.ay + 0.5, g.aw, g.ah);

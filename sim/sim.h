@@ -382,6 +382,133 @@ uint64_t sim_world_hash(const SimWorld *world);
 /// 0 (also 0 when c <= 0); 1/m^2. The one coarse-graining kernel of app/ and render/.
 double sim_kernel_lucy(double r, double c);
 
+/* ================================================================ coarse graining (sim/coarse.c)
+ * Continuum fields from a frame by kernel coarse-graining (Goldhirsch 2010; Weinhart et al. 2012,
+ * "From discrete particles to continuum fields near a boundary", Granular Matter 14: 289), the
+ * one implementation of the app's measures (app/measures.c) and of render's velocity field.
+ * Mobile grains only; contacts between a mobile grain and a fixed grain or a wall count.
+ *
+ *     SimCoarseDef cd = sim_coarse_def_default();
+ *     cd.geometry = SIM_COARSE_PROFILE_Y; cd.x0 = 0; cd.x1 = 1; cd.y0 = 0; cd.ny = 40;
+ *     cd.cell_y = 0.05; cd.width = 0.1; cd.contacts = 1;
+ *     SimCoarse *cg = sim_coarse_create(&cd, &err);
+ *     sim_world_frame(world, &frame); sim_world_masses(world, mass);
+ *     sim_coarse_add(cg, &frame, mass, 0.0, 0.0);           // one sample (repeat to average)
+ *     sim_coarse_field(cg, SIM_CG_SYY, syy);                 // per node, averaged over samples
+ *
+ * Stress sign: compression positive (sigma_yy of a pile at rest = weight above per width). In
+ * 2D, densities are per unit area (kg/m^2) and stresses per unit length (N/m). */
+
+/// Kernels; `width` is the cutoff radius c for both.
+typedef enum SimKernel {
+    SIM_KERNEL_LUCY = 0,     ///< W = 5/(pi c^2) (1 + 3 s)(1 - s)^3, s = r / c (Lucy 1977)
+    SIM_KERNEL_GAUSSIAN = 1, ///< sigma = c / 3, cut at c and renormalised (1 - e^-4.5)
+} SimKernel;
+
+/// Kernel value W(r) of cutoff radius c, normalised over the plane, 1/m^2 (0 for r >= c, c <= 0).
+double sim_kernel(SimKernel kernel, double r, double c);
+/// The same kernel integrated over x at height y (psi(y) = int W(sqrt(x^2 + y^2)) dx, exact:
+/// closed forms for Lucy and the cut Gaussian), 1/m: the kernel of the 1D profiles.
+double sim_kernel_1d(SimKernel kernel, double y, double c);
+
+typedef enum SimCoarseGeometry {
+    SIM_COARSE_GRID = 0,      ///< nx x ny nodes at cell centres x0 + (i + 1/2) cell_x, ...
+    SIM_COARSE_PROFILE_Y = 1, ///< ny bins along y, averaged over x in [x0, x1]
+    SIM_COARSE_PROFILE_X = 2, ///< nx bins along x, averaged over y in [y0, y1]
+} SimCoarseGeometry;
+
+/// Upper bound of nodes of one coarse-grained field (16 doubles per node).
+#define SIM_COARSE_MAX_NODES (1 << 20)
+
+typedef struct SimCoarseDef {
+    SimKernel kernel;
+    double width; ///< kernel cutoff radius c, m (>= the cell side when normalise is 1)
+    SimCoarseGeometry geometry;
+    double x0, y0;         ///< lower-left corner of node cell (0, 0), m
+    double cell_x, cell_y; ///< node spacing, m (PROFILE_Y: cell_x unused; PROFILE_X: cell_y)
+    int nx, ny;            ///< nodes (PROFILE_Y: nx unused; PROFILE_X: ny unused)
+    double x1, y1; ///< averaging strip of a profile: PROFILE_Y over x in [x0, x1], PROFILE_X over
+                   ///< y in [y0, y1], m (a grid ignores them)
+    int contacts;  ///< 1: contact stress, coordination and fabric too (reads frame contacts)
+    /// 1: each point's weights are divided by their sum over the infinite node lattice (times the
+    /// cell area), so the field integrates to the grains' totals exactly (to rounding) wherever
+    /// the support lies inside the nodes; 0: the plain kernel values (render's field).
+    int normalise;
+} SimCoarseDef;
+
+/// Accumulated sums per node (averaged over samples by sim_coarse_field).
+typedef enum SimCoarseField {
+    SIM_CG_PHI = 0, ///< packing fraction sum pi r_i^2 W
+    SIM_CG_RHO,     ///< density sum m_i W, kg/m^2
+    SIM_CG_JX,      ///< momentum density sum m_i v_i W, kg/(m s)
+    SIM_CG_JY,
+    SIM_CG_VX, ///< V = j / rho, m/s (0 where rho = 0)
+    SIM_CG_VY,
+    SIM_CG_T,   ///< granular temperature tr(sigma_k) / (2 rho), m^2/s^2 (Weinhart et al. 2012)
+    SIM_CG_KXX, ///< kinetic stress sum m v'v' W = sum m v v W - j j / rho, N/m (v' = v - V(r))
+    SIM_CG_KXY,
+    SIM_CG_KYY,
+    SIM_CG_CXX, ///< contact stress sum_c f_a r_b int_0^1 W(r - r_i + s r_ic) ds, N/m (a, b)
+    SIM_CG_CXY,
+    SIM_CG_CYX,
+    SIM_CG_CYY,
+    SIM_CG_SXX, ///< total stress, contact + kinetic, N/m
+    SIM_CG_SXY,
+    SIM_CG_SYX,
+    SIM_CG_SYY,
+    SIM_CG_P,   ///< pressure (sxx + syy) / 2, N/m
+    SIM_CG_Z,   ///< coordination sum z_i W / sum W (wall and fixed-grain contacts included)
+    SIM_CG_FXX, ///< fabric sum_i (sum_c n n) W / sum W (trace = z)
+    SIM_CG_FXY,
+    SIM_CG_FYY,
+    SIM_CG_FIELD_COUNT
+} SimCoarseField;
+
+/// "phi", "rho", "jx", "jy", "vx", "vy", "T", "kxx", ... "sxx", "sxy", "syx", "syy", "p", "z",
+/// "fxx", "fxy", "fyy"; -1 when unknown.
+int sim_coarse_field_from_name(const char *name);
+const char *sim_coarse_field_name(SimCoarseField field);
+/// Unit of a field ("1", "kg/m^2", "N/m", ...).
+const char *sim_coarse_field_unit(SimCoarseField field);
+/// 1 when the field needs the contacts (SimCoarseDef.contacts).
+int sim_coarse_field_needs_contacts(SimCoarseField field);
+
+typedef struct SimCoarse SimCoarse;
+
+SimCoarseDef sim_coarse_def_default(void);
+/// NULL with SIM_ERROR_INVALID (width <= 0, no nodes, too many nodes, width below the cell side
+/// when normalising) or SIM_ERROR_MEMORY.
+SimCoarse *sim_coarse_create(const SimCoarseDef *def, SimError *error);
+void sim_coarse_destroy(SimCoarse *cg);
+/// Nodes and the position of node k (profiles: the other coordinate is the strip's middle), m.
+int sim_coarse_nodes(const SimCoarse *cg);
+void sim_coarse_node(const SimCoarse *cg, int k, double *x, double *y);
+/// Adds one sample of a frame: mass[i] per frame index (kg; NULL: pi r^2), velocities taken
+/// relative to (frame_vx, frame_vy) (a moving box's frame), m/s. Periodic frames wrap in x.
+/// SIM_OK or SIM_ERROR_MEMORY (the sample is then not counted).
+SimStatus sim_coarse_add(SimCoarse *cg, const SimFrame *frame, const double *mass, double frame_vx,
+                         double frame_vy);
+int sim_coarse_samples(const SimCoarse *cg);
+/// Forgets every sample.
+void sim_coarse_clear(SimCoarse *cg);
+/// The field at every node, from the sums averaged over the samples (0 without samples).
+void sim_coarse_field(const SimCoarse *cg, SimCoarseField field, double *out);
+/// Masses of the world's grains in frame order (count = sim_world_grain_count), kg.
+void sim_world_masses(const SimWorld *world, double *mass);
+
+/// Flux counter through a segment (sim/coarse.c): mobile grains whose centre crossed it between
+/// two updates, +1 from the left of the directed segment (x0, y0) -> (x1, y1) to its right (a
+/// segment drawn left to right counts downward flow positive), -1 back.
+typedef struct SimFlux SimFlux;
+SimFlux *sim_flux_create(double x0, double y0, double x1, double y1);
+void sim_flux_destroy(SimFlux *flux);
+/// Compares every mobile grain's centre with its position at the last update (by stable id;
+/// new grains are only recorded). Call every step for an exact count. SIM_OK or
+/// SIM_ERROR_MEMORY.
+SimStatus sim_flux_update(SimFlux *flux, const SimWorld *world);
+/// Signed grains and mass (kg) that crossed since creation.
+void sim_flux_totals(const SimFlux *flux, long *count, double *mass);
+
 /// Free surface: for each of `bins` equal bins over [x0, x1], the highest top (y + r) of a mobile
 /// grain whose centre lies in the bin, m; NAN for an empty bin (000 §5.4).
 void sim_world_surface_profile(const SimWorld *world, double x0, double x1, int bins,

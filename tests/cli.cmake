@@ -154,3 +154,10 @@ sablier_cli_test(export_missing_state "export|no_such.state|-o|${CLI_WORK}/a.csv
                  ERR "export: cannot load no_such.state")
 # per-grain dumps read back by LAMMPS and VTK, export against the dump (label clients)
 include(${PROJECT_SOURCE_DIR}/tests/clients/clients.cmake)
+# the measures layer's .vti files read back by VTK's XML reader (docs/measures.md)
+add_test(NAME cli.measures_vtk
+         COMMAND ${CMAKE_COMMAND} -DSABLIER=$<TARGET_FILE:sablier>
+                 -DSCENE=${PROJECT_SOURCE_DIR}/scenes/measure/column.scene
+                 -DWORK=${CLI_WORK}/measures_vtk -P ${CLI_DIR}/measures_vtk.cmake
+         WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+set_tests_properties(cli.measures_vtk PROPERTIES LABELS cli SKIP_REGULAR_EXPRESSION "skipped")

@@ -827,7 +827,8 @@ static int write_pile_map(const MapOutput *o, const AppSpeciesMap *m, int piles,
         for (size_t c = 0; c < cells; ++c)
             if (m->count[c] > 0)
                 rows = (int)(c / (size_t)m->nx) + 1;
-        AppMap map = {title, "x / d", "y / d", bar, m->nx, rows, m->x0, m->y0, m->cell, values};
+        AppMap map = {title, "x / d", "y / d", bar,  m->nx, rows, m->x0,
+                      m->y0, m->cell, values,  NULL, NULL,  NULL};
         snprintf(path, sizeof path, "%s/L%g/species_map.png", o->dir, o->L);
         if (o->render->map(o->render->context, o->scene, &map, path, o->err, o->err_size) != 0)
             status = -1;

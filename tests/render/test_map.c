@@ -68,6 +68,56 @@ static int cell_colours(void)
     return 0;
 }
 
+/* Dark enough to be an arrow (black antialiased over any viridis entry). */
+static int dark(uint32_t rgb)
+{
+    return ((rgb >> 16) & 255) + ((rgb >> 8) & 255) + (rgb & 255) < 200;
+}
+
+/* An arrow field on the cells' centres: a horizontal arrow through the centre of the cell that
+ * has one (dark along it, its end beyond the half cell left as the cell's colour), the cell with a
+ * zero vector keeps its colour at the centre, and the reference arrow sits under the colour bar. */
+static int map_arrows(void)
+{
+    fixture_mkdirs();
+    mkdir(DIR, 0777);
+    double values[4] = {0.2, 0.4, 0.6, 0.8}, u[4] = {1.0, 0.0, 0.0, 0.0}, v[4] = {0};
+    RenderMap map = {.width = 600,
+                     .height = 400,
+                     .nx = 2,
+                     .ny = 2,
+                     .cell = 1.0,
+                     .values = values,
+                     .min = 0.0,
+                     .max = 1.0,
+                     .colormap = RENDER_CMAP_VIRIDIS,
+                     .bar_label = "speed",
+                     .arrow_x = u,
+                     .arrow_y = v,
+                     .arrow_unit = "m/s"};
+    char err[512] = "";
+    TEST_ASSERT(render_map_write(&map, NULL, DIR "/arrows.png", err, sizeof err) == 0);
+    RenderImage image = {0};
+    TEST_ASSERT(render_png_read(DIR "/arrows.png", &image, err, sizeof err) == 0);
+    double px, py, qx, qy, ex, ey;
+    render_map_pixel(&map, 0.5, 0.5, &px, &py);  /* centre of cell (0, 0): the arrow */
+    render_map_pixel(&map, 0.75, 0.5, &ex, &ey); /* on it, towards its head */
+    render_map_pixel(&map, 1.5, 1.5, &qx, &qy);  /* centre of cell (1, 1): no arrow */
+    TEST_ASSERT(dark(fixture_pixel(&image, px, py)) && dark(fixture_pixel(&image, ex, ey)));
+    TEST_ASSERT(fixture_pixel(&image, qx, qy) == render_colormap_rgb(RENDER_CMAP_VIRIDIS, 0.8));
+    render_map_pixel(&map, 0.5, 0.97, &qx, &qy); /* above the arrow, inside the cell */
+    TEST_ASSERT(fixture_pixel(&image, qx, qy) == render_colormap_rgb(RENDER_CMAP_VIRIDIS, 0.2));
+    int reference = 0; /* dark pixels under the colour bar, right of the cells */
+    double right, bottom;
+    render_map_pixel(&map, 2.0, 0.0, &right, &bottom);
+    for (int y = (int)bottom + 2; y < image.height; ++y)
+        for (int x = (int)right + 20; x < image.width; ++x)
+            reference += dark(fixture_pixel(&image, x, y));
+    TEST_ASSERT(reference > 20);
+    render_image_free(&image);
+    return 0;
+}
+
 static int bad_maps(void)
 {
     double values[4] = {0.1, 0.2, 0.3, 0.4};
@@ -95,4 +145,4 @@ static int bad_maps(void)
     return 0;
 }
 
-TEST_MAIN(TEST_CASE(cell_colours), TEST_CASE(bad_maps))
+TEST_MAIN(TEST_CASE(cell_colours), TEST_CASE(map_arrows), TEST_CASE(bad_maps))

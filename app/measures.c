@@ -1,0 +1,839 @@
+/* SPDX-License-Identifier: MIT */
+/* measures.c: the `measures` lists of a scene (top level: every stage; a stage's own: that stage)
+ * parsed, checked and run (measures.h, docs/measures.md). Coarse-grained fields are sampled every
+ * `every` seconds of a stage and written per sample, or averaged over each `window`; flux counters
+ * are updated at every step (sim_flux_update) and written every `every`. */
+#include "measures.h"
+
+#include "config.h"
+#include "run.h"
+#include "scene_internal.h"
+#include "util.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef enum MeasureKind { KIND_GRID, KIND_PROFILE_Y, KIND_PROFILE_X, KIND_FLUX } MeasureKind;
+
+static const char *const kind_names[] = {"grid", "profile_y", "profile_x", "flux", NULL};
+static const char *const kernel_names[] = {"lucy", "gaussian", NULL};
+
+#define MEASURE_PATH (SCENE_PATH_MAX + 2 * SCENE_NAME_MAX + 32)
+
+typedef struct Measure {
+    char name[SCENE_NAME_MAX];
+    MeasureKind kind;
+    int stage;            /* -1: every stage */
+    double region[4];     /* x0, y0, x1, y1, m */
+    double line[4];       /* flux segment, m */
+    SimKernel kernel;     /* */
+    double width, bin;    /* m */
+    double every, window; /* s; window 0 = every sample written */
+    int motion;           /* frame: index of a motion, -1 = lab */
+    int fields[SIM_CG_FIELD_COUNT], field_count;
+    int figures[SIM_CG_FIELD_COUNT], figure_count; /* indices into fields */
+    int arrows[2], arrow_count;                    /* indices into fields (grid) */
+    int nx, ny;                                    /* nodes */
+    /* run */
+    SimCoarse *cg;
+    SimFlux *flux;
+    FILE *csv;
+    char path[MEASURE_PATH];
+    int vti_count;
+    long every_steps, window_steps, window_end, total_steps, mid_step;
+    double t_sum; /* sample times in the open window, s */
+    int active;
+    int started;  /* 1 once a sample was taken */
+    double *last; /* field_count * nodes: the last row written (figures) */
+    int have_last;
+    long last_count;
+    double last_mass, last_t;
+    long mid_count;
+    double mid_mass, mid_t;
+    /* flux: steady mean of each stage's second half (NAN: none) */
+    double steady_rate[SCENE_MAX_STAGES], steady_mass_rate[SCENE_MAX_STAGES];
+} Measure;
+
+struct AppMeasures {
+    const Scene *scene;
+    int count;
+    Measure m[APP_MEASURES_MAX];
+    double *mass; /* per frame index, kg */
+    int mass_capacity;
+    double frame_vx, frame_vy; /* velocity of the measure's motion, m/s */
+};
+
+const AppMeasures *app_measures_of(const Scene *scene)
+{
+    return scene_experiment_state(scene, &app_measures_experiment);
+}
+
+/* ---------------------------------------------------------------- parse */
+
+/* Bounding box of what the scene defines (grains with their radii, walls, the periodic range):
+ * the domain a region must lie in. 0, or -1 when the scene has none. */
+static int scene_domain(const Scene *scene, double box[4])
+{
+    box[0] = box[1] = INFINITY;
+    box[2] = box[3] = -INFINITY;
+    const SimGrainBuffer *g = &scene->grains;
+    for (int i = 0; i < g->count; ++i) {
+        box[0] = fmin(box[0], g->x[i] - g->radius[i]);
+        box[1] = fmin(box[1], g->y[i] - g->radius[i]);
+        box[2] = fmax(box[2], g->x[i] + g->radius[i]);
+        box[3] = fmax(box[3], g->y[i] + g->radius[i]);
+    }
+    for (int k = 0; k < scene->def.wall_count; ++k) {
+        const SimWall *w = &scene->def.walls[k];
+        box[0] = fmin(box[0], fmin(w->x0, w->x1));
+        box[1] = fmin(box[1], fmin(w->y0, w->y1));
+        box[2] = fmax(box[2], fmax(w->x0, w->x1));
+        box[3] = fmax(box[3], fmax(w->y0, w->y1));
+    }
+    if (scene->def.effects & SIM_EFFECT_PERIODIC_X) {
+        box[0] = fmin(box[0], scene->def.domain_x0);
+        box[2] = fmax(box[2], scene->def.domain_x1);
+    }
+    return box[2] > box[0] && box[3] > box[1] ? 0 : -1;
+}
+
+/* fields = ["phi", ...] (or figures = [...]): indices into *out. */
+static int parse_field_list(AppConfig *p, const config_setting_t *g, const char *key, int *out,
+                            int *count)
+{
+    const config_setting_t *s = app_config_member(g, key);
+    *count = 0;
+    if (!s)
+        return 0;
+    int n = config_setting_length(s);
+    if ((config_setting_type(s) != CONFIG_TYPE_ARRAY &&
+         config_setting_type(s) != CONFIG_TYPE_LIST) ||
+        n < 1 || n > SIM_CG_FIELD_COUNT)
+        return app_config_fail(p, s, "`%s` must be a list of 1 to %d field names", key,
+                               SIM_CG_FIELD_COUNT);
+    for (int k = 0; k < n; ++k) {
+        const config_setting_t *e = config_setting_get_elem(s, (unsigned)k);
+        const char *name =
+            config_setting_type(e) == CONFIG_TYPE_STRING ? config_setting_get_string(e) : NULL;
+        int f = name ? sim_coarse_field_from_name(name) : -1;
+        if (f < 0)
+            return app_config_fail(p, e,
+                                   "unknown field `%s` in `%s` (phi rho jx jy vx vy T kxx kxy kyy "
+                                   "cxx cxy cyx cyy sxx sxy syx syy p z fxx fxy fyy)",
+                                   name ? name : "?", key);
+        out[(*count)++] = f;
+    }
+    return 1;
+}
+
+/* The figures: `figure = true` (every field) or `figures = [names]` (each among `fields`). */
+static int parse_figures(AppConfig *p, const config_setting_t *g, Measure *m)
+{
+    int all = 0, named[SIM_CG_FIELD_COUNT], n = 0;
+    if (app_config_bool(p, g, "figure", &all) < 0 ||
+        parse_field_list(p, g, "figures", named, &n) < 0)
+        return -1;
+    if (all)
+        for (int k = 0; k < m->field_count; ++k)
+            m->figures[m->figure_count++] = k;
+    for (int k = 0; k < n && !all; ++k) {
+        int found = -1;
+        for (int q = 0; q < m->field_count; ++q)
+            if (m->fields[q] == named[k])
+                found = q;
+        if (found < 0)
+            return app_config_fail(p, app_config_member(g, "figures"),
+                                   "figure field `%s` is not in `fields`",
+                                   sim_coarse_field_name((SimCoarseField)named[k]));
+        m->figures[m->figure_count++] = found;
+    }
+    int pair[SIM_CG_FIELD_COUNT];
+    if (parse_field_list(p, g, "arrows", pair, &n) < 0)
+        return -1;
+    const config_setting_t *where = app_config_member(g, "arrows");
+    if (where && (n != 2 || m->kind != KIND_GRID))
+        return app_config_fail(p, where, "`arrows` is two fields of a grid, e.g. [\"vx\", \"vy\"]");
+    for (int k = 0; k < n; ++k) {
+        m->arrows[k] = -1;
+        for (int q = 0; q < m->field_count; ++q)
+            if (m->fields[q] == pair[k])
+                m->arrows[k] = q;
+        if (m->arrows[k] < 0)
+            return app_config_fail(p, where, "arrow field `%s` is not in `fields`",
+                                   sim_coarse_field_name((SimCoarseField)pair[k]));
+    }
+    m->arrow_count = n;
+    return 0;
+}
+
+/* The region inside the domain, the kernel, bins and the node bound. */
+static int parse_geometry(AppConfig *p, const config_setting_t *g, const Scene *scene, Measure *m)
+{
+    double domain[4];
+    int have_domain = scene_domain(scene, domain) == 0;
+    int found = app_config_vector(p, g, "region", m->region, 4);
+    if (found < 0)
+        return -1;
+    if (!found && !have_domain)
+        return app_config_fail(p, g,
+                               "`region` = [x0, y0, x1, y1] is required (the scene "
+                               "defines no grains or walls to take the domain from)");
+    if (!found)
+        memcpy(m->region, domain, sizeof domain);
+    const config_setting_t *where = app_config_member(g, "region");
+    if (!(m->region[2] > m->region[0]) || !(m->region[3] > m->region[1]))
+        return app_config_fail(p, where, "`region` must be [x0, y0, x1, y1] with x1 > x0, y1 > y0");
+    double slack = 1e-9 * fmax(1.0, fmax(fabs(domain[2] - domain[0]), fabs(domain[3] - domain[1])));
+    if (found && have_domain &&
+        (m->region[0] < domain[0] - slack || m->region[1] < domain[1] - slack ||
+         m->region[2] > domain[2] + slack || m->region[3] > domain[3] + slack))
+        return app_config_fail(p, where,
+                               "`region` [%g, %g, %g, %g] lies outside the domain [%g, %g, %g, %g] "
+                               "(the scene's grains, walls and periodic range)",
+                               m->region[0], m->region[1], m->region[2], m->region[3], domain[0],
+                               domain[1], domain[2], domain[3]);
+    int kernel = 0;
+    if (app_config_choice(p, g, "kernel", kernel_names, &kernel) < 0 ||
+        app_config_need_number(p, g, "width", "a field measure", &m->width) < 0 ||
+        app_config_positive(p, g, "width", m->width) < 0)
+        return -1;
+    m->kernel = (SimKernel)kernel;
+    m->bin = 0.5 * m->width;
+    int cells = 0;
+    double length =
+        m->kind == KIND_PROFILE_X ? m->region[2] - m->region[0] : m->region[3] - m->region[1];
+    if (m->kind == KIND_GRID)
+        length = m->region[2] - m->region[0];
+    if (app_config_number(p, g, "bin", &m->bin) < 0 ||
+        app_config_positive(p, g, "bin", m->bin) < 0 ||
+        app_config_int_in(p, g, "cells", 1, APP_MEASURES_MAX_NODES, &cells) < 0)
+        return -1;
+    if (cells > 0 && app_config_member(g, "bin"))
+        return app_config_fail(p, app_config_member(g, "cells"), "give `bin` or `cells`, not both");
+    if (cells > 0)
+        m->bin = length / cells;
+    double fx = ceil((m->region[2] - m->region[0]) / m->bin - 1e-9);
+    double fy = ceil((m->region[3] - m->region[1]) / m->bin - 1e-9);
+    double nodes = m->kind == KIND_GRID ? fx * fy : m->kind == KIND_PROFILE_Y ? fy : fx;
+    if (!(nodes <= APP_MEASURES_MAX_NODES))
+        return app_config_fail(p, app_config_member(g, cells > 0 ? "cells" : "bin"),
+                               "the %s is too fine: %.0f nodes (at most %d; each holds 16 sums)",
+                               kind_names[m->kind], nodes, APP_MEASURES_MAX_NODES);
+    if (m->width < m->bin)
+        return app_config_fail(p, app_config_member(g, "width"),
+                               "`width` (%g m) must be at least the cell side (%g m)", m->width,
+                               m->bin);
+    m->nx = m->kind == KIND_PROFILE_Y ? 1 : (int)fx;
+    m->ny = m->kind == KIND_PROFILE_X ? 1 : (int)fy;
+    return 0;
+}
+
+/* every, window (<= each stage the measure runs in), frame. */
+static int parse_timing(AppConfig *p, const config_setting_t *g, const Scene *scene, Measure *m)
+{
+    m->every = scene->output.energy_every;
+    m->window = 0.0;
+    const char *frame = NULL;
+    if (app_config_number(p, g, "every", &m->every) < 0 ||
+        app_config_positive(p, g, "every", m->every) < 0 ||
+        app_config_number(p, g, "window", &m->window) < 0 ||
+        app_config_non_negative(p, g, "window", m->window) < 0 ||
+        app_config_string(p, g, "frame", &frame) < 0)
+        return -1;
+    if (m->window > 0.0 && m->window < m->every)
+        return app_config_fail(p, app_config_member(g, "window"),
+                               "`window` (%g s) must be 0 or at least `every` (%g s)", m->window,
+                               m->every);
+    for (int k = 0; k < scene->stage_count; ++k) {
+        const SceneStage *st = &scene->stages[k];
+        if ((m->stage >= 0 && k != m->stage) || (m->stage < 0 && !(st->duration > 0.0)))
+            continue;
+        if (m->window > st->duration)
+            return app_config_fail(p, app_config_member(g, "window"),
+                                   "`window` (%g s) is longer than stage %s (%g s)", m->window,
+                                   st->name, st->duration);
+    }
+    m->motion = -1;
+    for (int k = 0; frame && k < scene->def.motion_count; ++k)
+        if (strcmp(scene->motion_names[k], frame) == 0)
+            m->motion = k;
+    if (frame && m->motion < 0)
+        return app_config_fail(p, app_config_member(g, "frame"), "no motion named `%s`", frame);
+    return 0;
+}
+
+static int parse_one(AppConfig *p, const config_setting_t *g, const Scene *scene, int stage,
+                     Measure *m)
+{
+    static const char *const keys[] = {"name",   "kind",    "region", "kernel", "width", "bin",
+                                       "cells",  "fields",  "every",  "window", "frame", "line",
+                                       "figure", "figures", "arrows", NULL};
+    static const char *const flux_keys[] = {"name", "kind", "line", "every", NULL};
+    const char *name = NULL;
+    int kind = 0;
+    memset(m, 0, sizeof *m);
+    m->stage = stage;
+    if (app_config_keys(p, g, "measures", keys, NULL) < 0 ||
+        app_config_need(p, g, "name", "a measure") < 0 ||
+        app_config_string(p, g, "name", &name) < 0 ||
+        app_config_need(p, g, "kind", "a measure") < 0 ||
+        app_config_choice(p, g, "kind", kind_names, &kind) < 0)
+        return -1;
+    Loader names = {.p = *p};
+    if (loader_check_file_name(&names, g, "name", name) < 0) {
+        p->failed = 1;
+        return -1;
+    }
+    snprintf(m->name, sizeof m->name, "%s", name);
+    m->kind = (MeasureKind)kind;
+    if (m->kind == KIND_FLUX) {
+        if (app_config_keys(p, g, "measures (flux)", flux_keys, NULL) < 0 ||
+            app_config_need(p, g, "line", "a flux measure") < 0 ||
+            app_config_vector(p, g, "line", m->line, 4) < 0 || parse_timing(p, g, scene, m) < 0)
+            return -1;
+        if (m->line[0] == m->line[2] && m->line[1] == m->line[3])
+            return app_config_fail(p, app_config_member(g, "line"), "`line` has zero length");
+        return 0;
+    }
+    if (app_config_need(p, g, "fields", "a field measure") < 0 ||
+        parse_field_list(p, g, "fields", m->fields, &m->field_count) < 0 ||
+        parse_geometry(p, g, scene, m) < 0 || parse_timing(p, g, scene, m) < 0 ||
+        parse_figures(p, g, m) < 0)
+        return -1;
+    return 0;
+}
+
+/* One `measures` list (top level: stage -1). */
+static int parse_list(AppConfig *p, const config_setting_t *list, const Scene *scene, int stage,
+                      AppMeasures *out)
+{
+    for (int k = 0; list && k < config_setting_length(list); ++k) {
+        const config_setting_t *g = config_setting_get_elem(list, (unsigned)k);
+        if (out->count >= APP_MEASURES_MAX)
+            return app_config_fail(p, g, "at most %d measures", APP_MEASURES_MAX);
+        Measure *m = &out->m[out->count];
+        if (parse_one(p, g, scene, stage, m) < 0)
+            return -1;
+        for (int q = 0; q < out->count; ++q)
+            if (strcmp(out->m[q].name, m->name) == 0)
+                return app_config_fail(p, app_config_member(g, "name"),
+                                       "a measure named `%s` is declared twice", m->name);
+        out->count++;
+    }
+    return 0;
+}
+
+static int measures_parse(const config_setting_t *root, const config_setting_t *group, Scene *scene,
+                          void **state, char *err, size_t err_size)
+{
+    (void)group;
+    *state = NULL;
+    AppConfig p = {.path = scene->path, .err = err, .err_size = err_size, .group = "measures"};
+    AppMeasures *ms = calloc(1, sizeof *ms);
+    if (!ms)
+        return app_config_fail(&p, NULL, "out of memory");
+    const config_setting_t *list = NULL, *stages = config_setting_get_member(root, "stages");
+    int rc = app_config_list(&p, root, "measures", &list) < 0 ? -1 : 0;
+    if (rc == 0)
+        rc = parse_list(&p, list, scene, -1, ms);
+    for (int k = 0;
+         rc == 0 && stages && k < scene->stage_count && k < config_setting_length(stages); ++k) {
+        const config_setting_t *g = config_setting_get_elem(stages, (unsigned)k);
+        rc =
+            app_config_list(&p, g, "measures", &list) < 0 ? -1 : parse_list(&p, list, scene, k, ms);
+    }
+    if (rc != 0 || ms->count == 0) {
+        free(ms);
+        return rc;
+    }
+    ms->scene = scene;
+    *state = ms;
+    return 0;
+}
+
+static void measure_release(Measure *m)
+{
+    sim_coarse_destroy(m->cg);
+    sim_flux_destroy(m->flux);
+    m->cg = NULL;
+    m->flux = NULL;
+    free(m->last);
+    m->last = NULL;
+}
+
+static void measures_free(void *state)
+{
+    AppMeasures *ms = state;
+    for (int k = 0; k < ms->count; ++k) {
+        app_tmp_discard(&ms->m[k].csv, ms->m[k].path);
+        measure_release(&ms->m[k]);
+    }
+    free(ms->mass);
+    free(ms);
+}
+
+static void measures_describe_stage(const void *state, int stage, FILE *out)
+{
+    const AppMeasures *ms = state;
+    for (int k = 0; k < ms->count; ++k) {
+        const Measure *m = &ms->m[k];
+        if (m->stage >= 0 && m->stage != stage)
+            continue;
+        fprintf(out, ", measure %s (%s", m->name, kind_names[m->kind]);
+        if (m->kind != KIND_FLUX)
+            fprintf(out, ", %d x %d nodes, width %g m", m->nx, m->ny, m->width);
+        fprintf(out, ", every %g s)", m->every);
+    }
+}
+
+/* ---------------------------------------------------------------- run */
+
+static int measures_begin(void *state, AppContext *c)
+{
+    AppMeasures *ms = state;
+    for (int k = 0; k < ms->count; ++k) {
+        Measure *m = &ms->m[k];
+        char header[64 + SIM_CG_FIELD_COUNT * 8];
+        int n = snprintf(header, sizeof header, "%s",
+                         m->kind == KIND_FLUX        ? "t,count,mass,rate,mass_rate"
+                         : m->kind == KIND_GRID      ? "t,x,y"
+                         : m->kind == KIND_PROFILE_Y ? "t,y"
+                                                     : "t,x");
+        for (int f = 0; f < m->field_count; ++f)
+            n += snprintf(header + n, sizeof header - (size_t)n, ",%s",
+                          sim_coarse_field_name((SimCoarseField)m->fields[f]));
+        snprintf(m->path, sizeof m->path, "%s/%s.csv", c->out_dir, m->name);
+        m->csv = app_tmp_open(m->path, header);
+        if (!m->csv) {
+            snprintf(c->err, c->err_size, "cannot write %s.tmp", m->path);
+            return -1;
+        }
+        for (int s = 0; s < SCENE_MAX_STAGES; ++s)
+            m->steady_rate[s] = m->steady_mass_rate[s] = NAN;
+        if (m->kind == KIND_GRID) {
+            char dir[MEASURE_PATH];
+            snprintf(dir, sizeof dir, "%s/%s", c->out_dir, m->name);
+            if (app_make_dirs(dir) != 0) {
+                snprintf(c->err, c->err_size, "cannot create %s", dir);
+                return -1;
+            }
+        }
+    }
+    return 0;
+}
+
+static SimCoarseDef coarse_def(const Measure *m)
+{
+    SimCoarseDef d = sim_coarse_def_default();
+    d.kernel = m->kernel;
+    d.width = m->width;
+    d.geometry = m->kind == KIND_GRID        ? SIM_COARSE_GRID
+                 : m->kind == KIND_PROFILE_Y ? SIM_COARSE_PROFILE_Y
+                                             : SIM_COARSE_PROFILE_X;
+    d.x0 = m->region[0];
+    d.y0 = m->region[1];
+    d.x1 = m->region[2];
+    d.y1 = m->region[3];
+    d.cell_x = d.cell_y = m->bin;
+    d.nx = m->nx;
+    d.ny = m->ny;
+    for (int f = 0; f < m->field_count; ++f)
+        d.contacts |= sim_coarse_field_needs_contacts((SimCoarseField)m->fields[f]);
+    return d;
+}
+
+static int measures_stage_begin(void *state, AppContext *c)
+{
+    AppMeasures *ms = state;
+    double dt = sim_world_time_step(c->world);
+    for (int k = 0; k < ms->count; ++k) {
+        Measure *m = &ms->m[k];
+        m->active = m->stage < 0 || m->stage == c->stage;
+        if (!m->active)
+            continue;
+        m->every_steps = (long)fmax(1.0, (double)llround(m->every / dt));
+        m->window_steps = m->window > 0.0 ? (long)fmax(1.0, (double)llround(m->window / dt)) : 0;
+        m->total_steps = c->stage_steps;
+        m->mid_step = c->stage_steps / 2;
+        m->window_end = m->window_steps;
+        m->t_sum = 0.0;
+        if (m->kind == KIND_FLUX) {
+            if (!m->flux)
+                m->flux = sim_flux_create(m->line[0], m->line[1], m->line[2], m->line[3]);
+            if (!m->flux || sim_flux_update(m->flux, c->world) != SIM_OK) {
+                snprintf(c->err, c->err_size, "measure %s: out of memory", m->name);
+                return -1;
+            }
+            sim_flux_totals(m->flux, &m->last_count, &m->last_mass);
+            m->last_t = sim_world_time(c->world);
+            m->mid_count = m->last_count;
+            m->mid_mass = m->last_mass;
+            m->mid_t = m->last_t;
+            continue;
+        }
+        if (!m->cg) {
+            SimError e;
+            SimCoarseDef d = coarse_def(m);
+            m->cg = sim_coarse_create(&d, &e);
+            m->last = calloc((size_t)m->field_count * (size_t)(m->nx * m->ny), sizeof *m->last);
+            if (!m->cg || !m->last) {
+                snprintf(c->err, c->err_size, "measure %s: %s", m->name,
+                         m->cg ? "out of memory" : e.message);
+                return -1;
+            }
+        }
+        sim_coarse_clear(m->cg);
+    }
+    return 0;
+}
+
+/* Velocity of the measure's frame (its motion, as the walls move: A sin(2 pi f t + phase)). */
+static void frame_velocity(const AppContext *c, const Measure *m, double t, double *vx, double *vy)
+{
+    *vx = *vy = 0.0;
+    if (m->motion < 0)
+        return;
+    SimWorldDef def = scene_world_def(c->scene, c->stage); /* the stage's motions */
+    const SimMotion *mo = &def.motions[m->motion];
+    double w = 2.0 * SIM_PI * mo->frequency;
+    double speed = mo->amplitude * w * cos(w * t + mo->phase);
+    *vx = speed * mo->direction_x;
+    *vy = speed * mo->direction_y;
+}
+
+/* One CSV row per node (and a .vti for a grid) of the sums so far, then cleared. */
+static int write_fields(Measure *m, const AppContext *c)
+{
+    int nodes = sim_coarse_nodes(m->cg), samples = sim_coarse_samples(m->cg);
+    if (samples == 0)
+        return 0;
+    double t = m->t_sum / samples;
+    for (int f = 0; f < m->field_count; ++f)
+        sim_coarse_field(m->cg, (SimCoarseField)m->fields[f], m->last + (size_t)f * nodes);
+    m->have_last = 1;
+    for (int k = 0; k < nodes; ++k) {
+        double x, y;
+        sim_coarse_node(m->cg, k, &x, &y);
+        fprintf(m->csv, "%.9g", t);
+        if (m->kind != KIND_PROFILE_Y)
+            fprintf(m->csv, ",%.9g", x);
+        if (m->kind != KIND_PROFILE_X)
+            fprintf(m->csv, ",%.9g", y);
+        for (int f = 0; f < m->field_count; ++f)
+            fprintf(m->csv, ",%.9g", m->last[(size_t)f * nodes + k]);
+        fputc('\n', m->csv);
+    }
+    sim_coarse_clear(m->cg);
+    m->t_sum = 0.0;
+    if (m->kind != KIND_GRID)
+        return 0;
+    /* VTK XML ImageData, ASCII: point data on the nodes (ParaView, VTK's XML reader). */
+    char path[MEASURE_PATH + SCENE_NAME_MAX + 16];
+    snprintf(path, sizeof path, "%s/%s/%s_%05d.vti", c->out_dir, m->name, m->name, m->vti_count++);
+    FILE *out = app_tmp_open(path, "<?xml version=\"1.0\"?>");
+    if (!out)
+        return -1;
+    fprintf(out,
+            "<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
+            "<ImageData WholeExtent=\"0 %d 0 %d 0 0\" Origin=\"%.9g %.9g 0\" "
+            "Spacing=\"%.9g %.9g 1\">\n<FieldData><DataArray type=\"Float64\" Name=\"TIME\" "
+            "NumberOfTuples=\"1\" format=\"ascii\">%.9g</DataArray></FieldData>\n"
+            "<Piece Extent=\"0 %d 0 %d 0 0\">\n<PointData>\n",
+            m->nx - 1, m->ny - 1, m->region[0] + 0.5 * m->bin, m->region[1] + 0.5 * m->bin, m->bin,
+            m->bin, t, m->nx - 1, m->ny - 1);
+    for (int f = 0; f < m->field_count; ++f) {
+        fprintf(out, "<DataArray type=\"Float64\" Name=\"%s\" format=\"ascii\">\n",
+                sim_coarse_field_name((SimCoarseField)m->fields[f]));
+        for (int k = 0; k < nodes; ++k)
+            fprintf(out, "%.9g%c", m->last[(size_t)f * nodes + k], k % 8 == 7 ? '\n' : ' ');
+        fprintf(out, "\n</DataArray>\n");
+    }
+    fprintf(out, "</PointData>\n</Piece>\n</ImageData>\n</VTKFile>\n");
+    return app_tmp_commit(&out, path);
+}
+
+static int frame_masses(AppMeasures *ms, SimWorld *world, SimFrame *frame)
+{
+    sim_world_frame(world, frame);
+    if (frame->count > ms->mass_capacity) {
+        double *p = realloc(ms->mass, (size_t)frame->count * sizeof *p);
+        if (!p)
+            return -1;
+        ms->mass = p;
+        ms->mass_capacity = frame->count;
+    }
+    sim_world_masses(world, ms->mass);
+    return 0;
+}
+
+static void flux_row(Measure *m, const AppContext *c)
+{
+    long count;
+    double mass, t = sim_world_time(c->world);
+    sim_flux_totals(m->flux, &count, &mass);
+    double span = t - m->last_t;
+    fprintf(m->csv, "%.9g,%ld,%.9g,%.9g,%.9g\n", t, count, mass,
+            span > 0.0 ? (double)(count - m->last_count) / span : 0.0,
+            span > 0.0 ? (mass - m->last_mass) / span : 0.0);
+    m->last_count = count;
+    m->last_mass = mass;
+    m->last_t = t;
+}
+
+static void measures_step(void *state, AppContext *c, long done)
+{
+    AppMeasures *ms = state;
+    SimFrame frame;
+    int framed = 0;
+    for (int k = 0; k < ms->count; ++k) {
+        Measure *m = &ms->m[k];
+        if (!m->active)
+            continue;
+        if (m->kind == KIND_FLUX) {
+            if (done > 0 && sim_flux_update(m->flux, c->world) != SIM_OK)
+                continue; /* out of memory: the count stops (reported by the step soon after) */
+            if (done == m->mid_step) {
+                sim_flux_totals(m->flux, &m->mid_count, &m->mid_mass);
+                m->mid_t = sim_world_time(c->world);
+            }
+            if (done > 0 && done % m->every_steps == 0)
+                flux_row(m, c);
+            continue;
+        }
+        /* at the start only of the first stage it runs in, and not into a window */
+        int sample = done % m->every_steps == 0 && (done > 0 || (!m->started && !m->window_steps));
+        if (!sample)
+            continue;
+        m->started = 1;
+        if (!framed && frame_masses(ms, c->world, &frame) != 0)
+            return;
+        framed = 1;
+        double vx, vy, t = sim_world_time(c->world);
+        frame_velocity(c, m, t, &vx, &vy);
+        if (sim_coarse_add(m->cg, &frame, ms->mass, vx, vy) != SIM_OK)
+            continue;
+        m->t_sum += t;
+        if (m->window_steps > 0 && done < m->window_end)
+            continue; /* the window is still open */
+        while (m->window_steps > 0 && m->window_end <= done)
+            m->window_end += m->window_steps;
+        if (write_fields(m, c) != 0)
+            fprintf(stderr, "sablier: warning: measure %s: cannot write its .vti file\n", m->name);
+    }
+}
+
+static long measures_next_step(const void *state, const AppContext *c, long done, long next)
+{
+    (void)c;
+    const AppMeasures *ms = state;
+    for (int k = 0; k < ms->count; ++k) {
+        const Measure *m = &ms->m[k];
+        if (!m->active)
+            continue;
+        long due = m->kind == KIND_FLUX ? done + 1 : (done / m->every_steps + 1) * m->every_steps;
+        if (due < next)
+            next = due;
+    }
+    return next;
+}
+
+/* A heat map (grid) or a profile plot (field against height or x) of the last row written. */
+static int draw_arrows(const Measure *m, const AppContext *c)
+{
+    int nodes = m->nx * m->ny;
+    const double *u = m->last + (size_t)m->arrows[0] * nodes;
+    const double *v = m->last + (size_t)m->arrows[1] * nodes;
+    double *size = malloc((size_t)nodes * sizeof *size);
+    if (!size)
+        return -1;
+    for (int k = 0; k < nodes; ++k)
+        size[k] = hypot(u[k], v[k]);
+    SimCoarseField fu = (SimCoarseField)m->fields[m->arrows[0]];
+    SimCoarseField fv = (SimCoarseField)m->fields[m->arrows[1]];
+    char path[MEASURE_PATH + SCENE_NAME_MAX], title[160], label[80], err[512] = "";
+    snprintf(path, sizeof path, "%s/%s_arrows.png", c->out_dir, m->name);
+    snprintf(title, sizeof title, "%s: (%s, %s) (%s)", m->name, sim_coarse_field_name(fu),
+             sim_coarse_field_name(fv), m->window > 0.0 ? "window average" : "last sample");
+    snprintf(label, sizeof label, "|(%s, %s)| (%s)", sim_coarse_field_name(fu),
+             sim_coarse_field_name(fv), sim_coarse_field_unit(fu));
+    AppMap map = {.title = title,
+                  .x_label = "x (m)",
+                  .y_label = "y (m)",
+                  .bar_label = label,
+                  .nx = m->nx,
+                  .ny = m->ny,
+                  .x0 = m->region[0],
+                  .y0 = m->region[1],
+                  .cell = m->bin,
+                  .values = size,
+                  .arrow_x = u,
+                  .arrow_y = v,
+                  .arrow_unit = sim_coarse_field_unit(fu)};
+    int rc = c->render->map(c->render->context, c->scene, &map, path, err, sizeof err);
+    if (rc != 0)
+        snprintf(c->err, c->err_size, "measure %s: figure %s: %s", m->name, path, err);
+    free(size);
+    return rc;
+}
+
+static int draw_figure(const Measure *m, const AppContext *c, int figure)
+{
+    int f = m->figures[figure], nodes = m->nx * m->ny;
+    SimCoarseField field = (SimCoarseField)m->fields[f];
+    const double *values = m->last + (size_t)f * nodes;
+    char path[MEASURE_PATH + SCENE_NAME_MAX], title[160], label[64], err[512] = "";
+    snprintf(path, sizeof path, "%s/%s_%s.png", c->out_dir, m->name, sim_coarse_field_name(field));
+    snprintf(title, sizeof title, "%s: %s (%s)", m->name, sim_coarse_field_name(field),
+             m->window > 0.0 ? "window average" : "last sample");
+    snprintf(label, sizeof label, "%s (%s)", sim_coarse_field_name(field),
+             sim_coarse_field_unit(field));
+    int rc = 0;
+    if (m->kind == KIND_GRID) {
+        AppMap map = {.title = title,
+                      .x_label = "x (m)",
+                      .y_label = "y (m)",
+                      .bar_label = label,
+                      .nx = m->nx,
+                      .ny = m->ny,
+                      .x0 = m->region[0],
+                      .y0 = m->region[1],
+                      .cell = m->bin,
+                      .values = values};
+        rc = c->render->map
+                 ? c->render->map(c->render->context, c->scene, &map, path, err, sizeof err)
+                 : 0;
+    } else {
+        double *pos = malloc((size_t)nodes * sizeof *pos);
+        if (!pos)
+            return -1;
+        for (int k = 0; k < nodes; ++k) {
+            double x, y;
+            sim_coarse_node(m->cg, k, &x, &y);
+            pos[k] = m->kind == KIND_PROFILE_Y ? y : x;
+        }
+        int along_y = m->kind == KIND_PROFILE_Y;
+        AppPlotSeries s = {.label = NULL,
+                           .count = nodes,
+                           .x = along_y ? values : pos,
+                           .y = along_y ? pos : values,
+                           .line = 1,
+                           .rgb = APP_RGB_AUTO};
+        AppPlotPanel panel = {.x_label = along_y ? label : "x (m)",
+                              .y_label = along_y ? "y (m)" : label,
+                              .legend = APP_LEGEND_NONE,
+                              .series_count = 1,
+                              .series = &s};
+        AppPlot plot = {.title = title,
+                        .width = along_y ? 700 : 1000,
+                        .height = along_y ? 900 : 600,
+                        .panel_count = 1,
+                        .panels = &panel,
+                        .scene = c->scene->name,
+                        .seed = c->scene->seed};
+        rc =
+            c->render->plot ? c->render->plot(c->render->context, &plot, path, err, sizeof err) : 0;
+        free(pos);
+    }
+    if (rc != 0)
+        snprintf(c->err, c->err_size, "measure %s: figure %s: %s", m->name, path, err);
+    return rc;
+}
+
+static int measures_stage_end(void *state, AppContext *c)
+{
+    AppMeasures *ms = state;
+    for (int k = 0; k < ms->count; ++k) {
+        Measure *m = &ms->m[k];
+        if (!m->active)
+            continue;
+        m->active = m->stage < 0; /* a stage's own measure ends with it */
+        if (m->kind == KIND_FLUX) {
+            long count;
+            double mass, t = sim_world_time(c->world);
+            sim_flux_totals(m->flux, &count, &mass);
+            if (t > m->mid_t && c->stage >= 0 && c->stage < SCENE_MAX_STAGES) {
+                m->steady_rate[c->stage] = (double)(count - m->mid_count) / (t - m->mid_t);
+                m->steady_mass_rate[c->stage] = (mass - m->mid_mass) / (t - m->mid_t);
+            }
+            continue;
+        }
+        for (int f = 0; c->render && m->have_last && f < m->figure_count; ++f)
+            if (draw_figure(m, c, f) != 0)
+                return -1;
+        if (c->render && c->render->map && m->have_last && m->arrow_count == 2 &&
+            draw_arrows(m, c) != 0)
+            return -1;
+    }
+    return 0;
+}
+
+static int measures_end(void *state, AppContext *c, int ok)
+{
+    (void)ok;
+    AppMeasures *ms = state;
+    int rc = 0;
+    for (int k = 0; k < ms->count; ++k)
+        if (app_tmp_commit(&ms->m[k].csv, ms->m[k].path) != 0 && rc == 0) {
+            snprintf(c->err, c->err_size, "cannot write %s", ms->m[k].path);
+            rc = -1;
+        }
+    return rc;
+}
+
+/* "measures": {"NAME": {"count": N, "mass": kg, "steady": [{"stage": S, "rate": 1/s,
+ * "mass_rate": kg/s}, ...]}, ...} for the flux counters. */
+static void measures_summary_json(const void *state, char *out, size_t size)
+{
+    const AppMeasures *ms = state;
+    size_t n = 0;
+    int any = 0;
+    for (int k = 0; k < ms->count && n < size; ++k) {
+        const Measure *m = &ms->m[k];
+        if (m->kind != KIND_FLUX || !m->flux)
+            continue;
+        long count;
+        double mass;
+        sim_flux_totals(m->flux, &count, &mass);
+        n += (size_t)snprintf(out + n, size - n,
+                              "%s\"%s\": {\"count\": %ld, \"mass\": %.10g, "
+                              "\"steady\": [",
+                              any ? ", " : "  \"measures\": {", m->name, count, mass);
+        int first = 1;
+        for (int s = 0; s < SCENE_MAX_STAGES && n < size; ++s) {
+            if (!isfinite(m->steady_rate[s]))
+                continue;
+            n += (size_t)snprintf(out + n, size - n,
+                                  "%s{\"stage\": \"%s\", \"rate\": %.10g, \"mass_rate\": %.10g}",
+                                  first ? "" : ", ", ms->scene->stages[s].name, m->steady_rate[s],
+                                  m->steady_mass_rate[s]);
+            first = 0;
+        }
+        if (n < size)
+            n += (size_t)snprintf(out + n, size - n, "]}");
+        any = 1;
+    }
+    if (any && n < size)
+        snprintf(out + n, size - n, "},\n");
+    else if (!any && size > 0)
+        out[0] = '\0';
+}
+
+static const char *const stage_keys[] = {"measures", NULL};
+
+const AppExperiment app_measures_experiment = {
+    .name = "measures",
+    .group = "measures",
+    .stage_keys = stage_keys,
+    .parse = measures_parse,
+    .free = measures_free,
+    .describe_stage = measures_describe_stage,
+    .begin = measures_begin,
+    .stage_begin = measures_stage_begin,
+    .next_step = measures_next_step,
+    .step = measures_step,
+    .stage_end = measures_stage_end,
+    .end = measures_end,
+    .summary_json = measures_summary_json,
+};
