@@ -162,7 +162,12 @@ for f in ./usr/bin/sablier ./usr/lib/libsablier-sim.so.$version ./usr/lib/pkgcon
 done
 dpkg-deb -x "$deb" "$tmp/root"
 grep -qx 'prefix=/usr' "$tmp/root/usr/lib/pkgconfig/sablier-sim.pc" || fail "the .deb's sablier-sim.pc prefix is not /usr"
-LD_LIBRARY_PATH=$tmp/root/usr/lib "$tmp/root/usr/bin/sablier" --version | sed 's/^/   /'
+LD_LIBRARY_PATH=$tmp/root/usr/lib "$tmp/root/usr/bin/sablier" --version >"$tmp/version.txt"
+sed 's/^/   /' "$tmp/version.txt"
+# portable: the hot loops are chosen at run time, not compiled for this CPU (docs/dev/isa.md)
+if [ "$(uname -m)" = x86_64 ]; then
+  grep -q '^kernels: .*(this CPU: sse2' "$tmp/version.txt" || fail "the packaged sablier is not portable (-march=native?)"
+fi
 LD_LIBRARY_PATH=$tmp/root/usr/lib "$tmp/root/usr/bin/sablier" run \
   "$tmp/root/usr/share/sablier/scenes/validation/drop_elastic.scene" --out "$tmp/run" --quiet >"$tmp/run.log" 2>&1 ||
   { cat "$tmp/run.log" >&2; fail "the packaged sablier's run of drop_elastic.scene failed"; }
