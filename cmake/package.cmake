@@ -52,6 +52,10 @@ if(SABLIER_WITH_RENDER)
   string(APPEND sablier_deb_depends "fonts-dejavu-core")
 endif()
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "${sablier_deb_depends}")
+# The Python module (/usr/lib/python3/dist-packages/sablier, docs/python.md) needs NumPy.
+if(TARGET scene_shared)
+  set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "python3, python3-numpy")
+endif()
 # The .deb is for any x86-64: its hot loops pick SSE2, AVX2 or AVX-512 at run time (docs/dev/isa.md).
 # A -march=native build (SABLIER_NATIVE=ON) would make one that runs on CPUs like this one only.
 if(SABLIER_NATIVE_ACTIVE)
