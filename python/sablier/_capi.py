@@ -153,7 +153,8 @@ class RenderStyle(Structure):
                 ("colorbar_unit", c_char_p), ("time_stamp", c_int), ("scale_bar", c_int),
                 ("title", c_char_p), ("arch_ids", _pi), ("arch_inset", c_int),
                 ("band_rgb", c_uint32), ("initial_y", _pd), ("initial_y_count", c_int),
-                ("chain_force_max", c_double), ("arch_rgb", c_uint32), ("font_size", c_double)]
+                ("chain_force_max", c_double), ("arch_rgb", c_uint32), ("font_size", c_double),
+                ("reduced_units", c_int)]
 
 
 class RenderMeta(Structure):
