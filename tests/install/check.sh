@@ -189,7 +189,8 @@ contents=$(dpkg-deb -c "$deb" | awk '{print $6}')
 for f in ./usr/bin/sablier ./usr/lib/libsablier-sim.so.$version ./usr/lib/pkgconfig/sablier-sim.pc \
          ./usr/lib/cmake/sablier/sablierConfig.cmake ./usr/include/sablier/sim/sim.h \
          ./usr/share/man/man1/sablier.1 ./usr/share/doc/sablier/install.md \
-         ./usr/share/sablier/scenes/validation/drop_elastic.scene; do
+         ./usr/share/sablier/scenes/validation/drop_elastic.scene ./usr/share/doc/sablier/copyright \
+         ./usr/share/doc/sablier/changelog.Debian.gz; do
   grep -qx -- "$f" <<<"$contents" || fail "the .deb lacks $f"
 done
 if [ $python = 1 ]; then
@@ -198,6 +199,9 @@ if [ $python = 1 ]; then
   done
 fi
 dpkg-deb -x "$deb" "$tmp/root"
+grep -q '^License: MIT' "$tmp/root/usr/share/doc/sablier/copyright" || fail "the .deb's copyright file names no licence"
+zcat "$tmp/root/usr/share/doc/sablier/changelog.Debian.gz" | head -1 | grep -q "^sablier ($(field Version)) " ||
+  fail "the .deb's changelog.Debian.gz is not for $(field Version)"
 grep -qx 'prefix=/usr' "$tmp/root/usr/lib/pkgconfig/sablier-sim.pc" || fail "the .deb's sablier-sim.pc prefix is not /usr"
 LD_LIBRARY_PATH=$tmp/root/usr/lib "$tmp/root/usr/bin/sablier" --version >"$tmp/version.txt"
 sed 's/^/   /' "$tmp/version.txt"
