@@ -52,6 +52,7 @@ RenderStyle app_render_style(const SceneStyle *s)
         r.fixed_rgb = (uint32_t)s->fixed_rgb;
     if (s->title[0])
         r.title = s->title;
+    r.reduced_units = s->reduced_units;
     /* colour-bar label and unit follow the quantity */
     static const char *const labels[][2] = {
         {"", ""}, {"contact force", "N"}, {"speed", "m/s"}, {"species", ""}, {"height", "m"}};

@@ -52,6 +52,9 @@ typedef struct Run {
     FILE *energy, *trace;
     char energy_path[PATH_SIZE], trace_path[PATH_SIZE];
     double time_scale; /* sqrt(D/g), s; 0 = unknown */
+    /* units = "reduced" (docs/scenes.md#units): d, m and sqrt(d/g) of the mobile grains at the
+     * start of the first stage, fixed for the run; 0 in SI */
+    double unit_length, unit_mass, unit_time;
     long steps;
     double simulated, particle_steps, step_seconds;
     double contacts_sum;
@@ -178,6 +181,16 @@ static int write_summary(const Run *run, double wall_seconds)
         name, file, (unsigned long long)scene->seed, grains, mobile, run->steps, n1, n2, n3, n4,
         status, message, effects_json, run->options->threads);
     n += run_sinks_json(text + n, size - n, run);
+    if (run->unit_time > 0.0 && n < size) {
+        char d[40], m[40], t[40];
+        app_json_number(d, sizeof d, run->unit_length);
+        app_json_number(m, sizeof m, run->unit_mass);
+        app_json_number(t, sizeof t, run->unit_time);
+        n += (size_t)snprintf(text + n, size - n,
+                              "  \"units\": {\"system\": \"reduced\", \"length_m\": %s, "
+                              "\"mass_kg\": %s, \"time_s\": %s},\n",
+                              d, m, t);
+    }
     n += (size_t)snprintf(text + n, n < size ? size - n : 0, "%s  \"stages\": [", run->observed);
     for (int k = 0; k < run->stages_done && n < size; ++k) {
         const StageReport *s = &run->stages[k];
@@ -229,22 +242,35 @@ static void energy_row(Run *run, int stage)
     if (!run->energy)
         return;
     double t_star = run->time_scale > 0.0 ? t / run->time_scale : 0.0;
-    fprintf(run->energy, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%d,%s\n", t, t_star, e.kinetic,
-            e.potential, e.rotational, e.elastic, e.total, e.mobile, e.contacts,
-            run->scene->stages[stage].name);
+    if (run->unit_time > 0.0) /* reduced: t in sqrt(d/g), to the last bit */
+        fprintf(run->energy, "%.17g,", t / run->unit_time);
+    else
+        fprintf(run->energy, "%.9g,", t);
+    fprintf(run->energy, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%d,%s\n", t_star, e.kinetic, e.potential,
+            e.rotational, e.elastic, e.total, e.mobile, e.contacts, run->scene->stages[stage].name);
 }
 
 static void trace_rows(Run *run, const SimFrame *frame)
 {
     const SceneOutput *out = &run->scene->output;
+    /* reduced units: lengths in d, times in tau = sqrt(d/g), speeds in d/tau = sqrt(g d), forces
+     * in m g and torques in m g d (g = d / tau^2); all 1 in SI */
+    double length = 1.0, time = 1.0, force = 1.0;
+    if (run->unit_time > 0.0) {
+        length = run->unit_length;
+        time = run->unit_time;
+        force = run->unit_mass * length / (time * time);
+    }
+    const double speed = length / time;
     for (int k = 0; k < out->trace_count; ++k)
         for (int i = 0; i < frame->count; ++i) {
             if (frame->id[i] != out->trace_ids[k])
                 continue;
-            fprintf(run->trace, "%.9g,%u,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", frame->time,
-                    frame->id[i], frame->x[i], frame->y[i], frame->vx[i], frame->vy[i],
-                    frame->omega[i], frame->fx ? frame->fx[i] : 0.0, frame->fy ? frame->fy[i] : 0.0,
-                    frame->torque ? frame->torque[i] : 0.0);
+            fprintf(run->trace, "%.9g,%u,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n",
+                    frame->time / time, frame->id[i], frame->x[i] / length, frame->y[i] / length,
+                    frame->vx[i] / speed, frame->vy[i] / speed, frame->omega[i] * time,
+                    frame->fx ? frame->fx[i] / force : 0.0, frame->fy ? frame->fy[i] / force : 0.0,
+                    frame->torque ? frame->torque[i] / (force * length) : 0.0);
             break;
         }
 }
@@ -518,6 +544,12 @@ static int stage_start(Run *run, int k, StageClock *clock)
     sim_world_frame(run->world, &frame);
     run->time_scale =
         out->t_star_length > 0.0 && g > 0.0 ? sqrt(out->t_star_length / g) : frame.time_scale;
+    if (scene->units_reduced && run->unit_time == 0.0 && g > 0.0) {
+        sim_world_means(run->world, &run->unit_length, &run->unit_mass);
+        run->unit_time = sqrt(run->unit_length / g);
+    }
+    if (run->unit_time > 0.0)
+        run->time_scale = run->unit_time; /* t* in the run's fixed sqrt(d/g) */
     if (figures_due(run, k, 0, 0, dt) != 0)
         return 2;
     if ((stage->movie || out->figure_count > 0) && !render && !run->options->render_off &&

@@ -554,6 +554,12 @@ static int command_version(void)
     const char *render = render_versions();
     printf("sablier %s\nsim %s\n%s\nrender: %s\n", SABLIER_VERSION, SIM_VERSION,
            scene_libconfig_version(), render ? render : "not built");
+    /* the hot loops' instruction set (sim_isa; SABLIER_ISA forces one) and those this CPU runs */
+    printf("kernels: %s (this CPU:", sim_isa_name(sim_isa()));
+    for (int k = 0; k < SIM_ISA_COUNT; ++k)
+        if (sim_isa_supported((SimIsa)k))
+            printf(" %s", sim_isa_name((SimIsa)k));
+    printf(")\n");
     return 0;
 }
 

@@ -59,6 +59,7 @@ typedef struct SceneStyle {
     long background_rgb, fill_rgb, fixed_rgb;  ///< 0xRRGGBB
     double view_x0, view_y0, view_x1, view_y1; ///< world window, m
     char title[128];
+    int reduced_units; ///< 1: labels in d and sqrt(d/g) (the scene's units = "reduced")
 } SceneStyle;
 
 /// How a stage gets its grains.
@@ -150,6 +151,9 @@ typedef struct Scene {
     /// Per experiment family, in registry order (app/experiments.h): its parsed state, NULL when
     /// the scene does not use it. Read through the family's own accessor.
     void *experiments[APP_EXPERIMENT_MAX];
+    /// units = "reduced": outputs in d (mean diameter of the mobile grains), m (their mean mass)
+    /// and sqrt(d/g) (docs/scenes.md#units); 0 = SI
+    int units_reduced;
 } Scene;
 
 /// Loads, overrides and checks a scene. `sets` are "KEY=VALUE" strings. Returns NULL with

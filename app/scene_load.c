@@ -71,7 +71,7 @@ static void drag_apply(void *context, const SimBodyForceView *view)
 /* The scene's keys, effects, name, seed and units. */
 static int parse_identity(Loader *L, const config_setting_t *root)
 {
-    static const char *const units[] = {"SI", NULL};
+    static const char *const units[] = {"SI", "si", "reduced", NULL};
     Scene *scene = L->scene;
     int choice = 0;
     const char *name = NULL;
@@ -93,7 +93,10 @@ static int parse_identity(Loader *L, const config_setting_t *root)
     if (seed < 0)
         return app_config_fail(&L->p, app_config_member(root, "seed"), "`seed` must be >= 0");
     scene->seed = (uint64_t)seed;
-    return app_config_choice(&L->p, root, "units", units, &choice) < 0 ? -1 : 0;
+    if (app_config_choice(&L->p, root, "units", units, &choice) < 0)
+        return -1;
+    scene->units_reduced = choice == 2;
+    return 0;
 }
 
 /* mass_model, gravity, integrator. */
@@ -532,9 +535,20 @@ static int parse_scene(Loader *L, const config_setting_t *root)
 static int finish_output(Loader *L)
 {
     Scene *scene = L->scene;
-    /* t* = t / sqrt(D/g) with D the container height (000 eq. 6.1) */
-    if (scene->output.t_star_length == 0.0)
+    /* t* = t / sqrt(D/g) with D the container height (000 eq. 6.1); in reduced units D = d, the
+     * mean diameter (t_star_length 0: the sim's own scale), and the labels follow. */
+    if (scene->units_reduced) {
+        const config_setting_t *set = config_lookup(&L->config, "output.t_star_length");
+        if (set && scene->output.t_star_length != 0.0)
+            return app_config_fail(&L->p, set,
+                                   "units = \"reduced\" takes t* from the mean diameter d: "
+                                   "`t_star_length` must be 0 or absent");
+        scene->style.reduced_units = 1;
+        for (int k = 0; k < scene->output.figure_count; ++k)
+            scene->output.figures[k].style.reduced_units = 1;
+    } else if (scene->output.t_star_length == 0.0) {
         scene->output.t_star_length = L->box_height;
+    }
     scene->def.length_scale = scene->output.t_star_length; /* frames' t* agree with CSV */
     for (int k = 0; k < scene->output.trace_count; ++k)
         if (scene->output.trace_ids[k] >= (uint32_t)scene->grains.count &&

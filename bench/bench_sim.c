@@ -500,13 +500,14 @@ int main(int argc, char **argv)
         ++n;
     }
 
-    printf("# sablier %s, %d thread(s); %d mobile + %d fixed grains, dt %.4g s, %d x %ld steps "
+    printf("# sablier %s, kernels %s, %d thread(s); %d mobile + %d fixed grains, dt %.4g s, %d x "
+           "%ld steps "
            "after %d warm-up steps; M/s = million particle-steps per second (mobile grains "
            "only; best and median repeat of wall time, best of CPU time); rebuild/k = list "
            "rebuilds per 1000 steps; skin/d = Verlet skin at the end / mean diameter (%s); "
            "B/grain, B/contact from the array layout\n",
-           SIM_VERSION, o.threads, n ? results[0].mobile : 0, n ? results[0].fixed : 0,
-           n ? results[0].time_step : 0.0, o.repeats, o.steps, o.warmup,
+           SIM_VERSION, sim_isa_name(sim_isa()), o.threads, n ? results[0].mobile : 0,
+           n ? results[0].fixed : 0, n ? results[0].time_step : 0.0, o.repeats, o.steps, o.warmup,
            o.skin > 0.0 ? "fixed by --skin" : "automatic");
     printf("%-13s %9s %9s %9s %9s %8s %8s %9s %9s %7s %9s %9s\n", "law", "best_M/s", "median",
            "cpu_M/s", "best_s", "cont/gr", "z", "list/gr", "rebuild/k", "skin/d", "B/grain",

@@ -81,6 +81,42 @@ install(FILES ${PROJECT_BINARY_DIR}/cmake/sablierConfig.cmake
               ${PROJECT_BINARY_DIR}/cmake/sablierConfigVersion.cmake
         DESTINATION ${SABLIER_CMAKE_DIR})
 
+# The Python module (python/sablier, docs/python.md) and the library it needs beyond sim and
+# render: libsablier-scene (the scene loader). SABLIER_PYTHON_DIR, relative to the prefix or
+# absolute, defaults to Debian's lib/python3/dist-packages (on /usr/bin/python3's path when the
+# prefix is /usr). The install writes sablier/_installed.py with the library and command folders
+# relative to the package, so the installed module loads the installed libraries (not a build
+# tree), also from a copy of the tree moved elsewhere (dpkg-deb -x).
+set(SABLIER_PYTHON_DIR lib/python3/dist-packages CACHE STRING
+    "Where cmake --install puts the Python package sablier (relative paths: under the prefix)")
+if(TARGET scene_shared)
+  install(TARGETS scene_shared LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  if(IS_ABSOLUTE "${SABLIER_PYTHON_DIR}")
+    set(sablier_py_dest "${SABLIER_PYTHON_DIR}")
+  else()
+    set(sablier_py_dest "\${CMAKE_INSTALL_PREFIX}/${SABLIER_PYTHON_DIR}")
+  endif()
+  if(IS_ABSOLUTE "${CMAKE_INSTALL_LIBDIR}")
+    set(sablier_py_libdir "${CMAKE_INSTALL_LIBDIR}")
+  else()
+    set(sablier_py_libdir "\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_LIBDIR}")
+  endif()
+  if(IS_ABSOLUTE "${CMAKE_INSTALL_BINDIR}")
+    set(sablier_py_bindir "${CMAKE_INSTALL_BINDIR}")
+  else()
+    set(sablier_py_bindir "\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_BINDIR}")
+  endif()
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/python/sablier DESTINATION ${SABLIER_PYTHON_DIR}
+          FILES_MATCHING PATTERN "*.py" PATTERN "_installed.py" EXCLUDE PATTERN "__pycache__" EXCLUDE)
+  install(CODE "
+    file(RELATIVE_PATH sablier_rel_lib \"${sablier_py_dest}/sablier\" \"${sablier_py_libdir}\")
+    file(RELATIVE_PATH sablier_rel_bin \"${sablier_py_dest}/sablier\" \"${sablier_py_bindir}\")
+    file(WRITE \"${PROJECT_BINARY_DIR}/python/_installed.py\"
+         \"# Written by cmake --install: the installed libraries and command, relative to this package.\\nLIBDIR = \\\"\${sablier_rel_lib}\\\"\\nBINDIR = \\\"\${sablier_rel_bin}\\\"\\n\")
+    file(INSTALL DESTINATION \"${sablier_py_dest}/sablier\" TYPE FILE
+         FILES \"${PROJECT_BINARY_DIR}/python/_installed.py\")")
+endif()
+
 # Scenes (share/sablier/scenes, includes keep their relative paths), docs and the man page.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/scenes/ DESTINATION ${CMAKE_INSTALL_DATADIR}/sablier/scenes)
 install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})

@@ -52,5 +52,29 @@ if(SABLIER_WITH_RENDER)
   string(APPEND sablier_deb_depends "fonts-dejavu-core")
 endif()
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "${sablier_deb_depends}")
+# The Python module (/usr/lib/python3/dist-packages/sablier, docs/python.md) needs NumPy.
+if(TARGET scene_shared)
+  set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "python3, python3-numpy")
+endif()
+# The .deb is for any x86-64: its hot loops pick SSE2, AVX2 or AVX-512 at run time (docs/dev/isa.md).
+# A -march=native build (SABLIER_NATIVE=ON) would make one that runs on CPUs like this one only.
+if(SABLIER_NATIVE_ACTIVE)
+  message(WARNING "SABLIER_NATIVE=ON: a .deb made from this build runs only on CPUs like this one")
+endif()
+# Debian's per-package documents (Debian policy 12.5, 12.7): /usr/share/doc/sablier/copyright
+# (machine-readable, MIT) and changelog.Debian.gz (gzip -9n: no name, no time stamp). They go into
+# every install tree's doc folder (they are true of a plain install too).
+configure_file(${CMAKE_CURRENT_LIST_DIR}/debian/changelog.in ${PROJECT_BINARY_DIR}/debian/changelog.Debian
+               @ONLY)
+find_program(SABLIER_GZIP gzip)
+if(SABLIER_GZIP)
+  add_custom_command(OUTPUT ${PROJECT_BINARY_DIR}/debian/changelog.Debian.gz
+    COMMAND ${SABLIER_GZIP} -9nc ${PROJECT_BINARY_DIR}/debian/changelog.Debian >
+            ${PROJECT_BINARY_DIR}/debian/changelog.Debian.gz
+    DEPENDS ${PROJECT_BINARY_DIR}/debian/changelog.Debian VERBATIM)
+  add_custom_target(debian_changelog ALL DEPENDS ${PROJECT_BINARY_DIR}/debian/changelog.Debian.gz)
+  install(FILES ${PROJECT_BINARY_DIR}/debian/changelog.Debian.gz DESTINATION ${CMAKE_INSTALL_DOCDIR})
+endif()
+install(FILES ${CMAKE_CURRENT_LIST_DIR}/debian/copyright DESTINATION ${CMAKE_INSTALL_DOCDIR})
 set(CPACK_STRIP_FILES OFF)
 include(CPack)

@@ -68,6 +68,14 @@ typedef struct RenderView {
 void render_view_fit(const SimFrame *frame, const RenderStyle *style, RenderView *view);
 /// World (m) to pixel coordinates.
 void render_view_to_pixel(const RenderView *view, double x, double y, double *px, double *py);
+/// The time stamp's text (style->time_stamp): "t = 0.1200 s    t* = 3.46" (t* with the frame's
+/// time_scale), or with style->reduced_units "t = 3.46 √(d/g)" (UTF-8). Returns buf.
+const char *render_time_label(const SimFrame *frame, const RenderStyle *style, char *buf,
+                              size_t size);
+/// The scale bar's text for a bar of `diameters` mean diameters of d metres: "5 d   (d = 2 mm)",
+/// or with style->reduced_units "5 d". Returns buf.
+const char *render_scale_label(double diameters, double d, const RenderStyle *style, char *buf,
+                               size_t size);
 /// 256-entry colour table of a map (the single source of colours: drawers look up, never compute).
 void render_colormap_lut(RenderColormap map, uint8_t lut[256][3]);
 /// Colour of t in [0, 1] (clamped; NaN = 0) as 0xRRGGBB: LUT entry round(255 t).

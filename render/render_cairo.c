@@ -786,19 +786,30 @@ static void format_time(double t, char *buf, size_t size)
         snprintf(buf, size, "%.3e", t);
 }
 
+const char *render_time_label(const SimFrame *frame, const RenderStyle *style, char *buf,
+                              size_t size)
+{
+    char t[32];
+    if (style->reduced_units && frame->time_scale > 0) {
+        snprintf(buf, size, "t = %.2f \xe2\x88\x9a(d/g)", frame->time / frame->time_scale);
+        return buf;
+    }
+    format_time(frame->time, t, sizeof t);
+    if (frame->time_scale > 0)
+        snprintf(buf, size, "t = %s s    t* = %.2f", t, frame->time / frame->time_scale);
+    else
+        snprintf(buf, size, "t = %s s", t);
+    return buf;
+}
+
 static void draw_time_stamp(cairo_t *cr, const DrawScene *sc)
 {
     if (!sc->style.time_stamp)
         return;
     const RenderView *v = &sc->view;
     double fs = v->font_size;
-    char t[32], text[96];
-    format_time(sc->frame->time, t, sizeof t);
-    if (sc->frame->time_scale > 0)
-        snprintf(text, sizeof text, "t = %s s    t* = %.2f", t,
-                 sc->frame->time / sc->frame->time_scale);
-    else
-        snprintf(text, sizeof text, "t = %s s", t);
+    char text[96];
+    render_time_label(sc->frame, &sc->style, text, sizeof text);
     render_text_font(cr, fs, 0);
     double x = v->plot_x + 0.5 * fs, y = v->plot_y + 0.5 * fs;
     label_box(cr, x, y, render_text_width(cr, text) + fs, 1.6 * fs);
@@ -816,6 +827,19 @@ static void format_length(double d, char *buf, size_t size)
         snprintf(buf, size, "%.3g \xc2\xb5m", d * 1e6);
 }
 
+const char *render_scale_label(double diameters, double d, const RenderStyle *style, char *buf,
+                               size_t size)
+{
+    char dtext[32];
+    if (style->reduced_units) {
+        snprintf(buf, size, "%g d", diameters);
+        return buf;
+    }
+    format_length(d, dtext, sizeof dtext);
+    snprintf(buf, size, "%g d   (d = %s)", diameters, dtext);
+    return buf;
+}
+
 static void draw_scale_bar(cairo_t *cr, const DrawScene *sc)
 {
     const RenderView *v = &sc->view;
@@ -830,9 +854,8 @@ static void draw_scale_bar(cairo_t *cr, const DrawScene *sc)
     if (k == 0)
         return;
     double fs = v->font_size, len = k * d * v->scale;
-    char dtext[32], text[96];
-    format_length(d, dtext, sizeof dtext);
-    snprintf(text, sizeof text, "%g d   (d = %s)", k, dtext);
+    char text[96];
+    render_scale_label(k, d, &sc->style, text, sizeof text);
     render_text_font(cr, fs, 0);
     double tw = render_text_width(cr, text);
     double x = v->plot_x + 0.5 * fs, y = v->plot_y + v->plot_h - 0.5 * fs - 2.6 * fs;

@@ -66,6 +66,7 @@ typedef struct RenderStyle {
     double chain_force_max;  ///< F_n drawn at chain_width_max, N (0 = per-frame maximum)
     uint32_t arch_rgb;       ///< arch highlight colour, 0xRRGGBB
     double font_size;        ///< pixels (0 = height / 48, at least 10)
+    int reduced_units;       ///< 1: time stamp in sqrt(d/g), scale bar in d only (no metres)
 } RenderStyle;
 
 /// Defaults: 1280x720, sand-coloured outlined disks on white, fit view, colour bar, time stamp

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* contact_laws.h: the contact laws, written once for a generic lane type. contact.c includes this
- * file twice: with LAW_T = double (one contact: the wall pass and the diagnostics) and with
+/* contact_laws.h: the contact laws, written once for a generic lane type, included twice: with
+ * LAW_T = double (contact_scalar.h; one contact: the wall pass and the diagnostics) and with
  * LAW_T = a vector of SIM_LANES doubles (the grain-grain pass, SIM_LANES contacts at a time).
  * Lane operations are supplied by the includer as LAW(abs), LAW(min), LAW(copysign), LAW(sel) and
  * LAW(sqrt), constants LAW_ZERO and LAW_ONE; LAW(name) appends the instance suffix. Every operation

@@ -297,6 +297,34 @@ long sim_world_list_builds(const SimWorld *world);
 void sim_world_set_threads(SimWorld *world, int threads);
 int sim_world_threads(const SimWorld *world);
 
+/* ---------------------------------------------------------------- instruction sets */
+
+/// The instruction sets of the hot loops (contact passes, integrator steps): each is compiled
+/// once per set and one copy is chosen at run time, so one binary runs on any x86-64 at the
+/// speed of its CPU. Every path gives the same bits (no FMA, exactly rounded operations;
+/// docs/dev/isa.md).
+typedef enum SimIsa {
+    SIM_ISA_BASELINE = 0, ///< "sse2" on x86-64 ("generic" elsewhere): runs everywhere
+    SIM_ISA_AVX2 = 1,     ///< "avx2"
+    SIM_ISA_AVX512 = 2,   ///< "avx512": AVX-512 F and VL
+    SIM_ISA_NATIVE = 3,   ///< "native": a -DSABLIER_NATIVE=ON build, its only path
+    SIM_ISA_COUNT = 4
+} SimIsa;
+
+/// "sse2", "avx2", "avx512", "native" (the baseline is "generic" off x86); NULL out of range.
+const char *sim_isa_name(SimIsa isa);
+/// The set named `name` (sim_isa_name's words), or -1.
+int sim_isa_from_name(const char *name);
+/// 1 when the set is compiled into this library and this CPU runs it.
+int sim_isa_supported(SimIsa isa);
+/// The set that worlds created from now on use: the one sim_isa_set chose, else the environment
+/// variable SABLIER_ISA when it names a supported set, else the fastest supported one.
+SimIsa sim_isa(void);
+/// Chooses the set for the worlds created afterwards (worlds already created keep theirs).
+/// SIM_ERROR_INVALID, nothing changed, when the set is not supported. Not for use while another
+/// thread creates worlds.
+SimStatus sim_isa_set(SimIsa isa);
+
 /* ---------------------------------------------------------------- frame view */
 
 /// One contact, counted once.

@@ -749,9 +749,10 @@ static SimWorld *create(const SimWorldDef *def, int restored, SimError *error)
     unsigned key = sim_contact_key(w);
     w->rotation = sim_contact_key_rotation(key);
     w->has_history = sim_contact_key_history(key);
-    w->contact_pass = sim_contact_pass_select(key);
-    w->wall_pass = sim_wall_pass_select(key);
-    w->integrate = sim_integrator_select(def->integrator, w->rotation);
+    w->kernels = sim_kernels();
+    w->contact_pass = w->kernels->contact_pass(key);
+    w->wall_pass = w->kernels->wall_pass(key);
+    w->integrate = w->kernels->integrator(def->integrator, w->rotation);
     w->scratch_count = sim_integrator_scratch_count(def->integrator, w->rotation);
     w->body_force = def->body_force;
     w->threads = 1;

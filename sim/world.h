@@ -22,6 +22,15 @@ typedef struct PairParams {
  * declared effects and laws. */
 typedef void StageFn(SimWorld *world);
 
+/* The hot loops (sim/isa/: the contact passes and the integrators' steps), compiled once per
+ * instruction set; isa.c picks the copy a new world uses (sim_isa, docs/dev/isa.md). */
+typedef struct SimKernels {
+    StageFn *(*contact_pass)(unsigned key); /* NULL for a key without an instance */
+    StageFn *(*wall_pass)(unsigned key);
+    StageFn *(*integrator)(SimIntegrator integrator, int rotation);
+    void (*integrator_finish)(SimWorld *world); /* a deferred closing kick, if any */
+} SimKernels;
+
 /* Half neighbour list in CSR form over mobile grains i: entries k in [start[i], start[i+1]) hold
  * partners j > i (mobile or fixed). Per-entry constants are computed at the build. */
 typedef struct NeighbourList {
@@ -146,7 +155,9 @@ struct SimWorld {
     struct SimPool *pool;             /* threads - 1 workers (parallel.c), NULL with one thread */
     struct SimPoolWorker *pool_slots; /* their arguments */
 
-    /* stages chosen at create (sim_world_forces_at calls the passes, sim_world_step integrate) */
+    /* stages chosen at create (sim_world_forces_at calls the passes, sim_world_step integrate),
+     * from the kernels of the instruction set chosen then */
+    const SimKernels *kernels;
     StageFn *contact_pass;
     StageFn *wall_pass;
     StageFn *integrate;
@@ -223,9 +234,22 @@ void sim_world_rebuild_now(SimWorld *world);
 double sim_damping_gamma(const SimMaterial *materials, int species_i, int species_j, double k_n,
                          double m_eff);
 
+/* isa.c: the kernels of the instruction set new worlds use (sim_isa). */
+const SimKernels *sim_kernels(void);
+
+/* sim/isa/ files are compiled once per instruction set with SIM_ISA_SUFFIX (_sse2, _avx2, _avx512;
+ * _native in a SABLIER_NATIVE build; _generic off x86) appended to their external names. */
+#define SIM_ISA_CAT2(a, b)   a##b
+#define SIM_ISA_CAT(a, b)    SIM_ISA_CAT2(a, b)
+#define SIM_ISA_SYMBOL(name) SIM_ISA_CAT(name, SIM_ISA_SUFFIX)
+#ifdef SIM_ISA_SUFFIX
+StageFn *SIM_ISA_SYMBOL(sim_contact_pass_select)(unsigned key);
+StageFn *SIM_ISA_SYMBOL(sim_wall_pass_select)(unsigned key);
+StageFn *SIM_ISA_SYMBOL(sim_integrator_select)(SimIntegrator integrator, int rotation);
+void SIM_ISA_SYMBOL(sim_integrator_finish)(SimWorld *world);
+#endif
+
 /* contact.c */
-StageFn *sim_contact_pass_select(unsigned key);
-StageFn *sim_wall_pass_select(unsigned key);
 unsigned sim_contact_key(const SimWorld *world);
 int sim_contact_key_rotation(unsigned key);
 /* 1 when the key's laws keep per-contact history (tangential spring, rolling resistance). */
@@ -235,7 +259,6 @@ typedef void ContactVisit(void *context, const SimContact *contact, double elast
 void sim_contacts_visit(SimWorld *world, ContactVisit *visit, void *context);
 
 /* integrate.c */
-StageFn *sim_integrator_select(SimIntegrator integrator, int rotation);
 /* How many scratch arrays (SimWorld.scratch) the integrator uses, with or without rotation. */
 int sim_integrator_scratch_count(SimIntegrator integrator, int rotation);
 void sim_integrator_start(SimWorld *world);

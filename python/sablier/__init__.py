@@ -39,8 +39,33 @@ def sim_version():
     return "0.1.0"
 
 
+_ISA_COUNT = 4  # SIM_ISA_COUNT (sim/sim.h)
+
+
+def isa():
+    """Name of the instruction set of the hot loops that new worlds use: "sse2", "avx2",
+    "avx512" or "native" (sim_isa; docs/dev/isa.md). Every set gives the same bits."""
+    lib = _capi.sim()
+    return lib.sim_isa_name(lib.sim_isa()).decode()
+
+
+def isa_supported():
+    """The sets this library and CPU run, slowest first."""
+    lib = _capi.sim()
+    return [lib.sim_isa_name(k).decode() for k in range(_ISA_COUNT) if lib.sim_isa_supported(k)]
+
+
+def set_isa(name):
+    """Choose the set for worlds created afterwards (sim_isa_set); ValueError if unsupported."""
+    lib = _capi.sim()
+    k = lib.sim_isa_from_name(name.encode())
+    if k < 0 or lib.sim_isa_set(k) != 0:
+        raise ValueError("sablier: instruction set %r is not supported here (%s)"
+                         % (name, ", ".join(isa_supported())))
+
+
 __all__ = ["World", "WorldDef", "Frame", "Grains", "GrainBuffer", "Scene", "material", "run",
            "command", "load", "read_csv", "read_key_values", "RunOutputs", "RunError",
            "SablierError", "InvalidDefinition", "Unstable", "StateIOError", "OutOfMemory",
            "effects_bits", "effects_names", "library_path", "render_available",
-           "SIM_GRAIN_FIXED"]
+           "SIM_GRAIN_FIXED", "isa", "isa_supported", "set_isa"]

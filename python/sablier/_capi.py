@@ -153,7 +153,8 @@ class RenderStyle(Structure):
                 ("colorbar_unit", c_char_p), ("time_stamp", c_int), ("scale_bar", c_int),
                 ("title", c_char_p), ("arch_ids", _pi), ("arch_inset", c_int),
                 ("band_rgb", c_uint32), ("initial_y", _pd), ("initial_y_count", c_int),
-                ("chain_force_max", c_double), ("arch_rgb", c_uint32), ("font_size", c_double)]
+                ("chain_force_max", c_double), ("arch_rgb", c_uint32), ("font_size", c_double),
+                ("reduced_units", c_int)]
 
 
 class RenderMeta(Structure):
@@ -231,6 +232,11 @@ _SIM_FUNCTIONS = {
     "sim_world_timing": (SimTiming, [_P_WORLD]),
     "sim_world_grain_count": (c_int, [_P_WORLD]),
     "sim_world_mobile_count": (c_int, [_P_WORLD]),
+    "sim_isa": (c_int, []),
+    "sim_isa_name": (c_char_p, [c_int]),
+    "sim_isa_from_name": (c_int, [c_char_p]),
+    "sim_isa_supported": (c_int, [c_int]),
+    "sim_isa_set": (c_int, [c_int]),
     "sim_world_skin": (c_double, [_P_WORLD]),
     "sim_world_list_builds": (c_long, [_P_WORLD]),
     "sim_world_frame": (None, [_P_WORLD, POINTER(SimFrame)]),

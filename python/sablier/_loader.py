@@ -5,16 +5,19 @@ Search order for a library `libNAME.so` (NAME = sablier-sim, sablier-render, sab
 
 1. the folders of the environment variable SABLIER_LIB_DIR (os.pathsep-separated), each with
    its sub-folders sim/, render/, app/ and lib/ (so a CMake build tree can be given as is);
-2. the build tree of a source checkout, when this module is imported from <checkout>/python:
+2. an installed module (`cmake --install`, the .deb): the library folder that the install wrote
+   into sablier/_installed.py, relative to the package (so a moved tree still finds its own);
+3. the build tree of a source checkout, when this module is imported from <checkout>/python:
    <checkout>/build (same sub-folders);
-3. the installed prefix: when the module lives in <prefix>/lib/python3*/.../sablier, the folders
+4. the installed prefix: when the module lives in <prefix>/lib/python3*/.../sablier, the folders
    <prefix>/lib and <prefix>/lib/<multiarch>;
-4. ctypes.util.find_library (ldconfig's cache, LD_LIBRARY_PATH).
+5. ctypes.util.find_library (ldconfig's cache, LD_LIBRARY_PATH).
 
 libsablier-render and libsablier-scene are then looked for only where libsablier-sim was found.
 
-The `sablier` command: SABLIER_EXECUTABLE, then `sablier` in the folders of 1 and 2 and their
-parents, then <prefix>/bin, then PATH.
+The `sablier` command: SABLIER_EXECUTABLE, then `sablier` in the folders of 1 and their parents,
+the installed command folder of 2, `sablier` in the folders of 3 and their parents, then
+<prefix>/bin, then PATH.
 """
 import ctypes
 import ctypes.util
@@ -30,6 +33,21 @@ _HERE = os.path.dirname(os.path.abspath(__file__))
 def _env_dirs():
     value = os.environ.get("SABLIER_LIB_DIR", "")
     return [d for d in value.split(os.pathsep) if d]
+
+
+def _installed():
+    """(library folder, command folder) recorded by cmake --install, or None in a checkout."""
+    try:
+        from . import _installed as record
+    except ImportError:
+        return None
+    return (os.path.normpath(os.path.join(_HERE, record.LIBDIR)),
+            os.path.normpath(os.path.join(_HERE, record.BINDIR)))
+
+
+def _installed_dirs():
+    record = _installed()
+    return [record[0]] if record else []
 
 
 def _checkout_dirs():
@@ -76,6 +94,7 @@ def _candidates(name, dirs):
 
 def _tiers():
     yield _env_dirs()
+    yield _installed_dirs()
     yield _checkout_dirs()
     yield _prefix_dirs()
 
@@ -132,13 +151,28 @@ def executable():
     env = os.environ.get("SABLIER_EXECUTABLE")
     if env:
         return env
-    for base in _env_dirs() + _checkout_dirs():
-        d = os.path.abspath(base)
-        for _ in range(3):
-            exe = os.path.join(d, "sablier")
-            if os.path.isfile(exe) and os.access(exe, os.X_OK):
-                return exe
-            d = os.path.dirname(d)
+
+    def runnable(exe):
+        return os.path.isfile(exe) and os.access(exe, os.X_OK)
+
+    def search(bases):
+        for base in bases:
+            d = os.path.abspath(base)
+            for _ in range(3):
+                if runnable(os.path.join(d, "sablier")):
+                    return os.path.join(d, "sablier")
+                d = os.path.dirname(d)
+        return None
+
+    exe = search(_env_dirs())
+    if exe:
+        return exe
+    record = _installed()
+    if record and runnable(os.path.join(record[1], "sablier")):
+        return os.path.join(record[1], "sablier")
+    exe = search(_checkout_dirs())
+    if exe:
+        return exe
     prefix = prefix_of_module()
     if prefix:
         exe = os.path.join(prefix, "bin", "sablier")

@@ -31,3 +31,20 @@ foreach(entry ${golden_entries})
     endif()
   endif()
 endforeach()
+
+# The same cases with the hot loops forced to each instruction set (SABLIER_ISA; check_isa.sh
+# skips a set this build or CPU lacks): the outputs must be the recorded bits on every path.
+set(GOLDEN_ISA_CASES crater brazil_nut sediment discharge)
+foreach(isa sse2 avx2 avx512)
+  foreach(case ${GOLDEN_ISA_CASES})
+    add_test(NAME golden.${case}.isa_${isa}
+             COMMAND bash ${GOLDEN_DIR}/check_isa.sh ${isa} $<TARGET_FILE:sablier> ${case}
+                     ${GOLDEN_WORK}/isa_${isa} ${GOLDEN_RENDER}
+             WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+    set_tests_properties(golden.${case}.isa_${isa} PROPERTIES LABELS golden SKIP_RETURN_CODE 77)
+    if(SABLIER_SANITIZE)
+      set_tests_properties(golden.${case}.isa_${isa} PROPERTIES
+        ENVIRONMENT "LSAN_OPTIONS=suppressions=${PROJECT_SOURCE_DIR}/tests/lsan.supp")
+    endif()
+  endforeach()
+endforeach()

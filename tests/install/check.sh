@@ -9,8 +9,10 @@
 # builds the programs of examples/installed/ outside the tree against that prefix, once with
 # pkg-config and once with CMake's find_package(sablier), and checks that the C and C++ programs,
 # shared and static, print the same lines; checks the man page against every command's --help;
-# then, unless --no-package, makes the .deb with cpack and checks its control file and contents
-# and that the extracted `sablier` runs (--version, a shipped scene). A build configured with
+# checks that Debian's /usr/bin/python3 imports the installed Python module, which loads the
+# installed libraries and steps a world to the C program's hash; then, unless --no-package, makes
+# the .deb with cpack and checks its control file and contents and that the extracted `sablier`
+# runs (--version, a shipped scene) and its Python module gives the same hash. A build configured with
 # SABLIER_WITH_RENDER=OFF installs the sim library only, and that is what is checked.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -132,6 +134,36 @@ if [ $render = 1 ]; then
   echo "   hello_render: the same 640x480 figure from pkg-config, find_package and the static library"
 fi
 
+# ---- the Python module from the install tree, with Debian's interpreter (docs/python.md)
+# python_check PYDIR PREFIX: `import sablier` from PYDIR loads the libraries under PREFIX by itself
+# (no SABLIER_LIB_DIR, no LD_LIBRARY_PATH) and steps hello_sim.c's world to the C program's hash.
+python_check() {
+  local got
+  got=$(cd "$tmp" && env -u SABLIER_LIB_DIR -u SABLIER_EXECUTABLE -u LD_LIBRARY_PATH PYTHONPATH="$1" \
+        PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 -c "
+import sablier, os
+for name in ('sablier-sim', 'sablier-scene'):
+    path = os.path.realpath(sablier.library_path(name))
+    assert path.startswith(os.path.realpath('$2') + os.sep), '%s from %s' % (name, path)
+exec(open('$src/hello_sim.py').read())") || fail "python3 -c 'import sablier' from $1 failed"
+  grep -qx "$(grep '^hash ' "$out/pc_c.txt")" <<<"$got" ||
+    fail "the Python module from $1 does not give the C hash: $got"
+  echo "   $(grep '^hash ' <<<"$got"): the same as the C program, from $1 (libraries under $2)"
+}
+python=0
+if [ -x /usr/bin/python3 ] && /usr/bin/python3 -c "import numpy" 2>/dev/null &&
+   [ -e "$prefix/$libdir/libsablier-scene.so" ]; then
+  python=1
+fi
+pyrel=$(cache SABLIER_PYTHON_DIR)
+case $pyrel in /*) pydir=$pyrel ;; *) pydir=$prefix/$pyrel ;; esac
+if [ $python = 1 ]; then
+  step "/usr/bin/python3 -c 'import sablier' against the install tree"
+  [ -f "$pydir/sablier/__init__.py" ] && [ -f "$pydir/sablier/_installed.py" ] ||
+    fail "the Python package is not installed in $pydir"
+  python_check "$pydir" "$prefix"
+fi
+
 [ $package = 1 ] || exit 0
 
 # ---- Debian package
@@ -157,12 +189,26 @@ contents=$(dpkg-deb -c "$deb" | awk '{print $6}')
 for f in ./usr/bin/sablier ./usr/lib/libsablier-sim.so.$version ./usr/lib/pkgconfig/sablier-sim.pc \
          ./usr/lib/cmake/sablier/sablierConfig.cmake ./usr/include/sablier/sim/sim.h \
          ./usr/share/man/man1/sablier.1 ./usr/share/doc/sablier/install.md \
-         ./usr/share/sablier/scenes/validation/drop_elastic.scene; do
+         ./usr/share/sablier/scenes/validation/drop_elastic.scene ./usr/share/doc/sablier/copyright \
+         ./usr/share/doc/sablier/changelog.Debian.gz; do
   grep -qx -- "$f" <<<"$contents" || fail "the .deb lacks $f"
 done
+if [ $python = 1 ]; then
+  for f in ./usr/lib/libsablier-scene.so.$version ./usr/$pyrel/sablier/__init__.py ./usr/$pyrel/sablier/_installed.py; do
+    grep -qx -- "$f" <<<"$contents" || fail "the .deb lacks $f"
+  done
+fi
 dpkg-deb -x "$deb" "$tmp/root"
+grep -q '^License: MIT' "$tmp/root/usr/share/doc/sablier/copyright" || fail "the .deb's copyright file names no licence"
+zcat "$tmp/root/usr/share/doc/sablier/changelog.Debian.gz" | head -1 | grep -q "^sablier ($(field Version)) " ||
+  fail "the .deb's changelog.Debian.gz is not for $(field Version)"
 grep -qx 'prefix=/usr' "$tmp/root/usr/lib/pkgconfig/sablier-sim.pc" || fail "the .deb's sablier-sim.pc prefix is not /usr"
-LD_LIBRARY_PATH=$tmp/root/usr/lib "$tmp/root/usr/bin/sablier" --version | sed 's/^/   /'
+LD_LIBRARY_PATH=$tmp/root/usr/lib "$tmp/root/usr/bin/sablier" --version >"$tmp/version.txt"
+sed 's/^/   /' "$tmp/version.txt"
+# portable: the hot loops are chosen at run time, not compiled for this CPU (docs/dev/isa.md)
+if [ "$(uname -m)" = x86_64 ]; then
+  grep -q '^kernels: .*(this CPU: sse2' "$tmp/version.txt" || fail "the packaged sablier is not portable (-march=native?)"
+fi
 LD_LIBRARY_PATH=$tmp/root/usr/lib "$tmp/root/usr/bin/sablier" run \
   "$tmp/root/usr/share/sablier/scenes/validation/drop_elastic.scene" --out "$tmp/run" --quiet >"$tmp/run.log" 2>&1 ||
   { cat "$tmp/run.log" >&2; fail "the packaged sablier's run of drop_elastic.scene failed"; }
@@ -172,6 +218,10 @@ if [ $render = 1 ]; then
     -o "$tmp/run/run.png" --colorbar --time-stamp >"$tmp/render.log" 2>&1 ||
     { cat "$tmp/render.log" >&2; fail "the packaged sablier could not render its run"; }
   [ -s "$tmp/run/run.png" ] || fail "the packaged sablier wrote no run.png"
+fi
+if [ $python = 1 ]; then
+  case $pyrel in /*) debpy=$tmp/root$pyrel ;; *) debpy=$tmp/root/usr/$pyrel ;; esac
+  python_check "$debpy" "$tmp/root/usr"
 fi
 echo "   the extracted sablier ran the shipped scenes/validation/drop_elastic.scene: status ok" \
      "$([ $render = 1 ] && echo "(and drew run.png)")"

@@ -133,12 +133,22 @@ static int check(int index)
     return 0;
 }
 
-/* The step on `threads` threads (sim_world_set_threads): every golden trajectory gives the
- * recorded hash, whatever the count (8 oversubscribes a small machine, which is fine: the split
- * of the work is fixed by the count, never by timing). */
-static int check_threads(int threads)
+/* Every golden trajectory on `threads` threads (sim_world_set_threads) with the hot loops of
+ * instruction set `isa` (sim_isa_set; -1: the default choice) gives the recorded hash, whatever
+ * the count (8 oversubscribes a small machine, which is fine: the split of the work is fixed by
+ * the count, never by timing) and whatever the set. */
+static int check_all(int threads, int isa)
 {
     const int cases = (int)(sizeof golden / sizeof golden[0]);
+    const SimIsa before = sim_isa();
+    if (isa >= 0 && sim_isa_set((SimIsa)isa) != SIM_OK) {
+        /* not compiled in, or this CPU lacks it: refused, and the choice stays */
+        TEST_ASSERT(!sim_isa_supported((SimIsa)isa));
+        TEST_ASSERT(sim_isa() == before);
+        fprintf(stderr, "golden: %s not supported here, nothing to run\n",
+                sim_isa_name((SimIsa)isa));
+        return 0;
+    }
     int failed = 0;
     for (int index = 0; index < cases; ++index) {
         Case c = golden[index];
@@ -157,8 +167,9 @@ static int check_threads(int threads)
         uint64_t h = sim_world_hash(w);
         if (h != c.hash) {
             fprintf(stderr,
-                    "golden %s on %d threads: hash 0x%016" PRIx64 " (expected 0x%016" PRIx64 ")\n",
-                    c.name, threads, h, c.hash);
+                    "golden %s on %d threads, %s: hash 0x%016" PRIx64 " (expected 0x%016" PRIx64
+                    ")\n",
+                    c.name, threads, sim_isa_name(sim_isa()), h, c.hash);
             failed = 1;
         }
         sim_world_destroy(w);
@@ -169,10 +180,15 @@ static int check_threads(int threads)
 }
 
 /* clang-format off */
-static int threads_1(void) { return check_threads(1); }
-static int threads_2(void) { return check_threads(2); }
-static int threads_3(void) { return check_threads(3); }
-static int threads_8(void) { return check_threads(8); }
+static int threads_1(void) { return check_all(1, -1); }
+static int threads_2(void) { return check_all(2, -1); }
+static int threads_3(void) { return check_all(3, -1); }
+static int threads_8(void) { return check_all(8, -1); }
+static int isa_sse2(void) { return check_all(1, SIM_ISA_BASELINE); }
+static int isa_avx2(void) { return check_all(1, SIM_ISA_AVX2); }
+static int isa_avx512(void) { return check_all(1, SIM_ISA_AVX512); }
+static int isa_native(void) { return check_all(1, SIM_ISA_NATIVE); }
+static int isa_avx2_threads_2(void) { return check_all(2, SIM_ISA_AVX2); }
 static int frictionless(void) { return check(0); }
 static int frictionless_clip(void) { return check(1); }
 static int regularised_clip(void) { return check(2); }
@@ -189,4 +205,5 @@ TEST_MAIN(TEST_CASE(frictionless), TEST_CASE(frictionless_clip), TEST_CASE(regul
           TEST_CASE(spring), TEST_CASE(spring_two_species), TEST_CASE(spring_rolling_fixed),
           TEST_CASE(spring_rolling_chord), TEST_CASE(rolling_only), TEST_CASE(hertz_regularised),
           TEST_CASE(periodic_spring), TEST_CASE(threads_1), TEST_CASE(threads_2),
-          TEST_CASE(threads_3), TEST_CASE(threads_8))
+          TEST_CASE(threads_3), TEST_CASE(threads_8), TEST_CASE(isa_sse2), TEST_CASE(isa_avx2),
+          TEST_CASE(isa_avx512), TEST_CASE(isa_native), TEST_CASE(isa_avx2_threads_2))

@@ -1,0 +1,445 @@
+/* SPDX-License-Identifier: MIT */
+/* contact_pass.c: the contact kernel, written once and instantiated per combination of the declared
+ * laws, so that no per-contact `if` tests a disabled effect (the `key` argument is a compile-time
+ * constant in every instantiation and the branches fold away). This file is compiled once per
+ * instruction set (sim/CMakeLists.txt: SSE2, AVX2, AVX-512; its external names carry the set's
+ * suffix, SIM_ISA_SYMBOL) and sim/isa.c picks one copy at run time (docs/dev/isa.md).
+ *
+ * Conventions (000 eqs. 3.1-3.5): n points from i to j, s = (n_y, -n_x),
+ * v_s = (v_j - v_i).s + omega_i r_i + omega_j r_j. The force on i is -F_n n + F_t s, on j the
+ * opposite; both torques are -r F_t (000 eq. 4.4; 004 §1.6). */
+#include "sim/contact_scalar.h"
+
+/* Vector values pass between static, always-inlined functions only: no ABI is exposed, so GCC's
+ * note that 32-byte vectors change the ABI without AVX (builds without -march) does not apply. */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
+#include <math.h>
+#include <string.h>
+
+/* SIM_LANES contacts at a time (GCC/Clang vector extensions: SSE2, AVX or AVX-512 code as the
+ * target allows, plain scalar code elsewhere). Bit operations give abs and copysign exactly. */
+enum { SIM_LANES = 4 };
+
+typedef double VecD __attribute__((vector_size(SIM_LANES * sizeof(double))));
+typedef int64_t VecM __attribute__((vector_size(SIM_LANES * sizeof(int64_t))));
+#define SIGN_BITS ((VecM){INT64_MIN, INT64_MIN, INT64_MIN, INT64_MIN})
+
+KERNEL VecD sel_v(VecM m, VecD a, VecD b)
+{
+    return (VecD)((m & (VecM)a) | (~m & (VecM)b));
+}
+
+KERNEL VecD min_v(VecD a, VecD b)
+{
+    return sel_v(a < b, a, b);
+}
+
+KERNEL VecD abs_v(VecD a)
+{
+    return (VecD)((VecM)a & ~SIGN_BITS);
+}
+
+KERNEL VecD copysign_v(VecD magnitude, VecD sign)
+{
+    return (VecD)(((VecM)magnitude & ~SIGN_BITS) | ((VecM)sign & SIGN_BITS));
+}
+
+KERNEL VecD sqrt_v(VecD a)
+{
+    VecD r;
+    for (int l = 0; l < SIM_LANES; ++l)
+        r[l] = sqrt(a[l]);
+    return r;
+}
+
+#define LAW_T     VecD
+#define LAW(name) name##_v
+#define LAW_ZERO  ((VecD){0.0, 0.0, 0.0, 0.0})
+#define LAW_ONE   ((VecD){1.0, 1.0, 1.0, 1.0})
+#include "sim/contact_laws.h"
+#undef LAW_T
+#undef LAW
+#undef LAW_ZERO
+#undef LAW_ONE
+
+/* Lane l of the result is a[index[l]]. */
+KERNEL VecD gather(const double *restrict a, const int *restrict index)
+{
+    VecD r;
+    for (int l = 0; l < SIM_LANES; ++l)
+        r[l] = a[index[l]];
+    return r;
+}
+
+/* Lane l is field `off` (bytes) of pairs[index[l]]. */
+KERNEL VecD gather_pair(const unsigned key, const PairParams *restrict pairs,
+                        const int *restrict index, size_t off)
+{
+    VecD r;
+    for (int l = 0; l < SIM_LANES; ++l)
+        r[l] = *(const double *)((const char *)&pairs[(key & KEY_UNIFORM) ? 0 : index[l]] + off);
+    return r;
+}
+
+/* Per-entry arrays: a full block (lanes == SIM_LANES, a constant in the main loop) holds
+ * consecutive entries and moves as one vector; a short final block lane by lane. */
+KERNEL VecD load(const double *restrict a, const int *restrict entry, const int lanes)
+{
+    VecD r;
+    if (lanes == SIM_LANES) {
+        memcpy(&r, a + entry[0], sizeof r);
+        return r;
+    }
+    return gather(a, entry);
+}
+
+KERNEL void store(double *restrict a, const int *restrict entry, const int lanes, VecD v)
+{
+    if (lanes == SIM_LANES) {
+        memcpy(a + entry[0], &v, sizeof v);
+        return;
+    }
+    for (int l = 0; l < lanes; ++l)
+        a[entry[l]] = v[l];
+}
+
+/* The grain-grain pass runs in two phases over the half list (style: data-parallel first, then
+ * the scatter).
+ * 1. pair_forces: every entry k on its own, in one flat loop without branches, so that the compiler
+ *    vectorises it (gathers of the partners' state, masks for the entries not in contact). Its
+ *    results go to nl.out: the force on j along x and y (the force on i is minus that), f_t and M.
+ * 2. accumulate: adds them to the grains in the order of the scalar loop, so the sums (and the
+ *    results, to the bit) do not depend on the vector width. */
+/* Entries entry[0..SIM_LANES) of the half list (the last ones repeated in a short final block;
+ * only the first `lanes` results are stored). */
+KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict entry,
+                       const int lanes)
+{
+    const size_t cap = (size_t)world->nl.capacity;
+    const double dt = world->contact_dt;
+    const unsigned law = key & KEY_TANGENTIAL;
+    NeighbourList *nl = &world->nl;
+    int i[SIM_LANES], j[SIM_LANES], p[SIM_LANES];
+    for (int l = 0; l < SIM_LANES; ++l) {
+        i[l] = nl->owner[entry[l]];
+        j[l] = nl->j[entry[l]];
+        p[l] = nl->pair[entry[l]];
+    }
+    VecD dx = gather(world->x, j) - gather(world->x, i);
+    if (key & KEY_PERIODIC)
+        dx += load(nl->shift, entry, lanes);
+    const VecD dy = gather(world->y, j) - gather(world->y, i);
+    const VecD ri = gather(world->radius, i), rj = gather(world->radius, j);
+    const VecD rs = ri + rj;
+    const VecD d2 = dx * dx + dy * dy;
+    const VecM touching = d2 < rs * rs;
+    const VecD d = sqrt_v(d2);
+    const VecD inv = 1.0 / d;
+    const VecD nx = dx * inv, ny = dy * inv;
+    const VecD overlap = rs - d; /* 000 eq. 3.1 */
+    const VecD dvx = gather(world->vx, j) - gather(world->vx, i);
+    const VecD dvy = gather(world->vy, j) - gather(world->vy, i);
+    const VecD v_n = dvx * nx + dvy * ny; /* 000 eq. 3.4 */
+    const VecD k_n = gather_pair(key, world->pairs, p, offsetof(PairParams, k_n));
+    VecD f_el;
+    const VecD f_n = normal_force_v(key, k_n, load(nl->gamma, entry, lanes), overlap, v_n, &f_el);
+    VecD fxk = -f_n * nx, fyk = -f_n * ny;
+    VecD f_t = ((VecD){0.0, 0.0, 0.0, 0.0});
+    VecD wi = ((VecD){0.0, 0.0, 0.0, 0.0}), wj = ((VecD){0.0, 0.0, 0.0, 0.0});
+    if (KEY_ROTATION(key)) {
+        wi = gather(world->omega, i);
+        wj = gather(world->omega, j);
+    }
+    if (law != SIM_TANGENTIAL_NONE) {
+        const VecD sx = ny, sy = -nx;   /* 000 eq. 3.3 */
+        VecD v_s = dvx * sx + dvy * sy; /* 000 eq. 3.5 */
+        v_s += wi * ri + wj * rj;
+        const VecD mu = gather_pair(key, world->pairs, p, offsetof(PairParams, mu));
+        VecD k_t = ((VecD){0.0, 0.0, 0.0, 0.0}), gamma_s = ((VecD){0.0, 0.0, 0.0, 0.0}),
+             spring = ((VecD){0.0, 0.0, 0.0, 0.0});
+        if (law == SIM_TANGENTIAL_SPRING) {
+            k_t = gather_pair(key, world->pairs, p, offsetof(PairParams, k_t));
+            spring = load(nl->hist_t, entry, lanes);
+        } else {
+            gamma_s = gather_pair(key, world->pairs, p, offsetof(PairParams, gamma_s));
+        }
+        f_t = tangential_force_v(key, k_t, mu, gamma_s, v_s, f_n, f_el, dt, &spring);
+        if (law == SIM_TANGENTIAL_SPRING)
+            store(nl->hist_t, entry, lanes, sel_v(touching, spring, ((VecD){0.0, 0.0, 0.0, 0.0})));
+        fxk += f_t * sx;
+        fyk += f_t * sy;
+    }
+    if (key & KEY_ROLLING) {
+        VecD k_r, mu_r;
+        if (key & KEY_CHORD) {
+            const VecD chord = disk_chord_v(d, ri, rj);
+            k_r = k_n * chord * chord;
+            mu_r = gather_pair(key, world->pairs, p, offsetof(PairParams, mu)) * chord;
+        } else {
+            k_r = gather_pair(key, world->pairs, p, offsetof(PairParams, k_r));
+            mu_r = gather_pair(key, world->pairs, p, offsetof(PairParams, mu_r));
+        }
+        VecD m_r = load(nl->hist_r, entry, lanes);
+        const VecD m = rolling_torque_v(k_r, mu_r, wj - wi, f_el, dt, &m_r);
+        store(nl->hist_r, entry, lanes, sel_v(touching, m_r, ((VecD){0.0, 0.0, 0.0, 0.0})));
+        store(nl->out + 3 * cap, entry, lanes, sel_v(touching, m, ((VecD){0.0, 0.0, 0.0, 0.0})));
+    }
+    store(nl->out, entry, lanes, sel_v(touching, fxk, ((VecD){0.0, 0.0, 0.0, 0.0})));
+    store(nl->out + cap, entry, lanes, sel_v(touching, fyk, ((VecD){0.0, 0.0, 0.0, 0.0})));
+    if (KEY_ROTATION(key))
+        store(nl->out + 2 * cap, entry, lanes, sel_v(touching, f_t, ((VecD){0.0, 0.0, 0.0, 0.0})));
+}
+
+/* Entries [k0, k1) of the half list: k0 is a multiple of SIM_LANES and so is k1 unless it is
+ * the end of the list (sim_parallel_ranges' bounds), so only the list's last block is short. */
+KERNEL void pair_range(SimWorld *world, const unsigned key, const int k0, const int k1)
+{
+    int entry[SIM_LANES];
+    int k = k0;
+    for (; k + SIM_LANES <= k1; k += SIM_LANES) {
+        for (int l = 0; l < SIM_LANES; ++l)
+            entry[l] = k + l;
+        pair_block(world, key, entry, SIM_LANES);
+    }
+    if (k < k1) {
+        for (int l = 0; l < SIM_LANES; ++l)
+            entry[l] = k + l < k1 ? k + l : k1 - 1;
+        pair_block(world, key, entry, k1 - k);
+    }
+}
+
+KERNEL void pair_forces(SimWorld *world, const unsigned key)
+{
+    pair_range(world, key, 0, world->nl.start[world->mobile_count]);
+}
+
+/* Phase 2. The scalar loop `for i: sum_i = 0; for k of i: sum_i += f_k; f_j -= f_k; then
+ * f_i += sum_i` has a short inner loop of random trip count (a mispredicted exit per grain). Here
+ * the entries run flat: the partial sums restart at each new owner (a select, not a branch) and
+ * are kept per entry, and a second loop adds each grain's last partial sum. Every addition is the
+ * scalar loop's, in its order: the results are the same to the bit. */
+KERNEL void grain_pass(SimWorld *world, const unsigned key)
+{
+    pair_forces(world, key);
+    const int mobile = world->mobile_count;
+    const int total = world->nl.start[mobile];
+    const size_t cap = (size_t)world->nl.capacity;
+    const double *restrict radius = world->radius;
+    double *restrict fx = world->fx, *restrict fy = world->fy, *restrict torque = world->torque;
+    const int *restrict start = world->nl.start, *restrict partner = world->nl.j;
+    const int *restrict owner = world->nl.owner;
+    double *restrict out_x = world->nl.out, *restrict out_y = world->nl.out + cap;
+    double *restrict out_t = world->nl.out + 2 * cap;
+    const double *restrict out_m = world->nl.out + 3 * cap;
+    const unsigned law = key & KEY_TANGENTIAL;
+
+    double sum_x = 0.0, sum_y = 0.0, sum_t = 0.0;
+    int previous = -1;
+    for (int k = 0; k < total; ++k) {
+        const int i = owner[k], j = partner[k];
+        const int first = i != previous;
+        previous = i;
+        sum_x = first ? 0.0 : sum_x;
+        sum_y = first ? 0.0 : sum_y;
+        const double fxk = out_x[k], fyk = out_y[k];
+        if (KEY_ROTATION(key)) {
+            sum_t = first ? 0.0 : sum_t;
+            if (law != SIM_TANGENTIAL_NONE) {
+                const double f_t = out_t[k];
+                sum_t -= radius[i] * f_t; /* 000 eq. 4.4 */
+                torque[j] -= radius[j] * f_t;
+            }
+            if (key & KEY_ROLLING) {
+                const double m = out_m[k];
+                sum_t -= m;
+                torque[j] += m;
+            }
+            out_t[k] = sum_t;
+        }
+        sum_x += fxk;
+        sum_y += fyk;
+        out_x[k] = sum_x;
+        out_y[k] = sum_y;
+        fx[j] -= fxk;
+        fy[j] -= fyk;
+    }
+    for (int i = 0; i < mobile; ++i) {
+        const int last = start[i + 1] - 1, any = last >= start[i];
+        fx[i] += any ? out_x[last] : 0.0;
+        fy[i] += any ? out_y[last] : 0.0;
+        if (KEY_ROTATION(key))
+            torque[i] += any ? out_t[last] : 0.0;
+    }
+}
+
+/* Phase 2 for threads (sim_world_set_threads): the same sums per grain, gathered instead of
+ * scattered, so that grains [g0, g1) are written by one thread only. The serial loop above gives
+ * grain g first the entries whose partner is g, in ascending k (each subtracted from fx[g], and
+ * for torques -r_g f_t then +M, in that order), and then, for a mobile g, the partial sum of its
+ * own entries (started at 0.0, adding fx_k; torque -r_g f_t - M per entry), added once (0.0 when
+ * it owns none). The transposed list (nl.in_start, in_entry) holds the partner entries in
+ * ascending k, so every addition below is one of the serial loop's, in its order: the results
+ * are the same bits for any split of the grains. nl.out is only read here. */
+KERNEL void reduce_range(SimWorld *world, const unsigned key, const int g0, const int g1)
+{
+    const int mobile = world->mobile_count;
+    const size_t cap = (size_t)world->nl.capacity;
+    const double *restrict radius = world->radius;
+    double *restrict fx = world->fx, *restrict fy = world->fy, *restrict torque = world->torque;
+    const int *restrict start = world->nl.start;
+    const int *restrict in_start = world->nl.in_start, *restrict in_entry = world->nl.in_entry;
+    const double *restrict out_x = world->nl.out, *restrict out_y = world->nl.out + cap;
+    const double *restrict out_t = world->nl.out + 2 * cap;
+    const double *restrict out_m = world->nl.out + 3 * cap;
+    const unsigned law = key & KEY_TANGENTIAL;
+    for (int g = g0; g < g1; ++g) {
+        const double rg = radius[g];
+        double fxg = fx[g], fyg = fy[g], tg = KEY_ROTATION(key) ? torque[g] : 0.0;
+        for (int q = in_start[g]; q < in_start[g + 1]; ++q) {
+            const int k = in_entry[q];
+            if (KEY_ROTATION(key)) {
+                if (law != SIM_TANGENTIAL_NONE)
+                    tg -= rg * out_t[k];
+                if (key & KEY_ROLLING)
+                    tg += out_m[k];
+            }
+            fxg -= out_x[k];
+            fyg -= out_y[k];
+        }
+        if (g < mobile) {
+            const int first = start[g], end = start[g + 1];
+            double sum_x = 0.0, sum_y = 0.0, sum_t = 0.0;
+            for (int k = first; k < end; ++k) {
+                if (KEY_ROTATION(key)) {
+                    if (law != SIM_TANGENTIAL_NONE)
+                        sum_t -= rg * out_t[k];
+                    if (key & KEY_ROLLING)
+                        sum_t -= out_m[k];
+                }
+                sum_x += out_x[k];
+                sum_y += out_y[k];
+            }
+            const int any = end > first;
+            fxg += any ? sum_x : 0.0;
+            fyg += any ? sum_y : 0.0;
+            if (KEY_ROTATION(key))
+                tg += any ? sum_t : 0.0;
+        }
+        fx[g] = fxg;
+        fy[g] = fyg;
+        if (KEY_ROTATION(key))
+            torque[g] = tg;
+    }
+}
+
+/* Grain-wall contacts: the wall acts as a partner of infinite mass, zero radius, no spin. */
+KERNEL void wall_pass(SimWorld *world, const unsigned key)
+{
+    const WallList *wl = &world->wl;
+    const double dt = world->contact_dt;
+    const unsigned law = key & KEY_TANGENTIAL;
+    for (int k = 0; k < wl->count; ++k) {
+        const int i = wl->grain[k], w = wl->wall[k];
+        const double ri = world->radius[i];
+        double nx, ny;
+        const double d = wall_geometry(&world->walls[w], world->x[i], world->y[i], &nx, &ny);
+        if (d >= ri) {
+            if (law == SIM_TANGENTIAL_SPRING)
+                wl->hist_t[k] = 0.0;
+            if (key & KEY_ROLLING)
+                wl->hist_r[k] = 0.0;
+            continue;
+        }
+        const double overlap = ri - d;
+        const double dvx = world->wall_vx[w] - world->vx[i];
+        const double dvy = world->wall_vy[w] - world->vy[i];
+        const double v_n = dvx * nx + dvy * ny;
+        const PairParams *p = &world->pairs[wl->pair[k]];
+        double f_el;
+        const double f_n = normal_force_d(key, p->k_n, wl->gamma[k], overlap, v_n, &f_el);
+        double fxk = -f_n * nx, fyk = -f_n * ny;
+        const double wi = KEY_ROTATION(key) ? world->omega[i] : 0.0;
+        if (law != SIM_TANGENTIAL_NONE) {
+            const double sx = ny, sy = -nx;
+            double v_s = dvx * sx + dvy * sy + wi * ri;
+            double dummy = 0.0;
+            double *xi_t = (law == SIM_TANGENTIAL_SPRING) ? &wl->hist_t[k] : &dummy;
+            const double f_t =
+                tangential_force_d(key, p->k_t, p->mu, p->gamma_s, v_s, f_n, f_el, dt, xi_t);
+            fxk += f_t * sx;
+            fyk += f_t * sy;
+            if (KEY_ROTATION(key))
+                world->torque[i] -= ri * f_t;
+        }
+        if (key & KEY_ROLLING) {
+            const double chord = (key & KEY_CHORD) ? 2.0 * sqrt(ri * ri - d * d) : 0.0;
+            const double k_r = (key & KEY_CHORD) ? p->k_n * chord * chord : p->k_r;
+            const double mu_r = (key & KEY_CHORD) ? p->mu * chord : p->mu_r;
+            world->torque[i] -= rolling_torque_d(k_r, mu_r, -wi, f_el, dt, &wl->hist_r[k]);
+        }
+        world->fx[i] += fxk;
+        world->fy[i] += fyk;
+    }
+}
+
+/* One instantiation per key = 8 * high + low: low = tangential law (0..2) | rolling (4);
+ * high = periodic | hertz << 1 | clip << 2 | chord << 3, chord only with rolling. */
+/* clang-format off */
+#define KEYS_LOW(X, h)  X(h, 0) X(h, 1) X(h, 2) X(h, 4) X(h, 5) X(h, 6)
+#define KEYS_ROLL(X, h) X(h, 4) X(h, 5) X(h, 6)
+#define KEYS_ALL(X)                                                                     \
+    KEYS_LOW(X, 0) KEYS_LOW(X, 1) KEYS_LOW(X, 2) KEYS_LOW(X, 3) KEYS_LOW(X, 4)         \
+    KEYS_LOW(X, 5) KEYS_LOW(X, 6) KEYS_LOW(X, 7) KEYS_ROLL(X, 8) KEYS_ROLL(X, 9)       \
+    KEYS_ROLL(X, 10) KEYS_ROLL(X, 11) KEYS_ROLL(X, 12) KEYS_ROLL(X, 13)                \
+    KEYS_ROLL(X, 14) KEYS_ROLL(X, 15)
+/* clang-format on */
+
+#define DEFINE_PASS(h, l)                                                                          \
+    static int pair_range_##h##_##l(SimWorld *world, int begin, int end)                           \
+    {                                                                                              \
+        if (world->def.species_count == 1)                                                         \
+            pair_range(world, (unsigned)((h)*8 + (l)) | KEY_UNIFORM, begin, end);                  \
+        else                                                                                       \
+            pair_range(world, (unsigned)((h)*8 + (l)), begin, end);                                \
+        return 0;                                                                                  \
+    }                                                                                              \
+    static int reduce_range_##h##_##l(SimWorld *world, int begin, int end)                         \
+    {                                                                                              \
+        reduce_range(world, (unsigned)((h)*8 + (l)), begin, end);                                  \
+        return 0;                                                                                  \
+    }                                                                                              \
+    static void grain_pass_##h##_##l(SimWorld *world)                                              \
+    {                                                                                              \
+        if (world->threads > 1 && world->nl.in_ready) {                                            \
+            sim_parallel_ranges(world, pair_range_##h##_##l, world->nl.start[world->mobile_count], \
+                                SIM_LANES);                                                        \
+            sim_parallel_ranges(world, reduce_range_##h##_##l, world->count, 1);                   \
+        } else if (world->def.species_count == 1) {                                                \
+            grain_pass(world, (unsigned)((h)*8 + (l)) | KEY_UNIFORM);                              \
+        } else {                                                                                   \
+            grain_pass(world, (unsigned)((h)*8 + (l)));                                            \
+        }                                                                                          \
+    }                                                                                              \
+    static void wall_pass_##h##_##l(SimWorld *world)                                               \
+    {                                                                                              \
+        wall_pass(world, (unsigned)((h)*8 + (l)));                                                 \
+    }
+KEYS_ALL(DEFINE_PASS)
+
+#define GRAIN_ENTRY(h, l) [(h)*8 + (l)] = grain_pass_##h##_##l,
+#define WALL_ENTRY(h, l)  [(h)*8 + (l)] = wall_pass_##h##_##l,
+static StageFn *const grain_passes[KEY_COUNT] = {KEYS_ALL(GRAIN_ENTRY)};
+static StageFn *const wall_passes[KEY_COUNT] = {KEYS_ALL(WALL_ENTRY)};
+
+StageFn *SIM_ISA_SYMBOL(sim_contact_pass_select)(unsigned key)
+{
+    return key < KEY_COUNT ? grain_passes[key] : NULL;
+}
+
+StageFn *SIM_ISA_SYMBOL(sim_wall_pass_select)(unsigned key)
+{
+    return key < KEY_COUNT ? wall_passes[key] : NULL;
+}

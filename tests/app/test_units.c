@@ -1,0 +1,124 @@
+/* SPDX-License-Identifier: MIT */
+/* test_units.c: units = "reduced" (docs/scenes.md#units). The small Brazil-nut scene (settle, a
+ * short shaking) runs in SI and in reduced units: the reduced energy.csv's time column is the SI
+ * one divided by sqrt(d/g) to 1e-12 (the unit being the one summary.json reports, sqrt(d/g) of
+ * its d), the other columns
+ * are the same text, summary.json gains the scales, the SI run's has none; a t_star_length is
+ * refused in reduced units. No rendering. */
+#include "run.h"
+#include "scene.h"
+#include "test.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define BNE "scenes/brazil_nut/small.scene"
+
+static int run_in(const char *units, char *dir, size_t size)
+{
+    const char *sets[] = {"stages.shake.time.end=3", "bne.phase_field.phases=2", units};
+    char err[2048];
+    Scene *scene = scene_load(BNE, sets, units ? 3 : 2, err, sizeof err);
+    if (!scene) {
+        fprintf(stderr, "%s\n", err);
+        return -1;
+    }
+    snprintf(dir, size, "/tmp/sablier_test_units_%ld_%s", (long)getpid(), units ? "reduced" : "si");
+    AppRunOptions options = app_run_options_default();
+    options.out_dir = dir;
+    options.quiet = 1;
+    options.render_off = 1;
+    int status = app_run(scene, &options);
+    scene_free(scene);
+    return status;
+}
+
+/* Up to `max` rows of energy.csv: the first field (t) and the rest of the line. */
+static int read_energy(const char *dir, double *t, char (*rest)[256], int max)
+{
+    char path[512], line[512];
+    snprintf(path, sizeof path, "%s/energy.csv", dir);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return -1;
+    int n = 0;
+    if (!fgets(line, sizeof line, f)) /* header */
+        n = -1;
+    while (n >= 0 && n < max && fgets(line, sizeof line, f)) {
+        char *comma = strchr(line, ',');
+        if (!comma)
+            break;
+        t[n] = strtod(line, NULL);
+        snprintf(rest[n], sizeof rest[n], "%s", comma);
+        ++n;
+    }
+    fclose(f);
+    return n;
+}
+
+/* The number after "KEY": in DIR/summary.json, NAN when absent. */
+static double summary_number(const char *dir, const char *key)
+{
+    char path[512], text[65536], pattern[64];
+    snprintf(path, sizeof path, "%s/summary.json", dir);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return (double)NAN;
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    fclose(f);
+    text[n] = '\0';
+    snprintf(pattern, sizeof pattern, "\"%s\": ", key);
+    const char *at = strstr(text, pattern);
+    return at ? strtod(at + strlen(pattern), NULL) : (double)NAN;
+}
+
+enum { ROWS = 400 };
+
+static int energy_time_in_sqrt_d_over_g(void)
+{
+    char si[256], red[256];
+    TEST_ASSERT(run_in(NULL, si, sizeof si) == 0);
+    TEST_ASSERT(run_in("units=\"reduced\"", red, sizeof red) == 0);
+    static double t_si[ROWS], t_red[ROWS];
+    static char rest_si[ROWS][256], rest_red[ROWS][256];
+    int n_si = read_energy(si, t_si, rest_si, ROWS),
+        n_red = read_energy(red, t_red, rest_red, ROWS);
+    TEST_ASSERT(n_si > 10);
+    TEST_ASSERT(n_red == n_si);
+    const double d = summary_number(red, "length_m"), tau = summary_number(red, "time_s");
+    char err[2048];
+    Scene *scene = scene_load(BNE, NULL, 0, err, sizeof err);
+    TEST_ASSERT(scene != NULL);
+    const double g = hypot(scene->def.gravity_x, scene->def.gravity_y); /* the scene's gravity */
+    scene_free(scene);
+    TEST_ASSERT(d > 0.0 && tau > 0.0);
+    TEST_REL(tau, sqrt(d / g), 1e-9); /* both printed to 10 digits */
+    TEST_ASSERT(isnan(summary_number(si, "length_m")));
+    TEST_ASSERT(t_red[n_red - 1] > 1.0);
+    /* the unit to the last bit, from the last row (summary.json prints 10 digits) */
+    const double unit = t_si[n_si - 1] / t_red[n_red - 1];
+    TEST_REL(unit, tau, 1e-9);
+    for (int k = 0; k < n_si; ++k) {
+        TEST_NEAR(t_red[k], t_si[k] / unit, 1e-12 * fmax(1.0, t_red[k]));
+        TEST_ASSERT(strcmp(rest_si[k], rest_red[k]) == 0); /* t_star, energies, ... unchanged */
+    }
+    char cmd[600];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' '%s'", si, red);
+    TEST_ASSERT(system(cmd) == 0);
+    return 0;
+}
+
+static int t_star_length_refused(void)
+{
+    const char *sets[] = {"units=\"reduced\"", "output.t_star_length=2.0"};
+    char err[2048];
+    Scene *scene = scene_load(BNE, sets, 2, err, sizeof err);
+    TEST_ASSERT(scene == NULL);
+    TEST_ASSERT(strstr(err, "t_star_length") != NULL);
+    return 0;
+}
+
+TEST_MAIN(TEST_CASE(energy_time_in_sqrt_d_over_g), TEST_CASE(t_star_length_refused))
