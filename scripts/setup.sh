@@ -4,7 +4,7 @@ set -euo pipefail
 # g++, dpkg-dev and file: the C++ client, dpkg-shlibdeps and cpack's DEB step of tests/install/check.sh
 packages=(gcc g++ make cmake pkg-config dpkg-dev file libconfig-dev libcairo2-dev libpng-dev
           libosmesa6-dev libavcodec-dev libavformat-dev libswscale-dev libavutil-dev fonts-dejavu-core
-          clang-format-14 python3-numpy)
+          clang-format-14 python3-numpy openmpi-bin libopenmpi-dev)
 if [ "${SABLIER_SETUP_EXTRA:-}" != "" ]; then
   read -r -a extra <<<"$SABLIER_SETUP_EXTRA"
   packages+=("${extra[@]}")
