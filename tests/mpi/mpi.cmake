@@ -13,8 +13,9 @@ if(SABLIER_WITH_MPI)
 else()
   set(MPI_CHECK_BUILT OFF)
 endif()
-# the sweep on 3 ranks (2 workers: the bed, then the 2 members at once); the Shields scan on 2
-foreach(spec "sweep;3" "sediment_shields;2")
+# the sweep on 3 ranks (2 workers: the bed, then the 2 members at once); the Shields scan on 2;
+# the Brazil-nut samples (4 runs) on 3, slow as golden.bne_samples is
+foreach(spec "sweep;3" "sediment_shields;2" "bne_samples;3")
   list(GET spec 0 case)
   list(GET spec 1 ranks)
   add_test(NAME mpi.${case}
@@ -22,6 +23,9 @@ foreach(spec "sweep;3" "sediment_shields;2")
                    ${MPI_CHECK_WORK} ${MPI_CHECK_RENDER} ${MPI_CHECK_BUILT}
            WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
   set_tests_properties(mpi.${case} PROPERTIES LABELS mpi SKIP_RETURN_CODE 77)
+  if(case IN_LIST GOLDEN_SLOW)
+    set_tests_properties(mpi.${case} PROPERTIES LABELS "mpi;slow")
+  endif()
   if(SABLIER_SANITIZE)
     # OpenMPI keeps its own allocations past MPI_Finalize: tests/lsan.supp names its libraries
     set_tests_properties(mpi.${case} PROPERTIES
