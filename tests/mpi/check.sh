@@ -3,12 +3,18 @@
 # check.sh SABLIER CASE RANKS WORK RENDER WITH_MPI: runs golden case CASE (tests/golden/cases.sh)
 # under `mpirun -n RANKS` into WORK/CASE and compares its outputs with tests/golden/CASE, which
 # `--jobs 1` and `--jobs 2` reproduce (golden.CASE): tables, member CSV/JSON, checkpoints byte for
-# byte (compare.sh). Exit 77 (skipped) when sablier was built without MPI or mpirun is missing.
+# byte (compare.sh). Exit 77 (skipped) when sablier was built without MPI (WITH_MPI OFF) or with
+# the sanitizers (WITH_MPI SANITIZE), or when mpirun is missing.
 set -uo pipefail
 sablier=$1 case=$2 ranks=$3 work=$4 render=$5 with_mpi=$6
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 golden=$here/../golden
-case ${with_mpi^^} in ON | 1 | TRUE | YES) ;; *)
+case ${with_mpi^^} in ON | 1 | TRUE | YES) ;;
+SANITIZE)
+  echo "mpi: skipped under AddressSanitizer: OpenMPI keeps allocations past MPI_Finalize and its"
+  echo "memory hooks are not made for ASan (the Release builds run this test)"
+  exit 77 ;;
+*)
   echo "mpi: skipped: sablier was built without MPI (SABLIER_WITH_MPI=OFF)"
   exit 77 ;;
 esac
