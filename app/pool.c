@@ -1,6 +1,9 @@
 /* SPDX-License-Identifier: MIT */
-/* pool.c: the process pool of the multi-run drivers (pool.h). */
+/* pool.c: the process pool of the multi-run drivers (pool.h): forks on this host, or hands the
+ * tasks to MPI ranks (pool_mpi.c) when the command was started by an MPI launcher. */
 #include "pool.h"
+
+#include "pool_mpi.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -51,7 +54,7 @@ static int finish_task(const AppPool *pool, pid_t *pids, const int *slot_task)
     return 0; /* not one of ours */
 }
 
-int app_pool_run(const AppPool *pool)
+int app_pool_run_local(const AppPool *pool)
 {
     int jobs = pool->jobs < 1 ? 1 : pool->jobs > APP_POOL_MAX_JOBS ? APP_POOL_MAX_JOBS : pool->jobs;
     pid_t pids[APP_POOL_MAX_JOBS] = {0};
@@ -81,4 +84,29 @@ int app_pool_run(const AppPool *pool)
         running -= finished;
     }
     return rc;
+}
+
+void app_pool_begin(void)
+{
+#ifdef SABLIER_WITH_MPI
+    app_pool_mpi_begin();
+#endif
+}
+
+int app_pool_width(int jobs)
+{
+#ifdef SABLIER_WITH_MPI
+    if (app_pool_mpi_active())
+        return app_pool_mpi_workers();
+#endif
+    return jobs < 1 ? 1 : jobs > APP_POOL_MAX_JOBS ? APP_POOL_MAX_JOBS : jobs;
+}
+
+int app_pool_run(const AppPool *pool)
+{
+#ifdef SABLIER_WITH_MPI
+    if (app_pool_mpi_active())
+        return app_pool_mpi_run(pool);
+#endif
+    return app_pool_run_local(pool);
 }

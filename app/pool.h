@@ -1,7 +1,15 @@
 /* SPDX-License-Identifier: MIT */
 /* pool.h: the one process pool of the multi-run drivers (sweeps, scans, studies). Each task runs
  * in a child process of its own, so its results are those of a lone run whatever the job count.
- * App core: knows nothing of the families. */
+ * App core: knows nothing of the families.
+ *
+ * Under an MPI launcher (`mpirun -n N sablier sweep ...`, built with SABLIER_WITH_MPI) the
+ * tasks run on the N - 1 worker ranks, one at a time each, on any number of hosts (pool_mpi.c,
+ * docs/cluster.md); `jobs` is then ignored. Rank 0 runs the command and calls start and done;
+ * the workers run the command too, but only up to each pool while rank 0 waits at it, so a
+ * driver writes nothing but folders before a pool (the workers see the files rank 0 saw),
+ * and what it writes after a pool is rank 0's alone. start is called on rank 0 as a task is
+ * handed out and again on the worker that runs it (a skip there ends the task with status 2). */
 #ifndef APP_POOL_H
 #define APP_POOL_H
 
@@ -27,6 +35,14 @@ typedef struct AppPool {
     void (*done)(void *ctx, int index, int status);
     int signal_status;
 } AppPool;
+
+/// Joins the MPI job when the command was started by an MPI launcher with more than one rank
+/// (main calls it first; without SABLIER_WITH_MPI, or outside a launcher, it does nothing).
+/// A worker rank returns from it only when rank 0 enters a pool.
+void app_pool_begin(void);
+
+/// How many tasks run at once: jobs, or the worker ranks under MPI (for the drivers' messages).
+int app_pool_width(int jobs);
 
 /// Runs the pool's tasks. 0, or -1 when a fork failed or waiting for the children failed.
 int app_pool_run(const AppPool *pool);

@@ -5,6 +5,7 @@
  * and movies are skipped with a warning and `diff`/`render` exit 2. */
 #include "dump.h"
 #include "experiments.h"
+#include "pool.h"
 #include "run.h"
 #include "scene.h"
 #include "util.h"
@@ -611,6 +612,7 @@ int main(int argc, char **argv)
 #ifdef SABLIER_HAVE_RENDER
         env.render = app_render_glue();
 #endif
+        app_pool_begin(); /* under mpirun: a worker rank serves the command's pools */
         return family->run(argc, argv, &env);
     }
     fprintf(stderr, "sablier: unknown command `%s`\n\n", command);

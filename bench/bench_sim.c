@@ -26,7 +26,12 @@
  *                  [--only regularised,spring,frictionless] [--machine NAME] [--skin S]
  *                  [--threads T]
  * --skin S: a fixed Verlet skin of S m for the timed runs (default 0: sablier's automatic skin).
- * --threads T: threads of the timed runs' step (default 1; the results are the same bits). */
+ * --threads T: threads of the timed runs' step (default 1; the results are the same bits).
+ * --wide: the box's width grows with N at the standard bed's height (bench/run_scaling.sh): the
+ *   settled 7000-grain pile tiled side by side without its inner walls, cut after N grains,
+ *   walled and relaxed (cache /tmp/sablier-bench-wide-<N>.state). Without it the box keeps the
+ *   standard case's aspect (width as sqrt(N)).
+ * The last line gives the process's peak resident memory (getrusage), pile building included. */
 #include "sim/sim.h"
 #include "sim/world.h"
 
@@ -36,6 +41,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -46,6 +52,7 @@ static const double standard_n = 7284; /* 000 standard initial condition */
 
 typedef struct Options {
     int grains, repeats, warmup, fresh;
+    int wide;    /* --wide: width proportional to N at the standard height */
     int threads; /* of the timed runs' step (sim_world_set_threads) */
     long steps;
     double settle_time; /* s, cap on the deposition */
@@ -124,7 +131,8 @@ static int usage(const char *msg)
             "bench_sim: %s\n"
             "usage: bench_sim [--grains N] [--steps M] [--repeats K] [--warmup W] [--csv PATH]\n"
             "                 [--cache PATH] [--fresh] [--settle-time S] [--lammps-data PATH]\n"
-            "                 [--only NAME[,NAME]] [--machine NAME] [--skin S] [--threads T]\n",
+            "                 [--only NAME[,NAME]] [--machine NAME] [--skin S] [--threads T]\n"
+            "                 [--wide]\n",
             msg);
     return 2;
 }
@@ -143,6 +151,9 @@ static int parse_options(int argc, char **argv, Options *o)
         int takes = 1;
         if (!strcmp(arg, "--fresh")) {
             o->fresh = 1;
+            takes = 0;
+        } else if (!strcmp(arg, "--wide")) {
+            o->wide = 1;
             takes = 0;
         } else if (!val) {
             return usage("missing value or unknown option");
@@ -180,13 +191,62 @@ static int parse_options(int argc, char **argv, Options *o)
         return usage("grains >= 10, steps >= 1, repeats >= 1, warmup >= 0, settle-time > 0, "
                      "skin >= 0, threads >= 1");
     if (!o->cache[0])
-        snprintf(o->cache, sizeof o->cache, "/tmp/sablier-bench-pile-%d.state", o->grains);
+        snprintf(o->cache, sizeof o->cache, "/tmp/sablier-bench-%s-%d.state",
+                 o->wide ? "wide" : "pile", o->grains);
     return 0;
 }
 
+/* Lets the grains of buffer settle under regularised Coulomb friction until the kinetic energy
+ * per grain is below 1e-6 m g d after min_time (the thesis stops on a total-energy tolerance) or
+ * until time_cap, then saves the world to o->cache. */
+static int settle_and_save(const Options *o, const SimGrainBuffer *buffer, double min_time,
+                           double time_cap)
+{
+    SimWorldDef def = base_def();
+    def.effects = SIM_EFFECT_FRICTION;
+    def.contact.tangential = SIM_TANGENTIAL_REGULARISED;
+    def.grains = sim_grain_buffer_view(buffer);
+    def.max_initial_overlap = 0.5; /* a settled pile's own overlaps (wide piles) */
+    SimError err;
+    SimWorld *world = sim_world_create(&def, &err);
+    if (!world) {
+        fprintf(stderr, "bench_sim: %s: %s\n", err.field, err.message);
+        return 2;
+    }
+    double d_mean, m_mean;
+    sim_world_means(world, &d_mean, &m_mean);
+    const double threshold = 1e-6 * m_mean * 9.806 * d_mean; /* J per grain */
+    const double dt = sim_world_time_step(world);
+    fprintf(stderr,
+            "bench_sim: settling %d grains, dt %.4g s, until E_kin/N < %.3g J or t = %g s\n",
+            sim_world_grain_count(world), dt, threshold, time_cap);
+    const long chunk = (long)ceil(0.1 / dt);
+    double t0 = now_s(), per_grain = 0.0;
+    while (sim_world_time(world) < time_cap) {
+        if (sim_world_step(world, chunk, &err) != SIM_OK) {
+            fprintf(stderr, "bench_sim: settling failed: %s\n", err.message);
+            sim_world_destroy(world);
+            return 1;
+        }
+        SimEnergy e = sim_world_energy(world);
+        per_grain = (e.kinetic + e.rotational) / e.mobile;
+        if (sim_world_time(world) > min_time && per_grain < threshold)
+            break;
+    }
+    fprintf(stderr,
+            "bench_sim: settling reached t = %.2f s (%ld steps, %.1f s wall), E_kin/N = %.3g J "
+            "(%s)\n",
+            sim_world_time(world), sim_world_step_count(world), now_s() - t0, per_grain,
+            per_grain < threshold ? "below threshold" : "time cap");
+    SimStatus s = sim_world_save(world, o->cache, &err);
+    if (s != SIM_OK)
+        fprintf(stderr, "bench_sim: %s\n", err.message);
+    sim_world_destroy(world);
+    return s == SIM_OK ? 0 : 1;
+}
+
 /* Deposits the grains (000 §6.1 rain-like lattice) into a box of fixed boundary grains and lets
- * them settle under regularised Coulomb friction until the kinetic energy per grain is below
- * 1e-6 m g d (the thesis stops on a total-energy tolerance) or the time cap, then saves. */
+ * them settle (settle_and_save). */
 static int build_pile(const Options *o)
 {
     /* Width scales with sqrt(N) so that other N keep the standard case's aspect. */
@@ -208,51 +268,100 @@ static int build_pile(const Options *o)
     sim_build_fixed_row(&buffer, 0.0, width, 0.0, r_max, 0, -1);
     sim_build_fixed_column(&buffer, 0.0, 2 * r_max, wall_top, r_max, 0, -1);
     sim_build_fixed_column(&buffer, width, 2 * r_max, wall_top, r_max, 0, -1);
-
-    SimWorldDef def = base_def();
-    def.effects = SIM_EFFECT_FRICTION;
-    def.contact.tangential = SIM_TANGENTIAL_REGULARISED;
-    def.grains = sim_grain_buffer_view(&buffer);
-    SimError err;
-    SimWorld *world = sim_world_create(&def, &err);
-    if (!world) {
-        fprintf(stderr, "bench_sim: %s: %s\n", err.field, err.message);
-        sim_grain_buffer_free(&buffer);
-        return 2;
-    }
-    double d_mean, m_mean;
-    sim_world_means(world, &d_mean, &m_mean);
-    const double threshold = 1e-6 * m_mean * 9.806 * d_mean; /* J per grain */
-    const double dt = sim_world_time_step(world);
-    fprintf(stderr,
-            "bench_sim: depositing %d grains (%d fixed) in a %d p wide box, dt %.4g s; settle "
-            "until E_kin/N < %.3g J or t = %g s\n",
-            added, sim_world_grain_count(world) - added, columns, dt, threshold, o->settle_time);
-    const long chunk = (long)ceil(0.1 / dt);
-    double t0 = now_s(), per_grain = 0.0;
-    while (sim_world_time(world) < o->settle_time) {
-        if (sim_world_step(world, chunk, &err) != SIM_OK) {
-            fprintf(stderr, "bench_sim: deposition failed: %s\n", err.message);
-            sim_world_destroy(world);
-            sim_grain_buffer_free(&buffer);
-            return 1;
-        }
-        SimEnergy e = sim_world_energy(world);
-        per_grain = (e.kinetic + e.rotational) / e.mobile;
-        if (sim_world_time(world) > 2.0 && per_grain < threshold)
-            break;
-    }
-    fprintf(stderr,
-            "bench_sim: deposition reached t = %.2f s (%ld steps, %.1f s wall), E_kin/N = %.3g J "
-            "(%s)\n",
-            sim_world_time(world), sim_world_step_count(world), now_s() - t0, per_grain,
-            per_grain < threshold ? "below threshold" : "time cap");
-    SimStatus s = sim_world_save(world, o->cache, &err);
-    if (s != SIM_OK)
-        fprintf(stderr, "bench_sim: %s\n", err.message);
-    sim_world_destroy(world);
+    fprintf(stderr, "bench_sim: depositing %d grains in a %d p wide box\n", added, columns);
+    int s = settle_and_save(o, &buffer, 2.0, o->settle_time);
     sim_grain_buffer_free(&buffer);
-    return s == SIM_OK ? 0 : 1;
+    return s;
+}
+
+static int by_x(const void *a, const void *b)
+{
+    const double *p = a, *q = b;
+    return (p[0] > q[0]) - (p[0] < q[0]);
+}
+
+/* The tile's mobile grains (x, y, radius triples), sorted by x, and its width: the settled
+ * standard pile (built first when not cached). 0, or the exit status. */
+static int load_tile(const Options *o, double **grains, int *count, double *width)
+{
+    Options tile = *o;
+    tile.grains = 7000;
+    tile.wide = 0;
+    snprintf(tile.cache, sizeof tile.cache, "/tmp/sablier-bench-pile-%d.state", tile.grains);
+    FILE *f = fopen(tile.cache, "rb");
+    if (f)
+        fclose(f);
+    else if (build_pile(&tile) != 0)
+        return 1;
+    SimGrainSet g;
+    SimWall *walls = NULL;
+    int wall_count = 0;
+    double t = 0.0;
+    SimError err;
+    if (sim_state_load(tile.cache, &g, &walls, &wall_count, &t, &err) != SIM_OK) {
+        fprintf(stderr, "bench_sim: %s\n", err.message);
+        return 1;
+    }
+    free(walls);
+    double *out = malloc(3 * (size_t)g.count * sizeof *out);
+    if (!out)
+        abort(); /* a benchmark: nothing to recover */
+    int n = 0;
+    *width = 0.0;
+    for (int i = 0; i < g.count; ++i) {
+        *width = fmax(*width, g.x[i]);
+        if (g.flags && (g.flags[i] & SIM_GRAIN_FIXED))
+            continue;
+        out[3 * n] = g.x[i];
+        out[3 * n + 1] = g.y[i];
+        out[3 * n + 2] = g.radius[i];
+        ++n;
+    }
+    sim_grain_set_free(&g);
+    qsort(out, (size_t)n, 3 * sizeof *out, by_x);
+    *grains = out;
+    *count = n;
+    return 0;
+}
+
+/* --wide: N grains of the standard bed's height in a box as wide as they need: copies of the
+ * settled standard pile side by side, each in its compartment (its walls of fixed grains stay
+ * between the copies), so that every size has the same grains, contacts and motion per grain and
+ * only the size changes; the last copy cut after the N-th grain (by x) and walled at the next
+ * place of the bottom row's lattice, then settled again (at least 0.5 s) when a copy was cut.
+ * Sizes that are multiples of 7000 are exact copies, not relaxed. */
+static int build_wide_pile(const Options *o)
+{
+    double *tile, width;
+    int tile_count;
+    if (load_tile(o, &tile, &tile_count, &width) != 0)
+        return 1;
+    SimGrainBuffer buffer;
+    sim_grain_buffer_init(&buffer);
+    double right = 0.0, top = 0.0;
+    int last = 0, whole = 0; /* the last copy, and whether all of it is in */
+    for (int k = 0; buffer.count < o->grains; ++k) {
+        int i = 0;
+        for (; i < tile_count && buffer.count < o->grains; ++i) {
+            const double *g = &tile[3 * i];
+            sim_grain_buffer_add(&buffer, g[0] + k * width, g[1], g[2], 0, 0u, -1);
+            right = fmax(right, g[0] + k * width + g[2]);
+            top = fmax(top, g[1] + g[2]);
+        }
+        last = k;
+        whole = i == tile_count;
+    }
+    free(tile);
+    right = whole ? (last + 1) * width : 2.0 * r_max * ceil((right + r_max) / (2.0 * r_max));
+    sim_build_fixed_row(&buffer, 0.0, right, 0.0, r_max, 0, -1);
+    for (int k = 0; k <= last + 1; ++k)
+        sim_build_fixed_column(&buffer, k <= last ? k * width : right, 2 * r_max, top + 4 * r_max,
+                               r_max, 0, -1);
+    fprintf(stderr, "bench_sim: %d grains of the standard pile's height, box %.1f p wide\n",
+            o->grains, right / (2.0 * r_max));
+    int s = whole ? settle_and_save(o, &buffer, 0.0, 0.0) : settle_and_save(o, &buffer, 0.5, 4.0);
+    sim_grain_buffer_free(&buffer);
+    return s;
 }
 
 /* The settled pile as a LAMMPS data file: type 1 mobile, type 2 fixed boundary grains; columns
@@ -465,7 +574,7 @@ int main(int argc, char **argv)
         }
     }
     if (!cached) {
-        int s = build_pile(&o);
+        int s = o.wide ? build_wide_pile(&o) : build_pile(&o);
         if (s != 0)
             return s;
     } else {
@@ -530,6 +639,10 @@ int main(int argc, char **argv)
                    "ASan)\n",
                    results[k].name);
     }
+    struct rusage usage;
+    getrusage(RUSAGE_SELF, &usage);
+    printf("# peak resident memory %ld kB (%.0f B per mobile grain)\n", usage.ru_maxrss,
+           n ? 1024.0 * (double)usage.ru_maxrss / results[0].mobile : 0.0);
     if (o.csv && write_csv(o.csv, o.machine, results, n) != 0)
         return 3;
     return 0;

@@ -6,7 +6,8 @@ set -euo pipefail
 # lammps and python3-vtk9: the real readers of the dump round trips (tests/clients/)
 packages=(gcc g++ make cmake pkg-config dpkg-dev file libconfig-dev libcairo2-dev libpng-dev
           libosmesa6-dev libavcodec-dev libavformat-dev libswscale-dev libavutil-dev fonts-dejavu-core
-          clang-format-14 python3-numpy clang-14 libclang-rt-14-dev lammps python3-vtk9)
+          clang-format-14 python3-numpy clang-14 libclang-rt-14-dev lammps python3-vtk9
+          openmpi-bin libopenmpi-dev)
 if [ "${SABLIER_SETUP_EXTRA:-}" != "" ]; then
   read -r -a extra <<<"$SABLIER_SETUP_EXTRA"
   packages+=("${extra[@]}")

@@ -127,6 +127,7 @@ typedef struct AppBneSamplesOptions {
     const char *vary; ///< "KEY=v1,v2,..." or NULL
     int seeds;        ///< runs per value, seeds seed0 .. seed0 + seeds - 1
     long seed0;
+    int jobs;           ///< runs at a time (child processes, app/pool.h); MPI ranks under mpirun
     double ldf_periods; ///< window of the large-deviation function, in shaking periods (0 = off)
     int quiet;
     const AppRender *render; ///< each run's movies and figures, or NULL

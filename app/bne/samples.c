@@ -4,9 +4,11 @@
  * +- standard deviation rise curves, rise times and the large-deviation function of the windowed
  * rise rate (docs/brazil_nut.md). */
 #include "bne.h"
+#include "pool.h"
 #include "run.h"
 #include "util.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -105,8 +107,9 @@ typedef struct Samples {
     char key[128];
     double values[64];
     int value_count;
-    Record *records; /* done of them, in run order */
-    int done;
+    Record *records; /* by run: values outer, seeds inner */
+    int *status;     /* each run's exit status (-1: not run) */
+    int done;        /* the runs before the first that failed: those reduced */
 } Samples;
 
 /* The curves of the reduction, and the arrays they point to (freed at the end). */
@@ -120,6 +123,64 @@ typedef struct Curves {
 static int same_value(double a, double b)
 {
     return a == b || (isnan(a) && isnan(b));
+}
+
+/* The output folder of the run of value (key = value) and seed. */
+static void run_dir(const Samples *S, double value, long seed, char *dir, size_t size)
+{
+    if (S->o->vary)
+        snprintf(dir, size, "%s/%s=%g/seed-%ld", S->o->out_dir, S->key, value, seed);
+    else
+        snprintf(dir, size, "%s/seed-%ld", S->o->out_dir, seed);
+}
+
+/* A run's record in its folder, for the parent (the run is a child process): the result, then
+ * its t and height samples, as raw doubles (the same bits come back). Read and removed by the
+ * parent. */
+static void record_path(const Samples *S, const Record *rec, char *path, size_t size)
+{
+    char dir[BNE_PATH];
+    run_dir(S, rec->value, rec->seed, dir, sizeof dir);
+    snprintf(path, size, "%s/bne.record", dir);
+}
+
+static int write_record(const Samples *S, const Record *rec)
+{
+    char path[BNE_PATH + 16];
+    record_path(S, rec, path, sizeof path);
+    size_t n = (size_t)(rec->result.count > 0 ? rec->result.count : 0);
+    FILE *f = fopen(path, "wb");
+    int ok = f && fwrite(&rec->result, sizeof rec->result, 1, f) == 1 &&
+             fwrite(rec->result.t, sizeof(double), n, f) == n &&
+             fwrite(rec->result.height, sizeof(double), n, f) == n;
+    if (f && fclose(f) != 0)
+        ok = 0;
+    if (!ok)
+        fprintf(stderr, "sablier: bne: cannot write %s\n", path);
+    return ok ? 0 : -1;
+}
+
+static int read_record(const Samples *S, Record *rec)
+{
+    char path[BNE_PATH + 16];
+    record_path(S, rec, path, sizeof path);
+    FILE *f = fopen(path, "rb");
+    int ok = f && fread(&rec->result, sizeof rec->result, 1, f) == 1 && rec->result.count >= 0;
+    size_t n = ok ? (size_t)rec->result.count : 0;
+    rec->t = ok ? malloc((n > 0 ? n : 1) * sizeof(double)) : NULL;
+    rec->h = ok ? malloc((n > 0 ? n : 1) * sizeof(double)) : NULL;
+    ok = ok && rec->t && rec->h && fread(rec->t, sizeof(double), n, f) == n &&
+         fread(rec->h, sizeof(double), n, f) == n;
+    if (f)
+        fclose(f);
+    remove(path);
+    rec->result.t = rec->t;
+    rec->result.height = rec->h;
+    if (!ok) {
+        fprintf(stderr, "sablier: bne: cannot read the run's record %s\n", path);
+        rec->result.count = 0;
+    }
+    return ok ? 0 : -1;
 }
 
 /* One run: the scene with seed (and the varied key = value), through the stage runner, into
@@ -137,10 +198,8 @@ static int run_one(Samples *S, double value, long seed, Record *rec)
     if (o->vary) {
         snprintf(vary_set, sizeof vary_set, "%s=%.17g", S->key, value);
         sets[n++] = vary_set;
-        snprintf(dir, sizeof dir, "%s/%s=%g/seed-%ld", o->out_dir, S->key, value, seed);
-    } else {
-        snprintf(dir, sizeof dir, "%s/seed-%ld", o->out_dir, seed);
     }
+    run_dir(S, value, seed, dir, sizeof dir);
     Scene *scene = scene_load(o->scene_path, sets, n, err, sizeof err);
     if (!scene) {
         fprintf(stderr, "%s\n", err);
@@ -161,35 +220,71 @@ static int run_one(Samples *S, double value, long seed, Record *rec)
     rec->seed = seed;
     if (rc == 0) {
         rec->result = app_bne_result(app_bne_of(scene));
-        size_t bytes = (size_t)(rec->result.count > 0 ? rec->result.count : 1) * sizeof(double);
-        rec->t = malloc(bytes);
-        rec->h = malloc(bytes);
-        if (rec->t && rec->h && rec->result.count > 0) {
-            memcpy(rec->t, rec->result.t, bytes);
-            memcpy(rec->h, rec->result.height, bytes);
-        }
-        rec->result.t = rec->t;
-        rec->result.height = rec->h;
         if (!o->quiet)
             fprintf(stderr, "sablier: bne: %s%s%g seed %ld: rise time %g, rate %g\n", S->key,
                     o->vary ? "=" : "", o->vary ? value : 0.0, seed, rec->result.rise_time,
                     rec->result.rise_rate);
     }
+    if (rc == 0 && write_record(S, rec) != 0)
+        rc = 2;
     scene_free(scene);
     return rc;
 }
 
-/* Every value and seed, in order, until one fails: 0, or that run's exit status. */
+/* The runs are the pool's tasks, values outer: task k is value k / seeds, seed seed0 + k % seeds.
+ * Each runs in a child process (app/pool.h) and hands its record back through a file. */
+static int sample_run(void *ctx, int k)
+{
+    Samples *S = ctx;
+    Record rec;
+    memset(&rec, 0, sizeof rec);
+    return run_one(S, S->values[k / S->o->seeds], S->o->seed0 + k % S->o->seeds, &rec);
+}
+
+/* After a failure no later run starts (as the serial loop stopped there). */
+static int sample_start(void *ctx, int k)
+{
+    const Samples *S = ctx;
+    for (int j = 0; j < k; ++j)
+        if (S->status[j] > 0)
+            return 1;
+    return 0;
+}
+
+static void sample_done(void *ctx, int k, int status)
+{
+    Samples *S = ctx;
+    Record *rec = &S->records[k];
+    rec->value = S->values[k / S->o->seeds];
+    rec->seed = S->o->seed0 + k % S->o->seeds;
+    if (status == APP_POOL_NOT_STARTED) {
+        fprintf(stderr, "sablier: bne: cannot start a run: %s\n", strerror(errno));
+        status = 2;
+    } else if (status == 0 && read_record(S, rec) != 0) {
+        status = 2;
+    }
+    S->status[k] = status;
+}
+
+/* Every value and seed, until one fails: 0, or the exit status of the first that failed. */
 static int run_samples(Samples *S)
 {
-    for (int v = 0; v < S->value_count; ++v)
-        for (int s = 0; s < S->o->seeds; ++s) {
-            int rc = run_one(S, S->values[v], S->o->seed0 + s, &S->records[S->done]);
-            if (rc != 0)
-                return rc;
-            ++S->done;
-        }
-    return 0;
+    int total = S->value_count * S->o->seeds;
+    for (int k = 0; k < total; ++k)
+        S->status[k] = -1;
+    AppPool pool = {.count = total,
+                    .jobs = S->o->jobs,
+                    .ctx = S,
+                    .start = sample_start,
+                    .run = sample_run,
+                    .done = sample_done,
+                    .signal_status = 1};
+    int rc = app_pool_run(&pool) != 0 ? 2 : 0;
+    for (S->done = 0; S->done < total && S->status[S->done] == 0; ++S->done)
+        ;
+    if (S->done < total && S->status[S->done] > 0)
+        rc = S->status[S->done];
+    return rc;
 }
 
 /* samples.csv: rise time and rate per run. */
@@ -381,9 +476,11 @@ int app_bne_samples(const AppBneSamplesOptions *o)
         return status;
     int total = S.value_count * o->seeds;
     S.records = calloc((size_t)total, sizeof *S.records);
+    S.status = calloc((size_t)total, sizeof *S.status);
     Curves *C = calloc(1, sizeof *C);
-    if (!S.records || !C) {
+    if (!S.records || !S.status || !C) {
         free(S.records);
+        free(S.status);
         free(C);
         return 2;
     }
@@ -401,6 +498,7 @@ int app_bne_samples(const AppBneSamplesOptions *o)
         free(S.records[k].h);
     }
     free(S.records);
+    free(S.status);
     free(C);
     return status;
 }
@@ -409,18 +507,19 @@ int app_bne_samples(const AppBneSamplesOptions *o)
 
 static const char USAGE_BNE[] =
     "usage: sablier bne SCENE [--seeds N] [--seed0 S] [--vary KEY=v1,v2,...] [--ldf PERIODS]\n"
-    "                   [--out DIR] [--set KEY=VALUE]... [--movies] [--quiet]\n"
+    "                   [--jobs N] [--out DIR] [--set KEY=VALUE]... [--movies] [--quiet]\n"
     "Runs a scene with a `bne` group for N seeds (default 5) and each value of KEY; writes\n"
     "DIR/samples.csv (rise time and rate per run), rise.csv and rise.png (mean +- std of the\n"
     "intruder's rise against time), ldf.csv and ldf.png (large-deviation function of the rise\n"
     "rate over windows of PERIODS shaking periods, default 5; docs/brazil_nut.md). Each run's own\n"
-    "outputs go to DIR/KEY=value/seed-S/ (movies and figures only with --movies).\n";
+    "outputs go to DIR/KEY=value/seed-S/ (movies and figures only with --movies). The runs are\n"
+    "separate processes, --jobs N at a time (default 2; results do not depend on N).\n";
 
 static int bne_command(int argc, char **argv, const AppEnv *env)
 {
     const char *path = NULL, *value, *sets[APP_MAX_SETS], *out = NULL;
     int set_count = 0, movies = 0;
-    long seeds = 5, seed0 = 1;
+    long seeds = 5, seed0 = 1, jobs = 2;
     AppBneSamplesOptions o;
     memset(&o, 0, sizeof o);
     o.ldf_periods = 5.0;
@@ -440,6 +539,10 @@ static int bne_command(int argc, char **argv, const AppEnv *env)
         } else if ((m = app_option(argc, argv, &i, "--seeds", &value)) != 0) {
             if (m < 0 || app_parse_count(value, 1, 10000, &seeds) < 0)
                 return app_usage_error(USAGE_BNE, "--seeds needs a count in [1, 10000], got",
+                                       m < 0 ? "nothing" : value);
+        } else if ((m = app_option(argc, argv, &i, "--jobs", &value)) != 0) {
+            if (m < 0 || app_parse_count(value, 1, 64, &jobs) < 0)
+                return app_usage_error(USAGE_BNE, "--jobs needs a count in [1, 64], got",
                                        m < 0 ? "nothing" : value);
         } else if ((m = app_option(argc, argv, &i, "--seed0", &value)) != 0) {
             if (m < 0 || app_parse_count(value, 0, 1000000000, &seed0) < 0)
@@ -470,6 +573,7 @@ static int bne_command(int argc, char **argv, const AppEnv *env)
     o.set_count = set_count;
     o.seeds = (int)seeds;
     o.seed0 = seed0;
+    o.jobs = (int)jobs;
     if (movies)
         o.render = env->render;
     o.plot = env->render;

@@ -714,7 +714,7 @@ int app_sweep(const AppSweepOptions *o)
     } else if (status == 0) {
         if (!o->quiet)
             fprintf(stderr, "sablier: sweep: %d members from %s, %d at a time, into %s\n",
-                    w->member_count, w->bed_state, o->jobs, w->out_dir);
+                    w->member_count, w->bed_state, app_pool_width(o->jobs), w->out_dir);
         run_members(w, w->members, w->member_count, 0);
         for (int i = 0; i < w->member_count; ++i)
             if (w->members[i].status != 0 && status != 2)

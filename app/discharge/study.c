@@ -585,7 +585,8 @@ static int run_study(const Study *st, Scene **scenes)
         free(tasks);
         return 2;
     }
-    fprintf(stderr, "sablier: study: %d of %d samples to run (%d jobs)\n", n, total, st->jobs);
+    fprintf(stderr, "sablier: study: %d of %d samples to run (%d jobs)\n", n, total,
+            app_pool_width(st->jobs));
     StudyRun run = {st, scenes, tasks, n, 0, 0, app_now_seconds()};
     AppPool pool = {.count = n,
                     .jobs = st->jobs,
