@@ -33,6 +33,30 @@
 #define TEST_REL(actual, expected, rel)                                                            \
     TEST_NEAR(actual, expected, fabs((double)(expected)) * (rel))
 
+/* The whole file, malloc'd and NUL-ended (NULL when unreadable); its length in *size when size is
+ * not NULL. The test frees it. */
+static inline char *test_read_file(const char *path, long *size)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    char *data = NULL;
+    long n = -1;
+    if (fseek(f, 0, SEEK_END) == 0 && (n = ftell(f)) >= 0 && fseek(f, 0, SEEK_SET) == 0 &&
+        (data = malloc((size_t)n + 1)) != NULL) {
+        if (fread(data, 1, (size_t)n, f) == (size_t)n) {
+            data[n] = '\0';
+        } else {
+            free(data);
+            data = NULL;
+        }
+    }
+    fclose(f);
+    if (data && size)
+        *size = n;
+    return data;
+}
+
 /* A new empty file for a test's output, named /tmp/sablier-test-XXXXXX made unique by mkstemp,
  * in path (32 bytes). 0, or -1 when it cannot be made. The test removes it. */
 static inline int test_tmp_file(char path[32])

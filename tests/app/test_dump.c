@@ -37,25 +37,6 @@ static SimWorld *fallen_world(Scene **scene)
     return w;
 }
 
-static char *read_all(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *text = malloc((size_t)n + 1);
-    if (text && fread(text, 1, (size_t)n, f) != (size_t)n) {
-        free(text);
-        text = NULL;
-    }
-    if (text)
-        text[n] = '\0';
-    fclose(f);
-    return text;
-}
-
 static int count_of(const char *text, const char *needle)
 {
     int n = 0;
@@ -174,7 +155,7 @@ static int lammps_periodic_box(void)
     const unsigned char fields[] = {APP_DUMP_ID, APP_DUMP_X, APP_DUMP_Y};
     TEST_ASSERT(app_dump_lammps_frame(out, &f, fields, 3, NULL) == 0);
     fclose(out);
-    char *text = read_all(path);
+    char *text = test_read_file(path, NULL);
     TEST_ASSERT(text);
     TEST_ASSERT(strstr(text, "ITEM: BOX BOUNDS pp ff pp\n0 2\n0.10000000000000001 "
                              "0.30000000000000004\n-0.10000000000000001 0.10000000000000001\n"));
@@ -200,7 +181,7 @@ static int vtk_grains_file(void)
     char path[32];
     TEST_ASSERT(test_tmp_file(path) == 0);
     TEST_ASSERT(app_dump_vtp_grains(path, &f, fields, (int)sizeof fields, &scene->def) == 0);
-    char *text = read_all(path);
+    char *text = test_read_file(path, NULL);
     TEST_ASSERT(text);
     char expect[128];
     snprintf(expect, sizeof expect, "<Piece NumberOfPoints=\"%d\" NumberOfVerts=\"%d\" ", f.count,
@@ -243,7 +224,7 @@ static int vtk_contacts_file(void)
     char path[32];
     TEST_ASSERT(test_tmp_file(path) == 0);
     TEST_ASSERT(app_dump_vtp_contacts(path, &f) == 0);
-    char *text = read_all(path);
+    char *text = test_read_file(path, NULL);
     TEST_ASSERT(text);
     char expect[160];
     snprintf(expect, sizeof expect,
@@ -295,7 +276,7 @@ static int vtk_contacts_seam_and_wall(void)
     char path[32];
     TEST_ASSERT(test_tmp_file(path) == 0);
     TEST_ASSERT(app_dump_vtp_contacts(path, &f) == 0);
-    char *text = read_all(path);
+    char *text = test_read_file(path, NULL);
     TEST_ASSERT(text);
     /* 3 grains + 2 images + 1 wall contact point; 2 + 1 lines */
     TEST_ASSERT(strstr(text, "NumberOfPoints=\"6\" NumberOfVerts=\"0\" NumberOfLines=\"3\""));
@@ -398,7 +379,7 @@ static int run_writes_dumps(void)
         TEST_ASSERT(!exists(dir, absent[k]));
     char path[256];
     snprintf(path, sizeof path, "%s/fall.lammpstrj", dir);
-    char *text = read_all(path);
+    char *text = test_read_file(path, NULL);
     TEST_ASSERT(text && count_of(text, "ITEM: TIMESTEP\n") == 5);
     TEST_ASSERT(strstr(text, "ITEM: TIMESTEP\n4000\n") && strstr(text, "ITEM: TIMESTEP\n16000\n"));
     /* the last frame's grains are the checkpoint's, to the bit */
@@ -422,7 +403,7 @@ static int run_writes_dumps(void)
     free(walls);
     free(text);
     snprintf(path, sizeof path, "%s/pile.pvd", dir);
-    text = read_all(path);
+    text = test_read_file(path, NULL);
     TEST_ASSERT(text && count_of(text, "<DataSet ") == 3);
     TEST_ASSERT(strstr(text, "timestep=\"0.80000000000000004\" group=\"\" part=\"0\" "
                              "file=\"pile/pile_00000.vtp\""));

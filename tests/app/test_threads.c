@@ -40,23 +40,6 @@ static int run_on(int threads)
     return status;
 }
 
-/* The whole file, malloc'd (NULL when unreadable); *size its length. */
-static char *slurp(const char *path, long *size)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    char *data = NULL;
-    if (fseek(f, 0, SEEK_END) == 0 && (*size = ftell(f)) >= 0 && fseek(f, 0, SEEK_SET) == 0 &&
-        (data = malloc((size_t)*size + 1)) != NULL &&
-        fread(data, 1, (size_t)*size, f) != (size_t)*size) {
-        free(data);
-        data = NULL;
-    }
-    fclose(f);
-    return data;
-}
-
 /* 1 when DIR_A/NAME and DIR_B/NAME hold the same bytes. */
 static int same_file(const char *dir_a, const char *dir_b, const char *name)
 {
@@ -64,7 +47,7 @@ static int same_file(const char *dir_a, const char *dir_b, const char *name)
     snprintf(a, sizeof a, "%s/%s", dir_a, name);
     snprintf(b, sizeof b, "%s/%s", dir_b, name);
     long na = -1, nb = -2;
-    char *da = slurp(a, &na), *db = slurp(b, &nb);
+    char *da = test_read_file(a, &na), *db = test_read_file(b, &nb);
     int same = da && db && na == nb && memcmp(da, db, (size_t)na) == 0;
     if (!same)
         fprintf(stderr, "%s and %s differ\n", a, b);
@@ -122,7 +105,7 @@ static int same_outputs_any_thread_count(void)
     char path[1024];
     snprintf(path, sizeof path, "%s/summary.json", dirs[1]);
     long n = 0;
-    char *summary = slurp(path, &n);
+    char *summary = test_read_file(path, &n);
     int reports = summary && (summary[n] = '\0', strstr(summary, "\"threads\": 2") != NULL);
     free(summary);
     for (int k = 0; k < 3; ++k)

@@ -27,30 +27,11 @@ static RenderStyle figure_style(void)
     return s;
 }
 
-/* Reads a whole file; caller frees. */
-static unsigned char *slurp(const char *path, long *size)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    *size = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    unsigned char *buf = malloc((size_t)*size + 1);
-    if (buf && fread(buf, 1, (size_t)*size, f) != (size_t)*size) {
-        free(buf);
-        buf = NULL;
-    }
-    if (buf)
-        buf[*size] = 0;
-    fclose(f);
-    return buf;
-}
-
 static int same_bytes(const char *a, const char *b)
 {
     long na = 0, nb = 0;
-    unsigned char *pa = slurp(a, &na), *pb = slurp(b, &nb);
+    unsigned char *pa = (unsigned char *)test_read_file(a, &na),
+                  *pb = (unsigned char *)test_read_file(b, &nb);
     int same = pa && pb && na == nb && memcmp(pa, pb, (size_t)na) == 0;
     free(pa);
     free(pb);
@@ -172,7 +153,7 @@ static int pdf_byte_identical(void)
     TEST_ASSERT(!file_exists(DIR "/run1.pdf.tmp"));
     TEST_ASSERT(same_bytes(DIR "/run1.pdf", DIR "/run2.PDF"));
     long n = 0;
-    unsigned char *pdf = slurp(DIR "/run1.pdf", &n);
+    unsigned char *pdf = (unsigned char *)test_read_file(DIR "/run1.pdf", &n);
     TEST_ASSERT(pdf && n > 1000);
     TEST_ASSERT(memcmp(pdf, "%PDF-", 5) == 0);
     /* Pinned dates and our creator string; page size 400 x 260 px = 300 x 195 pt. */
@@ -193,7 +174,7 @@ static int svg_written(void)
     char err[256];
     TEST_ASSERT(render_figure_write(&f.frame, &s, NULL, DIR "/fig.svg", err, sizeof err) == 0);
     long n = 0;
-    unsigned char *svg = slurp(DIR "/fig.svg", &n);
+    unsigned char *svg = (unsigned char *)test_read_file(DIR "/fig.svg", &n);
     TEST_ASSERT(svg && n > 1000);
     TEST_ASSERT(strstr((char *)svg, "<svg") && strstr((char *)svg, "width=\"300pt\""));
     TEST_ASSERT(strstr((char *)svg, "</svg>"));
