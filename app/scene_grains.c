@@ -215,9 +215,120 @@ static int get_motion(Loader *L, const config_setting_t *g, int *out)
                            "no motion named `%s` in `motions`", name);
 }
 
+/* The index of motion `name` among the first `count`, or -1. */
+static int motion_index(const Scene *scene, int count, const char *name)
+{
+    for (int k = 0; k < count; ++k)
+        if (strcmp(scene->motion_names[k], name) == 0)
+            return k;
+    return -1;
+}
+
+/* A sinusoidal shaker: amplitude, frequency (required), phase, direction. */
+static int parse_sinusoidal(Loader *L, const config_setting_t *g, const char *what, SimMotion *m)
+{
+    double direction[2] = {0.0, 1.0};
+    if (app_config_need_number(&L->p, g, "amplitude", what, &m->amplitude) < 0 ||
+        app_config_non_negative(&L->p, g, "amplitude", m->amplitude) < 0 ||
+        app_config_need_number(&L->p, g, "frequency", what, &m->frequency) < 0 ||
+        app_config_positive(&L->p, g, "frequency", m->frequency) < 0 ||
+        app_config_number(&L->p, g, "phase", &m->phase) < 0 ||
+        app_config_vector(&L->p, g, "direction", direction, 2) < 0)
+        return -1;
+    double norm = hypot(direction[0], direction[1]);
+    if (!(norm > 0.0))
+        return app_config_fail(&L->p, app_config_member(g, "direction"),
+                               "`direction` must not be zero");
+    m->direction_x = direction[0] / norm;
+    m->direction_y = direction[1] / norm;
+    return 0;
+}
+
+/* `of = ["spin", "shake"]`: motions defined above this one, applied in that order. */
+static int parse_compose(Loader *L, const config_setting_t *g, const char *what, int k,
+                         SimMotion *m)
+{
+    const config_setting_t *of = app_config_member(g, "of");
+    if (app_config_need(&L->p, g, "of", what) < 0)
+        return -1;
+    int n = config_setting_length(of);
+    if (!config_setting_is_aggregate(of) || n < 1 || n > SIM_MOTION_MAX_PARTS)
+        return app_config_fail(&L->p, of, "`of` must list 1 to %d motion names",
+                               SIM_MOTION_MAX_PARTS);
+    for (int j = 0; j < n; ++j) {
+        const char *name = config_setting_get_string_elem(of, (unsigned)j);
+        int index = name ? motion_index(L->scene, k, name) : -1;
+        if (index < 0)
+            return app_config_fail(&L->p, of, "`of`: `%s` is not a motion defined above this one",
+                                   name ? name : "(not a string)");
+        m->parts[j] = index;
+    }
+    m->part_count = n;
+    return 0;
+}
+
+/* The kind's own keys (SimMotion). */
+static int parse_motion_kind(Loader *L, const config_setting_t *g, const char *what, int k,
+                             SimMotion *m)
+{
+    static const char *const kinds[] = {"sinusoidal", "velocity", "rotation", "compose", NULL};
+    static const char *const kind_keys[4][6] = {
+        {"amplitude", "frequency", "phase", "direction", NULL},
+        {"velocity", NULL},
+        {"center", "angular_velocity", NULL},
+        {"of", NULL}};
+    static const char *const schedule_keys[] = {"kind", "start", "ramp", "stop", NULL};
+    int kind = SIM_MOTION_SINUSOIDAL;
+    if (app_config_member(g, "kind") && app_config_choice(&L->p, g, "kind", kinds, &kind) < 0)
+        return -1;
+    m->kind = (SimMotionKind)kind;
+    if (app_config_keys(&L->p, g, what, kind_keys[kind], schedule_keys) < 0)
+        return -1;
+    double v[2] = {0.0, 0.0};
+    switch (m->kind) {
+    case SIM_MOTION_SINUSOIDAL:
+        return parse_sinusoidal(L, g, what, m);
+    case SIM_MOTION_VELOCITY:
+        if (app_config_need(&L->p, g, "velocity", what) < 0 ||
+            app_config_vector(&L->p, g, "velocity", v, 2) < 0)
+            return -1;
+        m->velocity_x = v[0];
+        m->velocity_y = v[1];
+        return 0;
+    case SIM_MOTION_ROTATION:
+        if (app_config_need(&L->p, g, "center", what) < 0 ||
+            app_config_vector(&L->p, g, "center", v, 2) < 0 ||
+            app_config_need_number(&L->p, g, "angular_velocity", what, &m->angular_velocity) < 0)
+            return -1;
+        m->center_x = v[0];
+        m->center_y = v[1];
+        return 0;
+    case SIM_MOTION_COMPOSE:
+        return parse_compose(L, g, what, k, m);
+    }
+    return -1;
+}
+
+/* start, ramp, stop (s; sim.h SimMotion). */
+static int parse_schedule(Loader *L, const config_setting_t *g, SimMotion *m)
+{
+    if (app_config_number(&L->p, g, "start", &m->start) < 0 ||
+        app_config_non_negative(&L->p, g, "start", m->start) < 0 ||
+        app_config_number(&L->p, g, "ramp", &m->ramp) < 0 ||
+        app_config_non_negative(&L->p, g, "ramp", m->ramp) < 0 ||
+        app_config_number(&L->p, g, "stop", &m->stop) < 0)
+        return -1;
+    if (app_config_member(g, "stop") && !(m->stop > m->start))
+        return app_config_fail(&L->p, app_config_member(g, "stop"),
+                               "`stop` = %g must be after `start` = %g", m->stop, m->start);
+    if (m->kind == SIM_MOTION_COMPOSE && m->ramp > 0.0)
+        return app_config_fail(&L->p, app_config_member(g, "ramp"),
+                               "a composition has no `ramp` of its own: ramp its parts");
+    return 0;
+}
+
 int loader_parse_motions(Loader *L, const config_setting_t *root)
 {
-    static const char *const keys[] = {"amplitude", "frequency", "phase", "direction", NULL};
     const config_setting_t *group;
     if (loader_gate(L, root, "motions", SIM_EFFECT_VIBRATION) < 0 ||
         app_config_group(&L->p, root, "motions", &group) <= 0)
@@ -232,25 +343,11 @@ int loader_parse_motions(Loader *L, const config_setting_t *root)
         char what[96], field[64];
         snprintf(what, sizeof what, "motion `%s`", name);
         if (config_setting_type(g) != CONFIG_TYPE_GROUP)
-            return app_config_fail(&L->p, g, "%s must be a group { amplitude; frequency; ... }",
-                                   what);
+            return app_config_fail(&L->p, g, "%s must be a group { kind; ... }", what);
         SimMotion *m = &L->scene->def.motions[k];
-        double direction[2] = {0.0, 1.0};
-        m->phase = 0.0;
-        if (app_config_keys(&L->p, g, what, keys, NULL) < 0 ||
-            app_config_need_number(&L->p, g, "amplitude", what, &m->amplitude) < 0 ||
-            app_config_non_negative(&L->p, g, "amplitude", m->amplitude) < 0 ||
-            app_config_need_number(&L->p, g, "frequency", what, &m->frequency) < 0 ||
-            app_config_positive(&L->p, g, "frequency", m->frequency) < 0 ||
-            app_config_number(&L->p, g, "phase", &m->phase) < 0 ||
-            app_config_vector(&L->p, g, "direction", direction, 2) < 0)
+        memset(m, 0, sizeof *m);
+        if (parse_motion_kind(L, g, what, k, m) < 0 || parse_schedule(L, g, m) < 0)
             return -1;
-        double norm = hypot(direction[0], direction[1]);
-        if (!(norm > 0.0))
-            return app_config_fail(&L->p, app_config_member(g, "direction"),
-                                   "`direction` must not be zero");
-        m->direction_x = direction[0] / norm;
-        m->direction_y = direction[1] / norm;
         snprintf(L->scene->motion_names[k], SCENE_NAME_MAX, "%s", name);
         snprintf(field, sizeof field, "motions[%d]", k);
         loader_where_add(L, field, g);
@@ -470,9 +567,60 @@ int loader_parse_grains(Loader *L, const config_setting_t *root)
     return 0;
 }
 
+/* A segment: from = [x, y], to = [x, y]. */
+static int parse_segment(Loader *L, const config_setting_t *g, const char *what, SimWall *w)
+{
+    double from[2] = {0.0, 0.0}, to[2] = {0.0, 0.0};
+    if (app_config_need(&L->p, g, "from", what) < 0 ||
+        app_config_vector(&L->p, g, "from", from, 2) < 0 ||
+        app_config_need(&L->p, g, "to", what) < 0 || app_config_vector(&L->p, g, "to", to, 2) < 0)
+        return -1;
+    if (!(hypot(to[0] - from[0], to[1] - from[1]) > 0.0))
+        return app_config_fail(&L->p, g, "%s: `from` and `to` must differ", what);
+    w->x0 = from[0];
+    w->y0 = from[1];
+    w->x1 = to[0];
+    w->y1 = to[1];
+    return 0;
+}
+
+/* An arc: center = [x, y], radius (m), angles = [from, to] in degrees counter-clockwise
+ * (default the full circle), side = "inside" | "outside" | "both". */
+static int parse_arc(Loader *L, const config_setting_t *g, const char *what, SimWall *w)
+{
+    static const char *const sides[] = {"both", "inside", "outside", NULL};
+    double center[2] = {0.0, 0.0}, angles[2] = {0.0, 360.0};
+    int side = SIM_WALL_BOTH;
+    if (app_config_need(&L->p, g, "center", what) < 0 ||
+        app_config_vector(&L->p, g, "center", center, 2) < 0 ||
+        app_config_need_number(&L->p, g, "radius", what, &w->radius) < 0 ||
+        app_config_positive(&L->p, g, "radius", w->radius) < 0 ||
+        app_config_vector(&L->p, g, "angles", angles, 2) < 0 ||
+        (app_config_member(g, "side") && app_config_choice(&L->p, g, "side", sides, &side) < 0))
+        return -1;
+    if (!(angles[1] > angles[0]))
+        return app_config_fail(
+            &L->p, app_config_member(g, "angles"),
+            "`angles` = [from, to] needs to > from (degrees, counter-clockwise)");
+    w->shape = SIM_WALL_ARC;
+    w->side = (SimWallSide)side;
+    w->center_x = center[0];
+    w->center_y = center[1];
+    w->angle0 = angles[0] * SIM_PI / 180.0;
+    w->angle1 =
+        angles[1] - angles[0] >= 360.0 ? w->angle0 + 2.0 * SIM_PI : angles[1] * SIM_PI / 180.0;
+    /* the end points, for readers that know segments only */
+    w->x0 = center[0] + w->radius * cos(w->angle0);
+    w->y0 = center[1] + w->radius * sin(w->angle0);
+    w->x1 = center[0] + w->radius * cos(w->angle1);
+    w->y1 = center[1] + w->radius * sin(w->angle1);
+    return 0;
+}
+
 int loader_parse_walls(Loader *L, const config_setting_t *root)
 {
-    static const char *const keys[] = {"from", "to", "species", "motion", NULL};
+    static const char *const keys[] = {"from", "to",      "center", "radius", "angles",
+                                       "side", "species", "motion", NULL};
     const config_setting_t *list;
     if (app_config_list(&L->p, root, "walls", &list) <= 0)
         return L->p.failed ? -1 : 0;
@@ -484,21 +632,21 @@ int loader_parse_walls(Loader *L, const config_setting_t *root)
         const config_setting_t *g = config_setting_get_elem(list, (unsigned)k);
         char what[32], field[32];
         snprintf(what, sizeof what, "walls.%d", k);
-        double from[2] = {0.0, 0.0}, to[2] = {0.0, 0.0};
         SimWall *w = &L->scene->walls[k];
-        if (app_config_keys(&L->p, g, what, keys, NULL) < 0 ||
-            app_config_need(&L->p, g, "from", what) < 0 ||
-            app_config_vector(&L->p, g, "from", from, 2) < 0 ||
-            app_config_need(&L->p, g, "to", what) < 0 ||
-            app_config_vector(&L->p, g, "to", to, 2) < 0 || get_species(L, g, &w->species) < 0 ||
-            get_motion(L, g, &w->motion) < 0)
+        const int arc = app_config_member(g, "center") || app_config_member(g, "radius");
+        if (app_config_keys(&L->p, g, what, keys, NULL) < 0)
             return -1;
-        if (!(hypot(to[0] - from[0], to[1] - from[1]) > 0.0))
-            return app_config_fail(&L->p, g, "%s: `from` and `to` must differ", what);
-        w->x0 = from[0];
-        w->y0 = from[1];
-        w->x1 = to[0];
-        w->y1 = to[1];
+        if (arc && (app_config_member(g, "from") || app_config_member(g, "to")))
+            return app_config_fail(&L->p, g,
+                                   "%s: a wall is a segment (from, to) or an arc (center, radius), "
+                                   "not both",
+                                   what);
+        if (!arc && (app_config_member(g, "angles") || app_config_member(g, "side")))
+            return app_config_fail(&L->p, g,
+                                   "%s: `angles` and `side` are for arcs (center, radius)", what);
+        if ((arc ? parse_arc(L, g, what, w) : parse_segment(L, g, what, w)) < 0 ||
+            get_species(L, g, &w->species) < 0 || get_motion(L, g, &w->motion) < 0)
+            return -1;
         snprintf(field, sizeof field, "walls[%d]", k);
         loader_where_add(L, field, g);
     }

@@ -6,6 +6,7 @@
  * Conventions (000 eqs. 3.1-3.5): n points from i to j, s = (n_y, -n_x),
  * v_s = (v_j - v_i).s + omega_i r_i + omega_j r_j. The force on i is -F_n n + F_t s, on j the
  * opposite; both torques are -r F_t (000 eq. 4.4; 004 §1.6). */
+#include "walls.h"
 #include "world.h"
 
 /* Vector values pass between static, always-inlined functions only: no ABI is exposed, so GCC's
@@ -400,36 +401,6 @@ KERNEL void reduce_range(SimWorld *world, const unsigned key, const int g0, cons
     }
 }
 
-/* Closest point of wall segment w to (px, py). */
-static inline void segment_closest(const SimWall *w, double px, double py, double *cx, double *cy)
-{
-    double ex = w->x1 - w->x0, ey = w->y1 - w->y0;
-    double len2 = ex * ex + ey * ey;
-    double t = len2 > 0.0 ? ((px - w->x0) * ex + (py - w->y0) * ey) / len2 : 0.0;
-    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-    *cx = w->x0 + t * ex;
-    *cy = w->y0 + t * ey;
-}
-
-/* Wall contact geometry: n from the grain centre to the closest point. Returns the distance. */
-static inline double wall_geometry(const SimWall *w, double px, double py, double *nx, double *ny)
-{
-    double cx, cy;
-    segment_closest(w, px, py, &cx, &cy);
-    double dx = cx - px, dy = cy - py;
-    double d = sqrt(dx * dx + dy * dy);
-    if (d > 0.0) {
-        *nx = dx / d;
-        *ny = dy / d;
-    } else { /* centre exactly on the wall: push along the wall's left normal */
-        double ex = w->x1 - w->x0, ey = w->y1 - w->y0;
-        double len = sqrt(ex * ex + ey * ey);
-        *nx = len > 0.0 ? ey / len : 0.0;
-        *ny = len > 0.0 ? -ex / len : -1.0;
-    }
-    return d;
-}
-
 /* Grain-wall contacts: the wall acts as a partner of infinite mass, zero radius, no spin. */
 KERNEL void wall_pass(SimWorld *world, const unsigned key)
 {
@@ -440,7 +411,8 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
         const int i = wl->grain[k], w = wl->wall[k];
         const double ri = world->radius[i];
         double nx, ny;
-        const double d = wall_geometry(&world->walls[w], world->x[i], world->y[i], &nx, &ny);
+        const double d =
+            sim_wall_geometry(&world->walls[w], world->x[i], world->y[i], ri, &nx, &ny);
         if (d >= ri) {
             if (law == SIM_TANGENTIAL_SPRING)
                 wl->hist_t[k] = 0.0;
@@ -449,8 +421,10 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
             continue;
         }
         const double overlap = ri - d;
-        const double dvx = world->wall_vx[w] - world->vx[i];
-        const double dvy = world->wall_vy[w] - world->vy[i];
+        double wvx, wvy; /* the wall's surface velocity at the contact point */
+        sim_wall_velocity(world, w, world->x[i] + d * nx, world->y[i] + d * ny, &wvx, &wvy);
+        const double dvx = wvx - world->vx[i];
+        const double dvy = wvy - world->vy[i];
         const double v_n = dvx * nx + dvy * ny;
         const PairParams *p = &world->pairs[wl->pair[k]];
         double f_el;
@@ -470,10 +444,13 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
                 world->torque[i] -= ri * f_t;
         }
         if (key & KEY_ROLLING) {
-            const double chord = (key & KEY_CHORD) ? 2.0 * sqrt(ri * ri - d * d) : 0.0;
+            const double chord = (key & KEY_CHORD) ? 2.0 * sqrt(fmax(ri * ri - d * d, 0.0)) : 0.0;
             const double k_r = (key & KEY_CHORD) ? p->k_n * chord * chord : p->k_r;
             const double mu_r = (key & KEY_CHORD) ? p->mu * chord : p->mu_r;
-            world->torque[i] -= rolling_torque_d(k_r, mu_r, -wi, f_el, dt, &wl->hist_r[k]);
+            /* relative rolling against the wall's own turning (a drum's omega) */
+            const double w_wall = world->wall_omega[w];
+            const double rel = w_wall != 0.0 ? w_wall - wi : -wi;
+            world->torque[i] -= rolling_torque_d(k_r, mu_r, rel, f_el, dt, &wl->hist_r[k]);
         }
         world->fx[i] += fxk;
         world->fy[i] += fyk;
@@ -613,17 +590,20 @@ void sim_contacts_visit(SimWorld *world, ContactVisit *visit, void *context)
     for (int k = 0; k < world->wl.count; ++k) {
         int i = world->wl.grain[k], w = world->wl.wall[k];
         double nx, ny;
-        double d = wall_geometry(&world->walls[w], x[i], y[i], &nx, &ny);
+        double d = sim_wall_geometry(&world->walls[w], x[i], y[i], r[i], &nx, &ny);
         if (d >= r[i])
             continue;
-        double dvx = world->wall_vx[w] - world->vx[i], dvy = world->wall_vy[w] - world->vy[i];
+        double wvx, wvy;
+        sim_wall_velocity(world, w, x[i] + d * nx, y[i] + d * ny, &wvx, &wvy);
+        double dvx = wvx - world->vx[i], dvy = wvy - world->vy[i];
         double wi = world->rotation ? world->omega[i] : 0.0;
         double v_s = dvx * ny - dvy * nx + wi * r[i];
         double xi_t = law == SIM_TANGENTIAL_SPRING ? world->wl.hist_t[k] : 0.0;
         double m_r = (key & KEY_ROLLING) ? world->wl.hist_r[k] : 0.0;
-        visit_one(world, key, i, -1, w, nx, ny, r[i] - d, 2.0 * sqrt(r[i] * r[i] - d * d),
-                  dvx * nx + dvy * ny, v_s, &world->pairs[world->wl.pair[k]], world->wl.gamma[k],
-                  xi_t, m_r, x[i] + d * nx, y[i] + d * ny, visit, context);
+        visit_one(world, key, i, -1, w, nx, ny, r[i] - d,
+                  2.0 * sqrt(fmax(r[i] * r[i] - d * d, 0.0)), dvx * nx + dvy * ny, v_s,
+                  &world->pairs[world->wl.pair[k]], world->wl.gamma[k], xi_t, m_r, x[i] + d * nx,
+                  y[i] + d * ny, visit, context);
     }
 }
 

@@ -45,12 +45,18 @@ class SimGrainSet(Structure):
 
 class SimMotion(Structure):
     _fields_ = [("amplitude", c_double), ("frequency", c_double), ("phase", c_double),
-                ("direction_x", c_double), ("direction_y", c_double)]
+                ("direction_x", c_double), ("direction_y", c_double), ("kind", c_int),
+                ("velocity_x", c_double), ("velocity_y", c_double), ("center_x", c_double),
+                ("center_y", c_double), ("angular_velocity", c_double), ("start", c_double),
+                ("ramp", c_double), ("stop", c_double), ("part_count", c_int),
+                ("parts", c_int * 4)]
 
 
 class SimWall(Structure):
     _fields_ = [("x0", c_double), ("y0", c_double), ("x1", c_double), ("y1", c_double),
-                ("species", c_int), ("motion", c_int)]
+                ("species", c_int), ("motion", c_int), ("shape", c_int), ("side", c_int),
+                ("center_x", c_double), ("center_y", c_double), ("radius", c_double),
+                ("angle0", c_double), ("angle1", c_double)]
 
 
 class SimSink(Structure):
