@@ -419,9 +419,13 @@ static int finish_output(Loader *L)
 static int validate_stages(const Scene *scene, char *err, size_t err_size)
 {
     for (int k = 0; k < scene->stage_count; ++k) {
-        int seen = 0; /* validate each distinct time step once */
+        int seen = 0; /* validate each distinct time step and forcing once */
+        const SceneStage *s = &scene->stages[k];
         for (int j = 0; j < k; ++j)
-            seen |= scene->stages[j].time_step == scene->stages[k].time_step;
+            seen |= scene->stages[j].time_step == s->time_step &&
+                    scene->stages[j].effects == s->effects &&
+                    scene->stages[j].gravity_x == s->gravity_x &&
+                    scene->stages[j].gravity_y == s->gravity_y;
         if (seen && k > 0)
             continue;
         SimWorldDef def = scene_world_def(scene, k);
@@ -478,8 +482,15 @@ void scene_free(Scene *scene)
 SimWorldDef scene_world_def(const Scene *scene, int stage)
 {
     SimWorldDef def = scene->def;
+    const SceneStage *s = &scene->stages[stage];
     def.grains = sim_grain_buffer_view(&scene->grains);
-    def.time_step = scene->stages[stage].time_step;
+    def.time_step = s->time_step;
+    /* the stage's forcing: its pipeline is built from its own effects */
+    def.gravity_x = s->gravity_x;
+    def.gravity_y = s->gravity_y;
+    def.effects = s->effects;
+    if (!(def.effects & SIM_EFFECT_REMOVAL))
+        def.sink_count = 0;
     for (int f = 0; app_experiments[f]; ++f)
         if (scene->experiments[f] && app_experiments[f]->adjust_def)
             app_experiments[f]->adjust_def(scene->experiments[f], stage, &def);
