@@ -183,7 +183,9 @@ class SceneStage(Structure):
                 ("load_path", c_char * SCENE_PATH_MAX), ("time_step", c_double),
                 ("duration", c_double), ("settle_kinetic", c_double),
                 ("settle_after", c_double), ("remove_count", c_int), ("remove_ids", _pu32),
-                ("movie", c_int), ("skip", c_int)]
+                ("movie", c_int), ("skip", c_int), ("gravity_x", c_double),
+                ("gravity_y", c_double), ("effects", c_uint), ("motions", c_uint),
+                ("declares_motions", c_int)]
 
 
 class Scene(Structure):
