@@ -6,6 +6,7 @@
 #include "run.h"
 
 #include "experiments.h"
+#include "sources.h"
 #include "util.h"
 
 #include <errno.h>
@@ -52,6 +53,7 @@ typedef struct Run {
     /* The motions' clocks by world time (sim_world_set_motion), from the stages' `motions`. */
     int motion_running[SIM_MAX_MOTIONS];
     double motion_on[SIM_MAX_MOTIONS], motion_off[SIM_MAX_MOTIONS];
+    AppSources *sources; /* insertion sources, NULL without */
 } Run;
 
 AppRunOptions app_run_options_default(void)
@@ -155,7 +157,9 @@ static int write_summary(const Run *run, double wall_seconds)
         "  \"effects\": %s,\n  \"threads\": %d,\n",
         name, file, (unsigned long long)scene->seed, grains, mobile, run->steps, n1, n2, n3, n4,
         status, message, effects_json, run->options->threads);
-    n += (size_t)snprintf(text + n, size - n, "%s  \"stages\": [", run->observed);
+    char sources[2048];
+    app_sources_json(run->sources, sources, sizeof sources);
+    n += (size_t)snprintf(text + n, size - n, "%s%s  \"stages\": [", sources, run->observed);
     for (int k = 0; k < run->stages_done && n < size; ++k) {
         const StageReport *s = &run->stages[k];
         char stage_name[160], a[40], b[40], c[40];
@@ -486,6 +490,7 @@ static int stage_start(Run *run, int k, StageClock *clock)
     if (stage_world(run, k) != 0)
         return 2;
     stage_forcing(run, k);
+    app_sources_stage_begin(run->sources, k);
     double dt = sim_world_time_step(run->world);
     run->context.stage_steps = (long)llround(stage->duration / dt);
     if (stage_edit(run, k) != 0)
@@ -533,6 +538,9 @@ static int stage_start(Run *run, int k, StageClock *clock)
  * figures. 0, or the exit status. */
 static int outputs_due(Run *run, int k, StageClock *clock, long done)
 {
+    if (app_sources_insert(run->sources, run->world, done, clock->dt, run->message,
+                           sizeof run->message) != 0)
+        return 2;
     int frame_due = clock->movie && clock->sink.consume && done % clock->every_frame == 0;
     int trace_due = run->trace && done % clock->every_trace == 0;
     if (done % clock->every_energy == 0 || done == clock->total)
@@ -561,6 +569,7 @@ static long next_due(const Run *run, int k, const StageClock *clock, long done)
             next = candidate;
     }
     next = next_figure_step(run, k, done, clock->dt, next);
+    next = app_sources_next_step(run->sources, done, clock->dt, next);
     return family_next_step(run, done, next);
 }
 
@@ -741,6 +750,12 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     }
     if (run->status == 0 && family_hooks(run, HOOK_BEGIN) != 0)
         run->status = 2;
+    int sources_failed = 0;
+    run->sources = app_sources_create(scene, &sources_failed);
+    if (sources_failed) {
+        snprintf(run->message, sizeof run->message, "out of memory");
+        run->status = 2;
+    }
     for (int m = 0; m < SIM_MAX_MOTIONS; ++m) { /* the first stage's motions run from t = 0 */
         run->motion_running[m] = (scene->stages[0].motions >> m) & 1u;
         run->motion_on[m] = run->motion_running[m] ? 0.0 : (double)INFINITY;
@@ -773,6 +788,7 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     int status = run->status;
     if (run->world)
         sim_world_destroy(run->world);
+    app_sources_free(run->sources);
     free(run);
     return status;
 }

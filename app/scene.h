@@ -144,6 +144,8 @@ typedef struct Scene {
     /// Per experiment family, in registry order (app/experiments.h): its parsed state, NULL when
     /// the scene does not use it. Read through the family's own accessor.
     void *experiments[APP_EXPERIMENT_MAX];
+    int source_count;
+    struct SceneSource *sources; ///< insertion sources (app/sources.h), malloc'd
 } Scene;
 
 /// Loads, overrides and checks a scene. `sets` are "KEY=VALUE" strings. Returns NULL with

@@ -170,7 +170,7 @@ int loader_parse_species(Loader *L, const config_setting_t *root)
 }
 
 /* `species = 1` or `species = "acrylic"`; default 0. */
-static int get_species(Loader *L, const config_setting_t *g, int *out)
+int loader_get_species(Loader *L, const config_setting_t *g, int *out)
 {
     const config_setting_t *s = app_config_member(g, "species");
     *out = 0;
@@ -385,7 +385,7 @@ static int parse_rain(Loader *L, const config_setting_t *grains)
         app_config_positive(&L->p, g, "radius_mean", rain.radius_mean) < 0 ||
         app_config_number(&L->p, g, "polydispersity", &rain.polydispersity) < 0 ||
         app_config_int(&L->p, g, "max_count", &max_count) < 0 ||
-        get_species(L, g, &rain.species) < 0)
+        loader_get_species(L, g, &rain.species) < 0)
         return -1;
     if (!(rain.polydispersity >= 0.0 && rain.polydispersity < 1.0))
         return app_config_fail(&L->p, app_config_member(g, "polydispersity"),
@@ -452,7 +452,7 @@ static int parse_box(Loader *L, const config_setting_t *grains)
         app_config_need_number(&L->p, g, "y0", what, &y0) < 0 ||
         app_config_need_number(&L->p, g, "y1", what, &y1) < 0 ||
         app_config_need_number(&L->p, g, "radius", what, &r) < 0 ||
-        app_config_positive(&L->p, g, "radius", r) < 0 || get_species(L, g, &species) < 0 ||
+        app_config_positive(&L->p, g, "radius", r) < 0 || loader_get_species(L, g, &species) < 0 ||
         get_motion(L, g, &motion) < 0)
         return -1;
     if (!(x1 - x0 >= 4.0 * r) || !(y1 - y0 >= 2.0 * r))
@@ -487,8 +487,8 @@ static int parse_rows(Loader *L, const config_setting_t *grains, int columns)
             app_config_need_number(&L->p, g, columns ? "y0" : "x1", what, &b) < 0 ||
             app_config_need_number(&L->p, g, columns ? "y1" : "y", what, &c) < 0 ||
             app_config_need_number(&L->p, g, "radius", what, &r) < 0 ||
-            app_config_positive(&L->p, g, "radius", r) < 0 || get_species(L, g, &species) < 0 ||
-            get_motion(L, g, &motion) < 0)
+            app_config_positive(&L->p, g, "radius", r) < 0 ||
+            loader_get_species(L, g, &species) < 0 || get_motion(L, g, &motion) < 0)
             return -1;
         int first = L->scene->grains.count;
         if (columns) {
@@ -522,7 +522,8 @@ static int parse_list(Loader *L, const config_setting_t *grains)
             app_config_need_number(&L->p, g, "x", what, &x) < 0 ||
             app_config_need_number(&L->p, g, "y", what, &y) < 0 ||
             app_config_need_number(&L->p, g, "r", what, &r) < 0 ||
-            get_species(L, g, &species) < 0 || app_config_bool(&L->p, g, "fixed", &fixed) < 0 ||
+            loader_get_species(L, g, &species) < 0 ||
+            app_config_bool(&L->p, g, "fixed", &fixed) < 0 ||
             app_config_number(&L->p, g, "vx", &vx) < 0 ||
             app_config_number(&L->p, g, "vy", &vy) < 0 ||
             app_config_number(&L->p, g, "omega", &omega) < 0 ||
@@ -562,7 +563,8 @@ int loader_parse_grains(Loader *L, const config_setting_t *root)
     for (int i = 0; i < scene->grains.count; ++i)
         scene->fixed_count += (scene->grains.flags[i] & SIM_GRAIN_FIXED) != 0;
     /* a `discharge` scene rains its grains during the run (app/discharge.c) */
-    if (scene->grains.count == scene->fixed_count && !app_config_member(root, "discharge"))
+    if (scene->grains.count == scene->fixed_count && !app_config_member(root, "discharge") &&
+        !app_config_member(root, "sources")) /* or its sources feed it (app/sources.c) */
         return app_config_fail(&L->p, grains, "the scene has no mobile grains");
     return 0;
 }
@@ -645,7 +647,7 @@ int loader_parse_walls(Loader *L, const config_setting_t *root)
             return app_config_fail(&L->p, g,
                                    "%s: `angles` and `side` are for arcs (center, radius)", what);
         if ((arc ? parse_arc(L, g, what, w) : parse_segment(L, g, what, w)) < 0 ||
-            get_species(L, g, &w->species) < 0 || get_motion(L, g, &w->motion) < 0)
+            loader_get_species(L, g, &w->species) < 0 || get_motion(L, g, &w->motion) < 0)
             return -1;
         snprintf(field, sizeof field, "walls[%d]", k);
         loader_where_add(L, field, g);

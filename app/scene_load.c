@@ -23,9 +23,9 @@
 /* ---------------------------------------------------------------- top-level physics */
 
 static const char *const ROOT_KEYS[] = {
-    "name",     "seed",  "units",   "effects", "mass_model", "gravity", "integrator", "time",
-    "skin",     "guard", "contact", "species", "grains",     "walls",   "motions",    "sinks",
-    "periodic", "drag",  "stages",  "output",  "render",     NULL};
+    "name",    "seed",     "units",   "effects", "mass_model", "gravity", "integrator", "time",
+    "skin",    "guard",    "contact", "species", "grains",     "walls",   "motions",    "sinks",
+    "sources", "periodic", "drag",    "stages",  "output",     "render",  NULL};
 
 static int parse_effects(Loader *L, const config_setting_t *root)
 {
@@ -387,7 +387,7 @@ static int parse_scene(Loader *L, const config_setting_t *root)
         loader_parse_motions(L, root) < 0 || parse_effect_groups(L, root) < 0 ||
         loader_parse_grains(L, root) < 0 || loader_parse_walls(L, root) < 0 ||
         loader_parse_sinks(L, root) < 0 || loader_parse_stages(L, root) < 0 ||
-        loader_parse_output(L, root) < 0)
+        loader_parse_sources(L, root) < 0 || loader_parse_output(L, root) < 0)
         return -1;
     for (int f = 0; app_experiments[f]; ++f) { /* each family parses its own keys */
         const AppExperiment *e = app_experiments[f];
@@ -468,6 +468,7 @@ void scene_free(Scene *scene)
         free(scene->stages[k].remove_ids);
     sim_grain_buffer_free(&scene->grains);
     free(scene->walls);
+    free(scene->sources);
     for (int f = 0; app_experiments[f]; ++f)
         if (scene->experiments[f] && app_experiments[f]->free)
             app_experiments[f]->free(scene->experiments[f]);
