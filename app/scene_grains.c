@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* scene_grains.c: the scene's species and motions, its grains (grains.list, rain, box, rows,
  * columns: stable ids follow that order), walls and sinks (docs/scenes.md). */
+#include "grains_file.h"
 #include "scene_internal.h"
 
 #include <math.h>
@@ -505,6 +506,39 @@ static int parse_rows(Loader *L, const config_setting_t *grains, int columns)
     return 0;
 }
 
+/* `file = "pile.csv"` (relative to the scene's folder): app/grains_file.c. */
+static int parse_file(Loader *L, const config_setting_t *grains)
+{
+    const char *name = NULL;
+    if (app_config_string(&L->p, grains, "file", &name) <= 0)
+        return L->p.failed ? -1 : 0;
+    char path[SCENE_PATH_MAX + 8];
+    if (name[0] == '/')
+        snprintf(path, sizeof path, "%s", name);
+    else
+        snprintf(path, sizeof path, "%.*s/%s", (int)(SCENE_PATH_MAX / 2), L->dir, name);
+    const int first = L->scene->grains.count;
+    int has_ids = 0;
+    char err[SCENE_PATH_MAX + 256];
+    if (app_grains_read(path, L->scene->def.species_count, &L->scene->grains, &has_ids, err,
+                        sizeof err) != 0) {
+        /* "path:line: message": reported at the grains file's line, naming the scene's key */
+        size_t cut = strlen(path) + 1;
+        cut = cut < strlen(err) ? cut + strspn(err + cut, "0123456789") : strlen(err);
+        char where[sizeof err], key[WHERE_MAX];
+        snprintf(where, sizeof where, "%.*s", (int)cut, err);
+        app_config_where(&L->p, app_config_member(grains, "file"), key, sizeof key);
+        return app_config_fail_at(&L->p, where, "%s (grains.file, %s)",
+                                  err[cut] ? err + cut + 2 : err, key);
+    }
+    if (has_ids && first > 0)
+        return app_config_fail(&L->p, app_config_member(grains, "file"),
+                               "a grains file with an `id` column must be the scene's only "
+                               "grains (its ids would clash)");
+    loader_where_grains(L, first, app_config_member(grains, "file"), "grains.file");
+    return 0;
+}
+
 static int parse_list(Loader *L, const config_setting_t *grains)
 {
     static const char *const keys[] = {"x",  "y",     "r",     "species", "fixed", "vx",
@@ -548,7 +582,7 @@ static int parse_list(Loader *L, const config_setting_t *grains)
 
 int loader_parse_grains(Loader *L, const config_setting_t *root)
 {
-    static const char *const keys[] = {"list", "rain", "box", "rows", "columns", NULL};
+    static const char *const keys[] = {"list", "rain", "box", "rows", "columns", "file", NULL};
     const config_setting_t *grains;
     if (app_config_need(&L->p, root, "grains", "the scene") < 0 ||
         app_config_group(&L->p, root, "grains", &grains) < 0 ||
@@ -556,7 +590,7 @@ int loader_parse_grains(Loader *L, const config_setting_t *root)
         return -1;
     /* Stable ids follow this order: list, rain, box, rows, columns. */
     if (parse_list(L, grains) < 0 || parse_rain(L, grains) < 0 || parse_box(L, grains) < 0 ||
-        parse_rows(L, grains, 0) < 0 || parse_rows(L, grains, 1) < 0)
+        parse_rows(L, grains, 0) < 0 || parse_rows(L, grains, 1) < 0 || parse_file(L, grains) < 0)
         return -1;
     Scene *scene = L->scene;
     scene->fixed_count = 0;
