@@ -359,7 +359,8 @@ int loader_parse_motions(Loader *L, const config_setting_t *root)
 
 /* ---------------------------------------------------------------- grains and walls */
 
-static int parse_rain(Loader *L, const config_setting_t *grains)
+/* One rain group g (`what` names it); group `index` of a list seeds its own stream. */
+static int parse_rain_group(Loader *L, const config_setting_t *g, const char *what, int index)
 {
     static const char *const keys[] = {"x0",           "x1",
                                        "y0",           "y1",
@@ -368,10 +369,6 @@ static int parse_rain(Loader *L, const config_setting_t *grains)
                                        "row_gap",      "column_jitter",
                                        "row_jitter",   "max_count",
                                        "species",      NULL};
-    const config_setting_t *g;
-    if (app_config_group(&L->p, grains, "rain", &g) <= 0)
-        return L->p.failed ? -1 : 0;
-    const char *what = "grains.rain";
     SimRainDef rain;
     memset(&rain, 0, sizeof rain);
     long long max_count = 0;
@@ -419,21 +416,21 @@ static int parse_rain(Loader *L, const config_setting_t *grains)
     if (!(rain.x1 - rain.x0 >= 2.0 * rain.pitch_radius) ||
         !(rain.y1 - rain.y0 >= 2.0 * rain.pitch_radius))
         return app_config_fail(&L->p, g,
-                               "grains.rain: the region [x0, x1] x [y0, y1] must hold at least one "
+                               "%s: the region [x0, x1] x [y0, y1] must hold at least one "
                                "grain (2 pitch_radius = %g m)",
-                               2.0 * rain.pitch_radius);
+                               what, 2.0 * rain.pitch_radius);
     /* Refuse regions that would need absurd memory before building. */
     double cells =
         (rain.x1 - rain.x0) * (rain.y1 - rain.y0) / (4.0 * rain.pitch_radius * rain.pitch_radius);
     if (cells > 1e7 && rain.max_count == 0)
-        return app_config_fail(
-            &L->p, g, "grains.rain: the region holds about %.3g grains; set max_count", cells);
+        return app_config_fail(&L->p, g, "%s: the region holds about %.3g grains; set max_count",
+                               what, cells);
     SimRng rng;
-    sim_rng_seed(&rng, L->scene->seed);
+    sim_rng_seed(&rng, L->scene->seed + (uint64_t)index); /* group 0: the single rain's seed */
     int first = L->scene->grains.count;
     int added = sim_build_rain(&L->scene->grains, &rain, &rng);
     if (added <= 0)
-        return app_config_fail(&L->p, g, "grains.rain produced no grains");
+        return app_config_fail(&L->p, g, "%s produced no grains", what);
     loader_where_grains(L, first, g, "grains.rain");
     return 0;
 }
@@ -502,6 +499,29 @@ static int parse_rows(Loader *L, const config_setting_t *grains, int columns)
             sim_build_fixed_row(&L->scene->grains, a, b, c, r, species, motion);
         }
         loader_where_grains(L, first, g, what);
+    }
+    return 0;
+}
+
+/* `rain = { ... }`, or a list of such groups (several species, regions or sizes), filled in
+ * order. */
+static int parse_rain(Loader *L, const config_setting_t *grains)
+{
+    const config_setting_t *r = app_config_member(grains, "rain");
+    if (!r)
+        return 0;
+    if (config_setting_type(r) == CONFIG_TYPE_GROUP)
+        return parse_rain_group(L, r, "grains.rain", 0);
+    if (config_setting_type(r) != CONFIG_TYPE_LIST)
+        return app_config_fail(&L->p, r, "`rain` must be a group { ... } or a list of groups");
+    for (int k = 0; k < config_setting_length(r); ++k) {
+        char what[48];
+        snprintf(what, sizeof what, "grains.rain.%d", k);
+        const config_setting_t *g = config_setting_get_elem(r, (unsigned)k);
+        if (config_setting_type(g) != CONFIG_TYPE_GROUP)
+            return app_config_fail(&L->p, g, "%s must be a group { x0; x1; ... }", what);
+        if (parse_rain_group(L, g, what, k) < 0)
+            return -1;
     }
     return 0;
 }

@@ -138,4 +138,34 @@ static int no_overlap_same_seed_same_grains(void)
     return 0;
 }
 
-TEST_MAIN(TEST_CASE(count_is_rate_times_time), TEST_CASE(no_overlap_same_seed_same_grains))
+/* `rain` as a list of groups: a bidisperse bed of two species, each from its own region. */
+static int rain_list_of_groups(void)
+{
+    char path[256], err[2048];
+    snprintf(path, sizeof path, "/tmp/sablier_test_rain_%ld.scene", (long)getpid());
+    FILE *f = fopen(path, "w");
+    TEST_ASSERT(f);
+    fprintf(f, "%s",
+            "name = \"rain\"; seed = 1; mass_model = \"disk\"; time = { dt = 1e-3; end = 1.0; };\n"
+            "species = ( { name = \"a\"; density = 1.0; k_n = 1e3; gamma_n = 1.0; },\n"
+            "            { name = \"b\"; density = 1.0; k_n = 1e3; gamma_n = 1.0; } );\n"
+            "grains = { rain = ( { x0 = 0.0; x1 = 10.0; y0 = 0.0; y1 = 5.0; radius_mean = 0.5;\n"
+            "                      species = \"a\"; },\n"
+            "                    { x0 = 0.0; x1 = 10.0; y0 = 6.0; y1 = 11.0; radius_mean = 0.3;\n"
+            "                      species = \"b\"; } ); };\n");
+    fclose(f);
+    Scene *scene = scene_load(path, NULL, 0, err, sizeof err);
+    remove(path);
+    if (!scene)
+        fprintf(stderr, "%s\n", err);
+    TEST_ASSERT(scene);
+    int count[2] = {0, 0};
+    for (int i = 0; i < scene->grains.count; ++i)
+        count[scene->grains.species[i]]++;
+    scene_free(scene);
+    TEST_ASSERT(count[0] > 10 && count[1] > count[0]);
+    return 0;
+}
+
+TEST_MAIN(TEST_CASE(count_is_rate_times_time), TEST_CASE(no_overlap_same_seed_same_grains),
+          TEST_CASE(rain_list_of_groups))
