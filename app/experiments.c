@@ -20,7 +20,8 @@
     APP_FAMILY(crater)                                                                             \
     APP_FAMILY(discharge)                                                                          \
     APP_FAMILY(bne)                                                                                \
-    APP_FAMILY(sediment)
+    APP_FAMILY(sediment)                                                                           \
+    APP_FAMILY(surface)
 
 #define APP_FAMILY(name) extern const AppExperiment app_##name##_experiment;
 APP_FAMILIES

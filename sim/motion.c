@@ -139,15 +139,30 @@ static void pose_apply(const SimPose *p, double x, double y, double *ox, double 
     *oy = s * x + c * y + p->y;
 }
 
+/* x wrapped into a periodic domain [x0, x0 + span). */
+static double wrap_x(double x, double x0, double span)
+{
+    if (x >= x0 && x < x0 + span)
+        return x;
+    double wrapped = x - span * floor((x - x0) / span);
+    return wrapped < x0 + span ? wrapped : x0;
+}
+
 static void move_grains(SimWorld *w, const SimPose *pose, const int *turns)
 {
     int moved = 0;
+    const int periodic = (w->effects & SIM_EFFECT_PERIODIC_X) != 0;
+    const double x0 = w->def.domain_x0, span = w->def.domain_x1 - w->def.domain_x0;
     for (int i = w->mobile_count; i < w->count; ++i) {
         const int m = w->motion[i];
         if (m < 0)
             continue;
         const SimPose *p = &pose[m];
         pose_apply(p, w->x_base[i], w->y_base[i], &w->x[i], &w->y[i]);
+        /* a rough wall sliding along a periodic x stays in the domain (a shaker's grains are
+         * left where they were: they never travel) */
+        if (periodic && w->def.motions[m].kind != SIM_MOTION_SINUSOIDAL)
+            w->x[i] = wrap_x(w->x[i], x0, span);
         w->vx[i] = p->vx;
         w->vy[i] = p->vy;
         if (turns[m]) { /* a fixed grain turning with its motion carries its contacts along */
