@@ -43,18 +43,27 @@ static int scene_extent(const Scene *scene, double box[4])
     return any;
 }
 
-/* The region inside the scene's extent and crossed by no wall. */
+/* The region inside the scene's extent, crossed by no wall and clear of fixed grains. */
 static int check_region(Loader *L, const config_setting_t *g, const SceneSource *s)
 {
     const Scene *scene = L->scene;
     const config_setting_t *at = app_config_member(g, "region");
     double box[4];
-    if (scene_extent(scene, box) &&
-        !(s->x0 >= box[0] && s->x1 <= box[2] && s->y0 >= box[1] && s->y1 <= box[3]))
+    /* the domain: the walls' and fixed grains' extent in x (the periodic range) and from their
+     * lowest point up (a source may pour from above the walls) */
+    if (scene_extent(scene, box) && !(s->x0 >= box[0] && s->x1 <= box[2] && s->y0 >= box[1]))
         return app_config_fail(&L->p, at,
-                               "`region` [%g, %g, %g, %g] is outside the domain [%g, %g, %g, %g] "
-                               "(the walls' and fixed grains' extent)",
-                               s->x0, s->y0, s->x1, s->y1, box[0], box[1], box[2], box[3]);
+                               "`region` [%g, %g, %g, %g] is outside the domain: x in [%g, %g], "
+                               "y from %g up (the walls' and fixed grains' extent)",
+                               s->x0, s->y0, s->x1, s->y1, box[0], box[2], box[1]);
+    const SimGrainBuffer *b = &scene->grains;
+    for (int i = 0; i < b->count; ++i) /* a fixed grain reaching into the region */
+        if ((b->flags[i] & SIM_GRAIN_FIXED) && b->x[i] + b->radius[i] > s->x0 &&
+            b->x[i] - b->radius[i] < s->x1 && b->y[i] + b->radius[i] > s->y0 &&
+            b->y[i] - b->radius[i] < s->y1)
+            return app_config_fail(&L->p, at,
+                                   "`region` overlaps the fixed grain at (%g, %g): keep it clear",
+                                   b->x[i], b->y[i]);
     for (int k = 0; k < scene->def.wall_count; ++k)
         for (int p = 0; p <= 256; ++p) {
             double x, y;

@@ -10,6 +10,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "surface/surface.h"
+
 /* Runs `scene` with the sets into a fresh folder `dir` (256 bytes, named after tag). */
 static int run_scene(const char *scene_path, const char **sets, int set_count, const char *tag,
                      char *dir)
@@ -172,6 +174,20 @@ static int fast_drum_no_tunnelling(void)
     return 0;
 }
 
-TEST_MAIN(TEST_CASE(drum_surface_tilts), TEST_CASE(chute_flows_when_tilted),
-          TEST_CASE(hopper_fills_and_drains), TEST_CASE(couette_shears),
-          TEST_CASE(fast_drum_no_tunnelling))
+/* The surface fit: an exact line through finite points, NAN columns skipped. */
+static int surface_fit_is_least_squares(void)
+{
+    const double x[5] = {0.0, 1.0, 2.0, 3.0, 4.0};
+    const double y[5] = {1.0, 1.5, NAN, 2.5, 3.0};
+    double slope, intercept;
+    TEST_ASSERT(app_surface_fit(x, y, 5, &slope, &intercept) == 0);
+    TEST_NEAR(slope, 0.5, 1e-14);
+    TEST_NEAR(intercept, 1.0, 1e-14);
+    const double one[2] = {1.0, NAN};
+    TEST_ASSERT(app_surface_fit(x, one, 2, &slope, &intercept) != 0);
+    return 0;
+}
+
+TEST_MAIN(TEST_CASE(surface_fit_is_least_squares), TEST_CASE(drum_surface_tilts),
+          TEST_CASE(chute_flows_when_tilted), TEST_CASE(hopper_fills_and_drains),
+          TEST_CASE(couette_shears), TEST_CASE(fast_drum_no_tunnelling))

@@ -235,6 +235,34 @@ static int arc_contact_sides(void)
     return 0;
 }
 
-TEST_MAIN(TEST_CASE(rotating_wall_follows_rotation), TEST_CASE(constant_velocity_displacement),
-          TEST_CASE(schedule_start_ramp_stop), TEST_CASE(motion_clock_on_off),
-          TEST_CASE(drum_carries_grain_with_friction), TEST_CASE(arc_contact_sides))
+/* A composition: a rotation by omega t about c, then a translation v t. A point p goes to
+ * R(omega t)(p - c) + c + v t, and the pose's velocity field is the time derivative of that. */
+static int composed_motion_pose(void)
+{
+    SimMotion m[3] = {
+        {.kind = SIM_MOTION_ROTATION, .center_x = 1.0, .center_y = -0.5, .angular_velocity = 0.8},
+        {.kind = SIM_MOTION_VELOCITY, .velocity_x = 0.3, .velocity_y = 0.2},
+        {.kind = SIM_MOTION_COMPOSE, .part_count = 2, .parts = {0, 1}}};
+    const double t = 1.7, px = 2.0, py = 0.5, h = 1e-6;
+    SimPose p = sim_motion_pose(m, 2, t);
+    double c = cos(0.8 * t), s = sin(0.8 * t);
+    double qx = c * (px - 1.0) - s * (py + 0.5) + 1.0 + 0.3 * t;
+    double qy = s * (px - 1.0) + c * (py + 0.5) - 0.5 + 0.2 * t;
+    TEST_NEAR(c * px - s * py + p.x, qx, 1e-14);
+    TEST_NEAR(s * px + c * py + p.y, qy, 1e-14);
+    /* velocity of the point now at q: V + Omega z x (q - T), against a central difference */
+    SimPose a = sim_motion_pose(m, 2, t - h), b = sim_motion_pose(m, 2, t + h);
+    double xa = cos(a.angle) * px - sin(a.angle) * py + a.x;
+    double xb = cos(b.angle) * px - sin(b.angle) * py + b.x;
+    double ya = sin(a.angle) * px + cos(a.angle) * py + a.y;
+    double yb = sin(b.angle) * px + cos(b.angle) * py + b.y;
+    TEST_NEAR(p.vx - p.omega * (qy - p.y), (xb - xa) / (2.0 * h), 1e-8);
+    TEST_NEAR(p.vy + p.omega * (qx - p.x), (yb - ya) / (2.0 * h), 1e-8);
+    TEST_NEAR(p.omega, 0.8, 1e-15);
+    return 0;
+}
+
+TEST_MAIN(TEST_CASE(composed_motion_pose), TEST_CASE(rotating_wall_follows_rotation),
+          TEST_CASE(constant_velocity_displacement), TEST_CASE(schedule_start_ramp_stop),
+          TEST_CASE(motion_clock_on_off), TEST_CASE(drum_carries_grain_with_friction),
+          TEST_CASE(arc_contact_sides))
