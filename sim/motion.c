@@ -247,6 +247,8 @@ void sim_world_set_motion(SimWorld *w, int motion, double on, double off)
         return;
     w->motion_on[motion] = on;
     w->motion_off[motion] = off;
+    if (w->effects & SIM_EFFECT_VIBRATION) /* poses and velocities follow the new clock now */
+        sim_motion_move(w, w->time);
 }
 
 /* Speed bound of one motion for points within `size` of the origin, m/s (compositions: the
