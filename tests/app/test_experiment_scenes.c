@@ -1,8 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* test_experiment_scenes.c: shortened runs of the shipped scenes of docs/experiments.md (drum,
  * chute, hopper, couette), each asserting what it shows; and a fast drum that no grain leaves. */
-#include "run.h"
-#include "scene.h"
+#include "app_test_run.h"
 #include "test.h"
 
 #include <stdio.h>
@@ -12,39 +11,12 @@
 
 #include "surface/surface.h"
 
-/* Runs `scene` with the sets into a fresh folder `dir` (256 bytes, named after tag). */
+/* Runs `scene` with the sets into the folder `dir` (256 bytes) named after tag. */
 static int run_scene(const char *scene_path, const char **sets, int set_count, const char *tag,
                      char *dir)
 {
-    char err[2048];
     snprintf(dir, 256, "/tmp/sablier_test_scenes_%ld_%s", (long)getpid(), tag);
-    Scene *scene = scene_load(scene_path, sets, set_count, err, sizeof err);
-    if (!scene) {
-        fprintf(stderr, "%s\n", err);
-        return -1;
-    }
-    AppRunOptions options = app_run_options_default();
-    options.out_dir = dir;
-    options.quiet = 1;
-    options.render_off = 1;
-    int status = app_run(scene, &options);
-    scene_free(scene);
-    return status;
-}
-
-/* The mobile grains of DIR/STAGE.state (caller frees with sim_grain_set_free). */
-static int load_state(const char *dir, const char *stage, SimGrainSet *g)
-{
-    char path[512];
-    snprintf(path, sizeof path, "%s/%s.state", dir, stage);
-    SimWall *walls = NULL;
-    int wall_count = 0;
-    double time;
-    SimError err;
-    if (sim_state_load(path, g, &walls, &wall_count, &time, &err) != SIM_OK)
-        return -1;
-    free(walls);
-    return 0;
+    return app_test_run(scene_path, sets, set_count, dir);
 }
 
 /* The text of DIR/NAME (malloc'd), or NULL. */
@@ -62,14 +34,6 @@ static char *slurp(const char *dir, const char *name)
     return text;
 }
 
-static void clean(const char *dir)
-{
-    char command[512];
-    snprintf(command, sizeof command, "rm -rf '%s'", dir);
-    if (system(command) != 0)
-        fprintf(stderr, "could not remove %s\n", dir);
-}
-
 /* The drum turns and its surface tilts: a positive angle in summary.json. */
 static int drum_surface_tilts(void)
 {
@@ -82,7 +46,7 @@ static int drum_surface_tilts(void)
     const char *at = strstr(summary, "\"surface_angle_deg\": ");
     double angle = at ? atof(at + strlen("\"surface_angle_deg\": ")) : 0.0;
     free(summary);
-    clean(dir);
+    app_test_remove_dir(dir);
     TEST_ASSERT(angle > 5.0 && angle < 45.0);
     return 0;
 }
@@ -94,7 +58,7 @@ static int chute_flows_when_tilted(void)
     char dir[256];
     TEST_ASSERT(run_scene("scenes/chute/chute.scene", sets, 2, "chute", dir) == 0);
     SimGrainSet a, b;
-    TEST_ASSERT(load_state(dir, "settle", &a) == 0 && load_state(dir, "flow", &b) == 0);
+    TEST_ASSERT(app_test_state(dir, "settle", &a) == 0 && app_test_state(dir, "flow", &b) == 0);
     double va = 0.0, vb = 0.0;
     int n = 0;
     for (int i = 0; i < b.count; ++i)
@@ -105,7 +69,7 @@ static int chute_flows_when_tilted(void)
         }
     sim_grain_set_free(&a);
     sim_grain_set_free(&b);
-    clean(dir);
+    app_test_remove_dir(dir);
     TEST_ASSERT(n > 0 && fabs(va / n) < 0.05 && vb / n > 0.5);
     return 0;
 }
@@ -123,7 +87,7 @@ static int hopper_fills_and_drains(void)
     at = strstr(summary, "\"mobile_grains\": ");
     long mobile = at ? atol(at + strlen("\"mobile_grains\": ")) : 0;
     free(summary);
-    clean(dir);
+    app_test_remove_dir(dir);
     TEST_ASSERT(inserted >= 440 && inserted <= 481); /* 40 grains/s, some skipped */
     TEST_ASSERT(mobile > 100 && mobile < inserted);  /* some went through the orifice */
     return 0;
@@ -136,7 +100,7 @@ static int couette_shears(void)
     char dir[256];
     TEST_ASSERT(run_scene("scenes/shear/couette.scene", sets, 2, "couette", dir) == 0);
     SimGrainSet g;
-    TEST_ASSERT(load_state(dir, "shear", &g) == 0);
+    TEST_ASSERT(app_test_state(dir, "shear", &g) == 0);
     double top = 0.0, bottom = 0.0;
     int nt = 0, nb = 0;
     for (int i = 0; i < g.count; ++i) {
@@ -151,7 +115,7 @@ static int couette_shears(void)
         }
     }
     sim_grain_set_free(&g);
-    clean(dir);
+    app_test_remove_dir(dir);
     TEST_ASSERT(nt > 0 && nb > 0 && top / nt > 0.2 && top / nt > 5.0 * fabs(bottom / nb));
     return 0;
 }
@@ -164,12 +128,12 @@ static int fast_drum_no_tunnelling(void)
     char dir[256];
     TEST_ASSERT(run_scene("scenes/drum/drum.scene", sets, 4, "fast_drum", dir) == 0);
     SimGrainSet g;
-    TEST_ASSERT(load_state(dir, "rotate", &g) == 0);
+    TEST_ASSERT(app_test_state(dir, "rotate", &g) == 0);
     double worst = 0.0;
     for (int i = 0; i < g.count; ++i)
         worst = fmax(worst, hypot(g.x[i], g.y[i]) + g.radius[i]);
     sim_grain_set_free(&g);
-    clean(dir);
+    app_test_remove_dir(dir);
     TEST_ASSERT(worst < 15.0 + 0.2); /* inside the R = 15 d drum, to the contact overlap */
     return 0;
 }

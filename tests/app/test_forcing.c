@@ -2,8 +2,7 @@
 /* test_forcing.c: per-stage forcing (docs/scenes.md, stages): a stage's own `gravity` and
  * `motions`. A settled pile tilted in a later stage starts moving only then; a box whose shaking
  * is enabled in stage two is at rest at the end of stage one. Runs small scenes written here. */
-#include "run.h"
-#include "scene.h"
+#include "app_test_run.h"
 #include "test.h"
 
 #include <stdio.h>
@@ -38,36 +37,17 @@ static int run_box(const char *stages, char *dir)
         return -1;
     fprintf(f, "%s%s\n", BOX, stages);
     fclose(f);
-    char err[2048];
-    Scene *scene = scene_load(path, NULL, 0, err, sizeof err);
+    int status = app_test_run(path, NULL, 0, dir);
     remove(path);
-    if (!scene) {
-        fprintf(stderr, "%s\n", err);
-        return -1;
-    }
-    AppRunOptions options = app_run_options_default();
-    options.out_dir = dir;
-    options.quiet = 1;
-    options.render_off = 1;
-    int status = app_run(scene, &options);
-    scene_free(scene);
     return status;
 }
 
 /* Largest grain speed and mean x of the mobile grains of DIR/STAGE.state. */
 static int state_motion(const char *dir, const char *stage, double *speed, double *mean_x)
 {
-    char path[512];
-    snprintf(path, sizeof path, "%s/%s.state", dir, stage);
     SimGrainSet g;
-    SimWall *walls = NULL;
-    int wall_count = 0;
-    double time = 0.0;
-    SimError err;
-    if (sim_state_load(path, &g, &walls, &wall_count, &time, &err) != SIM_OK) {
-        fprintf(stderr, "%s\n", err.message);
+    if (app_test_state(dir, stage, &g) != 0)
         return -1;
-    }
     *speed = 0.0;
     *mean_x = 0.0;
     int n = 0;
@@ -79,20 +59,7 @@ static int state_motion(const char *dir, const char *stage, double *speed, doubl
         }
     *mean_x /= n > 0 ? n : 1;
     sim_grain_set_free(&g);
-    free(walls);
     return 0;
-}
-
-static void clean(const char *dir)
-{
-    static const char *const names[] = {"settle.state", "tilt.state", "shake.state", "energy.csv",
-                                        "summary.json"};
-    char path[512];
-    for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k) {
-        snprintf(path, sizeof path, "%s/%s", dir, names[k]);
-        remove(path);
-    }
-    rmdir(dir);
 }
 
 /* gravity [0, -1] while settling, then tilted to [0.6, -1]: at rest (speed < 0.02 sqrt(g d))
@@ -106,7 +73,7 @@ static int tilted_pile_moves_only_then(void)
     double v_settle, x_settle, v_tilt, x_tilt;
     TEST_ASSERT(state_motion(dir, "settle", &v_settle, &x_settle) == 0);
     TEST_ASSERT(state_motion(dir, "tilt", &v_tilt, &x_tilt) == 0);
-    clean(dir);
+    app_test_remove_dir(dir);
     TEST_ASSERT(v_settle < 0.02);
     TEST_ASSERT(x_tilt > x_settle + 0.2);
     return 0;
@@ -123,7 +90,7 @@ static int shaking_enabled_in_stage_two(void)
     double v_settle, x_settle, v_shake, x_shake;
     TEST_ASSERT(state_motion(dir, "settle", &v_settle, &x_settle) == 0);
     TEST_ASSERT(state_motion(dir, "shake", &v_shake, &x_shake) == 0);
-    clean(dir);
+    app_test_remove_dir(dir);
     TEST_ASSERT(v_settle < 0.02);
     TEST_ASSERT(v_shake > 0.5); /* the floor moves at up to 2 pi 0.3 = 1.9 d/s */
     return 0;

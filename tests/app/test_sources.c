@@ -1,8 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* test_sources.c: insertion sources (app/sources.h): the count over a stage is the rate times the
  * time, inserted grains never overlap, the same seed gives the same grains. */
-#include "run.h"
-#include "scene.h"
+#include "app_test_run.h"
 #include "test.h"
 
 #include <stdio.h>
@@ -26,7 +25,7 @@ static const char *const BOX =
 /* Runs BOX + `more` with `seed` into dir (256 bytes); the number of grains inserted. */
 static long run_box(const char *more, int seed, char *dir, int tag)
 {
-    char path[256], err[2048];
+    char path[256];
     snprintf(path, sizeof path, "/tmp/sablier_test_sources_%ld.scene", (long)getpid());
     snprintf(dir, 256, "/tmp/sablier_test_sources_%ld_%d", (long)getpid(), tag);
     FILE *f = fopen(path, "w");
@@ -34,44 +33,16 @@ static long run_box(const char *more, int seed, char *dir, int tag)
         return -1;
     fprintf(f, "%sseed = %d;\n%s\n", BOX, seed, more);
     fclose(f);
-    Scene *scene = scene_load(path, NULL, 0, err, sizeof err);
+    int status = app_test_run(path, NULL, 0, dir);
     remove(path);
-    if (!scene) {
-        fprintf(stderr, "%s\n", err);
-        return -1;
-    }
-    AppRunOptions options = app_run_options_default();
-    options.out_dir = dir;
-    options.quiet = 1;
-    options.render_off = 1;
-    int status = app_run(scene, &options);
-    scene_free(scene);
     if (status != 0)
         return -1;
-    char state[1024];
-    snprintf(state, sizeof state, "%s/run.state", dir);
     SimGrainSet g;
-    SimWall *walls = NULL;
-    int wall_count = 0;
-    double time;
-    SimError error;
-    if (sim_state_load(state, &g, &walls, &wall_count, &time, &error) != SIM_OK)
+    if (app_test_state(dir, "run", &g) != 0)
         return -1;
     long n = g.count;
     sim_grain_set_free(&g);
-    free(walls);
     return n;
-}
-
-static void clean(const char *dir)
-{
-    static const char *const names[] = {"run.state", "energy.csv", "summary.json"};
-    char path[1024];
-    for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k) {
-        snprintf(path, sizeof path, "%s/%s", dir, names[k]);
-        remove(path);
-    }
-    rmdir(dir);
 }
 
 /* 20 grains/s for 3 s into an empty box: 60 grains, within one. */
@@ -81,7 +52,7 @@ static int count_is_rate_times_time(void)
     long n = run_box("sources = ( { region = [1.0, 10.0, 19.0, 28.0]; rate = 20.0;\n"
                      "  radius = [0.4, 0.6]; } );\ntime = { dt = 1e-3; end = 3.0; };",
                      1, dir, 0);
-    clean(dir);
+    app_test_remove_dir(dir);
     TEST_ASSERT(n >= 59 && n <= 61);
     return 0;
 }
@@ -134,7 +105,7 @@ static int no_overlap_same_seed_same_grains(void)
     sim_grain_set_free(&b);
     sim_grain_set_free(&c);
     for (int r = 0; r < 3; ++r)
-        clean(dir[r]);
+        app_test_remove_dir(dir[r]);
     return 0;
 }
 
