@@ -21,6 +21,7 @@
     APP_FAMILY(discharge)                                                                          \
     APP_FAMILY(bne)                                                                                \
     APP_FAMILY(sediment)                                                                           \
+    APP_FAMILY(surface)                                                                            \
     APP_FAMILY(measures) /* not a family: the core's measures layer (app/measures.h), last */
 
 #define APP_FAMILY(name) extern const AppExperiment app_##name##_experiment;

@@ -7,6 +7,7 @@
 
 #include "dump.h"
 #include "experiments.h"
+#include "sources.h"
 #include "util.h"
 
 #include <errno.h>
@@ -68,6 +69,10 @@ typedef struct Run {
     int progress_tty;
     AppContext context;  /* what the experiment families' hooks see */
     char observed[2048]; /* their summary.json members */
+    /* The motions' clocks by world time (sim_world_set_motion), from the stages' `motions`. */
+    int motion_running[SIM_MAX_MOTIONS];
+    double motion_on[SIM_MAX_MOTIONS], motion_off[SIM_MAX_MOTIONS];
+    AppSources *sources; /* insertion sources, NULL without */
 } Run;
 
 AppRunOptions app_run_options_default(void)
@@ -191,7 +196,10 @@ static int write_summary(const Run *run, double wall_seconds)
                               "\"mass_kg\": %s, \"time_s\": %s},\n",
                               d, m, t);
     }
-    n += (size_t)snprintf(text + n, n < size ? size - n : 0, "%s  \"stages\": [", run->observed);
+    char sources[2048];
+    app_sources_json(run->sources, sources, sizeof sources);
+    n += (size_t)snprintf(text + n, n < size ? size - n : 0, "%s%s  \"stages\": [", sources,
+                          run->observed);
     for (int k = 0; k < run->stages_done && n < size; ++k) {
         const StageReport *s = &run->stages[k];
         char stage_name[160], a[40], b[40], c[40];
@@ -409,7 +417,8 @@ static int stage_world(Run *run, int k)
     const Scene *scene = run->scene;
     const SceneStage *stage = &scene->stages[k];
     if (stage->load == SCENE_LOAD_PREVIOUS && run->world &&
-        scene->stages[k - 1].time_step == stage->time_step && !family_restart(run, k))
+        scene->stages[k - 1].time_step == stage->time_step &&
+        scene->stages[k - 1].effects == stage->effects && !family_restart(run, k))
         return 0; /* continue in memory: contact history and exact state kept */
     SimWorld *world = NULL;
     if (stage->load == SCENE_LOAD_SCENE) {
@@ -433,6 +442,29 @@ static int stage_world(Run *run, int k)
         sim_world_destroy(run->world);
     run->world = world;
     return 0;
+}
+
+/* The stage's gravity and motions (docs/scenes.md, stages): a motion the stage enables starts
+ * its clock now (at t = 0 when it runs from the first stage); one it stops holds its pose. The
+ * schedules are set again on every stage's world, fresh or continued. */
+static void stage_forcing(Run *run, int k)
+{
+    const SceneStage *stage = &run->scene->stages[k];
+    sim_world_set_gravity(run->world, stage->gravity_x, stage->gravity_y);
+    if (!stage->declares_motions)
+        return; /* motions run on world time, as defined */
+    const double now = sim_world_time(run->world);
+    for (int m = 0; m < run->scene->def.motion_count; ++m) {
+        const int enabled = (stage->motions >> m) & 1u;
+        if (enabled && !run->motion_running[m]) {
+            run->motion_on[m] = now;
+            run->motion_off[m] = (double)INFINITY;
+        } else if (!enabled && run->motion_running[m]) {
+            run->motion_off[m] = now;
+        }
+        run->motion_running[m] = enabled;
+        sim_world_set_motion(run->world, m, run->motion_on[m], run->motion_off[m]);
+    }
 }
 
 /* The families' edits (a crater dig, ...) and the stage's explicit removals, at its start. */
@@ -530,6 +562,8 @@ static int stage_start(Run *run, int k, StageClock *clock)
     run->context.stage = k;
     if (stage_world(run, k) != 0)
         return 2;
+    stage_forcing(run, k);
+    app_sources_stage_begin(run->sources, k);
     double dt = sim_world_time_step(run->world);
     run->context.stage_steps = (long)llround(stage->duration / dt);
     if (stage_edit(run, k) != 0)
@@ -587,6 +621,9 @@ static int stage_start(Run *run, int k, StageClock *clock)
  * figures. 0, or the exit status. */
 static int outputs_due(Run *run, int k, StageClock *clock, long done)
 {
+    if (app_sources_insert(run->sources, run->world, done, clock->dt, run->message,
+                           sizeof run->message) != 0)
+        return 2;
     int frame_due = clock->movie && clock->sink.consume && done % clock->every_frame == 0;
     int trace_due = run->trace && done % clock->every_trace == 0;
     int dump_due = clock->dump && done % clock->every_dump == 0;
@@ -619,6 +656,7 @@ static long next_due(const Run *run, int k, const StageClock *clock, long done)
             next = candidate;
     }
     next = next_figure_step(run, k, done, clock->dt, next);
+    next = app_sources_next_step(run->sources, done, clock->dt, next);
     return family_next_step(run, done, next);
 }
 
@@ -880,6 +918,17 @@ static void run_stages(Run *run)
     const Scene *scene = run->scene;
     if (run->status == 0 && family_hooks(run, HOOK_BEGIN) != 0)
         run->status = 2;
+    int sources_failed = 0;
+    run->sources = app_sources_create(scene, &sources_failed);
+    if (sources_failed) {
+        snprintf(run->message, sizeof run->message, "out of memory");
+        run->status = 2;
+    }
+    for (int m = 0; m < SIM_MAX_MOTIONS; ++m) { /* the first stage's motions run from t = 0 */
+        run->motion_running[m] = (scene->stages[0].motions >> m) & 1u;
+        run->motion_on[m] = run->motion_running[m] ? 0.0 : (double)INFINITY;
+        run->motion_off[m] = (double)INFINITY;
+    }
     for (int k = 0; run->status == 0 && k < scene->stage_count; ++k) {
         run->stages_done = k + 1;
         if (scene->stages[k].skip)
@@ -948,6 +997,7 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     int status = run->status;
     if (run->world)
         sim_world_destroy(run->world);
+    app_sources_free(run->sources);
     free(run);
     return status;
 }

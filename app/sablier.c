@@ -8,6 +8,7 @@
 #include "pool.h"
 #include "run.h"
 #include "scene.h"
+#include "sources.h"
 #include "util.h"
 
 #include "sim/sim.h"
@@ -186,6 +187,27 @@ static int command_run(int argc, char **argv)
     return status;
 }
 
+/* A stage's own gravity, effects and motions, where they differ from the scene's. */
+static void print_stage_forcing(const Scene *scene, int k)
+{
+    const SceneStage *s = &scene->stages[k];
+    if (s->gravity_x != scene->def.gravity_x || s->gravity_y != scene->def.gravity_y)
+        printf(", gravity (%g, %g) m/s^2", s->gravity_x, s->gravity_y);
+    if (s->effects != scene->def.effects) {
+        char names[256];
+        scene_effect_names(s->effects, names, sizeof names);
+        printf(", effects %s", names);
+    }
+    if (!s->declares_motions)
+        return;
+    printf(", motions");
+    int any = 0;
+    for (int m = 0; m < scene->def.motion_count; ++m)
+        if ((s->motions >> m) & 1u)
+            printf("%s %s", any++ ? "," : "", scene->motion_names[m]);
+    printf("%s", any ? "" : " none");
+}
+
 static void print_timing(const Scene *scene, int k)
 {
     SimWorldDef def = scene_world_def(scene, k);
@@ -246,6 +268,17 @@ static int command_check(int argc, char **argv)
     else
         printf("lists    Verlet skin automatic, 0.01-0.2 mean diameter (the cheapest for the "
                "grains' motion)\n");
+    for (int k = 0; k < scene->source_count; ++k) {
+        const SceneSource *src = &scene->sources[k];
+        printf("source   %s: [%g, %g, %g, %g], ", src->name, src->x0, src->y0, src->x1, src->y1);
+        if (src->rate > 0.0)
+            printf("%g grains/s", src->rate);
+        else if (src->mass_rate > 0.0)
+            printf("%g kg/s", src->mass_rate);
+        else
+            printf("%ld grains at the stage start", src->count);
+        printf("%s\n", src->rate > 0.0 && src->count > 0 ? " (capped)" : "");
+    }
     printf("stages   %d\n", scene->stage_count);
     static const char *const loads[] = {"scene grains", "previous stage", "file"};
     for (int k = 0; k < scene->stage_count; ++k) {
@@ -261,6 +294,7 @@ static int command_check(int argc, char **argv)
                 app_experiments[f]->describe_stage(scene->experiments[f], k, stdout);
         if (s->remove_count)
             printf(", remove %d ids", s->remove_count);
+        print_stage_forcing(scene, k);
         printf("%s\n", s->movie ? ", movie" : "");
         print_timing(scene, k);
         app_dump_describe(&scene->output.dump[k], s->duration, s->time_step, stdout);

@@ -81,6 +81,12 @@ typedef struct SceneStage {
     uint32_t *remove_ids; ///< stable ids removed at the stage start
     int movie;            ///< 1: write <stage>.mp4
     int skip;             ///< 1: not run (a sweep member starts from a saved bed)
+    /* Forcing of the stage (docs/scenes.md, stages): its own `gravity`, `effects` and `motions`,
+     * or the previous stage's (the scene's for the first). */
+    double gravity_x, gravity_y; ///< m/s^2
+    unsigned effects;            ///< SimEffect bits in force (a subset of the scene's)
+    unsigned motions;            ///< bit m: motion m is enabled in this stage
+    int declares_motions;        ///< 1: some stage of the scene has a `motions` list
 } SceneStage;
 
 typedef struct SceneFigure {
@@ -154,6 +160,8 @@ typedef struct Scene {
     /// units = "reduced": outputs in d (mean diameter of the mobile grains), m (their mean mass)
     /// and sqrt(d/g) (docs/scenes.md#units); 0 = SI
     int units_reduced;
+    int source_count;
+    struct SceneSource *sources; ///< insertion sources (app/sources.h), malloc'd
 } Scene;
 
 /// Loads, overrides and checks a scene. `sets` are "KEY=VALUE" strings. Returns NULL with

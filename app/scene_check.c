@@ -115,7 +115,9 @@ int loader_check_overlaps(Loader *L)
                 continue;
             double t = ((b->x[i] - wall->x0) * ex + (b->y[i] - wall->y0) * ey) / length2;
             t = fmin(1.0, fmax(0.0, t));
-            double d = hypot(b->x[i] - (wall->x0 + t * ex), b->y[i] - (wall->y0 + t * ey));
+            double d = wall->shape == SIM_WALL_ARC
+                           ? sim_wall_contact_distance(wall, b->x[i], b->y[i], b->radius[i])
+                           : hypot(b->x[i] - (wall->x0 + t * ex), b->y[i] - (wall->y0 + t * ey));
             if (b->radius[i] - d > OVERLAP_TOLERANCE * b->radius[i]) {
                 char field[32];
                 snprintf(field, sizeof field, "walls[%d]", w);

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* scene_grains.c: the scene's species and motions, its grains (grains.list, rain, box, rows,
  * columns: stable ids follow that order), walls and sinks (docs/scenes.md). */
+#include "grains_file.h"
 #include "scene_internal.h"
 
 #include <math.h>
@@ -170,7 +171,7 @@ int loader_parse_species(Loader *L, const config_setting_t *root)
 }
 
 /* `species = 1` or `species = "acrylic"`; default 0. */
-static int get_species(Loader *L, const config_setting_t *g, int *out)
+int loader_get_species(Loader *L, const config_setting_t *g, int *out)
 {
     const config_setting_t *s = app_config_member(g, "species");
     *out = 0;
@@ -215,9 +216,120 @@ static int get_motion(Loader *L, const config_setting_t *g, int *out)
                            "no motion named `%s` in `motions`", name);
 }
 
+/* The index of motion `name` among the first `count`, or -1. */
+static int motion_index(const Scene *scene, int count, const char *name)
+{
+    for (int k = 0; k < count; ++k)
+        if (strcmp(scene->motion_names[k], name) == 0)
+            return k;
+    return -1;
+}
+
+/* A sinusoidal shaker: amplitude, frequency (required), phase, direction. */
+static int parse_sinusoidal(Loader *L, const config_setting_t *g, const char *what, SimMotion *m)
+{
+    double direction[2] = {0.0, 1.0};
+    if (app_config_need_number(&L->p, g, "amplitude", what, &m->amplitude) < 0 ||
+        app_config_non_negative(&L->p, g, "amplitude", m->amplitude) < 0 ||
+        app_config_need_number(&L->p, g, "frequency", what, &m->frequency) < 0 ||
+        app_config_positive(&L->p, g, "frequency", m->frequency) < 0 ||
+        app_config_number(&L->p, g, "phase", &m->phase) < 0 ||
+        app_config_vector(&L->p, g, "direction", direction, 2) < 0)
+        return -1;
+    double norm = hypot(direction[0], direction[1]);
+    if (!(norm > 0.0))
+        return app_config_fail(&L->p, app_config_member(g, "direction"),
+                               "`direction` must not be zero");
+    m->direction_x = direction[0] / norm;
+    m->direction_y = direction[1] / norm;
+    return 0;
+}
+
+/* `of = ["spin", "shake"]`: motions defined above this one, applied in that order. */
+static int parse_compose(Loader *L, const config_setting_t *g, const char *what, int k,
+                         SimMotion *m)
+{
+    const config_setting_t *of = app_config_member(g, "of");
+    if (app_config_need(&L->p, g, "of", what) < 0)
+        return -1;
+    int n = config_setting_length(of);
+    if (!config_setting_is_aggregate(of) || n < 1 || n > SIM_MOTION_MAX_PARTS)
+        return app_config_fail(&L->p, of, "`of` must list 1 to %d motion names",
+                               SIM_MOTION_MAX_PARTS);
+    for (int j = 0; j < n; ++j) {
+        const char *name = config_setting_get_string_elem(of, (unsigned)j);
+        int index = name ? motion_index(L->scene, k, name) : -1;
+        if (index < 0)
+            return app_config_fail(&L->p, of, "`of`: `%s` is not a motion defined above this one",
+                                   name ? name : "(not a string)");
+        m->parts[j] = index;
+    }
+    m->part_count = n;
+    return 0;
+}
+
+/* The kind's own keys (SimMotion). */
+static int parse_motion_kind(Loader *L, const config_setting_t *g, const char *what, int k,
+                             SimMotion *m)
+{
+    static const char *const kinds[] = {"sinusoidal", "velocity", "rotation", "compose", NULL};
+    static const char *const kind_keys[4][6] = {
+        {"amplitude", "frequency", "phase", "direction", NULL},
+        {"velocity", NULL},
+        {"center", "angular_velocity", NULL},
+        {"of", NULL}};
+    static const char *const schedule_keys[] = {"kind", "start", "ramp", "stop", NULL};
+    int kind = SIM_MOTION_SINUSOIDAL;
+    if (app_config_member(g, "kind") && app_config_choice(&L->p, g, "kind", kinds, &kind) < 0)
+        return -1;
+    m->kind = (SimMotionKind)kind;
+    if (app_config_keys(&L->p, g, what, kind_keys[kind], schedule_keys) < 0)
+        return -1;
+    double v[2] = {0.0, 0.0};
+    switch (m->kind) {
+    case SIM_MOTION_SINUSOIDAL:
+        return parse_sinusoidal(L, g, what, m);
+    case SIM_MOTION_VELOCITY:
+        if (app_config_need(&L->p, g, "velocity", what) < 0 ||
+            app_config_vector(&L->p, g, "velocity", v, 2) < 0)
+            return -1;
+        m->velocity_x = v[0];
+        m->velocity_y = v[1];
+        return 0;
+    case SIM_MOTION_ROTATION:
+        if (app_config_need(&L->p, g, "center", what) < 0 ||
+            app_config_vector(&L->p, g, "center", v, 2) < 0 ||
+            app_config_need_number(&L->p, g, "angular_velocity", what, &m->angular_velocity) < 0)
+            return -1;
+        m->center_x = v[0];
+        m->center_y = v[1];
+        return 0;
+    case SIM_MOTION_COMPOSE:
+        return parse_compose(L, g, what, k, m);
+    }
+    return -1;
+}
+
+/* start, ramp, stop (s; sim.h SimMotion). */
+static int parse_schedule(Loader *L, const config_setting_t *g, SimMotion *m)
+{
+    if (app_config_number(&L->p, g, "start", &m->start) < 0 ||
+        app_config_non_negative(&L->p, g, "start", m->start) < 0 ||
+        app_config_number(&L->p, g, "ramp", &m->ramp) < 0 ||
+        app_config_non_negative(&L->p, g, "ramp", m->ramp) < 0 ||
+        app_config_number(&L->p, g, "stop", &m->stop) < 0)
+        return -1;
+    if (app_config_member(g, "stop") && !(m->stop > m->start))
+        return app_config_fail(&L->p, app_config_member(g, "stop"),
+                               "`stop` = %g must be after `start` = %g", m->stop, m->start);
+    if (m->kind == SIM_MOTION_COMPOSE && m->ramp > 0.0)
+        return app_config_fail(&L->p, app_config_member(g, "ramp"),
+                               "a composition has no `ramp` of its own: ramp its parts");
+    return 0;
+}
+
 int loader_parse_motions(Loader *L, const config_setting_t *root)
 {
-    static const char *const keys[] = {"amplitude", "frequency", "phase", "direction", NULL};
     const config_setting_t *group;
     if (loader_gate(L, root, "motions", SIM_EFFECT_VIBRATION) < 0 ||
         app_config_group(&L->p, root, "motions", &group) <= 0)
@@ -232,25 +344,11 @@ int loader_parse_motions(Loader *L, const config_setting_t *root)
         char what[96], field[64];
         snprintf(what, sizeof what, "motion `%s`", name);
         if (config_setting_type(g) != CONFIG_TYPE_GROUP)
-            return app_config_fail(&L->p, g, "%s must be a group { amplitude; frequency; ... }",
-                                   what);
+            return app_config_fail(&L->p, g, "%s must be a group { kind; ... }", what);
         SimMotion *m = &L->scene->def.motions[k];
-        double direction[2] = {0.0, 1.0};
-        m->phase = 0.0;
-        if (app_config_keys(&L->p, g, what, keys, NULL) < 0 ||
-            app_config_need_number(&L->p, g, "amplitude", what, &m->amplitude) < 0 ||
-            app_config_non_negative(&L->p, g, "amplitude", m->amplitude) < 0 ||
-            app_config_need_number(&L->p, g, "frequency", what, &m->frequency) < 0 ||
-            app_config_positive(&L->p, g, "frequency", m->frequency) < 0 ||
-            app_config_number(&L->p, g, "phase", &m->phase) < 0 ||
-            app_config_vector(&L->p, g, "direction", direction, 2) < 0)
+        memset(m, 0, sizeof *m);
+        if (parse_motion_kind(L, g, what, k, m) < 0 || parse_schedule(L, g, m) < 0)
             return -1;
-        double norm = hypot(direction[0], direction[1]);
-        if (!(norm > 0.0))
-            return app_config_fail(&L->p, app_config_member(g, "direction"),
-                                   "`direction` must not be zero");
-        m->direction_x = direction[0] / norm;
-        m->direction_y = direction[1] / norm;
         snprintf(L->scene->motion_names[k], SCENE_NAME_MAX, "%s", name);
         snprintf(field, sizeof field, "motions[%d]", k);
         loader_where_add(L, field, g);
@@ -261,7 +359,8 @@ int loader_parse_motions(Loader *L, const config_setting_t *root)
 
 /* ---------------------------------------------------------------- grains and walls */
 
-static int parse_rain(Loader *L, const config_setting_t *grains)
+/* One rain group g (`what` names it); group `index` of a list seeds its own stream. */
+static int parse_rain_group(Loader *L, const config_setting_t *g, const char *what, int index)
 {
     static const char *const keys[] = {"x0",           "x1",
                                        "y0",           "y1",
@@ -270,10 +369,6 @@ static int parse_rain(Loader *L, const config_setting_t *grains)
                                        "row_gap",      "column_jitter",
                                        "row_jitter",   "max_count",
                                        "species",      NULL};
-    const config_setting_t *g;
-    if (app_config_group(&L->p, grains, "rain", &g) <= 0)
-        return L->p.failed ? -1 : 0;
-    const char *what = "grains.rain";
     SimRainDef rain;
     memset(&rain, 0, sizeof rain);
     long long max_count = 0;
@@ -288,7 +383,7 @@ static int parse_rain(Loader *L, const config_setting_t *grains)
         app_config_positive(&L->p, g, "radius_mean", rain.radius_mean) < 0 ||
         app_config_number(&L->p, g, "polydispersity", &rain.polydispersity) < 0 ||
         app_config_int(&L->p, g, "max_count", &max_count) < 0 ||
-        get_species(L, g, &rain.species) < 0)
+        loader_get_species(L, g, &rain.species) < 0)
         return -1;
     if (!(rain.polydispersity >= 0.0 && rain.polydispersity < 1.0))
         return app_config_fail(&L->p, app_config_member(g, "polydispersity"),
@@ -321,26 +416,25 @@ static int parse_rain(Loader *L, const config_setting_t *grains)
     if (!(rain.x1 - rain.x0 >= 2.0 * rain.pitch_radius) ||
         !(rain.y1 - rain.y0 >= 2.0 * rain.pitch_radius))
         return app_config_fail(&L->p, g,
-                               "grains.rain: the region [x0, x1] x [y0, y1] must hold at least one "
+                               "%s: the region [x0, x1] x [y0, y1] must hold at least one "
                                "grain (2 pitch_radius = %g m)",
-                               2.0 * rain.pitch_radius);
+                               what, 2.0 * rain.pitch_radius);
     /* Refuse regions that would need absurd memory before building. */
     double cells =
         (rain.x1 - rain.x0) * (rain.y1 - rain.y0) / (4.0 * rain.pitch_radius * rain.pitch_radius);
     if (cells > SCENE_MAX_GRAINS && rain.max_count == 0)
-        return app_config_fail(
-            &L->p, g, "grains.rain: the region holds about %.3g grains; set max_count", cells);
+        return app_config_fail(&L->p, g, "%s: the region holds about %.3g grains; set max_count",
+                               what, cells);
     /* the builder keeps one offset per lattice column, whatever max_count says */
     if ((rain.x1 - rain.x0) / (2.0 * rain.pitch_radius) > SCENE_MAX_GRAINS)
-        return app_config_fail(&L->p, g,
-                               "grains.rain: the region is %.3g grains wide; at most %.0e",
+        return app_config_fail(&L->p, g, "%s: the region is %.3g grains wide; at most %.0e", what,
                                (rain.x1 - rain.x0) / (2.0 * rain.pitch_radius), SCENE_MAX_GRAINS);
     SimRng rng;
-    sim_rng_seed(&rng, L->scene->seed);
+    sim_rng_seed(&rng, L->scene->seed + (uint64_t)index); /* group 0: the single rain's seed */
     int first = L->scene->grains.count;
     int added = sim_build_rain(&L->scene->grains, &rain, &rng);
     if (added <= 0)
-        return app_config_fail(&L->p, g, "grains.rain produced no grains");
+        return app_config_fail(&L->p, g, "%s produced no grains", what);
     loader_where_grains(L, first, g, "grains.rain");
     return 0;
 }
@@ -372,7 +466,7 @@ static int parse_box(Loader *L, const config_setting_t *grains)
         app_config_need_number(&L->p, g, "y0", what, &y0) < 0 ||
         app_config_need_number(&L->p, g, "y1", what, &y1) < 0 ||
         app_config_need_number(&L->p, g, "radius", what, &r) < 0 ||
-        app_config_positive(&L->p, g, "radius", r) < 0 || get_species(L, g, &species) < 0 ||
+        app_config_positive(&L->p, g, "radius", r) < 0 || loader_get_species(L, g, &species) < 0 ||
         get_motion(L, g, &motion) < 0)
         return -1;
     if (!(x1 - x0 >= 4.0 * r) || !(y1 - y0 >= 2.0 * r))
@@ -410,8 +504,8 @@ static int parse_rows(Loader *L, const config_setting_t *grains, int columns)
             app_config_need_number(&L->p, g, columns ? "y0" : "x1", what, &b) < 0 ||
             app_config_need_number(&L->p, g, columns ? "y1" : "y", what, &c) < 0 ||
             app_config_need_number(&L->p, g, "radius", what, &r) < 0 ||
-            app_config_positive(&L->p, g, "radius", r) < 0 || get_species(L, g, &species) < 0 ||
-            get_motion(L, g, &motion) < 0)
+            app_config_positive(&L->p, g, "radius", r) < 0 ||
+            loader_get_species(L, g, &species) < 0 || get_motion(L, g, &motion) < 0)
             return -1;
         if (check_line_count(L, g, what, fabs(columns ? c - b : b - a), r) < 0)
             return -1;
@@ -427,6 +521,62 @@ static int parse_rows(Loader *L, const config_setting_t *grains, int columns)
         }
         loader_where_grains(L, first, g, what);
     }
+    return 0;
+}
+
+/* `rain = { ... }`, or a list of such groups (several species, regions or sizes), filled in
+ * order. */
+static int parse_rain(Loader *L, const config_setting_t *grains)
+{
+    const config_setting_t *r = app_config_member(grains, "rain");
+    if (!r)
+        return 0;
+    if (config_setting_type(r) == CONFIG_TYPE_GROUP)
+        return parse_rain_group(L, r, "grains.rain", 0);
+    if (config_setting_type(r) != CONFIG_TYPE_LIST)
+        return app_config_fail(&L->p, r, "`rain` must be a group { ... } or a list of groups");
+    for (int k = 0; k < config_setting_length(r); ++k) {
+        char what[48];
+        snprintf(what, sizeof what, "grains.rain.%d", k);
+        const config_setting_t *g = config_setting_get_elem(r, (unsigned)k);
+        if (config_setting_type(g) != CONFIG_TYPE_GROUP)
+            return app_config_fail(&L->p, g, "%s must be a group { x0; x1; ... }", what);
+        if (parse_rain_group(L, g, what, k) < 0)
+            return -1;
+    }
+    return 0;
+}
+
+/* `file = "pile.csv"` (relative to the scene's folder): app/grains_file.c. */
+static int parse_file(Loader *L, const config_setting_t *grains)
+{
+    const char *name = NULL;
+    if (app_config_string(&L->p, grains, "file", &name) <= 0)
+        return L->p.failed ? -1 : 0;
+    char path[SCENE_PATH_MAX + 8];
+    if (name[0] == '/')
+        snprintf(path, sizeof path, "%s", name);
+    else
+        snprintf(path, sizeof path, "%.*s/%s", (int)(SCENE_PATH_MAX / 2), L->dir, name);
+    const int first = L->scene->grains.count;
+    int has_ids = 0;
+    char err[SCENE_PATH_MAX + 256];
+    if (app_grains_read(path, L->scene->def.species_count, &L->scene->grains, &has_ids, err,
+                        sizeof err) != 0) {
+        /* "path:line: message": reported at the grains file's line, naming the scene's key */
+        size_t cut = strlen(path) + 1;
+        cut = cut < strlen(err) ? cut + strspn(err + cut, "0123456789") : strlen(err);
+        char where[sizeof err], key[WHERE_MAX];
+        snprintf(where, sizeof where, "%.*s", (int)cut, err);
+        app_config_where(&L->p, app_config_member(grains, "file"), key, sizeof key);
+        return app_config_fail_at(&L->p, where, "%s (grains.file, %s)",
+                                  err[cut] ? err + cut + 2 : err, key);
+    }
+    if (has_ids && first > 0)
+        return app_config_fail(&L->p, app_config_member(grains, "file"),
+                               "a grains file with an `id` column must be the scene's only "
+                               "grains (its ids would clash)");
+    loader_where_grains(L, first, app_config_member(grains, "file"), "grains.file");
     return 0;
 }
 
@@ -447,7 +597,8 @@ static int parse_list(Loader *L, const config_setting_t *grains)
             app_config_need_number(&L->p, g, "x", what, &x) < 0 ||
             app_config_need_number(&L->p, g, "y", what, &y) < 0 ||
             app_config_need_number(&L->p, g, "r", what, &r) < 0 ||
-            get_species(L, g, &species) < 0 || app_config_bool(&L->p, g, "fixed", &fixed) < 0 ||
+            loader_get_species(L, g, &species) < 0 ||
+            app_config_bool(&L->p, g, "fixed", &fixed) < 0 ||
             app_config_number(&L->p, g, "vx", &vx) < 0 ||
             app_config_number(&L->p, g, "vy", &vy) < 0 ||
             app_config_number(&L->p, g, "omega", &omega) < 0 ||
@@ -472,7 +623,7 @@ static int parse_list(Loader *L, const config_setting_t *grains)
 
 int loader_parse_grains(Loader *L, const config_setting_t *root)
 {
-    static const char *const keys[] = {"list", "rain", "box", "rows", "columns", NULL};
+    static const char *const keys[] = {"list", "rain", "box", "rows", "columns", "file", NULL};
     const config_setting_t *grains;
     if (app_config_need(&L->p, root, "grains", "the scene") < 0 ||
         app_config_group(&L->p, root, "grains", &grains) < 0 ||
@@ -480,21 +631,73 @@ int loader_parse_grains(Loader *L, const config_setting_t *root)
         return -1;
     /* Stable ids follow this order: list, rain, box, rows, columns. */
     if (parse_list(L, grains) < 0 || parse_rain(L, grains) < 0 || parse_box(L, grains) < 0 ||
-        parse_rows(L, grains, 0) < 0 || parse_rows(L, grains, 1) < 0)
+        parse_rows(L, grains, 0) < 0 || parse_rows(L, grains, 1) < 0 || parse_file(L, grains) < 0)
         return -1;
     Scene *scene = L->scene;
     scene->fixed_count = 0;
     for (int i = 0; i < scene->grains.count; ++i)
         scene->fixed_count += (scene->grains.flags[i] & SIM_GRAIN_FIXED) != 0;
     /* a `discharge` scene rains its grains during the run (app/discharge.c) */
-    if (scene->grains.count == scene->fixed_count && !app_config_member(root, "discharge"))
+    if (scene->grains.count == scene->fixed_count && !app_config_member(root, "discharge") &&
+        !app_config_member(root, "sources")) /* or its sources feed it (app/sources.c) */
         return app_config_fail(&L->p, grains, "the scene has no mobile grains");
+    return 0;
+}
+
+/* A segment: from = [x, y], to = [x, y]. */
+static int parse_segment(Loader *L, const config_setting_t *g, const char *what, SimWall *w)
+{
+    double from[2] = {0.0, 0.0}, to[2] = {0.0, 0.0};
+    if (app_config_need(&L->p, g, "from", what) < 0 ||
+        app_config_vector(&L->p, g, "from", from, 2) < 0 ||
+        app_config_need(&L->p, g, "to", what) < 0 || app_config_vector(&L->p, g, "to", to, 2) < 0)
+        return -1;
+    if (!(hypot(to[0] - from[0], to[1] - from[1]) > 0.0))
+        return app_config_fail(&L->p, g, "%s: `from` and `to` must differ", what);
+    w->x0 = from[0];
+    w->y0 = from[1];
+    w->x1 = to[0];
+    w->y1 = to[1];
+    return 0;
+}
+
+/* An arc: center = [x, y], radius (m), angles = [from, to] in degrees counter-clockwise
+ * (default the full circle), side = "inside" | "outside" | "both". */
+static int parse_arc(Loader *L, const config_setting_t *g, const char *what, SimWall *w)
+{
+    static const char *const sides[] = {"both", "inside", "outside", NULL};
+    double center[2] = {0.0, 0.0}, angles[2] = {0.0, 360.0};
+    int side = SIM_WALL_BOTH;
+    if (app_config_need(&L->p, g, "center", what) < 0 ||
+        app_config_vector(&L->p, g, "center", center, 2) < 0 ||
+        app_config_need_number(&L->p, g, "radius", what, &w->radius) < 0 ||
+        app_config_positive(&L->p, g, "radius", w->radius) < 0 ||
+        app_config_vector(&L->p, g, "angles", angles, 2) < 0 ||
+        (app_config_member(g, "side") && app_config_choice(&L->p, g, "side", sides, &side) < 0))
+        return -1;
+    if (!(angles[1] > angles[0]))
+        return app_config_fail(
+            &L->p, app_config_member(g, "angles"),
+            "`angles` = [from, to] needs to > from (degrees, counter-clockwise)");
+    w->shape = SIM_WALL_ARC;
+    w->side = (SimWallSide)side;
+    w->center_x = center[0];
+    w->center_y = center[1];
+    w->angle0 = angles[0] * SIM_PI / 180.0;
+    w->angle1 =
+        angles[1] - angles[0] >= 360.0 ? w->angle0 + 2.0 * SIM_PI : angles[1] * SIM_PI / 180.0;
+    /* the end points, for readers that know segments only */
+    w->x0 = center[0] + w->radius * cos(w->angle0);
+    w->y0 = center[1] + w->radius * sin(w->angle0);
+    w->x1 = center[0] + w->radius * cos(w->angle1);
+    w->y1 = center[1] + w->radius * sin(w->angle1);
     return 0;
 }
 
 int loader_parse_walls(Loader *L, const config_setting_t *root)
 {
-    static const char *const keys[] = {"from", "to", "species", "motion", NULL};
+    static const char *const keys[] = {"from", "to",      "center", "radius", "angles",
+                                       "side", "species", "motion", NULL};
     const config_setting_t *list;
     if (app_config_list(&L->p, root, "walls", &list) <= 0)
         return L->p.failed ? -1 : 0;
@@ -506,21 +709,21 @@ int loader_parse_walls(Loader *L, const config_setting_t *root)
         const config_setting_t *g = config_setting_get_elem(list, (unsigned)k);
         char what[32], field[32];
         snprintf(what, sizeof what, "walls.%d", k);
-        double from[2] = {0.0, 0.0}, to[2] = {0.0, 0.0};
         SimWall *w = &L->scene->walls[k];
-        if (app_config_keys(&L->p, g, what, keys, NULL) < 0 ||
-            app_config_need(&L->p, g, "from", what) < 0 ||
-            app_config_vector(&L->p, g, "from", from, 2) < 0 ||
-            app_config_need(&L->p, g, "to", what) < 0 ||
-            app_config_vector(&L->p, g, "to", to, 2) < 0 || get_species(L, g, &w->species) < 0 ||
-            get_motion(L, g, &w->motion) < 0)
+        const int arc = app_config_member(g, "center") || app_config_member(g, "radius");
+        if (app_config_keys(&L->p, g, what, keys, NULL) < 0)
             return -1;
-        if (!(hypot(to[0] - from[0], to[1] - from[1]) > 0.0))
-            return app_config_fail(&L->p, g, "%s: `from` and `to` must differ", what);
-        w->x0 = from[0];
-        w->y0 = from[1];
-        w->x1 = to[0];
-        w->y1 = to[1];
+        if (arc && (app_config_member(g, "from") || app_config_member(g, "to")))
+            return app_config_fail(&L->p, g,
+                                   "%s: a wall is a segment (from, to) or an arc (center, radius), "
+                                   "not both",
+                                   what);
+        if (!arc && (app_config_member(g, "angles") || app_config_member(g, "side")))
+            return app_config_fail(&L->p, g,
+                                   "%s: `angles` and `side` are for arcs (center, radius)", what);
+        if ((arc ? parse_arc(L, g, what, w) : parse_segment(L, g, what, w)) < 0 ||
+            loader_get_species(L, g, &w->species) < 0 || get_motion(L, g, &w->motion) < 0)
+            return -1;
         snprintf(field, sizeof field, "walls[%d]", k);
         loader_where_add(L, field, g);
     }

@@ -64,10 +64,15 @@ int loader_apply_set(Loader *L, const char *assignment);
 
 /* scene_grains.c */
 int loader_parse_species(Loader *L, const config_setting_t *root);
+/// `species = "name"` or an index in g: 1 found, 0 absent (*out = 0), -1 error.
+int loader_get_species(Loader *L, const config_setting_t *g, int *out);
 int loader_parse_motions(Loader *L, const config_setting_t *root);
 int loader_parse_grains(Loader *L, const config_setting_t *root);
 int loader_parse_walls(Loader *L, const config_setting_t *root);
 int loader_parse_sinks(Loader *L, const config_setting_t *root);
+
+/* sources.c */
+int loader_parse_sources(Loader *L, const config_setting_t *root);
 
 /* scene_stages.c */
 int loader_parse_stages(Loader *L, const config_setting_t *root);

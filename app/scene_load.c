@@ -24,9 +24,9 @@
 /* ---------------------------------------------------------------- top-level physics */
 
 static const char *const ROOT_KEYS[] = {
-    "name",     "seed",  "units",   "effects", "mass_model", "gravity", "integrator", "time",
-    "skin",     "guard", "contact", "species", "grains",     "walls",   "motions",    "sinks",
-    "periodic", "drag",  "stages",  "output",  "render",     NULL};
+    "name",    "seed",     "units",   "effects", "mass_model", "gravity", "integrator", "time",
+    "skin",    "guard",    "contact", "species", "grains",     "walls",   "motions",    "sinks",
+    "sources", "periodic", "drag",    "stages",  "output",     "render",  NULL};
 
 static int parse_effects(Loader *L, const config_setting_t *root)
 {
@@ -520,7 +520,7 @@ static int parse_scene(Loader *L, const config_setting_t *root)
         loader_parse_motions(L, root) < 0 || parse_effect_groups(L, root) < 0 ||
         loader_parse_grains(L, root) < 0 || loader_parse_walls(L, root) < 0 ||
         loader_parse_sinks(L, root) < 0 || loader_parse_stages(L, root) < 0 ||
-        loader_parse_output(L, root) < 0)
+        loader_parse_sources(L, root) < 0 || loader_parse_output(L, root) < 0)
         return -1;
     for (int f = 0; app_experiments[f]; ++f) { /* each family parses its own keys */
         const AppExperiment *e = app_experiments[f];
@@ -585,9 +585,13 @@ static int validate_stages(const Scene *scene, char *err, size_t err_size)
         if (check_step_count(scene, k, err, err_size) != 0)
             return -1;
     for (int k = 0; k < scene->stage_count; ++k) {
-        int seen = 0; /* validate each distinct time step once */
+        int seen = 0; /* validate each distinct time step and forcing once */
+        const SceneStage *s = &scene->stages[k];
         for (int j = 0; j < k; ++j)
-            seen |= scene->stages[j].time_step == scene->stages[k].time_step;
+            seen |= scene->stages[j].time_step == s->time_step &&
+                    scene->stages[j].effects == s->effects &&
+                    scene->stages[j].gravity_x == s->gravity_x &&
+                    scene->stages[j].gravity_y == s->gravity_y;
         if (seen && k > 0)
             continue;
         SimWorldDef def = scene_world_def(scene, k);
@@ -631,6 +635,7 @@ void scene_free(Scene *scene)
     sim_grain_buffer_free(&scene->grains);
     free(scene->walls);
     free(scene->resolved);
+    free(scene->sources);
     for (int f = 0; app_experiments[f]; ++f)
         if (scene->experiments[f] && app_experiments[f]->free)
             app_experiments[f]->free(scene->experiments[f]);
@@ -645,8 +650,15 @@ void scene_free(Scene *scene)
 SimWorldDef scene_world_def(const Scene *scene, int stage)
 {
     SimWorldDef def = scene->def;
+    const SceneStage *s = &scene->stages[stage];
     def.grains = sim_grain_buffer_view(&scene->grains);
-    def.time_step = scene->stages[stage].time_step;
+    def.time_step = s->time_step;
+    /* the stage's forcing: its pipeline is built from its own effects */
+    def.gravity_x = s->gravity_x;
+    def.gravity_y = s->gravity_y;
+    def.effects = s->effects;
+    if (!(def.effects & SIM_EFFECT_REMOVAL))
+        def.sink_count = 0;
     for (int f = 0; app_experiments[f]; ++f)
         if (scene->experiments[f] && app_experiments[f]->adjust_def)
             app_experiments[f]->adjust_def(scene->experiments[f], stage, &def);

@@ -144,11 +144,95 @@ static int parse_remove_ids(Loader *L, const config_setting_t *g, SceneStage *st
     return 0;
 }
 
+/* `effects = [...]` of a stage: a subset of the scene's effects, with its periodic_x and
+ * vibration (those change the domain and what moves: stop motions with `motions = []`). */
+static int parse_stage_effects(Loader *L, const config_setting_t *g, SceneStage *stage)
+{
+    const config_setting_t *s = app_config_member(g, "effects");
+    if (!s)
+        return 0;
+    if (!config_setting_is_aggregate(s))
+        return app_config_fail(&L->p, s,
+                               "`effects` must be an array of names, e.g. [\"friction\"]");
+    unsigned effects = 0;
+    for (int k = 0; k < config_setting_length(s); ++k) {
+        const char *name = config_setting_get_string_elem(s, (unsigned)k);
+        unsigned bit = name ? sim_effect_from_name(name) : 0;
+        if (!bit)
+            return app_config_fail(&L->p, s, "unknown effect `%s`", name ? name : "(not a string)");
+        if (!(L->scene->def.effects & bit))
+            return app_config_fail(&L->p, s,
+                                   "effect `%s` is not among the scene's `effects`: a stage "
+                                   "chooses a subset of them",
+                                   name);
+        effects |= bit;
+    }
+    const unsigned fixed = SIM_EFFECT_PERIODIC_X | SIM_EFFECT_VIBRATION | SIM_EFFECT_FLUID_DRAG;
+    if ((effects & fixed) != (L->scene->def.effects & fixed))
+        return app_config_fail(&L->p, s,
+                               "a stage keeps the scene's periodic_x, vibration and fluid_drag "
+                               "(stop motions with `motions = []`)");
+    stage->effects = effects;
+    return 0;
+}
+
+/* `motions = ["shake"]`: the motions enabled in the stage (the others are stopped). */
+static int parse_stage_motions(Loader *L, const config_setting_t *g, SceneStage *stage)
+{
+    const config_setting_t *s = app_config_member(g, "motions");
+    if (!s)
+        return 0;
+    if (!config_setting_is_aggregate(s))
+        return app_config_fail(&L->p, s, "`motions` must list motion names, e.g. [\"shake\"]");
+    if (loader_gate(L, g, "motions", SIM_EFFECT_VIBRATION) < 0)
+        return -1;
+    unsigned motions = 0;
+    for (int k = 0; k < config_setting_length(s); ++k) {
+        const char *name = config_setting_get_string_elem(s, (unsigned)k);
+        int found = -1;
+        for (int m = 0; name && m < L->scene->def.motion_count; ++m)
+            if (strcmp(L->scene->motion_names[m], name) == 0)
+                found = m;
+        if (found < 0)
+            return app_config_fail(&L->p, s, "`motions`: no motion named `%s` in `motions`",
+                                   name ? name : "(not a string)");
+        motions |= 1u << found;
+    }
+    stage->motions = motions;
+    return 1;
+}
+
+/* The stage's forcing: its own keys on top of the previous stage's (the scene's). */
+static int parse_forcing(Loader *L, const config_setting_t *g, int k)
+{
+    Scene *scene = L->scene;
+    SceneStage *stage = &scene->stages[k];
+    const SceneStage *previous = k > 0 ? &scene->stages[k - 1] : NULL;
+    stage->gravity_x = previous ? previous->gravity_x : scene->def.gravity_x;
+    stage->gravity_y = previous ? previous->gravity_y : scene->def.gravity_y;
+    stage->effects = previous ? previous->effects : scene->def.effects;
+    stage->motions = previous ? previous->motions : (1u << scene->def.motion_count) - 1u;
+    double gravity[2] = {stage->gravity_x, stage->gravity_y};
+    if (app_config_vector(&L->p, g, "gravity", gravity, 2) < 0 ||
+        parse_stage_effects(L, g, stage) < 0)
+        return -1;
+    stage->gravity_x = gravity[0];
+    stage->gravity_y = gravity[1];
+    int listed = parse_stage_motions(L, g, stage);
+    if (listed < 0)
+        return -1;
+    if (listed)
+        for (int j = 0; j < SCENE_MAX_STAGES; ++j)
+            scene->stages[j].declares_motions = 1;
+    return 0;
+}
+
 /* Stage k from group g (NULL: the single stage of a scene without `stages`). */
 static int parse_stage(Loader *L, const config_setting_t *g, int k, const config_setting_t *time)
 {
-    static const char *const keys[] = {"name",  "load", "time", "settle", "remove_ids",
-                                       "movie", "skip", "dump", NULL};
+    static const char *const keys[] = {"name",       "load",    "time", "settle",
+                                       "remove_ids", "movie",   "skip", "gravity",
+                                       "effects",    "motions", "dump", NULL};
     Scene *scene = L->scene;
     SceneStage *stage = &scene->stages[k];
     char what[96];
@@ -170,7 +254,8 @@ static int parse_stage(Loader *L, const config_setting_t *g, int k, const config
             return app_config_fail(&L->p, app_config_member(g, "name"),
                                    "stage name `%s` is used twice", name);
     if (parse_times(L, g, k, time) < 0 || parse_load(L, g, k) < 0 ||
-        parse_settle(L, g, stage) < 0 || parse_remove_ids(L, g, stage) < 0)
+        parse_settle(L, g, stage) < 0 || parse_remove_ids(L, g, stage) < 0 ||
+        parse_forcing(L, g, k) < 0)
         return -1;
     stage->movie = -1; /* unset: output.movie decides */
     if (app_config_bool(&L->p, g, "movie", &stage->movie) < 0 ||

@@ -91,11 +91,12 @@ void render_view_fit(const SimFrame *frame, const RenderStyle *style, RenderView
             y1 = fmax(y1, frame->y[i] + r);
         }
         for (int k = 0; k < frame->wall_count; ++k) {
-            const SimWall *w = &frame->walls[k];
-            x0 = fmin(x0, fmin(w->x0, w->x1));
-            x1 = fmax(x1, fmax(w->x0, w->x1));
-            y0 = fmin(y0, fmin(w->y0, w->y1));
-            y1 = fmax(y1, fmax(w->y0, w->y1));
+            double wx0, wy0, wx1, wy1;
+            sim_wall_bounds(&frame->walls[k], &wx0, &wy0, &wx1, &wy1);
+            x0 = fmin(x0, wx0);
+            x1 = fmax(x1, wx1);
+            y0 = fmin(y0, wy0);
+            y1 = fmax(y1, wy1);
         }
         if (!(x1 > x0) || !(y1 > y0)) {
             x0 = y0 = 0;
@@ -397,6 +398,13 @@ static void draw_walls(cairo_t *cr, const DrawScene *sc, const RenderView *v)
     cairo_new_path(cr);
     for (int k = 0; k < f->wall_count; ++k) {
         double ax, ay, bx, by;
+        const SimWall *w = &f->walls[k];
+        if (w->shape == SIM_WALL_ARC) { /* y points down in pixels: angles turn the other way */
+            render_view_to_pixel(v, w->center_x, w->center_y, &ax, &ay);
+            cairo_new_sub_path(cr);
+            cairo_arc_negative(cr, ax, ay, w->radius * v->scale, -w->angle0, -w->angle1);
+            continue;
+        }
         render_view_to_pixel(v, f->walls[k].x0, f->walls[k].y0, &ax, &ay);
         render_view_to_pixel(v, f->walls[k].x1, f->walls[k].y1, &bx, &by);
         cairo_move_to(cr, ax, ay);

@@ -1046,6 +1046,15 @@ static int project_segment(const Band *b, const Layout *l, double ax, double ay,
 }
 
 /* A segment from (ax, ay) to (bx, by), m, unless it misses the band. */
+/* Chords drawn for one wall: ARC_PIECES for an arc (a chord of 1/128 turn is within 0.03 % of
+ * the radius), 1 for a segment. */
+enum { ARC_PIECES = 128 };
+
+static int wall_pieces(const SimWall *wall)
+{
+    return wall->shape == SIM_WALL_ARC ? ARC_PIECES : 1;
+}
+
 static void add_segment(Band *b, int *n, const Layout *l, double ax, double ay, double bx,
                         double by, double width, int round, uint32_t rgb)
 {
@@ -1152,7 +1161,10 @@ static int collect_segments(Band *b, const SimFrame *frame, const Layout *l, int
     const RenderView *v = &l->view;
     int ticks = s->orientation_tick && frame->angle ? 3 * frame->count : 0;
     int chains = s->force_chains ? 2 * frame->contact_count : 0;
-    if (reserve((void **)&b->segments, &b->segment_capacity, ticks + frame->wall_count + chains,
+    int wall_segments = 0;
+    for (int w = 0; frame->walls && w < frame->wall_count; ++w)
+        wall_segments += wall_pieces(&frame->walls[w]);
+    if (reserve((void **)&b->segments, &b->segment_capacity, ticks + wall_segments + chains,
                 4 * sizeof(SegmentVertex)) ||
         reserve((void **)&b->lines, &b->line_capacity, chains, 2 * sizeof(ChainVertex)) ||
         reserve((void **)&b->chains, &b->chain_capacity, frame->contact_count,
@@ -1189,7 +1201,13 @@ static int collect_segments(Band *b, const SimFrame *frame, const Layout *l, int
         double width = fmax(3.0, 0.3 * v->mean_diameter * v->scale);
         for (int w = 0; w < frame->wall_count; ++w) {
             const SimWall *wall = &frame->walls[w];
-            add_segment(b, &n, l, wall->x0, wall->y0, wall->x1, wall->y1, width, 1, WALL_RGB);
+            const int pieces = wall_pieces(wall);
+            for (int p = 0; p < pieces; ++p) { /* an arc as ARC_PIECES chords */
+                double ax, ay, bx, by;
+                sim_wall_point(wall, (double)p / pieces, &ax, &ay);
+                sim_wall_point(wall, (double)(p + 1) / pieces, &bx, &by);
+                add_segment(b, &n, l, ax, ay, bx, by, width, 1, WALL_RGB);
+            }
         }
     }
     counts[1] = n - counts[0];

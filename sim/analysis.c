@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* analysis.c: observables of the theses: free-surface profile (000 §5.4), hexatic order (no
  * crystallisation, 000 §4.2), static equilibrium (004 §3.1) and arch identification (004 §2.5). */
+#include "walls.h"
 #include "world.h"
 
 #include <math.h>
@@ -93,8 +94,7 @@ static double contact_slip(const SimWorld *w, const SimContact *c)
         vjy = w->vy[c->j];
         spin_j = w->omega[c->j] * w->radius[c->j];
     } else {
-        vjx = w->wall_vx[-1 - c->j];
-        vjy = w->wall_vy[-1 - c->j];
+        sim_wall_velocity(w, -1 - c->j, c->x, c->y, &vjx, &vjy);
     }
     return (vjx - w->vx[i]) * ny - (vjy - w->vy[i]) * nx + w->omega[i] * w->radius[i] + spin_j;
 }

@@ -7,6 +7,7 @@
  * v_s = (v_j - v_i).s + omega_i r_i + omega_j r_j. The force on i is -F_n n + F_t s, on j the
  * opposite; both torques are -r F_t (000 eq. 4.4; 004 §1.6). */
 #include "contact_scalar.h"
+#include "walls.h"
 
 #include <math.h>
 
@@ -104,17 +105,20 @@ void sim_contacts_visit(SimWorld *world, ContactVisit *visit, void *context)
     for (int k = 0; k < world->wl.count; ++k) {
         int i = world->wl.grain[k], w = world->wl.wall[k];
         double nx, ny;
-        double d = wall_geometry(&world->walls[w], x[i], y[i], &nx, &ny);
+        double d = sim_wall_geometry(&world->walls[w], x[i], y[i], r[i], &nx, &ny);
         if (d >= r[i])
             continue;
-        double dvx = world->wall_vx[w] - world->vx[i], dvy = world->wall_vy[w] - world->vy[i];
+        double wvx, wvy;
+        sim_wall_velocity(world, w, x[i] + d * nx, y[i] + d * ny, &wvx, &wvy);
+        double dvx = wvx - world->vx[i], dvy = wvy - world->vy[i];
         double wi = world->rotation ? world->omega[i] : 0.0;
         double v_s = dvx * ny - dvy * nx + wi * r[i];
         double xi_t = law == SIM_TANGENTIAL_SPRING ? world->wl.hist_t[k] : 0.0;
         double m_r = (key & KEY_ROLLING) ? world->wl.hist_r[k] : 0.0;
-        visit_one(world, key, i, -1, w, nx, ny, r[i] - d, 2.0 * sqrt(r[i] * r[i] - d * d),
-                  dvx * nx + dvy * ny, v_s, &world->pairs[world->wl.pair[k]], world->wl.gamma[k],
-                  xi_t, m_r, x[i] + d * nx, y[i] + d * ny, visit, context);
+        visit_one(world, key, i, -1, w, nx, ny, r[i] - d,
+                  2.0 * sqrt(fmax(r[i] * r[i] - d * d, 0.0)), dvx * nx + dvy * ny, v_s,
+                  &world->pairs[world->wl.pair[k]], world->wl.gamma[k], xi_t, m_r, x[i] + d * nx,
+                  y[i] + d * ny, visit, context);
     }
 }
 

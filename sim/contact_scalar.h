@@ -57,34 +57,6 @@ static inline double sel_d(int m, double a, double b)
 #undef LAW_ZERO
 #undef LAW_ONE
 
-/* Closest point of wall segment w to (px, py). */
-static inline void segment_closest(const SimWall *w, double px, double py, double *cx, double *cy)
-{
-    double ex = w->x1 - w->x0, ey = w->y1 - w->y0;
-    double len2 = ex * ex + ey * ey;
-    double t = len2 > 0.0 ? ((px - w->x0) * ex + (py - w->y0) * ey) / len2 : 0.0;
-    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-    *cx = w->x0 + t * ex;
-    *cy = w->y0 + t * ey;
-}
-
-/* Wall contact geometry: n from the grain centre to the closest point. Returns the distance. */
-static inline double wall_geometry(const SimWall *w, double px, double py, double *nx, double *ny)
-{
-    double cx, cy;
-    segment_closest(w, px, py, &cx, &cy);
-    double dx = cx - px, dy = cy - py;
-    double d = sqrt(dx * dx + dy * dy);
-    if (d > 0.0) {
-        *nx = dx / d;
-        *ny = dy / d;
-    } else { /* centre exactly on the wall: push along the wall's left normal */
-        double ex = w->x1 - w->x0, ey = w->y1 - w->y0;
-        double len = sqrt(ex * ex + ey * ey);
-        *nx = len > 0.0 ? ey / len : 0.0;
-        *ny = len > 0.0 ? -ex / len : -1.0;
-    }
-    return d;
-}
+/* The wall geometry (segments and arcs) is sim/walls.h. */
 
 #endif

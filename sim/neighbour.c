@@ -3,6 +3,7 @@
  * by cell (mobile first, then fixed), the half list is rebuilt in CSR form with per-pair constants,
  * and contact history is carried over by stable grain ids, so it survives rebuilds, sorting and
  * removal. O(N) time and memory. */
+#include "walls.h"
 #include "world.h"
 
 #include <math.h>
@@ -431,16 +432,6 @@ static int build_incoming(SimWorld *world)
     return 0;
 }
 
-static double segment_distance2(const SimWall *w, double px, double py)
-{
-    double ex = w->x1 - w->x0, ey = w->y1 - w->y0;
-    double len2 = ex * ex + ey * ey;
-    double t = len2 > 0.0 ? ((px - w->x0) * ex + (py - w->y0) * ey) / len2 : 0.0;
-    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-    double dx = w->x0 + t * ex - px, dy = w->y0 + t * ey - py;
-    return dx * dx + dy * dy;
-}
-
 static int build_walls(SimWorld *world, const HistoryRecord *records, int record_count)
 {
     WallList *wl = &world->wl;
@@ -450,7 +441,8 @@ static int build_walls(SimWorld *world, const HistoryRecord *records, int record
     for (int i = 0; i < world->mobile_count; ++i) {
         double cut = world->radius[i] + world->skin;
         for (int w = 0; w < world->wall_count; ++w) {
-            if (segment_distance2(&world->walls[w], world->x[i], world->y[i]) >= cut * cut)
+            if (sim_wall_distance2(&world->walls[w], world->x[i], world->y[i], world->radius[i]) >=
+                cut * cut)
                 continue;
             if (wl->count >= wl->capacity && wall_list_reserve(world, 2 * wl->capacity + 64) != 0)
                 return -1;

@@ -128,22 +128,86 @@ typedef struct SimGrainSet {
     const uint32_t *id;    ///< stable ids; optional (0..count-1)
 } SimGrainSet;
 
-/// Prescribed sinusoidal motion: offset(t) = amplitude * sin(2 pi frequency t + phase) along
-/// direction.
+/// Kinds of prescribed motion (SIM_EFFECT_VIBRATION). Every kind is a rigid motion of the
+/// walls and fixed grains that use it: a rotation by theta(t) about the origin, then a
+/// translation T(t), p(t) = R(theta) p_0 + T (sim_motion_pose).
+typedef enum SimMotionKind {
+    SIM_MOTION_SINUSOIDAL = 0, ///< offset amplitude sin(2 pi frequency tau + phase) along direction
+    SIM_MOTION_VELOCITY = 1,   ///< constant velocity (velocity_x, velocity_y): offset v tau
+    SIM_MOTION_ROTATION = 2,   ///< rotation about (center_x, center_y) at angular_velocity
+    SIM_MOTION_COMPOSE = 3,    ///< parts[0], then parts[1], ... applied in turn (parts defined
+                               ///< before this motion: lower indices)
+} SimMotionKind;
+
+#define SIM_MOTION_MAX_PARTS 4
+
+/// A prescribed motion and its schedule. The motion's own time is tau = t - t_0 - start, where
+/// t_0 is when it was enabled (0 from the start; sim_world_set_motion). Before tau = 0 nothing
+/// moves; over the first `ramp` seconds the speed (VELOCITY, ROTATION) or the amplitude
+/// (SINUSOIDAL) grows linearly from 0 to its full value; at tau = stop - start the motion stops
+/// where it is (velocity zero). All-zero schedule fields: running from t_0, never stopping.
 typedef struct SimMotion {
-    double amplitude;   ///< m
-    double frequency;   ///< Hz
-    double phase;       ///< rad
-    double direction_x; ///< unit vector, dimensionless
+    double amplitude;   ///< m (SINUSOIDAL)
+    double frequency;   ///< Hz (SINUSOIDAL)
+    double phase;       ///< rad (SINUSOIDAL)
+    double direction_x; ///< unit vector, dimensionless (SINUSOIDAL)
     double direction_y;
+    SimMotionKind kind;
+    double velocity_x, velocity_y;   ///< m/s (VELOCITY)
+    double center_x, center_y;       ///< rotation centre, m (ROTATION)
+    double angular_velocity;         ///< rad/s, counter-clockwise positive (ROTATION)
+    double start;                    ///< s after t_0 at which the motion starts
+    double ramp;                     ///< s of linear ramp-up from start (0 = none)
+    double stop;                     ///< s after t_0 at which it stops (0 = never); > start
+    int part_count;                  ///< COMPOSE: number of parts
+    int parts[SIM_MOTION_MAX_PARTS]; ///< COMPOSE: motion indices, each lower than this one's
 } SimMotion;
 
-/// A straight wall segment from (x0, y0) to (x1, y1); grains touch either side and the ends.
+/// A rigid pose p = R(angle) p_0 + (x, y), and its rate: the velocity of the point now at q is
+/// (vx, vy) + omega z x (q - (x, y)).
+typedef struct SimPose {
+    double angle, x, y;   ///< rad, m, m
+    double omega, vx, vy; ///< rad/s, m/s, m/s
+} SimPose;
+
+/// The pose of motion `index` of `motions` at its own time tau (the schedule applied; tau < 0:
+/// the identity). Composite motions combine their parts (each part at the same tau).
+SimPose sim_motion_pose(const SimMotion *motions, int index, double tau);
+
+typedef enum SimWallShape {
+    SIM_WALL_SEGMENT = 0, ///< straight segment (x0, y0)-(x1, y1)
+    SIM_WALL_ARC = 1,     ///< circular arc about (center_x, center_y)
+} SimWallShape;
+
+/// Which side of an arc grains touch.
+typedef enum SimWallSide {
+    SIM_WALL_BOTH = 0,    ///< either side (and the ends)
+    SIM_WALL_INSIDE = 1,  ///< only grains inside the circle (a drum): pushed towards the centre
+    SIM_WALL_OUTSIDE = 2, ///< only grains outside (an obstacle): pushed away from the centre
+} SimWallSide;
+
+/// A wall: a straight segment from (x0, y0) to (x1, y1) whose both sides and ends grains touch,
+/// or a circular arc of `radius` about (center_x, center_y) from angle0 counter-clockwise to
+/// angle1 (angle1 - angle0 >= 2 pi: the full circle), touched on `side`.
 typedef struct SimWall {
-    double x0, y0, x1, y1; ///< m
+    double x0, y0, x1, y1; ///< m (segments)
     int species;           ///< material index
     int motion;            ///< index into motions, -1 = still
+    SimWallShape shape;
+    SimWallSide side;          ///< arcs
+    double center_x, center_y; ///< arc centre, m
+    double radius;             ///< arc radius, m
+    double angle0, angle1;     ///< arc span, rad
 } SimWall;
+
+/// Contact distance from a grain of `radius` at (x, y) to the wall: the distance to a segment;
+/// for an arc the distance to the circle on the touched side (negative for a centre pushed past
+/// a one-sided arc, HUGE_VAL on its far side), m. Overlap = radius - distance.
+double sim_wall_contact_distance(const SimWall *wall, double x, double y, double radius);
+/// The point at s in [0, 1] along the wall (from (x0, y0) or angle0), m.
+void sim_wall_point(const SimWall *wall, double s, double *x, double *y);
+/// A box around the wall (arcs: their whole circle), m.
+void sim_wall_bounds(const SimWall *wall, double *x0, double *y0, double *x1, double *y1);
 
 typedef enum SimSinkShape {
     SIM_SINK_BELOW = 0, ///< remove grains with y < level
@@ -586,6 +650,14 @@ int sim_world_remove_ids(SimWorld *world, const uint32_t *ids, int count);
 SimStatus sim_world_add_grains(SimWorld *world, const SimGrainSet *grains, SimError *error);
 /// Set every velocity and angular velocity to zero.
 void sim_world_freeze(SimWorld *world);
+/// Changes gravity from now on (a stage's own `gravity`), m/s^2.
+void sim_world_set_gravity(SimWorld *world, double gravity_x, double gravity_y);
+/// Schedules motion `motion` by world time: it runs on its own clock tau = t - on from t = on
+/// (its schedule then applies: SimMotion.start, ramp, stop), and from t = off on it holds the
+/// pose it had at off, at rest (off = INFINITY: never). on = INFINITY: never enabled (at rest
+/// where it was defined). At create every motion has on = 0, off = INFINITY. A stage's
+/// `motions` list calls this (app/run.c). Out-of-range indices are ignored.
+void sim_world_set_motion(SimWorld *world, int motion, double on, double off);
 
 /* ---------------------------------------------------------------- checkpoints */
 

@@ -37,11 +37,65 @@ static SimStatus memory_fail(SimError *error, const char *path, const char *what
 
 typedef struct StateHeader {
     char magic[16];
-    int32_t count, mobile_count, wall_count, reserved;
+    int32_t count, mobile_count, wall_count;
+    int32_t wall_size; /* bytes per wall record: 0 = the segment-only LegacyWall, else SimWall */
     double time;
     int64_t step;
     int64_t removed[SIM_MAX_SINKS];
 } StateHeader;
+
+/* The wall record of files with segments only (what every state held before arc walls): kept
+ * for such walls, so their checkpoints keep their bytes. */
+typedef struct LegacyWall {
+    double x0, y0, x1, y1;
+    int species, motion;
+} LegacyWall;
+
+/* 1 when every wall is a plain segment (a LegacyWall says all of it). */
+static int walls_legacy(const SimWall *walls, int count)
+{
+    for (int k = 0; k < count; ++k)
+        if (walls[k].shape != SIM_WALL_SEGMENT)
+            return 0;
+    return 1;
+}
+
+static int write_walls(FILE *f, const SimWall *walls, int count, int legacy)
+{
+    if (!legacy)
+        return fwrite(walls, sizeof(SimWall), (size_t)count, f) == (size_t)count;
+    for (int k = 0; k < count; ++k) {
+        LegacyWall l = {walls[k].x0, walls[k].y0,      walls[k].x1,
+                        walls[k].y1, walls[k].species, walls[k].motion};
+        if (fwrite(&l, sizeof l, 1, f) != 1)
+            return 0;
+    }
+    return 1;
+}
+
+static int read_walls(FILE *f, SimWall *walls, int count, int32_t wall_size)
+{
+    if (wall_size != 0)
+        return wall_size == (int32_t)sizeof(SimWall) &&
+               fread(walls, sizeof(SimWall), (size_t)count, f) == (size_t)count;
+    for (int k = 0; k < count; ++k) {
+        LegacyWall l;
+        if (fread(&l, sizeof l, 1, f) != 1)
+            return 0;
+        walls[k] = (SimWall){.x0 = l.x0,
+                             .y0 = l.y0,
+                             .x1 = l.x1,
+                             .y1 = l.y1,
+                             .species = l.species,
+                             .motion = l.motion};
+    }
+    return 1;
+}
+
+static long wall_bytes(const StateHeader *h)
+{
+    return (long)h->wall_count * (h->wall_size ? (long)h->wall_size : (long)sizeof(LegacyWall));
+}
 
 SimStatus sim_world_save(SimWorld *w, const char *path, SimError *error)
 {
@@ -60,6 +114,8 @@ SimStatus sim_world_save(SimWorld *w, const char *path, SimError *error)
     h.count = w->count;
     h.mobile_count = w->mobile_count;
     h.wall_count = w->wall_count;
+    const int legacy = walls_legacy(w->walls_base, w->wall_count);
+    h.wall_size = legacy ? 0 : (int32_t)sizeof(SimWall);
     h.time = w->time;
     h.step = w->step;
     for (int s = 0; s < SIM_MAX_SINKS; ++s)
@@ -80,9 +136,7 @@ SimStatus sim_world_save(SimWorld *w, const char *path, SimError *error)
     ok = ok && fwrite(w->motion, sizeof(int), n, f) == n;
     ok = ok && fwrite(w->flags, sizeof(unsigned), n, f) == n;
     ok = ok && fwrite(w->id, sizeof(uint32_t), n, f) == n;
-    if (w->wall_count > 0)
-        ok = ok && fwrite(w->walls_base, sizeof(SimWall), (size_t)w->wall_count, f) ==
-                       (size_t)w->wall_count;
+    ok = ok && write_walls(f, w->walls_base, w->wall_count, legacy);
     /* contact history: counts, then the records */
     void *records = NULL, *walls = NULL;
     int32_t counts[2] = {0, 0};
@@ -158,7 +212,7 @@ SimStatus sim_state_load(const char *path, SimGrainSet *grains, SimWall **walls,
                   (double)n * (7.0 * sizeof(double) + sizeof(int) * 2.0 + sizeof(unsigned) +
                                sizeof(uint32_t)) +
                   (double)(n - (size_t)h.mobile_count) * 2.0 * sizeof(double) +
-                  (double)h.wall_count * (double)sizeof(SimWall);
+                  (double)wall_bytes(&h);
     struct stat st;
     if (fstat(fileno(f), &st) != 0 || (double)st.st_size < need) {
         fclose(f);
@@ -186,7 +240,7 @@ SimStatus sim_state_load(const char *path, SimGrainSet *grains, SimWall **walls,
     ok = ok && fread(flags, sizeof(unsigned), n, f) == n;
     ok = ok && fread(id, sizeof(uint32_t), n, f) == n;
     if (h.wall_count > 0)
-        ok = ok && fread(wl, sizeof(SimWall), (size_t)h.wall_count, f) == (size_t)h.wall_count;
+        ok = ok && read_walls(f, wl, h.wall_count, h.wall_size);
     fclose(f);
     if (!ok) {
         for (int a = 0; a < 7; ++a)
@@ -229,8 +283,7 @@ SimStatus sim_world_restore_contacts(SimWorld *w, const char *path, SimError *er
     /* skip the grain and wall sections (layout of sim_world_save) */
     long skip = (long)h.count * (7 * (long)sizeof(double) + 2 * (long)sizeof(int) +
                                  (long)sizeof(unsigned) + (long)sizeof(uint32_t)) +
-                (long)(h.count - h.mobile_count) * 2 * (long)sizeof(double) +
-                (long)h.wall_count * (long)sizeof(SimWall);
+                (long)(h.count - h.mobile_count) * 2 * (long)sizeof(double) + wall_bytes(&h);
     ok = ok && fseek(f, skip, SEEK_CUR) == 0;
     int32_t counts[2];
     ok = ok && fread(counts, sizeof counts, 1, f) == 1 && counts[0] >= 0 && counts[1] >= 0;

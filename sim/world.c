@@ -13,6 +13,8 @@
  */
 #include "world.h"
 
+#include "walls.h"
+
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -243,15 +245,6 @@ SimTiming sim_world_def_timing(const SimWorldDef *def)
 
 /* ------------------------------------------------------------------ validation */
 
-static double segment_distance(const SimWall *w, double px, double py)
-{
-    double ex = w->x1 - w->x0, ey = w->y1 - w->y0;
-    double len2 = ex * ex + ey * ey;
-    double t = len2 > 0.0 ? ((px - w->x0) * ex + (py - w->y0) * ey) / len2 : 0.0;
-    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-    return hypot(w->x0 + t * ex - px, w->y0 + t * ey - py);
-}
-
 #define CHECK(cond, field, ...)                                                                    \
     do {                                                                                           \
         if (!(cond))                                                                               \
@@ -335,6 +328,18 @@ static SimStatus validate_grains(const SimWorldDef *def, int restored, SimError 
         snprintf(f, sizeof f, "walls[%d]", w);
         CHECK(isfinite(wall->x0) && isfinite(wall->y0) && isfinite(wall->x1) && isfinite(wall->y1),
               f, "wall %d has a non-finite end point", w);
+        CHECK(wall->shape == SIM_WALL_SEGMENT || wall->shape == SIM_WALL_ARC, f,
+              "wall %d has an unknown shape %d", w, (int)wall->shape);
+        if (wall->shape == SIM_WALL_ARC) {
+            CHECK(isfinite(wall->center_x) && isfinite(wall->center_y), f,
+                  "arc wall %d has a non-finite centre", w);
+            CHECK(wall->radius > 0.0 && isfinite(wall->radius), f,
+                  "arc wall %d has radius %g; it must be positive", w, wall->radius);
+            CHECK(isfinite(wall->angle0) && isfinite(wall->angle1) && wall->angle1 > wall->angle0,
+                  f, "arc wall %d needs finite angles with angle1 > angle0", w);
+            CHECK(wall->side >= SIM_WALL_BOTH && wall->side <= SIM_WALL_OUTSIDE, f,
+                  "arc wall %d has an unknown side %d", w, (int)wall->side);
+        }
         CHECK(wall->species >= 0 && wall->species < def->species_count, f,
               "wall %d has species %d, not defined", w, wall->species);
         CHECK(wall->motion < def->motion_count, f, "wall %d uses motion %d, not defined", w,
@@ -345,7 +350,7 @@ static SimStatus validate_grains(const SimWorldDef *def, int restored, SimError 
         for (int i = 0; i < g->count; ++i) {
             if (restored || (g->flags && (g->flags[i] & SIM_GRAIN_FIXED)))
                 continue;
-            double d = segment_distance(wall, g->x[i], g->y[i]);
+            double d = sim_wall_distance(wall, g->x[i], g->y[i], g->radius[i]);
             /* A settled bed rests on its walls with a small overlap: refuse only above the
              * initial-overlap bound, as for pairs of grains. */
             if (g->radius[i] - d > def->max_initial_overlap * 2.0 * g->radius[i]) {
@@ -409,10 +414,10 @@ static SimStatus validate_def(const SimWorldDef *def, int restored, SimError *er
     CHECK(!(def->effects & SIM_EFFECT_FLUID_DRAG) || def->body_force.apply, "body_force",
           "fluid_drag is declared but no body-force stage is attached");
     for (int m = 0; m < def->motion_count; ++m) {
-        const SimMotion *mo = &def->motions[m];
-        CHECK(isfinite(mo->amplitude) && mo->frequency >= 0.0 && isfinite(mo->phase) &&
-                  isfinite(mo->direction_x) && isfinite(mo->direction_y),
-              "motions", "motion %d has invalid values", m);
+        const char *problem = sim_motion_problem(def, m);
+        char f[64];
+        snprintf(f, sizeof f, "motions[%d]", m);
+        CHECK(!problem, f, "motion %d: %s", m, problem);
     }
     if ((s = validate_materials(def, error)) != SIM_OK)
         return s;
@@ -504,53 +509,6 @@ static int load_grains(SimWorld *w, const SimGrainSet *g)
     return 0;
 }
 
-/* ------------------------------------------------------------------ prescribed motion */
-
-static double motion_offset(const SimMotion *m, double t, double *velocity)
-{
-    double phase = 2.0 * SIM_PI * m->frequency * t + m->phase;
-    *velocity = m->amplitude * 2.0 * SIM_PI * m->frequency * cos(phase);
-    return m->amplitude * sin(phase);
-}
-
-static void move_prescribed(SimWorld *w, double t)
-{
-    double offset[SIM_MAX_MOTIONS], speed[SIM_MAX_MOTIONS];
-    for (int m = 0; m < w->def.motion_count; ++m)
-        offset[m] = motion_offset(&w->def.motions[m], t, &speed[m]);
-    int moved = 0;
-    for (int i = w->mobile_count; i < w->count; ++i) {
-        int m = w->motion[i];
-        if (m < 0)
-            continue;
-        const SimMotion *mo = &w->def.motions[m];
-        w->x[i] = w->x_base[i] + offset[m] * mo->direction_x;
-        w->y[i] = w->y_base[i] + offset[m] * mo->direction_y;
-        w->vx[i] = speed[m] * mo->direction_x;
-        w->vy[i] = speed[m] * mo->direction_y;
-        double dx = w->x[i] - w->x_ref[i], dy = w->y[i] - w->y_ref[i];
-        moved |= dx * dx + dy * dy > w->disp_limit2;
-    }
-    w->need_rebuild |= moved;
-    for (int k = 0; k < w->wall_count; ++k) {
-        int m = w->walls_base[k].motion;
-        if (m < 0)
-            continue;
-        const SimMotion *mo = &w->def.motions[m];
-        double dx = offset[m] * mo->direction_x, dy = offset[m] * mo->direction_y;
-        w->walls[k].x0 = w->walls_base[k].x0 + dx;
-        w->walls[k].y0 = w->walls_base[k].y0 + dy;
-        w->walls[k].x1 = w->walls_base[k].x1 + dx;
-        w->walls[k].y1 = w->walls_base[k].y1 + dy;
-        w->wall_vx[k] = speed[m] * mo->direction_x;
-        w->wall_vy[k] = speed[m] * mo->direction_y;
-        double shift = hypot(dx - w->wall_ref_dx[k], dy - w->wall_ref_dy[k]);
-        w->wall_shift = shift > w->wall_shift ? shift : w->wall_shift;
-    }
-}
-
-static double segment_distance(const SimWall *w, double px, double py);
-
 /* Is any grain or wall closer to grain i than the two radii plus `reach` (rare: O(N))? */
 static int within_reach(const SimWorld *w, int i, double reach)
 {
@@ -570,7 +528,7 @@ static int within_reach(const SimWorld *w, int i, double reach)
             return 1;
     }
     for (int k = 0; k < w->wall_count; ++k)
-        if (segment_distance(&w->walls[k], xi, yi) < ri + reach)
+        if (sim_wall_distance(&w->walls[k], xi, yi, ri) < ri + reach)
             return 1;
     return 0;
 }
@@ -635,10 +593,7 @@ static void rebuild(SimWorld *w)
     skin_tune(w);
     sim_neighbour_build(w);
     w->build_step = w->step;
-    for (int k = 0; k < w->wall_count; ++k) {
-        w->wall_ref_dx[k] = w->walls[k].x0 - w->walls_base[k].x0;
-        w->wall_ref_dy[k] = w->walls[k].y0 - w->walls_base[k].y0;
-    }
+    sim_motion_mark_build(w);
     /* A grain that moves more than half its radius in one step can pass through a partner
      * between two force evaluations (004 §1.8). Such a grain has moved more than half the skin
      * since the last build, so checking at builds sees every one of them; it is an error only
@@ -662,7 +617,7 @@ void sim_world_rebuild_now(SimWorld *w)
 void sim_world_forces_at(SimWorld *w, double t)
 {
     if (w->effects & SIM_EFFECT_VIBRATION)
-        move_prescribed(w, t);
+        sim_motion_move(w, t);
     if (w->skin_auto && w->step >= w->skin_probe)
         skin_probe(w);
     /* Rebuild when a grain may have moved half the skin: 004 §1.9, style notes 8.5. */
@@ -680,6 +635,12 @@ void sim_world_forces_at(SimWorld *w, double t)
                                  w->vy,           w->radius, w->mass, w->fx, w->fy};
         w->body_force.apply(w->body_force.context, &view);
     }
+}
+
+void sim_world_set_gravity(SimWorld *w, double gravity_x, double gravity_y)
+{
+    w->def.gravity_x = gravity_x;
+    w->def.gravity_y = gravity_y;
 }
 
 /* ------------------------------------------------------------------ create / destroy */
@@ -719,10 +680,7 @@ static void setup_guard(SimWorld *w)
         }
         double size = w->count ? hypot(x1 - x0, y1 - y0) + 2.0 * w->max_radius : 1.0;
         double g = hypot(w->def.gravity_x, w->def.gravity_y);
-        double vm = 0.0;
-        for (int m = 0; m < w->def.motion_count; ++m)
-            vm = fmax(vm, fabs(w->def.motions[m].amplitude) * 2.0 * SIM_PI *
-                              w->def.motions[m].frequency);
+        double vm = sim_motion_speed_bound(&w->def, size);
         vmax = 100.0 * fmax(fmax(sqrt(2.0 * g * size), v0), vm);
         if (!(vmax > 0.0))
             vmax = INFINITY;
@@ -772,10 +730,14 @@ static SimWorld *create(const SimWorldDef *def, int restored, SimError *error)
     w->walls = calloc(nw, sizeof *w->walls);
     w->wall_vx = calloc(nw, sizeof(double));
     w->wall_vy = calloc(nw, sizeof(double));
+    w->wall_omega = calloc(nw, sizeof(double));
+    w->wall_ox = calloc(nw, sizeof(double));
+    w->wall_oy = calloc(nw, sizeof(double));
     w->wall_ref_dx = calloc(nw, sizeof(double));
     w->wall_ref_dy = calloc(nw, sizeof(double));
-    if (!w->walls_base || !w->walls || !w->wall_vx || !w->wall_vy || !w->wall_ref_dx ||
-        !w->wall_ref_dy) {
+    w->walls_ref = calloc(nw, sizeof *w->walls_ref);
+    if (!w->walls_base || !w->walls || !w->wall_vx || !w->wall_vy || !w->wall_omega ||
+        !w->wall_ox || !w->wall_oy || !w->wall_ref_dx || !w->wall_ref_dy || !w->walls_ref) {
         sim_world_destroy(w);
         fail(error, SIM_ERROR_MEMORY, "", "out of memory creating the world");
         return NULL;
@@ -783,6 +745,11 @@ static SimWorld *create(const SimWorldDef *def, int restored, SimError *error)
     if (def->wall_count > 0) {
         memcpy(w->walls_base, def->walls, nw * sizeof *w->walls);
         memcpy(w->walls, def->walls, nw * sizeof *w->walls);
+        memcpy(w->walls_ref, def->walls, nw * sizeof *w->walls);
+    }
+    for (int m = 0; m < SIM_MAX_MOTIONS; ++m) {
+        w->motion_on[m] = 0.0;
+        w->motion_off[m] = INFINITY;
     }
     for (int i = 0; i < w->count; ++i)
         w->max_radius = fmax(w->max_radius, w->radius[i]);
@@ -798,7 +765,7 @@ static SimWorld *create(const SimWorldDef *def, int restored, SimError *error)
         w->cell_size = 1.0;
 
     if (w->effects & SIM_EFFECT_VIBRATION)
-        move_prescribed(w, w->time);
+        sim_motion_move(w, w->time);
     w->jump_grain = -1;
     rebuild(w);
     reevaluate_forces(w); /* no time has passed: no contact-history increment */
@@ -835,8 +802,12 @@ void sim_world_destroy(SimWorld *w)
     free(w->walls);
     free(w->wall_vx);
     free(w->wall_vy);
+    free(w->wall_omega);
+    free(w->wall_ox);
+    free(w->wall_oy);
     free(w->wall_ref_dx);
     free(w->wall_ref_dy);
+    free(w->walls_ref);
     free(w->good.data);
     free(w->good.ints);
     free(w->good.flags);

@@ -104,9 +104,15 @@ struct SimWorld {
     int wall_count;
     SimWall *walls_base; /* as defined */
     SimWall *walls;      /* current (moving) */
-    double *wall_vx, *wall_vy;
+    /* Surface velocity of wall k (walls.h sim_wall_velocity): wall_v + wall_omega z x (q - wall_o),
+     * from its motion's pose (sim.h SimPose). */
+    double *wall_vx, *wall_vy, *wall_omega, *wall_ox, *wall_oy;
     double *wall_ref_dx, *wall_ref_dy; /* motion offsets at the last build, m */
-    double wall_shift;                 /* largest wall displacement since the last build, m */
+    SimWall *walls_ref;                /* walls at the last build (rotating motions), m */
+    /* Motion schedules by world time (sim_world_set_motion): motion m runs on the clock
+     * t - motion_on[m] and holds its pose from motion_off[m] on. */
+    double motion_on[SIM_MAX_MOTIONS], motion_off[SIM_MAX_MOTIONS];
+    double wall_shift;   /* largest wall displacement since the last build, m */
     int pending_removal; /* grains flagged SIM_GRAIN_REMOVED wait for the next build */
     int drop_history;    /* the list refers to a state that was replaced: carry nothing over */
     int jump_grain;      /* index of a grain that moved over half its radius in a step, or -1 */
@@ -197,6 +203,17 @@ static inline void sim_world_out_of_memory(SimWorld *world, const char *what)
     if (!world->out_of_memory)
         world->out_of_memory = what;
 }
+
+/* motion.c */
+/* Moves the walls and fixed grains that have a motion to their poses at world time t (their
+ * velocities with them) and records how far walls moved since the last build (wall_shift). */
+void sim_motion_move(SimWorld *world, double t);
+/* Records the walls' positions at a neighbour build (the reference of wall_shift). */
+void sim_motion_mark_build(SimWorld *world);
+/* Largest speed a motion of the definition gives a point within `size` of its centre, m/s. */
+double sim_motion_speed_bound(const SimWorldDef *def, double size);
+/* NULL when motion `index` of def is valid, else what is wrong. */
+const char *sim_motion_problem(const SimWorldDef *def, int index);
 
 /* world.c */
 /* sim_world_create for grains restored from a checkpoint (sim_world_load): every check of

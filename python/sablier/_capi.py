@@ -45,12 +45,18 @@ class SimGrainSet(Structure):
 
 class SimMotion(Structure):
     _fields_ = [("amplitude", c_double), ("frequency", c_double), ("phase", c_double),
-                ("direction_x", c_double), ("direction_y", c_double)]
+                ("direction_x", c_double), ("direction_y", c_double), ("kind", c_int),
+                ("velocity_x", c_double), ("velocity_y", c_double), ("center_x", c_double),
+                ("center_y", c_double), ("angular_velocity", c_double), ("start", c_double),
+                ("ramp", c_double), ("stop", c_double), ("part_count", c_int),
+                ("parts", c_int * 4)]
 
 
 class SimWall(Structure):
     _fields_ = [("x0", c_double), ("y0", c_double), ("x1", c_double), ("y1", c_double),
-                ("species", c_int), ("motion", c_int)]
+                ("species", c_int), ("motion", c_int), ("shape", c_int), ("side", c_int),
+                ("center_x", c_double), ("center_y", c_double), ("radius", c_double),
+                ("angle0", c_double), ("angle1", c_double)]
 
 
 class SimSink(Structure):
@@ -178,7 +184,9 @@ class SceneStage(Structure):
                 ("load_path", c_char * SCENE_PATH_MAX), ("time_step", c_double),
                 ("duration", c_double), ("settle_kinetic", c_double),
                 ("settle_after", c_double), ("remove_count", c_int), ("remove_ids", _pu32),
-                ("movie", c_int), ("skip", c_int)]
+                ("movie", c_int), ("skip", c_int), ("gravity_x", c_double),
+                ("gravity_y", c_double), ("effects", c_uint), ("motions", c_uint),
+                ("declares_motions", c_int)]
 
 
 class Scene(Structure):

@@ -9,6 +9,7 @@
  * v_s = (v_j - v_i).s + omega_i r_i + omega_j r_j. The force on i is -F_n n + F_t s, on j the
  * opposite; both torques are -r F_t (000 eq. 4.4; 004 §1.6). */
 #include "sim/contact_scalar.h"
+#include "sim/walls.h"
 
 /* Vector values pass between static, always-inlined functions only: no ABI is exposed, so GCC's
  * note that 32-byte vectors change the ABI without AVX (builds without -march) does not apply. */
@@ -345,7 +346,8 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
         const int i = wl->grain[k], w = wl->wall[k];
         const double ri = world->radius[i];
         double nx, ny;
-        const double d = wall_geometry(&world->walls[w], world->x[i], world->y[i], &nx, &ny);
+        const double d =
+            sim_wall_geometry(&world->walls[w], world->x[i], world->y[i], ri, &nx, &ny);
         if (d >= ri) {
             if (law == SIM_TANGENTIAL_SPRING)
                 wl->hist_t[k] = 0.0;
@@ -354,8 +356,10 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
             continue;
         }
         const double overlap = ri - d;
-        const double dvx = world->wall_vx[w] - world->vx[i];
-        const double dvy = world->wall_vy[w] - world->vy[i];
+        double wvx, wvy; /* the wall's surface velocity at the contact point */
+        sim_wall_velocity(world, w, world->x[i] + d * nx, world->y[i] + d * ny, &wvx, &wvy);
+        const double dvx = wvx - world->vx[i];
+        const double dvy = wvy - world->vy[i];
         const double v_n = dvx * nx + dvy * ny;
         const PairParams *p = &world->pairs[wl->pair[k]];
         double f_el;
@@ -375,10 +379,13 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
                 world->torque[i] -= ri * f_t;
         }
         if (key & KEY_ROLLING) {
-            const double chord = (key & KEY_CHORD) ? 2.0 * sqrt(ri * ri - d * d) : 0.0;
+            const double chord = (key & KEY_CHORD) ? 2.0 * sqrt(fmax(ri * ri - d * d, 0.0)) : 0.0;
             const double k_r = (key & KEY_CHORD) ? p->k_n * chord * chord : p->k_r;
             const double mu_r = (key & KEY_CHORD) ? p->mu * chord : p->mu_r;
-            world->torque[i] -= rolling_torque_d(k_r, mu_r, -wi, f_el, dt, &wl->hist_r[k]);
+            /* relative rolling against the wall's own turning (a drum's omega) */
+            const double w_wall = world->wall_omega[w];
+            const double rel = w_wall != 0.0 ? w_wall - wi : -wi;
+            world->torque[i] -= rolling_torque_d(k_r, mu_r, rel, f_el, dt, &wl->hist_r[k]);
         }
         world->fx[i] += fxk;
         world->fy[i] += fyk;

@@ -133,9 +133,11 @@ static SimWorld *periodic_world(double shift, SimGrainBuffer *b)
     def.contact.tangential = SIM_TANGENTIAL_SPRING;
     def.motion_count = 1;
     double omega = 2.0 * TPI / 3.953;
-    def.motions[0] = (SimMotion){3.0 / (omega * omega), 1.0 / 3.953, 0.0, 0.0, 1.0};
+    def.motions[0] = (SimMotion){
+        .amplitude = 3.0 / (omega * omega), .frequency = 1.0 / 3.953, .direction_y = 1.0};
     static SimWall floor_wall[1];
-    floor_wall[0] = (SimWall){-100.0, 0.0, 100.0, 0.0, 0, 0};
+    floor_wall[0] =
+        (SimWall){.x0 = -100.0, .y0 = 0.0, .x1 = 100.0, .y1 = 0.0, .species = 0, .motion = 0};
     def.walls = floor_wall;
     def.wall_count = 1;
     sim_grain_buffer_init(b);

@@ -4,8 +4,7 @@
  * small crater scene (deposit, dig, collapse: checkpoints, energy.csv, profile.csv, crater.csv,
  * observables.csv) on 1, 2 and 3 threads writes byte-identical files; only summary.json differs
  * (wall times and the "threads" it reports). No rendering. */
-#include "run.h"
-#include "scene.h"
+#include "app_test_run.h"
 #include "test.h"
 
 #include <dirent.h>
@@ -56,23 +55,6 @@ static int same_file(const char *dir_a, const char *dir_b, const char *name)
     return same;
 }
 
-static void remove_dir(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (!d)
-        return;
-    struct dirent *e;
-    char path[1024];
-    while ((e = readdir(d)) != NULL) {
-        if (e->d_name[0] == '.')
-            continue;
-        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-        remove(path);
-    }
-    closedir(d);
-    rmdir(dir);
-}
-
 /* Every output of the one-thread run but summary.json is in the others, byte for byte, and the
  * states and tables the brief names are among them. */
 static int same_outputs_any_thread_count(void)
@@ -81,7 +63,7 @@ static int same_outputs_any_thread_count(void)
     char dirs[3][256];
     for (int k = 0; k < 3; ++k) {
         run_dir(dirs[k], sizeof dirs[k], counts[k]);
-        remove_dir(dirs[k]);
+        app_test_remove_dir(dirs[k]);
         TEST_ASSERT(run_on(counts[k]) == 0);
     }
     static const char *const expected[] = {"energy.csv",      "profile.csv",   "crater.csv",
@@ -109,7 +91,7 @@ static int same_outputs_any_thread_count(void)
     int reports = summary && (summary[n] = '\0', strstr(summary, "\"threads\": 2") != NULL);
     free(summary);
     for (int k = 0; k < 3; ++k)
-        remove_dir(dirs[k]);
+        app_test_remove_dir(dirs[k]);
     TEST_ASSERT(found == (int)(sizeof expected / sizeof expected[0]));
     TEST_ASSERT(mismatched == 0);
     TEST_ASSERT(reports);

@@ -5,7 +5,7 @@
 # seed, so a run is reproducible; fails on any crash, leak, timeout or out-of-memory finding
 # (the input is kept in BUILD/fuzz/findings/). Usage: run.sh BUILD [RUNS] [SECONDS]
 set -euo pipefail
-build=$1 runs=${2:-${SABLIER_FUZZ_RUNS:-20000}} seconds=${3:-${SABLIER_FUZZ_SECONDS:-60}}
+build=$1 runs=${2:-${SABLIER_FUZZ_RUNS:-10000}} seconds=${3:-${SABLIER_FUZZ_SECONDS:-120}}
 here=$(cd "$(dirname "$0")" && pwd)
 findings=$build/fuzz/findings
 mkdir -p "$findings"

@@ -177,7 +177,7 @@ static inline int tu_collide(SimWorldDef def, const TuCollision *c, TuCollisionR
     double gap = c->gap_steps * c->v * dt;
     int g0 = sim_grain_buffer_add(&b, 0.0, 0.0, c->r0, 0, 0u, -1);
     b.vx[g0] = c->v;
-    SimWall wall = {c->r0 + gap, -1.0, c->r0 + gap, 1.0, 0, -1};
+    SimWall wall = {.x0 = c->r0 + gap, .y0 = -1.0, .x1 = c->r0 + gap, .y1 = 1.0, .motion = -1};
     if (c->kind == TU_WALL) {
         def.wall_count = 1;
         def.walls = &wall;

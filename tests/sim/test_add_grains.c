@@ -12,7 +12,8 @@
  * gravity so that every floor contact holds a tangential stretch. */
 static SimWorld *make_world(void)
 {
-    static const SimWall floor_ = {-10.0, 0.0, 10.0, 0.0, 0, -1};
+    static const SimWall floor_ = {
+        .x0 = -10.0, .y0 = 0.0, .x1 = 10.0, .y1 = 0.0, .species = 0, .motion = -1};
     SimGrainBuffer b;
     sim_grain_buffer_init(&b);
     for (int k = 0; k < 5; ++k)

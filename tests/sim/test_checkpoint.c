@@ -25,7 +25,9 @@ static SimWorldDef bed_def(void)
 static int restart_from_settled_bed(void)
 {
     static const SimWall walls[3] = {
-        {0.0, 0.0, 1.0, 0.0, 0, -1}, {0.0, 0.0, 0.0, 1.0, 0, -1}, {1.0, 0.0, 1.0, 1.0, 0, -1}};
+        {.x0 = 0.0, .y0 = 0.0, .x1 = 1.0, .y1 = 0.0, .species = 0, .motion = -1},
+        {.x0 = 0.0, .y0 = 0.0, .x1 = 0.0, .y1 = 1.0, .species = 0, .motion = -1},
+        {.x0 = 1.0, .y0 = 0.0, .x1 = 1.0, .y1 = 1.0, .species = 0, .motion = -1}};
     SimWorldDef def = bed_def();
     def.wall_count = 3;
     def.walls = walls;
@@ -108,7 +110,8 @@ static double floor_tangential(SimWorld *w, uint32_t id)
 
 static int restore_contact_history(void)
 {
-    static const SimWall floor_ = {-5.0, 0.0, 5.0, 0.0, 0, -1};
+    static const SimWall floor_ = {
+        .x0 = -5.0, .y0 = 0.0, .x1 = 5.0, .y1 = 0.0, .species = 0, .motion = -1};
     SimWorldDef def = bed_def();
     def.effects = SIM_EFFECT_FRICTION;
     def.contact.tangential = SIM_TANGENTIAL_SPRING;
@@ -165,7 +168,9 @@ static int restore_contact_history(void)
 static int deep_soft_pile_reloads(void)
 {
     static const SimWall walls[3] = {
-        {0.0, 0.0, 0.8, 0.0, 0, -1}, {0.0, 0.0, 0.0, 4.0, 0, -1}, {0.8, 0.0, 0.8, 4.0, 0, -1}};
+        {.x0 = 0.0, .y0 = 0.0, .x1 = 0.8, .y1 = 0.0, .species = 0, .motion = -1},
+        {.x0 = 0.0, .y0 = 0.0, .x1 = 0.0, .y1 = 4.0, .species = 0, .motion = -1},
+        {.x0 = 0.8, .y0 = 0.0, .x1 = 0.8, .y1 = 4.0, .species = 0, .motion = -1}};
     SimWorldDef def = tu_def(1000.0, 5e4, 0.0);
     def.time_step = 0.0; /* from steps_per_contact */
     def.gravity_y = -G0;

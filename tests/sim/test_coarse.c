@@ -164,9 +164,9 @@ static SimWorld *box_pile(double width, double height, int friction, long steps)
         def.materials[0].tangential_damping = 50.0;
     }
     static SimWall walls[3];
-    walls[0] = (SimWall){0.0, 0.0, width, 0.0, 1, -1};
-    walls[1] = (SimWall){0.0, 0.0, 0.0, 4.0 * height, 1, -1};
-    walls[2] = (SimWall){width, 0.0, width, 4.0 * height, 1, -1};
+    walls[0] = (SimWall){.x1 = width, .species = 1, .motion = -1};
+    walls[1] = (SimWall){.y1 = 4.0 * height, .species = 1, .motion = -1};
+    walls[2] = (SimWall){.x0 = width, .x1 = width, .y1 = 4.0 * height, .species = 1, .motion = -1};
     def.walls = walls;
     def.wall_count = 3;
     SimGrainBuffer buffer;

@@ -60,7 +60,9 @@ static int momentum_periodic_channel(void)
     def.domain_x1 = lx;
     def.materials[0].damping_mode = SIM_DAMPING_RESTITUTION;
     def.materials[0].restitution = 0.5;
-    SimWall walls[2] = {{-1.0, 0.0, lx + 1.0, 0.0, 0, -1}, {-1.0, 0.4, lx + 1.0, 0.4, 0, -1}};
+    SimWall walls[2] = {
+        {.x0 = -1.0, .y0 = 0.0, .x1 = lx + 1.0, .y1 = 0.0, .species = 0, .motion = -1},
+        {.x0 = -1.0, .y0 = 0.4, .x1 = lx + 1.0, .y1 = 0.4, .species = 0, .motion = -1}};
     def.wall_count = 2;
     def.walls = walls;
     SimGrainBuffer b;
@@ -173,10 +175,10 @@ static int closed_box_elastic_energy(void)
     double m_min = tu_mass(SIM_MASS_DISK, rho, 0.02);
     double tc = TPI * sqrt(m_min / 2.0 / k);
     SimWorldDef def = tu_def(rho, k, tc / 300.0);
-    SimWall walls[4] = {{0.0, 0.0, 0.5, 0.0, 0, -1},
-                        {0.5, 0.0, 0.5, 0.5, 0, -1},
-                        {0.5, 0.5, 0.0, 0.5, 0, -1},
-                        {0.0, 0.5, 0.0, 0.0, 0, -1}};
+    SimWall walls[4] = {{.x0 = 0.0, .y0 = 0.0, .x1 = 0.5, .y1 = 0.0, .species = 0, .motion = -1},
+                        {.x0 = 0.5, .y0 = 0.0, .x1 = 0.5, .y1 = 0.5, .species = 0, .motion = -1},
+                        {.x0 = 0.5, .y0 = 0.5, .x1 = 0.0, .y1 = 0.5, .species = 0, .motion = -1},
+                        {.x0 = 0.0, .y0 = 0.5, .x1 = 0.0, .y1 = 0.0, .species = 0, .motion = -1}};
     def.wall_count = 4;
     def.walls = walls;
     SimGrainBuffer b;

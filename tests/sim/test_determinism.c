@@ -14,7 +14,9 @@ static void build(SimGrainBuffer *b, uint64_t seed)
 static SimWorld *make(uint64_t seed, SimGrainBuffer *b)
 {
     static const SimWall walls[3] = {
-        {0.0, 0.0, 2.0, 0.0, 0, -1}, {0.0, 0.0, 0.0, 3.0, 0, -1}, {2.0, 0.0, 2.0, 3.0, 0, -1}};
+        {.x0 = 0.0, .y0 = 0.0, .x1 = 2.0, .y1 = 0.0, .species = 0, .motion = -1},
+        {.x0 = 0.0, .y0 = 0.0, .x1 = 0.0, .y1 = 3.0, .species = 0, .motion = -1},
+        {.x0 = 2.0, .y0 = 0.0, .x1 = 2.0, .y1 = 3.0, .species = 0, .motion = -1}};
     build(b, seed);
     SimWorldDef def = tu_def(1000.0, 1e5, 0.0);
     def.time_step = 0.0; /* from steps_per_contact */

@@ -63,7 +63,7 @@ static int block_run(SimWorldDef def, int projectile, double settle, double wind
         int p = sim_grain_buffer_add(&b, -20.0, 5.0, RB, 0, 0u, -1);
         b.vy[p] = 30.0;
     }
-    SimWall floor_ = {-1.0, 0.0, 3.0, 0.0, 0, -1};
+    SimWall floor_ = {.x0 = -1.0, .y0 = 0.0, .x1 = 3.0, .y1 = 0.0, .species = 0, .motion = -1};
     def.wall_count = 1;
     def.walls = &floor_;
     SimWorld *w = tu_create(&def, &b);
@@ -196,7 +196,7 @@ static int roll(SimWorldDef def, double t_half, double t_late, double t_end, Rol
     (void)m;
     b.vx[g] = v0;
     b.omega[g] = -v0 / RB;
-    SimWall floor_ = {-1.0, 0.0, 5.0, 0.0, 0, -1};
+    SimWall floor_ = {.x0 = -1.0, .y0 = 0.0, .x1 = 5.0, .y1 = 0.0, .species = 0, .motion = -1};
     def.wall_count = 1;
     def.walls = &floor_;
     SimWorld *w = tu_create(&def, &b);

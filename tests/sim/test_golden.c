@@ -28,9 +28,11 @@ typedef struct Case {
 
 static SimWorld *make(const Case *c, SimGrainBuffer *b)
 {
-    static const SimWall box[3] = {
-        {0.0, 0.0, 2.0, 0.0, 0, -1}, {0.0, 0.0, 0.0, 3.0, 0, -1}, {2.0, 0.0, 2.0, 3.0, 0, -1}};
-    static const SimWall floor_only[1] = {{-1.0, 0.0, 3.0, 0.0, 0, -1}};
+    static const SimWall box[3] = {{.x0 = 0.0, .y0 = 0.0, .x1 = 2.0, .y1 = 0.0, .motion = -1},
+                                   {.x0 = 0.0, .y0 = 0.0, .x1 = 0.0, .y1 = 3.0, .motion = -1},
+                                   {.x0 = 2.0, .y0 = 0.0, .x1 = 2.0, .y1 = 3.0, .motion = -1}};
+    static const SimWall floor_only[1] = {
+        {.x0 = -1.0, .y0 = 0.0, .x1 = 3.0, .y1 = 0.0, .motion = -1}};
     tu_rain_150(b, 7, 0.2);
     for (int k = 0; k < b->count; ++k) {
         b->omega[k] = (double)(k % 5 - 2) * 3.0; /* spins, so that rolling resistance acts */

@@ -8,7 +8,7 @@
 /* A grain sliding along a floor wall of species `floor_species`; returns its speed after 0.5 s. */
 static double slide(double wall_mu, double *tangential)
 {
-    SimWall floor_ = {-50.0, 0.0, 50.0, 0.0, 1, -1};
+    SimWall floor_ = {.x0 = -50.0, .y0 = 0.0, .x1 = 50.0, .y1 = 0.0, .species = 1, .motion = -1};
     double x = 0.0, y = 0.1, r = 0.1, vx = 2.0;
     int species = 0;
     SimGrainSet g = {.count = 1, .x = &x, .y = &y, .radius = &r, .vx = &vx, .species = &species};

@@ -144,8 +144,13 @@ static SimWorld *make(int periodic, uint64_t seed, double speed, double skin)
     def.materials[0].damping_mode = SIM_DAMPING_RESTITUTION;
     def.materials[0].restitution = 0.5;
     static SimWall walls[2];
-    walls[0] = (SimWall){0.0, 0.0, lx, 0.0, 0, -1};
-    walls[1] = (SimWall){0.8, 0.6, 1.2, 0.9, 0, -1}; /* interior, with two free ends */
+    walls[0] = (SimWall){.x0 = 0.0, .y0 = 0.0, .x1 = lx, .y1 = 0.0, .species = 0, .motion = -1};
+    walls[1] = (SimWall){.x0 = 0.8,
+                         .y0 = 0.6,
+                         .x1 = 1.2,
+                         .y1 = 0.9,
+                         .species = 0,
+                         .motion = -1}; /* interior, with two free ends */
     def.wall_count = 2;
     def.walls = walls;
     SimGrainBuffer all, b;
@@ -302,7 +307,9 @@ static int auto_skin_matches_brute_force(void)
 static SimWorldDef pile_def(double skin)
 {
     static const SimWall box[3] = {
-        {0.0, 0.0, 2.0, 0.0, 0, -1}, {0.0, 0.0, 0.0, 3.0, 0, -1}, {2.0, 0.0, 2.0, 3.0, 0, -1}};
+        {.x0 = 0.0, .y0 = 0.0, .x1 = 2.0, .y1 = 0.0, .species = 0, .motion = -1},
+        {.x0 = 0.0, .y0 = 0.0, .x1 = 0.0, .y1 = 3.0, .species = 0, .motion = -1},
+        {.x0 = 2.0, .y0 = 0.0, .x1 = 2.0, .y1 = 3.0, .species = 0, .motion = -1}};
     SimWorldDef def = tu_def(1000.0, 1e5, 1e-4);
     def.gravity_y = -G0;
     def.skin = skin;

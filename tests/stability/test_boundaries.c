@@ -19,7 +19,8 @@ static int periodic_seam_gas(void)
     def.domain_x0 = 0.0;
     def.domain_x1 = 1.0;
     def.guard_max_speed = 0.0;
-    SimWall walls[2] = {{-1.0, 0.0, 2.0, 0.0, 0, -1}, {-1.0, 0.4, 2.0, 0.4, 0, -1}};
+    SimWall walls[2] = {{.x0 = -1.0, .y0 = 0.0, .x1 = 2.0, .y1 = 0.0, .species = 0, .motion = -1},
+                        {.x0 = -1.0, .y0 = 0.4, .x1 = 2.0, .y1 = 0.4, .species = 0, .motion = -1}};
     def.wall_count = 2;
     def.walls = walls;
     SimGrainBuffer b;
@@ -104,11 +105,12 @@ static int vibrating_floor(int fixed_base)
     def.materials[0].damping_mode = SIM_DAMPING_RESTITUTION;
     def.materials[0].restitution = 0.5;
     def.motion_count = 1;
-    def.motions[0] = (SimMotion){amp, freq, 0.0, 0.0, 1.0};
+    def.motions[0] = (SimMotion){.amplitude = amp, .frequency = freq, .direction_y = 1.0};
     def.guard_max_speed = 0.0;
-    SimWall walls[3] = {{0.0, -0.05, 0.0, 0.5, 0, -1},
-                        {width, -0.05, width, 0.5, 0, -1},
-                        {0.0, 0.0, width, 0.0, 0, 0}};
+    SimWall walls[3] = {
+        {.x0 = 0.0, .y0 = -0.05, .x1 = 0.0, .y1 = 0.5, .species = 0, .motion = -1},
+        {.x0 = width, .y0 = -0.05, .x1 = width, .y1 = 0.5, .species = 0, .motion = -1},
+        {.x0 = 0.0, .y0 = 0.0, .x1 = width, .y1 = 0.0, .species = 0, .motion = 0}};
     def.wall_count = fixed_base ? 2 : 3;
     def.walls = walls;
     SimGrainBuffer b;
@@ -178,7 +180,8 @@ static SimWorldDef spring_def(SimWall *floor_wall)
     def.materials[0].restitution = 0.5;
     def.gravity_y = -G0;
     def.guard_max_speed = 0.0;
-    *floor_wall = (SimWall){-100.0, 0.0, 100.0, 0.0, 0, -1};
+    *floor_wall =
+        (SimWall){.x0 = -100.0, .y0 = 0.0, .x1 = 100.0, .y1 = 0.0, .species = 0, .motion = -1};
     def.wall_count = 1;
     def.walls = floor_wall;
     return def;
@@ -254,7 +257,7 @@ static int tangential_spring_driven_reversal(void)
     const double r = 0.5, m = tu_mass(SIM_MASS_DISK, 1.0, r), k = 1e4;
     def.effects |= SIM_EFFECT_VIBRATION;
     def.motion_count = 1;
-    def.motions[0] = (SimMotion){0.05, 5.0, 0.0, 1.0, 0.0};
+    def.motions[0] = (SimMotion){.amplitude = 0.05, .frequency = 5.0, .direction_x = 1.0};
     floor_wall.motion = 0;
     SimGrainBuffer b;
     sim_grain_buffer_init(&b);
@@ -297,8 +300,10 @@ static SimWorld *column(int preload, double *xi_bottom)
     def.materials[0].restitution = 0.5;
     def.guard_max_speed = 0.0;
     static SimWall walls[2];
-    walls[0] = (SimWall){-1.001 * r, 0.0, -1.001 * r, 2.0 * n, 0, -1};
-    walls[1] = (SimWall){1.001 * r, 0.0, 1.001 * r, 2.0 * n, 0, -1};
+    walls[0] = (SimWall){
+        .x0 = -1.001 * r, .y0 = 0.0, .x1 = -1.001 * r, .y1 = 2.0 * n, .species = 0, .motion = -1};
+    walls[1] = (SimWall){
+        .x0 = 1.001 * r, .y0 = 0.0, .x1 = 1.001 * r, .y1 = 2.0 * n, .species = 0, .motion = -1};
     def.wall_count = 2;
     def.walls = walls;
     SimGrainBuffer b;
@@ -408,9 +413,10 @@ static int long_thin_walls(void)
     def.materials[0].damping_mode = SIM_DAMPING_RESTITUTION;
     def.materials[0].restitution = 0.5;
     def.guard_max_speed = 0.0;
-    SimWall walls[3] = {{0.0, 0.0, len * ca, -len * sa, 0, -1},
-                        {-10.0, 100.0, -5.0, 100.0, 0, -1},
-                        {-10.0, 50.0, -10.0, 50.0, 0, -1}};
+    SimWall walls[3] = {
+        {.x0 = 0.0, .y0 = 0.0, .x1 = len * ca, .y1 = -len * sa, .species = 0, .motion = -1},
+        {.x0 = -10.0, .y0 = 100.0, .x1 = -5.0, .y1 = 100.0, .species = 0, .motion = -1},
+        {.x0 = -10.0, .y0 = 50.0, .x1 = -10.0, .y1 = 50.0, .species = 0, .motion = -1}};
     def.wall_count = 3;
     def.walls = walls;
     SimGrainBuffer b;
@@ -509,9 +515,10 @@ static int polydisperse_012_125(void)
     def.materials[0].damping_mode = SIM_DAMPING_RESTITUTION;
     def.materials[0].restitution = 0.5;
     def.guard_max_speed = 0.0;
-    SimWall walls[3] = {{0.0, 0.0, width, 0.0, 0, -1},
-                        {0.0, 0.0, 0.0, 20.0, 0, -1},
-                        {width, 0.0, width, 20.0, 0, -1}};
+    SimWall walls[3] = {
+        {.x0 = 0.0, .y0 = 0.0, .x1 = width, .y1 = 0.0, .species = 0, .motion = -1},
+        {.x0 = 0.0, .y0 = 0.0, .x1 = 0.0, .y1 = 20.0, .species = 0, .motion = -1},
+        {.x0 = width, .y0 = 0.0, .x1 = width, .y1 = 20.0, .species = 0, .motion = -1}};
     def.wall_count = 3;
     def.walls = walls;
     SimGrainBuffer b;

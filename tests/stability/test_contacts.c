@@ -53,7 +53,7 @@ static int impact_pass_through_wall(void)
 {
     SimWorldDef def = tu_def(1.0, 1e5, 0.0);
     def.guard_max_speed = 0.0;
-    SimWall wall = {1.1, -5.0, 1.1, 5.0, 0, -1};
+    SimWall wall = {.x0 = 1.1, .y0 = -5.0, .x1 = 1.1, .y1 = 5.0, .species = 0, .motion = -1};
     def.wall_count = 1;
     def.walls = &wall;
     SimGrainBuffer b;
@@ -101,7 +101,9 @@ static int mass_ratio_1000(void)
     }
     def.gravity_y = -G0;
     def.guard_max_speed = 0.0;
-    SimWall walls[2] = {{0.0, 0.0, 0.0, 5.0, 0, -1}, {width, 0.0, width, 5.0, 0, -1}};
+    SimWall walls[2] = {
+        {.x0 = 0.0, .y0 = 0.0, .x1 = 0.0, .y1 = 5.0, .species = 0, .motion = -1},
+        {.x0 = width, .y0 = 0.0, .x1 = width, .y1 = 5.0, .species = 0, .motion = -1}};
     def.wall_count = 2;
     def.walls = walls;
     SimGrainBuffer b;
@@ -340,7 +342,7 @@ static int overlapping_start_separates(void)
 static int exactly_touching_start(void)
 {
     SimWorldDef def = tu_def(1.0, 1e4, 0.0);
-    SimWall wall = {-0.5, -2.0, -0.5, 2.0, 0, -1};
+    SimWall wall = {.x0 = -0.5, .y0 = -2.0, .x1 = -0.5, .y1 = 2.0, .species = 0, .motion = -1};
     def.wall_count = 1;
     def.walls = &wall;
     SimGrainBuffer b;
@@ -374,10 +376,10 @@ static int zero_gravity_gas(void)
 {
     const double r = 0.01, side = 0.5;
     SimWorldDef def = tu_def(1.0, 1e3, 0.0);
-    SimWall walls[4] = {{0.0, 0.0, side, 0.0, 0, -1},
-                        {side, 0.0, side, side, 0, -1},
-                        {side, side, 0.0, side, 0, -1},
-                        {0.0, side, 0.0, 0.0, 0, -1}};
+    SimWall walls[4] = {{.x0 = 0.0, .y0 = 0.0, .x1 = side, .y1 = 0.0, .species = 0, .motion = -1},
+                        {.x0 = side, .y0 = 0.0, .x1 = side, .y1 = side, .species = 0, .motion = -1},
+                        {.x0 = side, .y0 = side, .x1 = 0.0, .y1 = side, .species = 0, .motion = -1},
+                        {.x0 = 0.0, .y0 = side, .x1 = 0.0, .y1 = 0.0, .species = 0, .motion = -1}};
     def.wall_count = 4;
     def.walls = walls;
     def.guard_max_speed = 0.0;

@@ -17,7 +17,7 @@ static void setup_init(Setup *s)
     sim_grain_buffer_init(&s->b);
     sim_grain_buffer_add(&s->b, 0.0, 1.0, 0.5, 0, 0u, -1);
     sim_grain_buffer_add(&s->b, 2.0, 1.0, 0.5, 0, 0u, -1);
-    s->wall = (SimWall){-5.0, 0.0, 5.0, 0.0, 0, -1};
+    s->wall = (SimWall){.x0 = -5.0, .y0 = 0.0, .x1 = 5.0, .y1 = 0.0, .species = 0, .motion = -1};
     s->def = tu_def(1.0, 1e4, 0.0);
     s->def.gravity_y = -G0;
     s->def.wall_count = 1;
