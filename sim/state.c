@@ -208,11 +208,11 @@ SimStatus sim_state_load(const char *path, SimGrainSet *grains, SimWall **walls,
     }
     /* the arrays the header announces must be in the file before anything is allocated */
     size_t n = (size_t)h.count, alloc = n ? n : 1;
-    double need = (double)sizeof h +
-                  (double)n * (7.0 * sizeof(double) + sizeof(int) * 2.0 + sizeof(unsigned) +
-                               sizeof(uint32_t)) +
-                  (double)(n - (size_t)h.mobile_count) * 2.0 * sizeof(double) +
-                  (double)wall_bytes(&h);
+    double need =
+        (double)sizeof h +
+        (double)n *
+            (7.0 * sizeof(double) + sizeof(int) * 2.0 + sizeof(unsigned) + sizeof(uint32_t)) +
+        (double)(n - (size_t)h.mobile_count) * 2.0 * sizeof(double) + (double)wall_bytes(&h);
     struct stat st;
     if (fstat(fileno(f), &st) != 0 || (double)st.st_size < need) {
         fclose(f);
