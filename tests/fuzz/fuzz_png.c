@@ -2,6 +2,7 @@
 /* fuzz_png: render_png_read (the reader behind `sablier diff`) on any bytes: an image or an error,
  * never a crash, a leak or a decompression bomb. */
 #include "fuzz_input.h"
+
 #include "render/render.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

@@ -2,6 +2,7 @@
 /* fuzz_state: sim_state_load and sim_world_load on any bytes: a state or an error, never a crash,
  * a leak or an unbounded allocation. */
 #include "fuzz_input.h"
+
 #include "sim/sim.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
