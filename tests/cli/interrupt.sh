@@ -30,7 +30,9 @@ rc=$(interrupt "$work/a" INT)
 grep -q '"status": "interrupted"' "$work/a/summary.json" || fail "SIGINT: summary.json not interrupted"
 grep -q 'interrupted by SIGINT in stage deposit' "$work/a.log" || fail "SIGINT: no message"
 [ -s "$work/a/deposit.interrupted.state" ] || fail "SIGINT: no deposit.interrupted.state"
-[ -s "$work/a/deposit.mp4" ] || fail "SIGINT: the movie was not finalised"
+if ! "$sablier" --version | grep -q "render: not built"; then
+  [ -s "$work/a/deposit.mp4" ] || fail "SIGINT: the movie was not finalised"
+fi
 [ -z "$(find "$work/a" -name '*.tmp')" ] || fail "SIGINT: .tmp files left: $(find "$work/a" -name '*.tmp')"
 [ "$(tail -n 1 "$work/a/energy.csv" | cut -d, -f10)" = deposit ] || fail "SIGINT: energy.csv incomplete"
 grep -qx 'deposit.interrupted.state' "$work/a/manifest.txt" || fail "manifest lacks the state"
