@@ -315,7 +315,8 @@ int app_manifest_write(const char *dir, time_t since)
     int rc = nftw(dir, manifest_entry, 16, FTW_PHYS) == 0 && !manifest_walk.failed ? 0 : -1;
     FILE *out = rc == 0 ? app_tmp_open(path, NULL) : NULL;
     /* sorted: the same run makes the same manifest */
-    qsort(manifest_walk.paths, (size_t)manifest_walk.count, sizeof(char *), compare_paths);
+    if (manifest_walk.count > 0)
+        qsort(manifest_walk.paths, (size_t)manifest_walk.count, sizeof(char *), compare_paths);
     for (int k = 0; k < manifest_walk.count; ++k) {
         if (out)
             fprintf(out, "%s\n", manifest_walk.paths[k]);
