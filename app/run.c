@@ -84,26 +84,6 @@ AppRunOptions app_run_options_default(void)
     return o;
 }
 
-int app_make_dirs(const char *path)
-{
-    char buffer[PATH_SIZE];
-    if (strlen(path) >= sizeof buffer || !path[0])
-        return -1;
-    strcpy(buffer, path);
-    for (char *p = buffer + 1; *p; ++p) {
-        if (*p != '/')
-            continue;
-        *p = '\0';
-        if (mkdir(buffer, 0777) != 0 && errno != EEXIST)
-            return -1;
-        *p = '/';
-    }
-    if (mkdir(buffer, 0777) != 0 && errno != EEXIST)
-        return -1;
-    struct stat st;
-    return stat(buffer, &st) == 0 && S_ISDIR(st.st_mode) ? 0 : -1;
-}
-
 static void out_path(const Run *run, char *out, const char *name, const char *suffix)
 {
     snprintf(out, PATH_SIZE, "%s/%s%s", run->options->out_dir, name, suffix);

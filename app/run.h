@@ -47,7 +47,4 @@ AppRunOptions app_run_options_default(void);
 /// restored on return.
 int app_run(const Scene *scene, const AppRunOptions *options);
 
-/// mkdir -p; 0 on success.
-int app_make_dirs(const char *path);
-
 #endif

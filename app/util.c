@@ -2,11 +2,14 @@
 /* util.c: small helpers shared by the app/ modules. */
 #include "util.h"
 
+#include "scene.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
 int app_series_grow(double **t, double **v, int *capacity, int initial)
@@ -203,4 +206,24 @@ int app_parse_numbers(const char *text, const AppNumberList *how, double *values
         values[n++] = v;
     }
     return n;
+}
+
+int app_make_dirs(const char *path)
+{
+    char buffer[SCENE_PATH_MAX + 2 * SCENE_NAME_MAX]; /* the longest output path (run.c) */
+    if (strlen(path) >= sizeof buffer || !path[0])
+        return -1;
+    strcpy(buffer, path);
+    for (char *p = buffer + 1; *p; ++p) {
+        if (*p != '/')
+            continue;
+        *p = '\0';
+        if (mkdir(buffer, 0777) != 0 && errno != EEXIST)
+            return -1;
+        *p = '/';
+    }
+    if (mkdir(buffer, 0777) != 0 && errno != EEXIST)
+        return -1;
+    struct stat st;
+    return stat(buffer, &st) == 0 && S_ISDIR(st.st_mode) ? 0 : -1;
 }

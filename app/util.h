@@ -56,6 +56,9 @@ int app_parse_numbers(const char *text, const AppNumberList *how, double *values
 /// when malformed (no '=', empty key, a value that is not a finite number).
 int app_parse_key_values(const char *text, char *key, size_t key_size, double *values, int max);
 
+/// mkdir -p; 0 on success.
+int app_make_dirs(const char *path);
+
 /// Monotonic wall clock, s (for timings only; never for results).
 double app_now_seconds(void);
 
