@@ -212,6 +212,10 @@ static int grid_setup(SimWorld *world)
         nx = 1.0;
     while (!(nx * ny <= max_cells)) { /* coarsen */
         cell *= 2.0;
+        if (!isfinite(cell)) { /* grains spread over more than DBL_MAX: one cell */
+            nx = ny = 1.0;
+            break;
+        }
         nx = periodic ? floor((x1 - x0) / cell) : floor((x1 - x0) / cell) + 1.0;
         ny = floor((y1 - y0) / cell) + 1.0;
         if (nx < 1.0)

@@ -196,7 +196,8 @@ SimStatus sim_state_load(const char *path, SimGrainSet *grains, SimWall **walls,
         return io_fail(error, path, "cannot open state file");
     StateHeader h;
     if (fread(&h, sizeof h, 1, f) != 1 || memcmp(h.magic, magic, sizeof magic) != 0 ||
-        h.count < 0 || h.mobile_count < 0 || h.mobile_count > h.count || h.wall_count < 0) {
+        h.count < 0 || h.mobile_count < 0 || h.mobile_count > h.count || h.wall_count < 0 ||
+        (h.wall_size != 0 && h.wall_size != (int32_t)sizeof(SimWall))) {
         fclose(f);
         errno = 0;
         return io_fail(error, path, "not a sablier state file (bad header)");
@@ -279,7 +280,9 @@ SimStatus sim_world_restore_contacts(SimWorld *w, const char *path, SimError *er
         return io_fail(error, path, "cannot open state file");
     StateHeader h;
     int ok = fread(&h, sizeof h, 1, f) == 1 && memcmp(h.magic, magic, sizeof magic) == 0 &&
-             h.count >= 0 && h.wall_count >= 0 && h.mobile_count >= 0 && h.mobile_count <= h.count;
+             h.count >= 0 && h.wall_count >= 0 && h.mobile_count >= 0 &&
+             h.mobile_count <= h.count &&
+             (h.wall_size == 0 || h.wall_size == (int32_t)sizeof(SimWall));
     /* skip the grain and wall sections (layout of sim_world_save) */
     long skip = (long)h.count * (7 * (long)sizeof(double) + 2 * (long)sizeof(int) +
                                  (long)sizeof(unsigned) + (long)sizeof(uint32_t)) +

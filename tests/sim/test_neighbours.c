@@ -397,6 +397,28 @@ static int auto_skin_follows_motion(void)
     return 0;
 }
 
+/* Grains spread over more than DBL_MAX (x1 - x0 overflows to inf): the grid falls back to one
+ * cell instead of coarsening forever (fuzz finding), and a touching pair among them is found. */
+static int spread_beyond_double_range(void)
+{
+    SimWorldDef def = tu_def(2500.0, 1e5, 1e-5);
+    SimGrainBuffer b;
+    sim_grain_buffer_init(&b);
+    sim_grain_buffer_add(&b, -1e308, 0.0, 0.05, 0, 0u, -1);
+    sim_grain_buffer_add(&b, 1e308, 0.0, 0.05, 0, 0u, -1);
+    sim_grain_buffer_add(&b, 0.0, 0.0, 0.05, 0, 0u, -1);
+    sim_grain_buffer_add(&b, 0.095, 0.0, 0.05, 0, 0u, -1); /* overlaps the one at 0 by 0.005 */
+    SimWorld *w = tu_create(&def, &b);
+    sim_grain_buffer_free(&b);
+    TEST_ASSERT(w);
+    TEST_ASSERT(tu_step(w, 2) == 0);
+    SimFrame f;
+    sim_world_frame(w, &f);
+    TEST_ASSERT(f.contact_count == 1);
+    sim_world_destroy(w);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(cells_match_brute_force), TEST_CASE(cells_match_brute_force_periodic),
           TEST_CASE(cells_match_after_motion), TEST_CASE(auto_skin_matches_brute_force),
-          TEST_CASE(auto_skin_follows_motion))
+          TEST_CASE(auto_skin_follows_motion), TEST_CASE(spread_beyond_double_range))
