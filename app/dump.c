@@ -222,14 +222,6 @@ void app_dump_describe(const AppDumpSpec *spec, double duration, double dt, FILE
 
 /* ---------------------------------------------------------------- one frame */
 
-/* m of grain i as sim/world.c's grain_mass computes it (same expression, same bits). */
-static double grain_mass(const SimWorldDef *def, const SimFrame *f, int i)
-{
-    double density = def->materials[f->species[i]].density, r = f->radius[i];
-    return def->mass_model == SIM_MASS_SPHERE ? density * 4.0 / 3.0 * SIM_PI * r * r * r
-                                              : density * SIM_PI * r * r;
-}
-
 /* Field `field` of grain i: an integer into *n (returns 1) or a real into *v (returns 0). The
  * LAMMPS ids start at 1 (lammps = 1). */
 static int field_value(const SimFrame *f, const SimWorldDef *def, int field, int i, int lammps,
@@ -273,7 +265,9 @@ static int field_value(const SimFrame *f, const SimWorldDef *def, int field, int
         *v = f->fy ? f->fy[i] : 0.0;
         break;
     case APP_DUMP_MASS:
-        *v = def ? grain_mass(def, f, i) : (double)NAN;
+        *v = def ? sim_grain_mass(def->mass_model, def->materials[f->species[i]].density,
+                                  f->radius[i])
+                 : (double)NAN;
         break;
     case APP_DUMP_ANGLE:
         *v = f->angle[i];

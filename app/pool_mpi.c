@@ -11,6 +11,8 @@
  * and messages are rank 0's alone; a worker's output outside its tasks goes to /dev/null. */
 #include "pool_mpi.h"
 
+#include "pool_local.h"
+
 #include <fcntl.h>
 #include <mpi.h>
 #include <stdio.h>

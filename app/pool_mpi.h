@@ -1,13 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /* pool_mpi.h: the MPI backend of the process pool (pool.h), built with SABLIER_WITH_MPI.
- * Private to pool.c and pool_mpi.c. */
+ * Private to pool.c. */
 #ifndef APP_POOL_MPI_H
 #define APP_POOL_MPI_H
 
 #include "pool.h"
-
-/// The local pool (fork and wait on this host), whatever the backend.
-int app_pool_run_local(const AppPool *pool);
 
 /// Under an MPI launcher with more than one rank: joins the job (MPI_Init) and returns on
 /// rank 0; a worker rank returns only when rank 0 enters a pool, or exits with status 0 when

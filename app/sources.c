@@ -257,9 +257,7 @@ struct AppSources {
 
 static double grain_mass(const Scene *scene, int species, double r)
 {
-    const double rho = scene->def.materials[species].density;
-    return scene->def.mass_model == SIM_MASS_SPHERE ? rho * 4.0 / 3.0 * SIM_PI * r * r * r
-                                                    : rho * SIM_PI * r * r;
+    return sim_grain_mass(scene->def.mass_model, scene->def.materials[species].density, r);
 }
 
 /* Draws the next grain's species and radius. */

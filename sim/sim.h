@@ -108,6 +108,10 @@ typedef enum SimMassModel {
     SIM_MASS_SPHERE = 1, ///< m = rho 4/3 pi r^3, I = 2/5 m r^2 (thesis 000 convention)
 } SimMassModel;
 
+/// Mass of a grain of `radius` (m) and `density` (kg/m^3 for spheres, kg/m^2 for disks) under
+/// `model`, kg: the engine's own expression (the same bits as the world's masses).
+double sim_grain_mass(SimMassModel model, double density, double radius);
+
 /// Grain flags.
 enum {
     SIM_GRAIN_FIXED = 1u << 0, ///< does not integrate; infinite mass in contacts

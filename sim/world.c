@@ -125,15 +125,16 @@ static SimStatus fail(SimError *error, SimStatus status, const char *field, cons
 
 /* ------------------------------------------------------------------ masses and pairs */
 
+double sim_grain_mass(SimMassModel model, double density, double r)
+{
+    return model == SIM_MASS_SPHERE ? density * 4.0 / 3.0 * SIM_PI * r * r * r
+                                    : density * SIM_PI * r * r;
+}
+
 static void grain_mass(SimMassModel model, double density, double r, double *m, double *inertia)
 {
-    if (model == SIM_MASS_SPHERE) {
-        *m = density * 4.0 / 3.0 * SIM_PI * r * r * r;
-        *inertia = 0.4 * *m * r * r;
-    } else {
-        *m = density * SIM_PI * r * r;
-        *inertia = 0.5 * *m * r * r;
-    }
+    *m = sim_grain_mass(model, density, r);
+    *inertia = (model == SIM_MASS_SPHERE ? 0.4 : 0.5) * *m * r * r;
 }
 
 /* Harmonic mean 2ab/(a+b): zero when either is zero, so a frictionless species (a smooth wall)

@@ -132,8 +132,7 @@ void app_discharge_geometry(const Scene *scene, AppDischargeGeometry *geo)
         geo->d_min = fmin(geo->d_min, d_lo);
         geo->d_mean += def->fractions[k] * def->diameters[k];
         double rho = scene->def.materials[k].density, r = 0.5 * d_lo;
-        double m = scene->def.mass_model == SIM_MASS_SPHERE ? rho * 4.0 / 3.0 * SIM_PI * r * r * r
-                                                            : rho * SIM_PI * r * r;
+        double m = sim_grain_mass(scene->def.mass_model, rho, r);
         geo->m_min = fmin(geo->m_min, m);
     }
     /* g = 2/(L(L+1)) in the thesis code's length unit L/2 is 1/(L+1) in diameters: the
