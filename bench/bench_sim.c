@@ -17,7 +17,7 @@
  * (bench/lammps/pile.in) times the very same grains.
  *
  * Memory is reported two ways: measured (heap growth, mallinfo2, from before sim_world_create to
- * after the warm-up) and accounted from the array layout of sim/world.h. This file reads that
+ * after the warm-up) and accounted from the array layout of sim/internal.h. This file reads that
  * private header on purpose (white-box benchmark): the rebuild counter and the list capacities
  * are not in the public API.
  *
@@ -33,7 +33,7 @@
  *   standard case's aspect (width as sqrt(N)).
  * The last line gives the process's peak resident memory (getrusage), pile building included. */
 #include "sim/sim.h"
-#include "sim/world.h"
+#include "sim/internal.h"
 
 #include <inttypes.h>
 #include <malloc.h>
@@ -404,7 +404,7 @@ static int write_lammps_data(const char *path, const SimGrainSet *g, double dens
     return 0;
 }
 
-/* Grain-proportional and contact-proportional storage from the layout of sim/world.h. */
+/* Grain-proportional and contact-proportional storage from the layout of sim/internal.h. */
 #define COUNT_ONE(name) +1
 
 static void layout_bytes(const SimWorld *w, double *per_grain, double *per_entry,

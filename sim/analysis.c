@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* analysis.c: observables of the theses: free-surface profile (000 §5.4), hexatic order (no
  * crystallisation, 000 §4.2), static equilibrium (004 §3.1) and arch identification (004 §2.5). */
+#include "internal.h"
 #include "walls.h"
-#include "world.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* build.c: the deterministic RNG and grain builders (fixed-grain walls, rain-like lattice). */
-#include "world.h"
+#include "internal.h"
 
 #include <limits.h>
 #include <math.h>

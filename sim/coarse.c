@@ -16,7 +16,7 @@
  * With `normalise`, a point's weights are divided by their sum over the whole node lattice times
  * the cell area, so each point deposits exactly its value: the fields integrate to the grains'
  * totals and the contact stress to the virial sum over contacts, to rounding (tests/sim). */
-#include "world.h"
+#include "internal.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -6,7 +6,7 @@
 #ifndef SIM_CONTACT_SCALAR_H
 #define SIM_CONTACT_SCALAR_H
 
-#include "world.h"
+#include "internal.h"
 
 #include <math.h>
 

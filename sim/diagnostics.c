@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* diagnostics.c: energies, the frame view, coordination, packing fraction, loads and hashes.
  * Nothing here runs inside the step; each call evaluates the current state. */
-#include "world.h"
+#include "internal.h"
 
 #include <math.h>
 #include <stdlib.h>

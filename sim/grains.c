@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
-/* grains.c: the structure-of-arrays grain storage: growth, permutation (spatial sort), release. */
-#include "world.h"
+/* grains.c: the structure-of-arrays grain storage: growth, permutation (spatial sort), removal of
+ * flagged grains, release. */
+#include "internal.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -81,4 +82,34 @@ void sim_grains_free(SimWorld *world)
     for (int k = 0; k < SIM_SCRATCH_MAX; ++k)
         RELEASE(scratch[k])
 #undef RELEASE
+}
+
+/* Drops flagged grains (keeping order) after contact history was collected; called from the
+ * neighbour build, which ends with empty lists when this fails. */
+int sim_world_compact(SimWorld *w)
+{
+    if (!w->pending_removal)
+        return 0;
+    int *order = malloc((size_t)(w->count > 0 ? w->count : 1) * sizeof *order);
+    if (!order) {
+        sim_world_out_of_memory(w, "removing grains");
+        return -1;
+    }
+    int k = 0, mobile = 0;
+    for (int i = 0; i < w->count; ++i)
+        if (!(w->flags[i] & SIM_GRAIN_REMOVED)) {
+            order[k++] = i;
+            if (i < w->mobile_count)
+                ++mobile;
+        }
+    int rc = sim_grains_permute(w, order, k);
+    free(order);
+    if (rc != 0) {
+        sim_world_out_of_memory(w, "removing grains");
+        return -1;
+    }
+    w->count = k;
+    w->mobile_count = mobile;
+    w->pending_removal = 0;
+    return 0;
 }

@@ -4,7 +4,7 @@
 #ifndef SIM_INTEGRATE_SCRATCH_H
 #define SIM_INTEGRATE_SCRATCH_H
 
-#include "world.h"
+#include "internal.h"
 
 /* Scratch arrays (SimWorld.scratch) per integrator, rotational ones last so that a world without
  * rotation allocates only those before them. */

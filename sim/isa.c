@@ -4,7 +4,7 @@
  * SIM_ISA_BUILT_AVX2, SIM_ISA_BUILT_AVX512 (x86-64), SIM_ISA_BUILT_NATIVE (a -march=native
  * build, then the only copy). The choice is made once per world, at create, from the CPU's
  * features (__builtin_cpu_supports), an explicit sim_isa_set, or SABLIER_ISA (docs/dev/isa.md). */
-#include "world.h"
+#include "internal.h"
 
 #include <stdatomic.h>
 #include <stdlib.h>

@@ -5,8 +5,8 @@
  * (sim_world_set_motion). Every motion is a rigid pose p = R(theta) p_0 + T applied to the
  * positions as defined, so a rotating wall's points follow the rotation to round-off and
  * nothing drifts over a long run. */
+#include "internal.h"
 #include "walls.h"
-#include "world.h"
 
 #include <math.h>
 

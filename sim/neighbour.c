@@ -3,8 +3,8 @@
  * by cell (mobile first, then fixed), the half list is rebuilt in CSR form with per-pair constants,
  * and contact history is carried over by stable grain ids, so it survives rebuilds, sorting and
  * removal. O(N) time and memory. */
+#include "internal.h"
 #include "walls.h"
-#include "world.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -9,7 +9,7 @@
  * microseconds) and then sleeps on a condition variable. Spinning alone, as OpenMP's default
  * policy does, was measured to make two threads 20-35x slower than one on a shared, loaded
  * machine: a spinning thread burns the time slice its partner needs. */
-#include "world.h"
+#include "internal.h"
 
 #include <pthread.h>
 #include <stdatomic.h>

@@ -2,7 +2,7 @@
 /* state.c: checkpoints. A state file holds the grains (fixed ones included), the walls at rest,
  * the time, the step, the sink counts and the contact history keyed by grain ids, in native byte
  * order (little-endian on x86-64). Written to PATH.tmp and renamed when complete. */
-#include "world.h"
+#include "internal.h"
 
 #include <errno.h>
 #include <math.h>

@@ -2,7 +2,7 @@
 /* walls.c: the public wall geometry (sim.h): distances and points of segments and arcs. */
 #include "walls.h"
 
-#include "world.h"
+#include "internal.h"
 
 double sim_wall_contact_distance(const SimWall *wall, double x, double y, double radius)
 {

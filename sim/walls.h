@@ -5,7 +5,7 @@
 #ifndef SIM_WALLS_H
 #define SIM_WALLS_H
 
-#include "world.h"
+#include "internal.h"
 
 #include <math.h>
 

@@ -11,8 +11,7 @@
  *   4. the scene keys in app/scene.c, rejected when the effect is not declared;
  *   5. a validation scene and a test.
  */
-#include "world.h"
-
+#include "internal.h"
 #include "walls.h"
 
 #include <math.h>
@@ -833,36 +832,6 @@ static int in_sink(const SimSink *s, double x, double y)
     case SIM_SINK_RECT:
         return x >= s->x0 && x <= s->x1 && y >= s->y0 && y <= s->y1;
     }
-    return 0;
-}
-
-/* Drops flagged grains (keeping order) after contact history was collected; called from the
- * neighbour build, which ends with empty lists when this fails. */
-int sim_world_compact(SimWorld *w)
-{
-    if (!w->pending_removal)
-        return 0;
-    int *order = malloc((size_t)(w->count > 0 ? w->count : 1) * sizeof *order);
-    if (!order) {
-        sim_world_out_of_memory(w, "removing grains");
-        return -1;
-    }
-    int k = 0, mobile = 0;
-    for (int i = 0; i < w->count; ++i)
-        if (!(w->flags[i] & SIM_GRAIN_REMOVED)) {
-            order[k++] = i;
-            if (i < w->mobile_count)
-                ++mobile;
-        }
-    int rc = sim_grains_permute(w, order, k);
-    free(order);
-    if (rc != 0) {
-        sim_world_out_of_memory(w, "removing grains");
-        return -1;
-    }
-    w->count = k;
-    w->mobile_count = mobile;
-    w->pending_removal = 0;
     return 0;
 }
 

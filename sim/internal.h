@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
-/* world.h: sim's private world layout, shared by the sim sources (never installed). */
-#ifndef SIM_WORLD_H
-#define SIM_WORLD_H
+/* internal.h: sim's private world layout and the functions its sources share (never installed;
+ * named apart from world.c, which defines only some of them). */
+#ifndef SIM_INTERNAL_H
+#define SIM_INTERNAL_H
 
 #include "sim.h"
 
@@ -222,10 +223,6 @@ SimWorld *sim_world_create_restored(const SimWorldDef *def, SimError *error);
 /* Moves prescribed grains and walls to `time`, rebuilds the lists when the skin is used up, and
  * computes all forces: contacts, walls, body forces (no gravity: the integrators add it). */
 void sim_world_forces_at(SimWorld *world, double time);
-/* Drops grains flagged SIM_GRAIN_REMOVED (called by the neighbour build); -1 when out of memory
- * (nothing dropped). */
-int sim_world_compact(SimWorld *world);
-
 /* neighbour.c */
 /* Rebuilds the lists; out of memory, it leaves them empty and sets world->out_of_memory. */
 void sim_neighbour_build(SimWorld *world);
@@ -299,5 +296,8 @@ int sim_grains_reserve(SimWorld *world, int capacity);
 /* -1 when out of memory (the grains left as they were). */
 int sim_grains_permute(SimWorld *world, const int *order, int count);
 void sim_grains_free(SimWorld *world);
+/* Drops grains flagged SIM_GRAIN_REMOVED (called by the neighbour build); -1 when out of memory
+ * (nothing dropped). */
+int sim_world_compact(SimWorld *world);
 
 #endif
