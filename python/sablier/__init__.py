@@ -15,9 +15,9 @@ from .outputs import RunOutputs, load, read_csv, read_key_values
 from .render import available as render_available
 from .run import RunError, command, run
 from .scene import Scene
-from .world import (Frame, GrainBuffer, Grains, InvalidDefinition, OutOfMemory, SablierError,
-                    StateIOError, Unstable, World, WorldDef, effects_bits, effects_names,
-                    material)
+from .definition import (GrainBuffer, Grains, InvalidDefinition, OutOfMemory, SablierError,
+                         StateIOError, Unstable, WorldDef, effects_bits, effects_names, material)
+from .world import Frame, World
 
 __version__ = "0.1.0"
 

@@ -4,7 +4,7 @@ import ctypes
 import os
 
 from . import _capi as C
-from .world import InvalidDefinition, WorldDef
+from .definition import InvalidDefinition, WorldDef
 
 
 def _sets_list(sets):
@@ -84,7 +84,3 @@ class Scene:
             raise ValueError("scene is closed")
         raw = self._lib.scene_world_def(self._p, self.stage_index(stage))
         return WorldDef(raw, keep=[self])
-
-    def world(self, stage=0):
-        from .world import World
-        return World(self.world_def(stage))
