@@ -1,7 +1,6 @@
 # SPDX-License-Identifier: MIT
 """World definitions (SimWorldDef), grain sets, material tables and the errors of the C API."""
 import ctypes
-import os
 
 import numpy as np
 
