@@ -640,6 +640,21 @@ static long measures_next_step(const void *state, const AppContext *c, long done
 }
 
 /* A heat map (grid) or a profile plot (field against height or x) of the last row written. */
+/* The map of a grid measure's node values (heat map), with its title and colour-bar label. */
+static AppMap grid_map(const Measure *m, const char *title, const char *label, const double *values)
+{
+    return (AppMap){.title = title,
+                    .x_label = "x (m)",
+                    .y_label = "y (m)",
+                    .bar_label = label,
+                    .nx = m->nx,
+                    .ny = m->ny,
+                    .x0 = m->region[0],
+                    .y0 = m->region[1],
+                    .cell = m->bin,
+                    .values = values};
+}
+
 static int draw_arrows(const Measure *m, const AppContext *c)
 {
     int nodes = m->nx * m->ny;
@@ -658,19 +673,10 @@ static int draw_arrows(const Measure *m, const AppContext *c)
              sim_coarse_field_name(fv), m->window > 0.0 ? "window average" : "last sample");
     snprintf(label, sizeof label, "|(%s, %s)| (%s)", sim_coarse_field_name(fu),
              sim_coarse_field_name(fv), sim_coarse_field_unit(fu));
-    AppMap map = {.title = title,
-                  .x_label = "x (m)",
-                  .y_label = "y (m)",
-                  .bar_label = label,
-                  .nx = m->nx,
-                  .ny = m->ny,
-                  .x0 = m->region[0],
-                  .y0 = m->region[1],
-                  .cell = m->bin,
-                  .values = size,
-                  .arrow_x = u,
-                  .arrow_y = v,
-                  .arrow_unit = sim_coarse_field_unit(fu)};
+    AppMap map = grid_map(m, title, label, size);
+    map.arrow_x = u;
+    map.arrow_y = v;
+    map.arrow_unit = sim_coarse_field_unit(fu);
     int rc = c->render->map(c->render->context, c->scene, &map, path, err, sizeof err);
     if (rc != 0)
         snprintf(c->err, c->err_size, "measure %s: figure %s: %s", m->name, path, err);
@@ -691,16 +697,7 @@ static int draw_figure(const Measure *m, const AppContext *c, int figure)
              sim_coarse_field_unit(field));
     int rc = 0;
     if (m->kind == KIND_GRID) {
-        AppMap map = {.title = title,
-                      .x_label = "x (m)",
-                      .y_label = "y (m)",
-                      .bar_label = label,
-                      .nx = m->nx,
-                      .ny = m->ny,
-                      .x0 = m->region[0],
-                      .y0 = m->region[1],
-                      .cell = m->bin,
-                      .values = values};
+        AppMap map = grid_map(m, title, label, values);
         rc = c->render->map
                  ? c->render->map(c->render->context, c->scene, &map, path, err, sizeof err)
                  : 0;
