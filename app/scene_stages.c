@@ -3,6 +3,7 @@
  * grains come from (`load`), its time, settle test, removals and movie flag. A scene without
  * `stages` has one stage, "run". */
 #include "scene_internal.h"
+#include "util.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -58,23 +59,10 @@ static int checkpoint_path(Loader *L, const config_setting_t *g, const char *loa
         stage->load_path[dir_length - 1] = '/';
     }
     memcpy(stage->load_path + dir_length, load, strlen(load) + 1);
-    FILE *f = fopen(stage->load_path, "rb");
-    if (!f)
-        return app_config_fail(&L->p, app_config_member(g, "load"),
-                               "cannot read checkpoint `%s`: %s", stage->load_path,
-                               strerror(errno));
-    fclose(f);
     /* the whole state read now, so that a bad file stops the run before any stage */
-    SimGrainSet grains;
-    SimWall *walls = NULL;
-    int wall_count = 0;
-    double time = 0.0;
-    SimError error;
-    if (sim_state_load(stage->load_path, &grains, &walls, &wall_count, &time, &error) != SIM_OK)
-        return app_config_fail(&L->p, app_config_member(g, "load"), "checkpoint `%s`: %s",
-                               stage->load_path, error.message);
-    sim_grain_set_free(&grains);
-    free(walls);
+    char why[600];
+    if (app_state_check(stage->load_path, why, sizeof why) != 0)
+        return app_config_fail(&L->p, app_config_member(g, "load"), "%s", why);
     return 0;
 }
 

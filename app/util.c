@@ -227,3 +227,25 @@ int app_make_dirs(const char *path)
     struct stat st;
     return stat(buffer, &st) == 0 && S_ISDIR(st.st_mode) ? 0 : -1;
 }
+
+int app_state_check(const char *path, char *err, size_t err_size)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        snprintf(err, err_size, "cannot read checkpoint `%s`: %s", path, strerror(errno));
+        return -1;
+    }
+    fclose(f);
+    SimGrainSet grains;
+    SimWall *walls = NULL;
+    int wall_count = 0;
+    double time = 0.0;
+    SimError error;
+    if (sim_state_load(path, &grains, &walls, &wall_count, &time, &error) != SIM_OK) {
+        snprintf(err, err_size, "checkpoint `%s`: %s", path, error.message);
+        return -1;
+    }
+    sim_grain_set_free(&grains);
+    free(walls);
+    return 0;
+}

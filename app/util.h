@@ -59,6 +59,11 @@ int app_parse_key_values(const char *text, char *key, size_t key_size, double *v
 /// mkdir -p; 0 on success.
 int app_make_dirs(const char *path);
 
+/// Reads the checkpoint at `path` whole (sim_state_load), so that a bad file is refused before
+/// anything runs: 0, or -1 with why in err ("cannot read checkpoint `PATH`: reason",
+/// or "checkpoint `PATH`: " and the loader's message).
+int app_state_check(const char *path, char *err, size_t err_size);
+
 /// Monotonic wall clock, s (for timings only; never for results).
 double app_now_seconds(void);
 

@@ -120,6 +120,10 @@ add_test(NAME cli.interrupt
          COMMAND bash ${CLI_DIR}/interrupt.sh $<TARGET_FILE:sablier>
                  ${PROJECT_SOURCE_DIR}/scenes/crater/quick.scene ${CLI_TINY} ${CLI_WORK}/interrupt)
 set_tests_properties(cli.interrupt PROPERTIES LABELS cli)
+add_test(NAME cli.sweep_inputs
+         COMMAND bash ${CLI_DIR}/sweep_inputs.sh $<TARGET_FILE:sablier>
+                 ${PROJECT_SOURCE_DIR}/scenes/crater/small.scene ${CLI_WORK}/sweep_inputs)
+set_tests_properties(cli.sweep_inputs PROPERTIES LABELS cli)
 add_test(NAME cli.cadence_huge
          COMMAND bash ${CLI_DIR}/cadence.sh $<TARGET_FILE:sablier> ${CLI_TINY} ${CLI_WORK}/cadence)
 set_tests_properties(cli.cadence_huge PROPERTIES LABELS cli)

@@ -26,9 +26,12 @@
 #define MAX_VALUES   32
 #define SWEEP_PATH   2048
 #define SWEEP_STRING 256
+/* one --vary or `vary` list: a key and MAX_VALUES values of up to 64 characters */
+#define VARY_STRING  (SWEEP_STRING + MAX_VALUES * 65)
 
 typedef struct Member {
     char label[64];
+    int line; /* of its group in the sweep file (0: from --vary) */
     double value;
     int set_count;
     char sets[MAX_SETS][SWEEP_STRING];
@@ -108,7 +111,7 @@ static int read_string_array(AppConfig *p, const config_setting_t *a, char sets[
     return 0;
 }
 
-static int read_definition(Sweep *w, const char *file, char vary[][SWEEP_STRING], int *vary_count)
+static int read_definition(Sweep *w, const char *file, char vary[][VARY_STRING], int *vary_count)
 {
     static const char *const keys[] = {"scene",   "bed_stage", "parameter", "set",
                                        "members", "vary",      NULL};
@@ -166,6 +169,7 @@ static int read_definition(Sweep *w, const char *file, char vary[][SWEEP_STRING]
                 break;
             }
             snprintf(m->label, sizeof m->label, "%s", text);
+            m->line = config_setting_source_line(g);
             if (value && app_config_number_of(&p, value, "value", &m->value) < 0)
                 rc = -1;
             if (rc == 0)
@@ -191,15 +195,20 @@ static int read_definition(Sweep *w, const char *file, char vary[][SWEEP_STRING]
                 break;
             }
             char *out = vary[(*vary_count)++];
-            size_t n = (size_t)snprintf(out, SWEEP_STRING, "%s=", text);
-            for (int j = 0; j < config_setting_length(values) && n < SWEEP_STRING; ++j) {
+            size_t n = (size_t)snprintf(out, VARY_STRING, "%s=", text);
+            if (config_setting_length(values) > MAX_VALUES || n >= SWEEP_STRING) {
+                rc = app_config_fail(&p, g, "at most %d values per key (got %d)", MAX_VALUES,
+                                     config_setting_length(values));
+                break;
+            }
+            for (int j = 0; j < config_setting_length(values); ++j) {
                 double x;
                 if (app_config_number_of(&p, config_setting_get_elem(values, (unsigned)j), "values",
                                          &x) < 0) {
                     rc = -1;
                     break;
                 }
-                n += (size_t)snprintf(out + n, SWEEP_STRING - n, "%s%.10g", j ? "," : "", x);
+                n += (size_t)snprintf(out + n, VARY_STRING - n, "%s%.10g", j ? "," : "", x);
             }
         }
     }
@@ -210,7 +219,7 @@ static int read_definition(Sweep *w, const char *file, char vary[][SWEEP_STRING]
 }
 
 /* Members from "KEY=v1,v2" lists: one per combination (first key slowest). */
-static int expand_vary(Sweep *w, char vary[][SWEEP_STRING], int vary_count)
+static int expand_vary(Sweep *w, char vary[][VARY_STRING], int vary_count)
 {
     char keys[MAX_VARY][SWEEP_STRING], values[MAX_VARY][MAX_VALUES][64];
     int counts[MAX_VARY], total = 1;
@@ -218,6 +227,11 @@ static int expand_vary(Sweep *w, char vary[][SWEEP_STRING], int vary_count)
         char *eq = strchr(vary[v], '=');
         if (!eq || eq == vary[v] || !eq[1]) {
             fprintf(stderr, "sablier: sweep: --vary needs KEY=v1,v2,..., got `%s`\n", vary[v]);
+            return -1;
+        }
+        if (eq - vary[v] >= SWEEP_STRING) {
+            fprintf(stderr, "sablier: sweep: --vary key longer than %d characters\n",
+                    SWEEP_STRING - 1);
             return -1;
         }
         snprintf(keys[v], sizeof keys[v], "%.*s", (int)(eq - vary[v]), vary[v]);
@@ -229,6 +243,11 @@ static int expand_vary(Sweep *w, char vary[][SWEEP_STRING], int vary_count)
                 continue;
             if (counts[v] >= MAX_VALUES) {
                 fprintf(stderr, "sablier: sweep: at most %d values per key\n", MAX_VALUES);
+                return -1;
+            }
+            if (length >= 64) {
+                fprintf(stderr, "sablier: sweep: --vary value %.20s... longer than 63 characters\n",
+                        item);
                 return -1;
             }
             snprintf(values[v][counts[v]++], 64, "%.*s", (int)length, item);
@@ -578,7 +597,10 @@ static int check_members(Sweep *w)
             sets[n++] = m->sets[k];
         Scene *member = scene_load(w->scene_path, sets, n, err, sizeof err);
         if (!member) {
-            fprintf(stderr, "sablier: sweep: member %s: %s\n", m->label, err);
+            if (m->line > 0) /* a member of the sweep file: point at its group */
+                fprintf(stderr, "%s:%d: member %s: %s\n", o->definition, m->line, m->label, err);
+            else
+                fprintf(stderr, "sablier: sweep: member %s: %s\n", m->label, err);
             return 2;
         }
         scene_free(member);
@@ -589,7 +611,7 @@ static int check_members(Sweep *w)
 static int setup(Sweep *w)
 {
     const AppSweepOptions *o = w->o;
-    char vary[MAX_VARY * 2][SWEEP_STRING];
+    char vary[MAX_VARY * 2][VARY_STRING];
     int vary_count = 0;
     char bed_name[SCENE_NAME_MAX] = "";
     if (o->scene_path)
@@ -604,7 +626,13 @@ static int setup(Sweep *w)
             fprintf(stderr, "sablier: sweep: at most %d varied keys\n", MAX_VARY);
             return 2;
         }
-        snprintf(vary[vary_count++], SWEEP_STRING, "%s", o->vary[k]);
+        if (snprintf(vary[vary_count++], VARY_STRING, "%s", o->vary[k]) >= VARY_STRING) {
+            fprintf(stderr,
+                    "sablier: sweep: --vary %.40s...: longer than %d characters (at most %d "
+                    "values per key)\n",
+                    o->vary[k], VARY_STRING - 1, MAX_VALUES);
+            return 2;
+        }
     }
     if (o->bed_stage)
         snprintf(bed_name, sizeof bed_name, "%s", o->bed_stage);
@@ -622,6 +650,12 @@ static int setup(Sweep *w)
     Scene *scene = scene_load(w->scene_path, o->sets, o->set_count, err, sizeof err);
     if (!scene) {
         fprintf(stderr, "%s\n", err);
+        return 2;
+    }
+    char why[600];
+    if (o->from && app_state_check(o->from, why, sizeof why) != 0) {
+        fprintf(stderr, "sablier: sweep: --from: %s\n", why);
+        scene_free(scene);
         return 2;
     }
     int bed = find_bed_stage(w, scene, bed_name);
