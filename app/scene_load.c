@@ -20,6 +20,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 /* ---------------------------------------------------------------- top-level physics */
 
@@ -421,9 +422,27 @@ static int check_literal(Loader *L, const char *path, int line, const char *text
 
 static int check_int_literals(Loader *L, const char *path, int depth);
 
-/* An `@include "NAME"` at text[*at]: the included file checked (NAME against the scene's folder,
- * as libconfig resolves it). */
-static int check_include(Loader *L, const char *text, size_t size, size_t *at, int depth)
+/* 0 when `path` is a regular file; else -1 with why in `why` (a folder, a FIFO or device, which
+ * libconfig would fail on without a line or block on, or the error of stat). */
+static int regular_file(const char *path, char *why, size_t size)
+{
+    struct stat st;
+    if (stat(path, &st) != 0)
+        snprintf(why, size, "%s", strerror(errno));
+    else if (S_ISDIR(st.st_mode))
+        snprintf(why, size, "it is a folder");
+    else if (!S_ISREG(st.st_mode))
+        snprintf(why, size, "not a regular file (a FIFO, socket or device)");
+    else
+        return 0;
+    return -1;
+}
+
+/* An `@include "NAME"` at text[*at], line `line` of `file`: the included file checked (NAME
+ * against the scene's folder, as libconfig 1.5 resolves it: it prefixes that folder to every
+ * name, so an absolute NAME is refused here with its line rather than failing there). */
+static int check_include(Loader *L, const char *file, int line, const char *text, size_t size,
+                         size_t *at, int depth)
 {
     size_t k = *at + 8;
     while (k < size && (text[k] == ' ' || text[k] == '\t'))
@@ -436,7 +455,20 @@ static int check_include(Loader *L, const char *text, size_t size, size_t *at, i
     *at = end;
     char name[SCENE_PATH_MAX], path[2 * SCENE_PATH_MAX + 2];
     snprintf(name, sizeof name, "%.*s", (int)(end - k - 1), text + k + 1);
+    if (name[0] == '/') {
+        snprintf(L->p.err, L->p.err_size,
+                 "%s:%d: @include \"%s\": an included file is named relative to the scene's "
+                 "folder (%s), not by an absolute path",
+                 file, line, name, L->dir);
+        return -1;
+    }
     snprintf(path, sizeof path, "%s/%s", L->dir, name);
+    char why[256];
+    if (regular_file(path, why, sizeof why) != 0) {
+        snprintf(L->p.err, L->p.err_size, "%s:%d: @include \"%s\": cannot read %s: %s", file, line,
+                 name, path, why);
+        return -1;
+    }
     return check_int_literals(L, path, depth + 1);
 }
 
@@ -462,7 +494,7 @@ static int check_int_literals(Loader *L, const char *path, int depth)
         if (ch == '\n') {
             ++line;
         } else if (ch == '@' && strncmp(text + k, "@include", 8) == 0) {
-            rc = check_include(L, text, size, &k, depth);
+            rc = check_include(L, path, line, text, size, &k, depth);
         } else if (ch == '#' || (ch == '/' && text[k + 1] == '/')) {
             while (k + 1 < size && text[k + 1] != '\n')
                 ++k;
@@ -492,6 +524,11 @@ static int check_int_literals(Loader *L, const char *path, int depth)
 static int read_scene(Loader *L, const char *path, const char *const *sets, int set_count)
 {
     config_set_include_dir(&L->config, L->dir);
+    char why[256];
+    if (regular_file(path, why, sizeof why) != 0) {
+        snprintf(L->p.err, L->p.err_size, "%s: cannot read scene file: %s", path, why);
+        return -1;
+    }
     if (check_int_literals(L, path, 0) != 0)
         return -1;
     if (!config_read_file(&L->config, path)) {

@@ -124,6 +124,9 @@ add_test(NAME cli.sweep_inputs
          COMMAND bash ${CLI_DIR}/sweep_inputs.sh $<TARGET_FILE:sablier>
                  ${PROJECT_SOURCE_DIR}/scenes/crater/small.scene ${CLI_WORK}/sweep_inputs)
 set_tests_properties(cli.sweep_inputs PROPERTIES LABELS cli)
+add_test(NAME cli.include_fifo
+         COMMAND bash ${CLI_DIR}/include_fifo.sh $<TARGET_FILE:sablier> ${CLI_WORK}/include_fifo)
+set_tests_properties(cli.include_fifo PROPERTIES LABELS cli)
 add_test(NAME cli.cadence_huge
          COMMAND bash ${CLI_DIR}/cadence.sh $<TARGET_FILE:sablier> ${CLI_TINY} ${CLI_WORK}/cadence)
 set_tests_properties(cli.cadence_huge PROPERTIES LABELS cli)
