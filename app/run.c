@@ -447,6 +447,42 @@ static void stage_forcing(Run *run, int k)
     }
 }
 
+static int id_order(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* The stage's remove_ids must each name a grain of the world as the stage starts (the ids of
+ * rained grains are known only then): 0, or -1 with the first missing id in run->message. */
+static int check_remove_ids(Run *run, const SceneStage *stage)
+{
+    SimFrame f;
+    sim_world_frame(run->world, &f);
+    uint32_t *ids = malloc((size_t)(f.count > 0 ? f.count : 1) * sizeof *ids);
+    if (!ids) {
+        snprintf(run->message, sizeof run->message, "out of memory");
+        return -1;
+    }
+    memcpy(ids, f.id, (size_t)f.count * sizeof *ids);
+    qsort(ids, (size_t)f.count, sizeof *ids, id_order);
+    int missing = 0;
+    uint32_t first = 0;
+    for (int j = 0; j < stage->remove_count; ++j)
+        if (!bsearch(&stage->remove_ids[j], ids, (size_t)f.count, sizeof *ids, id_order)) {
+            if (missing++ == 0)
+                first = stage->remove_ids[j];
+        }
+    free(ids);
+    if (missing == 0)
+        return 0;
+    snprintf(run->message, sizeof run->message,
+             "stage %s: remove_ids: %d of its %d ids name no grain of the world (first: %u; the "
+             "world holds %d grains)",
+             stage->name, missing, stage->remove_count, first, f.count);
+    return -1;
+}
+
 /* The families' edits (a crater dig, ...) and the stage's explicit removals, at its start. */
 static int stage_edit(Run *run, int k)
 {
@@ -456,8 +492,11 @@ static int stage_edit(Run *run, int k)
     if (family_hooks(run, HOOK_STAGE_EDIT) != 0)
         return -1;
     report->removed += run->context.removed;
-    if (stage->remove_count > 0)
+    if (stage->remove_count > 0) {
+        if (check_remove_ids(run, stage) != 0)
+            return -1;
         report->removed += sim_world_remove_ids(run->world, stage->remove_ids, stage->remove_count);
+    }
     report->at_start = report->removed;
     for (int s = 0; s < SIM_MAX_SINKS; ++s) /* the sinks' counters as the stage starts */
         report->sinks[s] = sim_world_removed_count(run->world, s);

@@ -127,6 +127,10 @@ set_tests_properties(cli.sweep_inputs PROPERTIES LABELS cli)
 add_test(NAME cli.include_fifo
          COMMAND bash ${CLI_DIR}/include_fifo.sh $<TARGET_FILE:sablier> ${CLI_WORK}/include_fifo)
 set_tests_properties(cli.include_fifo PROPERTIES LABELS cli)
+add_test(NAME cli.remove_ids_missing
+         COMMAND bash ${CLI_DIR}/remove_ids.sh $<TARGET_FILE:sablier> ${CLI_TINY}
+                 ${CLI_WORK}/remove_ids)
+set_tests_properties(cli.remove_ids_missing PROPERTIES LABELS cli)
 add_test(NAME cli.cadence_huge
          COMMAND bash ${CLI_DIR}/cadence.sh $<TARGET_FILE:sablier> ${CLI_TINY} ${CLI_WORK}/cadence)
 set_tests_properties(cli.cadence_huge PROPERTIES LABELS cli)
