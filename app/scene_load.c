@@ -488,6 +488,15 @@ static int check_int_literals(Loader *L, const char *path, int depth)
         free(text);
         return 0;
     }
+    const char *nul = memchr(text, '\0', size);
+    if (nul) { /* libconfig would end the string (or the file) there without a word */
+        int at = 1;
+        for (const char *q = text; q < nul; ++q)
+            at += *q == '\n';
+        snprintf(L->p.err, L->p.err_size, "%s:%d: a NUL byte: a scene is text", path, at);
+        free(text);
+        return -1;
+    }
     int line = 1, rc = 0;
     for (size_t k = 0; k < size && rc == 0; ++k) {
         char ch = text[k];
