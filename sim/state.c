@@ -184,6 +184,20 @@ void sim_grain_set_free(SimGrainSet *g)
     memset(g, 0, sizeof *g);
 }
 
+/* What no saved world holds (x, y, vx, vy, angle, omega, radius in d[0..6]): a non-finite value
+ * or a radius <= 0; NULL when every grain is sound. */
+static const char *grain_problem(double *const d[7], size_t n)
+{
+    for (size_t i = 0; i < n; ++i) {
+        for (int a = 0; a < 6; ++a)
+            if (!isfinite(d[a][i]))
+                return "a grain has a non-finite position, velocity or angle";
+        if (!(d[6][i] > 0.0) || !isfinite(d[6][i]))
+            return "a grain has a radius that is not positive and finite";
+    }
+    return NULL;
+}
+
 SimStatus sim_state_load(const char *path, SimGrainSet *grains, SimWall **walls, int *wall_count,
                          double *time, SimError *error)
 {
@@ -243,7 +257,8 @@ SimStatus sim_state_load(const char *path, SimGrainSet *grains, SimWall **walls,
     if (h.wall_count > 0)
         ok = ok && read_walls(f, wl, h.wall_count, h.wall_size);
     fclose(f);
-    if (!ok) {
+    const char *bad = ok ? grain_problem(d, n) : NULL;
+    if (!ok || bad) {
         for (int a = 0; a < 7; ++a)
             free(d[a]);
         free(species);
@@ -252,7 +267,7 @@ SimStatus sim_state_load(const char *path, SimGrainSet *grains, SimWall **walls,
         free(id);
         free(wl);
         errno = 0;
-        return io_fail(error, path, "truncated or unreadable state file");
+        return io_fail(error, path, bad ? bad : "truncated or unreadable state file");
     }
     *grains = (SimGrainSet){.count = h.count,
                             .x = d[0],

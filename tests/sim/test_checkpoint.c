@@ -271,7 +271,8 @@ static int patch_file(const char *path, long offset, const void *bytes, size_t s
 }
 
 /* A state whose time is not finite, or whose header announces more grains or contact records
- * than the file holds, is refused before anything is allocated for them. */
+ * than the file holds, is refused before anything is allocated for them; one holding a grain no
+ * world would save (NaN position, radius <= 0: `sablier render` drew it) is refused too. */
 static int bad_states_refused(void)
 {
     SimWorldDef def = bed_def();
@@ -290,6 +291,8 @@ static int bad_states_refused(void)
     double time = 0.0;
     const double nan = NAN;
     const int32_t huge = 2000000000;
+    const double negative = -0.05;
+    const long header = 48 + 8 * SIM_MAX_SINKS; /* magic, 4 counts, time, step, sink counters */
 
     /* header: magic[16], count, mobile_count, wall_count, wall_size (int32), time (double) */
     const struct {
@@ -298,7 +301,10 @@ static int bad_states_refused(void)
         size_t size;
         const char *message;
     } cases[] = {{32, &nan, sizeof nan, "time not finite"},
-                 {16, &huge, sizeof huge, "shorter than its header says"}};
+                 {16, &huge, sizeof huge, "shorter than its header says"},
+                 /* the one grain's x (first array after the header), then its radius (7th) */
+                 {header, &nan, sizeof nan, "non-finite position"},
+                 {header + 6 * 8, &negative, sizeof negative, "radius that is not positive"}};
 
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
         TEST_ASSERT(sim_world_save(w, path, &err) == SIM_OK);
