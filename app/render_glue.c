@@ -9,6 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* the scene loader refuses exactly the frame rates the encoder refuses */
+_Static_assert((long)SCENE_MAX_FPS == (long)RENDER_VIDEO_MAX_FPS, "SCENE_MAX_FPS");
+
 RenderStyle app_render_style(const SceneStyle *s)
 {
     RenderStyle r = render_style_default();

@@ -135,6 +135,9 @@ typedef struct SceneWhere SceneWhere; /* private: field path -> file:line */
 /// The most grains a scene may build (rain, rows, columns, box): bounds memory before it is
 /// allocated.
 #define SCENE_MAX_GRAINS 1e7
+/// Movie frame rates above this are refused at load (render's RENDER_VIDEO_MAX_FPS; render_glue.c
+/// asserts that the two agree).
+#define SCENE_MAX_FPS    1000.0
 
 typedef struct Scene {
     char path[SCENE_PATH_MAX];

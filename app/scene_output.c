@@ -336,6 +336,10 @@ int loader_parse_output(Loader *L, const config_setting_t *root)
     if (crf < 0 || crf > 51)
         return app_config_fail(&L->p, app_config_member(output, "crf"), "`crf` must be in [0, 51]");
     out->crf = (int)crf;
+    if (out->fps > SCENE_MAX_FPS) /* the encoder's bound, checked here before anything runs */
+        return app_config_fail(&L->p, app_config_member(output, "fps"),
+                               "`fps` must be at most %g frames/s (got %g)", SCENE_MAX_FPS,
+                               out->fps);
     if (out->trace_every < 0.0)
         out->trace_every = out->energy_every;
     if (parse_movie(L, output) < 0 || parse_trace(L, output) < 0 ||

@@ -229,10 +229,13 @@ typedef enum RenderDrawer {
     RENDER_DRAWER_OSMESA = 1,
 } RenderDrawer;
 
+/// The highest movie frame rate the encoder takes, frames/s.
+#define RENDER_VIDEO_MAX_FPS 1000.0
+
 typedef struct RenderMovieDef {
     const char *path; ///< .mp4
     RenderDrawer drawer;
-    double fps; ///< frames per second of video
+    double fps; ///< frames per second of video, in (0, RENDER_VIDEO_MAX_FPS]
     int crf;    ///< quality (libx264 CRF, default 20)
     int quiet;  ///< 1: no progress on stderr
     RenderMeta meta;

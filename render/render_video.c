@@ -291,8 +291,9 @@ RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *sty
         return NULL;
     }
     double fps = def->fps == 0.0 ? 30.0 : def->fps;
-    if (!(fps > 0.0 && fps <= 1000.0)) {
-        snprintf(err, err_size, "%s: frame rate %g outside (0, 1000] frames/s", def->path, fps);
+    if (!(fps > 0.0 && fps <= RENDER_VIDEO_MAX_FPS)) {
+        snprintf(err, err_size, "%s: frame rate %g outside (0, %g] frames/s", def->path, fps,
+                 RENDER_VIDEO_MAX_FPS);
         return NULL;
     }
     int crf = def->crf == 0 ? 20 : def->crf;
