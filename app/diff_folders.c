@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 enum { IDENTICAL, WITHIN, CHANGED, MISSING, EXTRA, UNREADABLE, STATUS_COUNT };
 
@@ -180,8 +181,9 @@ static void compare_pair(const char *baseline, const char *fresh, const AppFolde
     int same = same_bytes(a, b);
     if (same != 0 || !e->is_png || !o->compare) {
         e->status = same == 1 ? IDENTICAL : same == 0 ? CHANGED : UNREADABLE;
-        if (same < 0)
-            snprintf(e->note, sizeof e->note, "cannot read %s or %s", a, b);
+        if (same < 0) /* the name is in the entry: the note says which side */
+            snprintf(e->note, sizeof e->note, "cannot read the %s file",
+                     access(a, R_OK) != 0 ? "baseline" : "fresh");
         else if (same == 0)
             snprintf(e->note, sizeof e->note, "the bytes differ");
         return;
