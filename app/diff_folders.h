@@ -16,7 +16,7 @@ typedef struct AppImageDiff {
     long raw_pixels;       ///< before the shift test
     int max_channel_diff;  ///< 0-255
     double rms;            ///< channel levels
-    int width, height;     ///< pixels, of the baseline
+    int width, height;     ///< pixels, of the baseline; 0 when the pixels were not compared
 } AppImageDiff;
 
 /// Compares baseline and fresh PNG files; writes an image of the differences to diff_png when

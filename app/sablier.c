@@ -432,6 +432,7 @@ static int diff_pair(void *context, const char *a, const char *b, const char *di
     RenderDiffResult r;
     memset(&r, 0, sizeof r);
     int rc = render_diff_files(a, b, context, diff_png, &r, err, err_size);
+    int compared = rc != 2; /* else no pixel counts and no difference image */
     if (rc == 2 && strncmp(err, "different sizes", 15) == 0)
         rc = 1;
     *result = (AppImageDiff){.verdict = rc,
@@ -439,8 +440,8 @@ static int diff_pair(void *context, const char *a, const char *b, const char *di
                              .raw_pixels = r.raw_pixels,
                              .max_channel_diff = r.max_channel_diff,
                              .rms = isfinite(r.rms) ? r.rms : 0.0,
-                             .width = rc == 2 ? 0 : r.width,
-                             .height = rc == 2 ? 0 : r.height};
+                             .width = compared ? r.width : 0,
+                             .height = compared ? r.height : 0};
     return rc;
 }
 

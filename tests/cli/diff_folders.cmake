@@ -127,7 +127,12 @@ expect_diff(1 "changed +a.png" ${WORK}/base ${WORK}/changed --report ${WORK}/r_c
 expect_counts(r_changed identical=3 changed=1 missing=0 extra=0)
 # a size change is a change; a difference under --max-pixels is within tolerance (exit 0)
 make_folder(resized a.png ${REF}/arches.png sub/b.png ${a} c.png ${a} e.svg ${WORK}/e.svg)
-expect_diff(1 "changed +a.png: different sizes" ${WORK}/base ${WORK}/resized)
+expect_diff(1 "changed +a.png: different sizes" ${WORK}/base ${WORK}/resized
+            --report ${WORK}/r_resized)
+file(READ ${WORK}/r_resized/index.html html)
+if(html MATCHES "diff/a.png")
+  message(FATAL_ERROR "index.html shows a difference image of a resized figure:\n${html}")
+endif()
 expect_diff(0 "1 within tolerance" ${WORK}/base ${WORK}/changed --max-pixels 100000
             --report ${WORK}/r_tolerant)
 expect_status(r_tolerant a.png within_tolerance)
