@@ -2,7 +2,7 @@
 BUILD ?= build
 JOBS ?= $(shell nproc)
 
-.PHONY: setup build demo test clean
+.PHONY: setup build demo test gallery gallery-update clean
 
 setup:
 	@bash scripts/setup.sh
@@ -16,6 +16,15 @@ demo: build
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -LE bench
+
+# every thesis figure of docs/gallery.md, full size, into out/gallery/
+gallery: build
+	scripts/gallery.sh --sablier $(BUILD)/sablier out/gallery
+
+# the ctest `gallery`'s references (reduced size), after an intended change of the figures
+gallery-update: build
+	scripts/gallery.sh --reduced --sablier $(BUILD)/sablier $(BUILD)/gallery-update
+	$(BUILD)/sablier diff tests/gallery/reference $(BUILD)/gallery-update --update
 
 clean:
 	rm -rf $(BUILD)

@@ -3,6 +3,7 @@
  * that sees both sim/ and render/: it maps the scene's plain style data onto RenderStyle and hands
  * the runner its figure and movie hooks. Built without render/ (SABLIER_WITH_RENDER=OFF), figures
  * and movies are skipped with a warning and `diff`/`render` exit 2. */
+#include "diff_folders.h"
 #include "dump.h"
 #include "experiments.h"
 #include "pool.h"
@@ -24,6 +25,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #ifndef SABLIER_VERSION
 #define SABLIER_VERSION "0.0.0"
@@ -38,7 +40,7 @@ static const char USAGE_HEAD[] =
     "commands:\n"
     "  run SCENE      run a scene and write its outputs (summary.json, energy.csv, ...)\n"
     "  check SCENE    validate a scene and print what it would run\n"
-    "  diff A B       compare two PNG images (exit 0 match, 1 differ, 2 bad input)\n"
+    "  diff A B       compare two PNG images, or two folders of figures (exit 0 match, 1 differ)\n"
     "  render STATE   draw a saved checkpoint without simulating\n"
     "  export STATE   write a checkpoint as a LAMMPS dump, a VTK file or CSV\n";
 
@@ -86,12 +88,20 @@ static const char USAGE_CHECK[] =
 static const char USAGE_DIFF[] =
     "usage: sablier diff A.png B.png [--out DIFF.png] [--threshold N] [--shift N]\n"
     "                    [--max-pixels N]\n"
+    "       sablier diff BASELINE_DIR FRESH_DIR [--report DIR] [--update] [--threshold N]\n"
+    "                    [--shift N] [--max-pixels N]\n"
     "\n"
     "  --out DIFF.png     write an image of the differences\n"
     "  --threshold N      a pixel differs when a channel differs by more than N (0-255)\n"
     "  --shift N          ignore differences matched within N pixels (0-32)\n"
     "  --max-pixels N     the images match when at most N pixels differ\n"
-    "Prints one JSON line; exit 0 match, 1 differ, 2 bad input.\n";
+    "  --report DIR       folders: write DIR/index.html (baseline, fresh and difference side by\n"
+    "                     side) and DIR/report.json\n"
+    "  --update           folders: then copy the changed and extra figures over the baseline and\n"
+    "                     remove the missing ones (exit 0)\n"
+    "Two images: prints one JSON line. Two folders: pairs their figures (.png by the image diff,\n"
+    ".svg and .pdf by their bytes) by relative path and prints one line per changed, missing or\n"
+    "extra figure. Exit 0 match, 1 differ, 2 bad input.\n";
 
 static const char USAGE_RENDER[] =
     "usage: sablier render STATE -o FIG.png|pdf|svg [options]\n"
@@ -316,56 +326,131 @@ static int command_check(int argc, char **argv)
     return 0;
 }
 
-static int command_diff(int argc, char **argv)
+/* `sablier diff`'s command line: two paths and the options of both forms. */
+typedef struct DiffArgs {
+    const char *paths[2], *out, *report;
+    long threshold, shift, max_pixels; /* -1: the image diff's default */
+    int update;
+} DiffArgs;
+
+static int diff_arguments(int argc, char **argv, DiffArgs *d)
 {
-    const char *files[2] = {NULL, NULL}, *out = NULL, *value;
-    long threshold = -1, shift = -1, max_pixels = -1;
-    int file_count = 0;
+    const char *value;
+    int count = 0;
     for (int i = 2; i < argc; ++i) {
         int m;
         long *target = NULL;
         if ((m = app_option(argc, argv, &i, "--out", &value)) != 0) {
             if (m < 0)
                 return 2;
-            out = value;
+            d->out = value;
+            continue;
+        }
+        if ((m = app_option(argc, argv, &i, "--report", &value)) != 0) {
+            if (m < 0)
+                return 2;
+            d->report = value;
             continue;
         }
         if ((m = app_option(argc, argv, &i, "--threshold", &value)) != 0)
-            target = &threshold;
+            target = &d->threshold;
         else if ((m = app_option(argc, argv, &i, "--shift", &value)) != 0)
-            target = &shift;
+            target = &d->shift;
         else if ((m = app_option(argc, argv, &i, "--max-pixels", &value)) != 0)
-            target = &max_pixels;
+            target = &d->max_pixels;
         if (target) {
             /* a shift is searched in a (2N+1)^2 window per differing pixel: at most 32 */
-            long max = target == &shift ? 32 : 1000000000L;
+            long max = target == &d->shift ? 32 : 1000000000L;
             if (m < 0 || app_parse_count(value, 0, max, target) < 0)
                 return app_usage_error(USAGE_DIFF,
-                                       target == &shift ? "--shift needs a count in [0, 32], got"
-                                                        : "expected a count >= 0, got",
+                                       target == &d->shift ? "--shift needs a count in [0, 32], got"
+                                                           : "expected a count >= 0, got",
                                        m < 0 ? "nothing" : value);
+        } else if (strcmp(argv[i], "--update") == 0) {
+            d->update = 1;
         } else if (argv[i][0] == '-' && argv[i][1]) {
             return app_usage_error(USAGE_DIFF, "unknown option", argv[i]);
-        } else if (file_count < 2) {
-            files[file_count++] = argv[i];
+        } else if (count < 2) {
+            d->paths[count++] = argv[i];
         } else {
-            return app_usage_error(USAGE_DIFF, "two images at a time; extra argument", argv[i]);
+            return app_usage_error(USAGE_DIFF, "two images or two folders; extra argument",
+                                   argv[i]);
         }
     }
-    if (file_count != 2)
-        return app_usage_error(USAGE_DIFF, "needs two images", NULL);
+    if (count != 2)
+        return app_usage_error(USAGE_DIFF, "needs two images or two folders", NULL);
+    return 0;
+}
+
+/* 1 folder, 0 something else, -1 nothing there. */
+static int path_kind(const char *path)
+{
+    struct stat st;
+    if (stat(path, &st) != 0)
+        return -1;
+    return S_ISDIR(st.st_mode) ? 1 : 0;
+}
+
+/* Two folders, or a new baseline for --update; a folder against a file is bad input. */
+static int diff_is_folders(const DiffArgs *d)
+{
+    int a = path_kind(d->paths[0]), b = path_kind(d->paths[1]);
+    if (a == 1 || b == 1 || d->report || d->update) {
+        if (d->out)
+            return app_usage_error(USAGE_DIFF, "--out is for two images; for folders use",
+                                   "--report DIR");
+        const char *bad = b != 1                            ? d->paths[1]
+                          : a == 0 || (a < 0 && !d->update) ? d->paths[0]
+                                                            : NULL;
+        if (bad) {
+            fprintf(stderr, "sablier: diff: %s: %s\n", bad,
+                    path_kind(bad) < 0 ? "no such folder" : "not a folder (compare two folders)");
+            return 2;
+        }
+        return 1;
+    }
+    return 0;
+}
+
 #ifdef SABLIER_HAVE_RENDER
+static RenderDiffOptions diff_options(const DiffArgs *d)
+{
     RenderDiffOptions options = render_diff_options_default();
-    if (threshold >= 0)
-        options.channel_threshold = (int)(threshold > 255 ? 255 : threshold);
-    if (shift >= 0)
-        options.shift_tolerance = (int)shift;
-    if (max_pixels >= 0)
-        options.max_pixels = max_pixels;
+    if (d->threshold >= 0)
+        options.channel_threshold = (int)(d->threshold > 255 ? 255 : d->threshold);
+    if (d->shift >= 0)
+        options.shift_tolerance = (int)d->shift;
+    if (d->max_pixels >= 0)
+        options.max_pixels = d->max_pixels;
+    return options;
+}
+
+/* The image diff of a folder pair (AppImageCompare): a size change is a difference. */
+static int diff_pair(void *context, const char *a, const char *b, const char *diff_png,
+                     AppImageDiff *result, char *err, size_t err_size)
+{
+    RenderDiffResult r;
+    memset(&r, 0, sizeof r);
+    int rc = render_diff_files(a, b, context, diff_png, &r, err, err_size);
+    int compared = rc != 2; /* else no pixel counts and no difference image */
+    if (rc == 2 && strncmp(err, "different sizes", 15) == 0)
+        rc = 1;
+    *result = (AppImageDiff){.verdict = rc,
+                             .differing_pixels = r.differing_pixels,
+                             .raw_pixels = r.raw_pixels,
+                             .max_channel_diff = r.max_channel_diff,
+                             .rms = isfinite(r.rms) ? r.rms : 0.0,
+                             .width = compared ? r.width : 0,
+                             .height = compared ? r.height : 0};
+    return rc;
+}
+
+static int diff_files(const DiffArgs *d, const RenderDiffOptions *options)
+{
     RenderDiffResult r;
     memset(&r, 0, sizeof r);
     char err[512] = "";
-    int rc = render_diff_files(files[0], files[1], &options, out, &r, err, sizeof err);
+    int rc = render_diff_files(d->paths[0], d->paths[1], options, d->out, &r, err, sizeof err);
     if (rc == 2)
         fprintf(stderr, "sablier: diff: %s\n", err);
     printf("{\"result\": \"%s\", \"differing_pixels\": %ld, \"raw_pixels\": %ld, "
@@ -375,15 +460,41 @@ static int command_diff(int argc, char **argv)
            : rc == 1 ? "differ"
                      : "error",
            r.differing_pixels, r.raw_pixels, r.max_channel_diff, isfinite(r.rms) ? r.rms : 0.0,
-           r.width, r.height, options.channel_threshold, options.shift_tolerance,
-           options.max_pixels);
+           r.width, r.height, options->channel_threshold, options->shift_tolerance,
+           options->max_pixels);
     return rc == 0 || rc == 1 ? rc : 2;
-#else
-    (void)out;
-    (void)files;
-    fprintf(stderr, "sablier: diff: rendering is not built (SABLIER_WITH_RENDER=OFF)\n");
-    return 2;
+}
 #endif
+
+static int command_diff(int argc, char **argv)
+{
+    DiffArgs d = {.threshold = -1, .shift = -1, .max_pixels = -1};
+    int rc = diff_arguments(argc, argv, &d);
+    if (rc != 0)
+        return rc;
+    int folders = diff_is_folders(&d);
+    if (folders == 2)
+        return 2;
+#ifdef SABLIER_HAVE_RENDER
+    RenderDiffOptions options = diff_options(&d);
+    if (!folders)
+        return diff_files(&d, &options);
+    AppFolderDiff o = {.compare = diff_pair,
+                       .context = &options,
+                       .threshold = options.channel_threshold,
+                       .shift = options.shift_tolerance,
+                       .max_pixels = options.max_pixels,
+                       .report_dir = d.report,
+                       .update = d.update};
+#else
+    if (!folders) {
+        fprintf(stderr, "sablier: diff: rendering is not built (SABLIER_WITH_RENDER=OFF)\n");
+        return 2;
+    }
+    /* without the image diff, figures are compared by their bytes */
+    AppFolderDiff o = {.report_dir = d.report, .update = d.update};
+#endif
+    return app_diff_folders(d.paths[0], d.paths[1], &o);
 }
 
 #ifdef SABLIER_HAVE_RENDER

@@ -172,3 +172,11 @@ add_test(NAME cli.measures_vtk
                  -DWORK=${CLI_WORK}/measures_vtk -P ${CLI_DIR}/measures_vtk.cmake
          WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
 set_tests_properties(cli.measures_vtk PROPERTIES LABELS cli SKIP_REGULAR_EXPRESSION "skipped")
+# `sablier diff` on two folders: identical, changed, missing, extra, bad input, --update
+# (issue 20 part 7, docs/ci.md)
+add_test(NAME cli.diff_folders
+         COMMAND ${CMAKE_COMMAND} -DSABLIER=$<TARGET_FILE:sablier>
+                 -DREF=${PROJECT_SOURCE_DIR}/tests/render/reference
+                 -DWORK=${CLI_WORK}/diff_folders -DRENDER=${SABLIER_WITH_RENDER}
+                 -P ${CLI_DIR}/diff_folders.cmake)
+set_tests_properties(cli.diff_folders PROPERTIES LABELS cli)

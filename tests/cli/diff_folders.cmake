@@ -1,0 +1,177 @@
+# SPDX-License-Identifier: MIT
+# cmake -P diff_folders.cmake -DSABLIER=... -DREF=tests/render/reference -DWORK=dir -DRENDER=ON|OFF
+# `sablier diff BASELINE FRESH` on folders (docs/ci.md): identical, changed, missing, extra,
+# unreadable and bad input against the exit status and report.json; --update.
+file(REMOVE_RECURSE ${WORK})
+set(a ${REF}/grains_fixed.png)
+# b: the same size as a, other pixels (the difference image of a with itself: a faded grey copy),
+# so the test holds whatever the render references look like
+file(MAKE_DIRECTORY ${WORK})
+set(b ${WORK}/faded.png)
+if(RENDER)
+  execute_process(COMMAND ${SABLIER} diff ${a} ${a} --out ${b} OUTPUT_QUIET RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "sablier diff ${a} ${a} --out ${b}: exit ${rc}")
+  endif()
+else()
+  set(b ${REF}/force_chains.png) # without rendering, other bytes are enough
+endif()
+
+# a folder of figures: folder name, then pairs of (relative name, source file)
+function(make_folder dir)
+  file(MAKE_DIRECTORY ${WORK}/${dir})
+  set(items ${ARGN})
+  while(items)
+    list(POP_FRONT items name source)
+    get_filename_component(sub ${WORK}/${dir}/${name} DIRECTORY)
+    file(MAKE_DIRECTORY ${sub})
+    file(COPY_FILE ${source} ${WORK}/${dir}/${name})
+  endwhile()
+endfunction()
+
+# runs sablier diff ARGS; checks the exit status, and stdout against a regex
+function(expect_diff rc regex)
+  execute_process(COMMAND ${SABLIER} diff ${ARGN} RESULT_VARIABLE got OUTPUT_VARIABLE out
+                  ERROR_VARIABLE err)
+  if(NOT got EQUAL rc)
+    message(FATAL_ERROR "sablier diff ${ARGN}: exit ${got}, expected ${rc}\n${out}\n${err}")
+  endif()
+  if(NOT "${out}${err}" MATCHES "${regex}")
+    message(FATAL_ERROR "sablier diff ${ARGN}: output does not match `${regex}`:\n${out}\n${err}")
+  endif()
+endfunction()
+
+# report.json of DIR: counts.KEY == value for each KEY=value
+function(expect_counts dir)
+  file(READ ${WORK}/${dir}/report.json json)
+  foreach(pair ${ARGN})
+    string(REPLACE "=" ";" pair ${pair})
+    list(GET pair 0 key)
+    list(GET pair 1 want)
+    string(JSON got GET "${json}" counts ${key})
+    if(NOT got EQUAL want)
+      message(FATAL_ERROR "${dir}/report.json: counts.${key} = ${got}, expected ${want}\n${json}")
+    endif()
+  endforeach()
+endfunction()
+
+# report.json of DIR: member KEY of the figure NAME into VAR
+function(figure_member dir name key var)
+  file(READ ${WORK}/${dir}/report.json json)
+  string(JSON n LENGTH "${json}" figures)
+  math(EXPR last "${n} - 1")
+  foreach(k RANGE ${last})
+    string(JSON got_name GET "${json}" figures ${k} name)
+    if(got_name STREQUAL name)
+      string(JSON got GET "${json}" figures ${k} ${key})
+      set(${var} ${got} PARENT_SCOPE)
+      return()
+    endif()
+  endforeach()
+  message(FATAL_ERROR "${dir}/report.json has no figure ${name}:\n${json}")
+endfunction()
+
+function(expect_status dir name want)
+  figure_member(${dir} ${name} status got)
+  if(NOT got STREQUAL want)
+    message(FATAL_ERROR "${dir}/report.json: ${name} is ${got}, expected ${want}")
+  endif()
+endfunction()
+
+file(WRITE ${WORK}/e.svg "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"4\" height=\"4\"/>\n")
+file(WRITE ${WORK}/bad.png "not a PNG\n")
+file(WRITE ${WORK}/bad2.png "not a PNG either\n")
+make_folder(base a.png ${a} sub/b.png ${a} c.png ${a} e.svg ${WORK}/e.svg notes.txt ${WORK}/e.svg)
+make_folder(fresh a.png ${a} sub/b.png ${b} d.png ${a} e.svg ${WORK}/e.svg)
+
+if(NOT RENDER)
+  # without the image diff the folders are compared by bytes
+  expect_diff(1 "changed +sub/b.png" ${WORK}/base ${WORK}/fresh)
+  return()
+endif()
+
+# identical: a folder against a copy of itself
+make_folder(same a.png ${a} sub/b.png ${a} c.png ${a} e.svg ${WORK}/e.svg)
+expect_diff(0 "4 figures: 4 identical, 0 within tolerance, 0 changed, 0 missing, 0 extra"
+            ${WORK}/base ${WORK}/same --report ${WORK}/r_same)
+expect_counts(r_same identical=4 changed=0 missing=0 extra=0)
+file(READ ${WORK}/r_same/report.json json)
+string(JSON result GET "${json}" result)
+if(NOT result STREQUAL "match")
+  message(FATAL_ERROR "r_same/report.json: result ${result}, expected match")
+endif()
+
+# one of each: changed (with its pixels and a difference image), missing, extra
+expect_diff(1 "missing +c.png.*extra +d.png.*changed +sub/b.png: [0-9]+ pixels differ"
+            ${WORK}/base ${WORK}/fresh --report ${WORK}/r_all)
+expect_counts(r_all identical=2 changed=1 missing=1 extra=1 unreadable=0)
+expect_status(r_all a.png identical)
+expect_status(r_all e.svg identical)
+expect_status(r_all sub/b.png changed)
+expect_status(r_all c.png missing)
+expect_status(r_all d.png extra)
+file(READ ${WORK}/r_all/report.json json)
+string(JSON result GET "${json}" result)
+figure_member(r_all sub/b.png differing_pixels pixels)
+if(NOT result STREQUAL "differ" OR NOT pixels GREATER 0)
+  message(FATAL_ERROR "r_all/report.json: result ${result}, sub/b.png ${pixels} pixels\n${json}")
+endif()
+foreach(f index.html diff/sub/b.png baseline/sub/b.png fresh/sub/b.png baseline/c.png fresh/d.png)
+  if(NOT EXISTS ${WORK}/r_all/${f})
+    message(FATAL_ERROR "the report lacks ${f}")
+  endif()
+endforeach()
+file(READ ${WORK}/r_all/index.html html)
+if(NOT html MATCHES "<img src=\"diff/sub/b.png\"" OR NOT html MATCHES "c.png")
+  message(FATAL_ERROR "index.html does not show sub/b.png's difference and c.png:\n${html}")
+endif()
+
+# each case alone
+make_folder(missing a.png ${a} sub/b.png ${a} e.svg ${WORK}/e.svg)
+expect_diff(1 "missing +c.png" ${WORK}/base ${WORK}/missing --report ${WORK}/r_missing)
+expect_counts(r_missing identical=3 missing=1 changed=0 extra=0)
+make_folder(extra a.png ${a} sub/b.png ${a} c.png ${a} e.svg ${WORK}/e.svg x/y.png ${b})
+expect_diff(1 "extra +x/y.png" ${WORK}/base ${WORK}/extra --report ${WORK}/r_extra)
+expect_counts(r_extra identical=4 extra=1 changed=0 missing=0)
+make_folder(changed a.png ${b} sub/b.png ${a} c.png ${a} e.svg ${WORK}/e.svg)
+expect_diff(1 "changed +a.png" ${WORK}/base ${WORK}/changed --report ${WORK}/r_changed)
+expect_counts(r_changed identical=3 changed=1 missing=0 extra=0)
+# a size change is a change; a difference under --max-pixels is within tolerance (exit 0)
+make_folder(resized a.png ${REF}/arches.png sub/b.png ${a} c.png ${a} e.svg ${WORK}/e.svg)
+expect_diff(1 "changed +a.png: different sizes" ${WORK}/base ${WORK}/resized
+            --report ${WORK}/r_resized)
+file(READ ${WORK}/r_resized/index.html html)
+if(html MATCHES "diff/a.png")
+  message(FATAL_ERROR "index.html shows a difference image of a resized figure:\n${html}")
+endif()
+expect_diff(0 "1 within tolerance" ${WORK}/base ${WORK}/changed --max-pixels 100000
+            --report ${WORK}/r_tolerant)
+expect_status(r_tolerant a.png within_tolerance)
+# an unreadable figure is bad input (exit 2), reported
+make_folder(bad1 a.png ${WORK}/bad.png)
+make_folder(bad2 a.png ${WORK}/bad2.png)
+expect_diff(2 "unreadable +a.png" ${WORK}/bad1 ${WORK}/bad2 --report ${WORK}/r_bad)
+expect_counts(r_bad unreadable=1)
+
+# bad input: no such folder, a folder against a file, --out with folders
+expect_diff(2 "no_such: no such folder" ${WORK}/no_such ${WORK}/fresh)
+expect_diff(2 "no_such: no such folder" ${WORK}/base ${WORK}/no_such)
+expect_diff(2 "e.svg: not a folder" ${WORK}/base ${WORK}/e.svg)
+expect_diff(2 "e.svg: not a folder" ${WORK}/e.svg ${WORK}/fresh)
+expect_diff(2 "--out is for two images" ${WORK}/base ${WORK}/fresh --out ${WORK}/x.png)
+if(EXISTS ${WORK}/x.png OR EXISTS ${WORK}/no_such)
+  message(FATAL_ERROR "bad input wrote something")
+endif()
+
+# --update: the baseline becomes the fresh figures (a new baseline folder too), exit 0
+expect_diff(0 "updated .*: 2 figures written, 1 removed" ${WORK}/base ${WORK}/fresh --update)
+expect_diff(0 "0 changed, 0 missing, 0 extra" ${WORK}/base ${WORK}/fresh)
+if(EXISTS ${WORK}/base/c.png OR NOT EXISTS ${WORK}/base/notes.txt)
+  message(FATAL_ERROR "--update kept the missing c.png or removed a file that is no figure")
+endif()
+file(GLOB_RECURSE tmp ${WORK}/base/*.tmp)
+if(tmp)
+  message(FATAL_ERROR "--update left temporary files: ${tmp}")
+endif()
+expect_diff(0 "4 figures written, 0 removed" ${WORK}/new_base ${WORK}/fresh --update)
+expect_diff(0 "4 identical" ${WORK}/new_base ${WORK}/fresh)
