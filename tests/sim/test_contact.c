@@ -346,7 +346,7 @@ static int event_onset_second_order(void)
 {
     const double es[] = {0.2, 0.5, 0.9};
     for (int q = 0; q < 3; ++q) {
-        double step40, event40;
+        double step40 = 0.0, event40 = 0.0;
         double p_step = observed_order(TU_PAIR, es[q], SIM_ONSET_STEP, &step40);
         double p_event = observed_order(TU_PAIR, es[q], SIM_ONSET_EVENT, &event40);
         fprintf(stderr, "e_n %.1f: observed order %.2f (step), %.2f (event); n = 40: %.2g, %.2g\n",
@@ -355,7 +355,7 @@ static int event_onset_second_order(void)
         TEST_ASSERT(p_event >= 1.8);
         TEST_ASSERT(event40 < step40);
     }
-    double at40, wall = observed_order(TU_WALL, 0.5, SIM_ONSET_EVENT, &at40);
+    double at40 = 0.0, wall = observed_order(TU_WALL, 0.5, SIM_ONSET_EVENT, &at40);
     fprintf(stderr, "wall, e_n 0.5: observed order %.2f (event)\n", wall);
     TEST_ASSERT(wall >= 1.8);
     return 0;
