@@ -324,9 +324,10 @@ static double worst_e_error(int kind, double e, double n, SimOnset onset)
 /* Least-squares slope of -log(error) against log(n). */
 static double observed_order(int kind, double e, SimOnset onset, double *at_40)
 {
-    static const double ns[] = {20.0, 40.0, 80.0, 160.0, 320.0};
+    static const double ns[] = {20.0, 40.0, 80.0, 160.0, 320.0, 640.0, 1280.0, 2000.0};
+    const int count = (int)(sizeof ns / sizeof ns[0]);
     double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
-    for (int q = 0; q < 5; ++q) {
+    for (int q = 0; q < count; ++q) {
         double err = worst_e_error(kind, e, ns[q], onset);
         if (q == 1)
             *at_40 = err;
@@ -336,11 +337,11 @@ static double observed_order(int kind, double e, SimOnset onset, double *at_40)
         sxx += lx * lx;
         sxy += lx * ly;
     }
-    return -(5.0 * sxy - sx * sy) / (5.0 * sxx - sx * sx);
+    return -(count * sxy - sx * sy) / (count * sxx - sx * sx);
 }
 
 /* Event-aware onset (docs/accuracy.md, eqs. A1-A5): e_n converges at second order with velocity
- * Verlet (n = 20 ... 320, worst of 16 phases), the step onset at first order; both for a pair of
+ * Verlet (n = 20 ... 2000, worst of 16 phases), the step onset at first order; both for a pair of
  * unequal disks and against a wall. */
 static int event_onset_second_order(void)
 {
