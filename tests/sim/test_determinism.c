@@ -116,12 +116,19 @@ static int rng_stream(void)
     return 0;
 }
 
-/* Event-aware onset (SIM_ONSET_EVENT): the same bits on 1 and 3 threads, and not the step onset's
- * bits (the option acts). */
+/* Event-aware onset (SIM_ONSET_EVENT): the same bits on 1 and 3 threads and with every supported
+ * instruction set, and not the step onset's bits (the option acts). Runs 3.. use the sets. */
+static const SimIsa isas[] = {SIM_ISA_BASELINE, SIM_ISA_AVX2, SIM_ISA_AVX512};
+
 static int event_onset_threads_same_hash(void)
 {
-    uint64_t hashes[3];
-    for (int run = 0; run < 3; ++run) {
+    uint64_t hashes[6];
+    const SimIsa before = sim_isa();
+    for (int run = 0; run < 6; ++run) {
+        if (run >= 3 && sim_isa_set(isas[run - 3]) != SIM_OK) {
+            hashes[run] = 0; /* not compiled in or not on this CPU */
+            continue;
+        }
         SimGrainBuffer b;
         tu_rain_150(&b, 11, 0.15);
         static const SimWall walls[3] = {
@@ -137,7 +144,7 @@ static int event_onset_threads_same_hash(void)
         def.materials[0].tangential_damping = 10.0;
         def.materials[0].damping_mode = SIM_DAMPING_RESTITUTION;
         def.materials[0].restitution = 0.5;
-        def.contact.onset = run < 2 ? SIM_ONSET_EVENT : SIM_ONSET_STEP;
+        def.contact.onset = run == 2 ? SIM_ONSET_STEP : SIM_ONSET_EVENT;
         def.wall_count = 3;
         def.walls = walls;
         SimWorld *w = tu_create(&def, &b);
@@ -149,8 +156,11 @@ static int event_onset_threads_same_hash(void)
         sim_world_destroy(w);
         sim_grain_buffer_free(&b);
     }
+    TEST_ASSERT(sim_isa_set(before) == SIM_OK);
     TEST_ASSERT(hashes[0] == hashes[1]);
     TEST_ASSERT(hashes[0] != hashes[2]);
+    for (int run = 3; run < 6; ++run)
+        TEST_ASSERT(hashes[run] == 0 || hashes[run] == hashes[0]);
     return 0;
 }
 
