@@ -170,17 +170,22 @@ void app_dt_advice_print(const AppAdvice *a, const SimWorldDef *def, FILE *out)
     fprintf(out, "dt advice for |e - e_n| <= %g (%s, onset %s):\n", a->target,
             sim_integrator_name(def->integrator),
             def->contact.onset == SIM_ONSET_EVENT ? "event" : "step");
-    fprintf(out, "  stiffest pair     t_c %.6g s, e_n %.6g\n", a->contact_time, a->restitution);
+    if (isfinite(a->contact_time))
+        fprintf(out, "  stiffest pair     t_c %.6g s, e_n %.6g\n", a->contact_time, a->restitution);
+    else /* the grains come with the stage: dt = t_c,min / n is chosen then */
+        fprintf(out, "  stiffest pair     t_c from the stage's grains, e_n %.6g (species)\n",
+                a->restitution);
     fprintf(out, "  law               error = %.6g / n^%.6g (bench/bench_accuracy.c, e_n %.3g)\n",
             a->c, a->p, a->law_restitution);
     fprintf(out, "  steps per contact %.6g%s\n", a->steps_per_contact,
             a->stability_capped ? " (raised to half the stability limit)" : "");
-    fprintf(out, "  time step         %.6g s\n", a->time_step);
+    if (isfinite(a->time_step))
+        fprintf(out, "  time step         %.6g s\n", a->time_step);
     if (isfinite(a->cpu_per_sim_s))
         fprintf(out,
                 "  cost              %.6g CPU s per simulated s (estimate: %.6g ns per "
                 "particle-step x %d mobile grains / dt)\n",
                 a->cpu_per_sim_s, a->ns_per_particle_step, a->mobile);
     else
-        fprintf(out, "  cost              not measured for this integrator\n");
+        fprintf(out, "  cost              not known (no grains yet, or not measured)\n");
 }
