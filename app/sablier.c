@@ -3,6 +3,7 @@
  * that sees both sim/ and render/: it maps the scene's plain style data onto RenderStyle and hands
  * the runner its figure and movie hooks. Built without render/ (SABLIER_WITH_RENDER=OFF), figures
  * and movies are skipped with a warning and `diff`/`render` exit 2. */
+#include "advice.h"
 #include "diff_folders.h"
 #include "dump.h"
 #include "experiments.h"
@@ -80,10 +81,14 @@ static const char USAGE_RUN[] =
     "exit status 130 (SIGINT) or 143 (SIGTERM).\n";
 
 static const char USAGE_CHECK[] =
-    "usage: sablier check SCENE [--set KEY=VALUE]...\n"
+    "usage: sablier check SCENE [--set KEY=VALUE]... [--target-error E]\n"
     "\n"
     "Validates the scene (keys, types, values, overlaps, time step) and prints its stages,\n"
-    "effects, grains, time step, contact time and steps per contact without running it.\n";
+    "effects, grains, time step, contact time and steps per contact without running it.\n"
+    "  --target-error E   also print, for the stiffest pair and its damping, the steps per\n"
+    "                     contact and dt that reach |e - e_n| <= E (measured convergence of the\n"
+    "                     integrator and contact.onset) and the CPU time per simulated second\n"
+    "                     that implies (an estimate)\n";
 
 static const char USAGE_DIFF[] =
     "usage: sablier diff A.png B.png [--out DIFF.png] [--threshold N] [--shift N]\n"
@@ -233,8 +238,18 @@ static int command_check(int argc, char **argv)
 {
     const char *scene_path = NULL, *value, *sets[MAX_SETS];
     int set_count = 0;
+    double target = 0.0;
     for (int i = 2; i < argc; ++i) {
-        int m = app_option(argc, argv, &i, "--set", &value);
+        int m = app_option(argc, argv, &i, "--target-error", &value);
+        if (m != 0) {
+            const AppNumberList how = {.min = 0.0, .skip_empty = 0, .strict = 1, .exact = 1};
+            if (m < 0 || app_parse_numbers(value, &how, &target, 1) != 1 ||
+                !(target > 0.0 && target < 0.5))
+                return app_usage_error(USAGE_CHECK, "--target-error must be in (0, 0.5), got",
+                                       m < 0 ? "" : value);
+            continue;
+        }
+        m = app_option(argc, argv, &i, "--set", &value);
         if (m < 0)
             return 2;
         if (m > 0) {
@@ -321,6 +336,17 @@ static int command_check(int argc, char **argv)
         else
             printf("figure %s.%s: stage %s, at %s\n", o->figures[k].name, o->figures[k].format,
                    scene->stages[o->figures[k].stage].name, o->figures[k].at_end ? "end" : "start");
+    if (target > 0.0) {
+        SimWorldDef def = scene_world_def(scene, 0);
+        AppAdvice advice;
+        if (app_dt_advice(&def, scene->grains.count - scene->fixed_count, target, &advice, err,
+                          sizeof err) != 0) {
+            fprintf(stderr, "%s: --target-error: %s\n", scene->path, err);
+            scene_free(scene);
+            return 2;
+        }
+        app_dt_advice_print(&advice, &def, stdout);
+    }
     printf("ok\n");
     scene_free(scene);
     return 0;

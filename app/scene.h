@@ -165,6 +165,8 @@ typedef struct Scene {
     int units_reduced;
     int source_count;
     struct SceneSource *sources; ///< insertion sources (app/sources.h), malloc'd
+    /// time.target_error: |e - e_n| the time step was chosen for (app/advice.h); 0 = not used
+    double target_error;
 } Scene;
 
 /// Loads, overrides and checks a scene. `sets` are "KEY=VALUE" strings. Returns NULL with

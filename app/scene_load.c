@@ -8,6 +8,7 @@
  * definition to sim_world_def_validate and maps the reported field path back to the key that set
  * it. This file holds scene_load and the top-level physics; scene_internal.h lists the others
  * (scene_keys.c: the key rules every part of the loader shares). */
+#include "advice.h"
 #include "experiments.h"
 #include "provenance.h"
 #include "scene.h"
@@ -137,19 +138,36 @@ static int parse_dynamics(Loader *L, const config_setting_t *root)
     return 0;
 }
 
-/* time = { dt; end; steps_per_contact; max_dt_fraction; }, and skin */
+/* time = { dt; end; steps_per_contact; max_dt_fraction; target_error; }, and skin.
+ * target_error chooses dt (apply_target_error), so it excludes dt and steps_per_contact. */
 static int parse_time(Loader *L, const config_setting_t *root)
 {
-    static const char *const time_keys[] = {"dt", "end", "steps_per_contact", "max_dt_fraction",
-                                            NULL};
+    static const char *const time_keys[] = {
+        "dt", "end", "steps_per_contact", "max_dt_fraction", "target_error", NULL};
     SimWorldDef *def = &L->scene->def;
     const config_setting_t *time;
     if (app_config_need(&L->p, root, "time", "the scene") < 0 ||
         app_config_group(&L->p, root, "time", &time) < 0 ||
-        app_config_keys(&L->p, time, "time", time_keys, NULL) < 0 ||
-        app_config_need_number(&L->p, time, "dt", "time", &def->time_step) < 0 ||
-        app_config_non_negative(&L->p, time, "dt", def->time_step) < 0 ||
-        app_config_need(&L->p, time, "end", "time") < 0 ||
+        app_config_keys(&L->p, time, "time", time_keys, NULL) < 0)
+        return -1;
+    const config_setting_t *target = app_config_member(time, "target_error");
+    if (target) {
+        const char *other = app_config_member(time, "dt")                  ? "dt"
+                            : app_config_member(time, "steps_per_contact") ? "steps_per_contact"
+                                                                           : NULL;
+        if (other)
+            return app_config_fail(
+                &L->p, target, "time: `target_error` chooses the time step; remove `%s`", other);
+        if (app_config_number(&L->p, time, "target_error", &L->scene->target_error) < 0)
+            return -1;
+        if (!(L->scene->target_error > 0.0 && L->scene->target_error < 0.5))
+            return app_config_fail(&L->p, target, "time: `target_error` must be in (0, 0.5)");
+        def->time_step = 0.0;
+    } else if (app_config_need_number(&L->p, time, "dt", "time", &def->time_step) < 0 ||
+               app_config_non_negative(&L->p, time, "dt", def->time_step) < 0) {
+        return -1;
+    }
+    if (app_config_need(&L->p, time, "end", "time") < 0 ||
         app_config_number(&L->p, time, "steps_per_contact", &def->steps_per_contact) < 0 ||
         app_config_positive(&L->p, time, "steps_per_contact", def->steps_per_contact) < 0 ||
         app_config_number(&L->p, time, "max_dt_fraction", &def->max_dt_fraction) < 0 ||
@@ -157,7 +175,7 @@ static int parse_time(Loader *L, const config_setting_t *root)
         return -1;
     const config_setting_t *steps = app_config_member(time, "steps_per_contact");
     const config_setting_t *fraction = app_config_member(time, "max_dt_fraction");
-    loader_where_add(L, "steps_per_contact", steps ? steps : time);
+    loader_where_add(L, "steps_per_contact", steps ? steps : target ? target : time);
     loader_where_add(L, "max_dt_fraction", fraction ? fraction : time);
     if (app_config_number(&L->p, root, "skin", &def->skin) < 0 ||
         app_config_non_negative(&L->p, root, "skin", def->skin) < 0)
@@ -192,14 +210,15 @@ static int parse_guard(Loader *L, const config_setting_t *root)
     return 0;
 }
 
-/* contact = { normal; tangential; rolling; clip_tensile; } */
+/* contact = { normal; tangential; rolling; clip_tensile; onset; } */
 static int parse_contact(Loader *L, const config_setting_t *root)
 {
     static const char *const normal_laws[] = {"linear", "hertz", NULL};
     static const char *const tangential_laws[] = {"none", "regularised", "spring", NULL};
     static const char *const rolling_laws[] = {"off", "chord", "fixed", NULL};
-    static const char *const contact_keys[] = {"normal", "tangential", "rolling", "clip_tensile",
-                                               NULL};
+    static const char *const onsets[] = {"step", "event", NULL};
+    static const char *const contact_keys[] = {"normal",       "tangential", "rolling",
+                                               "clip_tensile", "onset",      NULL};
     SimWorldDef *def = &L->scene->def;
     const config_setting_t *contact;
     def->contact.tangential =
@@ -225,11 +244,16 @@ static int parse_contact(Loader *L, const config_setting_t *root)
     def->contact.rolling = (SimRollingLaw)choice;
     if (app_config_bool(&L->p, contact, "clip_tensile", &def->contact.clip_tensile) < 0)
         return -1;
+    choice = (int)def->contact.onset;
+    if (app_config_choice(&L->p, contact, "onset", onsets, &choice) < 0)
+        return -1;
+    def->contact.onset = (SimOnset)choice;
     if (contact) {
         loader_where_add(L, "contact", contact);
         loader_where_add(L, "contact.normal", app_config_member(contact, "normal"));
         loader_where_add(L, "contact.tangential", app_config_member(contact, "tangential"));
         loader_where_add(L, "contact.rolling", app_config_member(contact, "rolling"));
+        loader_where_add(L, "contact.onset", app_config_member(contact, "onset"));
     }
     return 0;
 }
@@ -558,6 +582,25 @@ static int read_scene(Loader *L, const char *path, const char *const *sets, int 
     return resolve_scene(L, path);
 }
 
+/* time.target_error: steps per contact from the measured convergence law (app/advice.h), for
+ * the scene's own grains (t_c,min and the stiffest pair) or its species' e_n. 0, or -1. */
+static int apply_target_error(Loader *L)
+{
+    Scene *scene = L->scene;
+    if (!(scene->target_error > 0.0))
+        return 0;
+    SimWorldDef def = scene->def;
+    def.grains = sim_grain_buffer_view(&scene->grains);
+    AppAdvice advice;
+    char why[256];
+    if (app_dt_advice(&def, scene->grains.count - scene->fixed_count, scene->target_error, &advice,
+                      why, sizeof why) != 0)
+        return app_config_fail(&L->p, config_lookup(&L->config, "time.target_error"),
+                               "time: `target_error`: %s", why);
+    scene->def.steps_per_contact = advice.steps_per_contact;
+    return 0;
+}
+
 /* The scene's own groups in order, then each family's. 0, or -1. */
 static int parse_scene(Loader *L, const config_setting_t *root)
 {
@@ -565,8 +608,9 @@ static int parse_scene(Loader *L, const config_setting_t *root)
     if (parse_physics(L, root) < 0 || loader_parse_species(L, root) < 0 ||
         loader_parse_motions(L, root) < 0 || parse_effect_groups(L, root) < 0 ||
         loader_parse_grains(L, root) < 0 || loader_parse_walls(L, root) < 0 ||
-        loader_parse_sinks(L, root) < 0 || loader_parse_stages(L, root) < 0 ||
-        loader_parse_sources(L, root) < 0 || loader_parse_output(L, root) < 0)
+        apply_target_error(L) < 0 || loader_parse_sinks(L, root) < 0 ||
+        loader_parse_stages(L, root) < 0 || loader_parse_sources(L, root) < 0 ||
+        loader_parse_output(L, root) < 0)
         return -1;
     for (int f = 0; app_experiments[f]; ++f) { /* each family parses its own keys */
         const AppExperiment *e = app_experiments[f];

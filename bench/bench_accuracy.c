@@ -6,7 +6,7 @@
  *   1. restitution and contact duration of a head-on impact of a grain on a fixed grain, no
  *      gravity, linear spring-dashpot with e_n given (000 eq. 3.25), clip_tensile = 0 so that the
  *      contact ends when the overlap returns to zero as in 000 eqs. 3.19-3.24. Errors against the
- *      analytic e_n and t_n = pi / omega_d (000 eqs. 3.22, 3.24). e_n = 0.5 and 0.9.
+ *      analytic e_n and t_n = pi / omega_d (000 eqs. 3.22, 3.24). e_n = 0.2, 0.5 and 0.9.
  *   2. energy drift over 100 elastic bounces (e_n = 1) of a grain dropped on a fixed grain
  *      (000 §5.3.2 geometry), measured at the apex after the 100th bounce, relative to the
  *      bounce energy m g (h0 - h_contact).
@@ -20,6 +20,10 @@
  * of the crater case needs per simulated second at the same n: cost per particle-step of that
  * integrator on the crater case (best crater run) x n / t_c(crater). Their own wall time is also
  * written (column direct_cpu_s_per_sim_s).
+ *
+ * Every integrator runs with the step onset (the default); velocity Verlet and symplectic Euler
+ * also with the event-aware onset (SIM_ONSET_EVENT, docs/accuracy.md eqs. A1-A5), written as
+ * integrator "velocity_verlet/event" and "symplectic_euler/event" in the CSV.
  *
  * A benchmark reports; it asserts nothing. Integrators whose stability limit is below t_c / n are
  * refused by sim_world_create: recorded as status "refused".
@@ -73,21 +77,35 @@ static double clock_s(clockid_t id)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static const SimIntegrator integrators[] = {
-    SIM_INTEGRATOR_VELOCITY_VERLET,
-    SIM_INTEGRATOR_SYMPLECTIC_EULER,
-    SIM_INTEGRATOR_STORMER_VERLET,
-    SIM_INTEGRATOR_GEAR,
-    SIM_INTEGRATOR_RK4,
+/* The first INTEGRATOR_COUNT schemes are the integrators with the default onset, in
+ * SimIntegrator order. */
+enum { INTEGRATOR_COUNT = SIM_INTEGRATOR_COUNT };
+
+/* A curve: an integrator and an onset option. */
+typedef struct Scheme {
+    SimIntegrator integrator;
+    SimOnset onset;
+    const char *name;
+} Scheme;
+
+static const Scheme schemes[] = {
+    {SIM_INTEGRATOR_VELOCITY_VERLET, SIM_ONSET_STEP, "velocity_verlet"},
+    {SIM_INTEGRATOR_SYMPLECTIC_EULER, SIM_ONSET_STEP, "symplectic_euler"},
+    {SIM_INTEGRATOR_STORMER_VERLET, SIM_ONSET_STEP, "stormer_verlet"},
+    {SIM_INTEGRATOR_GEAR, SIM_ONSET_STEP, "gear"},
+    {SIM_INTEGRATOR_RK4, SIM_ONSET_STEP, "rk4"},
+    {SIM_INTEGRATOR_VELOCITY_VERLET, SIM_ONSET_EVENT, "velocity_verlet/event"},
+    {SIM_INTEGRATOR_SYMPLECTIC_EULER, SIM_ONSET_EVENT, "symplectic_euler/event"},
 };
 
-enum { INTEGRATOR_COUNT = (int)(sizeof integrators / sizeof integrators[0]) };
+enum { SCHEME_COUNT = (int)(sizeof schemes / sizeof schemes[0]) };
 
-static SimWorldDef base_def(double restitution, SimIntegrator integrator)
+static SimWorldDef base_def(double restitution, const Scheme *scheme)
 {
     SimWorldDef def = sim_world_def_default();
     def.mass_model = SIM_MASS_SPHERE;
-    def.integrator = integrator;
+    def.integrator = scheme->integrator;
+    def.contact.onset = scheme->onset;
     SimMaterial *m = &def.materials[0];
     m->density = density;
     m->normal_stiffness = stiffness;
@@ -138,10 +156,10 @@ static double impact_contact_time(double restitution)
     return SIM_PI / (omega * sqrt(1.0 - zeta * zeta));
 }
 
-static SimWorldDef impact_def(SimIntegrator integrator, double restitution, double gap, double *gx,
+static SimWorldDef impact_def(const Scheme *scheme, double restitution, double gap, double *gx,
                               double *gy, double *gr, double *gvx, unsigned *gflags)
 {
-    SimWorldDef def = base_def(restitution, integrator);
+    SimWorldDef def = base_def(restitution, scheme);
     def.gravity_y = 0.0;
     def.contact.clip_tensile = 0; /* overlap-defined end of contact, 000 eq. 3.23 */
     gx[0] = -(r_max + r_med + gap);
@@ -160,7 +178,7 @@ static SimWorldDef impact_def(SimIntegrator integrator, double restitution, doub
 
 /* Grain of radius r_med at speed v0 onto a fixed grain of radius r_max: e and contact duration.
  * `phase` (fraction of a step) shifts the instant of first touch within a step. */
-static void impact_once(SimIntegrator integrator, double restitution, double n, double phase,
+static void impact_once(const Scheme *scheme, double restitution, double n, double phase,
                         Outcome *e_out, Outcome *t_out)
 {
     memset(e_out, 0, sizeof *e_out);
@@ -169,7 +187,7 @@ static void impact_once(SimIntegrator integrator, double restitution, double n, 
     const double gap = 0.1 * r_med + phase * impact_speed * dt_nominal;
     double gx[2], gy[2], gr[2], gvx[2];
     unsigned gflags[2];
-    SimWorldDef def = impact_def(integrator, restitution, gap, gx, gy, gr, gvx, gflags);
+    SimWorldDef def = impact_def(scheme, restitution, gap, gx, gy, gr, gvx, gflags);
     SimWorld *w = create_at(&def, t_c, n, e_out);
     *t_out = *e_out;
     if (!w)
@@ -236,15 +254,14 @@ enum { PHASES = 4 };
  * force that switches on or off mid-step (the dashpot term jumps at touch and at separation when
  * clip_tensile = 0) leaves an error that depends on both phases; at integer n the two coincide and
  * can cancel by luck. measured = mean over the runs. */
-static void impact(SimIntegrator integrator, double restitution, double n, Outcome *e_out,
+static void impact(const Scheme *scheme, double restitution, double n, Outcome *e_out,
                    Outcome *t_out)
 {
     double e_sum = 0.0, t_sum = 0.0, e_err = 0.0, t_err = 0.0;
     for (int q = 0; q < PHASES; ++q)
         for (int p = 0; p < PHASES; ++p) {
             Outcome e, t;
-            impact_once(integrator, restitution, n + (double)q / PHASES, (double)p / PHASES, &e,
-                        &t);
+            impact_once(scheme, restitution, n + (double)q / PHASES, (double)p / PHASES, &e, &t);
             if (strcmp(e.status, "ok") != 0) {
                 *e_out = e;
                 *t_out = t;
@@ -266,12 +283,12 @@ static void impact(SimIntegrator integrator, double restitution, double n, Outco
 }
 
 /* Direct cost of the two-grain run: the same run stepped in bulk, best of a few repeats. */
-static double impact_cost(SimIntegrator integrator, double restitution, double n)
+static double impact_cost(const Scheme *scheme, double restitution, double n)
 {
     double gx[2], gy[2], gr[2], gvx[2];
     unsigned gflags[2];
     const double t_c = impact_contact_time(restitution);
-    SimWorldDef def = impact_def(integrator, restitution, 0.1 * r_med, gx, gy, gr, gvx, gflags);
+    SimWorldDef def = impact_def(scheme, restitution, 0.1 * r_med, gx, gy, gr, gvx, gflags);
     double best = INFINITY;
     for (int r = 0; r < 3; ++r) {
         Outcome o = {0};
@@ -296,11 +313,11 @@ static double impact_cost(SimIntegrator integrator, double restitution, double n
 
 /* 100 elastic bounces of a grain dropped from h0 onto a fixed grain (000 §5.3.2, radii r_med on
  * r_max, fall height 0.32 m). Energy taken at the apex after the last bounce. */
-static void bounces_once(SimIntegrator integrator, double n, int count, double phase, Outcome *out)
+static void bounces_once(const Scheme *scheme, double n, int count, double phase, Outcome *out)
 {
     memset(out, 0, sizeof *out);
     out->status = "ok";
-    SimWorldDef def = base_def(1.0, integrator);
+    SimWorldDef def = base_def(1.0, scheme);
     const double y_ground = 0.5, y_contact = y_ground + r_max + r_med;
     /* phase: touch-down shifted by a fraction of a step (2.505 m/s impact speed). */
     const double h0 = y_contact + 0.32 + phase * 2.505 * impact_contact_time(1.0) / n;
@@ -355,12 +372,12 @@ static void bounces_once(SimIntegrator integrator, double n, int count, double p
 }
 
 /* Worst drift over PHASES touch-down instants within a step; measured = mean. */
-static void bounces(SimIntegrator integrator, double n, int count, Outcome *out)
+static void bounces(const Scheme *scheme, double n, int count, Outcome *out)
 {
     double sum = 0.0, worst = 0.0;
     for (int p = 0; p < PHASES; ++p) {
         Outcome o;
-        bounces_once(integrator, n, count, (double)p / PHASES, &o);
+        bounces_once(scheme, n, count, (double)p / PHASES, &o);
         if (strcmp(o.status, "ok") != 0) {
             *out = o;
             return;
@@ -388,9 +405,9 @@ typedef struct Crater {
     int grains;
 } Crater;
 
-static SimWorldDef crater_def(SimIntegrator integrator)
+static SimWorldDef crater_def(const Scheme *scheme)
 {
-    SimWorldDef def = base_def(0.5, integrator);
+    SimWorldDef def = base_def(0.5, scheme);
     def.effects = SIM_EFFECT_FRICTION; /* regularised Coulomb, 000 eq. 3.28, mu 0.5 */
     return def;
 }
@@ -432,7 +449,7 @@ static int crater_prepare(Crater *c, int grains)
     SimRng rng;
     sim_rng_seed(&rng, 2018);
     sim_build_rain(&buffer, &rain, &rng);
-    SimWorldDef def = crater_def(SIM_INTEGRATOR_VELOCITY_VERLET);
+    SimWorldDef def = crater_def(&schemes[0]);
     def.steps_per_contact = 50.0;
     def.grains = sim_grain_buffer_view(&buffer);
     SimError err;
@@ -490,7 +507,7 @@ static int crater_prepare(Crater *c, int grains)
     return 0;
 }
 
-static void crater_run(const Crater *c, SimIntegrator integrator, double n, double seconds,
+static void crater_run(const Crater *c, const Scheme *scheme, double n, double seconds,
                        double *profile, Outcome *out)
 {
     memset(out, 0, sizeof *out);
@@ -505,7 +522,7 @@ static void crater_run(const Crater *c, SimIntegrator integrator, double n, doub
         snprintf(out->note, sizeof out->note, "%.150s", err.message);
         return;
     }
-    SimWorldDef def = crater_def(integrator);
+    SimWorldDef def = crater_def(scheme);
     def.grains = grains;
     def.walls = walls;
     def.wall_count = wall_count;
@@ -539,7 +556,7 @@ static void crater_run(const Crater *c, SimIntegrator integrator, double n, doub
 
 typedef struct Row {
     const char *test;
-    SimIntegrator integrator;
+    const Scheme *scheme;
     double n;
     Outcome o;
     double model_cost; /* CPU s per simulated s per grain, crater-case model */
@@ -549,7 +566,7 @@ typedef struct Row {
 static Row *rows;
 static int row_count, row_capacity;
 
-static Row *add_row(const char *test, SimIntegrator integrator, double n, const Outcome *o)
+static Row *add_row(const char *test, const Scheme *scheme, double n, const Outcome *o)
 {
     if (row_count == row_capacity) {
         row_capacity = row_capacity ? 2 * row_capacity : 256;
@@ -561,25 +578,24 @@ static Row *add_row(const char *test, SimIntegrator integrator, double n, const 
         rows = p;
     }
     Row *r = &rows[row_count++];
-    *r = (Row){test, integrator, n, *o, NAN, NAN};
+    *r = (Row){test, scheme, n, *o, NAN, NAN};
     return r;
 }
 
-static void progress(const char *test, SimIntegrator integrator, double n, const Outcome *o)
+static void progress(const char *test, const Scheme *scheme, double n, const Outcome *o)
 {
     fprintf(stderr, "%-14s %-16s n %7.1f  %-8s error %-10.3g measured %-10.6g cpu %.3g s %s\n",
-            test, sim_integrator_name(integrator), n, o->status, o->error, o->measured, o->cpu,
-            o->note);
+            test, scheme->name, n, o->status, o->error, o->measured, o->cpu, o->note);
 }
 
 /* Smallest n of the grid from which the error stays at or below target; 0 if none. */
-static double n_for(const char *test, SimIntegrator integrator, double target, double *cost)
+static double n_for(const char *test, const Scheme *scheme, double target, double *cost)
 {
     double best = 0.0;
     *cost = NAN;
     for (int k = row_count - 1; k >= 0; --k) { /* rows are in increasing n per integrator */
         const Row *r = &rows[k];
-        if (strcmp(r->test, test) != 0 || r->integrator != integrator)
+        if (strcmp(r->test, test) != 0 || r->scheme != scheme)
             continue;
         if (strcmp(r->o.status, "ok") != 0 || !(r->o.error <= target))
             break;
@@ -587,6 +603,44 @@ static double n_for(const char *test, SimIntegrator integrator, double target, d
         *cost = r->model_cost;
     }
     return best;
+}
+
+/* The convergence law of the restitution error, |e - e_n| <= C / n^p over n in [30, 3000]: p the
+ * least-squares order, C the envelope max(error n^p) (so the law bounds every measured point).
+ * app/advice.c stores these for `sablier check --target-error` and `time.target_error`. */
+static void print_laws(void)
+{
+    static const char *const tests[3] = {"restitution_0.2", "restitution_0.5", "restitution_0.9"};
+    printf("\nconvergence law of the restitution error: error <= C / n^p (n in [30, 3000]; p "
+           "least squares, C envelope)\n| scheme | e_n | C | p |\n|---|---|---|---|\n");
+    for (int i = 0; i < SCHEME_COUNT; ++i)
+        for (int q = 0; q < 3; ++q) {
+            double sx = 0, sy = 0, sxx = 0, sxy = 0;
+            int m = 0;
+            for (int pass = 0; pass < 2; ++pass) {
+                double p = m >= 3 ? -(m * sxy - sx * sy) / (m * sxx - sx * sx) : (double)NAN,
+                       c = 0.0;
+                for (int k = 0; k < row_count; ++k) {
+                    const Row *r = &rows[k];
+                    if (strcmp(r->test, tests[q]) != 0 || r->scheme != &schemes[i] ||
+                        strcmp(r->o.status, "ok") != 0 || r->n < 29.0 || r->n > 3100.0 ||
+                        !(r->o.error > 0.0))
+                        continue;
+                    if (pass == 0) {
+                        double lx = log(r->n), ly = log(r->o.error);
+                        sx += lx;
+                        sy += ly;
+                        sxx += lx * lx;
+                        sxy += lx * ly;
+                        ++m;
+                    } else {
+                        c = fmax(c, r->o.error * pow(r->n, p));
+                    }
+                }
+                if (pass == 1 && m >= 3)
+                    printf("| %s | %s | %.3g | %.3f |\n", schemes[i].name, tests[q] + 12, c, p);
+            }
+        }
 }
 
 int main(int argc, char **argv)
@@ -626,41 +680,41 @@ int main(int argc, char **argv)
     for (int i = 0; i < INTEGRATOR_COUNT; ++i) {
         double gx[2], gy[2], gr[2], gvx[2];
         unsigned gflags[2];
-        SimWorldDef def = impact_def(integrators[i], 0.5, 0.1 * r_med, gx, gy, gr, gvx, gflags);
+        SimWorldDef def = impact_def(&schemes[i], 0.5, 0.1 * r_med, gx, gy, gr, gvx, gflags);
         SimTiming timing = sim_world_def_timing(&def);
         Outcome o = {.status = "ok", .time_step = timing.stability_limit};
         o.measured = impact_contact_time(0.5) / timing.stability_limit;
         snprintf(o.note, sizeof o.note, "smallest n accepted (worst pair: two mobile grains)");
-        add_row("stability_limit", integrators[i], o.measured, &o);
+        add_row("stability_limit", &schemes[i], o.measured, &o);
     }
 
     /* 1. head-on impacts */
-    const double restitutions[2] = {0.5, 0.9};
-    const char *e_tests[2] = {"restitution_0.5", "restitution_0.9"};
-    const char *t_tests[2] = {"contact_time_0.5", "contact_time_0.9"};
-    for (int q = 0; q < 2; ++q)
-        for (int i = 0; i < INTEGRATOR_COUNT; ++i)
+    const double restitutions[3] = {0.2, 0.5, 0.9};
+    const char *e_tests[3] = {"restitution_0.2", "restitution_0.5", "restitution_0.9"};
+    const char *t_tests[3] = {"contact_time_0.2", "contact_time_0.5", "contact_time_0.9"};
+    for (int q = 0; q < 3; ++q)
+        for (int i = 0; i < SCHEME_COUNT; ++i)
             for (int k = 0; k < n_count; ++k) {
                 Outcome e, t;
-                impact(integrators[i], restitutions[q], ns[k], &e, &t);
+                impact(&schemes[i], restitutions[q], ns[k], &e, &t);
                 double direct = strcmp(e.status, "ok") == 0
-                                    ? impact_cost(integrators[i], restitutions[q], ns[k])
+                                    ? impact_cost(&schemes[i], restitutions[q], ns[k])
                                     : (double)NAN;
-                add_row(e_tests[q], integrators[i], ns[k], &e)->direct_cost = direct;
-                add_row(t_tests[q], integrators[i], ns[k], &t)->direct_cost = direct;
-                progress(e_tests[q], integrators[i], ns[k], &e);
-                progress(t_tests[q], integrators[i], ns[k], &t);
+                add_row(e_tests[q], &schemes[i], ns[k], &e)->direct_cost = direct;
+                add_row(t_tests[q], &schemes[i], ns[k], &t)->direct_cost = direct;
+                progress(e_tests[q], &schemes[i], ns[k], &e);
+                progress(t_tests[q], &schemes[i], ns[k], &t);
             }
 
     /* 2. energy drift over 100 elastic bounces */
     const int bounce_count = opt.quick ? 20 : 100;
-    for (int i = 0; i < INTEGRATOR_COUNT; ++i)
+    for (int i = 0; i < SCHEME_COUNT; ++i)
         for (int k = 0; k < n_count_long; ++k) {
             Outcome o;
-            bounces(integrators[i], ns[k], bounce_count, &o);
-            Row *r = add_row("energy_drift", integrators[i], ns[k], &o);
+            bounces(&schemes[i], ns[k], bounce_count, &o);
+            Row *r = add_row("energy_drift", &schemes[i], ns[k], &o);
             r->direct_cost = o.simulated > 0.0 ? o.cpu / o.simulated : (double)NAN;
-            progress("energy_drift", integrators[i], ns[k], &o);
+            progress("energy_drift", &schemes[i], ns[k], &o);
         }
 
     /* 3. reduced crater */
@@ -669,8 +723,7 @@ int main(int argc, char **argv)
         return 1;
     double reference[MAX_BINS];
     Outcome ref;
-    crater_run(&crater, SIM_INTEGRATOR_VELOCITY_VERLET, reference_n, opt.collapse_time, reference,
-               &ref);
+    crater_run(&crater, &schemes[0], reference_n, opt.collapse_time, reference, &ref);
     if (strcmp(ref.status, "ok") != 0) {
         fprintf(stderr, "bench_accuracy: reference crater run %s (%s)\n", ref.status, ref.note);
         return 1;
@@ -682,15 +735,15 @@ int main(int argc, char **argv)
             ref.mobile, reference_n, h_ref / crater.diameter, crater.surface / crater.diameter,
             ref.cpu);
     ref.measured = h_ref / crater.diameter;
-    Row *rr = add_row("crater_reference", SIM_INTEGRATOR_VELOCITY_VERLET, reference_n, &ref);
+    Row *rr = add_row("crater_reference", &schemes[0], reference_n, &ref);
     rr->direct_cost = ref.cpu / ref.simulated / ref.mobile;
     /* Chaos floor: the reference again with dt changed by 1 part in 10^9. Any difference from the
      * reference is the divergence of nearby trajectories, not integration error. */
     {
         double profile[MAX_BINS];
         Outcome o;
-        crater_run(&crater, SIM_INTEGRATOR_VELOCITY_VERLET, reference_n * (1.0 + 1e-9),
-                   opt.collapse_time, profile, &o);
+        crater_run(&crater, &schemes[0], reference_n * (1.0 + 1e-9), opt.collapse_time, profile,
+                   &o);
         if (strcmp(o.status, "ok") == 0) {
             double worst = 0.0;
             for (int b = 0; b < crater.bins; ++b)
@@ -698,25 +751,23 @@ int main(int argc, char **argv)
             o.error = worst / crater.diameter;
             o.measured = crater_height(&crater, profile) / crater.diameter;
             snprintf(o.note, sizeof o.note, "reference with dt x (1 + 1e-9); measured = height");
-            Row *r =
-                add_row("profile_chaos_floor", SIM_INTEGRATOR_VELOCITY_VERLET, reference_n, &o);
+            Row *r = add_row("profile_chaos_floor", &schemes[0], reference_n, &o);
             r->direct_cost = o.cpu / o.simulated / o.mobile;
             Outcome h = o;
             h.error = fabs(o.measured - h_ref / crater.diameter);
-            r = add_row("crater_height_chaos_floor", SIM_INTEGRATOR_VELOCITY_VERLET, reference_n,
-                        &h);
+            r = add_row("crater_height_chaos_floor", &schemes[0], reference_n, &h);
             r->direct_cost = o.cpu / o.simulated / o.mobile;
             fprintf(stderr, "# crater chaos floor: profile %.3g d, height %.3g d\n", o.error,
                     h.error);
         }
     }
-    double cost_pps[SIM_INTEGRATOR_COUNT]; /* CPU s per particle-step, best crater run */
-    for (int i = 0; i < SIM_INTEGRATOR_COUNT; ++i)
+    double cost_pps[SCHEME_COUNT]; /* CPU s per particle-step, best crater run */
+    for (int i = 0; i < SCHEME_COUNT; ++i)
         cost_pps[i] = INFINITY;
-    cost_pps[SIM_INTEGRATOR_VELOCITY_VERLET] = ref.cpu / ((double)ref.steps * ref.mobile);
+    cost_pps[0] = ref.cpu / ((double)ref.steps * ref.mobile);
     double crater_tc;
     {
-        SimWorldDef def = crater_def(SIM_INTEGRATOR_VELOCITY_VERLET);
+        SimWorldDef def = crater_def(&schemes[0]);
         SimGrainSet g;
         SimWall *walls;
         int wc;
@@ -728,11 +779,11 @@ int main(int argc, char **argv)
         sim_grain_set_free(&g);
         free(walls);
     }
-    for (int i = 0; i < INTEGRATOR_COUNT; ++i)
+    for (int i = 0; i < SCHEME_COUNT; ++i)
         for (int k = 0; k < n_count_long; k += opt.crater_every) {
             double profile[MAX_BINS];
             Outcome o;
-            crater_run(&crater, integrators[i], ns[k], opt.collapse_time, profile, &o);
+            crater_run(&crater, &schemes[i], ns[k], opt.collapse_time, profile, &o);
             Outcome h = o;
             double rms = NAN;
             if (strcmp(o.status, "ok") == 0) {
@@ -748,28 +799,28 @@ int main(int argc, char **argv)
                 h.measured = crater_height(&crater, profile) / crater.diameter;
                 h.error = fabs(h.measured - h_ref / crater.diameter);
                 double pps = o.cpu / ((double)o.steps * o.mobile);
-                cost_pps[integrators[i]] = fmin(cost_pps[integrators[i]], pps);
+                cost_pps[i] = fmin(cost_pps[i], pps);
             }
             double cost = o.simulated > 0.0 ? o.cpu / o.simulated / o.mobile : (double)NAN;
-            Row *r = add_row("profile", integrators[i], ns[k], &o);
+            Row *r = add_row("profile", &schemes[i], ns[k], &o);
             r->direct_cost = r->model_cost = cost;
-            r = add_row("crater_height", integrators[i], ns[k], &h);
+            r = add_row("crater_height", &schemes[i], ns[k], &h);
             r->direct_cost = r->model_cost = cost;
             Outcome m = o;
             m.error = rms;
-            r = add_row("profile_rms", integrators[i], ns[k], &m);
+            r = add_row("profile_rms", &schemes[i], ns[k], &m);
             r->direct_cost = r->model_cost = cost;
-            progress("profile", integrators[i], ns[k], &o);
-            progress("crater_height", integrators[i], ns[k], &h);
+            progress("profile", &schemes[i], ns[k], &o);
+            progress("crater_height", &schemes[i], ns[k], &h);
         }
     remove(crater.state_path);
 
     /* Cost model for the two-grain tests: crater cost per particle-step x n / t_c(crater). */
     for (int k = 0; k < row_count; ++k) {
         Row *r = &rows[k];
-        if (isnan(r->model_cost) && isfinite(cost_pps[r->integrator]) &&
-            strcmp(r->o.status, "ok") == 0)
-            r->model_cost = cost_pps[r->integrator] * r->n / crater_tc;
+        const int i = (int)(r->scheme - schemes);
+        if (isnan(r->model_cost) && isfinite(cost_pps[i]) && strcmp(r->o.status, "ok") == 0)
+            r->model_cost = cost_pps[i] * r->n / crater_tc;
     }
 
     char tmp[1024];
@@ -785,10 +836,9 @@ int main(int argc, char **argv)
     for (int k = 0; k < row_count; ++k) {
         const Row *r = &rows[k];
         fprintf(f, "%s,%s,%d,%.6g,%.6g,%s,%.10g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%ld,%d,\"%s\"\n",
-                r->test, sim_integrator_name(r->integrator),
-                r->integrator == SIM_INTEGRATOR_VELOCITY_VERLET, r->n, r->o.time_step, r->o.status,
-                r->o.measured, r->o.error, r->model_cost, r->direct_cost, r->o.cpu, r->o.wall,
-                r->o.simulated, r->o.steps, r->o.mobile, r->o.note);
+                r->test, r->scheme->name, r->scheme == &schemes[0], r->n, r->o.time_step,
+                r->o.status, r->o.measured, r->o.error, r->model_cost, r->direct_cost, r->o.cpu,
+                r->o.wall, r->o.simulated, r->o.steps, r->o.mobile, r->o.note);
     }
     if (fclose(f) != 0 || rename(tmp, opt.csv) != 0) {
         perror(opt.csv);
@@ -798,19 +848,20 @@ int main(int argc, char **argv)
     /* Summary: what an error of 1e-2, 1e-3, 1e-4 in e_n (e_n = 0.5) costs. */
     printf("# crater case: %d grains, t_c,min %.4g s; CPU per particle-step (best run):",
            ref.mobile, crater_tc);
-    for (int i = 0; i < INTEGRATOR_COUNT; ++i)
-        printf(" %s %.0f ns", sim_integrator_name(integrators[i]), 1e9 * cost_pps[integrators[i]]);
+    for (int i = 0; i < SCHEME_COUNT; ++i)
+        printf(" %s %.1f ns", schemes[i].name, 1e9 * cost_pps[i]);
     printf("\n");
-    const char *summary_tests[3] = {"restitution_0.5", "restitution_0.9", "contact_time_0.5"};
-    for (int q = 0; q < 3; ++q) {
+    const char *summary_tests[4] = {"restitution_0.2", "restitution_0.5", "restitution_0.9",
+                                    "contact_time_0.5"};
+    for (int q = 0; q < 4; ++q) {
         printf("\n%s: smallest n (steps per contact) with error <= target from there on, and "
                "CPU s per simulated s per grain\n",
                summary_tests[q]);
         printf("| integrator | 1e-2 | 1e-3 | 1e-4 |\n|---|---|---|---|\n");
-        for (int i = 0; i < INTEGRATOR_COUNT; ++i) {
-            printf("| %s |", sim_integrator_name(integrators[i]));
+        for (int i = 0; i < SCHEME_COUNT; ++i) {
+            printf("| %s |", schemes[i].name);
             for (int p = 2; p <= 4; ++p) {
-                double cost, n = n_for(summary_tests[q], integrators[i], pow(10.0, -p), &cost);
+                double cost, n = n_for(summary_tests[q], &schemes[i], pow(10.0, -p), &cost);
                 if (n > 0.0)
                     printf(" n = %.0f, %.2g s |", n, cost);
                 else
@@ -821,21 +872,21 @@ int main(int argc, char **argv)
     }
 
     /* Observed order: least-squares slope of log(error) against log(n) over n in [30, 3000]. */
-    const char *order_tests[5] = {"restitution_0.5", "restitution_0.9", "contact_time_0.5",
-                                  "contact_time_0.9", "energy_drift"};
+    const char *order_tests[6] = {"restitution_0.2",  "restitution_0.5",  "restitution_0.9",
+                                  "contact_time_0.5", "contact_time_0.9", "energy_drift"};
     printf("\nobserved order (-slope of log error vs log n, n in [30, 3000])\n");
     printf("| integrator |");
-    for (int q = 0; q < 5; ++q)
+    for (int q = 0; q < 6; ++q)
         printf(" %s |", order_tests[q]);
-    printf("\n|---|---|---|---|---|---|\n");
-    for (int i = 0; i < INTEGRATOR_COUNT; ++i) {
-        printf("| %s |", sim_integrator_name(integrators[i]));
-        for (int q = 0; q < 5; ++q) {
+    printf("\n|---|---|---|---|---|---|---|\n");
+    for (int i = 0; i < SCHEME_COUNT; ++i) {
+        printf("| %s |", schemes[i].name);
+        for (int q = 0; q < 6; ++q) {
             double sx = 0, sy = 0, sxx = 0, sxy = 0;
             int m = 0;
             for (int k = 0; k < row_count; ++k) {
                 const Row *r = &rows[k];
-                if (strcmp(r->test, order_tests[q]) != 0 || r->integrator != integrators[i] ||
+                if (strcmp(r->test, order_tests[q]) != 0 || r->scheme != &schemes[i] ||
                     strcmp(r->o.status, "ok") != 0 || r->n < 29.0 || r->n > 3100.0 ||
                     !(r->o.error > 0.0))
                     continue;
@@ -853,6 +904,7 @@ int main(int argc, char **argv)
         }
         printf("\n");
     }
+    print_laws();
     free(rows);
     return 0;
 }

@@ -16,7 +16,9 @@
  *                     nothing moves: pure overhead), and with the floor shaking (0.05 d, 10 Hz);
  *   fluid_drag        a linear drag F = -c m v (c = 0.1 1/s) as the body-force stage; the real
  *                     fluid model comes later, this measures the stage's overhead;
- *   removal           a sink below the floor (never reached).
+ *   removal           a sink below the floor (never reached);
+ *   onset_event       contact.onset = "event" (docs/accuracy.md eqs. A1-A5), alone and with
+ *                     regularised friction: the cost of the option per particle-step.
  *
  * Variants are timed round-robin (each repeat times every variant once), so slow drifts of the
  * machine load hit all of them alike; the best of the repeats is reported, by process CPU time and
@@ -45,29 +47,38 @@ typedef struct Variant {
     int rolling_law; /* SimRollingLaw */
     SimTangentialLaw tangential;
     const char *compare; /* the variant it differs from by this effect */
+    SimOnset onset;      /* contact.onset (docs/accuracy.md eqs. A1-A5) */
 } Variant;
 
 static const Variant variants[] = {
-    {"baseline", 0u, 0, 0, SIM_ROLLING_OFF, SIM_TANGENTIAL_REGULARISED, "baseline_again"},
-    {"baseline_again", 0u, 0, 0, SIM_ROLLING_OFF, SIM_TANGENTIAL_REGULARISED, "baseline"},
-    {"params_undeclared", 0u, 1, 0, SIM_ROLLING_CHORD, SIM_TANGENTIAL_REGULARISED, "baseline"},
+    {"baseline", 0u, 0, 0, SIM_ROLLING_OFF, SIM_TANGENTIAL_REGULARISED, "baseline_again",
+     SIM_ONSET_STEP},
+    {"baseline_again", 0u, 0, 0, SIM_ROLLING_OFF, SIM_TANGENTIAL_REGULARISED, "baseline",
+     SIM_ONSET_STEP},
+    {"params_undeclared", 0u, 1, 0, SIM_ROLLING_CHORD, SIM_TANGENTIAL_REGULARISED, "baseline",
+     SIM_ONSET_STEP},
     {"friction_regularised", SIM_EFFECT_FRICTION, 1, 0, SIM_ROLLING_OFF, SIM_TANGENTIAL_REGULARISED,
-     "baseline"},
+     "baseline", SIM_ONSET_STEP},
     {"friction_spring", SIM_EFFECT_FRICTION, 1, 0, SIM_ROLLING_OFF, SIM_TANGENTIAL_SPRING,
-     "baseline"},
+     "baseline", SIM_ONSET_STEP},
     {"friction_rolling_undeclared", SIM_EFFECT_FRICTION, 1, 0, SIM_ROLLING_CHORD,
-     SIM_TANGENTIAL_REGULARISED, "friction_regularised"},
+     SIM_TANGENTIAL_REGULARISED, "friction_regularised", SIM_ONSET_STEP},
     {"friction_rolling", SIM_EFFECT_FRICTION | SIM_EFFECT_ROLLING, 1, 0, SIM_ROLLING_CHORD,
-     SIM_TANGENTIAL_REGULARISED, "friction_regularised"},
+     SIM_TANGENTIAL_REGULARISED, "friction_regularised", SIM_ONSET_STEP},
     {"periodic_x", SIM_EFFECT_PERIODIC_X, 0, 0, SIM_ROLLING_OFF, SIM_TANGENTIAL_REGULARISED,
-     "baseline"},
+     "baseline", SIM_ONSET_STEP},
     {"vibration_still", SIM_EFFECT_VIBRATION, 0, 1, SIM_ROLLING_OFF, SIM_TANGENTIAL_REGULARISED,
-     "baseline"},
+     "baseline", SIM_ONSET_STEP},
     {"vibration_shaking", SIM_EFFECT_VIBRATION, 0, 2, SIM_ROLLING_OFF, SIM_TANGENTIAL_REGULARISED,
-     "baseline"},
+     "baseline", SIM_ONSET_STEP},
     {"fluid_drag", SIM_EFFECT_FLUID_DRAG, 0, 0, SIM_ROLLING_OFF, SIM_TANGENTIAL_REGULARISED,
-     "baseline"},
-    {"removal", SIM_EFFECT_REMOVAL, 0, 0, SIM_ROLLING_OFF, SIM_TANGENTIAL_REGULARISED, "baseline"},
+     "baseline", SIM_ONSET_STEP},
+    {"removal", SIM_EFFECT_REMOVAL, 0, 0, SIM_ROLLING_OFF, SIM_TANGENTIAL_REGULARISED, "baseline",
+     SIM_ONSET_STEP},
+    {"onset_event", 0u, 0, 0, SIM_ROLLING_OFF, SIM_TANGENTIAL_REGULARISED, "baseline",
+     SIM_ONSET_EVENT},
+    {"friction_onset_event", SIM_EFFECT_FRICTION, 1, 0, SIM_ROLLING_OFF, SIM_TANGENTIAL_REGULARISED,
+     "friction_regularised", SIM_ONSET_EVENT},
 };
 
 enum { VARIANT_COUNT = (int)(sizeof variants / sizeof variants[0]) };
@@ -220,6 +231,7 @@ int main(int argc, char **argv)
         d.effects = var->effects;
         d.contact.tangential = var->tangential;
         d.contact.rolling = (SimRollingLaw)var->rolling_law;
+        d.contact.onset = var->onset;
         d.grains = settled;
         d.walls = walls;
         d.wall_count = wall_count;

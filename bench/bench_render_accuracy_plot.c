@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* bench_render_accuracy_plot: the work-precision figure of bench_accuracy. Reads its CSV and draws
  * error against CPU time per simulated second (log-log), one curve per integrator, the default
- * (velocity Verlet) drawn thick and named "(default)", one panel per measurement.
+ * (velocity Verlet) drawn thick and named "(default)", one panel per measurement. The curves of
+ * the event-aware onset (integrator "NAME/event", docs/accuracy.md eqs. A1-A5) are drawn next to
+ * the old ones.
  *
  * Usage: bench_render_accuracy_plot accuracy.csv out.png [out.pdf ...] */
 #include "render/render.h"
@@ -11,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { MAX_POINTS = 64, PANEL_COUNT = 6 };
+enum { MAX_POINTS = 64, PANEL_COUNT = 6, CURVE_COUNT = SIM_INTEGRATOR_COUNT + 2 };
 
 typedef struct Curve {
     int count;
@@ -29,17 +31,24 @@ static const struct {
     {"crater_height", "(f) crater height", "|h_crater - h_ref| / d"},
 };
 
-static const char *const names[SIM_INTEGRATOR_COUNT] = {"velocity_verlet", "symplectic_euler",
-                                                        "stormer_verlet", "gear", "rk4"};
-static const char *const labels[SIM_INTEGRATOR_COUNT] = {
-    "velocity Verlet (default)", "symplectic Euler", "Stormer-Verlet", "Gear", "RK4"};
-static const uint32_t colours[SIM_INTEGRATOR_COUNT] = {0x000000, 0xd55e00, 0x009e73, 0x0072b2,
-                                                       0xcc79a7};
-static const RenderMarker markers[SIM_INTEGRATOR_COUNT] = {
+/* The first SIM_INTEGRATOR_COUNT curves are in SimIntegrator order (the default onset). */
+static const char *const names[CURVE_COUNT] = {
+    "velocity_verlet",       "symplectic_euler",      "stormer_verlet", "gear", "rk4",
+    "velocity_verlet/event", "symplectic_euler/event"};
+static const char *const labels[CURVE_COUNT] = {"velocity Verlet (default)",
+                                                "symplectic Euler",
+                                                "Stormer-Verlet",
+                                                "Gear",
+                                                "RK4",
+                                                "velocity Verlet, onset = event",
+                                                "symplectic Euler, onset = event"};
+static const uint32_t colours[CURVE_COUNT] = {0x000000, 0xd55e00, 0x009e73, 0x0072b2,
+                                              0xcc79a7, 0xe69f00, 0x56b4e9};
+static const RenderMarker markers[CURVE_COUNT] = {
     RENDER_MARKER_CIRCLE, RENDER_MARKER_SQUARE, RENDER_MARKER_TRIANGLE, RENDER_MARKER_CROSS,
-    RENDER_MARKER_SQUARE};
+    RENDER_MARKER_SQUARE, RENDER_MARKER_CIRCLE, RENDER_MARKER_TRIANGLE};
 
-static Curve curves[PANEL_COUNT][SIM_INTEGRATOR_COUNT];
+static Curve curves[PANEL_COUNT][CURVE_COUNT];
 
 /* Splits a CSV line in place into at most `max` fields (no quoted commas before the last field). */
 static int split(char *line, char **fields, int max)
@@ -88,7 +97,7 @@ int main(int argc, char **argv)
         for (int q = 0; q < PANEL_COUNT; ++q)
             if (strcmp(fld[0], panels[q].test) == 0)
                 p = q;
-        for (int q = 0; q < SIM_INTEGRATOR_COUNT; ++q)
+        for (int q = 0; q < CURVE_COUNT; ++q)
             if (strcmp(fld[1], names[q]) == 0)
                 k = q;
         if (p < 0 || k < 0)
@@ -102,31 +111,31 @@ int main(int argc, char **argv)
     }
     fclose(f);
 
-    RenderSeries series[PANEL_COUNT][SIM_INTEGRATOR_COUNT];
+    RenderSeries series[PANEL_COUNT][CURVE_COUNT];
     RenderPanel panel[PANEL_COUNT];
     for (int p = 0; p < PANEL_COUNT; ++p) {
         /* Default drawn last, on top: symplectic Euler and Stormer-Verlet share its positions
          * (all three are leapfrog here) and would hide it. */
-        int order[SIM_INTEGRATOR_COUNT] = {1, 2, 3, 4, 0};
-        for (int s = 0; s < SIM_INTEGRATOR_COUNT; ++s) {
+        int order[CURVE_COUNT] = {1, 2, 3, 4, 6, 5, 0};
+        for (int s = 0; s < CURVE_COUNT; ++s) {
             int k = order[s];
-            int is_default = k == SIM_INTEGRATOR_VELOCITY_VERLET;
+            int is_default = k == SIM_INTEGRATOR_VELOCITY_VERLET, thick = is_default || k == 5;
             series[p][s] = (RenderSeries){.label = labels[k],
                                           .count = curves[p][k].count,
                                           .x = curves[p][k].x,
                                           .y = curves[p][k].y,
                                           .rgb = colours[k],
                                           .line = 1,
-                                          .dashed = k == SIM_INTEGRATOR_STORMER_VERLET,
+                                          .dashed = k == SIM_INTEGRATOR_STORMER_VERLET || k >= 5,
                                           .marker = markers[k],
-                                          .line_width = is_default ? 4.0 : 1.8,
-                                          .marker_size = is_default ? 10.0 : 7.0};
+                                          .line_width = thick ? 4.0 : 1.8,
+                                          .marker_size = thick ? 10.0 : 7.0};
         }
         panel[p] = (RenderPanel){
             .title = panels[p].title,
             .x = {.label = "CPU s per simulated s per grain", .log = 1},
             .y = {.label = panels[p].y_label, .log = 1},
-            .series_count = SIM_INTEGRATOR_COUNT,
+            .series_count = CURVE_COUNT,
             .series = series[p],
             .legend = p == 0 ? RENDER_LEGEND_LOWER_LEFT : RENDER_LEGEND_NONE,
         };

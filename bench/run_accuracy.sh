@@ -6,7 +6,8 @@
 #
 # 1. Builds bench_accuracy, bench_effects and bench_render_accuracy_plot in Release
 #    (default build dir: build).
-# 2. bench_accuracy: every integrator x dt = t_c / n; restitution and contact-duration errors
+# 2. bench_accuracy: every integrator (and velocity Verlet and symplectic Euler with
+#    contact.onset = event) x dt = t_c / n; restitution and contact-duration errors
 #    against 000 eqs. 3.22-3.24, energy drift over 100 elastic bounces, crater profile and height
 #    against a converged reference -> OUT/accuracy.csv (summary tables on stdout).
 # 3. bench_effects: time per particle-step with each effect declared or not -> OUT/effects.csv.

@@ -28,6 +28,8 @@ unsigned sim_contact_key(const SimWorld *world)
         key |= KEY_HERTZ;
     if (c->clip_tensile)
         key |= KEY_CLIP;
+    if (c->onset == SIM_ONSET_EVENT)
+        key |= KEY_EVENT;
     return key;
 }
 
@@ -39,7 +41,8 @@ static void visit_one(SimWorld *world, unsigned key, int i, int j, int wall, dou
                       ContactVisit *visit, void *context)
 {
     double f_el;
-    double f_n = normal_force_d(key, p->k_n, gamma_n, overlap, v_n, &f_el);
+    double f_n = normal_force_d(key, p->k_n, gamma_n, overlap, v_n, 0.0, &f_el); /* h = 0: the
+                                                                          instantaneous force */
     unsigned law = key & KEY_TANGENTIAL;
     double f_t = 0.0, energy;
     if (law == SIM_TANGENTIAL_REGULARISED) {

@@ -9,15 +9,35 @@
  * every caller. */
 
 /* Normal force magnitude (positive = repulsive) and its elastic part. 000 eq. 3.6 (linear),
- * Hertz-type sqrt(xi) (k_n xi + gamma_n dxi/dt). dxi/dt = -v_n. */
+ * Hertz-type sqrt(xi) (k_n xi + gamma_n dxi/dt). dxi/dt = -v_n.
+ * Event-aware onset (KEY_EVENT, linear law only; docs/accuracy.md "Event-aware onset"): the force
+ * of one evaluation is the mean of the force over the step around it, [t - h, t + h] with
+ * h = half_dt (velocity Verlet applies it for dt/2 on each side), with the overlap's linear
+ * trajectory xi(t + tau) = xi + |v_n| tau (approaching) or xi - |v_n| tau (separating). With
+ * reach = |v_n| h the part of the step in contact is (eq. A3)
+ *     phi = clamp((xi + reach) / (2 reach), 0, 1),
+ * the overlap at the middle of that part is xi_m = phi reach (eq. A4), and the mean force is
+ *     F = phi (k_n xi_m + gamma_n dxi/dt)                                            (eq. A5).
+ * A step wholly in contact (xi >= reach) has phi = 1, xi_m = xi: the step law's bits. half_dt = 0
+ * gives the instantaneous force (the diagnostics). */
 KERNEL LAW_T LAW(normal_force)(const unsigned key, LAW_T k_n, LAW_T gamma_n, LAW_T xi, LAW_T v_n,
-                               LAW_T *elastic)
+                               double half_dt, LAW_T *elastic)
 {
     LAW_T f;
     if (key & KEY_HERTZ) {
         LAW_T root = LAW(sqrt)(xi);
         *elastic = k_n * xi * root;
         f = *elastic - gamma_n * root * v_n;
+    } else if (key & KEY_EVENT) {
+        LAW_T reach = LAW(abs)(v_n) * half_dt;
+        LAW_T span = reach + reach;
+        /* masks as selects, no branch: lanes in, out and across an event mix at random */
+        LAW_T safe = LAW(sel)(span > 0.0, span, LAW_ONE);
+        LAW_T part = LAW(sel)(xi + reach > 0.0, (xi + reach) / safe, LAW_ZERO);
+        LAW_T phi = LAW(sel)(xi >= reach, LAW_ONE, part);
+        LAW_T x = LAW(sel)(xi >= reach, xi, phi * reach);
+        *elastic = phi * (k_n * x);
+        f = phi * (k_n * x - gamma_n * v_n);
     } else {
         *elastic = k_n * xi;
         f = *elastic - gamma_n * v_n;

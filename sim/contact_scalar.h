@@ -23,8 +23,9 @@ enum {
     KEY_HERTZ = 1u << 4,
     KEY_CLIP = 1u << 5,
     KEY_CHORD = 1u << 6, /* rolling law from the contact chord (else fixed k_r) */
-    KEY_COUNT = 128,
-    KEY_UNIFORM = 1u << 7 /* one species: pair constants are broadcast, not gathered */
+    KEY_EVENT = 1u << 7, /* event-aware onset (SIM_ONSET_EVENT; linear normal law only) */
+    KEY_COUNT = 256,
+    KEY_UNIFORM = 1u << 8 /* one species: pair constants are broadcast, not gathered */
 };
 
 /* Torques exist only when a tangential law or rolling resistance is declared. */

@@ -70,6 +70,16 @@ typedef enum SimRollingLaw {
     SIM_ROLLING_FIXED = 2, ///< fixed rolling stiffness k_r (004 ch. 4)
 } SimRollingLaw;
 
+/// Where within a step the contact's onset and release are placed (docs/accuracy.md, "Event-aware
+/// onset"). STEP: the force acts from the first step with an overlap (first order in e_n).
+/// EVENT: each force evaluation is the mean of the force over the step around it, with the
+/// overlap's linear trajectory locating touch and release inside the step (second order in e_n
+/// with velocity Verlet; linear normal law; velocity Verlet, symplectic Euler, Stormer-Verlet).
+typedef enum SimOnset {
+    SIM_ONSET_STEP = 0,
+    SIM_ONSET_EVENT = 1,
+} SimOnset;
+
 /// How normal damping is given.
 typedef enum SimDampingMode {
     SIM_DAMPING_GAMMA = 0,       ///< gamma_n given directly, kg/s
@@ -99,6 +109,7 @@ typedef struct SimContactModel {
     SimTangentialLaw tangential; ///< used only with SIM_EFFECT_FRICTION
     SimRollingLaw rolling;       ///< used only with SIM_EFFECT_ROLLING
     int clip_tensile;            ///< 1: normal force never attractive (000 [GAP], our default 1)
+    SimOnset onset;              ///< SIM_ONSET_STEP (default) or SIM_ONSET_EVENT
 } SimContactModel;
 
 /* ---------------------------------------------------------------- grains, walls */
@@ -329,6 +340,7 @@ typedef struct SimTiming {
     double stability_limit;   ///< largest stable dt of the integrator in a dense packing, s
     double time_step;         ///< dt in use, s
     double steps_per_contact; ///< t_c,min / dt
+    double restitution;       ///< e_n of the worst pair, exp(-pi zeta / sqrt(1 - zeta^2)) (linear)
 } SimTiming;
 
 /// Checks a definition without building a world (same checks as create).

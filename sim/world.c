@@ -84,8 +84,8 @@ SimWorldDef sim_world_def_default(void)
     SimWorldDef def;
     memset(&def, 0, sizeof def);
     def.effects = 0;
-    def.contact =
-        (SimContactModel){SIM_NORMAL_LINEAR, SIM_TANGENTIAL_REGULARISED, SIM_ROLLING_OFF, 1};
+    def.contact = (SimContactModel){SIM_NORMAL_LINEAR, SIM_TANGENTIAL_REGULARISED, SIM_ROLLING_OFF,
+                                    1, SIM_ONSET_STEP};
     def.mass_model = SIM_MASS_DISK;
     def.species_count = 1;
     for (int s = 0; s < SIM_MAX_SPECIES; ++s)
@@ -164,7 +164,7 @@ static void fill_pairs(PairParams *pairs, const SimWorldDef *def)
 /* One pair's contact time and stability limit. Linear: 000 eqs. 3.13-3.22 (overdamped pairs
  * report pi / omega_n). Hertz: linearised at the overlap of a 1 m/s impact. */
 static void pair_timing(const SimWorldDef *def, int a, int b, double m_eff, double *t_c,
-                        double *limit)
+                        double *limit, double *restitution)
 {
     const SimMaterial *p = &def->materials[a], *q = &def->materials[b];
     double k = 0.5 * (p->normal_stiffness + q->normal_stiffness);
@@ -182,6 +182,8 @@ static void pair_timing(const SimWorldDef *def, int a, int b, double m_eff, doub
         zeta = gamma / (2.0 * m_eff * omega);
         *t_c = zeta < 1.0 ? SIM_PI / (omega * sqrt(1.0 - zeta * zeta)) : SIM_PI / omega;
     }
+    /* 000 eq. 3.24 (Hertz: of the linearised contact at 1 m/s) */
+    *restitution = zeta < 1.0 ? exp(-SIM_PI * zeta / sqrt(1.0 - zeta * zeta)) : 0.0;
     /* A grain in a packing vibrates faster than an isolated pair: the densest 2D packing (a
      * triangular lattice, six contacts) has omega_max^2 = 3 omega_pair^2, and the damping
      * ratio of that mode grows by the same sqrt(3) (damping and stiffness share geometry). */
@@ -193,7 +195,7 @@ static void pair_timing(const SimWorldDef *def, int a, int b, double m_eff, doub
  * mobile species and against fixed grains and walls (infinite mass). */
 static SimTiming timing_of(const SimWorldDef *def)
 {
-    SimTiming t = {INFINITY, INFINITY, def->time_step, 0.0};
+    SimTiming t = {INFINITY, INFINITY, def->time_step, 0.0, NAN};
     double light[SIM_MAX_SPECIES];
     int present_fixed[SIM_MAX_SPECIES] = {0};
     for (int s = 0; s < SIM_MAX_SPECIES; ++s)
@@ -219,14 +221,19 @@ static SimTiming timing_of(const SimWorldDef *def)
         if (!isfinite(light[a]))
             continue;
         for (int b = 0; b < SIM_MAX_SPECIES; ++b) {
-            double t_c, limit;
+            double t_c, limit, e;
             if (isfinite(light[b])) {
-                pair_timing(def, a, b, light[a] * light[b] / (light[a] + light[b]), &t_c, &limit);
+                pair_timing(def, a, b, light[a] * light[b] / (light[a] + light[b]), &t_c, &limit,
+                            &e);
+                if (t_c < t.contact_time_min)
+                    t.restitution = e;
                 t.contact_time_min = fmin(t.contact_time_min, t_c);
                 t.stability_limit = fmin(t.stability_limit, limit);
             }
             if (present_fixed[b]) {
-                pair_timing(def, a, b, light[a], &t_c, &limit);
+                pair_timing(def, a, b, light[a], &t_c, &limit, &e);
+                if (t_c < t.contact_time_min)
+                    t.restitution = e;
                 t.contact_time_min = fmin(t.contact_time_min, t_c);
                 t.stability_limit = fmin(t.stability_limit, limit);
             }
@@ -386,6 +393,16 @@ static SimStatus validate_def(const SimWorldDef *def, int restored, SimError *er
           "contact.tangential", "unknown tangential law");
     CHECK((int)def->contact.rolling >= 0 && def->contact.rolling <= SIM_ROLLING_FIXED,
           "contact.rolling", "unknown rolling law");
+    CHECK(def->contact.onset == SIM_ONSET_STEP || def->contact.onset == SIM_ONSET_EVENT,
+          "contact.onset", "unknown onset");
+    CHECK(def->contact.onset != SIM_ONSET_EVENT || def->contact.normal == SIM_NORMAL_LINEAR,
+          "contact.onset",
+          "onset \"event\" needs the linear normal law (the Hertz force has no jump at touch)");
+    CHECK(def->contact.onset != SIM_ONSET_EVENT ||
+              (def->integrator != SIM_INTEGRATOR_GEAR && def->integrator != SIM_INTEGRATOR_RK4),
+          "contact.onset",
+          "onset \"event\" is derived for velocity_verlet, symplectic_euler and stormer_verlet "
+          "(one force evaluation per step)");
     int history = ((def->effects & SIM_EFFECT_FRICTION) &&
                    def->contact.tangential == SIM_TANGENTIAL_SPRING) ||
                   ((def->effects & SIM_EFFECT_ROLLING) && def->contact.rolling != SIM_ROLLING_OFF);

@@ -134,6 +134,9 @@ set_tests_properties(cli.remove_ids_missing PROPERTIES LABELS cli)
 add_test(NAME cli.cadence_huge
          COMMAND bash ${CLI_DIR}/cadence.sh $<TARGET_FILE:sablier> ${CLI_TINY} ${CLI_WORK}/cadence)
 set_tests_properties(cli.cadence_huge PROPERTIES LABELS cli)
+add_test(NAME cli.check_target_error
+         COMMAND bash ${CLI_DIR}/target_error.sh $<TARGET_FILE:sablier> ${CLI_TINY})
+set_tests_properties(cli.check_target_error PROPERTIES LABELS cli)
 
 # --set paths are strict: no empty part, no unclosed or stray bracket (issue 18 part 4)
 sablier_cli_test(set_leading_dot "check|${CLI_TINY}|--set|.time.dt=1e-5" 2

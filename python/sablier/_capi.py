@@ -34,7 +34,8 @@ class SimMaterial(Structure):
 
 class SimContactModel(Structure):
     _fields_ = [("normal", c_int), ("tangential", c_int), ("rolling", c_int),
-                ("clip_tensile", c_int)]
+                ("clip_tensile", c_int),
+                ("onset", c_int)]
 
 
 class SimGrainSet(Structure):
@@ -98,7 +99,8 @@ class SimError(Structure):
 
 class SimTiming(Structure):
     _fields_ = [("contact_time_min", c_double), ("stability_limit", c_double),
-                ("time_step", c_double), ("steps_per_contact", c_double)]
+                ("time_step", c_double), ("steps_per_contact", c_double),
+                ("restitution", c_double)]
 
 
 class SimContact(Structure):

@@ -52,6 +52,7 @@ def _raise(err, what):
 NORMAL = {"linear": 0, "hertz": 1}
 TANGENTIAL = {"none": 0, "regularised": 1, "regularized": 1, "spring": 2}
 ROLLING = {"off": 0, "none": 0, "chord": 1, "fixed": 2}
+ONSET = {"step": 0, "event": 1}
 DAMPING = {"gamma": 0, "restitution": 1, "critical": 2}
 MASS = {"disk": 0, "sphere": 1}
 SINK = {"below": 0, "above": 1, "left": 2, "right": 3, "rect": 4}
@@ -282,7 +283,7 @@ class WorldDef:
                 r.domain_x0, r.domain_x1 = float(value[0]), float(value[1])
             elif key == "contact":
                 self.set_contact(**value)
-            elif key in ("normal", "tangential", "rolling", "clip_tensile"):
+            elif key in ("normal", "tangential", "rolling", "clip_tensile", "onset"):
                 self.set_contact(**{key: value})
             elif key == "materials":
                 self.set_materials(value)
@@ -302,7 +303,8 @@ class WorldDef:
                 raise InvalidDefinition("world definition: unknown key %r" % key, 2, key)
         return self
 
-    def set_contact(self, normal=None, tangential=None, rolling=None, clip_tensile=None):
+    def set_contact(self, normal=None, tangential=None, rolling=None, clip_tensile=None,
+                    onset=None):
         c = self.raw.contact
         if normal is not None:
             c.normal = _choice(NORMAL, normal, "contact.normal")
@@ -312,6 +314,8 @@ class WorldDef:
             c.rolling = _choice(ROLLING, rolling, "contact.rolling")
         if clip_tensile is not None:
             c.clip_tensile = int(bool(clip_tensile))
+        if onset is not None:
+            c.onset = _choice(ONSET, onset, "contact.onset")
 
     def set_materials(self, materials):
         """A list (one per species) of SimMaterial or dicts of material() fields."""

@@ -146,7 +146,11 @@ KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict 
     const VecD v_n = dvx * nx + dvy * ny; /* 000 eq. 3.4 */
     const VecD k_n = gather_pair(key, world->pairs, p, offsetof(PairParams, k_n));
     VecD f_el;
-    const VecD f_n = normal_force_v(key, k_n, load(nl->gamma, entry, lanes), overlap, v_n, &f_el);
+    const VecD f_n = normal_force_v(key, k_n, load(nl->gamma, entry, lanes), overlap, v_n,
+                                    0.5 * world->dt, &f_el);
+    /* Event-aware onset: a pair about to touch within half a step already has a (weighted) normal
+     * force; the tangential and rolling laws still act on overlapping pairs only. */
+    const VecM acting = (key & KEY_EVENT) ? (touching | (f_n != 0.0)) : touching;
     VecD fxk = -f_n * nx, fyk = -f_n * ny;
     VecD f_t = ((VecD){0.0, 0.0, 0.0, 0.0});
     VecD wi = ((VecD){0.0, 0.0, 0.0, 0.0}), wj = ((VecD){0.0, 0.0, 0.0, 0.0});
@@ -168,6 +172,8 @@ KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict 
             gamma_s = gather_pair(key, world->pairs, p, offsetof(PairParams, gamma_s));
         }
         f_t = tangential_force_v(key, k_t, mu, gamma_s, v_s, f_n, f_el, dt, &spring);
+        if (key & KEY_EVENT)
+            f_t = sel_v(touching, f_t, ((VecD){0.0, 0.0, 0.0, 0.0}));
         if (law == SIM_TANGENTIAL_SPRING)
             store(nl->hist_t, entry, lanes, sel_v(touching, spring, ((VecD){0.0, 0.0, 0.0, 0.0})));
         fxk += f_t * sx;
@@ -188,8 +194,8 @@ KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict 
         store(nl->hist_r, entry, lanes, sel_v(touching, m_r, ((VecD){0.0, 0.0, 0.0, 0.0})));
         store(nl->out + 3 * cap, entry, lanes, sel_v(touching, m, ((VecD){0.0, 0.0, 0.0, 0.0})));
     }
-    store(nl->out, entry, lanes, sel_v(touching, fxk, ((VecD){0.0, 0.0, 0.0, 0.0})));
-    store(nl->out + cap, entry, lanes, sel_v(touching, fyk, ((VecD){0.0, 0.0, 0.0, 0.0})));
+    store(nl->out, entry, lanes, sel_v(acting, fxk, ((VecD){0.0, 0.0, 0.0, 0.0})));
+    store(nl->out + cap, entry, lanes, sel_v(acting, fyk, ((VecD){0.0, 0.0, 0.0, 0.0})));
     if (KEY_ROTATION(key))
         store(nl->out + 2 * cap, entry, lanes, sel_v(touching, f_t, ((VecD){0.0, 0.0, 0.0, 0.0})));
 }
@@ -348,12 +354,14 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
         double nx, ny;
         const double d =
             sim_wall_geometry(&world->walls[w], world->x[i], world->y[i], ri, &nx, &ny);
-        if (d >= ri) {
+        const int touching = d < ri;
+        if (!touching) {
             if (law == SIM_TANGENTIAL_SPRING)
                 wl->hist_t[k] = 0.0;
             if (key & KEY_ROLLING)
                 wl->hist_r[k] = 0.0;
-            continue;
+            if (!(key & KEY_EVENT))
+                continue;
         }
         const double overlap = ri - d;
         double wvx, wvy; /* the wall's surface velocity at the contact point */
@@ -363,7 +371,13 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
         const double v_n = dvx * nx + dvy * ny;
         const PairParams *p = &world->pairs[wl->pair[k]];
         double f_el;
-        const double f_n = normal_force_d(key, p->k_n, wl->gamma[k], overlap, v_n, &f_el);
+        const double f_n =
+            normal_force_d(key, p->k_n, wl->gamma[k], overlap, v_n, 0.5 * world->dt, &f_el);
+        if ((key & KEY_EVENT) && !touching) { /* within half a step of touching: normal only */
+            world->fx[i] -= f_n * nx;
+            world->fy[i] -= f_n * ny;
+            continue;
+        }
         double fxk = -f_n * nx, fyk = -f_n * ny;
         const double wi = KEY_ROTATION(key) ? world->omega[i] : 0.0;
         if (law != SIM_TANGENTIAL_NONE) {
@@ -393,7 +407,8 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
 }
 
 /* One instantiation per key = 8 * high + low: low = tangential law (0..2) | rolling (4);
- * high = periodic | hertz << 1 | clip << 2 | chord << 3, chord only with rolling. */
+ * high = periodic | hertz << 1 | clip << 2 | chord << 3 | event << 4, chord only with rolling,
+ * event only without hertz (sim_world_create refuses the pair). */
 /* clang-format off */
 #define KEYS_LOW(X, h)  X(h, 0) X(h, 1) X(h, 2) X(h, 4) X(h, 5) X(h, 6)
 #define KEYS_ROLL(X, h) X(h, 4) X(h, 5) X(h, 6)
@@ -401,7 +416,9 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
     KEYS_LOW(X, 0) KEYS_LOW(X, 1) KEYS_LOW(X, 2) KEYS_LOW(X, 3) KEYS_LOW(X, 4)         \
     KEYS_LOW(X, 5) KEYS_LOW(X, 6) KEYS_LOW(X, 7) KEYS_ROLL(X, 8) KEYS_ROLL(X, 9)       \
     KEYS_ROLL(X, 10) KEYS_ROLL(X, 11) KEYS_ROLL(X, 12) KEYS_ROLL(X, 13)                \
-    KEYS_ROLL(X, 14) KEYS_ROLL(X, 15)
+    KEYS_ROLL(X, 14) KEYS_ROLL(X, 15)                                                  \
+    KEYS_LOW(X, 16) KEYS_LOW(X, 17) KEYS_LOW(X, 20) KEYS_LOW(X, 21)                    \
+    KEYS_ROLL(X, 24) KEYS_ROLL(X, 25) KEYS_ROLL(X, 28) KEYS_ROLL(X, 29)
 /* clang-format on */
 
 #define DEFINE_PASS(h, l)                                                                          \

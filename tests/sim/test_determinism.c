@@ -116,5 +116,54 @@ static int rng_stream(void)
     return 0;
 }
 
+/* Event-aware onset (SIM_ONSET_EVENT): the same bits on 1 and 3 threads and with every supported
+ * instruction set, and not the step onset's bits (the option acts). Runs 3.. use the sets. */
+static const SimIsa isas[] = {SIM_ISA_BASELINE, SIM_ISA_AVX2, SIM_ISA_AVX512};
+
+static int event_onset_threads_same_hash(void)
+{
+    uint64_t hashes[6];
+    const SimIsa before = sim_isa();
+    for (int run = 0; run < 6; ++run) {
+        if (run >= 3 && sim_isa_set(isas[run - 3]) != SIM_OK) {
+            hashes[run] = 0; /* not compiled in or not on this CPU */
+            continue;
+        }
+        SimGrainBuffer b;
+        tu_rain_150(&b, 11, 0.15);
+        static const SimWall walls[3] = {
+            {.x0 = 0.0, .y0 = 0.0, .x1 = 2.0, .y1 = 0.0, .species = 0, .motion = -1},
+            {.x0 = 0.0, .y0 = 0.0, .x1 = 0.0, .y1 = 3.0, .species = 0, .motion = -1},
+            {.x0 = 2.0, .y0 = 0.0, .x1 = 2.0, .y1 = 3.0, .species = 0, .motion = -1}};
+        SimWorldDef def = tu_def(1000.0, 1e5, 0.0);
+        def.time_step = 0.0;
+        def.steps_per_contact = 50.0;
+        def.gravity_y = -G0;
+        def.effects |= SIM_EFFECT_FRICTION;
+        def.materials[0].friction = 0.5;
+        def.materials[0].tangential_damping = 10.0;
+        def.materials[0].damping_mode = SIM_DAMPING_RESTITUTION;
+        def.materials[0].restitution = 0.5;
+        def.contact.onset = run == 2 ? SIM_ONSET_STEP : SIM_ONSET_EVENT;
+        def.wall_count = 3;
+        def.walls = walls;
+        SimWorld *w = tu_create(&def, &b);
+        TEST_ASSERT(w != NULL);
+        sim_world_set_threads(w, run == 1 ? 3 : 1);
+        TEST_ASSERT(tu_step(w, 2000) == 0);
+        TEST_ASSERT(sim_world_energy(w).contacts > 50);
+        hashes[run] = sim_world_hash(w);
+        sim_world_destroy(w);
+        sim_grain_buffer_free(&b);
+    }
+    TEST_ASSERT(sim_isa_set(before) == SIM_OK);
+    TEST_ASSERT(hashes[0] == hashes[1]);
+    TEST_ASSERT(hashes[0] != hashes[2]);
+    for (int run = 3; run < 6; ++run)
+        TEST_ASSERT(hashes[run] == 0 || hashes[run] == hashes[0]);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(same_seed_same_hash), TEST_CASE(different_seed_different_hash),
-          TEST_CASE(split_steps_same_hash), TEST_CASE(rng_stream))
+          TEST_CASE(split_steps_same_hash), TEST_CASE(rng_stream),
+          TEST_CASE(event_onset_threads_same_hash))
