@@ -9,6 +9,42 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Journal column presets (docs/figures.md#print-sizes): width x height, cm. */
+static const double preset_cm[][2] = {{8.5, 6.4}, {17.8, 8.9}};
+
+/* Print size: `size` (cm or in) or a `style` preset at `dpi` (300 when a size is given) sets the
+ * pixels; `font_size` points (8 pt with a preset) set the font at that dpi. */
+static void print_size(const SceneStyle *s, RenderStyle *r)
+{
+    int preset = s->preset >= 0 && s->preset <= 1 ? s->preset : -1;
+    double w_in = 0.0, h_in = 0.0;
+    if (!isnan(s->size_w)) {
+        double per_unit = s->size_inches == 1 ? 1.0 : 1.0 / 2.54;
+        w_in = s->size_w * per_unit;
+        h_in = s->size_h * per_unit;
+    } else if (preset >= 0) {
+        w_in = preset_cm[preset][0] / 2.54;
+        h_in = preset_cm[preset][1] / 2.54;
+    }
+    double dpi = !isnan(s->dpi) ? s->dpi : w_in > 0.0 ? 300.0 : 0.0;
+    r->dpi = dpi;
+    if (w_in > 0.0) {
+        r->width = (int)fmin(16384.0, fmax(16.0, round(w_in * dpi)));
+        r->height = (int)fmin(16384.0, fmax(16.0, round(h_in * dpi)));
+    }
+    double pt = !isnan(s->font_pt) ? s->font_pt : preset >= 0 ? 8.0 : 0.0;
+    if (pt > 0.0)
+        r->font_size = pt * (dpi > 0.0 ? dpi : 96.0) / 72.0;
+}
+
+void app_render_names(const Scene *scene, const char *names[SIM_MAX_SPECIES], RenderStyle *style)
+{
+    for (int k = 0; k < SIM_MAX_SPECIES; ++k)
+        names[k] = scene ? scene->species_names[k] : "";
+    style->species_names = names;
+    style->species_name_count = SIM_MAX_SPECIES;
+}
+
 RenderStyle app_render_style(const SceneStyle *s)
 {
     RenderStyle r = render_style_default();
@@ -53,6 +89,9 @@ RenderStyle app_render_style(const SceneStyle *s)
     if (s->title[0])
         r.title = s->title;
     r.reduced_units = s->reduced_units;
+    r.axes = s->axes > 0;
+    r.field_color = s->field_color > 0;
+    print_size(s, &r);
     /* colour-bar label and unit follow the quantity */
     static const char *const labels[][2] = {
         {"", ""}, {"contact force", "N"}, {"speed", "m/s"}, {"species", ""}, {"height", "m"}};
@@ -65,6 +104,7 @@ RenderStyle app_render_style(const SceneStyle *s)
 
 typedef struct Renderer {
     RenderMovie *movie;
+    const char *species[SIM_MAX_SPECIES]; /* the movie's legend names */
     int quiet;
     char comment[2048]; /* provenance of the figures (PNG Comment) */
 } Renderer;
@@ -86,7 +126,8 @@ static int hook_movie_open(void *context, const Scene *scene, int stage, const c
 {
     (void)stage;
     Renderer *renderer = context;
-    RenderStyle style = app_render_style(&scene->style);
+    RenderStyle style = app_render_style(&scene->style); /* axes off unless asked */
+    app_render_names(scene, renderer->species, &style);
     style.width += style.width % 2; /* H.264 needs even sizes */
     style.height += style.height % 2;
     RenderMovieDef def = {
@@ -243,6 +284,10 @@ static int hook_figure(void *context, const Scene *scene, const SceneFigure *fig
 {
     (void)context;
     RenderStyle style = app_render_style(&figure->style);
+    const char *species[SIM_MAX_SPECIES];
+    app_render_names(scene, species, &style);
+    if (figure->style.axes < 0)
+        style.axes = 1; /* figures have axes unless they say `axes = false` */
     RenderMeta meta = {
         .scene = scene->name, .seed = scene->seed, .comment = renderer_comment(context)};
     if (extras && extras->title)

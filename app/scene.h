@@ -60,6 +60,14 @@ typedef struct SceneStyle {
     double view_x0, view_y0, view_x1, view_y1; ///< world window, m
     char title[128];
     int reduced_units; ///< 1: labels in d and sqrt(d/g) (the scene's units = "reduced")
+    /* Publication figures (docs/figures.md). */
+    int axes;              ///< 0/1; unset: on for figures, off for movies
+    double size_w, size_h; ///< print size in size_unit (NaN = unset: width/height pixels)
+    int size_inches;       ///< size_unit: 0 cm, 1 in
+    double dpi;            ///< pixels per inch (NaN = unset: 300 with a size, else 96)
+    double font_pt;        ///< font size, points (NaN = unset)
+    int preset;            ///< style: -1 none, 0 single_column, 1 double_column
+    int field_color;       ///< 0/1: velocity-field arrows coloured by speed
 } SceneStyle;
 
 /// How a stage gets its grains.
