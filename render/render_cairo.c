@@ -194,7 +194,7 @@ void render_view_fit(const SimFrame *frame, const RenderStyle *style, RenderView
     double left = pad, right = pad;
     if (style->axes) {
         double unit = axis_unit(style, view->mean_diameter);
-        left += y_label_width(style, w, unit, fs) + 2.4 * fs;
+        left += y_label_width(style, w, unit, fs) + 2.7 * fs;
         right += 1.2 * fs; /* half the last x tick label */
     }
     int bar = colorbar_kind(style);
@@ -896,7 +896,7 @@ static void draw_colorbar(cairo_t *cr, const DrawScene *sc)
         return;
     }
     double w = round(1.1 * fs);
-    double h = round(fmax(2 * fs, v->plot_h - 1.8 * fs));
+    double h = round(fmax(2 * fs, v->plot_h - 2.4 * fs));
     double top = round(v->plot_y + v->plot_h - h);
     uint8_t lut[256][3];
     render_colormap_lut(s->colormap, lut);
@@ -929,7 +929,7 @@ static void draw_colorbar(cairo_t *cr, const DrawScene *sc)
     if (e != 0) {
         char offset[48];
         render_exponent_text(e, offset, sizeof offset);
-        render_text_draw(cr, x, top - 0.6 * fs, offset, 0, 1);
+        render_text_draw(cr, x, top - 1.0 * fs, offset, 0, 1);
     }
     /* Rotated label along the bar. */
     cairo_save(cr);
@@ -984,7 +984,7 @@ static void draw_axis(cairo_t *cr, const DrawScene *sc, int is_y)
         return;
     }
     cairo_save(cr);
-    cairo_translate(cr, x0 - tl - 0.7 * fs - widest, v->plot_y + 0.5 * v->plot_h);
+    cairo_translate(cr, x0 - tl - 1.0 * fs - widest, v->plot_y + 0.5 * v->plot_h);
     cairo_rotate(cr, -0.5 * SIM_PI);
     render_text_draw(cr, 0, 0, label, 0.5, 1);
     cairo_restore(cr);
