@@ -292,6 +292,15 @@ static int hook_figure(void *context, const Scene *scene, const SceneFigure *fig
         .scene = scene->name, .seed = scene->seed, .comment = renderer_comment(context)};
     if (extras && extras->title)
         style.title = extras->title;
+    if (extras && extras->field_vx && extras->field_vy) { /* a field on its own nodes */
+        style.node_vx = extras->field_vx;
+        style.node_vy = extras->field_vy;
+        style.node_nx = extras->field_nx;
+        style.node_ny = extras->field_ny;
+        style.node_x0 = extras->field_x0;
+        style.node_y0 = extras->field_y0;
+        style.node_cell = extras->field_cell;
+    }
     if (extras && extras->marks) { /* an arch: highlighted, zoomed inset, force chains */
         style.arch_ids = extras->marks;
         style.arch_inset = 1;

@@ -216,12 +216,16 @@ void render_view_fit(const SimFrame *frame, const RenderStyle *style, RenderView
     /* The plot rectangle is the world window at one scale (the aspect kept), centred in the room
      * the margins leave. */
     view->scale = fmin(room_w / (w[2] - w[0]), room_h / (w[3] - w[1]));
-    view->plot_w = fmax(1.0, (w[2] - w[0]) * view->scale);
-    view->plot_h = fmax(1.0, (w[3] - w[1]) * view->scale);
-    view->plot_x = left + 0.5 * (room_w - view->plot_w);
-    view->plot_y = top + 0.5 * (room_h - view->plot_h);
-    view->center_x = 0.5 * (w[0] + w[2]);
-    view->center_y = 0.5 * (w[1] + w[3]);
+    /* The window's middle lands at the room's middle; the rectangle is widened to whole pixels
+     * (so the Cairo and OSMesa drawers clip the same pixels) and the centre moved to match. */
+    double cx = left + 0.5 * room_w, cy = top + 0.5 * room_h;
+    double half_w = 0.5 * (w[2] - w[0]) * view->scale, half_h = 0.5 * (w[3] - w[1]) * view->scale;
+    view->plot_x = floor(cx - half_w + 1e-6);
+    view->plot_y = floor(cy - half_h + 1e-6);
+    view->plot_w = fmax(1.0, ceil(cx + half_w - 1e-6) - view->plot_x);
+    view->plot_h = fmax(1.0, ceil(cy + half_h - 1e-6) - view->plot_y);
+    view->center_x = 0.5 * (w[0] + w[2]) + (view->plot_x + 0.5 * view->plot_w - cx) / view->scale;
+    view->center_y = 0.5 * (w[1] + w[3]) - (view->plot_y + 0.5 * view->plot_h - cy) / view->scale;
 }
 
 void render_view_to_pixel(const RenderView *view, double x, double y, double *px, double *py)
