@@ -952,7 +952,7 @@ static void draw_axis(cairo_t *cr, const DrawScene *sc, int is_y)
     double half = 0.5 * (is_y ? v->plot_h : v->plot_w) / v->scale;
     double mid = is_y ? v->center_y : v->center_x;
     double lo = (mid - half) / unit, hi = (mid + half) / unit;
-    int target = is_y ? 5 : (int)fmin(8, fmax(3, v->plot_w / (6 * fs)));
+    int target = is_y ? 5 : (int)fmin(8, fmax(2, v->plot_w / (6 * fs)));
     double ticks[32];
     int n = render_axis_ticks(lo, hi, 0, target, ticks, 32);
     int e = render_tick_exponent(ticks, n);
