@@ -176,9 +176,17 @@ static double axes_room(const RenderStyle *s, double fs)
     return s->axes ? 3.1 * fs : 0.0;
 }
 
-static int has_key_row(const RenderStyle *s)
+static int has_arrow_key(const RenderStyle *s)
 {
-    return s->scale_bar || s->velocity_field || s->velocity_arrows || s->node_vx;
+    return s->velocity_field || s->velocity_arrows || s->node_vx;
+}
+
+/* Rows under the plot: the scale bar's, then the arrow key's (each on its own row, so neither
+ * label runs into the other on narrow figures). */
+static double key_rows(const RenderStyle *s, double fs)
+{
+    return (s->scale_bar ? 2.0 * fs : 0.0) +
+           (has_arrow_key(s) ? (s->scale_bar ? 1.6 : 2.0) * fs : 0.0);
 }
 
 void render_view_fit(const SimFrame *frame, const RenderStyle *style, RenderView *view)
@@ -190,7 +198,7 @@ void render_view_fit(const SimFrame *frame, const RenderStyle *style, RenderView
     view->mean_diameter = frame_mean_diameter(frame);
     /* Reserved margins: every annotation sits outside the plot rectangle (issue 20). */
     double top = pad + (style->title ? 1.8 * fs : 0) + (style->time_stamp ? 1.6 * fs : 0);
-    double bottom = pad + axes_room(style, fs) + (has_key_row(style) ? 2.0 * fs : 0);
+    double bottom = pad + axes_room(style, fs) + key_rows(style, fs);
     double left = pad, right = pad;
     if (style->axes) {
         double unit = axis_unit(style, view->mean_diameter);
@@ -1100,8 +1108,8 @@ static void draw_scale_bar(cairo_t *cr, const DrawScene *sc)
     render_text_draw(cr, v->plot_x + len + 0.6 * fs, y, text, 0, 0.5);
 }
 
-/* Reference arrow of the velocity field or arrows, right-aligned in the key row: a round speed
- * (m/s, or sqrt(g d) in reduced units) at the arrows' own scale. */
+/* Reference arrow of the velocity field or arrows, right-aligned under the scale bar's row: a round
+ * speed (m/s, or sqrt(g d) in reduced units) at the arrows' own scale. */
 static void draw_arrow_key(cairo_t *cr, const DrawScene *sc)
 {
     const RenderView *v = &sc->view;
@@ -1111,7 +1119,8 @@ static void draw_arrow_key(cairo_t *cr, const DrawScene *sc)
     int reduced = sc->style.reduced_units && sc->frame->time_scale > 0 && v->mean_diameter > 0;
     double unit = reduced ? v->mean_diameter / sc->frame->time_scale : 1.0; /* sqrt(g d) */
     double ref = render_arrow_reference(fmin(sc->key_vmax, 6 * fs / px_per_speed) / unit);
-    double len = ref * unit * px_per_speed, x1 = v->plot_x + v->plot_w, y = key_row_y(sc);
+    double len = ref * unit * px_per_speed, x1 = v->plot_x + v->plot_w;
+    double y = key_row_y(sc) + (sc->style.scale_bar ? 1.6 * fs : 0.0);
     if (!(len > 1))
         return;
     render_set_rgb(cr, sc->has_field ? field_rgb : arrow_rgb);
