@@ -111,6 +111,9 @@ typedef struct AppRender {
     /// Opens the movie of one stage at `path` and fills `sink` with its frame consumer.
     int (*movie_open)(void *context, const struct Scene *scene, int stage, const char *path,
                       SimFrameSink *sink, char *err, size_t err_size);
+    /// Seconds of encoding the open movie still owes once `frames_to_come` more frames are given
+    /// (0 when none is open); the runner's ETA counts it. NULL = not known.
+    double (*movie_encode_left)(void *context, long frames_to_come);
     /// Finishes the movie opened last (flush, rename). Called once per successful open.
     int (*movie_close)(void *context, char *err, size_t err_size);
     /// Writes one grain figure of a frame to `path` (format from the extension); extras may be

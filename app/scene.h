@@ -95,6 +95,7 @@ typedef struct SceneStage {
     unsigned effects;            ///< SimEffect bits in force (a subset of the scene's)
     unsigned motions;            ///< bit m: motion m is enabled in this stage
     int declares_motions;        ///< 1: some stage of the scene has a `motions` list
+    double movie_view[4];        ///< the stage movie's window [x0, y0, x1, y1], m; x1 <= x0: none
 } SceneStage;
 
 typedef struct SceneFigure {
@@ -132,6 +133,8 @@ typedef struct SceneOutput {
     int figure_count;
     SceneFigure figures[SCENE_MAX_FIGURES];
     AppDumpSpec dump[SCENE_MAX_STAGES]; ///< per-grain dumps of each stage (app/dump.h)
+    int movie_view; ///< 0 "grains": the grains' box at the stage start; 1 "container": all, per
+                    ///< frame
 } SceneOutput;
 
 typedef struct SceneWhere SceneWhere; /* private: field path -> file:line */

@@ -364,10 +364,12 @@ static int parse_trace(Loader *L, const config_setting_t *output)
 
 int loader_parse_output(Loader *L, const config_setting_t *root)
 {
-    static const char *const keys[] = {"frame_rate",    "fps",          "crf",   "movie",
-                                       "drawer",        "energy_every", "trace", "trace_every",
-                                       "t_star_length", "figures",      "dump",  NULL};
+    static const char *const keys[] = {
+        "frame_rate",   "fps",        "crf",         "movie",         "drawer",
+        "energy_every", "trace",      "trace_every", "t_star_length", "figures",
+        "dump",         "movie_view", NULL};
     static const char *const drawers[] = {"cairo", "osmesa", NULL};
+    static const char *const movie_views[] = {"grains", "container", NULL};
     Scene *scene = L->scene;
     SceneOutput *out = &scene->output;
     const config_setting_t *render, *output;
@@ -391,6 +393,7 @@ int loader_parse_output(Loader *L, const config_setting_t *root)
         app_config_positive(&L->p, output, "fps", out->fps) < 0 ||
         app_config_int(&L->p, output, "crf", &crf) < 0 ||
         app_config_choice(&L->p, output, "drawer", drawers, &out->drawer) < 0 ||
+        app_config_choice(&L->p, output, "movie_view", movie_views, &out->movie_view) < 0 ||
         app_config_number(&L->p, output, "energy_every", &out->energy_every) < 0 ||
         app_config_positive(&L->p, output, "energy_every", out->energy_every) < 0 ||
         app_config_number(&L->p, output, "trace_every", &out->trace_every) < 0 ||

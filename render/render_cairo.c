@@ -189,19 +189,17 @@ static double key_rows(const RenderStyle *s, double fs)
            (has_arrow_key(s) ? (s->scale_bar ? 1.6 : 2.0) * fs : 0.0);
 }
 
-void render_view_fit(const SimFrame *frame, const RenderStyle *style, RenderView *view)
+/* The reserved margins (top, bottom, left, right), pixels, for window w. */
+static void layout_margins(const SimFrame *frame, const RenderStyle *style, const double w[4],
+                           double d, double fs, double m[4])
 {
-    double fs = font_size_of(style);
-    double pad = 0.6 * fs, w[4];
-    world_window(frame, style, w);
-    view->font_size = fs;
-    view->mean_diameter = frame_mean_diameter(frame);
+    double pad = 0.6 * fs;
     /* Reserved margins: every annotation sits outside the plot rectangle (issue 20). */
     double top = pad + (style->title ? 1.8 * fs : 0) + (style->time_stamp ? 1.6 * fs : 0);
     double bottom = pad + axes_room(style, fs) + key_rows(style, fs);
     double left = pad, right = pad;
     if (style->axes) {
-        double unit = axis_unit(style, view->mean_diameter);
+        double unit = axis_unit(style, d);
         left += y_label_width(style, w, unit, fs) + 2.7 * fs;
         right += 1.2 * fs; /* half the last x tick label */
     }
@@ -219,6 +217,29 @@ void render_view_fit(const SimFrame *frame, const RenderStyle *style, RenderView
     }
     if (has_inset(frame, style))
         right += 0.3 * style->width;
+    m[0] = top;
+    m[1] = bottom;
+    m[2] = left;
+    m[3] = right;
+}
+
+int render_fit_height(const SimFrame *frame, const RenderStyle *style)
+{
+    double w[4], m[4], fs = font_size_of(style);
+    world_window(frame, style, w);
+    layout_margins(frame, style, w, frame_mean_diameter(frame), fs, m);
+    double room_w = fmax(1.0, style->width - m[2] - m[3]);
+    return (int)ceil(m[0] + m[1] + room_w * (w[3] - w[1]) / (w[2] - w[0]));
+}
+
+void render_view_fit(const SimFrame *frame, const RenderStyle *style, RenderView *view)
+{
+    double fs = font_size_of(style), w[4], m[4];
+    world_window(frame, style, w);
+    view->font_size = fs;
+    view->mean_diameter = frame_mean_diameter(frame);
+    layout_margins(frame, style, w, view->mean_diameter, fs, m);
+    double top = m[0], bottom = m[1], left = m[2], right = m[3];
     double room_w = fmax(1.0, style->width - left - right);
     double room_h = fmax(1.0, style->height - top - bottom);
     /* The plot rectangle is the world window at one scale (the aspect kept), centred in the room

@@ -190,7 +190,7 @@ class SceneStage(Structure):
                 ("settle_after", c_double), ("remove_count", c_int), ("remove_ids", _pu32),
                 ("movie", c_int), ("skip", c_int), ("gravity_x", c_double),
                 ("gravity_y", c_double), ("effects", c_uint), ("motions", c_uint),
-                ("declares_motions", c_int)]
+                ("declares_motions", c_int), ("movie_view", c_double * 4)]
 
 
 class Scene(Structure):
