@@ -12,6 +12,42 @@
 /* the scene loader refuses exactly the frame rates the encoder refuses */
 _Static_assert((long)SCENE_MAX_FPS == (long)RENDER_VIDEO_MAX_FPS, "SCENE_MAX_FPS");
 
+/* Journal column presets (docs/figures.md#print-sizes): width x height, cm. */
+static const double preset_cm[][2] = {{8.5, 6.4}, {17.8, 8.9}};
+
+/* Print size: `size` (cm or in) or a `style` preset at `dpi` (300 when a size is given) sets the
+ * pixels; `font_size` points (8 pt with a preset) set the font at that dpi. */
+static void print_size(const SceneStyle *s, RenderStyle *r)
+{
+    int preset = s->preset >= 0 && s->preset <= 1 ? s->preset : -1;
+    double w_in = 0.0, h_in = 0.0;
+    if (!isnan(s->size_w)) {
+        double per_unit = s->size_inches == 1 ? 1.0 : 1.0 / 2.54;
+        w_in = s->size_w * per_unit;
+        h_in = s->size_h * per_unit;
+    } else if (preset >= 0) {
+        w_in = preset_cm[preset][0] / 2.54;
+        h_in = preset_cm[preset][1] / 2.54;
+    }
+    double dpi = !isnan(s->dpi) ? s->dpi : w_in > 0.0 ? 300.0 : 0.0;
+    r->dpi = dpi;
+    if (w_in > 0.0) {
+        r->width = (int)fmin(16384.0, fmax(16.0, round(w_in * dpi)));
+        r->height = (int)fmin(16384.0, fmax(16.0, round(h_in * dpi)));
+    }
+    double pt = !isnan(s->font_pt) ? s->font_pt : preset >= 0 ? 8.0 : 0.0;
+    if (pt > 0.0)
+        r->font_size = pt * (dpi > 0.0 ? dpi : 96.0) / 72.0;
+}
+
+void app_render_names(const Scene *scene, const char *names[SIM_MAX_SPECIES], RenderStyle *style)
+{
+    for (int k = 0; k < SIM_MAX_SPECIES; ++k)
+        names[k] = scene ? scene->species_names[k] : "";
+    style->species_names = names;
+    style->species_name_count = SIM_MAX_SPECIES;
+}
+
 RenderStyle app_render_style(const SceneStyle *s)
 {
     RenderStyle r = render_style_default();
@@ -56,6 +92,9 @@ RenderStyle app_render_style(const SceneStyle *s)
     if (s->title[0])
         r.title = s->title;
     r.reduced_units = s->reduced_units;
+    r.axes = s->axes > 0;
+    r.field_color = s->field_color > 0;
+    print_size(s, &r);
     /* colour-bar label and unit follow the quantity */
     static const char *const labels[][2] = {
         {"", ""}, {"contact force", "N"}, {"speed", "m/s"}, {"species", ""}, {"height", "m"}};
@@ -68,8 +107,15 @@ RenderStyle app_render_style(const SceneStyle *s)
 
 typedef struct Renderer {
     RenderMovie *movie;
+    const char *species[SIM_MAX_SPECIES]; /* the movie's legend names */
     int quiet;
     char comment[2048]; /* provenance of the figures (PNG Comment) */
+    /* a movie that opens at its first frame (its view follows the grains) */
+    int pending, failed;
+    RenderMovieDef def;
+    RenderStyle style;
+    char path[SCENE_PATH_MAX + 64];
+    char message[512];
 } Renderer;
 
 static void hook_provenance(void *context, const char *comment)
@@ -84,22 +130,112 @@ static const char *renderer_comment(const void *context)
     return renderer && renderer->comment[0] ? renderer->comment : NULL;
 }
 
+/* The mobile grains' box in a frame (all grains when none is mobile; walls and fixed grains
+ * such as containers built of grains do not count) widened by 2 mean diameters and 5 % of its
+ * larger side on every side; a periodic frame spans its domain. 0, or -1 with no grains. */
+static int grains_window(const SimFrame *f, double w[4])
+{
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY, d = 0.0;
+    int n = 0;
+    for (int i = 0; i < f->count; ++i) {
+        if (f->mobile_count > 0 && f->flags && (f->flags[i] & SIM_GRAIN_FIXED))
+            continue;
+        ++n;
+        x0 = fmin(x0, f->x[i] - f->radius[i]);
+        x1 = fmax(x1, f->x[i] + f->radius[i]);
+        y0 = fmin(y0, f->y[i] - f->radius[i]);
+        y1 = fmax(y1, f->y[i] + f->radius[i]);
+        d += 2.0 * f->radius[i];
+    }
+    if (n == 0 || !(x1 > x0) || !(y1 > y0))
+        return -1;
+    double margin = 2.0 * d / n + 0.05 * fmax(x1 - x0, y1 - y0);
+    w[0] = x0 - margin;
+    w[1] = y0 - margin;
+    w[2] = x1 + margin;
+    w[3] = y1 + margin;
+    if (f->periodic && f->domain_x1 > f->domain_x0) {
+        w[0] = f->domain_x0;
+        w[2] = f->domain_x1;
+    }
+    return 0;
+}
+
+/* First frame of a following movie: its window (the stage's `view`, else the grains' box now),
+ * the height that fits that window at the movie's width (even, 64 to 4096 pixels), then the
+ * encoder. 0, or -1 with the message kept for movie_close. */
+static int movie_start(Renderer *renderer, const SimFrame *frame)
+{
+    RenderStyle *style = &renderer->style;
+    double w[4];
+    if (!(style->view_x1 > style->view_x0) && grains_window(frame, w) == 0) {
+        style->view_x0 = w[0];
+        style->view_y0 = w[1];
+        style->view_x1 = w[2];
+        style->view_y1 = w[3];
+    }
+    if (!(style->font_size > 0)) /* the default font follows the height: pin it first */
+        style->font_size = fmax(10.0, style->height / 48.0);
+    int height = render_fit_height(frame, style);
+    height = height < 64 ? 64 : height > 4096 ? 4096 : height;
+    style->height = height + height % 2;
+    renderer->pending = 0;
+    renderer->movie =
+        render_movie_open(&renderer->def, style, renderer->message, sizeof renderer->message);
+    renderer->failed = renderer->movie == NULL;
+    return renderer->failed ? -1 : 0;
+}
+
+static int lazy_consume(void *context, const SimFrame *frame)
+{
+    Renderer *renderer = context;
+    if (renderer->pending && movie_start(renderer, frame) != 0)
+        return -1;
+    if (!renderer->movie)
+        return -1;
+    return render_movie_frame(renderer->movie, frame) != 0;
+}
+
+/* A stage's movie: with a `view` of its own, or with output.movie_view = "grains" (the default)
+ * and no `render.view`, it follows the material: its window and height are set at its first
+ * frame (movie_start); else it opens now with the render style's fixed size and window. */
 static int hook_movie_open(void *context, const Scene *scene, int stage, const char *path,
                            SimFrameSink *sink, char *err, size_t err_size)
 {
-    (void)stage;
     Renderer *renderer = context;
-    RenderStyle style = app_render_style(&scene->style);
+    RenderStyle style = app_render_style(&scene->style); /* axes off unless asked */
+    app_render_names(scene, renderer->species, &style);
     style.width += style.width % 2; /* H.264 needs even sizes */
     style.height += style.height % 2;
+    snprintf(renderer->path, sizeof renderer->path, "%s", path);
     RenderMovieDef def = {
-        .path = path,
+        .path = renderer->path,
         .drawer = scene->output.drawer == 1 ? RENDER_DRAWER_OSMESA : RENDER_DRAWER_CAIRO,
         .fps = scene->output.fps,
         .crf = scene->output.crf,
         .quiet = 1,
         .meta = {.scene = scene->name, .seed = scene->seed},
     };
+    const double *own =
+        stage >= 0 && stage < scene->stage_count ? scene->stages[stage].movie_view : NULL;
+    int has_own = own && own[2] > own[0] && own[3] > own[1];
+    int fixed_view = style.view_x1 > style.view_x0 && style.view_y1 > style.view_y0;
+    if (has_own || (scene->output.movie_view == 0 && !fixed_view)) {
+        if (has_own) {
+            style.view_x0 = own[0];
+            style.view_y0 = own[1];
+            style.view_x1 = own[2];
+            style.view_y1 = own[3];
+        }
+        renderer->def = def;
+        renderer->style = style;
+        renderer->pending = 1;
+        renderer->failed = 0;
+        renderer->movie = NULL;
+        *sink = (SimFrameSink){.consume = lazy_consume, .context = renderer};
+        return 0;
+    }
+    renderer->pending = 0;
     renderer->movie = render_movie_open(&def, &style, err, err_size);
     if (!renderer->movie)
         return -1;
@@ -107,9 +243,21 @@ static int hook_movie_open(void *context, const Scene *scene, int stage, const c
     return 0;
 }
 
+static double hook_movie_encode_left(void *context, long frames_to_come)
+{
+    Renderer *renderer = context;
+    return renderer->movie ? render_movie_encode_left(renderer->movie, frames_to_come) : 0.0;
+}
+
 static int hook_movie_close(void *context, char *err, size_t err_size)
 {
     Renderer *renderer = context;
+    if (!renderer->movie) { /* a following movie that never opened */
+        snprintf(err, err_size, "%s",
+                 renderer->failed ? renderer->message : "no frames: the movie was not written");
+        renderer->pending = renderer->failed = 0;
+        return -1;
+    }
     int rc = render_movie_close(renderer->movie, err, err_size);
     renderer->movie = NULL;
     return rc == 0 ? 0 : -1;
@@ -246,10 +394,23 @@ static int hook_figure(void *context, const Scene *scene, const SceneFigure *fig
 {
     (void)context;
     RenderStyle style = app_render_style(&figure->style);
+    const char *species[SIM_MAX_SPECIES];
+    app_render_names(scene, species, &style);
+    if (figure->style.axes < 0)
+        style.axes = 1; /* figures have axes unless they say `axes = false` */
     RenderMeta meta = {
         .scene = scene->name, .seed = scene->seed, .comment = renderer_comment(context)};
     if (extras && extras->title)
         style.title = extras->title;
+    if (extras && extras->field_vx && extras->field_vy) { /* a field on its own nodes */
+        style.node_vx = extras->field_vx;
+        style.node_vy = extras->field_vy;
+        style.node_nx = extras->field_nx;
+        style.node_ny = extras->field_ny;
+        style.node_x0 = extras->field_x0;
+        style.node_y0 = extras->field_y0;
+        style.node_cell = extras->field_cell;
+    }
     if (extras && extras->marks) { /* an arch: highlighted, zoomed inset, force chains */
         style.arch_ids = extras->marks;
         style.arch_inset = 1;
@@ -370,6 +531,7 @@ const AppRender *app_render_glue(void)
         .context = &renderer,
         .movie_open = hook_movie_open,
         .movie_close = hook_movie_close,
+        .movie_encode_left = hook_movie_encode_left,
         .figure = hook_figure,
         .plot = hook_plot,
         .map = hook_map,

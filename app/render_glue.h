@@ -13,6 +13,10 @@
 const AppRender *app_render_glue(void);
 
 /// A scene's plain style data onto RenderStyle (unset fields keep the renderer's defaults).
+/// Axes are on only when the style says `axes = true` (movies); figures turn them on when unset.
 RenderStyle app_render_style(const SceneStyle *style);
+/// Points the style's legend names at the scene's species names (`names` must outlive the style;
+/// scene NULL: "species N").
+void app_render_names(const Scene *scene, const char *names[SIM_MAX_SPECIES], RenderStyle *style);
 
 #endif

@@ -97,6 +97,12 @@ typedef struct AppFigureExtras {
     /// max |x| of the clipped data (1 when that is 0).
     const AppPlotPanel *side_panels;
     int side_panel_count;
+    /// A velocity field on its own grid nodes, drawn as arrows on the nodes with a reference
+    /// arrow (m/s): node (i, j) at (field_x0 + (i + 1/2) field_cell, field_y0 + (j + 1/2)
+    /// field_cell), row-major j * field_nx + i; non-finite = no arrow. NULL = none.
+    const double *field_vx, *field_vy;
+    int field_nx, field_ny;
+    double field_x0, field_y0, field_cell; ///< m
 } AppFigureExtras;
 
 /// The renderer's services. Each returns 0, or -1 with a message in err.
@@ -105,6 +111,9 @@ typedef struct AppRender {
     /// Opens the movie of one stage at `path` and fills `sink` with its frame consumer.
     int (*movie_open)(void *context, const struct Scene *scene, int stage, const char *path,
                       SimFrameSink *sink, char *err, size_t err_size);
+    /// Seconds of encoding the open movie still owes once `frames_to_come` more frames are given
+    /// (0 when none is open); the runner's ETA counts it. NULL = not known.
+    double (*movie_encode_left)(void *context, long frames_to_come);
     /// Finishes the movie opened last (flush, rename). Called once per successful open.
     int (*movie_close)(void *context, char *err, size_t err_size);
     /// Writes one grain figure of a frame to `path` (format from the extension); extras may be

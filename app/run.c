@@ -521,6 +521,11 @@ static void progress(Run *run, int k, double elapsed, double duration, double ra
     if (!run->progress_tty)
         return;
     double left = duration > elapsed && rate > 0.0 ? (duration - elapsed) / rate : 0.0;
+    const AppRender *render = run->options->render;
+    if (stage->movie && render && render->movie_encode_left) { /* encoding runs alongside */
+        long to_come = (long)fmax(0.0, (duration - elapsed) * run->scene->output.frame_rate);
+        left = fmax(left, render->movie_encode_left(render->context, to_come));
+    }
     fprintf(stderr, "\r\033[Ksablier: %s  t = %.3f / %.3f s  %.3g steps/s  ETA %.0f s", stage->name,
             elapsed, duration, rate / sim_world_time_step(run->world), left);
     fflush(stderr);

@@ -680,6 +680,10 @@ static int command_render(int argc, char **argv)
     memset(&figure, 0, sizeof figure);
     figure.style = style_overlay(style, &over);
     RenderStyle render_style = app_render_style(&figure.style);
+    const char *species[SIM_MAX_SPECIES];
+    app_render_names(scene, species, &render_style);
+    if (figure.style.axes < 0)
+        render_style.axes = 1; /* a figure: axes unless `axes = false` */
     RenderMeta meta = {.scene = scene ? scene->name : "", .seed = scene ? scene->seed : 0};
     SimFrame frame;
     AppStateFrame columns;

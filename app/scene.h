@@ -60,6 +60,14 @@ typedef struct SceneStyle {
     double view_x0, view_y0, view_x1, view_y1; ///< world window, m
     char title[128];
     int reduced_units; ///< 1: labels in d and sqrt(d/g) (the scene's units = "reduced")
+    /* Publication figures (docs/figures.md). */
+    int axes;              ///< 0/1; unset: on for figures, off for movies
+    double size_w, size_h; ///< print size in size_unit (NaN = unset: width/height pixels)
+    int size_inches;       ///< size_unit: 0 cm, 1 in
+    double dpi;            ///< pixels per inch (NaN = unset: 300 with a size, else 96)
+    double font_pt;        ///< font size, points (NaN = unset)
+    int preset;            ///< style: -1 none, 0 single_column, 1 double_column
+    int field_color;       ///< 0/1: velocity-field arrows coloured by speed
 } SceneStyle;
 
 /// How a stage gets its grains.
@@ -87,6 +95,7 @@ typedef struct SceneStage {
     unsigned effects;            ///< SimEffect bits in force (a subset of the scene's)
     unsigned motions;            ///< bit m: motion m is enabled in this stage
     int declares_motions;        ///< 1: some stage of the scene has a `motions` list
+    double movie_view[4];        ///< the stage movie's window [x0, y0, x1, y1], m; x1 <= x0: none
 } SceneStage;
 
 typedef struct SceneFigure {
@@ -124,6 +133,8 @@ typedef struct SceneOutput {
     int figure_count;
     SceneFigure figures[SCENE_MAX_FIGURES];
     AppDumpSpec dump[SCENE_MAX_STAGES]; ///< per-grain dumps of each stage (app/dump.h)
+    int movie_view; ///< 0 "grains": the grains' box at the stage start; 1 "container": all, per
+                    ///< frame
 } SceneOutput;
 
 typedef struct SceneWhere SceneWhere; /* private: field path -> file:line */

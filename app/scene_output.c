@@ -8,17 +8,35 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const STYLE_KEYS[] = {"width",           "height",
-                                         "color_by",        "colormap",
-                                         "range",           "band_height",
-                                         "outline",         "orientation_tick",
-                                         "force_chains",    "chain_threshold",
-                                         "chain_width_max", "velocity_arrows",
-                                         "velocity_field",  "colorbar",
-                                         "time_stamp",      "scale_bar",
-                                         "background",      "fill",
-                                         "fixed_color",     "view",
-                                         "title",           NULL};
+static const char *const STYLE_KEYS[] = {"width",
+                                         "height",
+                                         "color_by",
+                                         "colormap",
+                                         "range",
+                                         "band_height",
+                                         "outline",
+                                         "orientation_tick",
+                                         "force_chains",
+                                         "chain_threshold",
+                                         "chain_width_max",
+                                         "velocity_arrows",
+                                         "velocity_field",
+                                         "colorbar",
+                                         "time_stamp",
+                                         "scale_bar",
+                                         "background",
+                                         "fill",
+                                         "fixed_color",
+                                         "view",
+                                         "title",
+                                         "axes",
+                                         "size",
+                                         "size_unit",
+                                         "dpi",
+                                         "font_size",
+                                         "style",
+                                         "field_color",
+                                         NULL};
 
 SceneStyle scene_style_unset(void)
 {
@@ -32,6 +50,8 @@ SceneStyle scene_style_unset(void)
     s.chain_threshold = s.chain_width_max = unset;
     s.view_x0 = s.view_y0 = s.view_x1 = s.view_y1 = unset;
     s.background_rgb = s.fill_rgb = s.fixed_rgb = -1;
+    s.axes = s.size_inches = s.preset = s.field_color = -1;
+    s.size_w = s.size_h = s.dpi = s.font_pt = unset;
     return s;
 }
 
@@ -62,6 +82,39 @@ static int get_pixels(Loader *L, const config_setting_t *g, const char *key, int
                                "`%s` must be in [16, 16384] pixels", key);
     *out = (int)v;
     return 1;
+}
+
+/* Print keys (docs/figures.md#print-sizes): axes, size [w, h] in size_unit at dpi, font_size in
+ * points, a journal-column style preset, field_color. */
+static int parse_print(Loader *L, const config_setting_t *g, SceneStyle *s)
+{
+    static const char *const units[] = {"cm", "in", NULL};
+    static const char *const presets[] = {"single_column", "double_column", NULL};
+    double size[2] = {0.0, 0.0};
+    if (app_config_bool(&L->p, g, "axes", &s->axes) < 0 ||
+        app_config_bool(&L->p, g, "field_color", &s->field_color) < 0 ||
+        app_config_choice(&L->p, g, "size_unit", units, &s->size_inches) < 0 ||
+        app_config_choice(&L->p, g, "style", presets, &s->preset) < 0 ||
+        app_config_number(&L->p, g, "dpi", &s->dpi) < 0 ||
+        app_config_number(&L->p, g, "font_size", &s->font_pt) < 0)
+        return -1;
+    if (app_config_member(g, "dpi") && !(s->dpi >= 50.0 && s->dpi <= 2400.0))
+        return app_config_fail(&L->p, app_config_member(g, "dpi"),
+                               "`dpi` must be in [50, 2400] pixels per inch");
+    if (app_config_member(g, "font_size") && !(s->font_pt >= 2.0 && s->font_pt <= 72.0))
+        return app_config_fail(&L->p, app_config_member(g, "font_size"),
+                               "`font_size` must be in [2, 72] points");
+    int found = app_config_vector(&L->p, g, "size", size, 2);
+    if (found < 0)
+        return -1;
+    if (found) {
+        if (!(size[0] > 0.0 && size[1] > 0.0 && size[0] <= 200.0 && size[1] <= 200.0))
+            return app_config_fail(&L->p, app_config_member(g, "size"),
+                                   "`size` = [width, height] must be in (0, 200] (cm or in)");
+        s->size_w = size[0];
+        s->size_h = size[1];
+    }
+    return 0;
 }
 
 static int parse_style(Loader *L, const config_setting_t *g, SceneStyle *s)
@@ -123,7 +176,7 @@ static int parse_style(Loader *L, const config_setting_t *g, SceneStyle *s)
         return -1;
     if (found)
         snprintf(s->title, sizeof s->title, "%s", title);
-    return 0;
+    return parse_print(L, g, s);
 }
 
 /* Figure keys override the scene's render keys. */
@@ -161,6 +214,19 @@ static void style_merge(SceneStyle *out, const SceneStyle *over)
         out->fixed_rgb = over->fixed_rgb;
     if (over->title[0])
         snprintf(out->title, sizeof out->title, "%s", over->title);
+    int *print_ints[] = {&out->axes, &out->size_inches, &out->preset, &out->field_color};
+    const int over_print[] = {over->axes, over->size_inches, over->preset, over->field_color};
+    for (size_t k = 0; k < sizeof over_print / sizeof over_print[0]; ++k)
+        if (over_print[k] >= 0)
+            *print_ints[k] = over_print[k];
+    if (!isnan(over->size_w)) {
+        out->size_w = over->size_w;
+        out->size_h = over->size_h;
+    }
+    if (!isnan(over->dpi))
+        out->dpi = over->dpi;
+    if (!isnan(over->font_pt))
+        out->font_pt = over->font_pt;
 }
 
 static int parse_figures(Loader *L, const config_setting_t *output)
@@ -298,10 +364,12 @@ static int parse_trace(Loader *L, const config_setting_t *output)
 
 int loader_parse_output(Loader *L, const config_setting_t *root)
 {
-    static const char *const keys[] = {"frame_rate",    "fps",          "crf",   "movie",
-                                       "drawer",        "energy_every", "trace", "trace_every",
-                                       "t_star_length", "figures",      "dump",  NULL};
+    static const char *const keys[] = {
+        "frame_rate",   "fps",        "crf",         "movie",         "drawer",
+        "energy_every", "trace",      "trace_every", "t_star_length", "figures",
+        "dump",         "movie_view", NULL};
     static const char *const drawers[] = {"cairo", "osmesa", NULL};
+    static const char *const movie_views[] = {"grains", "container", NULL};
     Scene *scene = L->scene;
     SceneOutput *out = &scene->output;
     const config_setting_t *render, *output;
@@ -325,6 +393,7 @@ int loader_parse_output(Loader *L, const config_setting_t *root)
         app_config_positive(&L->p, output, "fps", out->fps) < 0 ||
         app_config_int(&L->p, output, "crf", &crf) < 0 ||
         app_config_choice(&L->p, output, "drawer", drawers, &out->drawer) < 0 ||
+        app_config_choice(&L->p, output, "movie_view", movie_views, &out->movie_view) < 0 ||
         app_config_number(&L->p, output, "energy_every", &out->energy_every) < 0 ||
         app_config_positive(&L->p, output, "energy_every", out->energy_every) < 0 ||
         app_config_number(&L->p, output, "trace_every", &out->trace_every) < 0 ||

@@ -218,9 +218,9 @@ static int parse_forcing(Loader *L, const config_setting_t *g, int k)
 /* Stage k from group g (NULL: the single stage of a scene without `stages`). */
 static int parse_stage(Loader *L, const config_setting_t *g, int k, const config_setting_t *time)
 {
-    static const char *const keys[] = {"name",       "load",    "time", "settle",
-                                       "remove_ids", "movie",   "skip", "gravity",
-                                       "effects",    "motions", "dump", NULL};
+    static const char *const keys[] = {"name",  "load", "time",    "settle",  "remove_ids",
+                                       "movie", "skip", "gravity", "effects", "motions",
+                                       "dump",  "view", NULL};
     Scene *scene = L->scene;
     SceneStage *stage = &scene->stages[k];
     char what[96];
@@ -249,6 +249,14 @@ static int parse_stage(Loader *L, const config_setting_t *g, int k, const config
     if (app_config_bool(&L->p, g, "movie", &stage->movie) < 0 ||
         app_config_bool(&L->p, g, "skip", &stage->skip) < 0)
         return -1;
+    /* view = [x0, y0, x1, y1]: the window of the stage's movie (docs/figures.md#movies) */
+    int found = g ? app_config_vector(&L->p, g, "view", stage->movie_view, 4) : 0;
+    if (found < 0)
+        return -1;
+    double *v = stage->movie_view;
+    if (found && !(v[2] > v[0] && v[3] > v[1]))
+        return app_config_fail(&L->p, app_config_member(g, "view"),
+                               "`view` = [x0, y0, x1, y1] needs x1 > x0, y1 > y0");
     return 0;
 }
 

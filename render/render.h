@@ -66,6 +66,10 @@ typedef struct RenderView {
 
 /// Lays out a frame: plot rectangle (room for title and colour bar) and world window.
 void render_view_fit(const SimFrame *frame, const RenderStyle *style, RenderView *view);
+/// The image height at which the style's window, at style->width, fills the width exactly
+/// with the style's margins (for movies sized to their view; pin style->font_size first, the
+/// default font follows the height).
+int render_fit_height(const SimFrame *frame, const RenderStyle *style);
 /// World (m) to pixel coordinates.
 void render_view_to_pixel(const RenderView *view, double x, double y, double *px, double *py);
 /// The time stamp's text (style->time_stamp): "t = 0.1200 s    t* = 3.46" (t* with the frame's
@@ -255,6 +259,10 @@ RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *sty
 int render_movie_frame(RenderMovie *movie, const SimFrame *frame);
 /// Flushes the encoder, writes the trailer, renames the temporary file. 0 on success.
 int render_movie_close(RenderMovie *movie, char *err, size_t err_size);
+/// Encoding time still owed, s: the frames queued, `frames_to_come` more and the ~1 s of frames
+/// the encoder holds until the flush at close, at the mean encoding time per frame so far (0
+/// before the first frame is encoded). Progress ETAs add it (issue 20 part 5).
+double render_movie_encode_left(RenderMovie *movie, long frames_to_come);
 /// A SimFrameSink that feeds render_movie_frame.
 SimFrameSink render_movie_sink(RenderMovie *movie);
 

@@ -60,62 +60,201 @@ static double frame_mean_diameter(const SimFrame *frame)
     return n ? sum / n : 0;
 }
 
+/* The world window a frame shows: the style's view, else every grain and wall with a 2 % margin
+ * (a periodic frame: its domain across). */
+static void world_window(const SimFrame *frame, const RenderStyle *style, double w[4])
+{
+    if (style->view_x1 > style->view_x0 && style->view_y1 > style->view_y0) {
+        w[0] = style->view_x0;
+        w[1] = style->view_y0;
+        w[2] = style->view_x1;
+        w[3] = style->view_y1;
+        return;
+    }
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (int i = 0; i < frame->count; ++i) {
+        double r = frame->radius[i];
+        x0 = fmin(x0, frame->x[i] - r);
+        x1 = fmax(x1, frame->x[i] + r);
+        y0 = fmin(y0, frame->y[i] - r);
+        y1 = fmax(y1, frame->y[i] + r);
+    }
+    for (int k = 0; k < frame->wall_count; ++k) {
+        double wx0, wy0, wx1, wy1;
+        sim_wall_bounds(&frame->walls[k], &wx0, &wy0, &wx1, &wy1);
+        x0 = fmin(x0, wx0);
+        x1 = fmax(x1, wx1);
+        y0 = fmin(y0, wy0);
+        y1 = fmax(y1, wy1);
+    }
+    if (!(x1 > x0) || !(y1 > y0)) {
+        x0 = y0 = 0;
+        x1 = y1 = 1;
+    }
+    double margin = 0.02 * fmax(x1 - x0, y1 - y0);
+    y0 -= margin;
+    y1 += margin;
+    if (frame->periodic && frame->domain_x1 > frame->domain_x0) {
+        x0 = frame->domain_x0;
+        x1 = frame->domain_x1;
+    } else {
+        x0 -= margin;
+        x1 += margin;
+    }
+    w[0] = x0;
+    w[1] = y0;
+    w[2] = x1;
+    w[3] = y1;
+}
+
+/* Metres per axis unit: the mean diameter in reduced units, else 1. */
+static double axis_unit(const RenderStyle *style, double d)
+{
+    return style->reduced_units && d > 0 ? d : 1.0;
+}
+
+/* Highest species index among mobile grains (the legend's last entry), at most 15. */
+static int legend_top(const SimFrame *frame)
+{
+    int top = 0;
+    for (int i = 0; i < frame->count; ++i)
+        if (!is_fixed(frame, i) && frame->species && frame->species[i] > top)
+            top = frame->species[i];
+    return top > 15 ? 15 : top;
+}
+
+static void species_label(const RenderStyle *style, int k, char *buf, size_t size)
+{
+    const char *name =
+        k < style->species_name_count && style->species_names ? style->species_names[k] : NULL;
+    if (name && *name)
+        snprintf(buf, size, "%s", name);
+    else
+        snprintf(buf, size, "species %d", k);
+}
+
+/* Width of text estimated without a Cairo context: DejaVu Sans averages 0.62 em per character
+ * of labels and digits (layout only; drawing measures). UTF-8 continuation bytes do not count. */
+static double text_estimate(const char *text, double fs)
+{
+    int n = 0;
+    for (const unsigned char *c = (const unsigned char *)text; *c; ++c)
+        n += (*c & 0xc0) != 0x80;
+    return 0.62 * fs * n;
+}
+
+/* Width of the y axis's tick labels, pixels. */
+static double y_label_width(const RenderStyle *style, const double w[4], double unit, double fs)
+{
+    double ticks[32];
+    int n = render_axis_ticks(w[1] / unit, w[3] / unit, 0, 5, ticks, 32);
+    int e = render_tick_exponent(ticks, n);
+    double step = (n > 1 ? ticks[1] - ticks[0] : (w[3] - w[1]) / unit) / pow(10, e), widest = 0;
+    for (int k = 0; k < n; ++k) {
+        char text[40];
+        render_format_tick(ticks[k] / pow(10, e), step, 0, text, sizeof text);
+        widest = fmax(widest, text_estimate(text, fs));
+    }
+    (void)style;
+    return widest;
+}
+
+static int has_inset(const SimFrame *frame, const RenderStyle *style)
+{
+    if (!style->arch_inset || !style->arch_ids)
+        return 0;
+    for (int i = 0; i < frame->count; ++i)
+        if (style->arch_ids[i] >= 0)
+            return 1;
+    return 0;
+}
+
+/* Room under the plot: tick labels and axis label, then one row for the scale bar and the
+ * reference arrow. */
+static double axes_room(const RenderStyle *s, double fs)
+{
+    return s->axes ? 3.1 * fs : 0.0;
+}
+
+static int has_arrow_key(const RenderStyle *s)
+{
+    return s->velocity_field || s->velocity_arrows || s->node_vx;
+}
+
+/* Rows under the plot: the scale bar's, then the arrow key's (each on its own row, so neither
+ * label runs into the other on narrow figures). */
+static double key_rows(const RenderStyle *s, double fs)
+{
+    return (s->scale_bar ? 2.0 * fs : 0.0) +
+           (has_arrow_key(s) ? (s->scale_bar ? 1.6 : 2.0) * fs : 0.0);
+}
+
+/* The reserved margins (top, bottom, left, right), pixels, for window w. */
+static void layout_margins(const SimFrame *frame, const RenderStyle *style, const double w[4],
+                           double d, double fs, double m[4])
+{
+    double pad = 0.6 * fs;
+    /* Reserved margins: every annotation sits outside the plot rectangle (issue 20). */
+    double top = pad + (style->title ? 1.8 * fs : 0) + (style->time_stamp ? 1.6 * fs : 0);
+    double bottom = pad + axes_room(style, fs) + key_rows(style, fs);
+    double left = pad, right = pad;
+    if (style->axes) {
+        double unit = axis_unit(style, d);
+        left += y_label_width(style, w, unit, fs) + 2.7 * fs;
+        right += 1.2 * fs; /* half the last x tick label */
+    }
+    int bar = colorbar_kind(style);
+    if (bar == 1)
+        right += 7.5 * fs;
+    if (bar == 2) {
+        double widest = text_estimate("species", fs);
+        for (int k = 0, top_k = legend_top(frame); k <= top_k; ++k) {
+            char text[96];
+            species_label(style, k, text, sizeof text);
+            widest = fmax(widest, text_estimate(text, fs) + 1.5 * fs);
+        }
+        right += 1.2 * fs + widest;
+    }
+    if (has_inset(frame, style))
+        right += 0.3 * style->width;
+    m[0] = top;
+    m[1] = bottom;
+    m[2] = left;
+    m[3] = right;
+}
+
+int render_fit_height(const SimFrame *frame, const RenderStyle *style)
+{
+    double w[4], m[4], fs = font_size_of(style);
+    world_window(frame, style, w);
+    layout_margins(frame, style, w, frame_mean_diameter(frame), fs, m);
+    double room_w = fmax(1.0, style->width - m[2] - m[3]);
+    return (int)ceil(m[0] + m[1] + room_w * (w[3] - w[1]) / (w[2] - w[0]));
+}
+
 void render_view_fit(const SimFrame *frame, const RenderStyle *style, RenderView *view)
 {
-    double fs = font_size_of(style);
-    double pad = 0.6 * fs;
-    double top = style->title ? 2.0 * fs : 0;
-    int bar = colorbar_kind(style);
-    double right = bar == 1 ? 7.5 * fs : bar == 2 ? 8.0 * fs : 0;
+    double fs = font_size_of(style), w[4], m[4];
+    world_window(frame, style, w);
     view->font_size = fs;
-    view->plot_x = pad;
-    view->plot_y = top + pad;
-    view->plot_w = fmax(1.0, style->width - 2 * pad - right);
-    view->plot_h = fmax(1.0, style->height - top - 2 * pad);
     view->mean_diameter = frame_mean_diameter(frame);
-
-    double x0, y0, x1, y1;
-    if (style->view_x1 > style->view_x0 && style->view_y1 > style->view_y0) {
-        x0 = style->view_x0;
-        x1 = style->view_x1;
-        y0 = style->view_y0;
-        y1 = style->view_y1;
-    } else {
-        x0 = y0 = INFINITY;
-        x1 = y1 = -INFINITY;
-        for (int i = 0; i < frame->count; ++i) {
-            double r = frame->radius[i];
-            x0 = fmin(x0, frame->x[i] - r);
-            x1 = fmax(x1, frame->x[i] + r);
-            y0 = fmin(y0, frame->y[i] - r);
-            y1 = fmax(y1, frame->y[i] + r);
-        }
-        for (int k = 0; k < frame->wall_count; ++k) {
-            double wx0, wy0, wx1, wy1;
-            sim_wall_bounds(&frame->walls[k], &wx0, &wy0, &wx1, &wy1);
-            x0 = fmin(x0, wx0);
-            x1 = fmax(x1, wx1);
-            y0 = fmin(y0, wy0);
-            y1 = fmax(y1, wy1);
-        }
-        if (!(x1 > x0) || !(y1 > y0)) {
-            x0 = y0 = 0;
-            x1 = y1 = 1;
-        }
-        double margin = 0.02 * fmax(x1 - x0, y1 - y0);
-        y0 -= margin;
-        y1 += margin;
-        if (frame->periodic && frame->domain_x1 > frame->domain_x0) {
-            x0 = frame->domain_x0;
-            x1 = frame->domain_x1;
-        } else {
-            x0 -= margin;
-            x1 += margin;
-        }
-    }
-    view->scale = fmin(view->plot_w / (x1 - x0), view->plot_h / (y1 - y0));
-    view->center_x = 0.5 * (x0 + x1);
-    view->center_y = 0.5 * (y0 + y1);
+    layout_margins(frame, style, w, view->mean_diameter, fs, m);
+    double top = m[0], bottom = m[1], left = m[2], right = m[3];
+    double room_w = fmax(1.0, style->width - left - right);
+    double room_h = fmax(1.0, style->height - top - bottom);
+    /* The plot rectangle is the world window at one scale (the aspect kept), centred in the room
+     * the margins leave. */
+    view->scale = fmin(room_w / (w[2] - w[0]), room_h / (w[3] - w[1]));
+    /* The window's middle lands at the room's middle; the rectangle is widened to whole pixels
+     * (so the Cairo and OSMesa drawers clip the same pixels) and the centre moved to match. */
+    double cx = left + 0.5 * room_w, cy = top + 0.5 * room_h;
+    double half_w = 0.5 * (w[2] - w[0]) * view->scale, half_h = 0.5 * (w[3] - w[1]) * view->scale;
+    view->plot_x = floor(cx - half_w + 1e-6);
+    view->plot_y = floor(cy - half_h + 1e-6);
+    view->plot_w = fmax(1.0, ceil(cx + half_w - 1e-6) - view->plot_x);
+    view->plot_h = fmax(1.0, ceil(cy + half_h - 1e-6) - view->plot_y);
+    view->center_x = 0.5 * (w[0] + w[2]) + (view->plot_x + 0.5 * view->plot_w - cx) / view->scale;
+    view->center_y = 0.5 * (w[1] + w[3]) - (view->plot_y + 0.5 * view->plot_h - cy) / view->scale;
 }
 
 void render_view_to_pixel(const RenderView *view, double x, double y, double *px, double *py)
@@ -162,8 +301,9 @@ typedef struct DrawScene {
     int chain_count;
     RenderField field;
     int has_field;
-    double field_arrow_scale; /* s; auto: the fastest node gets an arrow of 0.9 cell */
-    int *arch_order;          /* arch grains sorted by (arch id, x) */
+    double field_arrow_scale;   /* s; auto: the fastest node gets an arrow of 0.9 cell */
+    double key_vmax, key_scale; /* the arrow key: fastest arrow, m/s; arrow length per speed, s */
+    int *arch_order;            /* arch grains sorted by (arch id, x) */
     int arch_count;
     double period;
     double *heads; /* arrow heads, 6 doubles per arrow (grain arrows or field arrows) */
@@ -206,6 +346,33 @@ static int cmp_arch(const DrawScene *sc, int a, int b)
     if (x[a] != x[b])
         return x[a] < x[b] ? -1 : 1;
     return a < b ? -1 : a > b;
+}
+
+/* A field given on its own nodes (style->node_vx, node_vy) as a RenderField: non-finite nodes
+ * are masked (packing 0), the others drawn as they are (packing 1). */
+static int node_field(const RenderStyle *s, RenderField *out)
+{
+    size_t n = (size_t)s->node_nx * (size_t)s->node_ny;
+    memset(out, 0, sizeof *out);
+    out->vx = calloc(n, sizeof *out->vx);
+    out->vy = calloc(n, sizeof *out->vy);
+    out->packing = calloc(n, sizeof *out->packing);
+    if (!out->vx || !out->vy || !out->packing) {
+        render_field_free(out);
+        return -1;
+    }
+    out->nx = s->node_nx;
+    out->ny = s->node_ny;
+    out->x0 = s->node_x0;
+    out->y0 = s->node_y0;
+    out->cell = s->node_cell;
+    for (size_t k = 0; k < n; ++k)
+        if (isfinite(s->node_vx[k]) && isfinite(s->node_vy[k])) {
+            out->vx[k] = s->node_vx[k];
+            out->vy[k] = s->node_vy[k];
+            out->packing[k] = 1;
+        }
+    return 0;
 }
 
 static void draw_scene_free(DrawScene *sc)
@@ -255,7 +422,12 @@ static int draw_scene_init(DrawScene *sc, const SimFrame *frame, const RenderSty
         sort_indices(sc->arch_order, sc->arch_count, tmp, sc, cmp_arch);
     }
     free(tmp);
-    if (sc->style.velocity_field) {
+    if (sc->style.node_vx && sc->style.node_vy && sc->style.node_nx > 0 && sc->style.node_ny > 0 &&
+        sc->style.node_cell > 0) {
+        if (node_field(&sc->style, &sc->field) != 0)
+            return -1;
+        sc->has_field = 1;
+    } else if (sc->style.velocity_field) {
         const RenderView *v = &sc->view;
         RenderFieldDef def = {
             .x0 = v->center_x - 0.5 * v->plot_w / v->scale,
@@ -267,18 +439,22 @@ static int draw_scene_init(DrawScene *sc, const SimFrame *frame, const RenderSty
             .kernel = (RenderKernel)sc->style.field_kernel,
             .mass_power = 2,
         };
-        if (render_velocity_field(frame, &def, &sc->field) == 0) {
-            sc->has_field = 1;
-            sc->field_arrow_scale = style->arrow_scale;
-            if (!(sc->field_arrow_scale > 0)) {
-                double vmax = 0;
-                size_t nodes = (size_t)sc->field.nx * (size_t)sc->field.ny;
-                for (size_t k = 0; k < nodes; ++k)
-                    if (sc->field.packing[k] >= 0.1)
-                        vmax = fmax(vmax, hypot(sc->field.vx[k], sc->field.vy[k]));
-                sc->field_arrow_scale = vmax > 0 ? 0.9 * def.cell / vmax : 0;
-            }
-        }
+        sc->has_field = render_velocity_field(frame, &def, &sc->field) == 0;
+    }
+    if (sc->has_field) {
+        sc->field_arrow_scale = style->arrow_scale;
+        size_t nodes = (size_t)sc->field.nx * (size_t)sc->field.ny;
+        for (size_t k = 0; k < nodes; ++k)
+            if (sc->field.packing[k] >= 0.1)
+                sc->key_vmax = fmax(sc->key_vmax, hypot(sc->field.vx[k], sc->field.vy[k]));
+        if (!(sc->field_arrow_scale > 0))
+            sc->field_arrow_scale = sc->key_vmax > 0 ? 0.9 * sc->field.cell / sc->key_vmax : 0;
+        sc->key_scale = sc->field_arrow_scale;
+    } else if (sc->style.velocity_arrows && frame->vx && frame->vy) {
+        for (int i = 0; i < frame->count; ++i)
+            if (!is_fixed(frame, i))
+                sc->key_vmax = fmax(sc->key_vmax, hypot(frame->vx[i], frame->vy[i]));
+        sc->key_scale = sc->style.arrow_scale;
     }
     /* The drawers return nothing: what they need is allocated here, where failing is reported. */
     size_t arrows = 0;
@@ -554,6 +730,11 @@ static void draw_field(cairo_t *cr, const DrawScene *sc, const RenderView *v)
                                  &px, &py);
             /* Centred on the node. */
             arrow_path(cr, px - 0.5 * dx, py - 0.5 * dy, dx, dy, lw, heads, &n);
+            if (sc->style.field_color) { /* one colour per arrow: its speed on the colour map */
+                double t = sc->key_vmax > 0 ? hypot(fd->vx[k], fd->vy[k]) / sc->key_vmax : 0;
+                stroke_arrows(cr, heads, n, lw, render_colormap_rgb(sc->style.colormap, t), 1);
+                n = 0;
+            }
         }
     }
     stroke_arrows(cr, heads, n, lw, field_rgb, 1);
@@ -620,7 +801,7 @@ static void draw_world(cairo_t *cr, const DrawScene *sc, const RenderView *v)
     cairo_restore(cr);
 }
 
-/* Zoomed copy of the arches' neighbourhood in the top-right corner of the plot. */
+/* Zoomed copy of the arches' neighbourhood in the right margin, beside the plot. */
 static void draw_inset(cairo_t *cr, const DrawScene *sc)
 {
     const SimFrame *f = sc->frame;
@@ -640,15 +821,16 @@ static void draw_inset(cairo_t *cr, const DrawScene *sc)
     y0 -= pad;
     y1 += pad;
     const RenderView *mv = &sc->view;
-    double iw = 0.4 * mv->plot_w, ih = iw * (y1 - y0) / (x1 - x0);
-    if (ih > 0.5 * mv->plot_h) {
-        ih = 0.5 * mv->plot_h;
+    /* In its own column at the right edge (render_view_fit reserves it), never over the grains. */
+    double gap = 0.6 * mv->font_size;
+    double iw = 0.3 * sc->style.width - gap, ih = iw * (y1 - y0) / (x1 - x0);
+    if (ih > mv->plot_h) {
+        ih = mv->plot_h;
         iw = ih * (x1 - x0) / (y1 - y0);
     }
-    double gap = 0.6 * mv->font_size;
     RenderView inset = *mv;
-    inset.plot_x = mv->plot_x + mv->plot_w - iw - gap;
-    inset.plot_y = mv->plot_y + gap;
+    inset.plot_x = sc->style.width - gap - iw;
+    inset.plot_y = mv->plot_y;
     inset.plot_w = iw;
     inset.plot_h = ih;
     inset.scale = iw / (x1 - x0);
@@ -686,13 +868,6 @@ static void draw_inset(cairo_t *cr, const DrawScene *sc)
 
 /* ---------------------------------------------------------------- annotations */
 
-static void label_box(cairo_t *cr, double x, double y, double w, double h)
-{
-    cairo_set_source_rgba(cr, 1, 1, 1, 0.82);
-    cairo_rectangle(cr, x, y, w, h);
-    cairo_fill(cr);
-}
-
 static void default_label(const RenderStyle *s, const char **label, const char **unit)
 {
     *label = s->colorbar_label;
@@ -707,6 +882,31 @@ static void default_label(const RenderStyle *s, const char **label, const char *
                                                     : "";
 }
 
+/* Species legend: a disk of each species' colour and its name, right of the plot. */
+static void draw_legend(cairo_t *cr, const DrawScene *sc, double x, const char *title)
+{
+    const RenderView *v = &sc->view;
+    double fs = v->font_size;
+    double y = v->plot_y + 0.5 * fs;
+    render_set_rgb(cr, text_rgb);
+    render_text_draw(cr, x, y, title, 0, 0);
+    for (int k = 0, top = legend_top(sc->frame); k <= top; ++k) {
+        double cy = y + (k + 1.6) * 1.6 * fs;
+        render_set_rgb(cr, outline_rgb);
+        cairo_arc(cr, x + 0.5 * fs, cy, 0.5 * fs, 0, 2 * SIM_PI);
+        cairo_fill(cr);
+        render_set_rgb(cr, render_species_rgb(k));
+        cairo_arc(cr, x + 0.5 * fs, cy, 0.5 * fs - 1, 0, 2 * SIM_PI);
+        cairo_fill(cr);
+        char text[96];
+        species_label(&sc->style, k, text, sizeof text);
+        render_set_rgb(cr, text_rgb);
+        render_text_draw(cr, x + 1.5 * fs, cy, text, 0, 0.5);
+    }
+}
+
+/* Continuous colour bar right of the plot: ticks at round values, one "x10^e" offset above
+ * the bar when the values need it, the quantity and its unit along the bar. */
 static void draw_colorbar(cairo_t *cr, const DrawScene *sc)
 {
     const RenderView *v = &sc->view;
@@ -725,33 +925,12 @@ static void draw_colorbar(cairo_t *cr, const DrawScene *sc)
     double x = round(v->plot_x + v->plot_w + 1.2 * fs);
     render_text_font(cr, fs, 0);
     if (kind == 2) {
-        int top = 0;
-        for (int i = 0; i < sc->frame->count; ++i)
-            if (!is_fixed(sc->frame, i) && sc->frame->species && sc->frame->species[i] > top)
-                top = sc->frame->species[i];
-        if (top > 15)
-            top = 15;
-        double y = v->plot_y + fs;
-        render_set_rgb(cr, text_rgb);
-        render_text_draw(cr, x, y, title, 0, 0);
-        for (int k = 0; k <= top; ++k) {
-            double cy = y + (k + 1.6) * 1.6 * fs;
-            render_set_rgb(cr, outline_rgb);
-            cairo_arc(cr, x + 0.5 * fs, cy, 0.5 * fs, 0, 2 * SIM_PI);
-            cairo_fill(cr);
-            render_set_rgb(cr, render_species_rgb(k));
-            cairo_arc(cr, x + 0.5 * fs, cy, 0.5 * fs - 1, 0, 2 * SIM_PI);
-            cairo_fill(cr);
-            char text[32];
-            snprintf(text, sizeof text, "%d", k);
-            render_set_rgb(cr, text_rgb);
-            render_text_draw(cr, x + 1.5 * fs, cy, text, 0, 0.5);
-        }
+        draw_legend(cr, sc, x, title);
         return;
     }
     double w = round(1.1 * fs);
-    double h = round(0.8 * v->plot_h);
-    double top = round(v->plot_y + 0.5 * (v->plot_h - h));
+    double h = round(fmax(2 * fs, v->plot_h - 2.4 * fs));
+    double top = round(v->plot_y + v->plot_h - h);
     uint8_t lut[256][3];
     render_colormap_lut(s->colormap, lut);
     for (int row = 0; row < (int)h; ++row) {
@@ -767,7 +946,9 @@ static void draw_colorbar(cairo_t *cr, const DrawScene *sc)
     cairo_stroke(cr);
     double ticks[16];
     int n = render_axis_ticks(sc->lo, sc->hi, 0, 5, ticks, 16);
-    double step = n > 1 ? ticks[1] - ticks[0] : sc->hi - sc->lo;
+    int e = render_tick_exponent(ticks, n);
+    double factor = pow(10, -e);
+    double step = (n > 1 ? ticks[1] - ticks[0] : sc->hi - sc->lo) * factor;
     double widest = 0;
     for (int k = 0; k < n; ++k) {
         double y = top + h - (ticks[k] - sc->lo) / (sc->hi - sc->lo) * h;
@@ -775,8 +956,13 @@ static void draw_colorbar(cairo_t *cr, const DrawScene *sc)
         cairo_line_to(cr, x + w + 0.35 * fs, y);
         cairo_stroke(cr);
         char text[32];
-        render_format_tick(ticks[k], step, 0, text, sizeof text);
+        render_format_tick(ticks[k] * factor, step, 0, text, sizeof text);
         widest = fmax(widest, render_text_draw(cr, x + w + 0.55 * fs, y, text, 0, 0.5));
+    }
+    if (e != 0) {
+        char offset[48];
+        render_exponent_text(e, offset, sizeof offset);
+        render_text_draw(cr, x, top - 1.0 * fs, offset, 0, 1);
     }
     /* Rotated label along the bar. */
     cairo_save(cr);
@@ -784,6 +970,72 @@ static void draw_colorbar(cairo_t *cr, const DrawScene *sc)
     cairo_rotate(cr, -0.5 * SIM_PI);
     render_text_draw(cr, 0, 0, title, 0.5, 0);
     cairo_restore(cr);
+}
+
+/* One axis of the frame: ticks outward at round values of the axis unit (m, or d in reduced
+ * units), labels, and the axis title with the unit (and a x10^e offset when needed). */
+static void draw_axis(cairo_t *cr, const DrawScene *sc, int is_y)
+{
+    const RenderView *v = &sc->view;
+    double fs = v->font_size, unit = axis_unit(&sc->style, v->mean_diameter);
+    double half = 0.5 * (is_y ? v->plot_h : v->plot_w) / v->scale;
+    double mid = is_y ? v->center_y : v->center_x;
+    double lo = (mid - half) / unit, hi = (mid + half) / unit;
+    int target = is_y ? 5 : (int)fmin(8, fmax(2, v->plot_w / (6 * fs)));
+    double ticks[32];
+    int n = render_axis_ticks(lo, hi, 0, target, ticks, 32);
+    int e = render_tick_exponent(ticks, n);
+    double factor = pow(10, -e), step = (n > 1 ? ticks[1] - ticks[0] : hi - lo) * factor;
+    double tl = 0.35 * fs, widest = 0;
+    double x0 = v->plot_x, y1 = v->plot_y + v->plot_h;
+    for (int k = 0; k < n; ++k) {
+        double px, py;
+        render_view_to_pixel(v, is_y ? mid : ticks[k] * unit, is_y ? ticks[k] * unit : mid, &px,
+                             &py);
+        char text[40];
+        render_format_tick(ticks[k] * factor, step, 0, text, sizeof text);
+        if (is_y) {
+            cairo_move_to(cr, x0, py);
+            cairo_line_to(cr, x0 - tl, py);
+            widest = fmax(widest, render_text_draw(cr, x0 - tl - 0.3 * fs, py, text, 1, 0.5));
+        } else {
+            cairo_move_to(cr, px, y1);
+            cairo_line_to(cr, px, y1 + tl);
+            render_text_draw(cr, px, y1 + tl + 0.3 * fs, text, 0.5, 0);
+        }
+        cairo_stroke(cr);
+    }
+    char offset[48] = "", label[96];
+    if (e != 0)
+        render_exponent_text(e, offset, sizeof offset);
+    if (sc->style.reduced_units && unit != 1.0)
+        snprintf(label, sizeof label, "%s / %sd", is_y ? "y" : "x", offset);
+    else
+        snprintf(label, sizeof label, "%s (%s%sm)", is_y ? "y" : "x", offset, e ? " " : "");
+    if (!is_y) {
+        render_text_draw(cr, v->plot_x + 0.5 * v->plot_w, y1 + tl + 1.6 * fs, label, 0.5, 0);
+        return;
+    }
+    cairo_save(cr);
+    cairo_translate(cr, x0 - tl - 1.0 * fs - widest, v->plot_y + 0.5 * v->plot_h);
+    cairo_rotate(cr, -0.5 * SIM_PI);
+    render_text_draw(cr, 0, 0, label, 0.5, 1);
+    cairo_restore(cr);
+}
+
+static void draw_axes(cairo_t *cr, const DrawScene *sc)
+{
+    if (!sc->style.axes)
+        return;
+    const RenderView *v = &sc->view;
+    render_set_rgb(cr, text_rgb);
+    cairo_set_line_width(cr, fmax(1.0, 0.08 * v->font_size));
+    cairo_set_line_cap(cr, CAIRO_LINE_CAP_BUTT);
+    cairo_rectangle(cr, v->plot_x, v->plot_y, v->plot_w, v->plot_h);
+    cairo_stroke(cr);
+    render_text_font(cr, v->font_size, 0);
+    draw_axis(cr, sc, 0);
+    draw_axis(cr, sc, 1);
 }
 
 static void format_time(double t, char *buf, size_t size)
@@ -810,6 +1062,7 @@ const char *render_time_label(const SimFrame *frame, const RenderStyle *style, c
     return buf;
 }
 
+/* Above the plot, left-aligned with it: in the top margin, never over grains. */
 static void draw_time_stamp(cairo_t *cr, const DrawScene *sc)
 {
     if (!sc->style.time_stamp)
@@ -819,10 +1072,8 @@ static void draw_time_stamp(cairo_t *cr, const DrawScene *sc)
     char text[96];
     render_time_label(sc->frame, &sc->style, text, sizeof text);
     render_text_font(cr, fs, 0);
-    double x = v->plot_x + 0.5 * fs, y = v->plot_y + 0.5 * fs;
-    label_box(cr, x, y, render_text_width(cr, text) + fs, 1.6 * fs);
     render_set_rgb(cr, text_rgb);
-    render_text_draw(cr, x + 0.5 * fs, y + 0.8 * fs, text, 0, 0.5);
+    render_text_draw(cr, v->plot_x, v->plot_y - 0.8 * fs, text, 0, 0.5);
 }
 
 static void format_length(double d, char *buf, size_t size)
@@ -848,6 +1099,13 @@ const char *render_scale_label(double diameters, double d, const RenderStyle *st
     return buf;
 }
 
+/* The row under the plot (below the axes' labels) that holds the scale bar and the arrow key. */
+static double key_row_y(const DrawScene *sc)
+{
+    const RenderView *v = &sc->view;
+    return v->plot_y + v->plot_h + axes_room(&sc->style, v->font_size) + 1.2 * v->font_size;
+}
+
 static void draw_scale_bar(cairo_t *cr, const DrawScene *sc)
 {
     const RenderView *v = &sc->view;
@@ -861,17 +1119,39 @@ static void draw_scale_bar(cairo_t *cr, const DrawScene *sc)
             k = steps[s];
     if (k == 0)
         return;
-    double fs = v->font_size, len = k * d * v->scale;
+    double fs = v->font_size, len = k * d * v->scale, y = key_row_y(sc);
     char text[96];
     render_scale_label(k, d, &sc->style, text, sizeof text);
     render_text_font(cr, fs, 0);
-    double tw = render_text_width(cr, text);
-    double x = v->plot_x + 0.5 * fs, y = v->plot_y + v->plot_h - 0.5 * fs - 2.6 * fs;
-    label_box(cr, x, y, fmax(len, tw) + fs, 2.6 * fs);
     render_set_rgb(cr, text_rgb);
-    render_text_draw(cr, x + 0.5 * fs, y + 0.8 * fs, text, 0, 0.5);
-    cairo_rectangle(cr, x + 0.5 * fs, y + 1.7 * fs, len, 0.4 * fs);
+    cairo_rectangle(cr, v->plot_x, y - 0.2 * fs, len, 0.4 * fs);
     cairo_fill(cr);
+    render_text_draw(cr, v->plot_x + len + 0.6 * fs, y, text, 0, 0.5);
+}
+
+/* Reference arrow of the velocity field or arrows, right-aligned under the scale bar's row: a round
+ * speed (m/s, or sqrt(g d) in reduced units) at the arrows' own scale. */
+static void draw_arrow_key(cairo_t *cr, const DrawScene *sc)
+{
+    const RenderView *v = &sc->view;
+    double fs = v->font_size, px_per_speed = sc->key_scale * v->scale;
+    if (!(sc->key_vmax > 0) || !(px_per_speed > 0))
+        return;
+    int reduced = sc->style.reduced_units && sc->frame->time_scale > 0 && v->mean_diameter > 0;
+    double unit = reduced ? v->mean_diameter / sc->frame->time_scale : 1.0; /* sqrt(g d) */
+    double ref = render_arrow_reference(fmin(sc->key_vmax, 6 * fs / px_per_speed) / unit);
+    double len = ref * unit * px_per_speed, x1 = v->plot_x + v->plot_w;
+    double y = key_row_y(sc) + (sc->style.scale_bar ? 1.6 * fs : 0.0);
+    if (!(len > 1))
+        return;
+    render_set_rgb(cr, sc->has_field ? field_rgb : arrow_rgb);
+    cairo_set_line_width(cr, fmax(1.0, 0.1 * fs));
+    render_arrow(cr, x1 - len, y, len, 0, 0.6 * fs);
+    char text[64];
+    snprintf(text, sizeof text, "%g %s", ref, reduced ? "\xe2\x88\x9a(gd)" : "m/s");
+    render_text_font(cr, fs, 0);
+    render_set_rgb(cr, text_rgb);
+    render_text_draw(cr, x1 - len - 0.5 * fs, y, text, 1, 0.5);
 }
 
 static void draw_title(cairo_t *cr, const DrawScene *sc)
@@ -893,8 +1173,10 @@ static void draw_scene(cairo_t *cr, void *context)
     cairo_fill(cr);
     draw_world(cr, sc, &sc->view);
     draw_inset(cr, sc);
+    draw_axes(cr, sc);
     draw_time_stamp(cr, sc);
     draw_scale_bar(cr, sc);
+    draw_arrow_key(cr, sc);
     draw_colorbar(cr, sc);
     draw_title(cr, sc);
 }
@@ -911,8 +1193,10 @@ static void draw_overlay(cairo_t *cr, const DrawScene *sc)
     draw_arches(cr, sc, &sc->view);
     cairo_restore(cr);
     draw_inset(cr, sc);
+    draw_axes(cr, sc);
     draw_time_stamp(cr, sc);
     draw_scale_bar(cr, sc);
+    draw_arrow_key(cr, sc);
     draw_colorbar(cr, sc);
     draw_title(cr, sc);
 }
@@ -1012,8 +1296,8 @@ int render_figure_write(const SimFrame *frame, const RenderStyle *style, const R
     text[n++] = renderer;
     text[n++] = NULL;
     text[n++] = NULL;
-    int rc =
-        render_cairo_write(path, style->width, style->height, draw_scene, &sc, text, err, err_size);
+    int rc = render_cairo_write_dpi(path, style->width, style->height, style->dpi, draw_scene, &sc,
+                                    text, err, err_size);
     draw_scene_free(&sc);
     return rc;
 }

@@ -28,6 +28,17 @@ void render_set_rgb(cairo_t *cr, uint32_t rgb);
 /// Formats a tick value given the tick spacing (no "-0", no trailing noise like 0.30000000004).
 void render_format_tick(double value, double step, int log, char *buf, size_t size);
 
+/// Exponent e of the common offset of tick labels (labels read value / 10^e, with "x10^e" once
+/// beside the axis) when the ticks' magnitude is >= 10^4 or < 10^-2; 0 = plain labels.
+int render_tick_exponent(const double *ticks, int n);
+/// "\u00d710" followed by e in superscript digits (UTF-8), e.g. "x10^-5" as a label. Returns buf.
+const char *render_exponent_text(int e, char *buf, size_t size);
+/// Round value (1, 2 or 5 x 10^k) of a reference arrow: the largest not above `top`.
+double render_arrow_reference(double top);
+/// Draws one filled arrow from (x, y) by (dx, dy) pixels with the current source and line
+/// width; the head is 0.3 of the length, at most head_max pixels.
+void render_arrow(cairo_t *cr, double x, double y, double dx, double dy, double head_max);
+
 typedef void (*RenderDrawFn)(cairo_t *cr, void *context);
 
 /// Draws with `draw` (in pixel units) into path: .png through libpng with text chunks
@@ -35,6 +46,13 @@ typedef void (*RenderDrawFn)(cairo_t *cr, void *context);
 /// width x height pixels. Temporary name, then rename. 0, or -1 with a message in err.
 int render_cairo_write(const char *path, int width, int height, RenderDrawFn draw, void *context,
                        const char *const *text, char *err, size_t err_size);
+/// render_cairo_write at `dpi` pixels per inch (0 = 96): the PNG's pHYs chunk, the PDF/SVG
+/// page of width/dpi x height/dpi inches (print sizes: 8.5 cm at 300 dpi is 1004 pixels).
+int render_cairo_write_dpi(const char *path, int width, int height, double dpi, RenderDrawFn draw,
+                           void *context, const char *const *text, char *err, size_t err_size);
+/// render_png_write with a pHYs chunk of `dpi` pixels per inch (0 = 96).
+int render_png_write_dpi(const RenderImage *image, const char *path, const char *const *text,
+                         double dpi, char *err, size_t err_size);
 /// Appends the provenance chunks every written image carries (key, value pairs) to text from
 /// *n: Software, Sablier version, Scene and Seed (Seed also without a scene when seed_always),
 /// Title, Comment. `seed` (32 bytes) holds the seed's text and must outlive `text`.

@@ -111,6 +111,61 @@ void render_format_tick(double value, double step, int log, char *buf, size_t si
     snprintf(buf, size, "%.*f", decimals, value);
 }
 
+int render_tick_exponent(const double *ticks, int n)
+{
+    double big = 0;
+    for (int k = 0; k < n; ++k)
+        big = fmax(big, fabs(ticks[k]));
+    if (!(big > 0) || (big >= 1e-2 && big < 1e4))
+        return 0;
+    return (int)floor(log10(big) + 1e-9);
+}
+
+const char *render_exponent_text(int e, char *buf, size_t size)
+{
+    /* U+00D7 then superscript minus U+207B and digits U+2070, U+00B9, U+00B2, U+00B3, U+2074.. */
+    static const char *const digits[] = {
+        "\xe2\x81\xb0", "\xc2\xb9",     "\xc2\xb2",     "\xc2\xb3",     "\xe2\x81\xb4",
+        "\xe2\x81\xb5", "\xe2\x81\xb6", "\xe2\x81\xb7", "\xe2\x81\xb8", "\xe2\x81\xb9"};
+    char number[16];
+    snprintf(number, sizeof number, "%d", e < 0 ? -e : e);
+    size_t used = (size_t)snprintf(buf, size,
+                                   "\xc3\x97"
+                                   "10%s",
+                                   e < 0 ? "\xe2\x81\xbb" : "");
+    for (const char *c = number; *c && used < size; ++c)
+        used += (size_t)snprintf(buf + used, size - used, "%s", digits[*c - '0']);
+    return buf;
+}
+
+double render_arrow_reference(double top)
+{
+    if (!(top > 0) || !isfinite(top))
+        return 0;
+    double decade = pow(10.0, floor(log10(top) + 1e-12));
+    if (5.0 * decade <= top * (1 + 1e-12))
+        return 5.0 * decade;
+    if (2.0 * decade <= top * (1 + 1e-12))
+        return 2.0 * decade;
+    return decade;
+}
+
+void render_arrow(cairo_t *cr, double x, double y, double dx, double dy, double head_max)
+{
+    double len = hypot(dx, dy);
+    if (!(len > 0.5))
+        return;
+    double ux = dx / len, uy = dy / len, head = fmin(0.3 * len, head_max);
+    cairo_move_to(cr, x, y);
+    cairo_line_to(cr, x + dx, y + dy);
+    cairo_stroke(cr);
+    cairo_move_to(cr, x + dx, y + dy);
+    cairo_line_to(cr, x + dx - head * (ux + 0.5 * uy), y + dy - head * (uy - 0.5 * ux));
+    cairo_line_to(cr, x + dx - head * (ux - 0.5 * uy), y + dy - head * (uy + 0.5 * ux));
+    cairo_close_path(cr);
+    cairo_fill(cr);
+}
+
 static int has_extension(const char *path, const char *ext)
 {
     const char *dot = strrchr(path, '.');
@@ -205,6 +260,12 @@ void render_provenance(const RenderMeta *meta, const char *title, int seed_alway
 int render_cairo_write(const char *path, int width, int height, RenderDrawFn draw, void *context,
                        const char *const *text, char *err, size_t err_size)
 {
+    return render_cairo_write_dpi(path, width, height, 0.0, draw, context, text, err, err_size);
+}
+
+int render_cairo_write_dpi(const char *path, int width, int height, double dpi, RenderDrawFn draw,
+                           void *context, const char *const *text, char *err, size_t err_size)
+{
     int png = has_extension(path, "png"), pdf = has_extension(path, "pdf"),
         svg = has_extension(path, "svg");
     if (!png && !pdf && !svg) {
@@ -219,14 +280,16 @@ int render_cairo_write(const char *path, int width, int height, RenderDrawFn dra
         RenderImage image;
         if (render_cairo_image(width, height, draw, context, &image, err, err_size) != 0)
             return -1;
-        int rc = render_png_write(&image, path, text, err, err_size);
+        int rc = render_png_write_dpi(&image, path, text, dpi, err, err_size);
         render_image_free(&image);
         return rc;
     }
     char *tmp = render_tmp_name(path, err, err_size);
     if (!tmp)
         return -1;
-    double w_pt = width * RENDER_PT_PER_PX, h_pt = height * RENDER_PT_PER_PX;
+    /* 72 points per inch: a figure of `dpi` is printed at its physical size */
+    double pt_per_px = dpi > 0 ? 72.0 / dpi : RENDER_PT_PER_PX;
+    double w_pt = width * pt_per_px, h_pt = height * pt_per_px;
     cairo_surface_t *surface =
         pdf ? cairo_pdf_surface_create(tmp, w_pt, h_pt) : cairo_svg_surface_create(tmp, w_pt, h_pt);
     if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) {
@@ -252,7 +315,7 @@ int render_cairo_write(const char *path, int width, int height, RenderDrawFn dra
         cairo_svg_surface_set_document_unit(surface, CAIRO_SVG_UNIT_PT);
     }
     cairo_t *cr = cairo_create(surface);
-    cairo_scale(cr, RENDER_PT_PER_PX, RENDER_PT_PER_PX);
+    cairo_scale(cr, pt_per_px, pt_per_px);
     draw(cr, context);
     cairo_show_page(cr);
     cairo_status_t status = cairo_status(cr);

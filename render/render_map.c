@@ -100,23 +100,6 @@ static void draw_ticks(cairo_t *cr, const RenderMap *m, const Layout *g, int is_
     }
 }
 
-/* One arrow from (x, y) by (dx, dy) pixels, head a quarter of its length (at most 0.6 fs). */
-static void draw_arrow(cairo_t *cr, double x, double y, double dx, double dy, double fs)
-{
-    double len = hypot(dx, dy);
-    if (!(len > 0.5))
-        return;
-    double ux = dx / len, uy = dy / len, head = fmin(0.3 * len, 0.6 * fs);
-    cairo_move_to(cr, x, y);
-    cairo_line_to(cr, x + dx, y + dy);
-    cairo_stroke(cr);
-    cairo_move_to(cr, x + dx, y + dy);
-    cairo_line_to(cr, x + dx - head * (ux + 0.5 * uy), y + dy - head * (uy - 0.5 * ux));
-    cairo_line_to(cr, x + dx - head * (ux - 0.5 * uy), y + dy - head * (uy + 0.5 * ux));
-    cairo_close_path(cr);
-    cairo_fill(cr);
-}
-
 /* The arrow field on the cells' centres (the field's own nodes) and a reference arrow of a
  * round value under the colour bar, labelled with its unit. */
 static void draw_arrows(cairo_t *cr, const RenderMap *m, const Layout *g)
@@ -138,18 +121,13 @@ static void draw_arrows(cairo_t *cr, const RenderMap *m, const Layout *g)
                 continue;
             double px, py, dx = m->arrow_x[k] * per_unit, dy = -m->arrow_y[k] * per_unit;
             to_pixel(m, g, m->x0 + (i + 0.5) * m->cell, m->y0 + (j + 0.5) * m->cell, &px, &py);
-            draw_arrow(cr, px - 0.5 * dx, py - 0.5 * dy, dx, dy, g->fs);
+            render_arrow(cr, px - 0.5 * dx, py - 0.5 * dy, dx, dy, 0.6 * g->fs);
         }
     /* reference: the largest 1, 2 or 5 times a power of ten not above the longest arrow nor
      * longer than 6 font sizes, under the colour bar at the figure's right edge */
-    double top = fmin(big, 6.0 * g->fs / per_unit);
-    double decade = pow(10.0, floor(log10(top))), ref = decade;
-    if (5.0 * decade <= top)
-        ref = 5.0 * decade;
-    else if (2.0 * decade <= top)
-        ref = 2.0 * decade;
+    double ref = render_arrow_reference(fmin(big, 6.0 * g->fs / per_unit));
     double y = g->ref_y, x = m->width - 0.8 * g->fs, len = ref * per_unit;
-    draw_arrow(cr, x - len, y, len, 0.0, g->fs);
+    render_arrow(cr, x - len, y, len, 0.0, 0.6 * g->fs);
     char text[64];
     snprintf(text, sizeof text, "%g %s", ref, m->arrow_unit ? m->arrow_unit : "");
     render_set_rgb(cr, axis_rgb);

@@ -1,10 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /* render_png.c: PNG through libpng (not cairo_surface_write_to_png: slower, and no text chunks),
  * and reading PNGs back for the image diff. */
+#include "render_cairo_util.h"
+
 #include "render/render.h"
 #include "render/render_file.h"
 
 #include <errno.h>
+#include <math.h>
 #include <png.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -93,6 +96,12 @@ static int ascii_only(const char *s)
 int render_png_write(const RenderImage *image, const char *path, const char *const *text, char *err,
                      size_t err_size)
 {
+    return render_png_write_dpi(image, path, text, 0.0, err, err_size);
+}
+
+int render_png_write_dpi(const RenderImage *image, const char *path, const char *const *text,
+                         double dpi, char *err, size_t err_size)
+{
     if (!image || !image->pixels || image->width <= 0 || image->height <= 0) {
         set_err(err, err_size, "%s: empty image", path);
         return -1;
@@ -132,8 +141,9 @@ int render_png_write(const RenderImage *image, const char *path, const char *con
     png_set_filter(job.png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
     png_set_compression_level(job.png, 3);
     png_set_sRGB_gAMA_and_cHRM(job.png, job.info, PNG_sRGB_INTENT_PERCEPTUAL);
-    /* 96 pixels per inch, the size PDF and SVG figures are written at. */
-    png_set_pHYs(job.png, job.info, 3780, 3780, PNG_RESOLUTION_METER);
+    /* 96 pixels per inch (or the figure's dpi), the size PDF and SVG figures are written at. */
+    png_uint_32 per_metre = dpi > 0 ? (png_uint_32)lround(dpi / 0.0254) : 3780;
+    png_set_pHYs(job.png, job.info, per_metre, per_metre, PNG_RESOLUTION_METER);
     for (int k = 0; k < ntext; ++k) {
         png_text *t = &job.texts[k];
         t->key = (png_charp)(uintptr_t)text[2 * k];

@@ -67,6 +67,18 @@ typedef struct RenderStyle {
     uint32_t arch_rgb;       ///< arch highlight colour, 0xRRGGBB
     double font_size;        ///< pixels (0 = height / 48, at least 10)
     int reduced_units;       ///< 1: time stamp in sqrt(d/g), scale bar in d only (no metres)
+    /* Publication figures (issue 20). */
+    int axes;                         ///< 1: framed x/y axes with ticks, in m (or d if reduced)
+    const char *const *species_names; ///< legend names by species index; NULL/"" = "species N"
+    int species_name_count;           ///< entries in species_names
+    double dpi;                       ///< pixels per inch of the written file (0 = 96)
+    int field_color;                  ///< 1: field arrows coloured by speed (colormap)
+    /// Node field drawn instead of the coarse-grained one (velocity_field): nodes at
+    /// (node_x0 + (i + 1/2) node_cell, node_y0 + (j + 1/2) node_cell), row-major j * nx + i,
+    /// m/s; non-finite = no arrow. NULL = none.
+    const double *node_vx, *node_vy;
+    int node_nx, node_ny;
+    double node_x0, node_y0, node_cell; ///< m
 } RenderStyle;
 
 /// Defaults: 1280x720, sand-coloured outlined disks on white, fit view, colour bar, time stamp

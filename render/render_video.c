@@ -77,6 +77,7 @@ struct RenderMovie {
     /* progress */
     double start_s, last_report_s; ///< monotonic seconds
     long frames_given, frames_encoded;
+    double encode_s; ///< encoder thread's busy time (convert + encode), under lock
     int progress_shown;
 };
 
@@ -204,9 +205,12 @@ static void *encoder_main(void *argument)
         Slot *slot = &movie->slots[movie->head];
         int skip = movie->failed; /* after an error, drain the queue without encoding */
         pthread_mutex_unlock(&movie->lock);
+        double t0 = now_seconds();
         if (!skip && convert(movie, &slot->image, slot->frame) == 0)
             encode(movie, slot->frame);
+        double busy = now_seconds() - t0;
         pthread_mutex_lock(&movie->lock);
+        movie->encode_s += busy;
         movie->head = (movie->head + 1) % QUEUE_SLOTS;
         movie->filled -= 1;
         movie->frames_encoded += 1;
@@ -490,6 +494,22 @@ fail:
     return NULL;
 }
 
+double render_movie_encode_left(RenderMovie *movie, long frames_to_come)
+{
+    if (!movie)
+        return 0.0;
+    pthread_mutex_lock(&movie->lock);
+    long encoded = movie->frames_encoded, queued = movie->frames_given - encoded;
+    double busy = movie->encode_s;
+    pthread_mutex_unlock(&movie->lock);
+    if (encoded <= 0)
+        return 0.0;
+    /* x264 holds about a second of frames (lookahead, B-frames) until the flush at close */
+    double held = fmin((double)movie->frames_given, av_q2d(av_inv_q(movie->codec->time_base)));
+    double frames = (double)queued + (double)(frames_to_come > 0 ? frames_to_come : 0) + held;
+    return frames * busy / (double)encoded;
+}
+
 static void report_progress(RenderMovie *movie, int final)
 {
     double now = now_seconds();
@@ -502,10 +522,11 @@ static void report_progress(RenderMovie *movie, int final)
     movie->last_report_s = now;
     movie->progress_shown = 1;
     double rate = elapsed > 0.0 ? (double)movie->frames_given / elapsed : 0.0;
-    if (movie->frames_expected > movie->frames_given && rate > 0.0)
+    long to_come = movie->frames_expected - movie->frames_given;
+    if (to_come > 0 && rate > 0.0) /* drawing or encoding, whichever finishes last */
         fprintf(stderr, "\rmovie %s: frame %ld/%ld, %.1f frames/s, ETA %.0f s   ", movie->path,
                 movie->frames_given, movie->frames_expected, rate,
-                (double)(movie->frames_expected - movie->frames_given) / rate);
+                fmax((double)to_come / rate, render_movie_encode_left(movie, to_come)));
     else
         fprintf(stderr, "\rmovie %s: frame %ld, %.1f frames/s   ", movie->path, movie->frames_given,
                 rate);

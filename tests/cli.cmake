@@ -103,6 +103,15 @@ add_test(NAME cli.bne_phase_field
                  -P ${CLI_DIR}/bne_phase_field.cmake)
 set_tests_properties(cli.bne_phase_field PROPERTIES LABELS cli
                      ENVIRONMENT "LSAN_OPTIONS=suppressions=${CLI_DIR}/lsan.supp")
+# print sizes of figures: style presets, size + dpi, pixels; PNG pHYs, PDF page (issue 20 part 4)
+if(SABLIER_WITH_RENDER)
+  add_test(NAME cli.print_figures
+           COMMAND ${CMAKE_COMMAND} -DSABLIER=$<TARGET_FILE:sablier>
+                   -DSCENE=${CLI_DIR}/print_figures.scene -DWORK=${CLI_WORK}/print_figures
+                   -P ${CLI_DIR}/print_figures.cmake)
+  set_tests_properties(cli.print_figures PROPERTIES LABELS cli
+                       ENVIRONMENT "LSAN_OPTIONS=suppressions=${CLI_DIR}/lsan.supp")
+endif()
 # a run that blows up: exit 1, message with step and grain, last good state saved
 add_test(NAME cli.run_unstable
          COMMAND ${CMAKE_COMMAND} -DSABLIER=$<TARGET_FILE:sablier>

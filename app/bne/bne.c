@@ -735,61 +735,43 @@ static void bne_step(void *state, AppContext *c, long done)
     }
 }
 
-/* The field as arrows over the final pile, through the runner's figure hook (app/ knows no
- * renderer): the frame's grains keep their positions; the mobile grain nearest each node (within
- * half a cell) carries that node's mean velocity and every other grain none, and the figure draws
- * per-grain velocity arrows. So each arrow is a node's value exactly, drawn from a grain centre
- * within half a cell of the node. Nodes with a mean solid fraction below 0.1 are left out, as the
- * renderer masks its own field. */
+/* The field as arrows on its own grid nodes over the final pile, through the runner's figure hook
+ * (app/ knows no renderer): the grid moves with the box (its offset at the frame's time), each
+ * node's arrow is its mean velocity, nodes never hit or with a mean solid fraction below 0.1 are
+ * left out (as the renderer masks its own field), and a reference arrow gives the scale. */
 static int phase_figure(AppBne *b, const Scene *scene, SimWorld *world, const AppRender *render,
                         const char *path, char *err, size_t err_size)
 {
     const AppBneField *field = &b->pf_mean;
     SimFrame f;
     sim_world_frame(world, &f);
-    size_t n = (size_t)(f.count > 0 ? f.count : 1);
-    double *vx = calloc(n, sizeof *vx), *vy = calloc(n, sizeof *vy);
-    double *best = malloc(n * sizeof *best);
-    if (!vx || !vy || !best) {
+    size_t n = (size_t)field->nx * (size_t)field->ny;
+    double *vx = malloc((n ? n : 1) * sizeof *vx), *vy = malloc((n ? n : 1) * sizeof *vy);
+    if (!vx || !vy) {
         free(vx);
         free(vy);
-        free(best);
         snprintf(err, err_size, "out of memory");
         return -1;
     }
-    for (int g = 0; g < f.count; ++g)
-        best[g] = INFINITY;
     double speed, off = box_motion(b, f.time, &speed);
     int arrows = 0;
-    for (int j = 0; j < field->ny; ++j)
-        for (int i = 0; i < field->nx; ++i) {
-            int k = j * field->nx + i;
-            double ux, uy, solid;
-            app_bne_field_node(field, k, &ux, &uy, &solid);
-            if (field->hits[k] == 0 || solid < 0.1)
-                continue;
-            double cx = field->x0 + (i + 0.5) * field->cell + off * b->dir_x;
-            double cy = field->y0 + (j + 0.5) * field->cell + off * b->dir_y;
-            int nearest = -1;
-            double d_min = 0.5 * field->cell;
-            for (int g = 0; g < f.count; ++g) {
-                if (f.flags ? (f.flags[g] & SIM_GRAIN_FIXED) != 0u : g >= f.mobile_count)
-                    continue;
-                double d = hypot(f.x[g] - cx, f.y[g] - cy);
-                if (d < d_min) {
-                    d_min = d;
-                    nearest = g;
-                }
-            }
-            if (nearest >= 0 && d_min < best[nearest]) {
-                arrows += isinf(best[nearest]);
-                best[nearest] = d_min;
-                vx[nearest] = ux;
-                vy[nearest] = uy;
-            }
-        }
-    f.vx = vx;
-    f.vy = vy;
+    for (size_t k = 0; k < n; ++k) {
+        double ux, uy, solid;
+        app_bne_field_node(field, (int)k, &ux, &uy, &solid);
+        vx[k] = vy[k] = (double)NAN;
+        if (field->hits[k] == 0 || solid < 0.1)
+            continue;
+        vx[k] = ux;
+        vy[k] = uy;
+        ++arrows;
+    }
+    AppFigureExtras extras = {.field_vx = vx,
+                              .field_vy = vy,
+                              .field_nx = field->nx,
+                              .field_ny = field->ny,
+                              .field_x0 = field->x0 + off * b->dir_x,
+                              .field_y0 = field->y0 + off * b->dir_y,
+                              .field_cell = field->cell};
     SceneFigure figure;
     memset(&figure, 0, sizeof figure);
     snprintf(figure.name, sizeof figure.name, "phase_field");
@@ -797,10 +779,10 @@ static int phase_figure(AppBne *b, const Scene *scene, SimWorld *world, const Ap
     figure.at_end = 1;
     snprintf(figure.format, sizeof figure.format, "png");
     figure.style = scene->style;
-    figure.style.velocity_arrows = 1;
+    figure.style.velocity_arrows = 0;
     figure.style.velocity_field = 0;
     figure.style.force_chains = 0;
-    /* faint grains under dark arrows (the carried velocities are not the grains' own) */
+    /* faint grains under dark arrows (the arrows are the nodes', not the grains' own) */
     figure.style.color_by = SCENE_COLOR_FIXED;
     figure.style.fill_rgb = 0xe4e4e4;
     figure.style.colorbar = 0;
@@ -831,11 +813,10 @@ static int phase_figure(AppBne *b, const Scene *scene, SimWorld *world, const Ap
     else
         snprintf(figure.style.title, sizeof figure.style.title, "box-frame cycle-mean velocity");
     int rc = arrows > 0
-                 ? render->figure(render->context, scene, &figure, &f, NULL, path, err, err_size)
+                 ? render->figure(render->context, scene, &figure, &f, &extras, path, err, err_size)
                  : 0;
     free(vx);
     free(vy);
-    free(best);
     return rc == 0 ? 0 : -1;
 }
 

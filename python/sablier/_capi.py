@@ -162,7 +162,11 @@ class RenderStyle(Structure):
                 ("title", c_char_p), ("arch_ids", _pi), ("arch_inset", c_int),
                 ("band_rgb", c_uint32), ("initial_y", _pd), ("initial_y_count", c_int),
                 ("chain_force_max", c_double), ("arch_rgb", c_uint32), ("font_size", c_double),
-                ("reduced_units", c_int)]
+                ("reduced_units", c_int), ("axes", c_int),
+                ("species_names", POINTER(c_char_p)), ("species_name_count", c_int),
+                ("dpi", c_double), ("field_color", c_int), ("node_vx", _pd), ("node_vy", _pd),
+                ("node_nx", c_int), ("node_ny", c_int), ("node_x0", c_double),
+                ("node_y0", c_double), ("node_cell", c_double)]
 
 
 class RenderMeta(Structure):
@@ -188,7 +192,7 @@ class SceneStage(Structure):
                 ("settle_after", c_double), ("remove_count", c_int), ("remove_ids", _pu32),
                 ("movie", c_int), ("skip", c_int), ("gravity_x", c_double),
                 ("gravity_y", c_double), ("effects", c_uint), ("motions", c_uint),
-                ("declares_motions", c_int)]
+                ("declares_motions", c_int), ("movie_view", c_double * 4)]
 
 
 class Scene(Structure):

@@ -1,0 +1,87 @@
+# SPDX-License-Identifier: MIT
+# cmake -P print_figures.cmake -DSABLIER=... -DSCENE=print_figures.scene -DWORK=dir
+# Print sizes of figures (docs/figures.md#print-sizes): style = "single_column" is 8.5 x 6.4 cm at
+# 300 dpi (1004 x 756 pixels, pHYs 11811 pixels per metre); size = [3, 2] in at 100 dpi is
+# 300 x 200; width/height pixels still work; a double-column PDF page is 17.8 x 8.9 cm in points.
+file(REMOVE_RECURSE ${WORK})
+execute_process(COMMAND ${SABLIER} run ${SCENE} --out ${WORK}/out --quiet
+                RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "run: exit ${rc}\n${err}")
+endif()
+# PNG: 8-byte magic, IHDR length and type (8 bytes), width and height (4 bytes each, big endian)
+function(png_size path out_w out_h out_phys)
+  file(READ ${path} head LIMIT 24 HEX)
+  string(SUBSTRING ${head} 32 8 w)
+  string(SUBSTRING ${head} 40 8 h)
+  math(EXPR w "0x${w}")
+  math(EXPR h "0x${h}")
+  file(READ ${path} all HEX)
+  string(FIND ${all} "70485973" at) # "pHYs"
+  math(EXPR at "${at} + 8")
+  string(SUBSTRING ${all} ${at} 8 p)
+  math(EXPR p "0x${p}")
+  set(${out_w} ${w} PARENT_SCOPE)
+  set(${out_h} ${h} PARENT_SCOPE)
+  set(${out_phys} ${p} PARENT_SCOPE)
+endfunction()
+png_size(${WORK}/out/single.png w h p)
+if(NOT w EQUAL 1004 OR NOT h EQUAL 756 OR NOT p EQUAL 11811)
+  message(FATAL_ERROR "single.png: ${w}x${h}, pHYs ${p} (expected 1004x756, 11811)")
+endif()
+png_size(${WORK}/out/sized.png w h p)
+if(NOT w EQUAL 300 OR NOT h EQUAL 200 OR NOT p EQUAL 3937)
+  message(FATAL_ERROR "sized.png: ${w}x${h}, pHYs ${p} (expected 300x200, 3937)")
+endif()
+png_size(${WORK}/out/bare.png w h p)
+if(NOT w EQUAL 320 OR NOT h EQUAL 240 OR NOT p EQUAL 3780)
+  message(FATAL_ERROR "bare.png: ${w}x${h}, pHYs ${p} (expected 320x240, 3780 = 96 dpi)")
+endif()
+file(STRINGS ${WORK}/out/single.pdf box REGEX "MediaBox")
+if(NOT box MATCHES "MediaBox \\[ 0 0 504\\.[0-9]+ 252\\.[0-9]+ \\]")
+  message(FATAL_ERROR "single.pdf: ${box} (expected 17.8 x 8.9 cm: 2102 x 1051 pixels at 300 dpi = 504.5 x 252.2 pt)")
+endif()
+# Movies follow the material (issue 20 part 5): by default a stage's movie frames the mobile
+# grains of its first frame and takes the height that fits them at its width (the one falling
+# grain: a square window, so more than the style's 240 with the time stamp above);
+# movie_view = "container" keeps the style's size; a stage's own `view` frames that window.
+function(mp4_size path out_w out_h)
+  file(READ ${path} hex HEX)
+  string(FIND ${hex} "746b6864" at) # "tkhd"
+  math(EXPR size_at "${at} - 8")
+  string(SUBSTRING ${hex} ${size_at} 8 size)
+  math(EXPR size "0x${size}")
+  math(EXPR end "${size_at} + 2 * ${size}")
+  math(EXPR w_at "${end} - 16")
+  math(EXPR h_at "${end} - 8")
+  string(SUBSTRING ${hex} ${w_at} 4 w)
+  string(SUBSTRING ${hex} ${h_at} 4 h)
+  math(EXPR w "0x${w}")
+  math(EXPR h "0x${h}")
+  set(${out_w} ${w} PARENT_SCOPE)
+  set(${out_h} ${h} PARENT_SCOPE)
+endfunction()
+foreach(mode follow container own)
+  set(extra)
+  if(mode STREQUAL "container")
+    set(extra --set "output.movie_view=\"container\"")
+  elseif(mode STREQUAL "own")
+    set(extra --set "stages.run.view=[-1.0, 0.0, 1.0, 1.0]")
+  endif()
+  file(REMOVE_RECURSE ${WORK}/${mode})
+  execute_process(COMMAND ${SABLIER} run ${SCENE} --out ${WORK}/${mode} --quiet
+                          --set output.movie=true --set render.width=320 --set render.height=240
+                          ${extra}
+                  RESULT_VARIABLE rc ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "run (${mode}): exit ${rc}\n${err}")
+  endif()
+  mp4_size(${WORK}/${mode}/run.mp4 w h)
+  math(EXPR odd "${h} % 2")
+  if(NOT w EQUAL 320 OR odd OR (mode STREQUAL "follow" AND NOT h GREATER 240)
+     OR (mode STREQUAL "container" AND NOT h EQUAL 240)
+     OR (mode STREQUAL "own" AND (NOT h GREATER 150 OR NOT h LESS 240)))
+    message(FATAL_ERROR "run.mp4 (${mode}): ${w}x${h} (expected 320 wide; "
+                        "follow: more than 240; container: 240; own 2 x 1 m view: between 150 and 240, even)")
+  endif()
+endforeach()
