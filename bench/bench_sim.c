@@ -32,8 +32,8 @@
  *   walled and relaxed (cache /tmp/sablier-bench-wide-<N>.state). Without it the box keeps the
  *   standard case's aspect (width as sqrt(N)).
  * The last line gives the process's peak resident memory (getrusage), pile building included. */
-#include "sim/sim.h"
 #include "sim/internal.h"
+#include "sim/sim.h"
 
 #include <inttypes.h>
 #include <malloc.h>
