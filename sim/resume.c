@@ -163,7 +163,7 @@ static void apply_header(SimWorld *w, const ExactHeader *h)
     w->max_radius = h->max_radius;
     w->cell_size = h->cell_size;
     w->wall_shift = h->wall_shift;
-    w->guard_speed2 = h->guard_speed2;
+    w->guard_speed2 = h->guard_speed2; /* as the continuous run set it at its create */
     w->skin_probe = (long)h->skin_probe;
     w->build_step = (long)h->build_step;
     w->rebuilds = (long)h->rebuilds;

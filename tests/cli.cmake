@@ -120,6 +120,10 @@ add_test(NAME cli.interrupt
          COMMAND bash ${CLI_DIR}/interrupt.sh $<TARGET_FILE:sablier>
                  ${PROJECT_SOURCE_DIR}/scenes/crater/quick.scene ${CLI_TINY} ${CLI_WORK}/interrupt)
 set_tests_properties(cli.interrupt PROPERTIES LABELS cli)
+add_test(NAME cli.resume
+         COMMAND bash ${CLI_DIR}/resume.sh $<TARGET_FILE:sablier> ${CLI_DIR}/resume.scene ${CLI_TINY}
+                 ${CLI_WORK}/resume)
+set_tests_properties(cli.resume PROPERTIES LABELS cli)
 add_test(NAME cli.cadence_huge
          COMMAND bash ${CLI_DIR}/cadence.sh $<TARGET_FILE:sablier> ${CLI_TINY} ${CLI_WORK}/cadence)
 set_tests_properties(cli.cadence_huge PROPERTIES LABELS cli)
