@@ -723,7 +723,9 @@ static size_t checkpoint_record(const Run *run, int k, long done, const char *st
         if (n < size)
             n += (size_t)snprintf(text + n, size - n, "\n");
     }
-    return n;
+    if (n < size)
+        app_sources_checkpoint(run->sources, text + n, size - n);
+    return n < size ? n + strlen(text + n) : n;
 }
 
 /* A checkpoint at step `done` of stage k: the world's state (DIR/STAGE.checkpoint.state; an
@@ -815,6 +817,8 @@ static int resume_line(Run *run, const char *line, char *sha, int *seen)
         run->motion_off[m] = off;
         return 0;
     }
+    if (strncmp(line, "source ", 7) == 0)
+        return 0; /* resume_sources, once the sources exist */
     return strncmp(line, "report ", 7) == 0 ? resume_report(run, line) : -1;
 }
 
@@ -849,6 +853,23 @@ static int resume_read(Run *run)
         return -1;
     }
     return 0;
+}
+
+/* --resume: the sources' state from the checkpoint's record (after app_sources_create). 0, or
+ * -1 with the message. */
+static int resume_sources(Run *run)
+{
+    char path[PATH_SIZE], line[1024];
+    out_path(run, path, CHECKPOINT_NAME, "");
+    FILE *f = fopen(path, "r");
+    int bad = !f;
+    while (!bad && fgets(line, sizeof line, f))
+        bad = strncmp(line, "source ", 7) == 0 && app_sources_restore(run->sources, line) != 0;
+    if (f)
+        fclose(f);
+    if (bad)
+        snprintf(run->message, sizeof run->message, "--resume: %s: bad source state", path);
+    return bad ? -1 : 0;
 }
 
 /* The scene as resolved (--set overrides applied) must be the one the checkpoint's run ran. */
@@ -1071,8 +1092,8 @@ static void families_figures(Run *run)
     }
 }
 
-/* --resume continues what the runner itself keeps; state kept by experiment families and
- * insertion sources is not in a checkpoint yet. 0, or -1 with a message on stderr. */
+/* --resume continues what the runner itself keeps (insertion sources included); the state
+ * that experiment families keep is not in a checkpoint yet. 0, or -1 with a message on stderr. */
 static int resume_supported(const Run *run)
 {
     const Scene *scene = run->scene;
@@ -1084,10 +1105,6 @@ static int resume_supported(const Run *run)
                     app_experiments[f]->name);
             return -1;
         }
-    if (scene->source_count > 0) {
-        fprintf(stderr, "sablier: --resume: scenes with sources cannot resume yet\n");
-        return -1;
-    }
     return 0;
 }
 
@@ -1239,6 +1256,8 @@ static void run_stages(Run *run)
     run->sources = app_sources_create(scene, &sources_failed);
     if (sources_failed) {
         snprintf(run->message, sizeof run->message, "out of memory");
+        run->status = 2;
+    } else if (run->resume_state[0] && resume_sources(run) != 0) {
         run->status = 2;
     }
     for (int m = 0; !run->resume_state[0] && m < SIM_MAX_MOTIONS; ++m) {

@@ -60,11 +60,15 @@ else
 fi
 same "$work/long" "$work/cut"
 
-# (2) the second stage loading the first one's state: the same final bytes
-"$sablier" run "$scene" --out "$work/load" --quiet --set stages.fill.skip=true \
-  --set "stages.tilt.load=\"$work/full/fill.state\"" >"$work/load.log" 2>&1 ||
+# (2) the second stage loading the first one's state: the same final bytes (the source feeds
+# the first stage only: a source's own state is not in a .state file)
+fill_only='sources.0.stages=["fill"]'
+"$sablier" run "$scene" --out "$work/cont" --quiet --set "$fill_only" >"$work/cont.log" 2>&1 ||
+  fail "continuous run: $(cat "$work/cont.log")"
+"$sablier" run "$scene" --out "$work/load" --quiet --set "$fill_only" --set stages.fill.skip=true \
+  --set "stages.tilt.load=\"$work/cont/fill.state\"" >"$work/load.log" 2>&1 ||
   fail "load run: $(cat "$work/load.log")"
-cmp -s "$work/full/tilt.state" "$work/load/tilt.state" ||
+cmp -s "$work/cont/tilt.state" "$work/load/tilt.state" ||
   fail "tilt loaded from fill.state differs from the continuous run"
 
 # (3) refused: no checkpoint, no folder, other --set values, another scene file
