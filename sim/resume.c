@@ -10,6 +10,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 static const char exact_tag[8] = "EXACT-1\n";
 
@@ -152,6 +153,19 @@ static int exact_fits(const SimWorld *w, const ExactHeader *h)
            h->wall_pairs >= 0;
 }
 
+/* 1 when the rest of the file holds the arrays the header announces. */
+static int section_fits_file(const SimWorld *w, FILE *f, const ExactHeader *h)
+{
+    const double n = w->count, nw = w->wall_count, m = w->mobile_count;
+    const double per_pair = 4.0 + (h->periodic ? 8.0 : 0.0) + (h->has_history ? 16.0 : 0.0);
+    const double per_wall_pair = 8.0 + (h->has_history ? 16.0 : 0.0);
+    const double need = (6.0 + h->scratch_count) * n * 8.0 + nw * (16.0 + sizeof(SimWall)) +
+                        (m + 1.0) * 4.0 + h->pairs * per_pair + h->wall_pairs * per_wall_pair;
+    struct stat st;
+    long here = ftell(f);
+    return here >= 0 && fstat(fileno(f), &st) == 0 && need <= (double)st.st_size - (double)here;
+}
+
 static void apply_header(SimWorld *w, const ExactHeader *h)
 {
     w->def.start_time = h->start_time;
@@ -238,6 +252,8 @@ int sim_exact_apply(SimWorld *w, FILE *f, const SimGrainSet *saved, long step, d
         return -1;
     if (!exact_fits(w, &h) || saved->count != w->count)
         return 0;
+    if (!section_fits_file(w, f, &h))
+        return -1; /* announces more than the file holds: refused before allocating */
     if (restore_order(w, saved->id) != 0)
         return -2;
     /* the saved positions of the mobile grains (the build at create may have wrapped them) and

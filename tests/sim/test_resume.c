@@ -174,5 +174,34 @@ static int resume_version_1_still_loads(void)
     return 0;
 }
 
-TEST_MAIN(TEST_CASE(resume_version_1_still_loads), TEST_CASE(resume_exact_velocity_verlet),
-          TEST_CASE(resume_exact_gear_periodic), TEST_CASE(resume_other_time_step_starts_afresh))
+/* A version-2 file cut inside its continuation section is refused as truncated. */
+static int resume_truncated_section_refused(void)
+{
+    SimWorldDef def = pile_def(SIM_INTEGRATOR_VELOCITY_VERLET, 0);
+    SimGrainBuffer b;
+    tu_rain_150(&b, 7, 0.06);
+    SimWorld *w = tu_create(&def, &b);
+    sim_grain_buffer_free(&b);
+    TEST_ASSERT(w && tu_step(w, 3000) == 0);
+    char saved[32];
+    TEST_ASSERT(test_tmp_file(saved) == 0);
+    SimError err;
+    TEST_ASSERT(sim_world_save(w, saved, &err) == SIM_OK);
+    unsigned char *data = NULL;
+    long size = 0;
+    TEST_ASSERT(file_bytes(saved, &data, &size) == 0);
+    FILE *f = fopen(saved, "wb");
+    TEST_ASSERT(f && fwrite(data, 1, (size_t)(size - 100), f) == (size_t)(size - 100) &&
+                fclose(f) == 0);
+    free(data);
+    SimWorldDef def_load = pile_def(SIM_INTEGRATOR_VELOCITY_VERLET, 0);
+    SimWorld *r = sim_world_load(saved, &def_load, &err);
+    remove(saved);
+    sim_world_destroy(w);
+    TEST_ASSERT(!r && err.status == SIM_ERROR_IO && strstr(err.message, "truncated"));
+    return 0;
+}
+
+TEST_MAIN(TEST_CASE(resume_truncated_section_refused), TEST_CASE(resume_version_1_still_loads),
+          TEST_CASE(resume_exact_velocity_verlet), TEST_CASE(resume_exact_gear_periodic),
+          TEST_CASE(resume_other_time_step_starts_afresh))
