@@ -165,3 +165,12 @@ add_test(NAME cli.measures_vtk
                  -DWORK=${CLI_WORK}/measures_vtk -P ${CLI_DIR}/measures_vtk.cmake
          WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
 set_tests_properties(cli.measures_vtk PROPERTIES LABELS cli SKIP_REGULAR_EXPRESSION "skipped")
+
+# sablier sweep --from: a state that does not load is refused before any folder or member
+# (issue 18 part 4)
+sablier_cli_test(sweep_from_missing
+  "sweep|scenes/crater/small.scene|--from|${CLI_WORK}/no_such.state|--vary|species.0.mu=0.3,0.8|--out|${CLI_WORK}/sweep_from_missing"
+  2 ERR "--from .*no_such.state: cannot open state file")
+sablier_cli_test(sweep_from_not_a_state
+  "sweep|scenes/crater/small.scene|--from|scenes/crater/small.scene|--vary|species.0.mu=0.3,0.8|--out|${CLI_WORK}/sweep_from_bad"
+  2 ERR "--from .*not a sablier state file")

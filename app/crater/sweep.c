@@ -642,6 +642,24 @@ static int setup(Sweep *w)
     return check_members(w);
 }
 
+/* --from: a state file that loads, checked before any folder is made or member runs. 0, or -1
+ * with the message on stderr. */
+static int bed_from_check(const char *path)
+{
+    SimGrainSet grains;
+    SimWall *walls = NULL;
+    int wall_count = 0;
+    double time = 0.0;
+    SimError error;
+    if (sim_state_load(path, &grains, &walls, &wall_count, &time, &error) != SIM_OK) {
+        fprintf(stderr, "sablier: sweep: --from %s\n", error.message);
+        return -1;
+    }
+    sim_grain_set_free(&grains);
+    free(walls);
+    return 0;
+}
+
 int app_sweep(const AppSweepOptions *o)
 {
     Sweep *w = calloc(1, sizeof *w);
@@ -655,6 +673,8 @@ int app_sweep(const AppSweepOptions *o)
     w->o = o;
     w->members = members;
     int status = setup(w);
+    if (status == 0 && o->from && bed_from_check(o->from) != 0)
+        status = 2;
     if (status == 0 && app_make_dirs(w->out_dir) != 0) {
         fprintf(stderr, "sablier: sweep: cannot create %s: %s\n", w->out_dir, strerror(errno));
         status = 2;
