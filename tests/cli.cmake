@@ -174,3 +174,11 @@ sablier_cli_test(sweep_from_missing
 sablier_cli_test(sweep_from_not_a_state
   "sweep|scenes/crater/small.scene|--from|scenes/crater/small.scene|--vary|species.0.mu=0.3,0.8|--out|${CLI_WORK}/sweep_from_bad"
   2 ERR "--from .*not a sablier state file")
+# a --vary list too long to keep whole is refused, never cut (100 values were 20 members)
+set(CLI_LONG_VARY "species.0.mu=0.3")
+foreach(i RANGE 1 99)
+  string(APPEND CLI_LONG_VARY ",0.${i}")
+endforeach()
+sablier_cli_test(sweep_vary_too_long
+  "sweep|scenes/crater/small.scene|--vary|${CLI_LONG_VARY}|--out|${CLI_WORK}/sweep_vary_long"
+  2 ERR "--vary is longer than 255 characters")

@@ -201,6 +201,11 @@ static int read_definition(Sweep *w, const char *file, char vary[][SWEEP_STRING]
                 }
                 n += (size_t)snprintf(out + n, SWEEP_STRING - n, "%s%.10g", j ? "," : "", x);
             }
+            if (rc == 0 && n >= SWEEP_STRING) {
+                rc = app_config_fail(&p, values, "the values list is longer than %d characters",
+                                     SWEEP_STRING - 1);
+                break;
+            }
         }
     }
     if (rc != 0)
@@ -602,6 +607,11 @@ static int setup(Sweep *w)
     for (int k = 0; k < o->vary_count; ++k) {
         if (vary_count >= MAX_VARY) {
             fprintf(stderr, "sablier: sweep: at most %d varied keys\n", MAX_VARY);
+            return 2;
+        }
+        if (strlen(o->vary[k]) >= SWEEP_STRING) { /* never cut: 100 values are not 20 */
+            fprintf(stderr, "sablier: sweep: --vary is longer than %d characters: %.40s...\n",
+                    SWEEP_STRING - 1, o->vary[k]);
             return 2;
         }
         snprintf(vary[vary_count++], SWEEP_STRING, "%s", o->vary[k]);
