@@ -182,3 +182,7 @@ endforeach()
 sablier_cli_test(sweep_vary_too_long
   "sweep|scenes/crater/small.scene|--vary|${CLI_LONG_VARY}|--out|${CLI_WORK}/sweep_vary_long"
   2 ERR "--vary is longer than 255 characters")
+add_test(NAME cli.render_bad_state
+         COMMAND bash ${CLI_DIR}/render_bad_state.sh $<TARGET_FILE:sablier> ${CLI_TINY}
+                 ${CLI_WORK}/render_bad_state)
+set_tests_properties(cli.render_bad_state PROPERTIES LABELS cli)
