@@ -350,6 +350,9 @@ int loader_parse_output(Loader *L, const config_setting_t *root)
         app_config_non_negative(&L->p, output, "checkpoint_every_minutes",
                                 out->checkpoint_minutes) < 0)
         return -1;
+    if (out->fps > 1000.0) /* the encoder's bound (render_video.c), known before anything runs */
+        return app_config_fail(&L->p, app_config_member(output, "fps"),
+                               "`fps` must be in (0, 1000] frames/s, got %g", out->fps);
     if (crf < 0 || crf > 51)
         return app_config_fail(&L->p, app_config_member(output, "crf"), "`crf` must be in [0, 51]");
     out->crf = (int)crf;

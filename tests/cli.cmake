@@ -186,3 +186,8 @@ add_test(NAME cli.render_bad_state
          COMMAND bash ${CLI_DIR}/render_bad_state.sh $<TARGET_FILE:sablier> ${CLI_TINY}
                  ${CLI_WORK}/render_bad_state)
 set_tests_properties(cli.render_bad_state PROPERTIES LABELS cli)
+# checks done at load, not after the earlier stages ran (issue 18 part 4)
+sablier_cli_test(fps_too_high "check|scenes/crater/quick.scene|--set|output.fps=5000" 2
+                 ERR "output.fps: `fps` must be in \\(0, 1000\\]")
+sablier_cli_test(dig_outside "check|scenes/crater/quick.scene|--set|stages.dig.dig.center_x=1e308"
+                 2 ERR "dig: the cavity .* lies outside the scene's grains and walls")

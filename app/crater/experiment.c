@@ -68,6 +68,37 @@ static int parse_dig(AppConfig *p, const config_setting_t *stage, AppCraterDig *
     return 0;
 }
 
+/* A dig whose cavity lies beside everything the scene defines (its grains and walls, x) can
+ * only fail after the earlier stages ran: refused at load (a centre of 1e308). Scenes whose
+ * grains all come from elsewhere (a loaded state, sources) are not checked. */
+static int dig_within(AppConfig *p, const config_setting_t *stage, const Scene *scene,
+                      const AppCraterDig *dig)
+{
+    if (!dig->dig)
+        return 0;
+    double x0 = INFINITY, x1 = -INFINITY;
+    for (int i = 0; i < scene->grains.count; ++i) {
+        x0 = fmin(x0, scene->grains.x[i] - scene->grains.radius[i]);
+        x1 = fmax(x1, scene->grains.x[i] + scene->grains.radius[i]);
+    }
+    for (int k = 0; k < scene->def.wall_count; ++k) {
+        double a, b, c, d;
+        sim_wall_bounds(&scene->def.walls[k], &a, &b, &c, &d);
+        x0 = fmin(x0, a);
+        x1 = fmax(x1, c);
+    }
+    if (!(x1 >= x0) || scene->source_count > 0)
+        return 0;
+    const double left = dig->center_x - 0.5 * dig->width, right = dig->center_x + 0.5 * dig->width;
+    if (right > x0 && left < x1)
+        return 0;
+    const config_setting_t *g = config_setting_get_member(stage, "dig");
+    return app_config_fail(p, g ? config_setting_get_member(g, "center_x") : stage,
+                           "dig: the cavity [%g, %g] m lies outside the scene's grains and walls "
+                           "(x in [%g, %g] m)",
+                           left, right, x0, x1);
+}
+
 static int crater_parse(const config_setting_t *root, const config_setting_t *group, Scene *scene,
                         void **state, char *err, size_t err_size)
 {
@@ -94,7 +125,7 @@ static int crater_parse(const config_setting_t *root, const config_setting_t *gr
     int used = c.profile_every > 0.0;
     for (int k = 0; stages && k < scene->stage_count && k < config_setting_length(stages); ++k) {
         const config_setting_t *g = config_setting_get_elem(stages, (unsigned)k);
-        if (parse_dig(&p, g, &c.dig[k]) < 0)
+        if (parse_dig(&p, g, &c.dig[k]) < 0 || dig_within(&p, g, scene, &c.dig[k]) < 0)
             return -1;
         used |= c.dig[k].dig;
     }
