@@ -20,6 +20,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 /* ---------------------------------------------------------------- top-level physics */
 
@@ -421,9 +422,29 @@ static int check_literal(Loader *L, const char *path, int line, const char *text
 
 static int check_int_literals(Loader *L, const char *path, int depth);
 
-/* An `@include "NAME"` at text[*at]: the included file checked (NAME against the scene's folder,
- * as libconfig resolves it). */
-static int check_include(Loader *L, const char *text, size_t size, size_t *at, int depth)
+/* An `@include "NAME"` that libconfig cannot read as a file: an absolute path (libconfig puts the
+ * scene's folder before it), a folder (a flex error without a line) or not a regular file (a
+ * FIFO would block). 0, or -1 with `file:line: ...`. */
+static int include_unreadable(Loader *L, const char *from, int line, const char *name,
+                              const char *path)
+{
+    struct stat st;
+    const char *what = name[0] == '/'
+                           ? "is an absolute path: write it relative to the scene's folder"
+                       : stat(path, &st) != 0 ? NULL /* missing: libconfig says so at its line */
+                       : S_ISDIR(st.st_mode)  ? "is a folder, not a file"
+                       : !S_ISREG(st.st_mode) ? "is not a regular file (a FIFO or a device)"
+                                              : NULL;
+    if (!what)
+        return 0;
+    snprintf(L->p.err, L->p.err_size, "%s:%d: @include \"%s\" %s", from, line, name, what);
+    return -1;
+}
+
+/* An `@include "NAME"` at text[*at] of file `from`, line `line`: the included file checked (NAME
+ * against the scene's folder, as libconfig resolves it). */
+static int check_include(Loader *L, const char *from, int line, const char *text, size_t size,
+                         size_t *at, int depth)
 {
     size_t k = *at + 8;
     while (k < size && (text[k] == ' ' || text[k] == '\t'))
@@ -437,6 +458,8 @@ static int check_include(Loader *L, const char *text, size_t size, size_t *at, i
     char name[SCENE_PATH_MAX], path[2 * SCENE_PATH_MAX + 2];
     snprintf(name, sizeof name, "%.*s", (int)(end - k - 1), text + k + 1);
     snprintf(path, sizeof path, "%s/%s", L->dir, name);
+    if (include_unreadable(L, from, line, name, path) != 0)
+        return -1;
     return check_int_literals(L, path, depth + 1);
 }
 
@@ -462,7 +485,7 @@ static int check_int_literals(Loader *L, const char *path, int depth)
         if (ch == '\n') {
             ++line;
         } else if (ch == '@' && strncmp(text + k, "@include", 8) == 0) {
-            rc = check_include(L, text, size, &k, depth);
+            rc = check_include(L, path, line, text, size, &k, depth);
         } else if (ch == '#' || (ch == '/' && text[k + 1] == '/')) {
             while (k + 1 < size && text[k + 1] != '\n')
                 ++k;
