@@ -64,6 +64,32 @@ static int same_files(const char *a, const char *b)
     return same;
 }
 
+/* Writes the first `size` bytes of `data` as the file. 0, or -1. */
+static int rewrite(const char *path, const unsigned char *data, long size)
+{
+    FILE *f = fopen(path, "wb");
+    int ok = f && fwrite(data, 1, (size_t)size, f) == (size_t)size;
+    return f && fclose(f) == 0 && ok ? 0 : -1;
+}
+
+/* The pile (velocity Verlet, walls) after `steps` steps, saved to a new temporary file `saved`;
+ * NULL on failure. */
+static SimWorld *pile_saved(long steps, char saved[32])
+{
+    SimWorldDef def = pile_def(SIM_INTEGRATOR_VELOCITY_VERLET, 0);
+    SimGrainBuffer b;
+    tu_rain_150(&b, 7, 0.06);
+    SimWorld *w = tu_create(&def, &b);
+    sim_grain_buffer_free(&b);
+    SimError err;
+    if (w && (tu_step(w, steps) != 0 || test_tmp_file(saved) != 0 ||
+              sim_world_save(w, saved, &err) != SIM_OK)) {
+        sim_world_destroy(w);
+        w = NULL;
+    }
+    return w;
+}
+
 static int resume_case(SimIntegrator integrator, int periodic)
 {
     SimWorldDef def = pile_def(integrator, periodic);
@@ -111,16 +137,10 @@ static int resume_exact_gear_periodic(void)
  * continuation section does not fit), at the saved time. */
 static int resume_other_time_step_starts_afresh(void)
 {
-    SimWorldDef def = pile_def(SIM_INTEGRATOR_VELOCITY_VERLET, 0);
-    SimGrainBuffer b;
-    tu_rain_150(&b, 7, 0.06);
-    SimWorld *w = tu_create(&def, &b);
-    sim_grain_buffer_free(&b);
-    TEST_ASSERT(w && tu_step(w, 500) == 0);
     char saved[32];
-    TEST_ASSERT(test_tmp_file(saved) == 0);
     SimError err;
-    TEST_ASSERT(sim_world_save(w, saved, &err) == SIM_OK);
+    SimWorld *w = pile_saved(500, saved);
+    TEST_ASSERT(w);
     SimWorldDef def_load = pile_def(SIM_INTEGRATOR_VELOCITY_VERLET, 0);
     def_load.time_step = 5e-5;
     SimWorld *r = sim_world_load(saved, &def_load, &err);
@@ -136,16 +156,10 @@ static int resume_other_time_step_starts_afresh(void)
 /* A version-1 file (no continuation section) still loads, afresh from its grains. */
 static int resume_version_1_still_loads(void)
 {
-    SimWorldDef def = pile_def(SIM_INTEGRATOR_VELOCITY_VERLET, 0);
-    SimGrainBuffer b;
-    tu_rain_150(&b, 7, 0.06);
-    SimWorld *w = tu_create(&def, &b);
-    sim_grain_buffer_free(&b);
-    TEST_ASSERT(w && tu_step(w, 12000) == 0);
     char saved[32];
-    TEST_ASSERT(test_tmp_file(saved) == 0);
     SimError err;
-    TEST_ASSERT(sim_world_save(w, saved, &err) == SIM_OK);
+    SimWorld *w = pile_saved(12000, saved);
+    TEST_ASSERT(w);
     unsigned char *data = NULL;
     long size = 0;
     TEST_ASSERT(file_bytes(saved, &data, &size) == 0);
@@ -160,8 +174,7 @@ static int resume_version_1_still_loads(void)
     long v1_size = at + 8 + 24L * ((long)counts[0] + counts[1]);
     TEST_ASSERT(v1_size < size);
     data[14] = '1';
-    FILE *f = fopen(saved, "wb");
-    TEST_ASSERT(f && fwrite(data, 1, (size_t)v1_size, f) == (size_t)v1_size && fclose(f) == 0);
+    TEST_ASSERT(rewrite(saved, data, v1_size) == 0);
     free(data);
     SimWorldDef def_load = pile_def(SIM_INTEGRATOR_VELOCITY_VERLET, 0);
     SimWorld *r = sim_world_load(saved, &def_load, &err);
@@ -177,22 +190,14 @@ static int resume_version_1_still_loads(void)
 /* A version-2 file cut inside its continuation section is refused as truncated. */
 static int resume_truncated_section_refused(void)
 {
-    SimWorldDef def = pile_def(SIM_INTEGRATOR_VELOCITY_VERLET, 0);
-    SimGrainBuffer b;
-    tu_rain_150(&b, 7, 0.06);
-    SimWorld *w = tu_create(&def, &b);
-    sim_grain_buffer_free(&b);
-    TEST_ASSERT(w && tu_step(w, 3000) == 0);
     char saved[32];
-    TEST_ASSERT(test_tmp_file(saved) == 0);
     SimError err;
-    TEST_ASSERT(sim_world_save(w, saved, &err) == SIM_OK);
+    SimWorld *w = pile_saved(3000, saved);
+    TEST_ASSERT(w);
     unsigned char *data = NULL;
     long size = 0;
     TEST_ASSERT(file_bytes(saved, &data, &size) == 0);
-    FILE *f = fopen(saved, "wb");
-    TEST_ASSERT(f && fwrite(data, 1, (size_t)(size - 100), f) == (size_t)(size - 100) &&
-                fclose(f) == 0);
+    TEST_ASSERT(rewrite(saved, data, size - 100) == 0);
     free(data);
     SimWorldDef def_load = pile_def(SIM_INTEGRATOR_VELOCITY_VERLET, 0);
     SimWorld *r = sim_world_load(saved, &def_load, &err);
