@@ -480,6 +480,13 @@ static int check_int_literals(Loader *L, const char *path, int depth)
         return 0;
     }
     int line = 1, rc = 0;
+    const char *nul = memchr(text, '\0', size); /* libconfig would end a string there */
+    if (nul) {
+        for (const char *q = text; q < nul; ++q)
+            line += *q == '\n';
+        snprintf(L->p.err, L->p.err_size, "%s:%d: a NUL byte: a scene is text", path, line);
+        rc = -1;
+    }
     for (size_t k = 0; k < size && rc == 0; ++k) {
         char ch = text[k];
         if (ch == '\n') {
