@@ -73,6 +73,14 @@ typedef struct Run {
     int motion_running[SIM_MAX_MOTIONS];
     double motion_on[SIM_MAX_MOTIONS], motion_off[SIM_MAX_MOTIONS];
     AppSources *sources; /* insertion sources, NULL without */
+    /* Checkpoints (docs/resume.md): the wall clock of the last one; with --resume, the point
+     * the run continues from (stage, steps done in it, state file) and the original start. */
+    double checkpoint_wall;
+    int resume_stage;
+    long resume_done;
+    char resume_state[PATH_SIZE];
+    long long started;
+    long energy_bytes, trace_bytes; /* of the files at the resumed checkpoint */
 } Run;
 
 AppRunOptions app_run_options_default(void)
@@ -560,7 +568,8 @@ static void unstable_message(Run *run, int k)
 typedef struct StageClock {
     double dt; /* s */
     long total, every_energy, every_frame, every_trace, every_dump;
-    int movie; /* 1: a movie is open (sink) */
+    long every_checkpoint; /* periodic checkpoints (output.checkpoint_every); total: none */
+    int movie;             /* 1: a movie is open (sink) */
     SimFrameSink sink;
     AppDump *dump; /* NULL: no per-grain dump declared for the stage */
 } StageClock;
@@ -575,6 +584,8 @@ static long cadence_steps(double steps)
     return steps < 1e15 ? (long)llround(steps) : (long)1e15;
 }
 
+static int stage_clock(Run *run, int k, StageClock *clock);
+
 /* World, edits, the families' stage_begin, t*, the start figures and the movie. 0, or the exit
  * status. */
 static int stage_start(Run *run, int k, StageClock *clock)
@@ -582,7 +593,6 @@ static int stage_start(Run *run, int k, StageClock *clock)
     const Scene *scene = run->scene;
     const SceneStage *stage = &scene->stages[k];
     const SceneOutput *out = &scene->output;
-    const AppRender *render = run->options->render;
     run->context.stage = k;
     if (stage_world(run, k) != 0)
         return 2;
@@ -610,6 +620,17 @@ static int stage_start(Run *run, int k, StageClock *clock)
         run->time_scale = run->unit_time; /* t* in the run's fixed sqrt(d/g) */
     if (figures_due(run, k, 0, 0, dt) != 0)
         return 2;
+    return stage_clock(run, k, clock);
+}
+
+/* The stage's cadences, its dump and its movie opened. 0, or the exit status. */
+static int stage_clock(Run *run, int k, StageClock *clock)
+{
+    const Scene *scene = run->scene;
+    const SceneStage *stage = &scene->stages[k];
+    const SceneOutput *out = &scene->output;
+    const AppRender *render = run->options->render;
+    const double dt = sim_world_time_step(run->world);
     if ((stage->movie || out->figure_count > 0) && !render && !run->options->render_off &&
         !run->render_warned) {
         fprintf(stderr, "sablier: warning: rendering is not built: figures and movies are "
@@ -624,6 +645,8 @@ static int stage_start(Run *run, int k, StageClock *clock)
         .every_trace = cadence_steps(out->trace_every / dt),
         .movie = stage->movie && render && render->movie_open,
         .every_dump = app_dump_every_steps(&out->dump[k], dt),
+        .every_checkpoint = out->checkpoint_every > 0.0 ? cadence_steps(out->checkpoint_every / dt)
+                                                        : (long)llround(stage->duration / dt),
     };
     if (app_dump_open(&clock->dump, scene, k, run->options->out_dir, run->message,
                       sizeof run->message) != 0)
@@ -671,10 +694,10 @@ static int outputs_due(Run *run, int k, StageClock *clock, long done)
 static long next_due(const Run *run, int k, const StageClock *clock, long done)
 {
     long next = clock->total;
-    long marks[4] = {clock->every_energy, clock->movie ? clock->every_frame : clock->total,
+    long marks[5] = {clock->every_energy, clock->movie ? clock->every_frame : clock->total,
                      run->trace ? clock->every_trace : clock->total,
-                     clock->dump ? clock->every_dump : clock->total};
-    for (int m = 0; m < 4; ++m) {
+                     clock->dump ? clock->every_dump : clock->total, clock->every_checkpoint};
+    for (int m = 0; m < 5; ++m) {
         long candidate = (done / marks[m] + 1) * marks[m];
         if (candidate < next)
             next = candidate;
@@ -695,24 +718,248 @@ static int settled(Run *run, const SceneStage *stage, const StageClock *clock, l
     return e.kinetic + e.rotational < stage->settle_kinetic;
 }
 
+/* ---------------------------------------------------------------- checkpoints and resume */
+
+#define CHECKPOINT_NAME "checkpoint.txt" /* the newest checkpoint's record (docs/resume.md) */
+
+/* 1 when a periodic checkpoint is due at step `done` (simulated or wall-clock cadence). */
+static int checkpoint_due(Run *run, const StageClock *clock, long done)
+{
+    const double minutes = run->scene->output.checkpoint_minutes;
+    if (done <= 0 || done >= clock->total)
+        return 0;
+    if (done % clock->every_checkpoint == 0)
+        return 1;
+    return minutes > 0.0 && app_now_seconds() - run->checkpoint_wall >= 60.0 * minutes;
+}
+
+/* The byte count of an output written so far (flushed), or -1 without the file. */
+static long flushed_bytes(FILE *f)
+{
+    return f && fflush(f) == 0 ? ftell(f) : -1;
+}
+
+/* The record of a checkpoint at step `done` of stage k: what the run needs to continue from its
+ * state file exactly (the run's totals and scales, the motions' clocks, the stages' reports, the
+ * lengths of energy.csv and trace.csv), doubles in hexadecimal so that they come back to the
+ * bit. */
+static size_t checkpoint_record(const Run *run, int k, long done, const char *state, char *text,
+                                size_t size)
+{
+    size_t n = (size_t)snprintf(
+        text, size,
+        "sablier-checkpoint 1\nscene_sha256 %s\nstarted %lld\nstage %d\ndone %ld\nstate %s\n"
+        "energy_bytes %ld\ntrace_bytes %ld\nscales %a %a %a %a\ntotals %ld %a %a %a %a %ld\n",
+        run->scene->sha256, run->started, k, done, state, flushed_bytes(run->energy),
+        flushed_bytes(run->trace), run->time_scale, run->unit_length, run->unit_mass,
+        run->unit_time, run->steps, run->simulated, run->particle_steps, run->step_seconds,
+        run->contacts_sum, run->contacts_samples);
+    for (int m = 0; m < SIM_MAX_MOTIONS && n < size; ++m)
+        n += (size_t)snprintf(text + n, size - n, "motion %d %d %a %a\n", m, run->motion_running[m],
+                              run->motion_on[m], run->motion_off[m]);
+    for (int j = 0; j <= k && n < size; ++j) {
+        const StageReport *r = &run->stages[j];
+        n += (size_t)snprintf(text + n, size - n, "report %d %ld %a %a %a %d %d %d %d", j, r->steps,
+                              r->start_time, r->end_time, r->wall_seconds, r->settled, r->removed,
+                              r->at_start, r->mobile);
+        for (int q = 0; q < SIM_MAX_SINKS && n < size; ++q)
+            n += (size_t)snprintf(text + n, size - n, " %ld", r->sinks[q]);
+        if (n < size)
+            n += (size_t)snprintf(text + n, size - n, "\n");
+    }
+    if (n < size)
+        app_sources_checkpoint(run->sources, text + n, size - n);
+    return n < size ? n + strlen(text + n) : n;
+}
+
+/* A checkpoint at step `done` of stage k: the world's state (DIR/STAGE.checkpoint.state; an
+ * interrupted stage's DIR/STAGE.interrupted.state is written by stage_finish) and its record
+ * DIR/checkpoint.txt. 0, or -1 with the message. */
+static int checkpoint_write(Run *run, int k, long done, int interrupted)
+{
+    const SceneStage *stage = &run->scene->stages[k];
+    char name[SCENE_NAME_MAX + 32], path[PATH_SIZE];
+    snprintf(name, sizeof name, "%s%s", stage->name,
+             interrupted ? ".interrupted.state" : ".checkpoint.state");
+    out_path(run, path, name, "");
+    if (!interrupted && sim_world_save(run->world, path, &run->error) != SIM_OK) {
+        snprintf(run->message, sizeof run->message, "checkpoint %s: %s", path, run->error.message);
+        return -1;
+    }
+    size_t size = 4096 + 400 * (size_t)SCENE_MAX_STAGES;
+    char *text = malloc(size);
+    int rc = -1;
+    if (text && checkpoint_record(run, k, done, name, text, size) < size) {
+        out_path(run, path, CHECKPOINT_NAME, "");
+        rc = app_write_atomic(path, text);
+    }
+    free(text);
+    if (rc != 0)
+        snprintf(run->message, sizeof run->message, "cannot write %s/%s: %s", run->options->out_dir,
+                 CHECKPOINT_NAME, strerror(errno));
+    run->checkpoint_wall = app_now_seconds();
+    return rc;
+}
+
+/* One `report` line of a record into run->stages. 0, or -1. */
+static int resume_report(Run *run, const char *line)
+{
+    int j, used = 0;
+    StageReport r;
+    memset(&r, 0, sizeof r);
+    if (sscanf(line, "report %d %ld %la %la %la %d %d %d %d%n", &j, &r.steps, &r.start_time,
+               &r.end_time, &r.wall_seconds, &r.settled, &r.removed, &r.at_start, &r.mobile,
+               &used) != 9 ||
+        j < 0 || j >= SCENE_MAX_STAGES)
+        return -1;
+    for (int q = 0; q < SIM_MAX_SINKS; ++q) {
+        int more = 0;
+        if (sscanf(line + used, " %ld%n", &r.sinks[q], &more) != 1)
+            return -1;
+        used += more;
+    }
+    run->stages[j] = r;
+    return 0;
+}
+
+/* One line of a record. 0, or -1 when it is malformed. */
+static int resume_line(Run *run, const char *line, char *sha, int *seen)
+{
+    int m, running;
+    double on, off;
+    if (sscanf(line, "scene_sha256 %64s", sha) == 1 ||
+        sscanf(line, "started %lld", &run->started) == 1 ||
+        sscanf(line, "energy_bytes %ld", &run->energy_bytes) == 1 ||
+        sscanf(line, "trace_bytes %ld", &run->trace_bytes) == 1 ||
+        strcmp(line, "sablier-checkpoint 1\n") == 0)
+        return 0;
+    if (sscanf(line, "stage %d", &run->resume_stage) == 1 ||
+        sscanf(line, "done %ld", &run->resume_done) == 1) {
+        *seen |= line[0] == 's' ? 1 : 2;
+        return 0;
+    }
+    if (strncmp(line, "state ", 6) == 0) {
+        char name[SCENE_NAME_MAX + 32];
+        if (sscanf(line, "state %159s", name) != 1 || strchr(name, '/'))
+            return -1;
+        out_path(run, run->resume_state, name, "");
+        *seen |= 4;
+        return 0;
+    }
+    if (sscanf(line, "scales %la %la %la %la", &run->time_scale, &run->unit_length, &run->unit_mass,
+               &run->unit_time) == 4)
+        return 0;
+    if (sscanf(line, "totals %ld %la %la %la %la %ld", &run->steps, &run->simulated,
+               &run->particle_steps, &run->step_seconds, &run->contacts_sum,
+               &run->contacts_samples) == 6)
+        return 0;
+    if (sscanf(line, "motion %d %d %la %la", &m, &running, &on, &off) == 4) {
+        if (m < 0 || m >= SIM_MAX_MOTIONS)
+            return -1;
+        run->motion_running[m] = running;
+        run->motion_on[m] = on;
+        run->motion_off[m] = off;
+        return 0;
+    }
+    if (strncmp(line, "source ", 7) == 0)
+        return 0; /* resume_sources, once the sources exist */
+    return strncmp(line, "report ", 7) == 0 ? resume_report(run, line) : -1;
+}
+
+/* --resume: the newest checkpoint's record read, and checked against this scene. 0, or -1 with
+ * a message on stderr (exit status 2). */
+static int resume_read(Run *run)
+{
+    const char *dir = run->options->out_dir;
+    char path[PATH_SIZE], line[1024], sha[80] = "";
+    out_path(run, path, CHECKPOINT_NAME, "");
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        fprintf(stderr, "sablier: --resume: no checkpoint in %s (%s: %s)\n", dir, path,
+                strerror(errno));
+        return -1;
+    }
+    int seen = 0, bad = 0;
+    while (!bad && fgets(line, sizeof line, f))
+        bad = resume_line(run, line, sha, &seen) != 0;
+    fclose(f);
+    if (!bad && sha[0] && strcmp(sha, run->scene->sha256) != 0) {
+        fprintf(stderr,
+                "sablier: --resume: the checkpoint in %s was written by another scene file "
+                "(SHA-256 %s, %s has %s)\n",
+                dir, sha, run->scene->path, run->scene->sha256);
+        return -1;
+    }
+    if (bad || seen != 7 || !sha[0] || run->resume_stage < 0 ||
+        run->resume_stage >= run->scene->stage_count || run->resume_done < 0) {
+        fprintf(stderr, "sablier: --resume: %s is malformed%s%s\n", path, bad ? " at: " : "",
+                bad ? line : "");
+        return -1;
+    }
+    return 0;
+}
+
+/* --resume: the sources' state from the checkpoint's record (after app_sources_create). 0, or
+ * -1 with the message. */
+static int resume_sources(Run *run)
+{
+    char path[PATH_SIZE], line[1024];
+    out_path(run, path, CHECKPOINT_NAME, "");
+    FILE *f = fopen(path, "r");
+    int bad = !f;
+    while (!bad && fgets(line, sizeof line, f))
+        bad = strncmp(line, "source ", 7) == 0 && app_sources_restore(run->sources, line) != 0;
+    if (f)
+        fclose(f);
+    if (bad)
+        snprintf(run->message, sizeof run->message, "--resume: %s: bad source state", path);
+    return bad ? -1 : 0;
+}
+
+/* The scene as resolved (--set overrides applied) must be the one the checkpoint's run ran. */
+static int resume_same_scene(const Run *run)
+{
+    char path[PATH_SIZE];
+    out_path(run, path, RESOLVED_NAME, "");
+    FILE *f = fopen(path, "rb");
+    const char *want = run->scene->resolved ? run->scene->resolved : "";
+    size_t length = strlen(want);
+    char *text = malloc(length + 2);
+    size_t got = f && text ? fread(text, 1, length + 1, f) : 0;
+    int same = f && text && got == length && memcmp(text, want, length) == 0;
+    if (f)
+        fclose(f);
+    free(text);
+    if (!same)
+        fprintf(stderr,
+                "sablier: --resume: the scene differs from the one the checkpoint's run ran "
+                "(%s: other --set values or includes)\n",
+                path);
+    return same ? 0 : -1;
+}
+
 /* Steps the stage in chunks that end on output times, until its end or the settle test. 0, or
  * the exit status. */
-static int stage_loop(Run *run, int k, StageClock *clock)
+static int stage_loop(Run *run, int k, StageClock *clock, long done)
 {
     const SceneStage *stage = &run->scene->stages[k];
     StageReport *report = &run->stages[k];
-    long done = 0;
-    int status = 0;
+    int status = 0, resumed = done > 0; /* a resumed stage wrote the outputs at `done` */
     double last_progress = app_now_seconds(), step_wall = 0.0;
-    for (;;) {
-        if ((status = outputs_due(run, k, clock, done)) != 0 || done >= clock->total)
+    for (;; resumed = 0) {
+        if (!resumed && ((status = outputs_due(run, k, clock, done)) != 0 || done >= clock->total))
             break;
-        if (settled(run, stage, clock, done)) {
+        if (!resumed && settled(run, stage, clock, done)) {
             report->settled = 1;
             break;
         }
         if (run_signal) {
             status = APP_EXIT_SIGNAL + run_signal;
+            break;
+        }
+        if (!resumed && checkpoint_due(run, clock, done) &&
+            checkpoint_write(run, k, done, 0) != 0) {
+            status = 2;
             break;
         }
         long next = next_due(run, k, clock, done);
@@ -775,6 +1022,8 @@ static int stage_finish(Run *run, int k, StageClock *clock, int status)
         snprintf(run->message, sizeof run->message, "checkpoint %s: %s", path, run->error.message);
         return 2;
     }
+    if (interrupted && checkpoint_write(run, k, report->steps, 1) != 0)
+        return 2;
     if (interrupted) {
         snprintf(run->message, sizeof run->message,
                  "interrupted by %s in stage %s at t = %.9g s; its state is saved to %s",
@@ -782,9 +1031,45 @@ static int stage_finish(Run *run, int k, StageClock *clock, int status)
                  report->end_time, path);
         return status;
     }
+    if (k == run->resume_stage && strstr(run->resume_state, ".interrupted.state"))
+        remove(run->resume_state); /* the interrupted stage is complete now */
     if (family_hooks(run, HOOK_STAGE_END) != 0 || figures_due(run, k, 1, 0, clock->dt) != 0)
         return 2;
     return 0;
+}
+
+/* The stage a checkpoint interrupted, continued from its state: no edits, no stage_begin hooks,
+ * no start figures (they ran before the checkpoint); the movie starts again at the checkpoint's
+ * frame. 0, or the exit status. */
+static int stage_resume(Run *run, int k, StageClock *clock)
+{
+    const Scene *scene = run->scene;
+    SimWorld *world = world_from_state(run, k, run->resume_state);
+    if (!world)
+        return 2;
+    sim_world_set_threads(world, run->options->threads);
+    if (run->world)
+        sim_world_destroy(run->world);
+    run->world = world;
+    run->context.stage = k;
+    run->context.world = world;
+    const SceneStage *stage = &scene->stages[k];
+    sim_world_set_gravity(world, stage->gravity_x, stage->gravity_y);
+    int motions_declared = 0;
+    for (int j = 0; j <= k; ++j)
+        motions_declared |= scene->stages[j].declares_motions;
+    for (int m = 0; motions_declared && m < scene->def.motion_count; ++m)
+        sim_world_set_motion(world, m, run->motion_on[m], run->motion_off[m]);
+    run->context.stage_steps = (long)llround(stage->duration / sim_world_time_step(world));
+    run->context.stage_start = run->stages[k].start_time;
+    int status = stage_clock(run, k, clock);
+    if (status == 0 && clock->dump) {
+        snprintf(run->message, sizeof run->message,
+                 "--resume: stage %s writes a per-grain dump, which cannot be continued",
+                 stage->name);
+        status = 2;
+    }
+    return status;
 }
 
 static int run_stage(Run *run, int k)
@@ -792,12 +1077,14 @@ static int run_stage(Run *run, int k)
     double wall_start = app_now_seconds();
     StageClock clock;
     memset(&clock, 0, sizeof clock);
-    int status = stage_start(run, k, &clock);
+    const int resumed = k == run->resume_stage && run->resume_state[0];
+    int status = resumed ? stage_resume(run, k, &clock) : stage_start(run, k, &clock);
     if (status != 0) {
         app_dump_close(&clock.dump, NULL, 0, NULL, 0); /* no half dump */
         return status;
     }
-    status = stage_finish(run, k, &clock, stage_loop(run, k, &clock));
+    status =
+        stage_finish(run, k, &clock, stage_loop(run, k, &clock, resumed ? run->resume_done : 0));
     run->stages[k].wall_seconds = app_now_seconds() - wall_start;
     if (status != 0)
         return status;
@@ -849,6 +1136,22 @@ static void families_figures(Run *run)
     }
 }
 
+/* --resume continues what the runner itself keeps (insertion sources included); the state
+ * that experiment families keep is not in a checkpoint yet. 0, or -1 with a message on stderr. */
+static int resume_supported(const Run *run)
+{
+    const Scene *scene = run->scene;
+    for (int f = 0; app_experiments[f]; ++f)
+        if (scene->experiments[f]) {
+            fprintf(stderr,
+                    "sablier: --resume: scenes with %s cannot resume yet (its state is not in "
+                    "the checkpoint)\n",
+                    app_experiments[f]->name);
+            return -1;
+        }
+    return 0;
+}
+
 /* The output folder made ready: created; the files a previous run listed in its manifest removed
  * (but the states this scene loads); a folder with another run's summary.json and no manifest
  * refused without `force`; the resolved scene copied in. 0, or -1 with a message on stderr. */
@@ -856,11 +1159,19 @@ static int prepare_folder(Run *run)
 {
     const Scene *scene = run->scene;
     const char *dir = run->options->out_dir;
+    if (run->options->resume && access(dir, F_OK) != 0) {
+        fprintf(stderr, "sablier: --resume: no output folder %s\n", dir);
+        return -1;
+    }
     if (app_make_dirs(dir) != 0) {
         fprintf(stderr, "sablier: cannot create output folder %s: %s\n", dir, strerror(errno));
         return -1;
     }
     char path[PATH_SIZE], err[PATH_SIZE + 200];
+    if (run->options->resume) /* every output so far stays: the run continues them */
+        return resume_read(run) != 0 || resume_same_scene(run) != 0 || resume_supported(run) != 0
+                   ? -1
+                   : 0;
     out_path(run, path, "manifest", ".txt");
     int has_manifest = access(path, F_OK) == 0;
     out_path(run, path, "summary", ".json");
@@ -918,15 +1229,58 @@ static void catch_signals(struct sigaction saved[2], int restore)
     }
 }
 
+/* The first `bytes` of a CSV file as a checkpoint left it: from PATH.tmp (a run killed without
+ * committing) when it holds them, else from PATH. malloc'd, or NULL. */
+static char *csv_prefix(const char *path, long bytes)
+{
+    char tmp[PATH_SIZE + 8];
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    const char *from[2] = {tmp, path};
+    char *text = malloc((size_t)bytes + 1);
+    for (int k = 0; text && k < 2; ++k) {
+        FILE *f = fopen(from[k], "rb");
+        size_t got = f ? fread(text, 1, (size_t)bytes, f) : 0;
+        if (f)
+            fclose(f);
+        if (got == (size_t)bytes)
+            return text;
+    }
+    free(text);
+    return NULL;
+}
+
+/* A CSV output opened under PATH.tmp: with its header, or (--resume, bytes >= 0) with the part a
+ * checkpoint recorded. NULL on failure. */
+static FILE *csv_open(const char *path, const char *header, long bytes)
+{
+    if (bytes < 0)
+        return app_tmp_open(path, header);
+    char *prefix = csv_prefix(path, bytes);
+    if (!prefix) {
+        errno = ENOENT;
+        return NULL;
+    }
+    FILE *f = app_tmp_open(path, NULL);
+    if (f && fwrite(prefix, 1, (size_t)bytes, f) != (size_t)bytes) {
+        fclose(f);
+        f = NULL;
+    }
+    free(prefix);
+    return f;
+}
+
 /* The energy and trace CSV files opened. 0, or 2. */
 static int open_csv(Run *run)
 {
+    const int resume = run->resume_state[0] != '\0';
     out_path(run, run->energy_path, "energy", ".csv");
-    run->energy = app_tmp_open(run->energy_path,
-                               "t,t_star,e_kin,e_pot,e_rot,e_el,e_total,grains,contacts,stage");
+    run->energy =
+        csv_open(run->energy_path, "t,t_star,e_kin,e_pot,e_rot,e_el,e_total,grains,contacts,stage",
+                 resume ? run->energy_bytes : -1);
     if (run->scene->output.trace_count > 0) {
         out_path(run, run->trace_path, "trace", ".csv");
-        run->trace = app_tmp_open(run->trace_path, "t,id,x,y,vx,vy,omega,fx,fy,torque");
+        run->trace = csv_open(run->trace_path, "t,id,x,y,vx,vy,omega,fx,fy,torque",
+                              resume ? run->trace_bytes : -1);
     }
     if (!run->energy || (run->scene->output.trace_count > 0 && !run->trace)) {
         snprintf(run->message, sizeof run->message, "cannot write in %s: %s", run->options->out_dir,
@@ -947,16 +1301,20 @@ static void run_stages(Run *run)
     if (sources_failed) {
         snprintf(run->message, sizeof run->message, "out of memory");
         run->status = 2;
+    } else if (run->resume_state[0] && resume_sources(run) != 0) {
+        run->status = 2;
     }
-    for (int m = 0; m < SIM_MAX_MOTIONS; ++m) { /* the first stage's motions run from t = 0 */
+    for (int m = 0; !run->resume_state[0] && m < SIM_MAX_MOTIONS; ++m) {
+        /* the first stage's motions run from t = 0 (a resumed run: as its record says) */
         run->motion_running[m] = (scene->stages[0].motions >> m) & 1u;
         run->motion_on[m] = run->motion_running[m] ? 0.0 : (double)INFINITY;
         run->motion_off[m] = (double)INFINITY;
     }
     for (int k = 0; run->status == 0 && k < scene->stage_count; ++k) {
         run->stages_done = k + 1;
-        if (scene->stages[k].skip)
-            continue; /* e.g. a sweep member that starts from a saved bed */
+        if (scene->stages[k].skip || (run->resume_state[0] && k < run->resume_stage))
+            continue; /* e.g. a sweep member that starts from a saved bed; a resumed run's
+                         stages before its checkpoint (their reports from its record) */
         run->status = run_stage(run, k);
     }
 }
@@ -979,6 +1337,9 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     run->progress_tty = !options->quiet && isatty(STDERR_FILENO);
     double wall_start = app_now_seconds();
     time_t started = time(NULL);
+    run->started = (long long)started;
+    run->resume_stage = -1;
+    run->checkpoint_wall = wall_start;
     if (prepare_folder(run) != 0) {
         free(run);
         return 2;
@@ -1009,7 +1370,8 @@ int app_run(const Scene *scene, const AppRunOptions *options)
         run->status = 2;
     }
     families_figures(run); /* after summary.json, as before: a figure failure exits 2 */
-    if (app_manifest_write(options->out_dir, started) != 0 && run->status == 0) {
+    /* a resumed run lists the files of the run it continues too */
+    if (app_manifest_write(options->out_dir, (time_t)run->started) != 0 && run->status == 0) {
         snprintf(run->message, sizeof run->message, "cannot write %s/manifest.txt",
                  options->out_dir);
         run->status = 2;

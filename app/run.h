@@ -28,7 +28,8 @@ typedef struct AppRunOptions {
     const char *sablier_version; ///< for summary.json
     const char *render_versions; ///< render_library_versions(), or NULL
     AppProvenance provenance;    ///< the command line and --set overrides, for summary.json
-    int force; ///< 1: run into a folder that holds outputs of an unknown run (no manifest.txt)
+    int force;  ///< 1: run into a folder that holds outputs of an unknown run (no manifest.txt)
+    int resume; ///< 1: continue from the newest checkpoint in out_dir (DIR/checkpoint.txt)
 } AppRunOptions;
 
 AppRunOptions app_run_options_default(void);

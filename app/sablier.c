@@ -65,7 +65,7 @@ static void print_usage(FILE *out)
 
 static const char USAGE_RUN[] =
     "usage: sablier run SCENE [--out DIR] [--set KEY=VALUE]... [--threads N] [--quiet]\n"
-    "                   [--force]\n"
+    "                   [--force] [--resume]\n"
     "\n"
     "  --out DIR          output folder (default out/<scene name>/)\n"
     "  --set KEY=VALUE    override a scene key by its dotted path, e.g. time.dt=2e-5,\n"
@@ -75,6 +75,9 @@ static const char USAGE_RUN[] =
     "  --quiet            one line per stage, no progress\n"
     "  --force            run into a folder that holds another run's outputs without a\n"
     "                     manifest.txt (a previous sablier run's own files are replaced anyway)\n"
+    "  --resume           continue the run in DIR from its newest checkpoint (DIR/checkpoint.txt:\n"
+    "                     output.checkpoint_every, or an interruption), with the same scene and\n"
+    "                     --set values; the outputs come out as an uninterrupted run's\n"
     "\n"
     "SIGINT or SIGTERM stops the run after the current step: the running stage's state goes to\n"
     "DIR/STAGE.interrupted.state, every output is committed, summary.json says \"interrupted\";\n"
@@ -149,7 +152,7 @@ static const char *render_versions(void)
 static int command_run(int argc, char **argv)
 {
     const char *scene_path = NULL, *out = NULL, *value, *sets[MAX_SETS];
-    int set_count = 0, quiet = 0, force = 0;
+    int set_count = 0, quiet = 0, force = 0, resume = 0;
     long threads = 1;
     for (int i = 2; i < argc; ++i) {
         int m;
@@ -168,6 +171,8 @@ static int command_run(int argc, char **argv)
             quiet = 1;
         } else if (strcmp(argv[i], "--force") == 0) {
             force = 1;
+        } else if (strcmp(argv[i], "--resume") == 0) {
+            resume = 1;
         } else if (app_scene_argument(USAGE_RUN, argv[i], &scene_path) != 0) {
             return 2;
         }
@@ -189,6 +194,7 @@ static int command_run(int argc, char **argv)
     options.sablier_version = SABLIER_VERSION;
     options.render_versions = render_versions();
     options.force = force;
+    options.resume = resume;
     options.provenance = (AppProvenance){.argc = argc,
                                          .argv = argv,
                                          .sets = sets,
@@ -668,6 +674,18 @@ static int command_render(int argc, char **argv)
         scene_free(scene);
         return 2;
     }
+    for (int i = 0; i < grains.count; ++i) /* drawable: finite centres, positive radii */
+        if (!isfinite(grains.x[i]) || !isfinite(grains.y[i]) || !(grains.radius[i] > 0.0) ||
+            !isfinite(grains.radius[i])) {
+            fprintf(stderr,
+                    "sablier: render: %s: grain %u has a non-finite position or a radius that "
+                    "is not a positive finite number (x = %g, y = %g, r = %g)\n",
+                    state, grains.id[i], grains.x[i], grains.y[i], grains.radius[i]);
+            sim_grain_set_free(&grains);
+            free(walls);
+            scene_free(scene);
+            return 2;
+        }
     SceneStyle style = scene ? scene->style : scene_style_unset();
     if (!scene && over.force_chains == 1) {
         fprintf(stderr, "sablier: render: warning: force chains need contact forces: pass --scene "

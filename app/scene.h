@@ -121,11 +121,13 @@ typedef struct SceneDrag {
 } SceneDrag;
 
 typedef struct SceneOutput {
-    double frame_rate;   ///< movie frames per simulated second, 1/s
-    double fps;          ///< video frames per second of movie, 1/s
-    int crf;             ///< libx264 quality
-    int drawer;          ///< 0 cairo, 1 osmesa (RenderDrawer order)
-    double energy_every; ///< s of simulated time between energy.csv rows
+    double frame_rate;         ///< movie frames per simulated second, 1/s
+    double fps;                ///< video frames per second of movie, 1/s
+    int crf;                   ///< libx264 quality
+    int drawer;                ///< 0 cairo, 1 osmesa (RenderDrawer order)
+    double energy_every;       ///< s of simulated time between energy.csv rows
+    double checkpoint_every;   ///< s of simulated time between periodic checkpoints (0: none)
+    double checkpoint_minutes; ///< minutes of wall clock between periodic checkpoints (0: none)
     int trace_count;
     uint32_t trace_ids[SCENE_MAX_TRACE];
     double trace_every;   ///< s between trace.csv rows

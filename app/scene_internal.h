@@ -76,6 +76,9 @@ int loader_parse_sources(Loader *L, const config_setting_t *root);
 
 /* scene_stages.c */
 int loader_parse_stages(Loader *L, const config_setting_t *root);
+/* Every `remove_ids` id names a grain of the scene (while the grains are the scene's own: no
+ * sources, no stage loading a file before). 0, or -1 with file:line. */
+int loader_check_remove_ids(Loader *L, const config_setting_t *root);
 
 /* scene_output.c */
 int loader_parse_output(Loader *L, const config_setting_t *root);

@@ -364,10 +364,21 @@ static int parse_trace(Loader *L, const config_setting_t *output)
 
 int loader_parse_output(Loader *L, const config_setting_t *root)
 {
-    static const char *const keys[] = {
-        "frame_rate",   "fps",        "crf",         "movie",         "drawer",
-        "energy_every", "trace",      "trace_every", "t_star_length", "figures",
-        "dump",         "movie_view", NULL};
+    static const char *const keys[] = {"frame_rate",
+                                       "fps",
+                                       "crf",
+                                       "movie",
+                                       "drawer",
+                                       "energy_every",
+                                       "trace",
+                                       "trace_every",
+                                       "t_star_length",
+                                       "figures",
+                                       "dump",
+                                       "movie_view",
+                                       "checkpoint_every",
+                                       "checkpoint_every_minutes",
+                                       NULL};
     static const char *const drawers[] = {"cairo", "osmesa", NULL};
     static const char *const movie_views[] = {"grains", "container", NULL};
     Scene *scene = L->scene;
@@ -400,7 +411,13 @@ int loader_parse_output(Loader *L, const config_setting_t *root)
         (app_config_member(output, "trace_every") &&
          app_config_positive(&L->p, output, "trace_every", out->trace_every) < 0) ||
         app_config_number(&L->p, output, "t_star_length", &out->t_star_length) < 0 ||
-        app_config_non_negative(&L->p, output, "t_star_length", out->t_star_length) < 0)
+        app_config_non_negative(&L->p, output, "t_star_length", out->t_star_length) < 0 ||
+        app_config_number(&L->p, output, "checkpoint_every", &out->checkpoint_every) < 0 ||
+        app_config_non_negative(&L->p, output, "checkpoint_every", out->checkpoint_every) < 0 ||
+        app_config_number(&L->p, output, "checkpoint_every_minutes", &out->checkpoint_minutes) <
+            0 ||
+        app_config_non_negative(&L->p, output, "checkpoint_every_minutes",
+                                out->checkpoint_minutes) < 0)
         return -1;
     if (crf < 0 || crf > 51)
         return app_config_fail(&L->p, app_config_member(output, "crf"), "`crf` must be in [0, 51]");

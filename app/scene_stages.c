@@ -280,3 +280,34 @@ int loader_parse_stages(Loader *L, const config_setting_t *root)
             return -1;
     return 0;
 }
+
+/* 1 when the scene's own grains hold `id`. */
+static int scene_has_id(const Scene *scene, uint32_t id)
+{
+    const SimGrainBuffer *b = &scene->grains;
+    for (int i = 0; i < b->count; ++i)
+        if ((b->id ? b->id[i] : (uint32_t)i) == id)
+            return 1;
+    return 0;
+}
+
+int loader_check_remove_ids(Loader *L, const config_setting_t *root)
+{
+    const Scene *scene = L->scene;
+    const config_setting_t *list = config_setting_get_member(root, "stages");
+    if (scene->source_count > 0 || !list)
+        return 0; /* sources add grains with new ids as the run goes */
+    for (int k = 0; k < scene->stage_count; ++k) {
+        const SceneStage *stage = &scene->stages[k];
+        if (stage->load == SCENE_LOAD_FILE)
+            return 0; /* from here on the grains come from a state file */
+        const config_setting_t *ids =
+            config_setting_get_member(config_setting_get_elem(list, (unsigned)k), "remove_ids");
+        for (int j = 0; j < stage->remove_count; ++j)
+            if (!scene_has_id(scene, stage->remove_ids[j]))
+                return app_config_fail(
+                    &L->p, ids ? config_setting_get_elem(ids, (unsigned)j) : NULL,
+                    "`remove_ids`: no grain of the scene has id %u", stage->remove_ids[j]);
+    }
+    return 0;
+}

@@ -440,3 +440,36 @@ void app_sources_json(const AppSources *a, char *out, size_t size)
     if (n < size)
         snprintf(out + n, size - n, "],\n");
 }
+
+void app_sources_checkpoint(const AppSources *a, char *out, size_t size)
+{
+    size_t n = 0;
+    if (size > 0)
+        out[0] = '\0';
+    for (int k = 0; a && k < a->count && n < size; ++k) {
+        const SourceState *st = &a->state[k];
+        n += (size_t)snprintf(out + n, size - n,
+                              "source %d %llx %llx %llx %llx %ld %ld %ld %a %d %d %a %ld\n", k,
+                              (unsigned long long)st->rng.s[0], (unsigned long long)st->rng.s[1],
+                              (unsigned long long)st->rng.s[2], (unsigned long long)st->rng.s[3],
+                              st->inserted, st->skipped, st->stage_inserted, st->stage_mass,
+                              st->active, st->next_species, st->next_radius, st->next_index);
+    }
+}
+
+int app_sources_restore(AppSources *a, const char *line)
+{
+    int k;
+    unsigned long long r[4];
+    SourceState st;
+    if (!a ||
+        sscanf(line, "source %d %llx %llx %llx %llx %ld %ld %ld %la %d %d %la %ld", &k, &r[0],
+               &r[1], &r[2], &r[3], &st.inserted, &st.skipped, &st.stage_inserted, &st.stage_mass,
+               &st.active, &st.next_species, &st.next_radius, &st.next_index) != 13 ||
+        k < 0 || k >= a->count)
+        return -1;
+    for (int q = 0; q < 4; ++q)
+        st.rng.s[q] = (uint64_t)r[q];
+    a->state[k] = st;
+    return 0;
+}

@@ -43,6 +43,13 @@ int app_sources_insert(AppSources *sources, SimWorld *world, long done, double d
                        size_t err_size);
 /// `"sources": [...]` members for summary.json (name, inserted, skipped), "" without sources.
 void app_sources_json(const AppSources *sources, char *out, size_t size);
+/// The sources' run-time state (random generators, counts, the next grain) for a checkpoint
+/// record (app/run.c, docs/cli.md#periodic-checkpoints-and---resume): one "source K ..." line
+/// each, "" without sources.
+void app_sources_checkpoint(const AppSources *sources, char *out, size_t size);
+/// Restores one "source K ..." line of a checkpoint record. 0, or -1 when it is malformed or
+/// names no source of the scene.
+int app_sources_restore(AppSources *sources, const char *line);
 /// Grains inserted by source k so far.
 long app_sources_inserted(const AppSources *sources, int k);
 

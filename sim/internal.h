@@ -8,6 +8,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 /* Per-pair constants (species pair p = s_i * SIM_MAX_SPECIES + s_j), mean of the two species. */
 typedef struct PairParams {
@@ -116,6 +117,7 @@ struct SimWorld {
     double wall_shift;   /* largest wall displacement since the last build, m */
     int pending_removal; /* grains flagged SIM_GRAIN_REMOVED wait for the next build */
     int drop_history;    /* the list refers to a state that was replaced: carry nothing over */
+    int exact_restored;  /* loaded with a state's exact-continuation section (resume.c) */
     int jump_grain;      /* index of a grain that moved over half its radius in a step, or -1 */
     /* What ran out of memory in a pass that cannot return an error (neighbour build, removal,
      * sorting), or NULL. Sticky: sim_world_step reports it as SIM_ERROR_MEMORY from then on; the
@@ -241,6 +243,29 @@ int sim_neighbour_history(const SimWorld *world, void **records, int *count, voi
 /* Installs saved history records for the next build; -1 when out of memory (nothing installed). */
 int sim_neighbour_stash_records(SimWorld *world, const void *records, int count, const void *walls,
                                 int wall_count);
+
+/* The lists of a checkpoint (resume.c), as saved: the CSR starts (mobile_count + 1), the partner
+ * of each pair entry, its periodic shift and history; the grain, wall and history of each wall
+ * entry (shift and history arrays NULL when the world has none). */
+typedef struct SimListArrays {
+    int pairs, wall_pairs;
+    int *start, *j;
+    double *shift, *hist_t, *hist_r;
+    int *wall_grain, *wall;
+    double *wall_hist_t, *wall_hist_r;
+} SimListArrays;
+
+/* Installs saved lists in place of the present ones (their per-entry constants from the world's
+ * materials); -1 when out of memory or an entry is out of range. */
+int sim_neighbour_install(SimWorld *world, const SimListArrays *lists);
+
+/* resume.c: the exact-continuation section of a state file (after the contact history). */
+int sim_exact_write(FILE *f, const SimWorld *world);
+/* Reads the section into a world created from the same file's grains (`saved`, in the file's
+ * order; `step` and `time` from its header): 1 applied (the world continues as the saved one),
+ * 0 the section does not fit this world's definition (another time step, integrator or laws:
+ * the world starts afresh from the grains), -1 truncated, -2 out of memory. */
+int sim_exact_apply(SimWorld *world, FILE *f, const SimGrainSet *saved, long step, double time);
 /* world.c: rebuild the lists now (used after installing history). */
 void sim_world_rebuild_now(SimWorld *world);
 /* gamma_n of a pair of species (the mean of the two species' damping specifications) for a

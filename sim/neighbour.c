@@ -468,6 +468,57 @@ static int build_walls(SimWorld *world, const HistoryRecord *records, int record
     return 0;
 }
 
+int sim_neighbour_install(SimWorld *world, const SimListArrays *l)
+{
+    const int mobile = world->mobile_count, n = world->count;
+    NeighbourList *nl = &world->nl;
+    if (l->start[0] != 0 || l->start[mobile] != l->pairs)
+        return -1;
+    for (int i = 0; i < mobile; ++i)
+        if (l->start[i + 1] < l->start[i])
+            return -1;
+    if (list_reserve(world, l->pairs + 1) != 0 || wall_list_reserve(world, l->wall_pairs + 1) != 0)
+        return -1;
+    for (int i = 0; i < mobile; ++i) {
+        nl->start[i] = l->start[i];
+        for (int k = l->start[i]; k < l->start[i + 1]; ++k) {
+            const int j = l->j[k];
+            if (j <= i || j >= n)
+                return -1;
+            const int si = world->species[i], sj = world->species[j];
+            nl->j[k] = j;
+            nl->owner[k] = i;
+            nl->pair[k] = (uint8_t)(si * SIM_MAX_SPECIES + sj);
+            nl->gamma[k] = pair_gamma(world, si, sj, world->inv_mass[i], world->inv_mass[j]);
+            if (l->shift)
+                nl->shift[k] = l->shift[k];
+            if (l->hist_t) {
+                nl->hist_t[k] = l->hist_t[k];
+                nl->hist_r[k] = l->hist_r[k];
+            }
+        }
+    }
+    nl->start[mobile] = l->pairs;
+    WallList *wl = &world->wl;
+    for (int k = 0; k < l->wall_pairs; ++k) {
+        const int i = l->wall_grain[k], w = l->wall[k];
+        if (i < 0 || i >= mobile || w < 0 || w >= world->wall_count)
+            return -1;
+        const int sw = world->walls[w].species;
+        wl->grain[k] = i;
+        wl->wall[k] = w;
+        wl->pair[k] = (uint8_t)(world->species[i] * SIM_MAX_SPECIES + sw);
+        wl->gamma[k] = pair_gamma(world, world->species[i], sw, world->inv_mass[i], 0.0);
+        if (l->wall_hist_t) {
+            wl->hist_t[k] = l->wall_hist_t[k];
+            wl->hist_r[k] = l->wall_hist_r[k];
+        }
+    }
+    wl->count = l->wall_pairs;
+    nl->in_ready = 0;
+    return build_incoming(world);
+}
+
 /* History records of the current lists (for checkpoints): `*records` and `*walls` are malloc'd.
  * -1 when out of memory. */
 int sim_neighbour_history(const SimWorld *world, void **records, int *count, void **walls,

@@ -691,12 +691,15 @@ SimStatus sim_state_load(const char *path, SimGrainSet *grains, SimWall **walls,
 void sim_grain_set_free(SimGrainSet *grains);
 /// A world from `def` with the grains, walls and start time of the state saved at `path` (def's
 /// own grains, walls and start time are not used; the contact history is not restored: see
-/// sim_world_restore_contacts). NULL on failure: error->status is SIM_ERROR_IO when the file
-/// cannot be read, another status when the state does not fit `def`.
-/// Restored grains are exempt from def.max_initial_overlap (grain-grain and grain-wall): the
-/// bound is for new grains (sim_world_create, sim_world_add_grains), while a state the engine
-/// saved must reload whatever its overlaps (a deep or soft pile settles above the bound); every
-/// other check of sim_world_create applies, and the run guard watches overlaps from then on.
+/// sim_world_restore_contacts). A version-2 state whose time step, integrator arrays, laws and
+/// skin setting fit `def` continues exactly as the saved world (its grain order, lists, forces,
+/// contact history, step count and time: docs/state-format.md); any other starts afresh from
+/// the grains at the saved time, step 0. NULL on failure: error->status is SIM_ERROR_IO when the
+/// file cannot be read, another status when the state does not fit `def`. Restored grains are
+/// exempt from def.max_initial_overlap (grain-grain and grain-wall): the bound is for new grains
+/// (sim_world_create, sim_world_add_grains), while a state the engine saved must reload whatever
+/// its overlaps (a deep or soft pile settles above the bound); every other check of
+/// sim_world_create applies, and the run guard watches overlaps from then on.
 SimWorld *sim_world_load(const char *path, const SimWorldDef *def, SimError *error);
 
 /* ---------------------------------------------------------------- builders */

@@ -11,7 +11,16 @@
 #include <string.h>
 #include <sys/stat.h>
 
-static const char magic[16] = "SABLIER-STATE-1\n";
+/* Version 2 adds the exact-continuation section (resume.c) after the contact history; version 1
+ * files (without it) still load, starting afresh from their grains. */
+static const char magic[16] = "SABLIER-STATE-2\n";
+static const char magic_v1[16] = "SABLIER-STATE-1\n";
+
+/* The format version of a header's magic: 2, 1, or 0 (not a state file). */
+static int magic_version(const char m[16])
+{
+    return memcmp(m, magic, 16) == 0 ? 2 : memcmp(m, magic_v1, 16) == 0 ? 1 : 0;
+}
 
 static SimStatus io_fail(SimError *error, const char *path, const char *what)
 {
@@ -92,6 +101,16 @@ static int read_walls(FILE *f, SimWall *walls, int count, int32_t wall_size)
     return 1;
 }
 
+/* A header whose magic, counts and wall record size a reader can trust (a negative wall_size
+ * cancelled the bytes a huge grain count needs: a fuzzed state announced 201 million grains in
+ * 280 bytes). */
+static int header_sound(const StateHeader *h)
+{
+    return magic_version(h->magic) != 0 && h->count >= 0 && h->mobile_count >= 0 &&
+           h->mobile_count <= h->count && h->wall_count >= 0 &&
+           (h->wall_size == 0 || h->wall_size == (int32_t)sizeof(SimWall));
+}
+
 static long wall_bytes(const StateHeader *h)
 {
     return (long)h->wall_count * (h->wall_size ? (long)h->wall_size : (long)sizeof(LegacyWall));
@@ -155,6 +174,7 @@ SimStatus sim_world_save(SimWorld *w, const char *path, SimError *error)
         ok = ok && fwrite(walls, SIM_HISTORY_RECORD_SIZE, (size_t)wc, f) == (size_t)wc;
     free(records);
     free(walls);
+    ok = ok && sim_exact_write(f, w) == 0;
     if (fclose(f) != 0)
         ok = 0;
     if (!ok) {
@@ -198,8 +218,9 @@ static const char *grain_problem(double *const d[7], size_t n)
     return NULL;
 }
 
-SimStatus sim_state_load(const char *path, SimGrainSet *grains, SimWall **walls, int *wall_count,
-                         double *time, SimError *error)
+/* sim_state_load, with the file's header in *header. */
+static SimStatus state_read(const char *path, SimGrainSet *grains, SimWall **walls, int *wall_count,
+                            StateHeader *header, SimError *error)
 {
     memset(grains, 0, sizeof *grains);
     *walls = NULL;
@@ -209,9 +230,7 @@ SimStatus sim_state_load(const char *path, SimGrainSet *grains, SimWall **walls,
     if (!f)
         return io_fail(error, path, "cannot open state file");
     StateHeader h;
-    if (fread(&h, sizeof h, 1, f) != 1 || memcmp(h.magic, magic, sizeof magic) != 0 ||
-        h.count < 0 || h.mobile_count < 0 || h.mobile_count > h.count || h.wall_count < 0 ||
-        (h.wall_size != 0 && h.wall_size != (int32_t)sizeof(SimWall))) {
+    if (fread(&h, sizeof h, 1, f) != 1 || !header_sound(&h)) {
         fclose(f);
         errno = 0;
         return io_fail(error, path, "not a sablier state file (bad header)");
@@ -283,26 +302,38 @@ SimStatus sim_state_load(const char *path, SimGrainSet *grains, SimWall **walls,
                             .id = id};
     *walls = wl;
     *wall_count = h.wall_count;
-    *time = h.time;
+    *header = h;
     return SIM_OK;
+}
+
+SimStatus sim_state_load(const char *path, SimGrainSet *grains, SimWall **walls, int *wall_count,
+                         double *time, SimError *error)
+{
+    StateHeader h;
+    SimStatus status = state_read(path, grains, walls, wall_count, &h, error);
+    *time = status == SIM_OK ? h.time : 0.0;
+    return status;
+}
+
+/* Bytes of the grain and wall sections (layout of sim_world_save). */
+static long grain_wall_bytes(const StateHeader *h)
+{
+    return (long)h->count * (7 * (long)sizeof(double) + 2 * (long)sizeof(int) +
+                             (long)sizeof(unsigned) + (long)sizeof(uint32_t)) +
+           (long)(h->count - h->mobile_count) * 2 * (long)sizeof(double) + wall_bytes(h);
 }
 
 SimStatus sim_world_restore_contacts(SimWorld *w, const char *path, SimError *error)
 {
+    if (w->exact_restored) /* sim_world_load installed the saved lists, history included */
+        return SIM_OK;
     errno = 0;
     FILE *f = fopen(path, "rb");
     if (!f)
         return io_fail(error, path, "cannot open state file");
     StateHeader h;
-    int ok = fread(&h, sizeof h, 1, f) == 1 && memcmp(h.magic, magic, sizeof magic) == 0 &&
-             h.count >= 0 && h.wall_count >= 0 && h.mobile_count >= 0 &&
-             h.mobile_count <= h.count &&
-             (h.wall_size == 0 || h.wall_size == (int32_t)sizeof(SimWall));
-    /* skip the grain and wall sections (layout of sim_world_save) */
-    long skip = (long)h.count * (7 * (long)sizeof(double) + 2 * (long)sizeof(int) +
-                                 (long)sizeof(unsigned) + (long)sizeof(uint32_t)) +
-                (long)(h.count - h.mobile_count) * 2 * (long)sizeof(double) + wall_bytes(&h);
-    ok = ok && fseek(f, skip, SEEK_CUR) == 0;
+    int ok = fread(&h, sizeof h, 1, f) == 1 && header_sound(&h);
+    ok = ok && fseek(f, grain_wall_bytes(&h), SEEK_CUR) == 0;
     int32_t counts[2];
     ok = ok && fread(counts, sizeof counts, 1, f) == 1 && counts[0] >= 0 && counts[1] >= 0;
     /* the records the counts announce must be in the file before they are allocated */
@@ -342,21 +373,54 @@ SimStatus sim_world_restore_contacts(SimWorld *w, const char *path, SimError *er
     return SIM_OK;
 }
 
+/* The exact-continuation section of a version-2 file applied to the world made from its grains
+ * (resume.c). SIM_OK also when the section does not fit the world (it then starts afresh). */
+static SimStatus exact_section(SimWorld *world, const char *path, const SimGrainSet *grains,
+                               const StateHeader *h, SimError *error)
+{
+    errno = 0;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return io_fail(error, path, "cannot open state file");
+    int32_t counts[2];
+    int ok = fseek(f, (long)sizeof *h + grain_wall_bytes(h), SEEK_SET) == 0 &&
+             fread(counts, sizeof counts, 1, f) == 1 && counts[0] >= 0 && counts[1] >= 0 &&
+             fseek(f, ((long)counts[0] + (long)counts[1]) * SIM_HISTORY_RECORD_SIZE, SEEK_CUR) == 0;
+    int applied = ok ? sim_exact_apply(world, f, grains, (long)h->step, h->time) : -1;
+    fclose(f);
+    errno = 0;
+    if (applied == -2)
+        return memory_fail(error, path, "out of memory restoring the lists");
+    if (applied < 0)
+        return io_fail(error, path, "truncated state file (its continuation section)");
+    if (applied == 1) {
+        for (int s = 0; s < SIM_MAX_SINKS; ++s)
+            world->removed[s] = h->removed[s];
+        world->exact_restored = 1;
+    }
+    return SIM_OK;
+}
+
 SimWorld *sim_world_load(const char *path, const SimWorldDef *def, SimError *error)
 {
     SimGrainSet grains;
     SimWall *walls = NULL;
     int wall_count = 0;
-    double time = 0.0;
-    if (sim_state_load(path, &grains, &walls, &wall_count, &time, error) != SIM_OK)
+    StateHeader h;
+    if (state_read(path, &grains, &walls, &wall_count, &h, error) != SIM_OK)
         return NULL;
     SimWorldDef d = *def;
     d.grains = grains;
     d.walls = walls;
     d.wall_count = wall_count;
-    d.start_time = time;
+    d.start_time = h.time;
     /* Restored grains: exempt from the start-overlap bound (sim_world_create_restored). */
     SimWorld *world = sim_world_create_restored(&d, error);
+    if (world && magic_version(h.magic) == 2 &&
+        exact_section(world, path, &grains, &h, error) != SIM_OK) {
+        sim_world_destroy(world);
+        world = NULL;
+    }
     sim_grain_set_free(&grains);
     free(walls);
     return world;

@@ -140,6 +140,10 @@ add_test(NAME cli.remove_ids_missing
          COMMAND bash ${CLI_DIR}/remove_ids.sh $<TARGET_FILE:sablier> ${CLI_TINY}
                  ${CLI_WORK}/remove_ids)
 set_tests_properties(cli.remove_ids_missing PROPERTIES LABELS cli)
+add_test(NAME cli.resume
+         COMMAND bash ${CLI_DIR}/resume.sh $<TARGET_FILE:sablier> ${CLI_DIR}/resume.scene ${CLI_TINY}
+                 ${CLI_WORK}/resume)
+set_tests_properties(cli.resume PROPERTIES LABELS cli)
 add_test(NAME cli.cadence_huge
          COMMAND bash ${CLI_DIR}/cadence.sh $<TARGET_FILE:sablier> ${CLI_TINY} ${CLI_WORK}/cadence)
 set_tests_properties(cli.cadence_huge PROPERTIES LABELS cli)
@@ -192,3 +196,10 @@ add_test(NAME cli.diff_folders
                  -DWORK=${CLI_WORK}/diff_folders -DRENDER=${SABLIER_WITH_RENDER}
                  -P ${CLI_DIR}/diff_folders.cmake)
 set_tests_properties(cli.diff_folders PROPERTIES LABELS cli)
+add_test(NAME cli.render_bad_state
+         COMMAND bash ${CLI_DIR}/render_bad_state.sh $<TARGET_FILE:sablier> ${CLI_TINY}
+                 ${CLI_WORK}/render_bad_state)
+set_tests_properties(cli.render_bad_state PROPERTIES LABELS cli)
+# a dig beside every grain and wall is refused at load (issue 18 part 4)
+sablier_cli_test(dig_outside "check|scenes/crater/quick.scene|--set|stages.dig.dig.center_x=1e308"
+                 2 ERR "dig: the cavity .* lies outside the scene's grains and walls")

@@ -68,51 +68,35 @@ static int parse_dig(AppConfig *p, const config_setting_t *stage, AppCraterDig *
     return 0;
 }
 
-/* The x range grains can occupy: the periodic domain, or the extent of the walls (arcs by their
- * circles) and of the scene's own grains (a container of fixed grains, the rained bed); 0 when
- * the scene has none of them (nothing to check against). */
-static int container_x_range(const Scene *scene, double *x0, double *x1)
+/* A dig whose cavity lies beside everything the scene defines (its grains and walls, x) can
+ * only fail after the earlier stages ran: refused at load (a centre of 1e308). Scenes whose
+ * grains all come from elsewhere (a loaded state, sources) are not checked. */
+static int dig_within(AppConfig *p, const config_setting_t *stage, const Scene *scene,
+                      const AppCraterDig *dig)
 {
-    const SimWorldDef *def = &scene->def;
-    if (def->effects & SIM_EFFECT_PERIODIC_X) {
-        *x0 = def->domain_x0;
-        *x1 = def->domain_x1;
-        return 1;
-    }
-    *x0 = INFINITY;
-    *x1 = -INFINITY;
-    for (int w = 0; w < def->wall_count; ++w) {
-        const SimWall *wall = &def->walls[w];
-        if (wall->shape == SIM_WALL_ARC) {
-            *x0 = fmin(*x0, wall->center_x - wall->radius);
-            *x1 = fmax(*x1, wall->center_x + wall->radius);
-        } else {
-            *x0 = fmin(*x0, fmin(wall->x0, wall->x1));
-            *x1 = fmax(*x1, fmax(wall->x0, wall->x1));
-        }
-    }
-    const SimGrainBuffer *g = &scene->grains;
-    for (int i = 0; i < g->count; ++i) {
-        *x0 = fmin(*x0, g->x[i] - g->radius[i]);
-        *x1 = fmax(*x1, g->x[i] + g->radius[i]);
-    }
-    return *x0 < *x1;
-}
-
-/* A dig whose cavity lies wholly outside the container would find no grain only after the
- * earlier stages ran (a center_x of 1e308): refused at load, at its center_x. */
-static int check_dig_place(AppConfig *p, const config_setting_t *stage, const Scene *scene,
-                           const AppCraterDig *dig)
-{
-    double x0, x1;
-    if (!dig->dig || !container_x_range(scene, &x0, &x1))
+    if (!dig->dig)
         return 0;
-    double c0 = dig->center_x - 0.5 * dig->width, c1 = dig->center_x + 0.5 * dig->width;
-    if (c1 > x0 && c0 < x1)
+    double x0 = INFINITY, x1 = -INFINITY;
+    for (int i = 0; i < scene->grains.count; ++i) {
+        x0 = fmin(x0, scene->grains.x[i] - scene->grains.radius[i]);
+        x1 = fmax(x1, scene->grains.x[i] + scene->grains.radius[i]);
+    }
+    for (int k = 0; k < scene->def.wall_count; ++k) {
+        double a, b, c, d;
+        sim_wall_bounds(&scene->def.walls[k], &a, &b, &c, &d);
+        x0 = fmin(x0, a);
+        x1 = fmax(x1, c);
+    }
+    if (!(x1 >= x0) || scene->source_count > 0)
         return 0;
-    return app_config_fail(p, app_config_member(app_config_member(stage, "dig"), "center_x"),
-                           "the cavity [%g, %g] m lies outside the container, x in [%g, %g] m", c0,
-                           c1, x0, x1);
+    const double left = dig->center_x - 0.5 * dig->width, right = dig->center_x + 0.5 * dig->width;
+    if (right > x0 && left < x1)
+        return 0;
+    const config_setting_t *g = config_setting_get_member(stage, "dig");
+    return app_config_fail(p, g ? config_setting_get_member(g, "center_x") : stage,
+                           "dig: the cavity [%g, %g] m lies outside the scene's grains and walls "
+                           "(x in [%g, %g] m)",
+                           left, right, x0, x1);
 }
 
 static int crater_parse(const config_setting_t *root, const config_setting_t *group, Scene *scene,
@@ -141,7 +125,7 @@ static int crater_parse(const config_setting_t *root, const config_setting_t *gr
     int used = c.profile_every > 0.0;
     for (int k = 0; stages && k < scene->stage_count && k < config_setting_length(stages); ++k) {
         const config_setting_t *g = config_setting_get_elem(stages, (unsigned)k);
-        if (parse_dig(&p, g, &c.dig[k]) < 0 || check_dig_place(&p, g, scene, &c.dig[k]) < 0)
+        if (parse_dig(&p, g, &c.dig[k]) < 0 || dig_within(&p, g, scene, &c.dig[k]) < 0)
             return -1;
         used |= c.dig[k].dig;
     }

@@ -1,19 +1,21 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# cli.remove_ids_missing: a stage whose remove_ids names no grain of the world is an error (exit 2,
-# the id named, summary.json "error"), not ignored; ids that exist are removed.
+# cli.remove_ids_missing: a stage whose grains come from a state file (so its ids are known only as
+# it starts; ids of the scene's own grains are checked at load, cli.bad.remove_ids_unknown) and
+# whose remove_ids names no grain of that world is an error (exit 2, the id named, summary.json
+# "error"), not ignored; ids that exist are removed.
 set -u
 sablier=$1 base=$2 work=$3
 rm -rf "$work" && mkdir -p "$work"
 fail() { echo "cli.remove_ids_missing: $*" >&2; exit 1; }
+"$sablier" run "$base" --out "$work/fall" --quiet --set time.end=0.01 2>"$work/err.txt" ||
+  fail "the first run failed: $(cat "$work/err.txt")"
+cp "$work/fall/run.state" "$work/fall.state"
 write_scene() { # IDS
   sed '/^time = {/,/^};/d' "$base" >"$work/s.scene"
   cat >>"$work/s.scene" <<SCENE
-time = { dt = 1e-5; end = 0.02; };
-stages = (
-  { name = "fall"; time = { end = 0.01; }; },
-  { name = "cut"; time = { end = 0.01; }; remove_ids = [$1]; }
-);
+time = { dt = 1e-5; end = 0.01; };
+stages = ( { name = "cut"; load = "fall.state"; remove_ids = [$1]; } );
 SCENE
 }
 write_scene "0, 7"
