@@ -674,18 +674,6 @@ static int command_render(int argc, char **argv)
         scene_free(scene);
         return 2;
     }
-    for (int i = 0; i < grains.count; ++i) /* drawable: finite centres, positive radii */
-        if (!isfinite(grains.x[i]) || !isfinite(grains.y[i]) || !(grains.radius[i] > 0.0) ||
-            !isfinite(grains.radius[i])) {
-            fprintf(stderr,
-                    "sablier: render: %s: grain %u has a non-finite position or a radius that "
-                    "is not a positive finite number (x = %g, y = %g, r = %g)\n",
-                    state, grains.id[i], grains.x[i], grains.y[i], grains.radius[i]);
-            sim_grain_set_free(&grains);
-            free(walls);
-            scene_free(scene);
-            return 2;
-        }
     SceneStyle style = scene ? scene->style : scene_style_unset();
     if (!scene && over.force_chains == 1) {
         fprintf(stderr, "sablier: render: warning: force chains need contact forces: pass --scene "

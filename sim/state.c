@@ -205,15 +205,23 @@ void sim_grain_set_free(SimGrainSet *g)
 }
 
 /* What no saved world holds (x, y, vx, vy, angle, omega, radius in d[0..6]): a non-finite value
- * or a radius <= 0; NULL when every grain is sound. */
-static const char *grain_problem(double *const d[7], size_t n)
+ * or a radius <= 0, written into `why` with the grain's id; NULL when every grain is sound. */
+static const char *grain_problem(double *const d[7], const uint32_t *id, size_t n, char *why,
+                                 size_t size)
 {
     for (size_t i = 0; i < n; ++i) {
-        for (int a = 0; a < 6; ++a)
-            if (!isfinite(d[a][i]))
-                return "a grain has a non-finite position, velocity or angle";
-        if (!(d[6][i] > 0.0) || !isfinite(d[6][i]))
-            return "a grain has a radius that is not positive and finite";
+        int a = 0;
+        while (a < 6 && isfinite(d[a][i]))
+            ++a;
+        if (a < 6) {
+            snprintf(why, size, "grain %u has a non-finite position, velocity or angle", id[i]);
+            return why;
+        }
+        if (!(d[6][i] > 0.0) || !isfinite(d[6][i])) {
+            snprintf(why, size, "grain %u has a radius %g, not a positive finite number", id[i],
+                     d[6][i]);
+            return why;
+        }
     }
     return NULL;
 }
@@ -276,7 +284,8 @@ static SimStatus state_read(const char *path, SimGrainSet *grains, SimWall **wal
     if (h.wall_count > 0)
         ok = ok && read_walls(f, wl, h.wall_count, h.wall_size);
     fclose(f);
-    const char *bad = ok ? grain_problem(d, n) : NULL;
+    char why[128];
+    const char *bad = ok ? grain_problem(d, id, n, why, sizeof why) : NULL;
     if (!ok || bad) {
         for (int a = 0; a < 7; ++a)
             free(d[a]);

@@ -304,7 +304,7 @@ static int bad_states_refused(void)
                  {16, &huge, sizeof huge, "shorter than its header says"},
                  /* the one grain's x (first array after the header), then its radius (7th) */
                  {header, &nan, sizeof nan, "non-finite position"},
-                 {header + 6 * 8, &negative, sizeof negative, "radius that is not positive"}};
+                 {header + 6 * 8, &negative, sizeof negative, "not a positive finite number"}};
 
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
         TEST_ASSERT(sim_world_save(w, path, &err) == SIM_OK);
