@@ -839,7 +839,7 @@ static int resume_line(Run *run, const char *line, char *sha, int *seen)
         return 0;
     }
     if (strncmp(line, "state ", 6) == 0) {
-        char name[SCENE_NAME_MAX + 32];
+        char name[160]; /* %159s: the buffer must hold 159 characters and the NUL */
         if (sscanf(line, "state %159s", name) != 1 || strchr(name, '/'))
             return -1;
         out_path(run, run->resume_state, name, "");
