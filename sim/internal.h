@@ -308,9 +308,9 @@ double sim_stability_limit(SimIntegrator integrator, double omega, double zeta);
 /* parallel.c */
 /* A loop body over the index range [begin, end); returns flags that the caller ORs. */
 typedef int RangeFn(SimWorld *world, int begin, int end);
-/* Runs fn over [0, n) split into world->threads fixed, contiguous ranges (bounds multiples of
- * `align`, the last one ending at n), in parallel when threads > 1; returns the OR of the
- * results. The split changes only who computes what: a body that writes only to its own
+/* Runs fn over [0, n) cut into chunks (bounds multiples of `align`, the last one ending at n),
+ * on world->threads threads when threads > 1; returns the OR of the results. The cut and the
+ * thread that runs a chunk change only who computes what: a body that writes only to its own
  * indices, from data no other range writes, gives the same bits for every thread count. */
 int sim_parallel_ranges(SimWorld *world, RangeFn *fn, int n, int align);
 /* Stops and frees the world's threads (sim_world_destroy). */

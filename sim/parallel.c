@@ -1,36 +1,68 @@
 /* SPDX-License-Identifier: MIT */
 /* parallel.c: the step's threads, a small pool of POSIX threads per world (pthreads is part of
  * the C library on the systems we build for; nothing else is needed). Every threaded pass goes
- * through sim_parallel_ranges: fixed, contiguous ranges, one per thread, and bodies that write
- * only their own indices, so that the results do not depend on the thread count (README.md,
- * Determinism).
+ * through sim_parallel_ranges: chunks of the index range (a fixed cut for a given n and thread
+ * count), each thread first taking its own contiguous run of them and then helping with the
+ * others', and bodies that write only their own indices, so that the results do not depend on the
+ * thread count or on which thread ran a chunk (README.md, Determinism). Helping keeps a thread that
+ * the scheduler delays from holding the pass up: with one competing process on 2 cores, 2 threads
+ * ran at 57 M particle-steps/s with it against 36-42 without (docs/dev/scaling.md).
  *
- * Waiting: a thread that waits spins for a short while (a step's passes follow each other within
- * microseconds) and then sleeps on a condition variable. Spinning alone, as OpenMP's default
- * policy does, was measured to make two threads 20-35x slower than one on a shared, loaded
- * machine: a spinning thread burns the time slice its partner needs. */
+ * Waiting: a thread that waits spins for up to SPIN_NS of the monotonic clock (a step's passes
+ * follow each other within microseconds), offering its core to any other runnable thread
+ * (sched_yield) every YIELD_EVERY checks, and then sleeps on a condition variable. Both limits are
+ * measured choices (docs/dev/scaling.md, "Waiting"): a spin of 4000 loads (a few microseconds)
+ * made two threads 3x slower than one on a quiet 2-core VM, because every pass then ended in a
+ * futex sleep and wake-up that cost more than the pass; spinning without a bound or a yield, as
+ * OpenMP's default policy does, was measured 20-35x slower than one thread on a shared, loaded
+ * machine, where a spinning thread burns the time slice its partner needs. */
 #include "internal.h"
 
 #include <pthread.h>
+#include <sched.h>
 #include <stdatomic.h>
 #include <stdlib.h>
+#include <time.h>
 #include <unistd.h>
-
-/* Lower bound of range c of `parts` over [0, n), a multiple of align (the last bound is n). */
-static int range_bound(int n, int c, int parts, int align)
-{
-    if (c >= parts)
-        return n;
-    long long b = (long long)n * c / parts;
-    b -= b % align;
-    return (int)b;
-}
 
 /* Below this many indices per thread a loop runs on one thread: the hand-over would cost more
  * than the work (the split does not change the results either way). */
-enum { MIN_PER_THREAD = 64, SPIN = 4000 };
+enum { MIN_PER_THREAD = 64, CHUNKS_PER_PART = 8, YIELD_EVERY = 4096 };
+
+#define SPIN_NS 200000L /* 200 us */
+
+/* A bounded spin: spin_more() is 1 while the waiter should keep checking. */
+typedef struct Spin {
+    struct timespec start;
+    unsigned checks;
+} Spin;
+
+static Spin spin_start(void)
+{
+    Spin s = {.checks = 0};
+    clock_gettime(CLOCK_MONOTONIC, &s.start);
+    return s;
+}
+
+static int spin_more(Spin *s)
+{
+    if (++s->checks % YIELD_EVERY != 0)
+        return 1;
+    sched_yield();
+    struct timespec now;
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    long ns = (now.tv_sec - s->start.tv_sec) * 1000000000L + (now.tv_nsec - s->start.tv_nsec);
+    return ns < SPIN_NS;
+}
 
 typedef struct SimPool SimPool;
+
+/* The chunks of one part still to run: [next, end), taken one at a time by its own thread and,
+ * once their own are done, by the others. A cache line each. */
+typedef struct PartQueue {
+    _Alignas(64) atomic_int next;
+    int end;
+} PartQueue;
 
 struct SimPool {
     int workers; /* threads besides the caller's */
@@ -44,8 +76,9 @@ struct SimPool {
     /* the job (written before generation moves on, read after) */
     SimWorld *world;
     RangeFn *fn;
-    int n, align, parts;
-    int *flags; /* per part */
+    int n, chunk, parts;
+    int *flags;        /* per part */
+    PartQueue *queues; /* per part */
 };
 
 typedef struct SimPoolWorker {
@@ -53,11 +86,21 @@ typedef struct SimPoolWorker {
     int part; /* 1..workers */
 } Worker;
 
+/* Thread `part` runs its own part's chunks, then helps the parts that are not done yet, so that
+ * a thread slowed down (by the scheduler, by its caches) holds the job up for one chunk at most.
+ * Which thread runs a chunk does not change what the chunk computes. */
 static void run_part(SimPool *p, int part)
 {
-    const int begin = range_bound(p->n, part, p->parts, p->align);
-    const int end = range_bound(p->n, part + 1, p->parts, p->align);
-    p->flags[part] = begin < end ? p->fn(p->world, begin, end) : 0;
+    int flags = 0;
+    for (int k = 0; k < p->parts; ++k) {
+        PartQueue *q = &p->queues[(part + k) % p->parts];
+        for (int c; (c = atomic_fetch_add_explicit(&q->next, 1, memory_order_relaxed)) < q->end;) {
+            const int begin = c * p->chunk;
+            const int end = begin + p->chunk < p->n ? begin + p->chunk : p->n;
+            flags |= p->fn(p->world, begin, end);
+        }
+    }
+    p->flags[part] = flags;
 }
 
 static void *worker_main(void *arg)
@@ -67,7 +110,7 @@ static void *worker_main(void *arg)
     unsigned long seen = 0;
     for (;;) {
         unsigned long g = atomic_load_explicit(&p->generation, memory_order_acquire);
-        for (int s = 0; s < SPIN && g == seen; ++s)
+        for (Spin s = spin_start(); g == seen && spin_more(&s);)
             g = atomic_load_explicit(&p->generation, memory_order_acquire);
         int stop = 0;
         if (g == seen) {
@@ -101,6 +144,7 @@ static void pool_free(SimPool *p)
     if (p->owner != getpid()) { /* a fork's copy: the workers are the parent's */
         free(p->threads);
         free(p->flags);
+        free(p->queues);
         free(p);
         return;
     }
@@ -115,6 +159,7 @@ static void pool_free(SimPool *p)
     pthread_mutex_destroy(&p->mutex);
     free(p->threads);
     free(p->flags);
+    free(p->queues);
     free(p);
 }
 
@@ -127,11 +172,14 @@ static SimPool *pool_create(int threads, Worker **slots)
     if (p) {
         p->threads = calloc((size_t)threads, sizeof *p->threads);
         p->flags = calloc((size_t)threads, sizeof *p->flags);
+        p->queues = aligned_alloc(_Alignof(PartQueue), (size_t)threads * sizeof *p->queues);
     }
-    if (!p || !w || !p->threads || !p->flags || pthread_mutex_init(&p->mutex, NULL) != 0) {
+    if (!p || !w || !p->threads || !p->flags || !p->queues ||
+        pthread_mutex_init(&p->mutex, NULL) != 0) {
         if (p) {
             free(p->threads);
             free(p->flags);
+            free(p->queues);
         }
         free(p);
         free(w);
@@ -167,10 +215,20 @@ int sim_parallel_ranges(SimWorld *world, RangeFn *fn, int n, int align)
         parts = n / MIN_PER_THREAD;
     if (parts <= 1)
         return n > 0 ? fn(world, 0, n) : 0;
+    /* Chunks of a multiple of align, about CHUNKS_PER_PART per part; part c owns a contiguous
+     * run of them. */
+    int chunk = n / (parts * CHUNKS_PER_PART);
+    chunk = chunk > align ? chunk - chunk % align : align;
+    const int chunks = (n + chunk - 1) / chunk;
+    for (int c = 0; c < parts; ++c) {
+        atomic_store_explicit(&p->queues[c].next, (int)((long long)chunks * c / parts),
+                              memory_order_relaxed);
+        p->queues[c].end = (int)((long long)chunks * (c + 1) / parts);
+    }
     p->world = world;
     p->fn = fn;
     p->n = n;
-    p->align = align;
+    p->chunk = chunk;
     p->parts = parts;
     atomic_store_explicit(&p->pending, p->workers, memory_order_relaxed);
     pthread_mutex_lock(&p->mutex);
@@ -179,7 +237,7 @@ int sim_parallel_ranges(SimWorld *world, RangeFn *fn, int n, int align)
     pthread_mutex_unlock(&p->mutex);
     run_part(p, 0);
     int left = atomic_load_explicit(&p->pending, memory_order_acquire);
-    for (int s = 0; s < SPIN && left != 0; ++s)
+    for (Spin s = spin_start(); left != 0 && spin_more(&s);)
         left = atomic_load_explicit(&p->pending, memory_order_acquire);
     if (left != 0) {
         pthread_mutex_lock(&p->mutex);
