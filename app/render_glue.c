@@ -92,6 +92,9 @@ RenderStyle app_render_style(const SceneStyle *s)
     if (s->title[0])
         r.title = s->title;
     r.reduced_units = s->reduced_units;
+    r.normalised_units = s->normalised_units == SCENE_UNITS_NORMALISED_G ? RENDER_UNITS_NORMALISED_G
+                         : s->normalised_units                           ? RENDER_UNITS_NORMALISED
+                                                                         : 0;
     r.axes = s->axes > 0;
     r.field_color = s->field_color > 0;
     print_size(s, &r);
@@ -102,6 +105,11 @@ RenderStyle app_render_style(const SceneStyle *s)
         r.colorbar_label = labels[r.color_by][0];
         r.colorbar_unit = labels[r.color_by][1];
     }
+    if (r.normalised_units && r.color_by == RENDER_COLOR_HEIGHT)
+        r.colorbar_unit = "d"; /* a scene in its own units: the heights as given */
+    else if (r.normalised_units && r.color_by == RENDER_COLOR_SPEED)
+        r.colorbar_unit = r.normalised_units == RENDER_UNITS_NORMALISED_G ? "\xe2\x88\x9a(gd)"
+                                                                          : "d per time unit";
     return r;
 }
 

@@ -184,6 +184,12 @@ static int write_summary(const Run *run, double wall_seconds)
                               "\"mass_kg\": %s, \"time_s\": %s},\n",
                               d, m, t);
     }
+    if (run->scene->units_normalised && n < size)
+        n += (size_t)snprintf(
+            text + n, size - n,
+            "  \"units\": {\"system\": \"normalised\", \"length\": \"d\", "
+            "\"time\": \"%s\"},\n",
+            run->scene->style.normalised_units == SCENE_UNITS_NORMALISED_G ? "sqrt(d/g)" : "scene");
     char sources[2048];
     app_sources_json(run->sources, sources, sizeof sources);
     n += (size_t)snprintf(text + n, n < size ? size - n : 0, "%s%s  \"stages\": [", sources,
@@ -518,11 +524,15 @@ static void progress(Run *run, int k, double elapsed, double duration, double ra
         const StageReport *r = &run->stages[k];
         if (run->progress_tty)
             fputs("\r\033[K", stderr);
+        const int units = run->scene->style.normalised_units; /* simulated time in its units */
+        const char *u = units == SCENE_UNITS_NORMALISED_G ? " sqrt(d/g)"
+                        : units                           ? " time units"
+                                                          : " s";
         fprintf(stderr,
-                "sablier: stage %s: %.4g s simulated (t = %.4g s) in %.3g s, %ld steps, %d "
+                "sablier: stage %s: %.4g%s simulated (t = %.4g%s) in %.3g s, %ld steps, %d "
                 "mobile grains%s%s\n",
-                stage->name, r->end_time - r->start_time, r->end_time, r->wall_seconds, r->steps,
-                r->mobile, r->settled ? ", settled" : "",
+                stage->name, r->end_time - r->start_time, u, r->end_time, u, r->wall_seconds,
+                r->steps, r->mobile, r->settled ? ", settled" : "",
                 r->at_start ? ", grains removed at start" : "");
         return;
     }

@@ -44,6 +44,10 @@ typedef enum SceneColormap {
 
 /// Drawing settings as written in the scene. Unset fields: ints -1, doubles NaN, strings "",
 /// colours -1; unset fields keep the renderer's defaults.
+/// SceneStyle.normalised_units (units = "normalised", docs/scenes.md#units): lengths labelled in d;
+/// with _G (|g| = 1) times in sqrt(d/g) and speeds in sqrt(g d), else times bare.
+enum { SCENE_UNITS_NORMALISED = 1, SCENE_UNITS_NORMALISED_G = 2 };
+
 typedef struct SceneStyle {
     int width, height;                         ///< pixels
     int color_by;                              ///< SceneColorBy
@@ -59,7 +63,8 @@ typedef struct SceneStyle {
     long background_rgb, fill_rgb, fixed_rgb;  ///< 0xRRGGBB
     double view_x0, view_y0, view_x1, view_y1; ///< world window, m
     char title[128];
-    int reduced_units; ///< 1: labels in d and sqrt(d/g) (the scene's units = "reduced")
+    int reduced_units;    ///< 1: labels in d and sqrt(d/g) (the scene's units = "reduced")
+    int normalised_units; ///< SCENE_UNITS_NORMALISED(_G): units = "normalised" (labels only)
     /* Publication figures (docs/figures.md). */
     int axes;              ///< 0/1; unset: on for figures, off for movies
     double size_w, size_h; ///< print size in size_unit (NaN = unset: width/height pixels)
@@ -176,6 +181,10 @@ typedef struct Scene {
     /// units = "reduced": outputs in d (mean diameter of the mobile grains), m (their mean mass)
     /// and sqrt(d/g) (docs/scenes.md#units); 0 = SI
     int units_reduced;
+    /// units = "normalised": the scene's numbers are already in its own units (lengths in d, times
+    /// in sqrt(d/g) when |g| = 1, else in the scene's time unit); outputs are written as given and
+    /// figures are labelled in d (docs/scenes.md#units); 0 = not declared
+    int units_normalised;
     int source_count;
     struct SceneSource *sources; ///< insertion sources (app/sources.h), malloc'd
     /// time.target_error: |e - e_n| the time step was chosen for (app/advice.h); 0 = not used

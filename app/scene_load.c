@@ -73,7 +73,7 @@ static void drag_apply(void *context, const SimBodyForceView *view)
 /* The scene's keys, effects, name, seed and units. */
 static int parse_identity(Loader *L, const config_setting_t *root)
 {
-    static const char *const units[] = {"SI", "si", "reduced", NULL};
+    static const char *const units[] = {"SI", "si", "reduced", "normalised", "normalized", NULL};
     Scene *scene = L->scene;
     int choice = 0;
     const char *name = NULL;
@@ -98,6 +98,7 @@ static int parse_identity(Loader *L, const config_setting_t *root)
     if (app_config_choice(&L->p, root, "units", units, &choice) < 0)
         return -1;
     scene->units_reduced = choice == 2;
+    scene->units_normalised = choice >= 3;
     return 0;
 }
 
@@ -638,6 +639,13 @@ static int finish_output(Loader *L)
             scene->output.figures[k].style.reduced_units = 1;
     } else if (scene->output.t_star_length == 0.0) {
         scene->output.t_star_length = L->box_height;
+    }
+    if (scene->units_normalised) { /* labels only: every number is written as given */
+        const double g = hypot(scene->def.gravity_x, scene->def.gravity_y);
+        const int labels = g == 1.0 ? SCENE_UNITS_NORMALISED_G : SCENE_UNITS_NORMALISED;
+        scene->style.normalised_units = labels;
+        for (int k = 0; k < scene->output.figure_count; ++k)
+            scene->output.figures[k].style.normalised_units = labels;
     }
     scene->def.length_scale = scene->output.t_star_length; /* frames' t* agree with CSV */
     for (int k = 0; k < scene->output.trace_count; ++k)

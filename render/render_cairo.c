@@ -1008,7 +1008,7 @@ static void draw_axis(cairo_t *cr, const DrawScene *sc, int is_y)
     char offset[48] = "", label[96];
     if (e != 0)
         render_exponent_text(e, offset, sizeof offset);
-    if (sc->style.reduced_units && unit != 1.0)
+    if ((sc->style.reduced_units && unit != 1.0) || sc->style.normalised_units)
         snprintf(label, sizeof label, "%s / %sd", is_y ? "y" : "x", offset);
     else
         snprintf(label, sizeof label, "%s (%s%sm)", is_y ? "y" : "x", offset, e ? " " : "");
@@ -1050,6 +1050,13 @@ const char *render_time_label(const SimFrame *frame, const RenderStyle *style, c
                               size_t size)
 {
     char t[32];
+    if (style->normalised_units) { /* the scene's own time unit */
+        snprintf(buf, size,
+                 style->normalised_units == RENDER_UNITS_NORMALISED_G ? "t = %.2f \xe2\x88\x9a(d/g)"
+                                                                      : "t = %.2f",
+                 frame->time);
+        return buf;
+    }
     if (style->reduced_units && frame->time_scale > 0) {
         snprintf(buf, size, "t = %.2f \xe2\x88\x9a(d/g)", frame->time / frame->time_scale);
         return buf;
@@ -1090,7 +1097,7 @@ const char *render_scale_label(double diameters, double d, const RenderStyle *st
                                size_t size)
 {
     char dtext[32];
-    if (style->reduced_units) {
+    if (style->reduced_units || style->normalised_units) {
         snprintf(buf, size, "%g d", diameters);
         return buf;
     }
@@ -1139,6 +1146,7 @@ static void draw_arrow_key(cairo_t *cr, const DrawScene *sc)
         return;
     int reduced = sc->style.reduced_units && sc->frame->time_scale > 0 && v->mean_diameter > 0;
     double unit = reduced ? v->mean_diameter / sc->frame->time_scale : 1.0; /* sqrt(g d) */
+    const int normalised = sc->style.normalised_units;                      /* speeds as given */
     double ref = render_arrow_reference(fmin(sc->key_vmax, 6 * fs / px_per_speed) / unit);
     double len = ref * unit * px_per_speed, x1 = v->plot_x + v->plot_w;
     double y = key_row_y(sc) + (sc->style.scale_bar ? 1.6 * fs : 0.0);
@@ -1148,7 +1156,10 @@ static void draw_arrow_key(cairo_t *cr, const DrawScene *sc)
     cairo_set_line_width(cr, fmax(1.0, 0.1 * fs));
     render_arrow(cr, x1 - len, y, len, 0, 0.6 * fs);
     char text[64];
-    snprintf(text, sizeof text, "%g %s", ref, reduced ? "\xe2\x88\x9a(gd)" : "m/s");
+    snprintf(text, sizeof text, "%g %s", ref,
+             reduced || normalised == RENDER_UNITS_NORMALISED_G ? "\xe2\x88\x9a(gd)"
+             : normalised                                       ? "d per time unit"
+                                                                : "m/s");
     render_text_font(cr, fs, 0);
     render_set_rgb(cr, text_rgb);
     render_text_draw(cr, x1 - len - 0.5 * fs, y, text, 1, 0.5);

@@ -79,7 +79,15 @@ typedef struct RenderStyle {
     const double *node_vx, *node_vy;
     int node_nx, node_ny;
     double node_x0, node_y0, node_cell; ///< m
+    /// A scene written in its own units (units = "normalised"): lengths already in d, so axes and
+    /// scale bar say d at the numbers as given; RENDER_UNITS_NORMALISED_G also labels times in
+    /// sqrt(d/g) and speeds in sqrt(g d) (|g| = 1), RENDER_UNITS_NORMALISED writes times bare.
+    /// 0 = not declared.
+    int normalised_units;
 } RenderStyle;
+
+/// RenderStyle.normalised_units
+enum { RENDER_UNITS_NORMALISED = 1, RENDER_UNITS_NORMALISED_G = 2 };
 
 /// Defaults: 1280x720, sand-coloured outlined disks on white, fit view, colour bar, time stamp
 /// and scale bar on; colour map viridis, chains off.

@@ -4,7 +4,8 @@
  * one divided by sqrt(d/g) to 1e-12 (the unit being the one summary.json reports, sqrt(d/g) of
  * its d), the other columns
  * are the same text, summary.json gains the scales, the SI run's has none; a t_star_length is
- * refused in reduced units. No rendering. */
+ * refused in reduced units. units = "normalised" (labels only) writes every output file but
+ * summary.json byte for byte as without it, and summary.json names the units. No rendering. */
 #include "run.h"
 #include "scene.h"
 #include "test.h"
@@ -26,7 +27,10 @@ static int run_in(const char *units, char *dir, size_t size)
         fprintf(stderr, "%s\n", err);
         return -1;
     }
-    snprintf(dir, size, "/tmp/sablier_test_units_%ld_%s", (long)getpid(), units ? "reduced" : "si");
+    snprintf(dir, size, "/tmp/sablier_test_units_%ld_%s", (long)getpid(),
+             !units                        ? "si"
+             : strstr(units, "normalised") ? "normalised"
+                                           : "reduced");
     AppRunOptions options = app_run_options_default();
     options.out_dir = dir;
     options.quiet = 1;
@@ -121,4 +125,39 @@ static int t_star_length_refused(void)
     return 0;
 }
 
-TEST_MAIN(TEST_CASE(energy_time_in_sqrt_d_over_g), TEST_CASE(t_star_length_refused))
+/* 1 when DIR_A/NAME and DIR_B/NAME hold the same bytes. */
+static int same_file(const char *a, const char *b, const char *name)
+{
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "cmp -s '%s/%s' '%s/%s'", a, name, b, name);
+    return system(cmd) == 0;
+}
+
+static int normalised_writes_numbers_as_given(void)
+{
+    char si[256], nu[256];
+    TEST_ASSERT(run_in(NULL, si, sizeof si) == 0);
+    TEST_ASSERT(run_in("units=\"normalised\"", nu, sizeof nu) == 0);
+    const char *files[] = {"energy.csv",      "trace.csv",    "bne.csv",
+                           "phase_field.csv", "settle.state", "shake.state"};
+    for (size_t k = 0; k < sizeof files / sizeof files[0]; ++k)
+        TEST_ASSERT(same_file(si, nu, files[k]));
+    char path[512], text[65536];
+    snprintf(path, sizeof path, "%s/summary.json", nu);
+    FILE *f = fopen(path, "r");
+    TEST_ASSERT(f != NULL);
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    fclose(f);
+    text[n] = '\0';
+    /* the scene's gravity is 1 in its units: times in sqrt(d/g) */
+    TEST_ASSERT(strstr(text, "\"units\": {\"system\": \"normalised\", \"length\": \"d\", "
+                             "\"time\": \"sqrt(d/g)\"}") != NULL);
+    TEST_ASSERT(isnan(summary_number(nu, "length_m")));
+    char cmd[600];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' '%s'", si, nu);
+    TEST_ASSERT(system(cmd) == 0);
+    return 0;
+}
+
+TEST_MAIN(TEST_CASE(energy_time_in_sqrt_d_over_g), TEST_CASE(t_star_length_refused),
+          TEST_CASE(normalised_writes_numbers_as_given))
