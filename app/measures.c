@@ -641,11 +641,12 @@ static long measures_next_step(const void *state, const AppContext *c, long done
 
 /* A heat map (grid) or a profile plot (field against height or x) of the last row written. */
 /* The map of a grid measure's node values (heat map), with its title and colour-bar label. */
-static AppMap grid_map(const Measure *m, const char *title, const char *label, const double *values)
+static AppMap grid_map(const Measure *m, const char *title, const char *label, const double *values,
+                       const char *const axes[2])
 {
     return (AppMap){.title = title,
-                    .x_label = "x (m)",
-                    .y_label = "y (m)",
+                    .x_label = axes[0],
+                    .y_label = axes[1],
                     .bar_label = label,
                     .nx = m->nx,
                     .ny = m->ny,
@@ -653,6 +654,35 @@ static AppMap grid_map(const Measure *m, const char *title, const char *label, c
                     .y0 = m->region[1],
                     .cell = m->bin,
                     .values = values};
+}
+
+/* The axes of a measure's figures, and a field's label: in a scene of its own units
+ * (units = "normalised") lengths in d and the field without an SI unit. */
+typedef struct FigureLabels {
+    char x[32], y[32];
+    const char *axes[2];
+} FigureLabels;
+
+static void figure_labels(const AppContext *c, FigureLabels *l)
+{
+    scene_axis_label(c->scene, "x", SCENE_LENGTH, l->x, sizeof l->x);
+    scene_axis_label(c->scene, "y", SCENE_LENGTH, l->y, sizeof l->y);
+    l->axes[0] = l->x;
+    l->axes[1] = l->y;
+}
+
+static const char *field_unit(const AppContext *c, SimCoarseField field)
+{
+    return c->scene->style.normalised_units ? "" : sim_coarse_field_unit(field);
+}
+
+static void field_label(const AppContext *c, const char *name, const char *unit, char *buf,
+                        size_t size)
+{
+    if (c->scene->style.normalised_units)
+        snprintf(buf, size, "%s", name);
+    else
+        snprintf(buf, size, "%s (%s)", name, unit);
 }
 
 static int draw_arrows(const Measure *m, const AppContext *c)
@@ -671,12 +701,15 @@ static int draw_arrows(const Measure *m, const AppContext *c)
     snprintf(path, sizeof path, "%s/%s_arrows.png", c->out_dir, m->name);
     snprintf(title, sizeof title, "%s: (%s, %s) (%s)", m->name, sim_coarse_field_name(fu),
              sim_coarse_field_name(fv), m->window > 0.0 ? "window average" : "last sample");
-    snprintf(label, sizeof label, "|(%s, %s)| (%s)", sim_coarse_field_name(fu),
-             sim_coarse_field_name(fv), sim_coarse_field_unit(fu));
-    AppMap map = grid_map(m, title, label, size);
+    char name[64];
+    snprintf(name, sizeof name, "|(%s, %s)|", sim_coarse_field_name(fu), sim_coarse_field_name(fv));
+    field_label(c, name, sim_coarse_field_unit(fu), label, sizeof label);
+    FigureLabels axes;
+    figure_labels(c, &axes);
+    AppMap map = grid_map(m, title, label, size, axes.axes);
     map.arrow_x = u;
     map.arrow_y = v;
-    map.arrow_unit = sim_coarse_field_unit(fu);
+    map.arrow_unit = field_unit(c, fu);
     int rc = c->render->map(c->render->context, c->scene, &map, path, err, sizeof err);
     if (rc != 0)
         snprintf(c->err, c->err_size, "measure %s: figure %s: %s", m->name, path, err);
@@ -693,11 +726,12 @@ static int draw_figure(const Measure *m, const AppContext *c, int figure)
     snprintf(path, sizeof path, "%s/%s_%s.png", c->out_dir, m->name, sim_coarse_field_name(field));
     snprintf(title, sizeof title, "%s: %s (%s)", m->name, sim_coarse_field_name(field),
              m->window > 0.0 ? "window average" : "last sample");
-    snprintf(label, sizeof label, "%s (%s)", sim_coarse_field_name(field),
-             sim_coarse_field_unit(field));
+    field_label(c, sim_coarse_field_name(field), sim_coarse_field_unit(field), label, sizeof label);
+    FigureLabels axes;
+    figure_labels(c, &axes);
     int rc = 0;
     if (m->kind == KIND_GRID) {
-        AppMap map = grid_map(m, title, label, values);
+        AppMap map = grid_map(m, title, label, values, axes.axes);
         rc = c->render->map
                  ? c->render->map(c->render->context, c->scene, &map, path, err, sizeof err)
                  : 0;
@@ -717,8 +751,8 @@ static int draw_figure(const Measure *m, const AppContext *c, int figure)
                            .y = along_y ? pos : values,
                            .line = 1,
                            .rgb = APP_RGB_AUTO};
-        AppPlotPanel panel = {.x_label = along_y ? label : "x (m)",
-                              .y_label = along_y ? "y (m)" : label,
+        AppPlotPanel panel = {.x_label = along_y ? label : axes.x,
+                              .y_label = along_y ? axes.y : label,
                               .legend = APP_LEGEND_NONE,
                               .series_count = 1,
                               .series = &s};

@@ -221,6 +221,16 @@ void scene_effect_names(unsigned effects, char *out, size_t out_size);
 /// The style with every field unset.
 SceneStyle scene_style_unset(void);
 
+/// What an axis of a family's chart or map shows, for scene_axis_label.
+typedef enum SceneQuantity { SCENE_LENGTH, SCENE_TIME, SCENE_SPEED } SceneQuantity;
+
+/// The label of an axis `name` of `quantity` in the scene's units: "x (m)", "t (s)", "u (m/s)" in
+/// SI (and in reduced units, where the families' own files stay SI); with units = "normalised"
+/// "x / d", and with gravity 1 "t / √(d/g)", "u / √(gd)", else the time and speed names bare
+/// (the scene's own time unit). scene NULL: SI. Returns buf.
+const char *scene_axis_label(const Scene *scene, const char *name, SceneQuantity quantity,
+                             char *buf, size_t size);
+
 /// "libconfig 1.5.0"
 const char *scene_libconfig_version(void);
 

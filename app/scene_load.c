@@ -602,6 +602,19 @@ static int apply_target_error(Loader *L)
     return 0;
 }
 
+/* units = "normalised": labels only, every number is written as given (docs/scenes.md#units).
+ * Before the families parse, so that their figures' labels follow. */
+static void normalised_labels(Scene *scene)
+{
+    if (!scene->units_normalised)
+        return;
+    const double g = hypot(scene->def.gravity_x, scene->def.gravity_y);
+    const int labels = g == 1.0 ? SCENE_UNITS_NORMALISED_G : SCENE_UNITS_NORMALISED;
+    scene->style.normalised_units = labels;
+    for (int k = 0; k < scene->output.figure_count; ++k)
+        scene->output.figures[k].style.normalised_units = labels;
+}
+
 /* The scene's own groups in order, then each family's. 0, or -1. */
 static int parse_scene(Loader *L, const config_setting_t *root)
 {
@@ -613,6 +626,7 @@ static int parse_scene(Loader *L, const config_setting_t *root)
         loader_parse_stages(L, root) < 0 || loader_parse_sources(L, root) < 0 ||
         loader_check_remove_ids(L, root) < 0 || loader_parse_output(L, root) < 0)
         return -1;
+    normalised_labels(scene);
     for (int f = 0; app_experiments[f]; ++f) { /* each family parses its own keys */
         const AppExperiment *e = app_experiments[f];
         if (e->parse && e->parse(root, e->group ? app_config_member(root, e->group) : NULL, scene,
@@ -639,13 +653,6 @@ static int finish_output(Loader *L)
             scene->output.figures[k].style.reduced_units = 1;
     } else if (scene->output.t_star_length == 0.0) {
         scene->output.t_star_length = L->box_height;
-    }
-    if (scene->units_normalised) { /* labels only: every number is written as given */
-        const double g = hypot(scene->def.gravity_x, scene->def.gravity_y);
-        const int labels = g == 1.0 ? SCENE_UNITS_NORMALISED_G : SCENE_UNITS_NORMALISED;
-        scene->style.normalised_units = labels;
-        for (int k = 0; k < scene->output.figure_count; ++k)
-            scene->output.figures[k].style.normalised_units = labels;
     }
     scene->def.length_scale = scene->output.t_star_length; /* frames' t* agree with CSV */
     for (int k = 0; k < scene->output.trace_count; ++k)

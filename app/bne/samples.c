@@ -423,17 +423,33 @@ static int write_curves(const Samples *S, Curves *C)
     return 1;
 }
 
+/* The rise chart's axes, in the scene's units when it declares units = "normalised" (SI scenes,
+ * and a scene that no longer loads, keep the unit-less names). */
+static void axis_labels(const char *scene_path, char x_label[64], char y_label[64])
+{
+    char err[512];
+    Scene *scene = scene_load(scene_path, NULL, 0, err, sizeof err);
+    if (scene && scene->style.normalised_units) {
+        scene_axis_label(scene, "time since shaking starts", SCENE_TIME, x_label, 64);
+        scene_axis_label(scene, "intruder height rise", SCENE_LENGTH, y_label, 64);
+    } else {
+        snprintf(x_label, 64, "time since shaking starts");
+        snprintf(y_label, 64, "intruder height rise");
+    }
+    scene_free(scene);
+}
+
 /* rise.png, and ldf.png when ldf.csv was written (with_ldf). */
 static void write_plots(const Samples *S, const Curves *C, int with_ldf)
 {
     const AppBneSamplesOptions *o = S->o;
     if (!o->plot || !o->plot->plot || C->count == 0)
         return;
-    char path[BNE_PATH], err[512] = "";
+    char path[BNE_PATH], err[512] = "", x_label[64], y_label[64];
+    axis_labels(o->scene_path, x_label, y_label);
     snprintf(path, sizeof path, "%s/rise.png", o->out_dir);
-    if (bne_plot(o->plot, path, "Intruder rise (mean +- std over seeds)",
-                 "time since shaking starts", "intruder height rise", C->rise, C->count, err,
-                 sizeof err) != 0)
+    if (bne_plot(o->plot, path, "Intruder rise (mean +- std over seeds)", x_label, y_label, C->rise,
+                 C->count, err, sizeof err) != 0)
         fprintf(stderr, "sablier: bne: %s: %s\n", path, err);
     if (with_ldf) {
         snprintf(path, sizeof path, "%s/ldf.png", o->out_dir);

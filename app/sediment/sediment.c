@@ -37,6 +37,7 @@ struct AppSediment {
     int count, capacity;
     AppPlotPanel side_panels[2]; /* figure_extras: profiles beside the bed */
     AppPlotSeries side_series[2];
+    char u_label[32], y_label[32]; /* their axes, in the scene's units */
 };
 
 /* ---------------------------------------------------------------- parsing */
@@ -268,7 +269,15 @@ AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *e
         parse_flow_stage(&p, g, scene, &in) < 0 || complete_fluid(&p, g, scene, &num, &fd) < 0 ||
         parse_start(&p, g, &steady) < 0)
         return NULL;
-    return sediment_create(&p, g, scene, &fd, &num, &in, steady);
+    AppSediment *s = sediment_create(&p, g, scene, &fd, &num, &in, steady);
+    if (s && scene->style.normalised_units) { /* SI keeps its bare "u", "y" */
+        scene_axis_label(scene, "u", SCENE_SPEED, s->u_label, sizeof s->u_label);
+        scene_axis_label(scene, "y", SCENE_LENGTH, s->y_label, sizeof s->y_label);
+    } else if (s) {
+        snprintf(s->u_label, sizeof s->u_label, "u");
+        snprintf(s->y_label, sizeof s->y_label, "y");
+    }
+    return s;
 }
 
 void app_sediment_free(AppSediment *s)
@@ -532,8 +541,8 @@ static int sediment_figure_extras(void *state, const SimFrame *frame, AppFigureE
                                         .line = 1,
                                         .rgb = 0xd62728};
     s->side_panels[0] = (AppPlotPanel){.title = "fluid velocity",
-                                       .x_label = "u",
-                                       .y_label = "y",
+                                       .x_label = s->u_label,
+                                       .y_label = s->y_label,
                                        .legend = APP_LEGEND_NONE,
                                        .series_count = 1,
                                        .series = &s->side_series[0]};
