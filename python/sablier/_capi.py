@@ -166,7 +166,8 @@ class RenderStyle(Structure):
                 ("species_names", POINTER(c_char_p)), ("species_name_count", c_int),
                 ("dpi", c_double), ("field_color", c_int), ("node_vx", _pd), ("node_vy", _pd),
                 ("node_nx", c_int), ("node_ny", c_int), ("node_x0", c_double),
-                ("node_y0", c_double), ("node_cell", c_double)]
+                ("node_y0", c_double), ("node_cell", c_double),
+                ("normalised_units", c_int)]
 
 
 class RenderMeta(Structure):
