@@ -54,10 +54,30 @@ static const char *base_name(const char *path)
     return slash ? slash + 1 : path;
 }
 
+long app_checkpoint_bytes(FILE *file)
+{
+    return file && fflush(file) == 0 ? ftell(file) : -1;
+}
+
+char *app_checkpoint_read(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    long size = f && fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
+    char *text = size >= 0 && fseek(f, 0, SEEK_SET) == 0 ? malloc((size_t)size + 1) : NULL;
+    if (text && fread(text, 1, (size_t)size, f) != (size_t)size) {
+        free(text);
+        text = NULL;
+    }
+    if (text)
+        text[size] = '\0';
+    if (f)
+        fclose(f);
+    return text;
+}
+
 void app_checkpoint_file(FILE *out, const char *path, FILE *file)
 {
-    long bytes = file && fflush(file) == 0 ? ftell(file) : -1;
-    fprintf(out, "file %s %ld\n", base_name(path), bytes);
+    fprintf(out, "file %s %ld\n", base_name(path), app_checkpoint_bytes(file));
 }
 
 /* The recorded length of NAME in a section, or -1. */

@@ -20,6 +20,10 @@
 void app_checkpoint_put(FILE *out, const char *key, const double *v, long n);
 /// Reads the n values of the line `KEY ...` of a section. 0, or -1 (no such line, too few values).
 int app_checkpoint_take(const char *record, const char *key, double *v, long n);
+/// The bytes written to an output so far (flushed), or -1 without the file (NULL).
+long app_checkpoint_bytes(FILE *file);
+/// A record read whole (malloc'd, NUL-ended), or NULL (errno set).
+char *app_checkpoint_read(const char *path);
 /// Writes `file NAME BYTES` for an append file open as PATH.tmp (NAME: the last part of path):
 /// the bytes written to it so far (flushed).
 void app_checkpoint_file(FILE *out, const char *path, FILE *file);

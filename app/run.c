@@ -735,12 +735,6 @@ static int checkpoint_due(Run *run, const StageClock *clock, long done)
     return minutes > 0.0 && app_now_seconds() - run->checkpoint_wall >= 60.0 * minutes;
 }
 
-/* The byte count of an output written so far (flushed), or -1 without the file. */
-static long flushed_bytes(FILE *f)
-{
-    return f && fflush(f) == 0 ? ftell(f) : -1;
-}
-
 /* The record of a checkpoint at step `done` of stage k: what the run needs to continue from its
  * state file exactly (the run's totals and scales, the motions' clocks, the stages' reports, the
  * lengths of energy.csv and trace.csv), doubles in hexadecimal so that they come back to the
@@ -754,8 +748,8 @@ static size_t checkpoint_record(const Run *run, int k, long done, const char *st
         text, size,
         "sablier-checkpoint 1\nscene_sha256 %s\nstarted %lld\nstage %d\ndone %ld\nstate %s\n"
         "energy_bytes %ld\ntrace_bytes %ld\nscales %a %a %a %a\ntotals %ld %a %a %a %a %ld\n",
-        run->scene->sha256, run->started, k, done, state, flushed_bytes(run->energy),
-        flushed_bytes(run->trace), run->time_scale, run->unit_length, run->unit_mass,
+        run->scene->sha256, run->started, k, done, state, app_checkpoint_bytes(run->energy),
+        app_checkpoint_bytes(run->trace), run->time_scale, run->unit_length, run->unit_mass,
         run->unit_time, steps, run->simulated, run->particle_steps, run->step_seconds,
         run->contacts_sum, run->contacts_samples);
     for (int m = 0; m < SIM_MAX_MOTIONS && n < size; ++m)
@@ -948,23 +942,6 @@ static char *record_section(const char *record, const char *name)
     return text;
 }
 
-/* A file read whole (malloc'd, NUL-ended), or NULL. */
-static char *read_whole(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    long size = f && fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
-    char *text = size >= 0 && fseek(f, 0, SEEK_SET) == 0 ? malloc((size_t)size + 1) : NULL;
-    if (text && fread(text, 1, (size_t)size, f) != (size_t)size) {
-        free(text);
-        text = NULL;
-    }
-    if (text)
-        text[size] = '\0';
-    if (f)
-        fclose(f);
-    return text;
-}
-
 /* --resume: the newest checkpoint's record read, and checked against this scene. 0, or -1 with
  * a message on stderr (exit status 2). */
 static int resume_read(Run *run)
@@ -972,7 +949,7 @@ static int resume_read(Run *run)
     const char *dir = run->options->out_dir;
     char path[PATH_SIZE], line[1024] = "", sha[80] = "";
     out_path(run, path, CHECKPOINT_NAME, "");
-    run->resume_record = read_whole(path);
+    run->resume_record = app_checkpoint_read(path);
     if (!run->resume_record) {
         fprintf(stderr, "sablier: --resume: no checkpoint in %s (%s: %s)\n", dir, path,
                 strerror(errno));
