@@ -7,10 +7,12 @@
  * checkpoint frame are dump_export.c. */
 #include "dump.h"
 
+#include "checkpoint.h"
 #include "run.h"
 #include "scene.h"
 #include "util.h"
 
+#include <errno.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
@@ -621,6 +623,54 @@ void app_dump_frame(AppDump *d, const SimFrame *f)
     }
     d->times[d->frames++] = f->time;
     d->last_step = f->step;
+}
+
+void app_dump_checkpoint(const AppDump *d, FILE *out)
+{
+    const double counts[2] = {(double)d->frames, (double)d->last_step};
+    app_checkpoint_put(out, "frames", counts, 2);
+    app_checkpoint_put(out, "times", d->times, d->frames);
+    if (d->lammps)
+        app_checkpoint_file(out, d->lammps_path, d->lammps);
+}
+
+int app_dump_resume(AppDump *d, const char *record, char *err, size_t err_size)
+{
+    double counts[2];
+    int bad = app_checkpoint_take(record, "frames", counts, 2) != 0 || !(counts[0] >= 0.0) ||
+              counts[0] > 1e9;
+    int frames = bad ? 0 : (int)counts[0];
+    double *times = bad ? NULL : malloc((size_t)(frames > 0 ? frames : 1) * sizeof *times);
+    if (!bad && (!times || app_checkpoint_take(record, "times", times, frames) != 0))
+        bad = 1;
+    if (!bad && (d->spec.formats & APP_DUMP_LAMMPS) &&
+        app_checkpoint_reopen(record, d->lammps_path, &d->lammps) != 0) {
+        snprintf(err, err_size,
+                 "--resume: dump of stage %s: %s.tmp: %s (not as long as the "
+                 "checkpoint records)",
+                 d->stage, d->lammps_path, strerror(errno));
+        free(times);
+        return -1;
+    }
+    if (bad) {
+        snprintf(err, err_size, "--resume: dump of stage %s: the checkpoint's record is malformed",
+                 d->stage);
+        free(times);
+        return -1;
+    }
+    free(d->times);
+    d->times = times;
+    d->frames = d->capacity = frames;
+    d->last_step = (long)counts[1];
+    for (int k = frames; d->spec.formats & APP_DUMP_VTK; ++k) { /* frames after the checkpoint */
+        char path[DUMP_PATH];
+        vtp_path(d, path, sizeof path, "", k, 1);
+        int gone = remove(path) != 0;
+        vtp_path(d, path, sizeof path, "_contacts", k, 1);
+        if ((remove(path) != 0) && gone)
+            break;
+    }
+    return 0;
 }
 
 /* DIR/<stage><series>.pvd: the frames' files and times (ParaView's time series). */

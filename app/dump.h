@@ -105,6 +105,14 @@ void app_dump_frame(AppDump *dump, const SimFrame *frame);
 /// complete). Frees *dump (NULL: nothing to do). 0, or -1 with a message.
 int app_dump_close(AppDump **dump, SimWorld *world, int ok, char *err, size_t err_size);
 
+/// A checkpoint of the running stage: the frames so far, their times and the LAMMPS file's
+/// length, as the lines of the dump's section of checkpoint.txt (app/checkpoint.h).
+void app_dump_checkpoint(const AppDump *dump, FILE *out);
+/// --resume: the writer just opened continues from that section: the LAMMPS file cut back to its
+/// recorded length, the VTK frames written after the checkpoint removed, the frame count and
+/// times restored (the .pvd indexes are written at close). 0, or -1 with a message.
+int app_dump_resume(AppDump *dump, const char *record, char *err, size_t err_size);
+
 /* ---------------------------------------------------------------- one frame, any caller */
 
 /// Appends one LAMMPS dump frame (ITEM: TIME, TIMESTEP, NUMBER OF ATOMS, BOX BOUNDS, ATOMS). def

@@ -17,8 +17,28 @@
  *             next_step, step    at steps the family asks for (profiles, phase samples)
  *       stage_end                checkpoint written (the world is the stage's end state)
  *     end                        every stage done or the run failed (ok = 0); world may be NULL
+ *                                (ok = 0 with c->checkpointed: interrupted at a checkpoint, the
+ *                                files appended to are committed as they are, for --resume)
  *     summary_json               members for summary.json
  *     figures                    after a successful run: figures drawn from the written files
+ *
+ * Checkpoints and --resume (docs/cli.md#periodic-checkpoints-and---resume):
+ *
+ *     checkpoint                 at a checkpoint of the running stage, at a step boundary after
+ *                                that step's sample/step hooks: the family writes what it keeps
+ *                                in memory (counters, sums, next-due steps, the lengths of the
+ *                                files it appends to) as lines of its section of checkpoint.txt
+ *                                (app/checkpoint.h)
+ *     --resume: parse, begin     as in any run (begin opens the files afresh)
+ *       resume                   the resumed stage's world loaded, before its loop (no
+ *                                stage_edit, no stage_begin for it): the family restores its
+ *                                section and reopens its append files at the recorded lengths
+ *                                (the world is loaded again after it when a family has
+ *                                adjust_def, which then sees the restored state)
+ *       loop, stage_end, ...     as above; the later stages as in any run
+ *
+ * A family that keeps state across steps (any hook after begin) without a resume hook makes
+ * --resume refuse the scene, naming the family, before anything runs.
  *
  * A family's multi-run drivers (sweeps, seed samples, scans, studies) are CLI commands listed in
  * `commands`; they sit above the runner (app_run) and use app/pool.h for processes. */
@@ -46,6 +66,7 @@ typedef struct AppContext {
     double stage_start;      ///< simulated time at the stage's start, s
     long stage_steps;        ///< steps the stage runs at most
     int removed;             ///< grains removed at the stage's start, by every edit
+    int checkpointed;        ///< 1 once the run stopped at a checkpoint it can --resume from
     char *err;
     size_t err_size;
 } AppContext;
@@ -98,6 +119,11 @@ typedef struct AppExperiment {
     void (*step)(void *state, AppContext *c, long done);
     int (*stage_end)(void *state, AppContext *c);
     int (*end)(void *state, AppContext *c, int ok);
+    /// Writes the family's section of a checkpoint record (app/checkpoint.h). 0, or -1 with err.
+    int (*checkpoint)(const void *state, const AppContext *c, FILE *out);
+    /// --resume: restores the section `record` (its lines; "" when the checkpoint has none)
+    /// into the state begin made. 0, or -1 with err.
+    int (*resume)(void *state, AppContext *c, const char *record);
     /// JSON members `"key": value, ` (each followed by ", ") for summary.json.
     void (*summary_json)(const void *state, char *out, size_t size);
     /// After a successful run: figures drawn from the run's files.

@@ -5,6 +5,7 @@
  * are updated at every step (sim_flux_update) and written every `every`. */
 #include "measures.h"
 
+#include "checkpoint.h"
 #include "config.h"
 #include "run.h"
 #include "scene_internal.h"
@@ -444,6 +445,33 @@ static SimCoarseDef coarse_def(const Measure *m)
     return d;
 }
 
+/* The measure's counter (updated at the world as it is) or its coarse-graining sums and last
+ * row, made when missing. 0, or -1 with the message. */
+static int measure_objects(Measure *m, AppContext *c)
+{
+    if (m->kind == KIND_FLUX) {
+        if (!m->flux)
+            m->flux = sim_flux_create(m->line[0], m->line[1], m->line[2], m->line[3]);
+        if (!m->flux || sim_flux_update(m->flux, c->world) != SIM_OK) {
+            snprintf(c->err, c->err_size, "measure %s: out of memory", m->name);
+            return -1;
+        }
+        return 0;
+    }
+    if (!m->cg) {
+        SimError e;
+        SimCoarseDef d = coarse_def(m);
+        m->cg = sim_coarse_create(&d, &e);
+        m->last = calloc((size_t)m->field_count * (size_t)(m->nx * m->ny), sizeof *m->last);
+        if (!m->cg || !m->last) {
+            snprintf(c->err, c->err_size, "measure %s: %s", m->name,
+                     m->cg ? "out of memory" : e.message);
+            return -1;
+        }
+    }
+    return 0;
+}
+
 static int measures_stage_begin(void *state, AppContext *c)
 {
     AppMeasures *ms = state;
@@ -459,30 +487,15 @@ static int measures_stage_begin(void *state, AppContext *c)
         m->mid_step = c->stage_steps / 2;
         m->window_end = m->window_steps;
         m->t_sum = 0.0;
+        if (measure_objects(m, c) != 0)
+            return -1;
         if (m->kind == KIND_FLUX) {
-            if (!m->flux)
-                m->flux = sim_flux_create(m->line[0], m->line[1], m->line[2], m->line[3]);
-            if (!m->flux || sim_flux_update(m->flux, c->world) != SIM_OK) {
-                snprintf(c->err, c->err_size, "measure %s: out of memory", m->name);
-                return -1;
-            }
             sim_flux_totals(m->flux, &m->last_count, &m->last_mass);
             m->last_t = sim_world_time(c->world);
             m->mid_count = m->last_count;
             m->mid_mass = m->last_mass;
             m->mid_t = m->last_t;
             continue;
-        }
-        if (!m->cg) {
-            SimError e;
-            SimCoarseDef d = coarse_def(m);
-            m->cg = sim_coarse_create(&d, &e);
-            m->last = calloc((size_t)m->field_count * (size_t)(m->nx * m->ny), sizeof *m->last);
-            if (!m->cg || !m->last) {
-                snprintf(c->err, c->err_size, "measure %s: %s", m->name,
-                         m->cg ? "out of memory" : e.message);
-                return -1;
-            }
         }
         sim_coarse_clear(m->cg);
     }
@@ -813,6 +826,142 @@ static int measures_end(void *state, AppContext *c, int ok)
     return rc;
 }
 
+/* ---------------------------------------------------------------- checkpoints */
+
+/* The numbers of a measure's checkpoint line `measure_K`, in order: copied into v (load = 0) or
+ * from v. */
+#define MEASURE_NUMBERS 18
+
+static void measure_numbers(Measure *m, double *v, int load)
+{
+    long *l[7] = {&m->every_steps, &m->window_steps, &m->window_end, &m->total_steps,
+                  &m->mid_step,    &m->last_count,   &m->mid_count};
+    double *d[4] = {&m->t_sum, &m->last_mass, &m->last_t, &m->mid_mass};
+    int *n[4] = {&m->active, &m->started, &m->vti_count, &m->have_last};
+    for (int k = 0; k < 7; ++k)
+        if (load)
+            *l[k] = (long)v[k];
+        else
+            v[k] = (double)*l[k];
+    for (int k = 0; k < 4; ++k)
+        if (load)
+            *d[k] = v[7 + k];
+        else
+            v[7 + k] = *d[k];
+    for (int k = 0; k < 4; ++k)
+        if (load)
+            *n[k] = (int)v[11 + k];
+        else
+            v[11 + k] = (double)*n[k];
+    if (load) {
+        m->mid_t = v[15];
+    } else {
+        v[15] = m->mid_t;
+        v[16] = m->cg ? 1.0 : 0.0;
+        v[17] = m->flux ? 1.0 : 0.0;
+    }
+}
+
+static void measure_key(char *key, size_t size, const char *what, int k)
+{
+    snprintf(key, size, "%s_%d", what, k);
+}
+
+/* A checkpoint: each measure's cadences and windows, its open sums (coarse-grained) or its
+ * totals (flux), its last row, its steady rates and the length of its CSV file. */
+static int measures_checkpoint(const void *state, const AppContext *c, FILE *out)
+{
+    const AppMeasures *ms = state;
+    for (int k = 0; k < ms->count; ++k) {
+        Measure m = ms->m[k]; /* read only */
+        char key[48];
+        double v[MEASURE_NUMBERS];
+        measure_numbers(&m, v, 0);
+        measure_key(key, sizeof key, "measure", k);
+        app_checkpoint_put(out, key, v, MEASURE_NUMBERS);
+        measure_key(key, sizeof key, "steady", k);
+        app_checkpoint_put(out, key, m.steady_rate, SCENE_MAX_STAGES);
+        measure_key(key, sizeof key, "steady_mass", k);
+        app_checkpoint_put(out, key, m.steady_mass_rate, SCENE_MAX_STAGES);
+        if (m.flux) {
+            double totals[2];
+            long count;
+            sim_flux_totals(m.flux, &count, &totals[1]);
+            totals[0] = (double)count;
+            measure_key(key, sizeof key, "flux", k);
+            app_checkpoint_put(out, key, totals, 2);
+        }
+        if (m.cg) {
+            long n = sim_coarse_sum_count(m.cg);
+            double *sums = malloc((size_t)(n + 1) * sizeof *sums);
+            if (!sums) {
+                snprintf(c->err, c->err_size, "measure %s: out of memory", m.name);
+                return -1;
+            }
+            sums[0] = sim_coarse_samples(m.cg);
+            sim_coarse_get_sums(m.cg, sums + 1);
+            measure_key(key, sizeof key, "sums", k);
+            app_checkpoint_put(out, key, sums, n + 1);
+            free(sums);
+            measure_key(key, sizeof key, "last", k);
+            app_checkpoint_put(out, key, m.last, (long)m.field_count * m.nx * m.ny);
+        }
+        app_checkpoint_file(out, m.path, m.csv);
+    }
+    return 0;
+}
+
+/* One measure from its lines (begin opened its file; its counter or sums made here). */
+static int measure_resume(Measure *m, int k, AppContext *c, const char *record)
+{
+    char key[48];
+    double v[MEASURE_NUMBERS], totals[2];
+    measure_key(key, sizeof key, "measure", k);
+    if (app_checkpoint_take(record, key, v, MEASURE_NUMBERS) != 0)
+        return -1;
+    measure_numbers(m, v, 1);
+    measure_key(key, sizeof key, "steady", k);
+    int bad = app_checkpoint_take(record, key, m->steady_rate, SCENE_MAX_STAGES) != 0;
+    measure_key(key, sizeof key, "steady_mass", k);
+    bad = bad || app_checkpoint_take(record, key, m->steady_mass_rate, SCENE_MAX_STAGES) != 0;
+    if (bad || ((v[16] != 0.0 || v[17] != 0.0) && measure_objects(m, c) != 0))
+        return -1;
+    measure_key(key, sizeof key, "flux", k);
+    if (m->flux && app_checkpoint_take(record, key, totals, 2) == 0)
+        sim_flux_set_totals(m->flux, (long)totals[0], totals[1]);
+    else if (m->flux)
+        return -1;
+    if (m->cg) {
+        long n = sim_coarse_sum_count(m->cg);
+        double *sums = malloc((size_t)(n + 1) * sizeof *sums);
+        measure_key(key, sizeof key, "sums", k);
+        bad = !sums || app_checkpoint_take(record, key, sums, n + 1) != 0;
+        if (!bad)
+            sim_coarse_set_sums(m->cg, sums + 1, (int)sums[0]);
+        free(sums);
+        measure_key(key, sizeof key, "last", k);
+        if (bad ||
+            app_checkpoint_take(record, key, m->last, (long)m->field_count * m->nx * m->ny) != 0)
+            return -1;
+    }
+    return app_checkpoint_reopen(record, m->path, &m->csv);
+}
+
+static int measures_resume(void *state, AppContext *c, const char *record)
+{
+    AppMeasures *ms = state;
+    for (int k = 0; k < ms->count; ++k)
+        if (measure_resume(&ms->m[k], k, c, record) != 0) {
+            if (!c->err[0] || !strstr(c->err, ms->m[k].name))
+                snprintf(c->err, c->err_size,
+                         "--resume: measure %s: the checkpoint's record is malformed, or %s is "
+                         "shorter than it records",
+                         ms->m[k].name, ms->m[k].path);
+            return -1;
+        }
+    return 0;
+}
+
 /* "measures": {"NAME": {"count": N, "mass": kg, "steady": [{"stage": S, "rate": 1/s,
  * "mass_rate": kg/s}, ...]}, ...} for the flux counters. */
 static void measures_summary_json(const void *state, char *out, size_t size)
@@ -866,5 +1015,7 @@ const AppExperiment app_measures_experiment = {
     .step = measures_step,
     .stage_end = measures_stage_end,
     .end = measures_end,
+    .checkpoint = measures_checkpoint,
+    .resume = measures_resume,
     .summary_json = measures_summary_json,
 };

@@ -5,6 +5,7 @@
  * interrupted run never leaves a truncated file under a final name. */
 #include "run.h"
 
+#include "checkpoint.h"
 #include "dump.h"
 #include "experiments.h"
 #include "sources.h"
@@ -81,6 +82,7 @@ typedef struct Run {
     char resume_state[PATH_SIZE];
     long long started;
     long energy_bytes, trace_bytes; /* of the files at the resumed checkpoint */
+    char *resume_record;            /* its checkpoint.txt, whole (sections included) */
 } Run;
 
 AppRunOptions app_run_options_default(void)
@@ -743,26 +745,22 @@ static int checkpoint_due(Run *run, const StageClock *clock, long done)
     return minutes > 0.0 && app_now_seconds() - run->checkpoint_wall >= 60.0 * minutes;
 }
 
-/* The byte count of an output written so far (flushed), or -1 without the file. */
-static long flushed_bytes(FILE *f)
-{
-    return f && fflush(f) == 0 ? ftell(f) : -1;
-}
-
 /* The record of a checkpoint at step `done` of stage k: what the run needs to continue from its
  * state file exactly (the run's totals and scales, the motions' clocks, the stages' reports, the
  * lengths of energy.csv and trace.csv), doubles in hexadecimal so that they come back to the
  * bit. */
 static size_t checkpoint_record(const Run *run, int k, long done, const char *state, char *text,
-                                size_t size)
+                                size_t size, int interrupted)
 {
+    /* the run's steps before this stage (an interrupted stage's loop added its own already) */
+    const long steps = interrupted ? run->steps - run->stages[k].steps : run->steps;
     size_t n = (size_t)snprintf(
         text, size,
         "sablier-checkpoint 1\nscene_sha256 %s\nstarted %lld\nstage %d\ndone %ld\nstate %s\n"
         "energy_bytes %ld\ntrace_bytes %ld\nscales %a %a %a %a\ntotals %ld %a %a %a %a %ld\n",
-        run->scene->sha256, run->started, k, done, state, flushed_bytes(run->energy),
-        flushed_bytes(run->trace), run->time_scale, run->unit_length, run->unit_mass,
-        run->unit_time, run->steps, run->simulated, run->particle_steps, run->step_seconds,
+        run->scene->sha256, run->started, k, done, state, app_checkpoint_bytes(run->energy),
+        app_checkpoint_bytes(run->trace), run->time_scale, run->unit_length, run->unit_mass,
+        run->unit_time, steps, run->simulated, run->particle_steps, run->step_seconds,
         run->contacts_sum, run->contacts_samples);
     for (int m = 0; m < SIM_MAX_MOTIONS && n < size; ++m)
         n += (size_t)snprintf(text + n, size - n, "motion %d %d %a %a\n", m, run->motion_running[m],
@@ -782,10 +780,34 @@ static size_t checkpoint_record(const Run *run, int k, long done, const char *st
     return n < size ? n + strlen(text + n) : n;
 }
 
+/* The sections of a record after the runner's own lines (app/checkpoint.h): the stage's dump,
+ * then each family's, in registry order. 0, or -1 (a family's message in run->message). */
+static int checkpoint_sections(Run *run, const AppDump *dump, FILE *f)
+{
+    if (dump) {
+        fputs("begin dump\n", f);
+        app_dump_checkpoint(dump, f);
+        fputs("end dump\n", f);
+    }
+    run->context.world = run->world;
+    for (int m = 0; app_experiments[m]; ++m) {
+        const AppExperiment *e = app_experiments[m];
+        void *state = run->scene->experiments[m];
+        if (!state || !e->checkpoint)
+            continue;
+        fprintf(f, "begin %s\n", e->name);
+        if (e->checkpoint(state, &run->context, f) != 0)
+            return -1;
+        fprintf(f, "end %s\n", e->name);
+    }
+    return 0;
+}
+
 /* A checkpoint at step `done` of stage k: the world's state (DIR/STAGE.checkpoint.state; an
  * interrupted stage's DIR/STAGE.interrupted.state is written by stage_finish) and its record
- * DIR/checkpoint.txt. 0, or -1 with the message. */
-static int checkpoint_write(Run *run, int k, long done, int interrupted)
+ * DIR/checkpoint.txt, with the sections of the stage's dump and of the families, in one file
+ * renamed into place. 0, or -1 with the message. */
+static int checkpoint_write(Run *run, int k, long done, int interrupted, const AppDump *dump)
 {
     const SceneStage *stage = &run->scene->stages[k];
     char name[SCENE_NAME_MAX + 32], path[PATH_SIZE];
@@ -798,13 +820,21 @@ static int checkpoint_write(Run *run, int k, long done, int interrupted)
     }
     size_t size = 4096 + 400 * (size_t)SCENE_MAX_STAGES;
     char *text = malloc(size);
-    int rc = -1;
-    if (text && checkpoint_record(run, k, done, name, text, size) < size) {
-        out_path(run, path, CHECKPOINT_NAME, "");
-        rc = app_write_atomic(path, text);
+    int rc = -1, family_failed = 0;
+    FILE *f = NULL;
+    out_path(run, path, CHECKPOINT_NAME, "");
+    if (text && checkpoint_record(run, k, done, name, text, size, interrupted) < size)
+        f = app_tmp_open(path, NULL);
+    if (f) {
+        fputs(text, f);
+        family_failed = checkpoint_sections(run, dump, f) != 0;
+        if (family_failed)
+            app_tmp_discard(&f, path);
+        else
+            rc = app_tmp_commit(&f, path);
     }
     free(text);
-    if (rc != 0)
+    if (rc != 0 && !family_failed)
         snprintf(run->message, sizeof run->message, "cannot write %s/%s: %s", run->options->out_dir,
                  CHECKPOINT_NAME, strerror(errno));
     run->checkpoint_wall = app_now_seconds();
@@ -876,23 +906,69 @@ static int resume_line(Run *run, const char *line, char *sha, int *seen)
     return strncmp(line, "report ", 7) == 0 ? resume_report(run, line) : -1;
 }
 
+/* The next line of a record outside its sections, from *at, into line[size] (with its newline):
+ * 1, 0 at the end, or -1 (a line too long, a section without its end). */
+static int record_next(const char **at, char *line, size_t size)
+{
+    while (**at) {
+        const char *p = *at, *newline = strchr(p, '\n');
+        size_t n = newline ? (size_t)(newline - p) + 1 : strlen(p);
+        *at = p + n;
+        if (strncmp(p, "begin ", 6) == 0) { /* a section (its owner reads it): to its end */
+            char end[SCENE_NAME_MAX + 16];
+            snprintf(end, sizeof end, "\nend %.*s", (int)(n - 6), p + 6);
+            const char *e = newline ? strstr(newline, end) : NULL;
+            if (!e || n - 6 > SCENE_NAME_MAX)
+                return -1;
+            *at = e + strlen(end);
+            continue;
+        }
+        if (n >= size)
+            return -1;
+        memcpy(line, p, n);
+        line[n] = '\0';
+        return 1;
+    }
+    return 0;
+}
+
+/* The lines of section `name` of a record (malloc'd), or NULL when it has none. */
+static char *record_section(const char *record, const char *name)
+{
+    char begin[SCENE_NAME_MAX + 16], end[SCENE_NAME_MAX + 16];
+    snprintf(begin, sizeof begin, "\nbegin %s\n", name);
+    snprintf(end, sizeof end, "\nend %s\n", name);
+    const char *b = record ? strstr(record, begin) : NULL;
+    const char *e = b ? strstr(b + strlen(begin) - 1, end) : NULL;
+    if (!e)
+        return NULL;
+    const char *from = b + strlen(begin);
+    size_t n = e + 1 > from ? (size_t)(e + 1 - from) : 0;
+    char *text = malloc(n + 1);
+    if (text) {
+        memcpy(text, from, n);
+        text[n] = '\0';
+    }
+    return text;
+}
+
 /* --resume: the newest checkpoint's record read, and checked against this scene. 0, or -1 with
  * a message on stderr (exit status 2). */
 static int resume_read(Run *run)
 {
     const char *dir = run->options->out_dir;
-    char path[PATH_SIZE], line[1024], sha[80] = "";
+    char path[PATH_SIZE], line[1024] = "", sha[80] = "";
     out_path(run, path, CHECKPOINT_NAME, "");
-    FILE *f = fopen(path, "r");
-    if (!f) {
+    run->resume_record = app_checkpoint_read(path);
+    if (!run->resume_record) {
         fprintf(stderr, "sablier: --resume: no checkpoint in %s (%s: %s)\n", dir, path,
                 strerror(errno));
         return -1;
     }
-    int seen = 0, bad = 0;
-    while (!bad && fgets(line, sizeof line, f))
-        bad = resume_line(run, line, sha, &seen) != 0;
-    fclose(f);
+    int seen = 0, bad = 0, more;
+    const char *at = run->resume_record;
+    while (!bad && (more = record_next(&at, line, sizeof line)) != 0)
+        bad = more < 0 || resume_line(run, line, sha, &seen) != 0;
     if (!bad && sha[0] && strcmp(sha, run->scene->sha256) != 0) {
         fprintf(stderr,
                 "sablier: --resume: the checkpoint in %s was written by another scene file "
@@ -915,12 +991,10 @@ static int resume_sources(Run *run)
 {
     char path[PATH_SIZE], line[1024];
     out_path(run, path, CHECKPOINT_NAME, "");
-    FILE *f = fopen(path, "r");
-    int bad = !f;
-    while (!bad && fgets(line, sizeof line, f))
+    const char *at = run->resume_record;
+    int bad = 0;
+    while (!bad && record_next(&at, line, sizeof line) > 0)
         bad = strncmp(line, "source ", 7) == 0 && app_sources_restore(run->sources, line) != 0;
-    if (f)
-        fclose(f);
     if (bad)
         snprintf(run->message, sizeof run->message, "--resume: %s: bad source state", path);
     return bad ? -1 : 0;
@@ -948,13 +1022,13 @@ static int resume_same_scene(const Run *run)
     return same ? 0 : -1;
 }
 
-/* Steps the stage in chunks that end on output times, until its end or the settle test. 0, or
- * the exit status. */
-static int stage_loop(Run *run, int k, StageClock *clock, long done)
+/* Steps the stage in chunks that end on output times, until its end or the settle test, from
+ * step `done` (resumed: a checkpoint's, whose outputs were written). 0, or the exit status. */
+static int stage_loop(Run *run, int k, StageClock *clock, long done, int resumed)
 {
     const SceneStage *stage = &run->scene->stages[k];
     StageReport *report = &run->stages[k];
-    int status = 0, resumed = done > 0; /* a resumed stage wrote the outputs at `done` */
+    int status = 0;
     double last_progress = app_now_seconds(), step_wall = 0.0;
     for (;; resumed = 0) {
         if (!resumed && ((status = outputs_due(run, k, clock, done)) != 0 || done >= clock->total))
@@ -968,7 +1042,7 @@ static int stage_loop(Run *run, int k, StageClock *clock, long done)
             break;
         }
         if (!resumed && checkpoint_due(run, clock, done) &&
-            checkpoint_write(run, k, done, 0) != 0) {
+            checkpoint_write(run, k, done, 0, clock->dump) != 0) {
             status = 2;
             break;
         }
@@ -1004,6 +1078,21 @@ static int stage_finish(Run *run, int k, StageClock *clock, int status)
     const SceneStage *stage = &run->scene->stages[k];
     const AppRender *render = run->options->render;
     StageReport *report = &run->stages[k];
+    char path[PATH_SIZE];
+    out_path(run, path, stage->name, ".interrupted.state");
+    if (status > APP_EXIT_SIGNAL) { /* the checkpoint first: the dump, the families and the
+                                       report as the loop left them */
+        report->end_time = sim_world_time(run->world);
+        if (sim_world_save(run->world, path, &run->error) != SIM_OK) {
+            snprintf(run->message, sizeof run->message, "checkpoint %s: %s", path,
+                     run->error.message);
+            status = 2;
+        } else if (checkpoint_write(run, k, report->steps, 1, clock->dump) != 0) {
+            status = 2;
+        } else {
+            run->context.checkpointed = 1; /* the families commit what they appended */
+        }
+    }
     report->end_time = sim_world_time(run->world);
     report->mobile = sim_world_mobile_count(run->world);
     for (int s = 0; s < SIM_MAX_SINKS; ++s) { /* grains that left through each sink */
@@ -1023,23 +1112,19 @@ static int stage_finish(Run *run, int k, StageClock *clock, int status)
                        sizeof run->message) != 0 &&
         (status == 0 || interrupted))
         status = 2;
-    interrupted = status > APP_EXIT_SIGNAL;
-    if (status != 0 && !interrupted)
-        return status;
-    char path[PATH_SIZE];
-    out_path(run, path, stage->name, interrupted ? ".interrupted.state" : ".state");
-    if (sim_world_save(run->world, path, &run->error) != SIM_OK) {
-        snprintf(run->message, sizeof run->message, "checkpoint %s: %s", path, run->error.message);
-        return 2;
-    }
-    if (interrupted && checkpoint_write(run, k, report->steps, 1) != 0)
-        return 2;
-    if (interrupted) {
+    if (status > APP_EXIT_SIGNAL) {
         snprintf(run->message, sizeof run->message,
                  "interrupted by %s in stage %s at t = %.9g s; its state is saved to %s",
                  status == APP_EXIT_SIGNAL + SIGINT ? "SIGINT" : "SIGTERM", stage->name,
                  report->end_time, path);
         return status;
+    }
+    if (status != 0)
+        return status;
+    out_path(run, path, stage->name, ".state");
+    if (sim_world_save(run->world, path, &run->error) != SIM_OK) {
+        snprintf(run->message, sizeof run->message, "checkpoint %s: %s", path, run->error.message);
+        return 2;
     }
     if (k == run->resume_stage && strstr(run->resume_state, ".interrupted.state"))
         remove(run->resume_state); /* the interrupted stage is complete now */
@@ -1048,20 +1133,43 @@ static int stage_finish(Run *run, int k, StageClock *clock, int status)
     return 0;
 }
 
-/* The stage a checkpoint interrupted, continued from its state: no edits, no stage_begin hooks,
- * no start figures (they ran before the checkpoint); the movie starts again at the checkpoint's
- * frame. 0, or the exit status. */
-static int stage_resume(Run *run, int k, StageClock *clock)
+/* --resume: the stage's dump and every family continue from their sections of the record (the
+ * dump just opened, the families' files opened by begin). 0, or 2 with the message. */
+static int resume_sections(Run *run, StageClock *clock)
+{
+    int rc = 0;
+    char *section = NULL;
+    if (clock->dump) {
+        section = record_section(run->resume_record, "dump");
+        rc =
+            app_dump_resume(clock->dump, section ? section : "", run->message, sizeof run->message);
+        free(section);
+    }
+    run->context.world = run->world;
+    for (int f = 0; rc == 0 && app_experiments[f]; ++f) {
+        const AppExperiment *e = app_experiments[f];
+        void *state = run->scene->experiments[f];
+        if (!state || !e->resume)
+            continue;
+        section = record_section(run->resume_record, e->name);
+        rc = e->resume(state, &run->context, section ? section : "");
+        free(section);
+    }
+    return rc != 0 ? 2 : 0;
+}
+
+/* The world of a resumed stage k from the checkpoint's state, with the stage's gravity and the
+ * motions' clocks of the record. 0, or -1 with the message. */
+static int resume_world(Run *run, int k)
 {
     const Scene *scene = run->scene;
     SimWorld *world = world_from_state(run, k, run->resume_state);
     if (!world)
-        return 2;
+        return -1;
     sim_world_set_threads(world, run->options->threads);
     if (run->world)
         sim_world_destroy(run->world);
     run->world = world;
-    run->context.stage = k;
     run->context.world = world;
     const SceneStage *stage = &scene->stages[k];
     sim_world_set_gravity(world, stage->gravity_x, stage->gravity_y);
@@ -1070,15 +1178,30 @@ static int stage_resume(Run *run, int k, StageClock *clock)
         motions_declared |= scene->stages[j].declares_motions;
     for (int m = 0; motions_declared && m < scene->def.motion_count; ++m)
         sim_world_set_motion(world, m, run->motion_on[m], run->motion_off[m]);
-    run->context.stage_steps = (long)llround(stage->duration / sim_world_time_step(world));
+    return 0;
+}
+
+/* The stage a checkpoint interrupted, continued from its state: no edits, no stage_begin hooks,
+ * no start figures (they ran before the checkpoint); the dump and the families continue from the
+ * record; the movie starts again at the checkpoint's frame. A family that shapes the world's
+ * definition (adjust_def: a motion's phase) does so from its restored state, so the world is
+ * loaded again after the resume hooks when one does. 0, or the exit status. */
+static int stage_resume(Run *run, int k, StageClock *clock)
+{
+    const SceneStage *stage = &run->scene->stages[k];
+    run->context.stage = k;
+    if (resume_world(run, k) != 0)
+        return 2;
+    run->context.stage_steps = (long)llround(stage->duration / sim_world_time_step(run->world));
     run->context.stage_start = run->stages[k].start_time;
     int status = stage_clock(run, k, clock);
-    if (status == 0 && clock->dump) {
-        snprintf(run->message, sizeof run->message,
-                 "--resume: stage %s writes a per-grain dump, which cannot be continued",
-                 stage->name);
+    if (status == 0)
+        status = resume_sections(run, clock);
+    int shaped = 0;
+    for (int f = 0; app_experiments[f]; ++f)
+        shaped |= run->scene->experiments[f] && app_experiments[f]->adjust_def;
+    if (status == 0 && shaped && resume_world(run, k) != 0)
         status = 2;
-    }
     return status;
 }
 
@@ -1093,8 +1216,8 @@ static int run_stage(Run *run, int k)
         app_dump_close(&clock.dump, NULL, 0, NULL, 0); /* no half dump */
         return status;
     }
-    status =
-        stage_finish(run, k, &clock, stage_loop(run, k, &clock, resumed ? run->resume_done : 0));
+    status = stage_finish(run, k, &clock,
+                          stage_loop(run, k, &clock, resumed ? run->resume_done : 0, resumed));
     run->stages[k].wall_seconds = app_now_seconds() - wall_start;
     if (status != 0)
         return status;
@@ -1146,19 +1269,23 @@ static void families_figures(Run *run)
     }
 }
 
-/* --resume continues what the runner itself keeps (insertion sources included); the state
- * that experiment families keep is not in a checkpoint yet. 0, or -1 with a message on stderr. */
+/* --resume continues what the runner keeps (insertion sources and dumps included) and what each
+ * family keeps through its checkpoint and resume hooks. A family that keeps state during a run
+ * (hooks after begin) without them is refused, naming it. 0, or -1 with a message on stderr. */
 static int resume_supported(const Run *run)
 {
     const Scene *scene = run->scene;
-    for (int f = 0; app_experiments[f]; ++f)
-        if (scene->experiments[f]) {
-            fprintf(stderr,
-                    "sablier: --resume: scenes with %s cannot resume yet (its state is not in "
-                    "the checkpoint)\n",
-                    app_experiments[f]->name);
-            return -1;
-        }
+    for (int f = 0; app_experiments[f]; ++f) {
+        const AppExperiment *e = app_experiments[f];
+        int keeps = e->begin || e->stage_begin || e->sample || e->step || e->stage_end || e->end;
+        if (!scene->experiments[f] || e->resume || !keeps)
+            continue;
+        fprintf(stderr,
+                "sablier: --resume: scenes with %s cannot resume: its state during a run is not "
+                "in the checkpoint (the family has no resume hook)\n",
+                e->name);
+        return -1;
+    }
     return 0;
 }
 
@@ -1239,44 +1366,11 @@ static void catch_signals(struct sigaction saved[2], int restore)
     }
 }
 
-/* The first `bytes` of a CSV file as a checkpoint left it: from PATH.tmp (a run killed without
- * committing) when it holds them, else from PATH. malloc'd, or NULL. */
-static char *csv_prefix(const char *path, long bytes)
-{
-    char tmp[PATH_SIZE + 8];
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    const char *from[2] = {tmp, path};
-    char *text = malloc((size_t)bytes + 1);
-    for (int k = 0; text && k < 2; ++k) {
-        FILE *f = fopen(from[k], "rb");
-        size_t got = f ? fread(text, 1, (size_t)bytes, f) : 0;
-        if (f)
-            fclose(f);
-        if (got == (size_t)bytes)
-            return text;
-    }
-    free(text);
-    return NULL;
-}
-
 /* A CSV output opened under PATH.tmp: with its header, or (--resume, bytes >= 0) with the part a
  * checkpoint recorded. NULL on failure. */
 static FILE *csv_open(const char *path, const char *header, long bytes)
 {
-    if (bytes < 0)
-        return app_tmp_open(path, header);
-    char *prefix = csv_prefix(path, bytes);
-    if (!prefix) {
-        errno = ENOENT;
-        return NULL;
-    }
-    FILE *f = app_tmp_open(path, NULL);
-    if (f && fwrite(prefix, 1, (size_t)bytes, f) != (size_t)bytes) {
-        fclose(f);
-        f = NULL;
-    }
-    free(prefix);
-    return f;
+    return bytes < 0 ? app_tmp_open(path, header) : app_tmp_reopen(path, bytes);
 }
 
 /* The energy and trace CSV files opened. 0, or 2. */
@@ -1304,6 +1398,8 @@ static int open_csv(Run *run)
 static void run_stages(Run *run)
 {
     const Scene *scene = run->scene;
+    if (run->resume_record) /* before begin opens the families' files afresh */
+        app_checkpoint_keep_files(run->resume_record, run->options->out_dir);
     if (run->status == 0 && family_hooks(run, HOOK_BEGIN) != 0)
         run->status = 2;
     int sources_failed = 0;
@@ -1351,6 +1447,7 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     run->resume_stage = -1;
     run->checkpoint_wall = wall_start;
     if (prepare_folder(run) != 0) {
+        free(run->resume_record);
         free(run);
         return 2;
     }
@@ -1394,6 +1491,7 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     if (run->world)
         sim_world_destroy(run->world);
     app_sources_free(run->sources);
+    free(run->resume_record);
     free(run);
     return status;
 }

@@ -232,6 +232,22 @@ void sim_coarse_clear(SimCoarse *cg)
     cg->samples = 0;
 }
 
+long sim_coarse_sum_count(const SimCoarse *cg)
+{
+    return (long)cg->nodes * CH_COUNT;
+}
+
+void sim_coarse_get_sums(const SimCoarse *cg, double *sums)
+{
+    memcpy(sums, cg->sums, (size_t)cg->nodes * CH_COUNT * sizeof *sums);
+}
+
+void sim_coarse_set_sums(SimCoarse *cg, const double *sums, int samples)
+{
+    memcpy(cg->sums, sums, (size_t)cg->nodes * CH_COUNT * sizeof *sums);
+    cg->samples = samples;
+}
+
 /* ---------------------------------------------------------------- deposits */
 
 /* Adds weight * v[q] to channels off + q of node n. */
@@ -568,6 +584,12 @@ void sim_flux_totals(const SimFlux *f, long *count, double *mass)
 {
     *count = f->count;
     *mass = f->mass;
+}
+
+void sim_flux_set_totals(SimFlux *f, long count, double mass)
+{
+    f->count = count;
+    f->mass = mass;
 }
 
 static FluxSlot *flux_slot(FluxSlot *slots, int capacity, uint32_t key)

@@ -207,6 +207,54 @@ void sim_fluid_set_shear_velocity(SimFluid *f, double shear_velocity)
     f->def.shear_velocity = shear_velocity;
 }
 
+/* The arrays of the state, n doubles each (stress: n + 1, last). */
+#define FLUID_SCALARS 6
+#define FLUID_ARRAYS  15
+
+static void fluid_arrays(const SimFluid *f, double **out)
+{
+    double *arrays[FLUID_ARRAYS] = {f->u,    f->phi,    f->grain_force, f->grain_velocity,
+                                    f->rate, f->source, f->phi_next,    f->area_v,
+                                    f->area, f->a,      f->b,           f->c,
+                                    f->r,    f->u_old,  f->u_next};
+    memcpy(out, arrays, sizeof arrays);
+}
+
+long sim_fluid_state_count(const SimFluid *f)
+{
+    return FLUID_SCALARS + (long)FLUID_ARRAYS * f->n + f->n + 1;
+}
+
+void sim_fluid_get_state(const SimFluid *f, double *state)
+{
+    double *arrays[FLUID_ARRAYS];
+    fluid_arrays(f, arrays);
+    const double scalars[FLUID_SCALARS] = {f->time,      f->u_star,   f->bed_level,
+                                           f->last_eval, f->limit_dt, (double)f->coupled};
+    memcpy(state, scalars, sizeof scalars);
+    state += FLUID_SCALARS;
+    for (int k = 0; k < FLUID_ARRAYS; ++k, state += f->n)
+        memcpy(state, arrays[k], (size_t)f->n * sizeof *state);
+    memcpy(state, f->stress, (size_t)(f->n + 1) * sizeof *state);
+}
+
+void sim_fluid_set_state(SimFluid *f, const double *state)
+{
+    double *arrays[FLUID_ARRAYS];
+    fluid_arrays(f, arrays);
+    f->time = state[0];
+    f->u_star = state[1];
+    f->def.shear_velocity = state[1];
+    f->bed_level = state[2];
+    f->last_eval = state[3];
+    f->limit_dt = state[4];
+    f->coupled = (int)state[5];
+    state += FLUID_SCALARS;
+    for (int k = 0; k < FLUID_ARRAYS; ++k, state += f->n)
+        memcpy(arrays[k], state, (size_t)f->n * sizeof *state);
+    memcpy(f->stress, state, (size_t)(f->n + 1) * sizeof *state);
+}
+
 /* Prandtl mixing length with van Driest damping (002 eq. 37). */
 static double mixing_length(const SimFluidDef *d, double u_star, double bed, double y)
 {

@@ -599,6 +599,12 @@ SimStatus sim_coarse_add(SimCoarse *cg, const SimFrame *frame, const double *mas
 int sim_coarse_samples(const SimCoarse *cg);
 /// Forgets every sample.
 void sim_coarse_clear(SimCoarse *cg);
+/// The accumulated sums behind the fields (sim_coarse_sum_count doubles), copied out or back
+/// in with the number of samples they hold: a run continued from a checkpoint (sablier run
+/// --resume) goes on with the same bits.
+long sim_coarse_sum_count(const SimCoarse *cg);
+void sim_coarse_get_sums(const SimCoarse *cg, double *sums);
+void sim_coarse_set_sums(SimCoarse *cg, const double *sums, int samples);
 /// The field at every node, from the sums averaged over the samples (0 without samples).
 void sim_coarse_field(const SimCoarse *cg, SimCoarseField field, double *out);
 /// Masses of the world's grains in frame order (count = sim_world_grain_count), kg.
@@ -616,6 +622,9 @@ void sim_flux_destroy(SimFlux *flux);
 SimStatus sim_flux_update(SimFlux *flux, const SimWorld *world);
 /// Signed grains and mass (kg) that crossed since creation.
 void sim_flux_totals(const SimFlux *flux, long *count, double *mass);
+/// Sets the totals (a run continued from a checkpoint: the counter updated once at the
+/// checkpoint's world, then these totals, counts on as the uninterrupted one).
+void sim_flux_set_totals(SimFlux *flux, long count, double mass);
 
 /// Free surface: for each of `bins` equal bins over [x0, x1], the highest top (y + r) of a mobile
 /// grain whose centre lies in the bin, m; NAN for an empty bin (000 §5.4).
@@ -843,6 +852,12 @@ double sim_fluid_velocity_at(const SimFluid *fluid, double y);
 void sim_fluid_set_velocity(SimFluid *fluid, const double *u);
 /// Changes u* (a step in Shields number).
 void sim_fluid_set_shear_velocity(SimFluid *fluid, double shear_velocity);
+/// The column's whole evolving state (sim_fluid_state_count doubles: its time, shear velocity,
+/// profiles and the grain coupling recorded at the last force evaluation), copied out or back in:
+/// a run continued from a checkpoint (sablier run --resume) goes on with the same bits.
+long sim_fluid_state_count(const SimFluid *fluid);
+void sim_fluid_get_state(const SimFluid *fluid, double *state);
+void sim_fluid_set_state(SimFluid *fluid, const double *state);
 /// Largest explicit (forward Euler) step dy^2 / (2 (nu + nu_t,max)) for the current profile: what
 /// an explicit scheme would need; the implicit solver itself has no limit, s.
 double sim_fluid_explicit_limit(const SimFluid *fluid);

@@ -144,6 +144,34 @@ add_test(NAME cli.resume
          COMMAND bash ${CLI_DIR}/resume.sh $<TARGET_FILE:sablier> ${CLI_DIR}/resume.scene ${CLI_TINY}
                  ${CLI_WORK}/resume)
 set_tests_properties(cli.resume PROPERTIES LABELS cli)
+# --resume of each experiment family's scene (and the crater demo's per-grain dump), reduced with
+# --set to run in seconds: the outputs of a lost and of an interrupted run, continued, are the
+# uninterrupted run's (tests/cli/resume.sh --outputs)
+set(RESUME_QUIET "output.movie=[]")
+set(RESUME_crater scenes/crater/quick.scene grains.rain.max_count=300 stages.deposit.time.end=0.6
+    stages.collapse.time.end=0.6 stages.collapse.dump.every=0.05 output.checkpoint_every=0.2
+    output.figures.5.at=0.5)
+set(RESUME_bne scenes/brazil_nut/small.scene stages.settle.time.end=3 stages.shake.time.end=10
+    bne.phase_field.phases=4 output.checkpoint_every=6)
+set(RESUME_sediment scenes/sediment/viscous.scene stages.settle.time.end=1.5
+    stages.flow.time.end=2 output.checkpoint_every=0.8)
+set(RESUME_surface scenes/drum/drum.scene stages.settle.time.end=3 stages.rotate.time.end=6
+    surface.after=2 output.checkpoint_every=2.5)
+set(RESUME_measures scenes/measure/column.scene grains.rain.max_count=150 stages.rain.time.end=4
+    output.checkpoint_every=1.5)
+# (discharge keeps nothing between steps: its scenes run plain stages, as cli.resume's does)
+foreach(family crater bne sediment surface measures)
+  list(GET RESUME_${family} 0 scene)
+  list(SUBLIST RESUME_${family} 1 -1 sets)
+  set(args)
+  foreach(set IN LISTS sets RESUME_QUIET)
+    list(APPEND args --set ${set})
+  endforeach()
+  add_test(NAME cli.resume_${family}
+           COMMAND bash ${CLI_DIR}/resume.sh --outputs $<TARGET_FILE:sablier>
+                   ${PROJECT_SOURCE_DIR}/${scene} ${CLI_WORK}/resume_${family} ${args})
+  set_tests_properties(cli.resume_${family} PROPERTIES LABELS cli)
+endforeach()
 add_test(NAME cli.cadence_huge
          COMMAND bash ${CLI_DIR}/cadence.sh $<TARGET_FILE:sablier> ${CLI_TINY} ${CLI_WORK}/cadence)
 set_tests_properties(cli.cadence_huge PROPERTIES LABELS cli)

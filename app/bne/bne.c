@@ -2,10 +2,12 @@
 /* bne.c: Brazil-nut measures and samples (thesis 002 ch. 5; see bne.h and docs/brazil_nut.md). */
 #include "bne.h"
 
+#include "checkpoint.h"
 #include "config.h"
 #include "experiments.h"
 #include "util.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -220,8 +222,10 @@ static void bne_adjust_def(const void *state, int stage, SimWorldDef *def)
      */
     if (stage == b->stage && stage > 0 && def->max_initial_overlap < 0.5)
         def->max_initial_overlap = 0.5;
-    /* offset A sin(w (t - t0)): the box leaves its rest position at the stage start t0 */
-    mo->phase = -fmod(2.0 * SIM_PI * b->frequency * b->last_time, 2.0 * SIM_PI);
+    /* offset A sin(w (t - t0)): the box leaves its rest position at the stage start t0; once
+     * shaking began, the phase it began with (a world loaded again: --resume, a later stage) */
+    mo->phase =
+        b->measuring ? b->phase : -fmod(2.0 * SIM_PI * b->frequency * b->last_time, 2.0 * SIM_PI);
 }
 
 static int bne_restart(const void *state, int stage)
@@ -876,6 +880,186 @@ static int bne_stage_end(void *state, AppContext *c)
     return 0;
 }
 
+/* ---------------------------------------------------------------- checkpoints */
+
+/* `KEY_k v ...`: an int or long array as doubles (exact below 2^53). */
+static void put_counts(FILE *out, const char *key, int k, const int *ints, const long *longs,
+                       size_t n)
+{
+    char name[48];
+    snprintf(name, sizeof name, "%s_%d", key, k);
+    double *v = malloc((n ? n : 1) * sizeof *v);
+    for (size_t j = 0; v && j < n; ++j)
+        v[j] = ints ? (double)ints[j] : (double)longs[j];
+    if (v)
+        app_checkpoint_put(out, name, v, (long)n);
+    free(v);
+}
+
+static int take_counts(const char *record, const char *key, int k, int *ints, long *longs, size_t n)
+{
+    char name[48];
+    snprintf(name, sizeof name, "%s_%d", key, k);
+    double *v = malloc((n ? n : 1) * sizeof *v);
+    int rc = v ? app_checkpoint_take(record, name, v, (long)n) : -1;
+    for (size_t j = 0; rc == 0 && j < n; ++j)
+        if (ints)
+            ints[j] = (int)v[j];
+        else
+            longs[j] = (long)v[j];
+    free(v);
+    return rc;
+}
+
+static void put_array(FILE *out, const char *key, int k, const double *v, size_t n)
+{
+    char name[48];
+    snprintf(name, sizeof name, "%s_%d", key, k);
+    app_checkpoint_put(out, name, v, (long)n);
+}
+
+static int take_array(const char *record, const char *key, int k, double *v, size_t n)
+{
+    char name[48];
+    snprintf(name, sizeof name, "%s_%d", key, k);
+    return app_checkpoint_take(record, name, v, (long)n);
+}
+
+/* One phase's field: its grid and sums. */
+static void field_checkpoint(FILE *out, const AppBneField *f, int k)
+{
+    const double grid[7] = {f->nx, f->ny, f->x0, f->y0, f->cell, f->width, f->samples};
+    size_t n = (size_t)f->nx * (size_t)f->ny;
+    put_array(out, "pf_grid", k, grid, 7);
+    put_array(out, "pf_rho", k, f->rho, n);
+    put_array(out, "pf_jx", k, f->jx, n);
+    put_array(out, "pf_jy", k, f->jy, n);
+    put_array(out, "pf_solid", k, f->solid, n);
+    put_counts(out, "pf_hits", k, f->hits, NULL, n);
+    put_counts(out, "pf_stamp", k, NULL, f->stamp, n);
+}
+
+static int field_resume(const AppBne *b, const char *record, AppBneField *f, int k)
+{
+    double grid[7];
+    memset(f, 0, sizeof *f);
+    if (take_array(record, "pf_grid", k, grid, 7) != 0 || !(grid[0] >= 1.0) || !(grid[1] >= 1.0) ||
+        !(grid[0] * grid[1] <= 4e6) || field_alloc(f, (int)grid[0], (int)grid[1]) != 0)
+        return -1;
+    f->x0 = grid[2];
+    f->y0 = grid[3];
+    f->cell = grid[4];
+    f->width = grid[5];
+    f->samples = (int)grid[6];
+    f->mass_model = b->mass_model;
+    memcpy(f->density, b->density, sizeof f->density);
+    size_t n = (size_t)f->nx * (size_t)f->ny;
+    return take_array(record, "pf_rho", k, f->rho, n) != 0 ||
+                   take_array(record, "pf_jx", k, f->jx, n) != 0 ||
+                   take_array(record, "pf_jy", k, f->jy, n) != 0 ||
+                   take_array(record, "pf_solid", k, f->solid, n) != 0 ||
+                   take_counts(record, "pf_hits", k, f->hits, NULL, n) != 0 ||
+                   take_counts(record, "pf_stamp", k, NULL, f->stamp, n) != 0
+               ? -1
+               : 0;
+}
+
+/* A checkpoint: the shaking stage's measures, the rise record, bne.csv's length and, with
+ * bne.phase_field, every phase's sums. */
+static int bne_checkpoint(const void *state, const AppContext *c, FILE *out)
+{
+    (void)c;
+    const AppBne *b = state;
+    const double v[8] = {b->last_time, b->phase,  b->measuring, b->t0,
+                         b->surface0,  b->radius, b->h0,        b->count};
+    app_checkpoint_put(out, "bne", v, 8);
+    app_checkpoint_put(out, "bne_t", b->t, b->count);
+    app_checkpoint_put(out, "bne_h", b->h, b->count);
+    app_checkpoint_file(out, b->csv_path, b->csv);
+    if (!b->pf_on)
+        return 0;
+    const double pf[7] = {b->pf_ready, b->pf_dt,        b->pf_diameter, (double)b->pf_next,
+                          b->pf_count, b->pf_max_error, b->pf_have_mean};
+    app_checkpoint_put(out, "pf", pf, 7);
+    app_checkpoint_put(out, "pf_times", b->pf_times, b->pf_count);
+    for (int k = 0; b->pf_ready && k < b->pf_phases; ++k)
+        field_checkpoint(out, &b->pf_fields[k], k);
+    return 0;
+}
+
+/* The arrays of the rise record and the phase samples, `count` long. */
+static int bne_resume_series(AppBne *b, const char *record, int count)
+{
+    while (b->capacity < count)
+        if (app_series_grow(&b->t, &b->h, &b->capacity, 512) != 0)
+            return -1;
+    b->count = count;
+    return count == 0 || (app_checkpoint_take(record, "bne_t", b->t, count) == 0 &&
+                          app_checkpoint_take(record, "bne_h", b->h, count) == 0)
+               ? 0
+               : -1;
+}
+
+static int bne_resume_field(AppBne *b, const char *record)
+{
+    double pf[7];
+    if (app_checkpoint_take(record, "pf", pf, 7) != 0 || !(pf[4] >= 0.0) || pf[4] > 1e9)
+        return -1;
+    phase_field_reset(b);
+    b->pf_dt = pf[1];
+    b->pf_diameter = pf[2];
+    b->pf_next = (long)pf[3];
+    b->pf_max_error = pf[5];
+    int count = (int)pf[4];
+    if (count > 0) {
+        double *times = realloc(b->pf_times, (size_t)count * sizeof *times);
+        if (!times)
+            return -1;
+        b->pf_times = times;
+        if (app_checkpoint_take(record, "pf_times", b->pf_times, count) != 0)
+            return -1;
+        b->pf_capacity = b->pf_count = count;
+    }
+    if (pf[0] == 0.0)
+        return 0;
+    b->pf_fields = calloc((size_t)b->pf_phases, sizeof *b->pf_fields);
+    for (int k = 0; k < b->pf_phases; ++k)
+        if (!b->pf_fields || field_resume(b, record, &b->pf_fields[k], k) != 0)
+            return -1;
+    b->pf_ready = 1;
+    if (pf[6] != 0.0) /* the shaking stage ended before the checkpoint: its mean again */
+        b->pf_have_mean = app_bne_field_combine(b->pf_fields, b->pf_phases, &b->pf_mean) == 0;
+    return 0;
+}
+
+static int bne_resume(void *state, AppContext *c, const char *record)
+{
+    AppBne *b = state;
+    double v[8];
+    int bad = app_checkpoint_take(record, "bne", v, 8) != 0 || !(v[7] >= 0.0) || v[7] > 1e9;
+    if (!bad) {
+        b->last_time = v[0];
+        b->phase = v[1];
+        b->measuring = (int)v[2];
+        b->t0 = v[3];
+        b->surface0 = v[4];
+        b->radius = v[5];
+        b->h0 = v[6];
+    }
+    bad = bad || bne_resume_series(b, record, (int)v[7]) != 0 ||
+          (b->pf_on && bne_resume_field(b, record) != 0);
+    if (bad) {
+        snprintf(c->err, c->err_size, "--resume: the bne section of the checkpoint is malformed");
+        return -1;
+    }
+    if (app_checkpoint_reopen(record, b->csv_path, &b->csv) != 0) {
+        snprintf(c->err, c->err_size, "--resume: %s: %s (not as long as the checkpoint records)",
+                 b->csv_path, strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
 /* ---------------------------------------------------------------- the experiment */
 
 static int bne_parse(const config_setting_t *root, const config_setting_t *group, Scene *scene,
@@ -908,6 +1092,8 @@ const AppExperiment app_bne_experiment = {
     .step = bne_step,
     .stage_end = bne_stage_end,
     .end = bne_end,
+    .checkpoint = bne_checkpoint,
+    .resume = bne_resume,
     .commands = app_bne_commands,
     .command_count = 1,
 };

@@ -5,6 +5,7 @@
  * depth of the crater below the settled free surface (docs/physics.md, "crater height"). */
 #include "crater.h"
 
+#include "checkpoint.h"
 #include "util.h"
 
 #include <errno.h>
@@ -254,6 +255,66 @@ void app_observer_sample(AppObserver *o, SimWorld *world, int stage, double stag
                 o->crater.surface_min, o->crater.x_min, o->crater.height, o->bed.level);
     }
     app_profile_free(&p);
+}
+
+/* The observer's measures in the order of its checkpoint lines `observer` (doubles) and
+ * `observer_counts`: copied into v (load = 0) or from v (load = 1). */
+#define OBSERVER_DOUBLES 18
+#define OBSERVER_COUNTS  6
+
+static void observer_numbers(AppObserver *o, double *v, double *n, int load)
+{
+    double *d[OBSERVER_DOUBLES] = {&o->bed.coordination,   &o->bed.packing_fraction,
+                                   &o->bed.hexatic_order,  &o->bed.level,
+                                   &o->bed.window[0],      &o->bed.window[1],
+                                   &o->bed.window[2],      &o->bed.window[3],
+                                   &o->cavity_x0,          &o->cavity_x1,
+                                   &o->crater.surface_min, &o->crater.x_min,
+                                   &o->crater.height,      &o->stage_start,
+                                   &o->time_scale,         &o->energy_scale,
+                                   &o->diameter,           &o->mass};
+    int *c[OBSERVER_COUNTS] = {&o->bed_measured, &o->mobile_before_dig, &o->removed,
+                               &o->have_cavity,  &o->have_crater,       &o->mobile};
+    for (int k = 0; k < OBSERVER_DOUBLES; ++k)
+        if (load)
+            *d[k] = v[k];
+        else
+            v[k] = *d[k];
+    for (int k = 0; k < OBSERVER_COUNTS; ++k)
+        if (load)
+            *c[k] = (int)n[k];
+        else
+            n[k] = (double)*c[k];
+}
+
+void app_observer_checkpoint(const AppObserver *o, FILE *out)
+{
+    double v[OBSERVER_DOUBLES], n[OBSERVER_COUNTS];
+    AppObserver copy = *o; /* read only */
+    observer_numbers(&copy, v, n, 0);
+    app_checkpoint_put(out, "observer", v, OBSERVER_DOUBLES);
+    app_checkpoint_put(out, "observer_counts", n, OBSERVER_COUNTS);
+    app_checkpoint_file(out, o->profile_path, o->profile);
+    app_checkpoint_file(out, o->crater_path, o->crater_csv);
+}
+
+int app_observer_resume(AppObserver *o, const char *record, char *err, size_t err_size)
+{
+    double v[OBSERVER_DOUBLES], n[OBSERVER_COUNTS];
+    if (app_checkpoint_take(record, "observer", v, OBSERVER_DOUBLES) != 0 ||
+        app_checkpoint_take(record, "observer_counts", n, OBSERVER_COUNTS) != 0) {
+        snprintf(err, err_size, "--resume: the crater section of the checkpoint is malformed");
+        return -1;
+    }
+    observer_numbers(o, v, n, 1);
+    const char *bad =
+        app_checkpoint_reopen(record, o->profile_path, &o->profile) != 0     ? o->profile_path
+        : app_checkpoint_reopen(record, o->crater_path, &o->crater_csv) != 0 ? o->crater_path
+                                                                             : NULL;
+    if (bad)
+        snprintf(err, err_size, "--resume: %s: %s (not as long as the checkpoint records)", bad,
+                 strerror(errno));
+    return bad ? -1 : 0;
 }
 
 static void number(char *out, size_t size, double v)

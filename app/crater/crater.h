@@ -80,6 +80,12 @@ void app_observer_stage_start(AppObserver *observer, SimWorld *world, int stage)
 /// One profile.csv block and one crater.csv row (after a dig) at the world's time; stage_start
 /// is the stage's start time, s.
 void app_observer_sample(AppObserver *observer, SimWorld *world, int stage, double stage_start);
+/// A checkpoint of the running stage: the measures so far and the lengths of profile.csv and
+/// crater.csv, as lines of the family's section (app/checkpoint.h).
+void app_observer_checkpoint(const AppObserver *observer, FILE *out);
+/// --resume: the observer just opened continues from those lines (its CSV files cut back to the
+/// recorded lengths). 0, or -1 with a message.
+int app_observer_resume(AppObserver *observer, const char *record, char *err, size_t err_size);
 /// JSON members `"bed": {...}, "crater": {...}, ` for summary.json (empty when not measured).
 void app_observer_json(const AppObserver *observer, char *out, size_t size);
 /// Finishes the CSV files and writes observables.csv (world may be NULL). 0, or -1 with err.

@@ -3,6 +3,7 @@
  * stages' `dig` keys (a cavity dug at the stage start, 000 §4.1 stage 2) and `output.profile_every`
  * / `output.profile_bin` (free-surface profiles), runs the observer of crater.c during a run and
  * draws the energy and profile figures after it; `sablier sweep` (sweep.c) is its driver. */
+#include "checkpoint.h"
 #include "config.h"
 #include "crater.h"
 #include "experiments.h"
@@ -251,6 +252,33 @@ static int crater_end(void *state, AppContext *ctx, int ok)
     return rc;
 }
 
+/* A checkpoint: the profile cadence and the step last seen, then the observer's measures. */
+static int crater_checkpoint(const void *state, const AppContext *ctx, FILE *out)
+{
+    (void)ctx;
+    const AppCraterState *c = state;
+    const double v[2] = {(double)c->every_profile, (double)c->done};
+    app_checkpoint_put(out, "crater", v, 2);
+    if (c->observer)
+        app_observer_checkpoint(c->observer, out);
+    return 0;
+}
+
+static int crater_resume(void *state, AppContext *ctx, const char *record)
+{
+    AppCraterState *c = state;
+    double v[2];
+    if (app_checkpoint_take(record, "crater", v, 2) != 0) {
+        snprintf(ctx->err, ctx->err_size,
+                 "--resume: the crater section of the checkpoint is "
+                 "malformed");
+        return -1;
+    }
+    c->every_profile = (long)v[0];
+    c->done = (long)v[1];
+    return c->observer ? app_observer_resume(c->observer, record, ctx->err, ctx->err_size) : 0;
+}
+
 static void crater_summary_json(const void *state, char *out, size_t size)
 {
     snprintf(out, size, "%s", ((const AppCraterState *)state)->json);
@@ -282,6 +310,8 @@ const AppExperiment app_crater_experiment = {
     .step = crater_step,
     .stage_end = crater_stage_end,
     .end = crater_end,
+    .checkpoint = crater_checkpoint,
+    .resume = crater_resume,
     .summary_json = crater_summary_json,
     .figures = crater_figures,
     .commands = app_sweep_commands,

@@ -7,6 +7,7 @@
  * A scene gives either these three or rho_f, nu and u* directly. */
 #include "sediment.h"
 
+#include "checkpoint.h"
 #include "config.h"
 #include "experiments.h"
 #include "util.h"
@@ -524,6 +525,58 @@ static int sediment_end(void *state, AppContext *c, int ok)
     return app_sediment_end(state, ok, c->err, c->err_size);
 }
 
+/* A checkpoint: the flow's start, the flux record, sediment.csv's length and the fluid column's
+ * whole state (sim_fluid_get_state). */
+static int sediment_checkpoint(const void *state, const AppContext *c, FILE *out)
+{
+    const AppSediment *s = state;
+    const double v[3] = {s->flowing, s->flow_start, s->count};
+    app_checkpoint_put(out, "sediment", v, 3);
+    app_checkpoint_put(out, "sediment_t", s->t, s->count);
+    app_checkpoint_put(out, "sediment_q", s->q, s->count);
+    long n = sim_fluid_state_count(s->fluid);
+    double *fluid = malloc((size_t)n * sizeof *fluid);
+    if (!fluid) {
+        snprintf(c->err, c->err_size, "out of memory");
+        return -1;
+    }
+    sim_fluid_get_state(s->fluid, fluid);
+    app_checkpoint_put(out, "fluid", fluid, n);
+    free(fluid);
+    app_checkpoint_file(out, s->csv_path, s->csv);
+    return 0;
+}
+
+static int sediment_resume(void *state, AppContext *c, const char *record)
+{
+    AppSediment *s = state;
+    double v[3];
+    int bad = app_checkpoint_take(record, "sediment", v, 3) != 0 || !(v[2] >= 0.0) || v[2] > 1e9;
+    while (!bad && s->capacity < (int)v[2])
+        bad = app_series_grow(&s->t, &s->q, &s->capacity, 256) != 0;
+    if (!bad) {
+        s->flowing = (int)v[0];
+        s->flow_start = v[1];
+        s->count = (int)v[2];
+        bad = s->count > 0 && (app_checkpoint_take(record, "sediment_t", s->t, s->count) != 0 ||
+                               app_checkpoint_take(record, "sediment_q", s->q, s->count) != 0);
+    }
+    long n = sim_fluid_state_count(s->fluid);
+    double *fluid = bad ? NULL : malloc((size_t)n * sizeof *fluid);
+    bad = bad || !fluid || app_checkpoint_take(record, "fluid", fluid, n) != 0;
+    if (!bad)
+        sim_fluid_set_state(s->fluid, fluid);
+    free(fluid);
+    if (bad || app_checkpoint_reopen(record, s->csv_path, &s->csv) != 0) {
+        snprintf(c->err, c->err_size,
+                 "--resume: the sediment section of the checkpoint is malformed, or %s is "
+                 "shorter than it records",
+                 s->csv_path);
+        return -1;
+    }
+    return 0;
+}
+
 /* Thesis 002 fig. 31 analogue: the fluid column's velocity and concentration profiles beside the
  * bed, on the bed view's heights. */
 static int sediment_figure_extras(void *state, const SimFrame *frame, AppFigureExtras *extras)
@@ -572,6 +625,8 @@ const AppExperiment app_sediment_experiment = {
     .sample = sediment_sample,
     .stage_end = sediment_stage_end,
     .end = sediment_end,
+    .checkpoint = sediment_checkpoint,
+    .resume = sediment_resume,
     .figure_extras = sediment_figure_extras,
     .commands = app_sediment_commands,
     .command_count = 1,

@@ -7,6 +7,7 @@
  * the stage on. */
 #include "surface.h"
 
+#include "checkpoint.h"
 #include "config.h"
 #include "scene.h"
 #include "util.h"
@@ -127,7 +128,7 @@ static void surface_sample(void *state, AppContext *c)
 static int surface_end(void *state, AppContext *c, int ok)
 {
     SurfaceState *s = state;
-    if (!ok) {
+    if (!ok && !c->checkpointed) { /* interrupted at a checkpoint: kept for --resume */
         app_tmp_discard(&s->csv, s->path);
         return 0;
     }
@@ -135,6 +136,35 @@ static int surface_end(void *state, AppContext *c, int ok)
         snprintf(c->err, c->err_size, "cannot write %s", s->path);
         return -1;
     }
+    return 0;
+}
+
+/* A checkpoint: the mean's sum and count, the last angle and surface.csv's length. */
+static int surface_checkpoint(const void *state, const AppContext *c, FILE *out)
+{
+    (void)c;
+    const SurfaceState *s = state;
+    const double v[3] = {s->sum, s->last, (double)s->samples};
+    app_checkpoint_put(out, "surface", v, 3);
+    app_checkpoint_file(out, s->path, s->csv);
+    return 0;
+}
+
+static int surface_resume(void *state, AppContext *c, const char *record)
+{
+    SurfaceState *s = state;
+    double v[3];
+    if (app_checkpoint_take(record, "surface", v, 3) != 0 ||
+        app_checkpoint_reopen(record, s->path, &s->csv) != 0) {
+        snprintf(c->err, c->err_size,
+                 "--resume: the surface section of the checkpoint is malformed, or %s is "
+                 "shorter than it records",
+                 s->path);
+        return -1;
+    }
+    s->sum = v[0];
+    s->last = v[1];
+    s->samples = (long)v[2];
     return 0;
 }
 
@@ -158,5 +188,7 @@ const AppExperiment app_surface_experiment = {
     .begin = surface_begin,
     .sample = surface_sample,
     .end = surface_end,
+    .checkpoint = surface_checkpoint,
+    .resume = surface_resume,
     .summary_json = surface_summary_json,
 };
