@@ -304,8 +304,11 @@ static int resolve_levels(Ensemble *E)
         scene_free(scene);
         for (int k = 0; k < v; ++k)
             if (E->levels[k].dt == t.time_step) {
-                fprintf(stderr, "sablier: ensemble: two values give the same time step %g s\n",
-                        t.time_step);
+                fprintf(stderr,
+                        "sablier: ensemble: --steps-per-contact %g and %g give the same time step "
+                        "%g s: it is capped at half the stability limit (%g s); list fewer, or "
+                        "use --dt (up to the stability limit)\n",
+                        E->levels[k].value, o->values[v], t.time_step, t.stability_limit);
                 return 2;
             }
         Level level = {

@@ -12,13 +12,15 @@
 #    against a converged reference -> OUT/accuracy.csv (summary tables on stdout).
 # 3. bench_effects: time per particle-step with each effect declared or not -> OUT/effects.csv.
 # 4. The work-precision plot -> OUT/accuracy.png and OUT/accuracy.pdf.
-# 5. --ensemble (or --ensemble-only: this step alone): `sablier ensemble` for 8 seeds of the
-#    reduced crater (scenes/crater/small.scene, 300 grains: deposit, dig, collapse) at 12-200
-#    steps per contact (mean crater height, surface minimum, bed packing fraction) and of the
-#    small Brazil-nut box (scenes/brazil_nut/small.scene: intruder height after 30 periods, rise
-#    rate) at 12-100: each mean's shift against the finest dt with Welch's 95 % interval,
-#    against CPU time -> OUT/ensemble-{crater,bne}.csv, .json, .png, .pdf and -answers.txt
-#    (members in out/ensemble-NAME/). A few minutes on 2 cores (--quick: 4 seeds, fewer dts).
+# 5. --ensemble (or --ensemble-only: this step alone): `sablier ensemble` of the reduced crater
+#    (scenes/crater/small.scene, 300 grains: deposit, dig, collapse; 32 seeds) at dt = 2e-4 ..
+#    2.5e-5 s (34-275 steps per contact; mean crater height, surface minimum, bed packing
+#    fraction) and of the small Brazil-nut box (scenes/brazil_nut/small.scene, 8 seeds:
+#    intruder height after 30 periods, rise rate) at dt = 1.6e-3 .. 2e-4 s (21-171 steps per
+#    contact): each mean's shift against the finest dt with Welch's 95 % interval, against CPU
+#    time -> OUT/ensemble-{crater,bne}.csv, .json, .png, .pdf and -answers.txt (members in
+#    out/ensemble-NAME/). About 2.5 CPU minutes, 2-4 minutes on 2 cores (--quick: 4 seeds, 2
+#    dts each).
 # Default OUT: bench/results. About 3-5 minutes on 2 cores; --quick is a smoke run (~1 min).
 # The 1-minute load average before and after is printed: other work on the machine inflates the
 # times (the CPU-time columns less so than wall time).
@@ -56,18 +58,18 @@ model=$(awk -F: '/^model name/ { sub(/^ +/, "", $2); print $2; exit }' /proc/cpu
 echo "== machine: $model, $(nproc) CPUs; load $(load)"
 start=$(date +%s)
 
-# ensemble_run NAME SCENE LIST SEEDS KEYS [SET...]: one `sablier ensemble` by steps per contact,
+# ensemble_run NAME SCENE DTS SEEDS KEYS [SET...]: one `sablier ensemble` over the time steps DTS,
 # members in out/ensemble-NAME/, its tables and figure copied to OUT/ensemble-NAME.*
 ensemble_run() {
-    local name=$1 scene=$2 steps=$3 seeds=$4 keys=$5
+    local name=$1 scene=$2 dts=$3 seeds=$4 keys=$5
     shift 5
     local members="$root/out/ensemble-$name" sets=() t0
     for s in "$@"; do sets+=(--set "$s"); done
     echo
-    echo "== ensemble $name: $seeds seeds x steps per contact $steps (load $(load))"
-    local command=("$build_dir/sablier" ensemble "$root/$scene" --steps-per-contact "$steps"
+    echo "== ensemble $name: $seeds seeds x dt $dts (load $(load))"
+    local command=("$build_dir/sablier" ensemble "$root/$scene" --dt "$dts"
         --seeds "$seeds" --jobs 2 --quiet --observe "$keys" "${sets[@]}" --out "$members")
-    echo "sablier ensemble $scene --steps-per-contact $steps --seeds $seeds --jobs 2" \
+    echo "sablier ensemble $scene --dt $dts --seeds $seeds --jobs 2" \
         "--observe $keys ${sets[*]}"
     t0=$(date +%s)
     "${command[@]}" | tee "$out/ensemble-$name-answers.txt" ||
@@ -78,11 +80,13 @@ ensemble_run() {
     echo "== ensemble $name done in $(($(date +%s) - t0)) s; load $(load)"
 }
 ensemble_step() {
-    local seeds=8 crater=12,25,50,100,200 bne=12,25,50,100
-    if [ ${#quick[@]} -gt 0 ]; then seeds=4 crater=25,50,200 bne=25,100; fi
-    ensemble_run crater scenes/crater/small.scene "$crater" "$seeds" \
+    # from near the stability limit (crater 2.2e-4 s, n = 32; Brazil nut 1.8e-3 s, n = 19) down
+    # (a crater member costs 0.25-0.75 CPU s, a Brazil-nut member 1-4.3 s)
+    local crater_seeds=32 bne_seeds=8 crater=2e-4,1e-4,5e-5,2.5e-5 bne=1.6e-3,8e-4,4e-4,2e-4
+    if [ ${#quick[@]} -gt 0 ]; then crater_seeds=4 bne_seeds=4 crater=2e-4,5e-5 bne=1.6e-3,4e-4; fi
+    ensemble_run crater scenes/crater/small.scene "$crater" "$crater_seeds" \
         crater.crater_height,crater.surface_min,bed.packing_fraction time.max_dt_fraction=0
-    ensemble_run bne scenes/brazil_nut/small.scene "$bne" "$seeds" \
+    ensemble_run bne scenes/brazil_nut/small.scene "$bne" "$bne_seeds" \
         bne.json:end_height,bne.json:rise_rate
 }
 if [ $benches = 0 ]; then

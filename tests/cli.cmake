@@ -240,6 +240,9 @@ sablier_cli_test(ensemble_bad_command
 sablier_cli_test(ensemble_bad_set
                  "ensemble|${CLI_FALL}|--dt|1e-3,2e-3|--observe|seed|--set|nope.key=1" 2
                  ERR "--set nope.key: unknown key `nope`")
+sablier_cli_test(ensemble_capped_steps
+                 "ensemble|${PROJECT_SOURCE_DIR}/scenes/crater/small.scene|--steps-per-contact|12,25|--observe|seed|--set|time.max_dt_fraction=0"
+                 2 ERR "--steps-per-contact 12 and 25 give the same time step")
 sablier_cli_test(ensemble_stage_dt
                  "ensemble|${PROJECT_SOURCE_DIR}/scenes/crater/small.scene|--dt|2e-5,4e-5|--observe|crater.crater_height|--set|stages.collapse.time.dt=1e-5"
                  2 ERR "stage `collapse` sets its own time.dt")

@@ -72,6 +72,14 @@ awk -F, 'NR > 1 && $1 == "trace.csv:y" { d = $8 < 0 ? -$8 : $8; if ($11 != 1 || 
   "$work/vv/ensemble.csv" || fail "velocity Verlet shifted: $(cat "$work/vv/ensemble.csv")"
 grep -q '^trace.csv:y: from dt = 0.0078125 s on' "$work/vv.stdout" ||
   fail "velocity Verlet answer: $(cat "$work/vv.stdout")"
+# --steps-per-contact: each row's dt is the shortest contact time / n, finest first
+"$sablier" ensemble "$scene" --steps-per-contact 100,200 --seeds 2 --observe trace.csv:y \
+  --out "$work/spc" --quiet >/dev/null 2>"$work/spc.stderr" || fail "--steps-per-contact: $(cat "$work/spc.stderr")"
+awk -F, 'NR == 2 { n1 = $3; d1 = $2 } NR == 3 { n2 = $3; d2 = $2 }
+  END { r = d1 * n1 / (d2 * n2); exit !(n1 > 199.99 && n1 < 200.01 && n2 > 99.99 && n2 < 100.01 &&
+                                       r > 0.9999 && r < 1.0001) }' "$work/spc/ensemble.csv" ||
+  fail "--steps-per-contact rows: $(cat "$work/spc/ensemble.csv")"
+[ -d "$work/spc/steps_per_contact=100/seed-2" ] || fail "--steps-per-contact member folders"
 # a time step the scene refuses: exit 2, nothing made
 "$sablier" ensemble "$scene" --dt 0.001,10 --seeds 2 --observe trace.csv:y --out "$work/bad" \
   >/dev/null 2>"$work/bad.stderr"
