@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* ensemble.c: `sablier ensemble` (ensemble.h). Every (dt, seed) member is a child process of the
- * pool (app/pool.h) that execs `sablier COMMAND SCENE --out DIR --quiet --set ...` and records
+ * pool (app/pool.h) that execs `sablier run SCENE --out DIR --quiet --set ...` and records
  * that process's CPU time; after the pool the observables are read from the members' folders and
  * reduced (stats.h) into members.csv, ensemble.csv, ensemble.json and ensemble.png/.pdf, and one
  * answer line per observable on stdout. */
@@ -26,16 +26,15 @@
 
 #define ENS_LEVELS 32   /* time steps */
 #define ENS_KEYS   8    /* observables (one plot panel each) */
-#define ENS_EXTRA  32   /* member arguments after `--` */
 #define ENS_KEY    256  /* characters of one key */
 #define ENS_LEVEL  0.95 /* confidence level */
 #define ENS_PATH   (SCENE_PATH_MAX + 2 * SCENE_NAME_MAX)
-#define ENS_ARGV   (2 * APP_MAX_SETS + ENS_EXTRA + 16)
+#define ENS_ARGV   (2 * APP_MAX_SETS + 16)
 
 const char app_ensemble_usage[] =
     "usage: sablier ensemble SCENE (--dt LIST | --steps-per-contact LIST) --observe KEY[,KEY...]\n"
     "                        [--seeds N] [--seed0 S] [--jobs N] [--out DIR] [--set KEY=VALUE]...\n"
-    "                        [--command NAME] [--quiet] [-- MEMBER ARGS...]\n"
+    "                        [--quiet]\n"
     "\n"
     "Runs SCENE for N seeds (default 5, at least 2) at each time step of the list and tells, per\n"
     "observable, from which dt on the ensemble mean stays within its statistical error of the\n"
@@ -52,8 +51,6 @@ const char app_ensemble_usage[] =
     "  --seeds N --seed0 S       seeds S .. S+N-1 (the scene's `seed` key; default S = 1)\n"
     "  --jobs N                  members at a time, 1-64 (default 2; results do not depend on N)\n"
     "  --set KEY=VALUE           override for every member\n"
-    "  --command NAME            the member command (default run; e.g. discharge), which gets\n"
-    "                            SCENE --out DIR --quiet --set ... and the arguments after `--`\n"
     "  --out DIR                 default out/ensemble-<scene name>\n"
     "Writes DIR/members.csv (every member's values and CPU s), DIR/ensemble.csv and\n"
     "DIR/ensemble.json (per observable and dt: n, mean, std, 95 % CI, shift against the\n"
@@ -62,11 +59,9 @@ const char app_ensemble_usage[] =
     "input (nothing runs) or when a member failed otherwise or an observable is missing.\n";
 
 typedef struct Options {
-    const char *scene_path, *out_dir, *command, *self;
+    const char *scene_path, *out_dir, *self;
     const char *sets[APP_MAX_SETS];
     int set_count;
-    const char *extra[ENS_EXTRA];
-    int extra_count;
     int by_steps; /* 1: the values are steps per contact */
     double values[ENS_LEVELS];
     int value_count;
@@ -155,7 +150,7 @@ static int parse_values(Options *o, const char *name, const char *list, int by_s
     return 0;
 }
 
-/* The options after the command name, up to `--`. 0, or the exit status. */
+/* One option (or the scene) at argv[*i]. 0, or the exit status. */
 static int parse_option(Options *o, int argc, char **argv, int *i)
 {
     const char *value = NULL;
@@ -184,8 +179,6 @@ static int parse_option(Options *o, int argc, char **argv, int *i)
     } else if ((m = app_option(argc, argv, i, "--jobs", &value)) != 0) {
         if (m < 0 || app_parse_count(value, 1, 64, &o->jobs) < 0)
             return usage_error("--jobs needs a count in [1, 64], got", m < 0 ? "nothing" : value);
-    } else if ((m = app_option(argc, argv, i, "--command", &value)) != 0) {
-        o->command = value;
     } else if (strcmp(argv[*i], "--quiet") == 0 || strcmp(argv[*i], "-q") == 0) {
         o->quiet = 1;
     } else {
@@ -199,16 +192,7 @@ static int parse_options(Options *o, int argc, char **argv)
     o->seeds = 5;
     o->seed0 = 1;
     o->jobs = 2;
-    o->command = "run";
     for (int i = 2; i < argc; ++i) {
-        if (strcmp(argv[i], "--") == 0) {
-            for (int k = i + 1; k < argc; ++k) {
-                if (o->extra_count == ENS_EXTRA)
-                    return usage_error("at most 32 member arguments after --, got", argv[k]);
-                o->extra[o->extra_count++] = argv[k];
-            }
-            break;
-        }
         int rc = parse_option(o, argc, argv, &i);
         if (rc != 0)
             return rc;
@@ -219,10 +203,6 @@ static int parse_options(Options *o, int argc, char **argv)
         return usage_error("missing --dt LIST or --steps-per-contact LIST", NULL);
     if (o->key_count == 0)
         return usage_error("missing --observe KEY[,KEY...]", NULL);
-    if (strcmp(o->command, "run") != 0 &&
-        (strcmp(o->command, "ensemble") == 0 || !app_experiment_command(o->command)))
-        return usage_error("--command must be run or a family's command (discharge, ...), got",
-                           o->command);
     if (!o->out_dir) {
         const char *base =
             strrchr(o->scene_path, '/') ? strrchr(o->scene_path, '/') + 1 : o->scene_path;
@@ -334,15 +314,13 @@ static int member_argv(Ensemble *E, int member)
     int set_count = member_sets(o, level_value(E, member), member_seed(E, member), sets, buffers);
     const char *words[ENS_ARGV];
     int n = 0;
-    const char *head[] = {"sablier", o->command, o->scene_path, "--out", dir, "--quiet"};
+    const char *head[] = {"sablier", "run", o->scene_path, "--out", dir, "--quiet"};
     for (size_t k = 0; k < sizeof head / sizeof head[0]; ++k)
         words[n++] = head[k];
     for (int k = 0; k < set_count; ++k) {
         words[n++] = "--set";
         words[n++] = sets[k];
     }
-    for (int k = 0; k < o->extra_count; ++k)
-        words[n++] = o->extra[k];
     for (int k = 0; k < n; ++k) {
         if (strlen(words[k]) >= ENS_PATH)
             return -1;
@@ -616,14 +594,12 @@ static int write_ensemble_json(const Ensemble *E, const char *path)
     FILE *f = app_tmp_open(path, NULL);
     if (!f)
         return -1;
-    char scene[2 * SCENE_PATH_MAX], command[2 * SCENE_NAME_MAX];
+    char scene[2 * SCENE_PATH_MAX];
     app_json_string(scene, sizeof scene, o->scene_path);
-    app_json_string(command, sizeof command, o->command);
     fprintf(f,
-            "{\n  \"scene\": %s,\n  \"command\": %s,\n  \"by\": \"%s\",\n  \"seeds\": %ld,\n"
+            "{\n  \"scene\": %s,\n  \"by\": \"%s\",\n  \"seeds\": %ld,\n"
             "  \"seed0\": %ld,\n  \"confidence\": %.2f,\n  \"reference\": {",
-            scene, command, o->by_steps ? "steps_per_contact" : "dt", o->seeds, o->seed0,
-            ENS_LEVEL);
+            scene, o->by_steps ? "steps_per_contact" : "dt", o->seeds, o->seed0, ENS_LEVEL);
     json_pair(f, "dt_s", E->levels[0].dt, ", ");
     json_pair(f, "steps_per_contact", E->levels[0].per_contact, "},\n  \"levels\": [");
     for (int v = 0; v < E->level_count; ++v) {

@@ -2,8 +2,8 @@
 /* ensemble.h: `sablier ensemble` (docs/accuracy.md#ensemble-accuracy, docs/cli.md): a scene run
  * for N seeds at each of several time steps through the process pool; per observable the
  * ensemble mean at each dt, its shift against the finest dt with Welch's interval, and the CPU
- * time per member. App core: the members are `sablier run` (or another command taking SCENE
- * --out --set) processes, the observables numbers in their output folders (run_value.h). */
+ * time per member. App core: the members are `sablier run` processes, the observables numbers
+ * in their output folders (run_value.h). */
 #ifndef APP_ENSEMBLE_H
 #define APP_ENSEMBLE_H
 

@@ -234,9 +234,9 @@ sablier_cli_test(ensemble_bad_key "ensemble|${CLI_FALL}|--dt|1e-3,2e-3|--observe
                  ERR "--observe: `../x.json:a`: the file must be")
 sablier_cli_test(ensemble_key_twice "ensemble|${CLI_FALL}|--dt|1e-3,2e-3|--observe|seed,seed" 2
                  ERR "key given twice")
-sablier_cli_test(ensemble_bad_command
-                 "ensemble|${CLI_FALL}|--dt|1e-3,2e-3|--observe|seed|--command|frob" 2
-                 ERR "--command must be run or a family's command")
+sablier_cli_test(ensemble_unknown_option
+                 "ensemble|${CLI_FALL}|--dt|1e-3,2e-3|--observe|seed|--command|run" 2
+                 ERR "unknown option --command")
 sablier_cli_test(ensemble_bad_set
                  "ensemble|${CLI_FALL}|--dt|1e-3,2e-3|--observe|seed|--set|nope.key=1" 2
                  ERR "--set nope.key: unknown key `nope`")
