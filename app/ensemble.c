@@ -657,8 +657,48 @@ typedef struct Figure {
     AppPlotSeries series[ENS_KEYS][ENS_LEVELS + 1];
     double x[ENS_LEVELS], y[ENS_KEYS][ENS_LEVELS], err[ENS_KEYS][ENS_LEVELS];
     double zero_x[2], zero_y[2];
-    char labels[ENS_LEVELS][96], titles[ENS_KEYS][ENS_KEY + 32];
+    char labels[ENS_LEVELS][96];
 } Figure;
+
+/* Panel j of the figure: the zero line, then one point with its interval per dt (the legend, in
+ * panel 0, gets room above the points). */
+static void figure_panel(const Ensemble *E, Figure *F, int j)
+{
+    static const AppMarker markers[] = {APP_MARKER_CIRCLE, APP_MARKER_SQUARE, APP_MARKER_TRIANGLE,
+                                        APP_MARKER_CROSS};
+    AppPlotSeries *s = F->series[j];
+    s[0] = (AppPlotSeries){
+        .count = 2, .x = F->zero_x, .y = F->zero_y, .line = 1, .dashed = 1, .rgb = 0x808080};
+    double lo = 0.0, hi = 0.0;
+    for (int v = 0; v < E->level_count; ++v) {
+        F->y[j][v] = E->levels[v].shift[j].shift;
+        F->err[j][v] = v == 0 ? E->levels[0].sample[j].half : E->levels[v].shift[j].half;
+        double e = isfinite(F->err[j][v]) ? F->err[j][v] : 0.0;
+        if (isfinite(F->y[j][v])) {
+            lo = fmin(lo, F->y[j][v] - e);
+            hi = fmax(hi, F->y[j][v] + e);
+        }
+        s[v + 1] = (AppPlotSeries){.label = j == 0 ? F->labels[v] : NULL,
+                                   .count = 1,
+                                   .x = &F->x[v],
+                                   .y = &F->y[j][v],
+                                   .y_err = &F->err[j][v],
+                                   .marker = markers[v % 4],
+                                   .rgb = APP_RGB_AUTO};
+    }
+    double span = hi > lo ? hi - lo : fmax(fabs(hi), 1e-12);
+    F->panels[j] = (AppPlotPanel){.title = E->o->keys[j],
+                                  .x_label = "CPU s per member",
+                                  .y_label = "shift of the mean",
+                                  .x_log = 1,
+                                  .legend = j == 0 ? APP_LEGEND_UPPER_LEFT : APP_LEGEND_NONE,
+                                  .x_min = pow(10.0, floor(log10(F->zero_x[0] / 1.3))),
+                                  .x_max = pow(10.0, ceil(log10(F->zero_x[1] * 1.3))),
+                                  .y_min = lo - 0.05 * span,
+                                  .y_max = hi + (j == 0 ? 0.1 + 0.2 * E->level_count : 0.05) * span,
+                                  .series_count = E->level_count + 1,
+                                  .series = s};
+}
 
 /* ensemble.png and ensemble.pdf: per observable, the shift of the mean at each dt with its
  * interval (the reference: 0 with its own interval) against the CPU time per member, log x. */
@@ -676,48 +716,24 @@ static void write_figure(const Ensemble *E)
         F->x[v] = isfinite(L->cpu_mean) ? fmax(L->cpu_mean, 1e-6) : (double)NAN;
         lo = fmin(lo, F->x[v]);
         hi = fmax(hi, F->x[v]);
-        snprintf(F->labels[v], sizeof F->labels[v], "%sdt = %.4g s (%.4g steps per contact)",
-                 v == 0 ? "reference " : "", L->dt, L->per_contact);
+        snprintf(F->labels[v], sizeof F->labels[v], "dt = %.3g s, %.3g steps/contact%s", L->dt,
+                 L->per_contact, v == 0 ? " (reference)" : "");
     }
-    F->zero_x[0] = lo;
-    F->zero_x[1] = hi;
-    static const AppMarker markers[] = {APP_MARKER_CIRCLE, APP_MARKER_SQUARE, APP_MARKER_TRIANGLE,
-                                        APP_MARKER_CROSS};
-    for (int j = 0; j < o->key_count; ++j) {
-        AppPlotSeries *s = F->series[j];
-        s[0] = (AppPlotSeries){
-            .count = 2, .x = F->zero_x, .y = F->zero_y, .line = 1, .dashed = 1, .rgb = 0x808080};
-        for (int v = 0; v < E->level_count; ++v) {
-            F->y[j][v] = E->levels[v].shift[j].shift;
-            F->err[j][v] = v == 0 ? E->levels[0].sample[j].half : E->levels[v].shift[j].half;
-            s[v + 1] = (AppPlotSeries){.label = j == 0 ? F->labels[v] : NULL,
-                                       .count = 1,
-                                       .x = &F->x[v],
-                                       .y = &F->y[j][v],
-                                       .y_err = &F->err[j][v],
-                                       .marker = markers[v % 4],
-                                       .rgb = APP_RGB_AUTO};
-        }
-        snprintf(F->titles[j], sizeof F->titles[j], "shift of the mean of %s", o->keys[j]);
-        F->panels[j] = (AppPlotPanel){.title = F->titles[j],
-                                      .x_label = "CPU s per member",
-                                      .y_label = "mean - reference mean",
-                                      .x_log = 1,
-                                      .legend = j == 0 ? APP_LEGEND_UPPER_RIGHT : APP_LEGEND_NONE,
-                                      .series_count = E->level_count + 1,
-                                      .series = s};
-    }
-    int cols = o->key_count > 1 ? 2 : 1, rows = (o->key_count + cols - 1) / cols;
+    F->zero_x[0] = isfinite(lo) ? lo : 1e-3;
+    F->zero_x[1] = isfinite(hi) ? hi : 1.0;
+    for (int j = 0; j < o->key_count; ++j)
+        figure_panel(E, F, j);
+    int cols = o->key_count <= 3 ? o->key_count : 2, rows = (o->key_count + cols - 1) / cols;
     char title[256];
     snprintf(title, sizeof title,
-             "Ensemble of %ld seeds: shift of the mean against dt = %.4g s "
-             "(95 %% intervals)",
+             "Ensemble of %ld seeds: shift of the mean against dt = %.3g s, 95 %% intervals",
              o->seeds, E->levels[0].dt);
     AppPlot plot = {.title = title,
-                    .width = cols == 1 ? 1000 : 1600,
-                    .height = 120 + 600 * rows,
+                    .width = cols == 1 ? 1000 : 160 + 620 * cols,
+                    .height = 100 + 540 * rows,
                     .rows = rows,
                     .cols = cols,
+                    .font_size = 16.0,
                     .panel_count = o->key_count,
                     .panels = F->panels,
                     .scene = o->scene_path};
