@@ -484,7 +484,7 @@ static int hook_plot(void *context, const AppPlot *plot, const char *path, char 
         }
         panels[p] = (RenderPanel){
             .title = in->title,
-            .x = {.label = in->x_label, .min = in->x_min, .max = in->x_max},
+            .x = {.label = in->x_label, .log = in->x_log, .min = in->x_min, .max = in->x_max},
             .y = {.label = in->y_label, .log = in->y_log, .min = in->y_min, .max = in->y_max},
             .series_count = n,
             .series = out,

@@ -54,7 +54,7 @@ typedef struct AppPlotSeries {
 
 typedef struct AppPlotPanel {
     const char *title, *x_label, *y_label; ///< NULL = none
-    int y_log;
+    int x_log, y_log;                      ///< 1: base-10 logarithmic axis
     AppLegend legend;
     /// Axis ranges; min >= max: from the data.
     double x_min, x_max, y_min, y_max;

@@ -6,6 +6,7 @@
 #include "advice.h"
 #include "diff_folders.h"
 #include "dump.h"
+#include "ensemble.h"
 #include "experiments.h"
 #include "pool.h"
 #include "run.h"
@@ -43,7 +44,8 @@ static const char USAGE_HEAD[] =
     "  check SCENE    validate a scene and print what it would run\n"
     "  diff A B       compare two PNG images, or two folders of figures (exit 0 match, 1 differ)\n"
     "  render STATE   draw a saved checkpoint without simulating\n"
-    "  export STATE   write a checkpoint as a LAMMPS dump, a VTK file or CSV\n";
+    "  export STATE   write a checkpoint as a LAMMPS dump, a VTK file or CSV\n"
+    "  ensemble SCENE seeds x time steps: from which dt on a mean stays within its error\n";
 
 static const char USAGE_TAIL[] =
     "\n"
@@ -731,6 +733,19 @@ static int command_render(int argc, char **argv)
 #endif
 }
 
+/* `sablier ensemble`: a generic multi-run driver (app/ensemble.c) with the family commands' env. */
+static int command_ensemble(int argc, char **argv)
+{
+    AppEnv env = {.sablier_version = SABLIER_VERSION,
+                  .render_versions = render_versions(),
+                  .self = "/proc/self/exe"};
+#ifdef SABLIER_HAVE_RENDER
+    env.render = app_render_glue();
+#endif
+    app_pool_begin(); /* under mpirun: a worker rank serves the command's pools */
+    return app_ensemble_command(argc, argv, &env);
+}
+
 static int command_version(void)
 {
     const char *render = render_versions();
@@ -770,6 +785,7 @@ int main(int argc, char **argv)
         {"diff", command_diff, USAGE_DIFF},
         {"render", command_render, USAGE_RENDER},
         {"export", app_dump_export, app_dump_export_usage},
+        {"ensemble", command_ensemble, app_ensemble_usage},
     };
 
     for (size_t k = 0; k < sizeof core / sizeof core[0]; ++k) {

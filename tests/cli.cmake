@@ -231,3 +231,46 @@ set_tests_properties(cli.render_bad_state PROPERTIES LABELS cli)
 # a dig beside every grain and wall is refused at load (issue 18 part 4)
 sablier_cli_test(dig_outside "check|scenes/crater/quick.scene|--set|stages.dig.dig.center_x=1e308"
                  2 ERR "dig: the cavity .* lies outside the scene's grains and walls")
+# `sablier ensemble` (docs/accuracy.md#ensemble-accuracy): end to end on a free fall with a known
+# shift (tests/cli/ensemble.sh), and its usage errors (exit 2, nothing run)
+add_test(NAME cli.ensemble
+         COMMAND bash ${CLI_DIR}/ensemble.sh $<TARGET_FILE:sablier> ${CLI_DIR}/ensemble_fall.scene
+                 ${CLI_WORK}/ensemble ${SABLIER_WITH_RENDER})
+set_tests_properties(cli.ensemble PROPERTIES LABELS cli
+                     ENVIRONMENT "LSAN_OPTIONS=suppressions=${CLI_DIR}/lsan.supp")
+set(CLI_FALL ${CLI_DIR}/ensemble_fall.scene)
+sablier_cli_test(help_ensemble "ensemble|--help" 0 OUT "usage: sablier ensemble")
+sablier_cli_test(ensemble_no_scene "ensemble|--dt|1e-3,2e-3|--observe|seed" 2 ERR "missing SCENE")
+sablier_cli_test(ensemble_no_dt "ensemble|${CLI_FALL}|--observe|seed" 2
+                 ERR "missing --dt LIST or --steps-per-contact LIST")
+sablier_cli_test(ensemble_no_observe "ensemble|${CLI_FALL}|--dt|1e-3,2e-3" 2
+                 ERR "missing --observe KEY")
+sablier_cli_test(ensemble_one_dt "ensemble|${CLI_FALL}|--dt|1e-3|--observe|seed" 2
+                 ERR "at least two values")
+sablier_cli_test(ensemble_bad_dt "ensemble|${CLI_FALL}|--dt|1e-3,fast|--observe|seed" 2
+                 ERR "bad list .* after --dt")
+sablier_cli_test(ensemble_zero_dt "ensemble|${CLI_FALL}|--dt|1e-3,0|--observe|seed" 2
+                 ERR "every value must be > 0")
+sablier_cli_test(ensemble_same_dt "ensemble|${CLI_FALL}|--dt|1e-3,0.001|--observe|seed" 2
+                 ERR "a value given twice")
+sablier_cli_test(ensemble_two_lists
+                 "ensemble|${CLI_FALL}|--dt|1e-3,2e-3|--steps-per-contact|50,100|--observe|seed" 2
+                 ERR "give one list")
+sablier_cli_test(ensemble_one_seed "ensemble|${CLI_FALL}|--dt|1e-3,2e-3|--seeds|1|--observe|seed"
+                 2 ERR "--seeds needs a count in \\[2, 10000\\]")
+sablier_cli_test(ensemble_bad_key "ensemble|${CLI_FALL}|--dt|1e-3,2e-3|--observe|../x.json:a" 2
+                 ERR "--observe: `../x.json:a`: the file must be")
+sablier_cli_test(ensemble_key_twice "ensemble|${CLI_FALL}|--dt|1e-3,2e-3|--observe|seed,seed" 2
+                 ERR "key given twice")
+sablier_cli_test(ensemble_unknown_option
+                 "ensemble|${CLI_FALL}|--dt|1e-3,2e-3|--observe|seed|--command|run" 2
+                 ERR "unknown option --command")
+sablier_cli_test(ensemble_bad_set
+                 "ensemble|${CLI_FALL}|--dt|1e-3,2e-3|--observe|seed|--set|nope.key=1" 2
+                 ERR "--set nope.key: unknown key `nope`")
+sablier_cli_test(ensemble_capped_steps
+                 "ensemble|${PROJECT_SOURCE_DIR}/scenes/crater/small.scene|--steps-per-contact|12,25|--observe|seed|--set|time.max_dt_fraction=0"
+                 2 ERR "--steps-per-contact 12 and 25 give the same time step")
+sablier_cli_test(ensemble_stage_dt
+                 "ensemble|${PROJECT_SOURCE_DIR}/scenes/crater/small.scene|--dt|2e-5,4e-5|--observe|crater.crater_height|--set|stages.collapse.time.dt=1e-5"
+                 2 ERR "stage `collapse` sets its own time.dt")

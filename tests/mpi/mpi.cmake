@@ -31,3 +31,10 @@ foreach(spec "sweep;3" "sediment_shields;2" "bne_samples;3")
     set_tests_properties(mpi.${case} PROPERTIES LABELS "mpi;slow")
   endif()
 endforeach()
+# `sablier ensemble` on 3 ranks: the tables of --jobs 1 (tests/mpi/ensemble.sh)
+add_test(NAME mpi.ensemble
+         COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/ensemble.sh $<TARGET_FILE:sablier>
+                 ${PROJECT_SOURCE_DIR}/tests/cli/ensemble_fall.scene ${MPI_CHECK_WORK}/ensemble
+                 ${MPI_CHECK_BUILT}
+         WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+set_tests_properties(mpi.ensemble PROPERTIES LABELS mpi SKIP_RETURN_CODE 77)
