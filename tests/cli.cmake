@@ -203,3 +203,15 @@ set_tests_properties(cli.render_bad_state PROPERTIES LABELS cli)
 # a dig beside every grain and wall is refused at load (issue 18 part 4)
 sablier_cli_test(dig_outside "check|scenes/crater/quick.scene|--set|stages.dig.dig.center_x=1e308"
                  2 ERR "dig: the cavity .* lies outside the scene's grains and walls")
+# hard cases of the drum, source, intruder, shear and chute features at the CLI (issue 21 part 4;
+# docs/physics.md#hard-cases; the sim-level ones are tests/stability/test_hard_cases.c)
+foreach(mode insert_dense chute_unbounded resume_threads)
+  add_test(NAME cli.hard.${mode}
+           COMMAND bash ${CLI_DIR}/hard_cases.sh $<TARGET_FILE:sablier> ${mode} ${CLI_DIR}
+                   ${CLI_WORK}/hard_${mode})
+  set_tests_properties(cli.hard.${mode} PROPERTIES LABELS cli)
+endforeach()
+# a drum turning so fast that one step no longer resolves its wall's speed: refused at load
+sablier_cli_test(hard.drum_too_fast
+                 "check|${PROJECT_SOURCE_DIR}/scenes/drum/drum.scene|--set|motions.spin.angular_velocity=10"
+                 2 ERR "motion 0 moves its walls or fixed grains at up to [0-9.]+ m/s.*wall-speed limit")
