@@ -1252,10 +1252,10 @@ static void speed_cause(const SimWorld *w, int i, double v, const char *otherwis
     const double free_fall = w->guard_free_speed + g * elapsed;
     if (g > 0.0 && v <= 1.01 * free_fall && own <= 2.0 * bulk)
         snprintf(out, size,
-                 "likely cause: the flow accelerates without bound (grains moving together at "
-                 "%.3g m/s, within free fall's %.3g m/s after %.3g s), not a numerical blow-up: "
-                 "a chute above its angle of repose or too little dissipation; tilt less, add "
-                 "friction or end the stage earlier",
+                 "likely cause: the flow accelerates without bound (the grains move together at "
+                 "%.3g m/s, within free fall's %.3g m/s after %.3g s), not a blow-up: a chute "
+                 "above its angle of repose or too little dissipation; tilt less, add friction "
+                 "or stop earlier",
                  bulk, free_fall, elapsed);
     else
         snprintf(out, size, "%s", otherwise);
