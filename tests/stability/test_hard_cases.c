@@ -5,7 +5,6 @@
 #include "stab_util.h"
 #include "test.h"
 
-
 /* The classic-experiment material (docs/experiments.md): density 1.27 kg/m^2, k_n = 2000 N/m,
  * e_n = 0.3, tangential spring k_t = 1500 N/m, mu = 0.5; species 1 the same with mu = 0.8. */
 static SimWorldDef experiment_def(double k_n, double mu)
