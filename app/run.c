@@ -567,10 +567,15 @@ static void unstable_message(Run *run, int k)
               "loads, the damping, and overlaps at the start";
     /* sim's message may already name the cause */
     int named = strstr(run->error.message, "likely cause") != NULL;
+    /* the world is back at its last good check: the failure's own time is error.step's */
+    const double t_fail =
+        sim_world_time(run->world) + (double)(run->error.step - sim_world_step_count(run->world)) *
+                                         sim_world_time_step(run->world);
     snprintf(run->message, sizeof run->message,
              "stage %s: simulation failed at step %ld (t = %.6g s), grain %ld: %s%s%s "
              "(dt = %g s, %.1f steps per contact); last good state %s %s",
-             stage->name, run->error.step, sim_world_time(run->world), run->error.grain,
+             stage->name, run->error.step,
+             run->error.step >= 0 ? t_fail : sim_world_time(run->world), run->error.grain,
              run->error.message, named ? "" : "; likely cause: ", named ? "" : cause,
              timing.time_step, timing.steps_per_contact,
              saved ? "saved to" : "could not be saved to", path);

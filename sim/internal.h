@@ -177,6 +177,9 @@ struct SimWorld {
     /* guard */
     double guard_speed2;
     long guard_next;
+    /* what gravity alone could explain (guard messages only, not saved in states): the largest
+     * initial and wall speed at guard_t0, the time of the guard's set-up */
+    double guard_free_speed, guard_t0;
 
     struct {
         int valid, count, mobile_count;

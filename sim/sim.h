@@ -293,12 +293,15 @@ typedef struct SimWorldDef {
     int wall_count;
     const SimWall *walls;
     int motion_count;
-    SimMotion motions[SIM_MAX_MOTIONS];
+    SimMotion motions[SIM_MAX_MOTIONS]; ///< refused when a motion's speed bound times dt exceeds
+                                        ///< half the smallest mobile radius (wall-speed limit)
     int sink_count;
     SimSink sinks[SIM_MAX_SINKS];
     SimBodyForce body_force;    ///< SIM_EFFECT_FLUID_DRAG
     double guard_max_overlap;   ///< stop when xi / d_min of a pair exceeds this (default 0.5)
     double guard_max_speed;     ///< stop when a grain exceeds this speed, m/s; 0 = automatic
+                                ///< (docs/physics.md, "Guard": a flow accelerating without
+                                ///< bound is told apart from a numerical blow-up)
     int guard_every;            ///< steps between guard checks (default 100)
     double max_initial_overlap; ///< refuse start overlaps of new grains above this fraction of
                                 ///< d_min (0.1); restored grains (sim_world_load) are exempt
@@ -669,7 +672,8 @@ int sim_world_remove_rect(SimWorld *world, double x0, double y0, double x1, doub
 int sim_world_remove_ids(SimWorld *world, const uint32_t *ids, int count);
 /// Add grains to a running world (rain-like deposition, 004 §3.1). Their ids must not be in use;
 /// without ids they get fresh ones above every id in use. Returns SIM_OK, SIM_ERROR_INVALID
-/// (bad grain, unknown species, an overlap above max_initial_overlap with a grain present) or
+/// (bad grain, unknown species, an overlap above max_initial_overlap with a grain present, a pair
+/// of a new grain with a grain in place whose stability limit is below the time step) or
 /// SIM_ERROR_MEMORY (the world unchanged, unless the failure came in the rebuild after the
 /// addition: then sim_world_step reports it too).
 SimStatus sim_world_add_grains(SimWorld *world, const SimGrainSet *grains, SimError *error);

@@ -379,6 +379,51 @@ static SimStatus validate_grains(const SimWorldDef *def, int restored, SimError 
  * sim_world_load): a state the engine itself saved was reached by the physics, and a deep or
  * soft pile settles with overlaps above the bound, so its checkpoint must reload whatever its
  * overlaps (the run guard, guard_max_overlap, still watches them as the run goes on). */
+/* A prescribed motion whose walls or fixed grains move more than half the smallest mobile radius
+ * in one step can pass through grains, and grains dragged to that speed skip their contacts: such
+ * a motion is refused at set-up, naming the time step that would resolve it. The speed is bounded
+ * as the guard bounds it (sim_motion_speed_bound over the grains' and walls' extent). */
+static SimStatus validate_motion_speed(const SimWorldDef *def, double dt, SimError *error)
+{
+    const SimGrainSet *g = &def->grains;
+    double r_min = INFINITY, x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (int i = 0; i < g->count; ++i) {
+        if (!(g->flags && (g->flags[i] & SIM_GRAIN_FIXED)))
+            r_min = fmin(r_min, g->radius[i]);
+        x0 = fmin(x0, g->x[i] - g->radius[i]);
+        y0 = fmin(y0, g->y[i] - g->radius[i]);
+        x1 = fmax(x1, g->x[i] + g->radius[i]);
+        y1 = fmax(y1, g->y[i] + g->radius[i]);
+    }
+    for (int k = 0; k < def->wall_count && def->walls; ++k) {
+        double a, b, c, d;
+        sim_wall_bounds(&def->walls[k], &a, &b, &c, &d);
+        x0 = fmin(x0, a);
+        y0 = fmin(y0, b);
+        x1 = fmax(x1, c);
+        y1 = fmax(y1, d);
+    }
+    if (def->motion_count == 0 || !isfinite(r_min) || !(dt > 0.0) || !(x1 >= x0 && y1 >= y0))
+        return SIM_OK;
+    const double size = hypot(x1 - x0, y1 - y0);
+    for (int m = 0; m < def->motion_count; ++m) {
+        SimWorldDef upto = *def; /* motions 0..m: the earlier ones passed, so this is m's */
+        upto.motion_count = m + 1;
+        const double v = sim_motion_speed_bound(&upto, size);
+        if (v * dt > 0.5 * r_min) {
+            char f[64];
+            snprintf(f, sizeof f, "motions[%d]", m);
+            return fail(error, SIM_ERROR_INVALID, f,
+                        "motion %d moves its walls or fixed grains at up to %g m/s, %g m per time "
+                        "step, more than half the smallest grain radius %g m: grains would be "
+                        "passed through or dragged past their contacts; the time step must be "
+                        "below %g s (wall-speed limit), or the motion slower",
+                        m, v, v * dt, r_min, 0.5 * r_min / v);
+        }
+    }
+    return SIM_OK;
+}
+
 static SimStatus validate_def(const SimWorldDef *def, int restored, SimError *error)
 {
     SimStatus s;
@@ -462,6 +507,8 @@ static SimStatus validate_def(const SimWorldDef *def, int restored, SimError *er
               "periodic domain %g wide is narrower than three largest grains plus skin", span);
     }
     SimTiming t = timing_of(def);
+    if ((s = validate_motion_speed(def, t.time_step, error)) != SIM_OK)
+        return s;
     if (def->grains.count > 0 && isfinite(t.contact_time_min)) {
         CHECK(t.time_step <= t.stability_limit, "time_step",
               "time step %g s exceeds the stability limit %g s of %s for the stiffest, lightest "
@@ -681,27 +728,36 @@ static double mean_mobile_diameter(const SimGrainSet *g)
 static void guard_snapshot(SimWorld *w);
 static void reevaluate_forces(SimWorld *w);
 
+/* The diagonal of the grains' bounding box plus the largest diameter, m (1 without grains). */
+static double domain_size(const SimWorld *w)
+{
+    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+    for (int i = 0; i < w->count; ++i) {
+        x0 = fmin(x0, w->x[i]);
+        x1 = fmax(x1, w->x[i]);
+        y0 = fmin(y0, w->y[i]);
+        y1 = fmax(y1, w->y[i]);
+    }
+    return w->count ? hypot(x1 - x0, y1 - y0) + 2.0 * w->max_radius : 1.0;
+}
+
 static void setup_guard(SimWorld *w)
 {
+    double v0 = 0.0;
+    for (int i = 0; i < w->count; ++i)
+        v0 = fmax(v0, hypot(w->vx[i], w->vy[i]));
+    const double size = domain_size(w), vm = sim_motion_speed_bound(&w->def, size);
     double vmax = w->def.guard_max_speed;
     if (!(vmax > 0.0)) {
         /* Automatic bound: far above any speed gravity, the initial state or prescribed motion
          * can produce in the domain. */
-        double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY, v0 = 0.0;
-        for (int i = 0; i < w->count; ++i) {
-            x0 = fmin(x0, w->x[i]);
-            x1 = fmax(x1, w->x[i]);
-            y0 = fmin(y0, w->y[i]);
-            y1 = fmax(y1, w->y[i]);
-            v0 = fmax(v0, hypot(w->vx[i], w->vy[i]));
-        }
-        double size = w->count ? hypot(x1 - x0, y1 - y0) + 2.0 * w->max_radius : 1.0;
         double g = hypot(w->def.gravity_x, w->def.gravity_y);
-        double vm = sim_motion_speed_bound(&w->def, size);
         vmax = 100.0 * fmax(fmax(sqrt(2.0 * g * size), v0), vm);
         if (!(vmax > 0.0))
             vmax = INFINITY;
     }
+    w->guard_free_speed = v0 + vm;
+    w->guard_t0 = w->time;
     w->guard_speed2 = vmax * vmax;
     w->guard_next = w->step + w->def.guard_every;
 }
@@ -913,6 +969,64 @@ int sim_world_remove_ids(SimWorld *w, const uint32_t *ids, int count)
     return n;
 }
 
+/* The newcomers' pairs with the grains in place must be resolved by the time step too
+ * (validate_def saw the newcomers alone): the timing of the newcomers with the lightest mobile
+ * grain of each species in place and one fixed grain of each fixed species. */
+static SimStatus check_added_timing(const SimWorld *w, const SimGrainSet *g, SimError *error)
+{
+    const int n = g->count + 2 * SIM_MAX_SPECIES;
+    double *radius = malloc((size_t)n * sizeof *radius);
+    int *species = malloc((size_t)n * sizeof *species);
+    unsigned *flags = malloc((size_t)n * sizeof *flags);
+    if (!radius || !species || !flags) {
+        free(radius);
+        free(species);
+        free(flags);
+        return fail(error, SIM_ERROR_MEMORY, "grains", "out of memory adding %d grains", g->count);
+    }
+    int light[SIM_MAX_SPECIES], fixed[SIM_MAX_SPECIES], count = 0;
+    for (int s = 0; s < SIM_MAX_SPECIES; ++s)
+        light[s] = fixed[s] = -1;
+    for (int i = 0; i < w->count; ++i) {
+        int s = w->species[i];
+        if (w->flags[i] & SIM_GRAIN_FIXED)
+            fixed[s] = i;
+        else if (light[s] < 0 || w->mass[i] < w->mass[light[s]])
+            light[s] = i;
+    }
+    for (int k = 0; k < g->count; ++k, ++count) {
+        radius[count] = g->radius[k];
+        species[count] = g->species ? g->species[k] : 0;
+        flags[count] = g->flags ? (g->flags[k] & SIM_GRAIN_FIXED) : 0u;
+    }
+    for (int s = 0; s < SIM_MAX_SPECIES; ++s)
+        for (int a = 0; a < 2; ++a) {
+            int i = a ? fixed[s] : light[s];
+            if (i < 0)
+                continue;
+            radius[count] = w->radius[i];
+            species[count] = s;
+            flags[count++] = a ? SIM_GRAIN_FIXED : 0u;
+        }
+    SimWorldDef d = w->def;
+    d.grains = (SimGrainSet){.count = count, .radius = radius, .species = species, .flags = flags};
+    d.wall_count = w->wall_count;
+    d.walls = w->walls;
+    d.time_step = w->dt;
+    const SimTiming t = timing_of(&d);
+    free(radius);
+    free(species);
+    free(flags);
+    if (isfinite(t.stability_limit) && w->dt > t.stability_limit)
+        return fail(error, SIM_ERROR_INVALID, "grains",
+                    "the new grains and the grains in place make a pair whose stability limit %g "
+                    "s (contact time %g s) is below the time step %g s of %s: the run would blow "
+                    "up; choose a time step for every species from the start",
+                    t.stability_limit, t.contact_time_min, w->dt,
+                    sim_integrator_name(w->def.integrator));
+    return SIM_OK;
+}
+
 SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *error)
 {
     if (g->count <= 0)
@@ -926,6 +1040,8 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
     check.time_step = w->dt;
     check.max_dt_fraction = 0.0;
     SimStatus s = sim_world_def_validate(&check, error);
+    if (s == SIM_OK)
+        s = check_added_timing(w, g, error);
     if (s != SIM_OK)
         return s;
     const double span = w->def.domain_x1 - w->def.domain_x0;
@@ -1117,6 +1233,34 @@ static void overlap_visit(void *context, const SimContact *c, double energy)
     }
 }
 
+/* The likely cause of grain i's speed v for the guard's messages: a flow that gravity keeps
+ * accelerating (grain i moves with the bulk, within twice its mean velocity, and no faster than
+ * free fall since the guard's set-up from the initial and wall speeds), else `otherwise` (a
+ * numerical blow-up). */
+static void speed_cause(const SimWorld *w, int i, double v, const char *otherwise, char *out,
+                        size_t size)
+{
+    double px = 0.0, py = 0.0, mass = 0.0;
+    for (int k = 0; k < w->mobile_count; ++k) {
+        px += w->mass[k] * w->vx[k];
+        py += w->mass[k] * w->vy[k];
+        mass += w->mass[k];
+    }
+    const double ux = mass > 0.0 ? px / mass : 0.0, uy = mass > 0.0 ? py / mass : 0.0;
+    const double bulk = hypot(ux, uy), own = hypot(w->vx[i] - ux, w->vy[i] - uy);
+    const double g = hypot(w->def.gravity_x, w->def.gravity_y), elapsed = w->time - w->guard_t0;
+    const double free_fall = w->guard_free_speed + g * elapsed;
+    if (g > 0.0 && v <= 1.01 * free_fall && own <= 2.0 * bulk)
+        snprintf(out, size,
+                 "likely cause: the flow accelerates without bound (the grains move together at "
+                 "%.3g m/s, within free fall's %.3g m/s after %.3g s), not a blow-up: a chute "
+                 "above its angle of repose or too little dissipation; tilt less, add friction "
+                 "or stop earlier",
+                 bulk, free_fall, elapsed);
+    else
+        snprintf(out, size, "%s", otherwise);
+}
+
 static SimStatus guard_check(SimWorld *w, SimError *error)
 {
     const SimTiming *t = &w->timing;
@@ -1138,10 +1282,14 @@ static SimStatus guard_check(SimWorld *w, SimError *error)
             return SIM_ERROR_UNSTABLE;
         }
         if (v2 > w->guard_speed2) {
+            char why[300], blowup[260];
+            snprintf(blowup, sizeof blowup, "energy blow-up; %s", cause);
+            speed_cause(w, i, sqrt(v2), blowup, why, sizeof why);
             fail(error, SIM_ERROR_UNSTABLE, "grains",
-                 "step %ld: grain %u at (%g, %g) moves at %g m/s, above the blow-up bound %g "
-                 "m/s (energy blow-up); %s",
-                 w->step, w->id[i], w->x[i], w->y[i], sqrt(v2), sqrt(w->guard_speed2), cause);
+                 "step %ld (t = %g s): grain %u at (%g, %g) moves at %g m/s, above the blow-up "
+                 "bound %g m/s; %s",
+                 w->step, w->time, w->id[i], w->x[i], w->y[i], sqrt(v2), sqrt(w->guard_speed2),
+                 why);
             error->step = w->step;
             error->grain = w->id[i];
             return SIM_ERROR_UNSTABLE;
@@ -1168,11 +1316,16 @@ static SimStatus jump_failure(SimWorld *w, SimError *error)
 {
     int i = w->jump_grain;
     double v = hypot(w->vx[i], w->vy[i]);
+    char why[300], blowup[160];
+    snprintf(blowup, sizeof blowup,
+             "likely cause: time step %g s too large for this speed (impact too fast or energy "
+             "blow-up)",
+             w->dt);
+    speed_cause(w, i, v, blowup, why, sizeof why);
     fail(error, SIM_ERROR_UNSTABLE, "grains",
-         "step %ld: grain %u at (%g, %g) moves %g m in one step (speed %g m/s), more than half its "
-         "radius %g m: contacts would be missed; likely cause: time step %g s too large for this "
-         "speed (impact too fast or energy blow-up)",
-         w->step, w->id[i], w->x[i], w->y[i], v * w->dt, v, w->radius[i], w->dt);
+         "step %ld (t = %g s): grain %u at (%g, %g) moves %g m per step (%g m/s), over half "
+         "its radius: contacts would be missed; %s",
+         w->step, w->time, w->id[i], w->x[i], w->y[i], v * w->dt, v, why);
     error->step = w->step;
     error->grain = w->id[i];
     w->jump_grain = -1;

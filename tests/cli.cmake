@@ -274,3 +274,22 @@ sablier_cli_test(ensemble_capped_steps
 sablier_cli_test(ensemble_stage_dt
                  "ensemble|${PROJECT_SOURCE_DIR}/scenes/crater/small.scene|--dt|2e-5,4e-5|--observe|crater.crater_height|--set|stages.collapse.time.dt=1e-5"
                  2 ERR "stage `collapse` sets its own time.dt")
+# hard cases of the drum, source, intruder, shear and chute features at the CLI (issue 21 part 4;
+# docs/physics.md#hard-cases; the sim-level ones are tests/stability/test_hard_cases.c)
+foreach(mode insert_dense chute_unbounded resume_threads)
+  add_test(NAME cli.hard.${mode}
+           COMMAND bash ${CLI_DIR}/hard_cases.sh $<TARGET_FILE:sablier> ${mode} ${CLI_DIR}
+                   ${CLI_WORK}/hard_${mode})
+  set_tests_properties(cli.hard.${mode} PROPERTIES LABELS cli)
+endforeach()
+# a drum turning so fast that one step no longer resolves its wall's speed: refused at load
+sablier_cli_test(hard.drum_too_fast
+                 "check|${PROJECT_SOURCE_DIR}/scenes/drum/drum.scene|--set|motions.spin.angular_velocity=10"
+                 2 ERR "motion 0 moves its walls or fixed grains at up to [0-9.]+ m/s.*wall-speed limit")
+# the shipped chute made frictionless and tilted to 60 degrees (rough base): it accelerates
+# without bound (E_kin ~ t^2) until the automatic guard stops it near t = 290 s, exit 1, the
+# cause named, the message whole (not cut at sim's 400 characters); ~12 s, label slow
+sablier_cli_test(hard.chute_rough_unbounded
+                 "run|${PROJECT_SOURCE_DIR}/scenes/chute/chute.scene|--quiet|--out|${CLI_WORK}/hard_chute_rough|--set|species.0.mu=0|--set|species.1.mu=0|--set|stages.flow.gravity=[0.8660254,-0.5]|--set|stages.flow.time.end=400"
+                 1 ERR "stage flow: simulation failed at step [0-9]+ [(]t = [0-9.]+ s[)].*the flow accelerates without bound.*or stop earlier [(]dt = ")
+set_tests_properties(cli.hard.chute_rough_unbounded PROPERTIES LABELS "cli;slow")
