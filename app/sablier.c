@@ -733,8 +733,9 @@ static int command_render(int argc, char **argv)
 #endif
 }
 
-/* `sablier ensemble`: a generic multi-run driver (app/ensemble.c) with the family commands' env. */
-static int command_ensemble(int argc, char **argv)
+/* What a multi-run command (a family's, or `ensemble`) is given; under mpirun a worker rank
+ * starts serving the command's pools here. */
+static AppEnv driver_env(void)
 {
     AppEnv env = {.sablier_version = SABLIER_VERSION,
                   .render_versions = render_versions(),
@@ -742,7 +743,14 @@ static int command_ensemble(int argc, char **argv)
 #ifdef SABLIER_HAVE_RENDER
     env.render = app_render_glue();
 #endif
-    app_pool_begin(); /* under mpirun: a worker rank serves the command's pools */
+    app_pool_begin();
+    return env;
+}
+
+/* `sablier ensemble`: a generic multi-run driver (app/ensemble.c). */
+static int command_ensemble(int argc, char **argv)
+{
+    AppEnv env = driver_env();
     return app_ensemble_command(argc, argv, &env);
 }
 
@@ -803,13 +811,7 @@ int main(int argc, char **argv)
             fputs(family->usage, stdout);
             return 0;
         }
-        AppEnv env = {.sablier_version = SABLIER_VERSION,
-                      .render_versions = render_versions(),
-                      .self = "/proc/self/exe"};
-#ifdef SABLIER_HAVE_RENDER
-        env.render = app_render_glue();
-#endif
-        app_pool_begin(); /* under mpirun: a worker rank serves the command's pools */
+        AppEnv env = driver_env();
         return family->run(argc, argv, &env);
     }
     fprintf(stderr, "sablier: unknown command `%s`\n\n", command);
