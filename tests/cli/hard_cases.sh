@@ -47,14 +47,7 @@ chute_unbounded)
   ;;
 resume_threads)
   scene=$dir/resume.scene
-  same() {
-    local a=$1 b=$2 n=0
-    for f in "$a"/*.state "$a"/*.csv; do
-      cmp -s "$f" "$b/${f#"$a"/}" || fail "$b/${f#"$a"/} differs from $f"
-      n=$((n + 1))
-    done
-    [ "$n" -ge 6 ] || fail "only $n outputs compared"
-  }
+  . "$dir/same_outputs.sh" || fail "same_outputs.sh not found" # same A B
   "$sablier" run "$scene" --out "$work/full" --quiet --threads 1 >"$work/full.log" 2>&1 ||
     fail "full run: $(cat "$work/full.log")"
   grep -q '^state tilt.checkpoint.state$' "$work/full/checkpoint.txt" ||

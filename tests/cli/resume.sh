@@ -84,15 +84,7 @@ sablier=$1 scene=$2 other=$3 work=$4
 rm -rf "$work"
 mkdir -p "$work"
 
-# same A B: every .state and .csv of run A is in B with the same bytes
-same() {
-  local a=$1 b=$2 n=0
-  for f in "$a"/*.state "$a"/*.csv; do
-    cmp -s "$f" "$b/${f#"$a"/}" || fail "$b/${f#"$a"/} differs from $f"
-    n=$((n + 1))
-  done
-  [ "$n" -ge 6 ] || fail "only $n outputs compared"
-}
+. "$(dirname "${BASH_SOURCE[0]}")/same_outputs.sh" || fail "same_outputs.sh not found" # same A B
 
 "$sablier" run "$scene" --out "$work/full" --quiet >"$work/full.log" 2>&1 ||
   fail "full run: $(cat "$work/full.log")"
