@@ -1042,13 +1042,15 @@ static int stage_loop(Run *run, int k, StageClock *clock, long done, int resumed
             report->settled = 1;
             break;
         }
-        if (run_signal) {
-            status = APP_EXIT_SIGNAL + run_signal;
-            break;
-        }
+        /* A periodic checkpoint due here is written before a signal is heeded: a run resumed
+         * from this step writes no outputs for it, so the periodic one would be missing. */
         if (!resumed && checkpoint_due(run, clock, done) &&
             checkpoint_write(run, k, done, 0, clock->dump) != 0) {
             status = 2;
+            break;
+        }
+        if (run_signal) {
+            status = APP_EXIT_SIGNAL + run_signal;
             break;
         }
         long next = next_due(run, k, clock, done);
