@@ -6,6 +6,7 @@
 #include "crater.h"
 
 #include "checkpoint.h"
+#include "run_value.h"
 #include "util.h"
 
 #include <errno.h>
@@ -459,20 +460,10 @@ int app_chart_add(AppChart *plot, int panel, const char *label, const double *x,
 
 double app_observable(const char *run_dir, const char *key)
 {
-    char path[OBS_PATH + 32], line[256];
-    snprintf(path, sizeof path, "%s/observables.csv", run_dir);
-    FILE *f = fopen(path, "r");
-    if (!f)
-        return (double)NAN;
-    double value = (double)NAN;
-    size_t n = strlen(key);
-    while (fgets(line, sizeof line, f))
-        if (strncmp(line, key, n) == 0 && line[n] == ',') {
-            value = strtod(line + n + 1, NULL);
-            break;
-        }
-    fclose(f);
-    return value;
+    char name[128], err[256];
+    double value = NAN;
+    snprintf(name, sizeof name, "observables.csv:%s", key); /* its `key,value` rows */
+    return app_run_value(run_dir, name, &value, err, sizeof err) == 0 ? value : (double)NAN;
 }
 
 /* A growable column store of CSV rows. */

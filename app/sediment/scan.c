@@ -4,6 +4,7 @@
  * processes, then flux.csv, threshold.json (the transport threshold) and flux.png. */
 #include "pool.h"
 #include "run.h"
+#include "run_value.h"
 #include "sediment.h"
 #include "util.h"
 
@@ -126,18 +127,11 @@ static void scan_done(void *ctx, int k, int status)
                 status == 0 ? "done" : "FAILED");
 }
 
-/* The number after "key": in a member's sediment.json (NAN for null or absent). */
+/* Member `key` of a member's sediment.json (app_json_path_number; NAN for null or absent). */
 static double json_number(const char *text, const char *key)
 {
-    char pattern[64];
-    snprintf(pattern, sizeof pattern, "\"%s\":", key);
-    const char *p = text ? strstr(text, pattern) : NULL;
-    if (!p)
-        return NAN;
-    p += strlen(pattern);
-    char *end;
-    double v = strtod(p, &end);
-    return end == p ? (double)NAN : v;
+    double v = NAN;
+    return text && app_json_path_number(text, key, &v) == 0 ? v : (double)NAN;
 }
 
 static char *read_text(const char *path)
