@@ -1,11 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /* ensemble.c: `sablier ensemble` (ensemble.h). Every (dt, seed) member is a child process of the
- * pool (app/pool.h) that execs `sablier run SCENE --out DIR --quiet --set ...` and records
+ * pool (app/pool.h) that execs `sablier run SCENE --out DIR --quiet --set ...` (or the command a
+ * family names for its members, AppExperiment.member_command: `sablier discharge`) and records
  * that process's CPU time; after the pool the observables are read from the members' folders and
  * reduced (stats.h) into members.csv, ensemble.csv, ensemble.json and ensemble.png/.pdf, and one
  * answer line per observable on stdout. */
 #include "ensemble.h"
 
+#include "experiments.h"
 #include "pool.h"
 #include "provenance.h" /* app_json_string, app_json_number */
 #include "run_value.h"
@@ -85,6 +87,7 @@ typedef struct Level {
 
 typedef struct Ensemble {
     Options *o;
+    const AppExperiment *family; /* the family whose command runs the members; NULL: `run` */
     Level levels[ENS_LEVELS]; /* by dt, finest (the reference) first */
     int level_count;
     int member_count;
@@ -158,7 +161,7 @@ static int parse_option(Options *o, int argc, char **argv, int *i)
     if ((m = app_option(argc, argv, i, "--out", &value)) != 0) {
         o->out_dir = value;
     } else if ((m = app_option(argc, argv, i, "--set", &value)) != 0) {
-        if (m > 0 && app_collect_set(o->sets, &o->set_count, APP_MAX_SETS - 4, value) < 0)
+        if (m > 0 && app_collect_set(o->sets, &o->set_count, APP_MAX_SETS - 8, value) < 0)
             return 2;
     } else if ((m = app_option(argc, argv, i, "--dt", &value)) != 0) {
         if (m > 0)
@@ -232,14 +235,17 @@ static void member_dir(const Ensemble *E, int member, char *dir, size_t size)
              member_seed(E, member));
 }
 
-/* The --set values of the member at `value` with `seed`, after the command line's: in
- * buffers[3][80], pointers appended to sets. Returns the new count. */
-static int member_sets(const Options *o, double value, long seed, const char **sets,
-                       char buffers[3][80])
+/* The --set values of the member at `value` with `seed`, after the command line's and the
+ * family's (AppExperiment.member_sets): in buffers[3][80], pointers appended to sets. Returns
+ * the new count. */
+static int member_sets(const Options *o, const AppExperiment *family, double value, long seed,
+                       const char **sets, char buffers[3][80])
 {
     int n = 0;
     for (int k = 0; k < o->set_count; ++k)
         sets[n++] = o->sets[k];
+    for (int k = 0; family && family->member_sets && family->member_sets[k]; ++k)
+        sets[n++] = family->member_sets[k];
     snprintf(buffers[0], 80, "seed=%ld", seed);
     sets[n++] = buffers[0];
     if (o->by_steps) {
@@ -257,19 +263,42 @@ static int member_sets(const Options *o, double value, long seed, const char **s
 /* The scene at each value, loaded as its first member would see it: a bad --set, a time step
  * the scene refuses or a stage with its own dt is an error before anything runs. Fills the
  * levels, sorted by dt. 0, or the exit status. */
+/* The family of the scene that names a member command (AppExperiment.member_command), or NULL
+ * (members are `sablier run`). 0, or the exit status when the scene does not load. */
+static int member_family(Ensemble *E)
+{
+    const Options *o = E->o;
+    char err[4096] = "";
+    Scene *scene = scene_load(o->scene_path, o->sets, o->set_count, err, sizeof err);
+    if (!scene) {
+        fprintf(stderr, "%s\n", err);
+        return 2;
+    }
+    E->family = NULL;
+    for (int k = 0; app_experiments[k]; ++k)
+        if (app_experiments[k]->member_command &&
+            scene_experiment_state(scene, app_experiments[k]) && !E->family)
+            E->family = app_experiments[k];
+    scene_free(scene);
+    return 0;
+}
+
 static int resolve_levels(Ensemble *E)
 {
     const Options *o = E->o;
+    int rc = member_family(E);
+    if (rc != 0)
+        return rc;
     for (int v = 0; v < o->value_count; ++v) {
         const char *sets[APP_MAX_SETS];
         char buffers[3][80], err[4096] = "";
-        int n = member_sets(o, o->values[v], o->seed0, sets, buffers);
+        int n = member_sets(o, E->family, o->values[v], o->seed0, sets, buffers);
         Scene *scene = scene_load(o->scene_path, sets, n, err, sizeof err);
         if (!scene) {
             fprintf(stderr, "%s\n", err);
             return 2;
         }
-        for (int k = 0; k < scene->stage_count; ++k)
+        for (int k = 0; !E->family && k < scene->stage_count; ++k)
             if (scene->stages[k].time_step != scene->def.time_step) {
                 fprintf(stderr,
                         "sablier: ensemble: %s: stage `%s` sets its own time.dt (%g s), which "
@@ -279,9 +308,21 @@ static int resolve_levels(Ensemble *E)
                 scene_free(scene);
                 return 2;
             }
-        SimWorldDef def = scene_world_def(scene, scene->stage_count - 1);
-        SimTiming t = sim_world_def_timing(&def);
+        SimTiming t;
+        if (E->family && E->family->member_timing) {
+            t = E->family->member_timing(scene_experiment_state(scene, E->family), scene);
+        } else {
+            SimWorldDef def = scene_world_def(scene, scene->stage_count - 1);
+            t = sim_world_def_timing(&def);
+        }
         scene_free(scene);
+        if (E->family && !(t.time_step <= t.stability_limit)) { /* `run` scenes: scene_load */
+            fprintf(stderr,
+                    "sablier: ensemble: %s: time step %g s is above the stability limit %g s of "
+                    "the `%s` protocol's stiffest pair; list smaller time steps\n",
+                    o->scene_path, t.time_step, t.stability_limit, E->family->member_command);
+            return 2;
+        }
         for (int k = 0; k < v; ++k)
             if (E->levels[k].dt == t.time_step) {
                 fprintf(stderr,
@@ -311,10 +352,12 @@ static int member_argv(Ensemble *E, int member)
     char dir[ENS_PATH], buffers[3][80];
     const char *sets[APP_MAX_SETS];
     member_dir(E, member, dir, sizeof dir);
-    int set_count = member_sets(o, level_value(E, member), member_seed(E, member), sets, buffers);
+    int set_count =
+        member_sets(o, E->family, level_value(E, member), member_seed(E, member), sets, buffers);
     const char *words[ENS_ARGV];
     int n = 0;
-    const char *head[] = {"sablier", "run", o->scene_path, "--out", dir, "--quiet"};
+    const char *command = E->family ? E->family->member_command : "run";
+    const char *head[] = {"sablier", command, o->scene_path, "--out", dir, "--quiet"};
     for (size_t k = 0; k < sizeof head / sizeof head[0]; ++k)
         words[n++] = head[k];
     for (int k = 0; k < set_count; ++k) {

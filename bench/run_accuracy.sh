@@ -17,9 +17,12 @@
 #    2.5e-5 s (34-275 steps per contact; mean crater height, surface minimum, bed packing
 #    fraction) and of the small Brazil-nut box (scenes/brazil_nut/small.scene, 8 seeds:
 #    intruder height after 30 periods, rise rate) at dt = 1.6e-3 .. 2e-4 s (21-171 steps per
-#    contact): each mean's shift against the finest dt with Welch's 95 % interval, against CPU
-#    time -> OUT/ensemble-{crater,bne}.csv, .json, .png, .pdf and -answers.txt (members in
-#    out/ensemble-NAME/). About 2.5 CPU minutes, 2-4 minutes on 2 cores (--quick: 4 seeds, 2
+#    contact), and of the discharge protocol (scenes/discharge/rolling_fixed.scene, L = 25 d,
+#    w = 3 d, 16 seeds: discharge size s, h after the discharge, pile size) at dt = 2e-3 ..
+#    5e-4 (members are `sablier discharge` with discharge.dt_divisor = 0): each mean's shift
+#    against the finest dt with Welch's 95 % interval, against CPU time ->
+#    OUT/ensemble-{crater,bne,discharge}.csv, .json, .png, .pdf and -answers.txt (members in
+#    out/ensemble-NAME/). About 7 CPU minutes, 4-6 minutes on 2 cores (--quick: 4 seeds, 2
 #    dts each).
 # Default OUT: bench/results. About 3-5 minutes on 2 cores; --quick is a smoke run (~1 min).
 # The 1-minute load average before and after is printed: other work on the machine inflates the
@@ -88,6 +91,12 @@ ensemble_step() {
         crater.crater_height,crater.surface_min,bed.packing_fraction time.max_dt_fraction=0
     ensemble_run bne scenes/brazil_nut/small.scene "$bne" "$bne_seeds" \
         bne.json:end_height,bne.json:rise_rate
+    # the discharge protocol at the thesis's smallest base (L = 25 d), one width; its reference
+    # is near the thesis's own dt = sqrt(m_min/k_n)/50 = 6.2e-4 (members 2.5-10 CPU s)
+    local discharge_seeds=16 discharge=2e-3,1e-3,5e-4
+    if [ ${#quick[@]} -gt 0 ]; then discharge_seeds=4 discharge=2e-3,1e-3; fi
+    ensemble_run discharge scenes/discharge/rolling_fixed.scene "$discharge" "$discharge_seeds" \
+        discharges.0.s,discharges.0.h,deposition.pile 'discharge.widths=[3.0]'
 }
 if [ $benches = 0 ]; then
     ensemble_step

@@ -238,6 +238,13 @@ add_test(NAME cli.ensemble
                  ${CLI_WORK}/ensemble ${SABLIER_WITH_RENDER})
 set_tests_properties(cli.ensemble PROPERTIES LABELS cli
                      ENVIRONMENT "LSAN_OPTIONS=suppressions=${CLI_DIR}/lsan.supp")
+# the ensemble reaches the discharge protocol (its own dt: discharge.dt_divisor = 0)
+add_test(NAME cli.ensemble_discharge
+         COMMAND bash ${CLI_DIR}/ensemble_discharge.sh $<TARGET_FILE:sablier>
+                 ${PROJECT_SOURCE_DIR}/scenes/discharge/rolling_fixed.scene
+                 ${CLI_WORK}/ensemble_discharge)
+set_tests_properties(cli.ensemble_discharge PROPERTIES LABELS cli
+                     ENVIRONMENT "LSAN_OPTIONS=suppressions=${CLI_DIR}/lsan.supp")
 set(CLI_FALL ${CLI_DIR}/ensemble_fall.scene)
 sablier_cli_test(help_ensemble "ensemble|--help" 0 OUT "usage: sablier ensemble")
 sablier_cli_test(ensemble_no_scene "ensemble|--dt|1e-3,2e-3|--observe|seed" 2 ERR "missing SCENE")

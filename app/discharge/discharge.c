@@ -60,7 +60,7 @@ int app_discharge_parse(const config_setting_t *g, const char *scene_path, int s
         app_config_int_in(&p, g, "max_rows", 0, 1000000000L, &def->max_rows) < 0 ||
         app_config_int_in(&p, g, "stationary_rows", 0, 1000000000L, &def->stationary_rows) < 0 ||
         app_config_number_min(&p, g, "stationary_gain", 0.0, &def->stationary_gain) < 0 ||
-        app_config_number_min(&p, g, "dt_divisor", 1.0, &def->dt_divisor) < 0 ||
+        app_config_number_min(&p, g, "dt_divisor", 0.0, &def->dt_divisor) < 0 ||
         app_config_number_min(&p, g, "tolerance", 0.0, &def->tolerance) < 0 ||
         app_config_int_in(&p, g, "check_every", 1, 1000000000L, &def->check_every) < 0 ||
         app_config_number_min(&p, g, "relax_time", 0.0, &def->relax_time) < 0 ||
@@ -69,6 +69,10 @@ int app_discharge_parse(const config_setting_t *g, const char *scene_path, int s
         app_config_int_in(&p, g, "base_species", 0, 1000000000L, &def->base_species) < 0 ||
         app_config_number_min(&p, g, "exit_half_width", 0.0, &def->exit_half_width) < 0)
         return -1;
+    if (def->dt_divisor > 0.0 && def->dt_divisor < 1.0)
+        return app_config_fail(&p, config_setting_get_member(g, "dt_divisor"),
+                               "`dt_divisor` must be >= 1, or 0 for the scene's time step (got %g)",
+                               def->dt_divisor);
     if (def->row_fill > 1.0 || def->row_jitter > 1.0 || def->polydispersity >= 0.5) {
         s = config_setting_get_member(g, def->row_fill > 1.0     ? "row_fill"
                                          : def->row_jitter > 1.0 ? "row_jitter"
@@ -142,7 +146,9 @@ void app_discharge_geometry(const Scene *scene, AppDischargeGeometry *geo)
     double k_n = scene->def.materials[0].normal_stiffness;
     for (int k = 1; k < scene->def.species_count; ++k)
         k_n = fmax(k_n, scene->def.materials[k].normal_stiffness);
-    geo->dt = sqrt(geo->m_min / k_n) / def->dt_divisor; /* the thesis code's dt (notes §1.8) */
+    /* the thesis code's dt (notes §1.8), or with dt_divisor = 0 the scene's own */
+    geo->dt = def->dt_divisor > 0.0 ? sqrt(geo->m_min / k_n) / def->dt_divisor
+                                    : app_discharge_timing(scene).time_step;
     geo->row_period = def->row_period > 0.0 ? def->row_period : sqrt(2.0 * geo->d_max / geo->g);
     geo->height = def->release_height > 0.0 ? def->release_height : L;
     geo->row_size = (int)fmax(1.0, floor(def->row_fill * L / geo->d_mean + 0.5));
@@ -154,6 +160,42 @@ void app_discharge_geometry(const Scene *scene, AppDischargeGeometry *geo)
     geo->relax_time = def->relax_time > 0.0 ? def->relax_time : 20.0 * fall;
     geo->discharge_time = def->discharge_time > 0.0 ? def->discharge_time : 20.0 * fall;
     geo->exit_half_width = def->exit_half_width > 0.0 ? def->exit_half_width : 4.0 * geo->d_max;
+}
+
+/* The timing of the protocol's world with the scene's time step (time.dt, or
+ * time.steps_per_contact when time.dt = 0): its grains are not in the scene, so the lightest grain
+ * of every species the rows draw (radius d (1 - p) / 2) and a base grain stand for them. */
+SimTiming app_discharge_timing(const Scene *scene)
+{
+    const AppDischargeDef *def = app_discharge_of(scene);
+    double radius[SIM_MAX_SPECIES + 1], zero[SIM_MAX_SPECIES + 1] = {0};
+    int species[SIM_MAX_SPECIES + 1];
+    unsigned flags[SIM_MAX_SPECIES + 1] = {0};
+    int n = 0;
+    for (int k = 0; k < def->species_count; ++k)
+        if (def->fractions[k] > 0.0) {
+            radius[n] = 0.5 * def->diameters[k] * (1.0 - def->polydispersity);
+            species[n++] = k;
+        }
+    radius[n] = 0.5 * def->base_diameter;
+    species[n] = def->base_species;
+    flags[n++] = SIM_GRAIN_FIXED;
+    SimWorldDef world = scene_world_def(scene, 0);
+    world.grains = (SimGrainSet){
+        .count = n, .x = zero, .y = zero, .radius = radius, .species = species, .flags = flags};
+    world.wall_count = 0;
+    return sim_world_def_timing(&world);
+}
+
+static SimTiming discharge_member_timing(const void *state, const Scene *scene)
+{
+    (void)state;
+    AppDischargeGeometry geo;
+    app_discharge_geometry(scene, &geo);
+    SimTiming t = app_discharge_timing(scene);
+    t.time_step = geo.dt;
+    t.steps_per_contact = t.contact_time_min / geo.dt;
+    return t;
 }
 
 /* The scene's definition with the protocol's gravity, time step and sinks. The skin is the
@@ -552,6 +594,10 @@ const AppDischargeDef *app_discharge_of(const Scene *scene)
     return scene_experiment_state(scene, &app_discharge_experiment);
 }
 
+/* A member of `sablier ensemble` is one `sablier discharge` (every width of the scene's list)
+ * with the time step the ensemble sets (time.dt or time.steps_per_contact). */
+static const char *const discharge_member_sets[] = {"discharge.dt_divisor=0", NULL};
+
 /* The protocol runs its own piles (deposition, relaxation, discharges) rather than the stage
  * runner: `sablier run` of a discharge scene runs its stages as any scene, and the commands
  * `discharge` and `study` (command.c, study.c) run the protocol. */
@@ -562,4 +608,7 @@ const AppExperiment app_discharge_experiment = {
     .free = discharge_free,
     .commands = app_discharge_commands,
     .command_count = 2,
+    .member_command = "discharge",
+    .member_sets = discharge_member_sets,
+    .member_timing = discharge_member_timing,
 };

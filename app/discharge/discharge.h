@@ -38,7 +38,7 @@ typedef struct AppDischargeDef {
     int max_rows;           ///< rows released at most (0 = ceil(1.5 (L + 1)))
     int stationary_rows;    ///< window of the stationarity test, rows (10; 0 = off)
     double stationary_gain; ///< stop when the pile gained < gain x released over the window (0.1)
-    double dt_divisor;      ///< dt = sqrt(m_min / k_n) / divisor (50)
+    double dt_divisor;      ///< dt = sqrt(m_min / k_n) / divisor (50); 0: the scene's time step
     double tolerance;       ///< static-equilibrium tolerance (004 §3.1: 1e-6)
     int check_every;        ///< steps between equilibrium checks (500)
     double relax_time;      ///< cap of each relaxation, simulation time (0 = auto)
@@ -151,6 +151,9 @@ void app_discharge_csv_row(const AppDischarge *r, long sample, double base_lengt
 /// The discharge family (app/experiment.h): the `discharge` group and the commands `discharge`
 /// and `study` (app_discharge_commands, two entries).
 extern const AppExperiment app_discharge_experiment;
+/// The protocol world's timing with the scene's own time step (time.dt, or
+/// time.steps_per_contact when time.dt = 0), as `discharge.dt_divisor = 0` uses it.
+SimTiming app_discharge_timing(const Scene *scene);
 extern const AppCommand app_discharge_commands[];
 /// The scene's discharge protocol (NULL when it has no `discharge` group).
 const AppDischargeDef *app_discharge_of(const Scene *scene);
