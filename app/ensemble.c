@@ -88,7 +88,7 @@ typedef struct Level {
 typedef struct Ensemble {
     Options *o;
     const AppExperiment *family; /* the family whose command runs the members; NULL: `run` */
-    Level levels[ENS_LEVELS]; /* by dt, finest (the reference) first */
+    Level levels[ENS_LEVELS];    /* by dt, finest (the reference) first */
     int level_count;
     int member_count;
     int *status;   /* each member's exit status (-1: not run) */

@@ -137,9 +137,10 @@ typedef struct AppExperiment {
 
     /// Drivers that run one scene many times at chosen time steps (`sablier ensemble`): a
     /// member of a scene of this family is `sablier <member_command> SCENE --out DIR --quiet
-    /// --set ...` (NULL: `sablier run`), with `member_sets` (NULL-ended, at most 4, or NULL) after the
-    /// driver's own --set lines, and member_timing (NULL: the last stage's world definition)
-    /// gives the time step and steps per contact such a member uses with the scene as loaded.
+    /// --set ...` (NULL: `sablier run`), with `member_sets` (NULL-ended, at most 4, or NULL)
+    /// after the driver's own --set lines, and member_timing (NULL: the last stage's world
+    /// definition) gives the time step and steps per contact such a member uses with the scene
+    /// as loaded.
     const char *member_command;
     const char *const *member_sets;
     SimTiming (*member_timing)(const void *state, const struct Scene *scene);
