@@ -262,9 +262,6 @@ static int member_sets(const Options *o, const AppExperiment *family, double val
     return n;
 }
 
-/* The scene at each value, loaded as its first member would see it: a bad --set, a time step
- * the scene refuses or a stage with its own dt is an error before anything runs. Fills the
- * levels, sorted by dt. 0, or the exit status. */
 /* The family of the scene that names a member command (AppExperiment.member_command), or NULL
  * (members are `sablier run`). 0, or the exit status when the scene does not load. */
 static int member_family(Ensemble *E)
@@ -285,6 +282,9 @@ static int member_family(Ensemble *E)
     return 0;
 }
 
+/* The scene at each value, loaded as its first member would see it: a bad --set, a time step
+ * the scene refuses or a stage with its own dt is an error before anything runs. Fills the
+ * levels, sorted by dt. 0, or the exit status. */
 static int resolve_levels(Ensemble *E)
 {
     const Options *o = E->o;
