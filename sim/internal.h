@@ -170,6 +170,7 @@ struct SimWorld {
     StageFn *contact_pass;
     StageFn *wall_pass;
     StageFn *integrate;
+    unsigned contact_key; /* sim_contact_key at create (the passes of a run-time-key build) */
 
     /* sinks */
     long removed[SIM_MAX_SINKS];

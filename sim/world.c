@@ -781,6 +781,7 @@ static SimWorld *create(const SimWorldDef *def, int restored, SimError *error)
     w->rotation = sim_contact_key_rotation(key);
     w->has_history = sim_contact_key_history(key);
     w->kernels = sim_kernels();
+    w->contact_key = key;
     w->contact_pass = w->kernels->contact_pass(key);
     w->wall_pass = w->kernels->wall_pass(key);
     w->integrate = w->kernels->integrator(def->integrator, w->rotation);
