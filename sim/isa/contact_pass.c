@@ -225,35 +225,47 @@ KERNEL void pair_forces(SimWorld *world, const unsigned key)
 
 /* Phase 2. The scalar loop `for i: sum_i = 0; for k of i: sum_i += f_k; f_j -= f_k; then
  * f_i += sum_i` has a short inner loop of random trip count (a mispredicted exit per grain). Here
- * the entries run flat: the partial sums restart at each new owner (a select, not a branch) and
- * are kept per entry, and a second loop adds each grain's last partial sum. Every addition is the
- * scalar loop's, in its order: the results are the same to the bit. */
+ * the entries run flat: the partial sums restart at each new owner (a select, not a branch), and
+ * the sum just finished goes to its grain at the first entry of the next owner (a select of the
+ * stored value). A partner is always above its owner (the half list), so every f_j -= f_k that
+ * reaches grain g comes from an owner below g, before g's own entries: adding g's sum when its
+ * run ends is the scalar loop's order, and the results are the same to the bit. (A grain that
+ * owns no entry gets no `+= 0.0`: its sum starts at +0.0 and subtractions from +0.0 never give
+ * -0.0, so adding 0.0 would leave its bits as they are.) nl.out keeps the per-entry results. */
 KERNEL void grain_pass(SimWorld *world, const unsigned key)
 {
     pair_forces(world, key);
     const int mobile = world->mobile_count;
     const int total = world->nl.start[mobile];
+    if (total == 0)
+        return;
     const size_t cap = (size_t)world->nl.capacity;
     const double *restrict radius = world->radius;
     double *restrict fx = world->fx, *restrict fy = world->fy, *restrict torque = world->torque;
-    const int *restrict start = world->nl.start, *restrict partner = world->nl.j;
-    const int *restrict owner = world->nl.owner;
-    double *restrict out_x = world->nl.out, *restrict out_y = world->nl.out + cap;
-    double *restrict out_t = world->nl.out + 2 * cap;
+    const int *restrict partner = world->nl.j, *restrict owner = world->nl.owner;
+    const double *restrict out_x = world->nl.out, *restrict out_y = world->nl.out + cap;
+    const double *restrict out_t = world->nl.out + 2 * cap;
     const double *restrict out_m = world->nl.out + 3 * cap;
     const unsigned law = key & KEY_TANGENTIAL;
 
     double sum_x = 0.0, sum_y = 0.0, sum_t = 0.0;
-    int previous = -1;
+    int previous = owner[0];
     for (int k = 0; k < total; ++k) {
         const int i = owner[k], j = partner[k];
         const int first = i != previous;
-        previous = i;
+        const double px = fx[previous], py = fy[previous];
+        fx[previous] = first ? px + sum_x : px;
+        fy[previous] = first ? py + sum_y : py;
         sum_x = first ? 0.0 : sum_x;
         sum_y = first ? 0.0 : sum_y;
+        if (KEY_ROTATION(key)) {
+            const double pt = torque[previous];
+            torque[previous] = first ? pt + sum_t : pt;
+            sum_t = first ? 0.0 : sum_t;
+        }
+        previous = i;
         const double fxk = out_x[k], fyk = out_y[k];
         if (KEY_ROTATION(key)) {
-            sum_t = first ? 0.0 : sum_t;
             if (law != SIM_TANGENTIAL_NONE) {
                 const double f_t = out_t[k];
                 sum_t -= radius[i] * f_t; /* 000 eq. 4.4 */
@@ -264,22 +276,16 @@ KERNEL void grain_pass(SimWorld *world, const unsigned key)
                 sum_t -= m;
                 torque[j] += m;
             }
-            out_t[k] = sum_t;
         }
         sum_x += fxk;
         sum_y += fyk;
-        out_x[k] = sum_x;
-        out_y[k] = sum_y;
         fx[j] -= fxk;
         fy[j] -= fyk;
     }
-    for (int i = 0; i < mobile; ++i) {
-        const int last = start[i + 1] - 1, any = last >= start[i];
-        fx[i] += any ? out_x[last] : 0.0;
-        fy[i] += any ? out_y[last] : 0.0;
-        if (KEY_ROTATION(key))
-            torque[i] += any ? out_t[last] : 0.0;
-    }
+    fx[previous] += sum_x;
+    fy[previous] += sum_y;
+    if (KEY_ROTATION(key))
+        torque[previous] += sum_t;
 }
 
 /* Phase 2 for threads (sim_world_set_threads): the same sums per grain, gathered instead of
