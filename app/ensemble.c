@@ -296,8 +296,9 @@ static int resolve_levels(Ensemble *E)
         char buffers[3][80], err[4096] = "";
         int n = member_sets(o, E->family, o->values[v], o->seed0, sets, buffers);
         Scene *scene = scene_load(o->scene_path, sets, n, err, sizeof err);
-        if (!scene) {
-            fprintf(stderr, "%s\n", err);
+        if (!scene) { /* a time step the scene (or its family, at parse) refuses */
+            fprintf(stderr, "sablier: ensemble: %s %g: %s\n",
+                    o->by_steps ? "--steps-per-contact" : "--dt", o->values[v], err);
             return 2;
         }
         for (int k = 0; !E->family && k < scene->stage_count; ++k)
@@ -318,13 +319,6 @@ static int resolve_levels(Ensemble *E)
             t = sim_world_def_timing(&def);
         }
         scene_free(scene);
-        if (E->family && !(t.time_step <= t.stability_limit)) { /* `run` scenes: scene_load */
-            fprintf(stderr,
-                    "sablier: ensemble: %s: time step %g s is above the stability limit %g s of "
-                    "the `%s` protocol's stiffest pair; list smaller time steps\n",
-                    o->scene_path, t.time_step, t.stability_limit, E->family->member_command);
-            return 2;
-        }
         for (int k = 0; k < v; ++k)
             if (E->levels[k].dt == t.time_step) {
                 fprintf(stderr,

@@ -165,9 +165,8 @@ void app_discharge_geometry(const Scene *scene, AppDischargeGeometry *geo)
 /* The timing of the protocol's world with the scene's time step (time.dt, or
  * time.steps_per_contact when time.dt = 0): its grains are not in the scene, so the lightest grain
  * of every species the rows draw (radius d (1 - p) / 2) and a base grain stand for them. */
-SimTiming app_discharge_timing(const Scene *scene)
+static SimTiming protocol_timing(const AppDischargeDef *def, const Scene *scene)
 {
-    const AppDischargeDef *def = app_discharge_of(scene);
     double radius[SIM_MAX_SPECIES + 1], zero[SIM_MAX_SPECIES + 1] = {0};
     int species[SIM_MAX_SPECIES + 1];
     unsigned flags[SIM_MAX_SPECIES + 1] = {0};
@@ -185,6 +184,29 @@ SimTiming app_discharge_timing(const Scene *scene)
         .count = n, .x = zero, .y = zero, .radius = radius, .species = species, .flags = flags};
     world.wall_count = 0;
     return sim_world_def_timing(&world);
+}
+
+SimTiming app_discharge_timing(const Scene *scene)
+{
+    return protocol_timing(app_discharge_of(scene), scene);
+}
+
+/* dt_divisor = 0: the scene's time step, held to the protocol world's stability limit; checked
+ * here, at parse, so that every caller of scene_load (`discharge`, `study`, the ensemble's
+ * levels) refuses such a scene with dt_divisor's line. */
+static int check_scene_time_step(const config_setting_t *group, const Scene *scene,
+                                 const AppDischargeDef *def, char *err, size_t err_size)
+{
+    if (def->dt_divisor > 0.0)
+        return 0;
+    SimTiming t = protocol_timing(def, scene);
+    if (t.time_step > 0.0 && t.time_step <= t.stability_limit)
+        return 0;
+    AppConfig p = {.path = scene->path, .err = err, .err_size = err_size, .group = "discharge"};
+    return app_config_fail(&p, config_setting_get_member(group, "dt_divisor"),
+                           "`dt_divisor` = 0 takes the scene's time step, %g s, which is not in "
+                           "(0, %g s], the stability limit of the protocol's stiffest pair",
+                           t.time_step, t.stability_limit);
 }
 
 static SimTiming discharge_member_timing(const void *state, const Scene *scene)
@@ -576,7 +598,8 @@ static int discharge_parse(const config_setting_t *root, const config_setting_t 
         return -1;
     }
     if (app_discharge_parse(group, scene->path, scene->def.species_count, def, err, err_size) !=
-        0) {
+            0 ||
+        check_scene_time_step(group, scene, def, err, err_size) != 0) {
         free(def);
         return -1;
     }

@@ -76,18 +76,6 @@ Scene *app_discharge_load_scene(const char *path, const char *const *sets, int s
         scene_free(scene);
         return NULL;
     }
-    if (scene && !(app_discharge_of(scene)->dt_divisor > 0.0)) {
-        /* dt_divisor = 0: the scene's time step, held to the protocol world's stability limit */
-        SimTiming t = app_discharge_timing(scene);
-        if (!(t.time_step > 0.0 && t.time_step <= t.stability_limit)) {
-            snprintf(err, err_size,
-                     "%s:1: discharge.dt_divisor = 0 takes the scene's time step, %g, which is "
-                     "not in (0, %g], the stability limit of the protocol's stiffest pair",
-                     path, t.time_step, t.stability_limit);
-            scene_free(scene);
-            return NULL;
-        }
-    }
     return scene;
 }
 

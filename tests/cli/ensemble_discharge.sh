@@ -49,7 +49,8 @@ awk -F, 'NR == 2 { d1 = $2; n1 = $3 } NR == 3 { d2 = $2; n2 = $3 }
   >/dev/null 2>"$work/bad.stderr"
 rc=$?
 [ $rc = 2 ] || fail "unstable dt: exit $rc, expected 2"
-grep -q "above the stability limit" "$work/bad.stderr" || fail "unstable dt: $(cat "$work/bad.stderr")"
+grep -q "ensemble: --dt 1: .*dt_divisor\` = 0 takes the scene's time step, 1 s, which is not in (0," \
+  "$work/bad.stderr" || fail "unstable dt: $(cat "$work/bad.stderr")"
 [ ! -e "$work/bad" ] || fail "unstable dt: $work/bad was made"
 "$sablier" discharge "$scene" --out "$work/div" --set discharge.dt_divisor=0.5 >/dev/null \
   2>"$work/div.stderr"
@@ -60,6 +61,18 @@ grep -q "dt_divisor.* must be >= 1, or 0" "$work/div.stderr" || fail "dt_divisor
   >/dev/null 2>"$work/big.stderr"
 rc=$?
 [ $rc = 2 ] && [ ! -e "$work/big" ] || fail "discharge with dt above the limit: exit $rc"
-grep -q "rolling_fixed.scene:1: discharge.dt_divisor = 0 takes the scene's time step, 1," \
+grep -q "^--set discharge.dt_divisor: \`dt_divisor\` = 0 takes the scene's time step, 1 s," \
   "$work/big.stderr" || fail "dt above the limit: $(cat "$work/big.stderr")"
+# the same in the scene file: its line, refused by the loader for every command (check, study)
+sed -e 's/^time = { dt = 6e-4;/time = { dt = 1.0;/' \
+  -e 's/^  base_length = 25.0; .*/&\n  dt_divisor = 0;/' "$scene" >"$work/unstable.scene"
+line=$(grep -n '^  dt_divisor = 0;' "$work/unstable.scene" | cut -d: -f1)
+for cmd in check discharge study; do
+  args=(); [ $cmd = check ] || args=(--out "$work/u-$cmd")
+  "$sablier" $cmd "$work/unstable.scene" "${args[@]}" >/dev/null 2>"$work/u.stderr"
+  rc=$?
+  [ $rc = 2 ] && [ ! -e "$work/u-$cmd" ] || fail "$cmd of the unstable scene: exit $rc"
+  grep -q "unstable.scene:$line: discharge: \`dt_divisor\` = 0 takes the scene's time step, 1 s" \
+    "$work/u.stderr" || fail "$cmd, unstable scene: $(cat "$work/u.stderr")"
+done
 echo "cli.ensemble_discharge: ok"
