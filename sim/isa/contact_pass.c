@@ -427,78 +427,53 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
     KEYS_ROLL(X, 24) KEYS_ROLL(X, 25) KEYS_ROLL(X, 28) KEYS_ROLL(X, 29)
 /* clang-format on */
 
+/* The passes of one key: KEY is an expression of `world` (every function's parameter), a constant
+ * in the folded copies. */
+#define DEFINE_PASS(name, KEY)                                                                     \
+    static int pair_range_##name(SimWorld *world, int begin, int end)                              \
+    {                                                                                              \
+        if (world->def.species_count == 1)                                                         \
+            pair_range(world, (KEY) | KEY_UNIFORM, begin, end);                                    \
+        else                                                                                       \
+            pair_range(world, (KEY), begin, end);                                                  \
+        return 0;                                                                                  \
+    }                                                                                              \
+    static int reduce_range_##name(SimWorld *world, int begin, int end)                            \
+    {                                                                                              \
+        reduce_range(world, (KEY), begin, end);                                                    \
+        return 0;                                                                                  \
+    }                                                                                              \
+    static void grain_pass_##name(SimWorld *world)                                                 \
+    {                                                                                              \
+        if (world->threads > 1 && world->nl.in_ready) {                                            \
+            sim_parallel_ranges(world, pair_range_##name, world->nl.start[world->mobile_count],    \
+                                SIM_LANES);                                                        \
+            sim_parallel_ranges(world, reduce_range_##name, world->count, 1);                      \
+        } else if (world->def.species_count == 1) {                                                \
+            grain_pass(world, (KEY) | KEY_UNIFORM);                                                \
+        } else {                                                                                   \
+            grain_pass(world, (KEY));                                                              \
+        }                                                                                          \
+    }                                                                                              \
+    static void wall_pass_##name(SimWorld *world)                                                  \
+    {                                                                                              \
+        wall_pass(world, (KEY));                                                                   \
+    }
+
 #if defined(SIM_ISA_KEY_AT_RUN_TIME)
 /* Sanitized and fuzz builds (sim/CMakeLists.txt): one copy of each pass, its key read at run time
  * from the world (sim_contact_key at create) instead of one folded copy per key. The source and
  * the arithmetic are the same (a branch on the key runs or not; nothing is contracted or
  * reordered), so the bits are too (the golden and determinism tests run in those builds), and
  * the sanitizers see every line; what goes is the compile time of 2 x 108 instrumented copies. */
-static int pair_range_any(SimWorld *world, int begin, int end)
-{
-    const unsigned key = world->contact_key;
-    pair_range(world, world->def.species_count == 1 ? key | KEY_UNIFORM : key, begin, end);
-    return 0;
-}
-
-static int reduce_range_any(SimWorld *world, int begin, int end)
-{
-    reduce_range(world, world->contact_key, begin, end);
-    return 0;
-}
-
-static void grain_pass_any(SimWorld *world)
-{
-    const unsigned key = world->contact_key;
-    if (world->threads > 1 && world->nl.in_ready) {
-        sim_parallel_ranges(world, pair_range_any, world->nl.start[world->mobile_count], SIM_LANES);
-        sim_parallel_ranges(world, reduce_range_any, world->count, 1);
-    } else {
-        grain_pass(world, world->def.species_count == 1 ? key | KEY_UNIFORM : key);
-    }
-}
-
-static void wall_pass_any(SimWorld *world)
-{
-    wall_pass(world, world->contact_key);
-}
-
+DEFINE_PASS(any, world->contact_key)
 #define GRAIN_ENTRY(h, l) [(h)*8 + (l)] = grain_pass_any,
 #define WALL_ENTRY(h, l)  [(h)*8 + (l)] = wall_pass_any,
 #else
-#define DEFINE_PASS(h, l)                                                                          \
-    static int pair_range_##h##_##l(SimWorld *world, int begin, int end)                           \
-    {                                                                                              \
-        if (world->def.species_count == 1)                                                         \
-            pair_range(world, (unsigned)((h)*8 + (l)) | KEY_UNIFORM, begin, end);                  \
-        else                                                                                       \
-            pair_range(world, (unsigned)((h)*8 + (l)), begin, end);                                \
-        return 0;                                                                                  \
-    }                                                                                              \
-    static int reduce_range_##h##_##l(SimWorld *world, int begin, int end)                         \
-    {                                                                                              \
-        reduce_range(world, (unsigned)((h)*8 + (l)), begin, end);                                  \
-        return 0;                                                                                  \
-    }                                                                                              \
-    static void grain_pass_##h##_##l(SimWorld *world)                                              \
-    {                                                                                              \
-        if (world->threads > 1 && world->nl.in_ready) {                                            \
-            sim_parallel_ranges(world, pair_range_##h##_##l, world->nl.start[world->mobile_count], \
-                                SIM_LANES);                                                        \
-            sim_parallel_ranges(world, reduce_range_##h##_##l, world->count, 1);                   \
-        } else if (world->def.species_count == 1) {                                                \
-            grain_pass(world, (unsigned)((h)*8 + (l)) | KEY_UNIFORM);                              \
-        } else {                                                                                   \
-            grain_pass(world, (unsigned)((h)*8 + (l)));                                            \
-        }                                                                                          \
-    }                                                                                              \
-    static void wall_pass_##h##_##l(SimWorld *world)                                               \
-    {                                                                                              \
-        wall_pass(world, (unsigned)((h)*8 + (l)));                                                 \
-    }
-KEYS_ALL(DEFINE_PASS)
-
-#define GRAIN_ENTRY(h, l) [(h)*8 + (l)] = grain_pass_##h##_##l,
-#define WALL_ENTRY(h, l)  [(h)*8 + (l)] = wall_pass_##h##_##l,
+#define DEFINE_KEY_PASS(h, l) DEFINE_PASS(h##_##l, (unsigned)((h)*8 + (l)))
+KEYS_ALL(DEFINE_KEY_PASS)
+#define GRAIN_ENTRY(h, l)     [(h)*8 + (l)] = grain_pass_##h##_##l,
+#define WALL_ENTRY(h, l)      [(h)*8 + (l)] = wall_pass_##h##_##l,
 #endif
 static StageFn *const grain_passes[KEY_COUNT] = {KEYS_ALL(GRAIN_ENTRY)};
 static StageFn *const wall_passes[KEY_COUNT] = {KEYS_ALL(WALL_ENTRY)};
