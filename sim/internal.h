@@ -24,11 +24,21 @@ typedef struct PairParams {
  * declared effects and laws. */
 typedef void StageFn(SimWorld *world);
 
+/* A loop body over the index range [begin, end); returns flags that the caller ORs (parallel.c). */
+typedef int RangeFn(SimWorld *world, int begin, int end);
+
+/* The one-thread contact pass with a drift fused into it (contact_pass.c, fused_pass): `drift`
+ * moves and clears grains [begin, end) and returns 1 when one passed the rebuild threshold.
+ * Returns 0 with the forces complete, or 1 with every grain drifted and the forces to be
+ * evaluated anew after a rebuild. */
+typedef int FusedFn(SimWorld *world, RangeFn *drift);
+
 /* The hot loops (sim/isa/: the contact passes and the integrators' steps), compiled once per
  * instruction set; isa.c picks the copy a new world uses (sim_isa, docs/dev/isa.md). */
 typedef struct SimKernels {
     StageFn *(*contact_pass)(unsigned key); /* NULL for a key without an instance */
     StageFn *(*wall_pass)(unsigned key);
+    FusedFn *(*fused_pass)(unsigned key);
     StageFn *(*integrator)(SimIntegrator integrator, int rotation);
     void (*integrator_finish)(SimWorld *world); /* a deferred closing kick, if any */
 } SimKernels;
@@ -44,8 +54,11 @@ typedef struct NeighbourList {
     double *shift;  /* periodic x shift added to x_j - x_i, m (periodic only) */
     double *hist_t; /* tangential spring displacement xi_t, m (spring law only) */
     double *hist_r; /* rolling torque M, N m (rolling only) */
-    int *owner;     /* i of entry k (the flat, vectorised force pass) */
-    double *out;    /* per-entry results of that pass: 4 arrays of capacity (fx, fy, f_t, M) */
+    /* Where the fused pass writes the new history (capacity each, history only), swapped with
+     * hist_t and hist_r when it completes, so that a rebuild found mid-pass sees the old one. */
+    double *hist_t_spare, *hist_r_spare;
+    int *owner;  /* i of entry k (the flat, vectorised force pass) */
+    double *out; /* per-entry results of that pass: 4 arrays of capacity (fx, fy, f_t, M) */
     /* The list transposed, for the threaded reduction (contact.c): the entries k whose partner
      * j is grain g are in_entry[in_start[g] .. in_start[g+1]), ascending k (the order in which
      * the serial scatter adds them to g). in_ready: built for the present grains. */
@@ -169,7 +182,9 @@ struct SimWorld {
     const SimKernels *kernels;
     StageFn *contact_pass;
     StageFn *wall_pass;
+    FusedFn *fused_pass; /* NULL: never fused (sim_world_set_fused) */
     StageFn *integrate;
+    long fused_steps, fused_trips; /* steps whose drift ran fused; those that found a rebuild */
     unsigned contact_key; /* sim_contact_key at create (the passes of a run-time-key build) */
 
     /* sinks */
@@ -229,6 +244,11 @@ SimWorld *sim_world_create_restored(const SimWorldDef *def, SimError *error);
 /* Moves prescribed grains and walls to `time`, rebuilds the lists when the skin is used up, and
  * computes all forces: contacts, walls, body forces (no gravity: the integrators add it). */
 void sim_world_forces_at(SimWorld *world, double time);
+/* A drift of the mobile grains (`drift` over fixed ranges on the world's threads, `align` their
+ * granularity), then the forces at `time`: on one thread with the drift fused into the contact
+ * pass (`drift_clearing`, which also clears the grains' forces), the same bits either way. */
+void sim_world_drift_forces_at(SimWorld *world, double time, RangeFn *drift,
+                               RangeFn *drift_clearing, int align);
 /* neighbour.c */
 /* Rebuilds the lists; out of memory, it leaves them empty and sets world->out_of_memory. */
 void sim_neighbour_build(SimWorld *world);
@@ -288,6 +308,7 @@ const SimKernels *sim_kernels(void);
 #ifdef SIM_ISA_SUFFIX
 StageFn *SIM_ISA_SYMBOL(sim_contact_pass_select)(unsigned key);
 StageFn *SIM_ISA_SYMBOL(sim_wall_pass_select)(unsigned key);
+FusedFn *SIM_ISA_SYMBOL(sim_fused_pass_select)(unsigned key);
 StageFn *SIM_ISA_SYMBOL(sim_integrator_select)(SimIntegrator integrator, int rotation);
 void SIM_ISA_SYMBOL(sim_integrator_finish)(SimWorld *world);
 #endif
@@ -310,8 +331,6 @@ void sim_integrator_finish(SimWorld *world);
 double sim_stability_limit(SimIntegrator integrator, double omega, double zeta);
 
 /* parallel.c */
-/* A loop body over the index range [begin, end); returns flags that the caller ORs. */
-typedef int RangeFn(SimWorld *world, int begin, int end);
 /* Runs fn over [0, n) cut into chunks (bounds multiples of `align`, the last one ending at n),
  * on world->threads threads when threads > 1; returns the OR of the results. The cut and the
  * thread that runs a chunk change only who computes what: a body that writes only to its own

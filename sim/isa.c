@@ -13,12 +13,14 @@
 #define DECLARE_KERNELS(suffix)                                                                    \
     StageFn *sim_contact_pass_select##suffix(unsigned key);                                        \
     StageFn *sim_wall_pass_select##suffix(unsigned key);                                           \
+    FusedFn *sim_fused_pass_select##suffix(unsigned key);                                          \
     StageFn *sim_integrator_select##suffix(SimIntegrator integrator, int rotation);                \
     void sim_integrator_finish##suffix(SimWorld *world);
 #define KERNELS(suffix)                                                                            \
     {                                                                                              \
         sim_contact_pass_select##suffix, sim_wall_pass_select##suffix,                             \
-            sim_integrator_select##suffix, sim_integrator_finish##suffix                           \
+            sim_fused_pass_select##suffix, sim_integrator_select##suffix,                          \
+            sim_integrator_finish##suffix                                                          \
     }
 
 #if defined(SIM_ISA_BUILT_NATIVE)

@@ -78,6 +78,8 @@ static int list_reserve(SimWorld *world, int capacity)
     if (world->has_history) {
         GROW(nl->hist_t, n);
         GROW(nl->hist_r, n);
+        GROW(nl->hist_t_spare, n);
+        GROW(nl->hist_r_spare, n);
     }
     nl->capacity = capacity;
     return 0;
@@ -115,6 +117,8 @@ void sim_neighbour_free(SimWorld *world)
     free(nl->in_entry);
     free(nl->hist_t);
     free(nl->hist_r);
+    free(nl->hist_t_spare);
+    free(nl->hist_r_spare);
     WallList *wl = &world->wl;
     free(wl->grain);
     free(wl->wall);

@@ -678,10 +678,9 @@ void sim_world_rebuild_now(SimWorld *w)
     reevaluate_forces(w);
 }
 
-void sim_world_forces_at(SimWorld *w, double t)
+/* The forces at time t once the prescribed motions are there (the list rebuilt first when due). */
+static void forces_after_motion(SimWorld *w)
 {
-    if (w->effects & SIM_EFFECT_VIBRATION)
-        sim_motion_move(w, t);
     if (w->skin_auto && w->step >= w->skin_probe)
         skin_probe(w);
     /* Rebuild when a grain may have moved half the skin: 004 §1.9, style notes 8.5. */
@@ -692,6 +691,11 @@ void sim_world_forces_at(SimWorld *w, double t)
     if (w->rotation)
         memset(w->torque, 0, (size_t)w->count * sizeof(double));
     w->contact_pass(w);
+}
+
+/* What follows the grain-grain contacts: walls, then body forces. */
+static void forces_after_contacts(SimWorld *w, double t)
+{
     if (w->wall_count > 0)
         w->wall_pass(w);
     if (w->effects & SIM_EFFECT_FLUID_DRAG) {
@@ -699,6 +703,46 @@ void sim_world_forces_at(SimWorld *w, double t)
                                  w->vy,           w->radius, w->mass, w->fx, w->fy};
         w->body_force.apply(w->body_force.context, &view);
     }
+}
+
+void sim_world_forces_at(SimWorld *w, double t)
+{
+    if (w->effects & SIM_EFFECT_VIBRATION)
+        sim_motion_move(w, t);
+    forces_after_motion(w);
+    forces_after_contacts(w, t);
+}
+
+/* The prescribed motions read and write only the fixed grains and the walls, and the drift only
+ * the mobile grains, so the motions go first here. The fused pass needs the list to stay valid:
+ * nothing may ask for a rebuild before the drift (an edit, the motions, a skin probe, which reads
+ * the drifted positions). */
+void sim_world_drift_forces_at(SimWorld *w, double t, RangeFn *drift, RangeFn *drift_clearing,
+                               int align)
+{
+    if (w->effects & SIM_EFFECT_VIBRATION)
+        sim_motion_move(w, t);
+    const int fused = w->fused_pass && w->threads <= 1 && !w->need_rebuild &&
+                      !(2.0 * w->wall_shift > w->skin) &&
+                      !(w->skin_auto && w->step >= w->skin_probe);
+    if (fused) {
+        const size_t fixed = (size_t)(w->count - w->mobile_count);
+        memset(w->fx + w->mobile_count, 0, fixed * sizeof(double));
+        memset(w->fy + w->mobile_count, 0, fixed * sizeof(double));
+        if (w->rotation)
+            memset(w->torque + w->mobile_count, 0, fixed * sizeof(double));
+        ++w->fused_steps;
+        if (w->fused_pass(w, drift_clearing) == 0) {
+            forces_after_contacts(w, t);
+            return;
+        }
+        ++w->fused_trips;
+        w->need_rebuild = 1;
+    } else {
+        w->need_rebuild |= sim_parallel_ranges(w, drift, w->mobile_count, align);
+    }
+    forces_after_motion(w);
+    forces_after_contacts(w, t);
 }
 
 void sim_world_set_gravity(SimWorld *w, double gravity_x, double gravity_y)
@@ -784,6 +828,7 @@ static SimWorld *create(const SimWorldDef *def, int restored, SimError *error)
     w->contact_key = key;
     w->contact_pass = w->kernels->contact_pass(key);
     w->wall_pass = w->kernels->wall_pass(key);
+    w->fused_pass = w->kernels->fused_pass(key);
     w->integrate = w->kernels->integrator(def->integrator, w->rotation);
     w->scratch_count = sim_integrator_scratch_count(def->integrator, w->rotation);
     w->body_force = def->body_force;

@@ -107,9 +107,15 @@ KERNEL void store(double *restrict a, const int *restrict entry, const int lanes
         a[entry[l]] = v[l];
 }
 
+/* Where a pass writes the contacts' new history (tangential spring, rolling torque): in place,
+ * or (the fused pass) into the spare arrays, swapped in once the pass has completed. */
+typedef struct History {
+    double *t, *r;
+} History;
+
 /* The grain-grain pass runs in two phases over the half list (style: data-parallel first, then
  * the scatter).
- * 1. pair_forces: every entry k on its own, in one flat loop without branches, so that the compiler
+ * 1. pair_range: every entry k on its own, in one flat loop without branches, so that the compiler
  *    vectorises it (gathers of the partners' state, masks for the entries not in contact). Its
  *    results go to nl.out: the force on j along x and y (the force on i is minus that), f_t and M.
  * 2. accumulate: adds them to the grains in the order of the scalar loop, so the sums (and the
@@ -117,7 +123,7 @@ KERNEL void store(double *restrict a, const int *restrict entry, const int lanes
 /* Entries entry[0..SIM_LANES) of the half list (the last ones repeated in a short final block;
  * only the first `lanes` results are stored). */
 KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict entry,
-                       const int lanes)
+                       const int lanes, const History out)
 {
     const size_t cap = (size_t)world->nl.capacity;
     const double dt = world->contact_dt;
@@ -175,7 +181,7 @@ KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict 
         if (key & KEY_EVENT)
             f_t = sel_v(touching, f_t, ((VecD){0.0, 0.0, 0.0, 0.0}));
         if (law == SIM_TANGENTIAL_SPRING)
-            store(nl->hist_t, entry, lanes, sel_v(touching, spring, ((VecD){0.0, 0.0, 0.0, 0.0})));
+            store(out.t, entry, lanes, sel_v(touching, spring, ((VecD){0.0, 0.0, 0.0, 0.0})));
         fxk += f_t * sx;
         fyk += f_t * sy;
     }
@@ -191,7 +197,7 @@ KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict 
         }
         VecD m_r = load(nl->hist_r, entry, lanes);
         const VecD m = rolling_torque_v(k_r, mu_r, wj - wi, f_el, dt, &m_r);
-        store(nl->hist_r, entry, lanes, sel_v(touching, m_r, ((VecD){0.0, 0.0, 0.0, 0.0})));
+        store(out.r, entry, lanes, sel_v(touching, m_r, ((VecD){0.0, 0.0, 0.0, 0.0})));
         store(nl->out + 3 * cap, entry, lanes, sel_v(touching, m, ((VecD){0.0, 0.0, 0.0, 0.0})));
     }
     store(nl->out, entry, lanes, sel_v(acting, fxk, ((VecD){0.0, 0.0, 0.0, 0.0})));
@@ -202,25 +208,27 @@ KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict 
 
 /* Entries [k0, k1) of the half list: k0 is a multiple of SIM_LANES and so is k1 unless it is
  * the end of the list (sim_parallel_ranges' bounds), so only the list's last block is short. */
-KERNEL void pair_range(SimWorld *world, const unsigned key, const int k0, const int k1)
+KERNEL void pair_range(SimWorld *world, const unsigned key, const int k0, const int k1,
+                       const History out)
 {
     int entry[SIM_LANES];
     int k = k0;
     for (; k + SIM_LANES <= k1; k += SIM_LANES) {
         for (int l = 0; l < SIM_LANES; ++l)
             entry[l] = k + l;
-        pair_block(world, key, entry, SIM_LANES);
+        pair_block(world, key, entry, SIM_LANES, out);
     }
     if (k < k1) {
         for (int l = 0; l < SIM_LANES; ++l)
             entry[l] = k + l < k1 ? k + l : k1 - 1;
-        pair_block(world, key, entry, k1 - k);
+        pair_block(world, key, entry, k1 - k, out);
     }
 }
 
-KERNEL void pair_forces(SimWorld *world, const unsigned key)
+/* The history arrays the pass updates in place. */
+KERNEL History history_in_place(const SimWorld *world)
 {
-    pair_range(world, key, 0, world->nl.start[world->mobile_count]);
+    return (History){world->nl.hist_t, world->nl.hist_r};
 }
 
 /* Phase 2. The scalar loop `for i: sum_i = 0; for k of i: sum_i += f_k; f_j -= f_k; then
@@ -232,13 +240,16 @@ KERNEL void pair_forces(SimWorld *world, const unsigned key)
  * run ends is the scalar loop's order, and the results are the same to the bit. (A grain that
  * owns no entry gets no `+= 0.0`: its sum starts at +0.0 and subtractions from +0.0 never give
  * -0.0, so adding 0.0 would leave its bits as they are.) nl.out keeps the per-entry results. */
-KERNEL void grain_pass(SimWorld *world, const unsigned key)
+/* The scatter's running state between two ranges of entries: the partial sums of the owner whose
+ * entries the last range ended in, and that owner. */
+typedef struct Scatter {
+    double x, y, t;
+    int owner;
+} Scatter;
+
+KERNEL void scatter_range(SimWorld *world, const unsigned key, const int k0, const int k1,
+                          Scatter *state)
 {
-    pair_forces(world, key);
-    const int mobile = world->mobile_count;
-    const int total = world->nl.start[mobile];
-    if (total == 0)
-        return;
     const size_t cap = (size_t)world->nl.capacity;
     const double *restrict radius = world->radius;
     double *restrict fx = world->fx, *restrict fy = world->fy, *restrict torque = world->torque;
@@ -248,9 +259,9 @@ KERNEL void grain_pass(SimWorld *world, const unsigned key)
     const double *restrict out_m = world->nl.out + 3 * cap;
     const unsigned law = key & KEY_TANGENTIAL;
 
-    double sum_x = 0.0, sum_y = 0.0, sum_t = 0.0;
-    int previous = owner[0];
-    for (int k = 0; k < total; ++k) {
+    double sum_x = state->x, sum_y = state->y, sum_t = state->t;
+    int previous = state->owner;
+    for (int k = k0; k < k1; ++k) {
         const int i = owner[k], j = partner[k];
         const int first = i != previous;
         const double px = fx[previous], py = fy[previous];
@@ -282,10 +293,85 @@ KERNEL void grain_pass(SimWorld *world, const unsigned key)
         fx[j] -= fxk;
         fy[j] -= fyk;
     }
-    fx[previous] += sum_x;
-    fy[previous] += sum_y;
+    *state = (Scatter){sum_x, sum_y, sum_t, previous};
+}
+
+/* The last owner's sum, once every entry is scattered. */
+KERNEL void scatter_finish(SimWorld *world, const unsigned key, const Scatter *state)
+{
+    world->fx[state->owner] += state->x;
+    world->fy[state->owner] += state->y;
     if (KEY_ROTATION(key))
-        torque[previous] += sum_t;
+        world->torque[state->owner] += state->t;
+}
+
+/* Phase 1 over the whole list, then phase 2. */
+KERNEL void grain_pass(SimWorld *world, const unsigned key)
+{
+    const int total = world->nl.start[world->mobile_count];
+    pair_range(world, key, 0, total, history_in_place(world));
+    if (total == 0)
+        return;
+    Scatter state = {0.0, 0.0, 0.0, world->nl.owner[0]};
+    scatter_range(world, key, 0, total, &state);
+    scatter_finish(world, key, &state);
+}
+
+/* The one-thread contact pass with the velocity-Verlet drift fused into it
+ * (sim_world_drift_forces_at): the entries run in blocks of FUSED_BLOCK, each block's phase 1 and
+ * phase 2 in turn, and before a block, `drift` moves the mobile grains up to the largest partner it
+ * names (a partner is always above its owner, so its owners too). The drift also clears the grains'
+ * forces after reading them. Every grain is then drifted before any entry reads it, and cleared
+ * before any entry adds to it: the same operations on the same values as the drift of every grain
+ * followed by the whole pass, so the same bits, with each grain's data still in cache from its
+ * drift when its entries use it (on a large pile the separate drift streamed every grain array from
+ * memory once more per step). The new history goes to the spare arrays, swapped in at the end (only
+ * those the key's laws write: the other stays as the list build left it). Returns 0, or 1 when a
+ * drift reports a grain past the rebuild threshold: the drift then runs to the last grain, the
+ * history is as it was, and the caller rebuilds the list and evaluates the forces anew (what the
+ * separate passes do), discarding this pass's sums. */
+enum { FUSED_BLOCK = 512, FUSED_ALIGN = 8 };
+
+KERNEL int fused_pass(SimWorld *world, const unsigned key, RangeFn *drift)
+{
+    NeighbourList *nl = &world->nl;
+    const int mobile = world->mobile_count, total = nl->start[mobile];
+    const int *restrict partner = nl->j;
+    const History spare = {nl->hist_t_spare, nl->hist_r_spare};
+    Scatter state = {0.0, 0.0, 0.0, total > 0 ? nl->owner[0] : 0};
+    int front = 0; /* grains [0, front) are drifted */
+    for (int k0 = 0; k0 < total; k0 += FUSED_BLOCK) {
+        const int k1 = total - k0 > FUSED_BLOCK ? k0 + FUSED_BLOCK : total;
+        int last = 0;
+        for (int k = k0; k < k1; ++k)
+            last = partner[k] > last ? partner[k] : last;
+        if (last >= front) {
+            int to = (last / FUSED_ALIGN + 1) * FUSED_ALIGN;
+            to = to < mobile ? to : mobile;
+            if (to > front && drift(world, front, to)) {
+                drift(world, to, mobile);
+                return 1;
+            }
+            front = to > front ? to : front;
+        }
+        pair_range(world, key, k0, k1, spare);
+        scatter_range(world, key, k0, k1, &state);
+    }
+    if (front < mobile && drift(world, front, mobile))
+        return 1;
+    if (total > 0)
+        scatter_finish(world, key, &state);
+    if ((key & KEY_TANGENTIAL) == SIM_TANGENTIAL_SPRING) { /* the arrays the pass wrote */
+        double *t = nl->hist_t;
+        nl->hist_t = nl->hist_t_spare;
+        nl->hist_t_spare = t;
+    }
+    if (key & KEY_ROLLING) {
+        double *r = nl->hist_r;
+        nl->hist_r = nl->hist_r_spare;
+        nl->hist_r_spare = r;
+    }
+    return 0;
 }
 
 /* Phase 2 for threads (sim_world_set_threads): the same sums per grain, gathered instead of
@@ -433,9 +519,9 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
     static int pair_range_##name(SimWorld *world, int begin, int end)                              \
     {                                                                                              \
         if (world->def.species_count == 1)                                                         \
-            pair_range(world, (KEY) | KEY_UNIFORM, begin, end);                                    \
+            pair_range(world, (KEY) | KEY_UNIFORM, begin, end, history_in_place(world));           \
         else                                                                                       \
-            pair_range(world, (KEY), begin, end);                                                  \
+            pair_range(world, (KEY), begin, end, history_in_place(world));                         \
         return 0;                                                                                  \
     }                                                                                              \
     static int reduce_range_##name(SimWorld *world, int begin, int end)                            \
@@ -455,6 +541,12 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
             grain_pass(world, (KEY));                                                              \
         }                                                                                          \
     }                                                                                              \
+    static int fused_pass_##name(SimWorld *world, RangeFn *drift)                                  \
+    {                                                                                              \
+        if (world->def.species_count == 1)                                                         \
+            return fused_pass(world, (KEY) | KEY_UNIFORM, drift);                                  \
+        return fused_pass(world, (KEY), drift);                                                    \
+    }                                                                                              \
     static void wall_pass_##name(SimWorld *world)                                                  \
     {                                                                                              \
         wall_pass(world, (KEY));                                                                   \
@@ -469,14 +561,17 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
 DEFINE_PASS(any, world->contact_key)
 #define GRAIN_ENTRY(h, l) [(h)*8 + (l)] = grain_pass_any,
 #define WALL_ENTRY(h, l)  [(h)*8 + (l)] = wall_pass_any,
+#define FUSED_ENTRY(h, l) [(h)*8 + (l)] = fused_pass_any,
 #else
 #define DEFINE_KEY_PASS(h, l) DEFINE_PASS(h##_##l, (unsigned)((h)*8 + (l)))
 KEYS_ALL(DEFINE_KEY_PASS)
 #define GRAIN_ENTRY(h, l)     [(h)*8 + (l)] = grain_pass_##h##_##l,
 #define WALL_ENTRY(h, l)      [(h)*8 + (l)] = wall_pass_##h##_##l,
+#define FUSED_ENTRY(h, l)     [(h)*8 + (l)] = fused_pass_##h##_##l,
 #endif
 static StageFn *const grain_passes[KEY_COUNT] = {KEYS_ALL(GRAIN_ENTRY)};
 static StageFn *const wall_passes[KEY_COUNT] = {KEYS_ALL(WALL_ENTRY)};
+static FusedFn *const fused_passes[KEY_COUNT] = {KEYS_ALL(FUSED_ENTRY)};
 
 StageFn *SIM_ISA_SYMBOL(sim_contact_pass_select)(unsigned key)
 {
@@ -486,4 +581,9 @@ StageFn *SIM_ISA_SYMBOL(sim_contact_pass_select)(unsigned key)
 StageFn *SIM_ISA_SYMBOL(sim_wall_pass_select)(unsigned key)
 {
     return key < KEY_COUNT ? wall_passes[key] : NULL;
+}
+
+FusedFn *SIM_ISA_SYMBOL(sim_fused_pass_select)(unsigned key)
+{
+    return key < KEY_COUNT ? fused_passes[key] : NULL;
 }

@@ -21,23 +21,55 @@ static inline double displacement2(const SimWorld *w, int i)
 /* ---- velocity Verlet: kick-drift, forces, kick. The dissipative forces see the predicted
  * velocity v(t + dt) ~ v(t + dt/2) + a(t) dt/2 (as thesis 004's code does), which keeps the
  * scheme second order with damping; the VV_* scratch arrays hold the half-step velocities. */
+/* Asks for the grain arrays of [i0, i1) (clipped to the mobile grains): the fused pass drifts
+ * short ranges, each far from the last in time, and the hardware's stream detection loses them. */
+static inline __attribute__((always_inline)) void prefetch_next(const SimWorld *w, const int rot,
+                                                                int i0, int i1)
+{
+    i1 = i1 < w->mobile_count ? i1 : w->mobile_count;
+    double *const rw[] = {w->x,  w->y, w->vx, w->vy, w->scratch[VV_VX_HALF], w->scratch[VV_VY_HALF],
+                          w->fx, w->fy};
+    const double *const ro[] = {w->inv_mass, w->x_ref, w->y_ref};
+    for (int i = i0; i < i1; i += 8) {
+        for (size_t a = 0; a < sizeof rw / sizeof rw[0]; ++a)
+            __builtin_prefetch(rw[a] + i, 1);
+        for (size_t a = 0; a < sizeof ro / sizeof ro[0]; ++a)
+            __builtin_prefetch(ro[a] + i, 0);
+        if (rot) {
+            __builtin_prefetch(w->omega + i, 1);
+            __builtin_prefetch(w->scratch[VV_OMEGA_HALF] + i, 1);
+            __builtin_prefetch(w->angle + i, 1);
+            __builtin_prefetch(w->torque + i, 1);
+            __builtin_prefetch(w->inv_inertia + i, 0);
+        }
+    }
+}
+
 /* The opening kick and drift. `closing`: first apply the previous step's closing kick, deferred
  * by sim_world_step (same arithmetic as velocity_verlet_close, so the same bits; it saves one pass
- * over the grains per step). */
-static inline __attribute__((always_inline)) int
-velocity_verlet_open(SimWorld *w, const int rot, const int closing, const int i0, const int i1)
+ * over the grains per step). `clear`: then set the forces read to +0.0, as the force evaluation
+ * would (the fused contact pass, sim_world_drift_forces_at). */
+static inline __attribute__((always_inline)) int velocity_verlet_open(SimWorld *w, const int rot,
+                                                                      const int closing,
+                                                                      const int clear, const int i0,
+                                                                      const int i1)
 {
     const double dt = w->dt, half = 0.5 * dt, gx = w->def.gravity_x, gy = w->def.gravity_y;
     double *restrict x = w->x, *restrict y = w->y, *restrict vx = w->vx, *restrict vy = w->vy;
     double *restrict hx = w->scratch[VV_VX_HALF], *restrict hy = w->scratch[VV_VY_HALF];
-    const double *restrict fx = w->fx, *restrict fy = w->fy, *restrict im = w->inv_mass;
+    double *restrict fx = w->fx, *restrict fy = w->fy;
+    const double *restrict im = w->inv_mass;
     const double *restrict xr = w->x_ref, *restrict yr = w->y_ref;
     const double limit2 = w->disp_limit2;
     int moved = 0;
-    /* The arrays never alias (restrict is not enough for GCC to vectorise): */
+    if (clear)
+        prefetch_next(w, rot, i1, i1 + (i1 - i0));
+        /* The arrays never alias (restrict is not enough for GCC to vectorise): */
 #pragma GCC ivdep
     for (int i = i0; i < i1; ++i) {
         double ax = fx[i] * im[i] + gx, ay = fy[i] * im[i] + gy;
+        if (clear)
+            fx[i] = fy[i] = 0.0;
         double vxi = closing ? hx[i] + half * ax : vx[i];
         double vyi = closing ? hy[i] + half * ay : vy[i];
         double vhx = vxi + half * ax, vhy = vyi + half * ay;
@@ -53,11 +85,14 @@ velocity_verlet_open(SimWorld *w, const int rot, const int closing, const int i0
     if (rot) {
         double *restrict omega = w->omega, *restrict hw = w->scratch[VV_OMEGA_HALF],
                          *restrict angle = w->angle;
-        const double *restrict torque = w->torque, *restrict ii = w->inv_inertia;
+        double *restrict torque = w->torque;
+        const double *restrict ii = w->inv_inertia;
 #pragma GCC ivdep
         for (int i = i0; i < i1; ++i) {
             double wi = closing ? hw[i] + half * torque[i] * ii[i] : omega[i];
             double alpha = torque[i] * ii[i];
+            if (clear)
+                torque[i] = 0.0;
             double wh = wi + half * alpha;
             hw[i] = wh;
             angle[i] += dt * wh;
@@ -91,17 +126,21 @@ static inline __attribute__((always_inline)) int velocity_verlet_close(SimWorld 
     return 0;
 }
 
-/* The passes over fixed grain ranges (sim_parallel_ranges): each grain on its own, so the same
- * bits for any thread count; `moved` is an OR. */
-#define VV_RANGES(rot, closing)                                                                    \
-    static int vv_open_##rot##_##closing(SimWorld *w, int begin, int end)                          \
+/* The passes over fixed grain ranges (sim_parallel_ranges, or the fused contact pass): each grain
+ * on its own, so the same bits for any thread count; `moved` is an OR. */
+#define VV_RANGES(rot, closing, clear)                                                             \
+    static int vv_open_##rot##_##closing##_##clear(SimWorld *w, int begin, int end)                \
     {                                                                                              \
-        return velocity_verlet_open(w, rot, closing, begin, end);                                  \
+        return velocity_verlet_open(w, rot, closing, clear, begin, end);                           \
     }
-VV_RANGES(0, 0)
-VV_RANGES(0, 1)
-VV_RANGES(1, 0)
-VV_RANGES(1, 1)
+VV_RANGES(0, 0, 0)
+VV_RANGES(0, 1, 0)
+VV_RANGES(1, 0, 0)
+VV_RANGES(1, 1, 0)
+VV_RANGES(0, 0, 1)
+VV_RANGES(0, 1, 1)
+VV_RANGES(1, 0, 1)
+VV_RANGES(1, 1, 1)
 
 static int vv_close_0(SimWorld *w, int begin, int end)
 {
@@ -118,11 +157,13 @@ enum { VV_ALIGN = 8 };
 
 static inline void velocity_verlet(SimWorld *w, const int rot)
 {
-    RangeFn *open = rot ? (w->kick_pending ? vv_open_1_1 : vv_open_1_0)
-                        : (w->kick_pending ? vv_open_0_1 : vv_open_0_0);
-    w->need_rebuild |= sim_parallel_ranges(w, open, w->mobile_count, VV_ALIGN);
+    static RangeFn *const open[2][2][2] = {
+        {{vv_open_0_0_0, vv_open_0_0_1}, {vv_open_0_1_0, vv_open_0_1_1}},
+        {{vv_open_1_0_0, vv_open_1_0_1}, {vv_open_1_1_0, vv_open_1_1_1}}};
+    const int closing = w->kick_pending != 0;
     w->kick_pending = 0;
-    sim_world_forces_at(w, w->time + w->dt);
+    sim_world_drift_forces_at(w, w->time + w->dt, open[rot][closing][0], open[rot][closing][1],
+                              VV_ALIGN);
     if (w->defer_kick)
         w->kick_pending = 1;
     else
