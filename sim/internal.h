@@ -244,11 +244,10 @@ SimWorld *sim_world_create_restored(const SimWorldDef *def, SimError *error);
 /* Moves prescribed grains and walls to `time`, rebuilds the lists when the skin is used up, and
  * computes all forces: contacts, walls, body forces (no gravity: the integrators add it). */
 void sim_world_forces_at(SimWorld *world, double time);
-/* A drift of the mobile grains (`drift` over fixed ranges on the world's threads, `align` their
- * granularity), then the forces at `time`: on one thread with the drift fused into the contact
- * pass (`drift_clearing`, which also clears the grains' forces), the same bits either way. */
-void sim_world_drift_forces_at(SimWorld *world, double time, RangeFn *drift,
-                               RangeFn *drift_clearing, int align);
+/* A drift of the mobile grains that also clears their forces (`drift`, over ranges that are
+ * multiples of `align`), then the forces at `time`: on one thread with the drift fused into the
+ * contact pass (FusedFn), on several over fixed ranges first; the same bits either way. */
+void sim_world_drift_forces_at(SimWorld *world, double time, RangeFn *drift, int align);
 /* neighbour.c */
 /* Rebuilds the lists; out of memory, it leaves them empty and sets world->out_of_memory. */
 void sim_neighbour_build(SimWorld *world);
@@ -336,6 +335,7 @@ double sim_stability_limit(SimIntegrator integrator, double omega, double zeta);
  * thread that runs a chunk change only who computes what: a body that writes only to its own
  * indices, from data no other range writes, gives the same bits for every thread count. */
 int sim_parallel_ranges(SimWorld *world, RangeFn *fn, int n, int align);
+
 /* Stops and frees the world's threads (sim_world_destroy). */
 void sim_parallel_free(SimWorld *world);
 

@@ -678,18 +678,24 @@ void sim_world_rebuild_now(SimWorld *w)
     reevaluate_forces(w);
 }
 
-/* The forces at time t once the prescribed motions are there (the list rebuilt first when due). */
-static void forces_after_motion(SimWorld *w)
+/* The forces at time t once the prescribed motions are there (the list rebuilt first when due).
+ * `cleared`: the drift has cleared the mobile grains' forces already (a build may add or drop
+ * grains, so after one every force is cleared here). */
+static void forces_after_motion(SimWorld *w, int cleared)
 {
     if (w->skin_auto && w->step >= w->skin_probe)
         skin_probe(w);
     /* Rebuild when a grain may have moved half the skin: 004 §1.9, style notes 8.5. */
-    if (w->need_rebuild || 2.0 * w->wall_shift > w->skin)
+    if (w->need_rebuild || 2.0 * w->wall_shift > w->skin) {
         rebuild(w);
-    memset(w->fx, 0, (size_t)w->count * sizeof(double));
-    memset(w->fy, 0, (size_t)w->count * sizeof(double));
+        cleared = 0;
+    }
+    const int from = cleared ? w->mobile_count : 0;
+    const size_t n = (size_t)(w->count - from);
+    memset(w->fx + from, 0, n * sizeof(double));
+    memset(w->fy + from, 0, n * sizeof(double));
     if (w->rotation)
-        memset(w->torque, 0, (size_t)w->count * sizeof(double));
+        memset(w->torque + from, 0, n * sizeof(double));
     w->contact_pass(w);
 }
 
@@ -709,7 +715,7 @@ void sim_world_forces_at(SimWorld *w, double t)
 {
     if (w->effects & SIM_EFFECT_VIBRATION)
         sim_motion_move(w, t);
-    forces_after_motion(w);
+    forces_after_motion(w, 0);
     forces_after_contacts(w, t);
 }
 
@@ -717,8 +723,7 @@ void sim_world_forces_at(SimWorld *w, double t)
  * the mobile grains, so the motions go first here. The fused pass needs the list to stay valid:
  * nothing may ask for a rebuild before the drift (an edit, the motions, a skin probe, which reads
  * the drifted positions). */
-void sim_world_drift_forces_at(SimWorld *w, double t, RangeFn *drift, RangeFn *drift_clearing,
-                               int align)
+void sim_world_drift_forces_at(SimWorld *w, double t, RangeFn *drift, int align)
 {
     if (w->effects & SIM_EFFECT_VIBRATION)
         sim_motion_move(w, t);
@@ -732,7 +737,7 @@ void sim_world_drift_forces_at(SimWorld *w, double t, RangeFn *drift, RangeFn *d
         if (w->rotation)
             memset(w->torque + w->mobile_count, 0, fixed * sizeof(double));
         ++w->fused_steps;
-        if (w->fused_pass(w, drift_clearing) == 0) {
+        if (w->fused_pass(w, drift) == 0) {
             forces_after_contacts(w, t);
             return;
         }
@@ -741,7 +746,7 @@ void sim_world_drift_forces_at(SimWorld *w, double t, RangeFn *drift, RangeFn *d
     } else {
         w->need_rebuild |= sim_parallel_ranges(w, drift, w->mobile_count, align);
     }
-    forces_after_motion(w);
+    forces_after_motion(w, 1);
     forces_after_contacts(w, t);
 }
 

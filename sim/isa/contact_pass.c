@@ -332,6 +332,22 @@ KERNEL void grain_pass(SimWorld *world, const unsigned key)
  * separate passes do), discarding this pass's sums. */
 enum { FUSED_BLOCK = 512, FUSED_ALIGN = 8 };
 
+/* A fused pass has completed: its new history (the arrays the key's laws write) becomes the
+ * list's. */
+KERNEL void swap_history(NeighbourList *nl, const unsigned key)
+{
+    if ((key & KEY_TANGENTIAL) == SIM_TANGENTIAL_SPRING) {
+        double *t = nl->hist_t;
+        nl->hist_t = nl->hist_t_spare;
+        nl->hist_t_spare = t;
+    }
+    if (key & KEY_ROLLING) {
+        double *r = nl->hist_r;
+        nl->hist_r = nl->hist_r_spare;
+        nl->hist_r_spare = r;
+    }
+}
+
 KERNEL int fused_pass(SimWorld *world, const unsigned key, RangeFn *drift)
 {
     NeighbourList *nl = &world->nl;
@@ -361,16 +377,7 @@ KERNEL int fused_pass(SimWorld *world, const unsigned key, RangeFn *drift)
         return 1;
     if (total > 0)
         scatter_finish(world, key, &state);
-    if ((key & KEY_TANGENTIAL) == SIM_TANGENTIAL_SPRING) { /* the arrays the pass wrote */
-        double *t = nl->hist_t;
-        nl->hist_t = nl->hist_t_spare;
-        nl->hist_t_spare = t;
-    }
-    if (key & KEY_ROLLING) {
-        double *r = nl->hist_r;
-        nl->hist_r = nl->hist_r_spare;
-        nl->hist_r_spare = r;
-    }
+    swap_history(nl, key);
     return 0;
 }
 

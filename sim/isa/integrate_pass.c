@@ -47,12 +47,11 @@ static inline __attribute__((always_inline)) void prefetch_next(const SimWorld *
 
 /* The opening kick and drift. `closing`: first apply the previous step's closing kick, deferred
  * by sim_world_step (same arithmetic as velocity_verlet_close, so the same bits; it saves one pass
- * over the grains per step). `clear`: then set the forces read to +0.0, as the force evaluation
- * would (the fused contact pass, sim_world_drift_forces_at). */
-static inline __attribute__((always_inline)) int velocity_verlet_open(SimWorld *w, const int rot,
-                                                                      const int closing,
-                                                                      const int clear, const int i0,
-                                                                      const int i1)
+ * over the grains per step). The forces read are then set to +0.0, as the force evaluation
+ * would (sim_world_drift_forces_at: one pass less over the force arrays, and the fused contact
+ * pass needs each grain's forces cleared when it drifts it). */
+static inline __attribute__((always_inline)) int
+velocity_verlet_open(SimWorld *w, const int rot, const int closing, const int i0, const int i1)
 {
     const double dt = w->dt, half = 0.5 * dt, gx = w->def.gravity_x, gy = w->def.gravity_y;
     double *restrict x = w->x, *restrict y = w->y, *restrict vx = w->vx, *restrict vy = w->vy;
@@ -62,14 +61,12 @@ static inline __attribute__((always_inline)) int velocity_verlet_open(SimWorld *
     const double *restrict xr = w->x_ref, *restrict yr = w->y_ref;
     const double limit2 = w->disp_limit2;
     int moved = 0;
-    if (clear)
-        prefetch_next(w, rot, i1, i1 + (i1 - i0));
-        /* The arrays never alias (restrict is not enough for GCC to vectorise): */
+    prefetch_next(w, rot, i1, i1 + (i1 - i0));
+    /* The arrays never alias (restrict is not enough for GCC to vectorise): */
 #pragma GCC ivdep
     for (int i = i0; i < i1; ++i) {
         double ax = fx[i] * im[i] + gx, ay = fy[i] * im[i] + gy;
-        if (clear)
-            fx[i] = fy[i] = 0.0;
+        fx[i] = fy[i] = 0.0;
         double vxi = closing ? hx[i] + half * ax : vx[i];
         double vyi = closing ? hy[i] + half * ay : vy[i];
         double vhx = vxi + half * ax, vhy = vyi + half * ay;
@@ -91,8 +88,7 @@ static inline __attribute__((always_inline)) int velocity_verlet_open(SimWorld *
         for (int i = i0; i < i1; ++i) {
             double wi = closing ? hw[i] + half * torque[i] * ii[i] : omega[i];
             double alpha = torque[i] * ii[i];
-            if (clear)
-                torque[i] = 0.0;
+            torque[i] = 0.0;
             double wh = wi + half * alpha;
             hw[i] = wh;
             angle[i] += dt * wh;
@@ -128,19 +124,15 @@ static inline __attribute__((always_inline)) int velocity_verlet_close(SimWorld 
 
 /* The passes over fixed grain ranges (sim_parallel_ranges, or the fused contact pass): each grain
  * on its own, so the same bits for any thread count; `moved` is an OR. */
-#define VV_RANGES(rot, closing, clear)                                                             \
-    static int vv_open_##rot##_##closing##_##clear(SimWorld *w, int begin, int end)                \
+#define VV_RANGES(rot, closing)                                                                    \
+    static int vv_open_##rot##_##closing(SimWorld *w, int begin, int end)                          \
     {                                                                                              \
-        return velocity_verlet_open(w, rot, closing, clear, begin, end);                           \
+        return velocity_verlet_open(w, rot, closing, begin, end);                                  \
     }
-VV_RANGES(0, 0, 0)
-VV_RANGES(0, 1, 0)
-VV_RANGES(1, 0, 0)
-VV_RANGES(1, 1, 0)
-VV_RANGES(0, 0, 1)
-VV_RANGES(0, 1, 1)
-VV_RANGES(1, 0, 1)
-VV_RANGES(1, 1, 1)
+VV_RANGES(0, 0)
+VV_RANGES(0, 1)
+VV_RANGES(1, 0)
+VV_RANGES(1, 1)
 
 static int vv_close_0(SimWorld *w, int begin, int end)
 {
@@ -157,13 +149,10 @@ enum { VV_ALIGN = 8 };
 
 static inline void velocity_verlet(SimWorld *w, const int rot)
 {
-    static RangeFn *const open[2][2][2] = {
-        {{vv_open_0_0_0, vv_open_0_0_1}, {vv_open_0_1_0, vv_open_0_1_1}},
-        {{vv_open_1_0_0, vv_open_1_0_1}, {vv_open_1_1_0, vv_open_1_1_1}}};
-    const int closing = w->kick_pending != 0;
+    RangeFn *open = rot ? (w->kick_pending ? vv_open_1_1 : vv_open_1_0)
+                        : (w->kick_pending ? vv_open_0_1 : vv_open_0_0);
     w->kick_pending = 0;
-    sim_world_drift_forces_at(w, w->time + w->dt, open[rot][closing][0], open[rot][closing][1],
-                              VV_ALIGN);
+    sim_world_drift_forces_at(w, w->time + w->dt, open, VV_ALIGN);
     if (w->defer_kick)
         w->kick_pending = 1;
     else
