@@ -28,10 +28,10 @@ typedef void StageFn(SimWorld *world);
 typedef int RangeFn(SimWorld *world, int begin, int end);
 
 /* The one-thread contact pass with a drift fused into it (contact_pass.c, fused_pass): `drift`
- * moves and clears grains [begin, end) and returns 1 when one passed the rebuild threshold.
- * Returns 0 with the forces complete, or 1 with every grain drifted and the forces to be
- * evaluated anew after a rebuild. */
-typedef int FusedFn(SimWorld *world, RangeFn *drift);
+ * moves and clears grains [begin, end) (begin a multiple of `align`) and returns 1 when one
+ * passed the rebuild threshold. Returns 0 with the forces complete, or 1 with every grain
+ * drifted and the forces to be evaluated anew after a rebuild. */
+typedef int FusedFn(SimWorld *world, RangeFn *drift, int align);
 
 /* The hot loops (sim/isa/: the contact passes and the integrators' steps), compiled once per
  * instruction set; isa.c picks the copy a new world uses (sim_isa, docs/dev/isa.md). */
@@ -182,7 +182,7 @@ struct SimWorld {
     const SimKernels *kernels;
     StageFn *contact_pass;
     StageFn *wall_pass;
-    FusedFn *fused_pass; /* NULL: never fused (sim_world_set_fused) */
+    FusedFn *fused_pass; /* NULL: the separate passes always (tests/sim/test_fused.c) */
     StageFn *integrate;
     long fused_steps, fused_trips; /* steps whose drift ran fused; those that found a rebuild */
     unsigned contact_key; /* sim_contact_key at create (the passes of a run-time-key build) */
@@ -335,7 +335,6 @@ double sim_stability_limit(SimIntegrator integrator, double omega, double zeta);
  * thread that runs a chunk change only who computes what: a body that writes only to its own
  * indices, from data no other range writes, gives the same bits for every thread count. */
 int sim_parallel_ranges(SimWorld *world, RangeFn *fn, int n, int align);
-
 /* Stops and frees the world's threads (sim_world_destroy). */
 void sim_parallel_free(SimWorld *world);
 

@@ -678,24 +678,39 @@ void sim_world_rebuild_now(SimWorld *w)
     reevaluate_forces(w);
 }
 
-/* The forces at time t once the prescribed motions are there (the list rebuilt first when due).
- * `cleared`: the drift has cleared the mobile grains' forces already (a build may add or drop
- * grains, so after one every force is cleared here). */
-static void forces_after_motion(SimWorld *w, int cleared)
+static int probe_due(const SimWorld *w)
 {
-    if (w->skin_auto && w->step >= w->skin_probe)
-        skin_probe(w);
-    /* Rebuild when a grain may have moved half the skin: 004 §1.9, style notes 8.5. */
-    if (w->need_rebuild || 2.0 * w->wall_shift > w->skin) {
-        rebuild(w);
-        cleared = 0;
-    }
-    const int from = cleared ? w->mobile_count : 0;
+    return w->skin_auto && w->step >= w->skin_probe;
+}
+
+/* A grain may have moved half the skin: 004 §1.9, style notes 8.5. */
+static int rebuild_due(const SimWorld *w)
+{
+    return w->need_rebuild || 2.0 * w->wall_shift > w->skin;
+}
+
+/* Forces of grains [from, count) set to +0.0. */
+static void clear_forces(SimWorld *w, int from)
+{
     const size_t n = (size_t)(w->count - from);
     memset(w->fx + from, 0, n * sizeof(double));
     memset(w->fy + from, 0, n * sizeof(double));
     if (w->rotation)
         memset(w->torque + from, 0, n * sizeof(double));
+}
+
+/* The forces at time t once the prescribed motions are there (the list rebuilt first when due).
+ * `cleared`: the drift has cleared the mobile grains' forces already (a build may add or drop
+ * grains, so after one every force is cleared here). */
+static void forces_after_motion(SimWorld *w, int cleared)
+{
+    if (probe_due(w))
+        skin_probe(w);
+    if (rebuild_due(w)) {
+        rebuild(w);
+        cleared = 0;
+    }
+    clear_forces(w, cleared ? w->mobile_count : 0);
     w->contact_pass(w);
 }
 
@@ -727,17 +742,10 @@ void sim_world_drift_forces_at(SimWorld *w, double t, RangeFn *drift, int align)
 {
     if (w->effects & SIM_EFFECT_VIBRATION)
         sim_motion_move(w, t);
-    const int fused = w->fused_pass && w->threads <= 1 && !w->need_rebuild &&
-                      !(2.0 * w->wall_shift > w->skin) &&
-                      !(w->skin_auto && w->step >= w->skin_probe);
-    if (fused) {
-        const size_t fixed = (size_t)(w->count - w->mobile_count);
-        memset(w->fx + w->mobile_count, 0, fixed * sizeof(double));
-        memset(w->fy + w->mobile_count, 0, fixed * sizeof(double));
-        if (w->rotation)
-            memset(w->torque + w->mobile_count, 0, fixed * sizeof(double));
+    if (w->fused_pass && w->threads <= 1 && !rebuild_due(w) && !probe_due(w)) {
+        clear_forces(w, w->mobile_count); /* the fixed grains' (the drift clears the others) */
         ++w->fused_steps;
-        if (w->fused_pass(w, drift) == 0) {
+        if (w->fused_pass(w, drift, align) == 0) {
             forces_after_contacts(w, t);
             return;
         }

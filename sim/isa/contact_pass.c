@@ -330,7 +330,7 @@ KERNEL void grain_pass(SimWorld *world, const unsigned key)
  * drift reports a grain past the rebuild threshold: the drift then runs to the last grain, the
  * history is as it was, and the caller rebuilds the list and evaluates the forces anew (what the
  * separate passes do), discarding this pass's sums. */
-enum { FUSED_BLOCK = 512, FUSED_ALIGN = 8 };
+enum { FUSED_BLOCK = 512 };
 
 /* A fused pass has completed: its new history (the arrays the key's laws write) becomes the
  * list's. */
@@ -348,7 +348,7 @@ KERNEL void swap_history(NeighbourList *nl, const unsigned key)
     }
 }
 
-KERNEL int fused_pass(SimWorld *world, const unsigned key, RangeFn *drift)
+KERNEL int fused_pass(SimWorld *world, const unsigned key, RangeFn *drift, const int align)
 {
     NeighbourList *nl = &world->nl;
     const int mobile = world->mobile_count, total = nl->start[mobile];
@@ -361,14 +361,14 @@ KERNEL int fused_pass(SimWorld *world, const unsigned key, RangeFn *drift)
         int last = 0;
         for (int k = k0; k < k1; ++k)
             last = partner[k] > last ? partner[k] : last;
-        if (last >= front) {
-            int to = (last / FUSED_ALIGN + 1) * FUSED_ALIGN;
+        if (last >= front && front < mobile) {
+            int to = (last / align + 1) * align;
             to = to < mobile ? to : mobile;
-            if (to > front && drift(world, front, to)) {
+            if (drift(world, front, to)) {
                 drift(world, to, mobile);
                 return 1;
             }
-            front = to > front ? to : front;
+            front = to;
         }
         pair_range(world, key, k0, k1, spare);
         scatter_range(world, key, k0, k1, &state);
@@ -548,11 +548,11 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
             grain_pass(world, (KEY));                                                              \
         }                                                                                          \
     }                                                                                              \
-    static int fused_pass_##name(SimWorld *world, RangeFn *drift)                                  \
+    static int fused_pass_##name(SimWorld *world, RangeFn *drift, int align)                       \
     {                                                                                              \
         if (world->def.species_count == 1)                                                         \
-            return fused_pass(world, (KEY) | KEY_UNIFORM, drift);                                  \
-        return fused_pass(world, (KEY), drift);                                                    \
+            return fused_pass(world, (KEY) | KEY_UNIFORM, drift, align);                           \
+        return fused_pass(world, (KEY), drift, align);                                             \
     }                                                                                              \
     static void wall_pass_##name(SimWorld *world)                                                  \
     {                                                                                              \
