@@ -420,18 +420,22 @@ static void layout_bytes(const SimWorld *w, double *per_grain, double *per_entry
         (double)w->count * (2.0 * sizeof(int) + 7.0 * sizeof(double) + 4.0 * sizeof(int)) +
         (double)w->cell_capacity * sizeof(int) + (double)(w->mobile_count + 1) * sizeof(int) +
         (double)w->nl.in_capacity * sizeof(int);
-    /* partner, owner, gamma_n, pair index, the vector pass's four per-entry results, the
-     * transposed list of the threaded reduction (in_entry) */
-    double entry = 3.0 * sizeof(int) + sizeof(double) + sizeof(uint8_t) + 4.0 * sizeof(double);
+    /* partner, owner, gamma_n, pair index; the contact history and the fused pass's spare copy;
+     * with threads, the vector pass's four per-entry results and the transposed list of the
+     * threaded reduction (in_entry, out_capacity entries) */
+    double entry = 2.0 * sizeof(int) + sizeof(double) + sizeof(uint8_t);
     if (w->effects & SIM_EFFECT_PERIODIC_X)
         entry += sizeof(double);
     if (w->has_history)
-        entry += 2.0 * sizeof(double);
+        entry += 4.0 * sizeof(double);
+    const double threaded = sizeof(int) + 4.0 * sizeof(double);
     double wall_entry = 2.0 * sizeof(int) + sizeof(double) + sizeof(uint8_t) +
                         (w->has_history ? 2.0 * sizeof(double) : 0.0);
     *per_grain = grain / w->count;
-    *per_entry = entry;
-    *list_total = (double)w->nl.capacity * entry + (double)w->wl.capacity * wall_entry;
+    const double out_share = w->nl.capacity > 0 ? (double)w->nl.out_capacity / w->nl.capacity : 0.0;
+    *per_entry = entry + out_share * threaded;
+    *list_total = (double)w->nl.capacity * entry + (double)w->nl.out_capacity * threaded +
+                  (double)w->wl.capacity * wall_entry;
 }
 
 static int cmp_double(const void *a, const void *b)

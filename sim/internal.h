@@ -57,14 +57,16 @@ typedef struct NeighbourList {
     /* Where the fused pass writes the new history (capacity each, history only), swapped with
      * hist_t and hist_r when it completes, so that a rebuild found mid-pass sees the old one. */
     double *hist_t_spare, *hist_r_spare;
-    int *owner;  /* i of entry k (the flat, vectorised force pass) */
-    double *out; /* per-entry results of that pass: 4 arrays of capacity (fx, fy, f_t, M) */
+    int *owner; /* i of entry k (the flat, vectorised force pass) */
+    /* Per-entry results of that pass on several threads: 4 arrays of out_capacity (fx, fy, f_t,
+     * M); NULL on one thread, whose passes keep a block's results on the stack. */
+    double *out;
     /* The list transposed, for the threaded reduction (contact.c): the entries k whose partner
      * j is grain g are in_entry[in_start[g] .. in_start[g+1]), ascending k (the order in which
      * the serial scatter adds them to g). in_ready: built for the present grains. */
     int *in_start; /* in_capacity >= count + 1 */
-    int *in_entry; /* capacity */
-    int in_capacity, in_ready;
+    int *in_entry; /* out_capacity */
+    int in_capacity, out_capacity, in_ready;
 } NeighbourList;
 
 /* Grain-wall candidate list: entries (grain, wall). */
@@ -252,6 +254,10 @@ void sim_world_drift_forces_at(SimWorld *world, double time, RangeFn *drift, int
 /* Rebuilds the lists; out of memory, it leaves them empty and sets world->out_of_memory. */
 void sim_neighbour_build(SimWorld *world);
 void sim_neighbour_free(SimWorld *world);
+/* The threaded reduction's transposed list and result arrays for the present list, when the world
+ * has threads (in_ready = 1); with one thread, or out of memory, in_ready = 0 (the serial scatter:
+ * the same bits). */
+void sim_neighbour_build_incoming(SimWorld *world);
 double sim_def_worst_overlap(const SimWorldDef *def, int *first, int *second);
 /* Collects contact history by ids now, for the next build (before grains are reordered); -1 when
  * out of memory (the world unchanged). */

@@ -265,6 +265,7 @@ void sim_world_set_threads(SimWorld *world, int threads)
         if (world->pool)
             world->threads = world->pool->workers + 1;
     }
+    sim_neighbour_build_incoming(world); /* for the list the world has now */
 }
 
 int sim_world_threads(const SimWorld *world)

@@ -113,6 +113,25 @@ typedef struct History {
     double *t, *r;
 } History;
 
+/* Where phase 1 puts its per-entry results and phase 2 reads them: entry k's four results (fx,
+ * fy, f_t, M) at base[c * stride + k - k0], c = 0..3. nl.out whole for the threaded reduction
+ * (which reads any entry); a block of FUSED_BLOCK entries on the stack for the one-thread passes,
+ * which scatter each block while it is in L1: results streamed through the list-sized nl.out cost
+ * two memory transfers of 24-32 bytes per entry and step on a pile larger than the cache. */
+typedef struct Results {
+    double *base;
+    size_t stride;
+    int k0;
+} Results;
+
+KERNEL Results results_whole(const SimWorld *world)
+{
+    return (Results){world->nl.out, (size_t)world->nl.capacity, 0};
+}
+
+/* Entries per block of the one-thread passes (a block's results: 16 KiB). */
+enum { FUSED_BLOCK = 512 };
+
 /* The grain-grain pass runs in two phases over the half list (style: data-parallel first, then
  * the scatter).
  * 1. pair_range: every entry k on its own, in one flat loop without branches, so that the compiler
@@ -123,9 +142,12 @@ typedef struct History {
 /* Entries entry[0..SIM_LANES) of the half list (the last ones repeated in a short final block;
  * only the first `lanes` results are stored). */
 KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict entry,
-                       const int lanes, const History out)
+                       const int lanes, const History out, const Results res)
 {
-    const size_t cap = (size_t)world->nl.capacity;
+    const size_t cap = res.stride;
+    int slot[SIM_LANES];
+    for (int l = 0; l < SIM_LANES; ++l)
+        slot[l] = entry[l] - res.k0;
     const double dt = world->contact_dt;
     const unsigned law = key & KEY_TANGENTIAL;
     NeighbourList *nl = &world->nl;
@@ -198,30 +220,30 @@ KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict 
         VecD m_r = load(nl->hist_r, entry, lanes);
         const VecD m = rolling_torque_v(k_r, mu_r, wj - wi, f_el, dt, &m_r);
         store(out.r, entry, lanes, sel_v(touching, m_r, ((VecD){0.0, 0.0, 0.0, 0.0})));
-        store(nl->out + 3 * cap, entry, lanes, sel_v(touching, m, ((VecD){0.0, 0.0, 0.0, 0.0})));
+        store(res.base + 3 * cap, slot, lanes, sel_v(touching, m, ((VecD){0.0, 0.0, 0.0, 0.0})));
     }
-    store(nl->out, entry, lanes, sel_v(acting, fxk, ((VecD){0.0, 0.0, 0.0, 0.0})));
-    store(nl->out + cap, entry, lanes, sel_v(acting, fyk, ((VecD){0.0, 0.0, 0.0, 0.0})));
+    store(res.base, slot, lanes, sel_v(acting, fxk, ((VecD){0.0, 0.0, 0.0, 0.0})));
+    store(res.base + cap, slot, lanes, sel_v(acting, fyk, ((VecD){0.0, 0.0, 0.0, 0.0})));
     if (KEY_ROTATION(key))
-        store(nl->out + 2 * cap, entry, lanes, sel_v(touching, f_t, ((VecD){0.0, 0.0, 0.0, 0.0})));
+        store(res.base + 2 * cap, slot, lanes, sel_v(touching, f_t, ((VecD){0.0, 0.0, 0.0, 0.0})));
 }
 
 /* Entries [k0, k1) of the half list: k0 is a multiple of SIM_LANES and so is k1 unless it is
  * the end of the list (sim_parallel_ranges' bounds), so only the list's last block is short. */
 KERNEL void pair_range(SimWorld *world, const unsigned key, const int k0, const int k1,
-                       const History out)
+                       const History out, const Results res)
 {
     int entry[SIM_LANES];
     int k = k0;
     for (; k + SIM_LANES <= k1; k += SIM_LANES) {
         for (int l = 0; l < SIM_LANES; ++l)
             entry[l] = k + l;
-        pair_block(world, key, entry, SIM_LANES, out);
+        pair_block(world, key, entry, SIM_LANES, out, res);
     }
     if (k < k1) {
         for (int l = 0; l < SIM_LANES; ++l)
             entry[l] = k + l < k1 ? k + l : k1 - 1;
-        pair_block(world, key, entry, k1 - k, out);
+        pair_block(world, key, entry, k1 - k, out, res);
     }
 }
 
@@ -248,15 +270,14 @@ typedef struct Scatter {
 } Scatter;
 
 KERNEL void scatter_range(SimWorld *world, const unsigned key, const int k0, const int k1,
-                          Scatter *state)
+                          const Results res, Scatter *state)
 {
-    const size_t cap = (size_t)world->nl.capacity;
+    const size_t cap = res.stride;
     const double *restrict radius = world->radius;
     double *restrict fx = world->fx, *restrict fy = world->fy, *restrict torque = world->torque;
     const int *restrict partner = world->nl.j, *restrict owner = world->nl.owner;
-    const double *restrict out_x = world->nl.out, *restrict out_y = world->nl.out + cap;
-    const double *restrict out_t = world->nl.out + 2 * cap;
-    const double *restrict out_m = world->nl.out + 3 * cap;
+    const double *restrict out_x = res.base - res.k0, *restrict out_y = out_x + cap;
+    const double *restrict out_t = out_x + 2 * cap, *restrict out_m = out_x + 3 * cap;
     const unsigned law = key & KEY_TANGENTIAL;
 
     double sum_x = state->x, sum_y = state->y, sum_t = state->t;
@@ -305,15 +326,20 @@ KERNEL void scatter_finish(SimWorld *world, const unsigned key, const Scatter *s
         world->torque[state->owner] += state->t;
 }
 
-/* Phase 1 over the whole list, then phase 2. */
+/* Phase 1 then phase 2 over each block of FUSED_BLOCK entries of the list. */
 KERNEL void grain_pass(SimWorld *world, const unsigned key)
 {
     const int total = world->nl.start[world->mobile_count];
-    pair_range(world, key, 0, total, history_in_place(world));
     if (total == 0)
         return;
+    double block[4 * FUSED_BLOCK] __attribute__((aligned(64)));
     Scatter state = {0.0, 0.0, 0.0, world->nl.owner[0]};
-    scatter_range(world, key, 0, total, &state);
+    for (int k0 = 0; k0 < total; k0 += FUSED_BLOCK) {
+        const int k1 = total - k0 > FUSED_BLOCK ? k0 + FUSED_BLOCK : total;
+        const Results res = {block, FUSED_BLOCK, k0};
+        pair_range(world, key, k0, k1, history_in_place(world), res);
+        scatter_range(world, key, k0, k1, res, &state);
+    }
     scatter_finish(world, key, &state);
 }
 
@@ -330,8 +356,6 @@ KERNEL void grain_pass(SimWorld *world, const unsigned key)
  * drift reports a grain past the rebuild threshold: the drift then runs to the last grain, the
  * history is as it was, and the caller rebuilds the list and evaluates the forces anew (what the
  * separate passes do), discarding this pass's sums. */
-enum { FUSED_BLOCK = 512 };
-
 /* A fused pass has completed: its new history (the arrays the key's laws write) becomes the
  * list's. */
 KERNEL void swap_history(NeighbourList *nl, const unsigned key)
@@ -356,6 +380,7 @@ KERNEL int fused_pass(SimWorld *world, const unsigned key, RangeFn *drift, const
     const History spare = {nl->hist_t_spare, nl->hist_r_spare};
     Scatter state = {0.0, 0.0, 0.0, total > 0 ? nl->owner[0] : 0};
     int front = 0; /* grains [0, front) are drifted */
+    double block[4 * FUSED_BLOCK] __attribute__((aligned(64)));
     for (int k0 = 0; k0 < total; k0 += FUSED_BLOCK) {
         const int k1 = total - k0 > FUSED_BLOCK ? k0 + FUSED_BLOCK : total;
         int last = 0;
@@ -370,8 +395,9 @@ KERNEL int fused_pass(SimWorld *world, const unsigned key, RangeFn *drift, const
             }
             front = to;
         }
-        pair_range(world, key, k0, k1, spare);
-        scatter_range(world, key, k0, k1, &state);
+        const Results res = {block, FUSED_BLOCK, k0};
+        pair_range(world, key, k0, k1, spare, res);
+        scatter_range(world, key, k0, k1, res, &state);
     }
     if (front < mobile && drift(world, front, mobile))
         return 1;
@@ -526,9 +552,10 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
     static int pair_range_##name(SimWorld *world, int begin, int end)                              \
     {                                                                                              \
         if (world->def.species_count == 1)                                                         \
-            pair_range(world, (KEY) | KEY_UNIFORM, begin, end, history_in_place(world));           \
+            pair_range(world, (KEY) | KEY_UNIFORM, begin, end, history_in_place(world),            \
+                       results_whole(world));                                                      \
         else                                                                                       \
-            pair_range(world, (KEY), begin, end, history_in_place(world));                         \
+            pair_range(world, (KEY), begin, end, history_in_place(world), results_whole(world));   \
         return 0;                                                                                  \
     }                                                                                              \
     static int reduce_range_##name(SimWorld *world, int begin, int end)                            \

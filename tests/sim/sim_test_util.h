@@ -75,7 +75,10 @@ static inline int tu_step(SimWorld *w, long steps)
 
 /* 150 grains of radius 0.05 m +- 8 % rained (000 §6.1 lattice) into x in [0.1, 1.9] m from height
  * y0 up to 1.8 m, with `seed`: the small polydisperse set of the determinism and golden tests. */
-static inline void tu_rain_150(SimGrainBuffer *b, uint64_t seed, double y0)
+/* A rain of up to `count` grains of mean radius `radius` (8 % polydisperse) on a lattice of
+ * pitch radius `pitch` over [0.1, 1.9] x [y0, 1.8], m. */
+static inline void tu_rain(SimGrainBuffer *b, uint64_t seed, double y0, double radius, double pitch,
+                           int count)
 {
     SimRainDef rd;
     memset(&rd, 0, sizeof rd);
@@ -83,18 +86,23 @@ static inline void tu_rain_150(SimGrainBuffer *b, uint64_t seed, double y0)
     rd.x1 = 1.9;
     rd.y0 = y0;
     rd.y1 = 1.8;
-    rd.radius_mean = 0.05;
+    rd.radius_mean = radius;
     rd.polydispersity = 0.08;
-    rd.pitch_radius = 0.054;
-    rd.column_gap = 0.005 * 0.054;
-    rd.row_gap = 0.75 * 0.054;
+    rd.pitch_radius = pitch;
+    rd.column_gap = 0.005 * rd.pitch_radius;
+    rd.row_gap = 0.75 * rd.pitch_radius;
     rd.column_jitter = 0.05;
     rd.row_jitter = 0.08;
-    rd.max_count = 150;
+    rd.max_count = count;
     SimRng rng;
     sim_rng_seed(&rng, seed);
     sim_grain_buffer_init(b);
     sim_build_rain(b, &rd, &rng);
+}
+
+static inline void tu_rain_150(SimGrainBuffer *b, uint64_t seed, double y0)
+{
+    tu_rain(b, seed, y0, 0.05, 0.054, 150);
 }
 
 /* Frame index of the grain with stable id `id`, or -1. */

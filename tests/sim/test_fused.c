@@ -10,15 +10,21 @@
 
 #include <string.h>
 
-static SimWorld *make(SimTangentialLaw tangential, SimRollingLaw rolling, SimGrainBuffer *b)
+/* `large`: 1500 grains instead of 150, a list of many of the passes' blocks of entries. */
+static SimWorld *make_pile(SimTangentialLaw tangential, SimRollingLaw rolling, SimGrainBuffer *b,
+                           int large)
 {
     static const SimWall box[3] = {{.x0 = 0.0, .y0 = 0.0, .x1 = 2.0, .y1 = 0.0, .motion = -1},
                                    {.x0 = 0.0, .y0 = 0.0, .x1 = 0.0, .y1 = 3.0, .motion = -1},
                                    {.x0 = 2.0, .y0 = 0.0, .x1 = 2.0, .y1 = 3.0, .motion = -1}};
-    tu_rain_150(b, 11, 0.2);
+    if (large)
+        tu_rain(b, 11, 0.2, 0.015, 0.0162, 1500);
+    else
+        tu_rain_150(b, 11, 0.2);
     for (int k = 0; k < b->count; ++k)
         b->omega[k] = (double)(k % 7 - 3) * 2.0;
-    sim_build_fixed_row(b, 0.025, 1.975, 0.025, 0.025, 0, -1); /* fixed partners of the list */
+    const double row = large ? 0.01 : 0.025;
+    sim_build_fixed_row(b, row, 2.0 - row, row, row, 0, -1); /* fixed partners of the list */
     SimWorldDef def = tu_def(1000.0, 1e5, 0.0);
     def.steps_per_contact = 50.0;
     def.gravity_y = -G0;
@@ -37,14 +43,20 @@ static SimWorld *make(SimTangentialLaw tangential, SimRollingLaw rolling, SimGra
     return tu_create(&def, b);
 }
 
+static SimWorld *make(SimTangentialLaw tangential, SimRollingLaw rolling, SimGrainBuffer *b)
+{
+    return make_pile(tangential, rolling, b, 0);
+}
+
 #define SAME(a, b, n) (memcmp((a), (b), (size_t)(n) * sizeof *(a)) == 0)
 
 /* One world fused, one with the separate passes, stepped in batches (so that the closing kick is
  * deferred into the next drift, as in a run); compared after every batch. */
-static int same_as_separate(SimTangentialLaw tangential, SimRollingLaw rolling)
+static int same_as_separate(SimTangentialLaw tangential, SimRollingLaw rolling, int large)
 {
     SimGrainBuffer b1, b2;
-    SimWorld *fused = make(tangential, rolling, &b1), *plain = make(tangential, rolling, &b2);
+    SimWorld *fused = make_pile(tangential, rolling, &b1, large);
+    SimWorld *plain = make_pile(tangential, rolling, &b2, large);
     TEST_ASSERT(fused && plain);
     plain->fused_pass = NULL;
     for (int batch = 0; batch < 40; ++batch) {
@@ -64,6 +76,8 @@ static int same_as_separate(SimTangentialLaw tangential, SimRollingLaw rolling)
     TEST_ASSERT(plain->fused_steps == 0);
     SimEnergy e = sim_world_energy(fused);
     TEST_ASSERT(e.contacts > 100);
+    /* the large pile's list spans many blocks of the passes (FUSED_BLOCK entries) */
+    TEST_ASSERT(!large || fused->nl.start[fused->mobile_count] > 2500);
     sim_world_destroy(fused);
     sim_world_destroy(plain);
     sim_grain_buffer_free(&b1);
@@ -73,17 +87,23 @@ static int same_as_separate(SimTangentialLaw tangential, SimRollingLaw rolling)
 
 static int spring(void)
 {
-    return same_as_separate(SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF);
+    return same_as_separate(SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF, 0);
 }
 
 static int spring_rolling(void)
 {
-    return same_as_separate(SIM_TANGENTIAL_SPRING, SIM_ROLLING_FIXED);
+    return same_as_separate(SIM_TANGENTIAL_SPRING, SIM_ROLLING_FIXED, 0);
 }
 
 static int regularised_rolling(void)
 {
-    return same_as_separate(SIM_TANGENTIAL_REGULARISED, SIM_ROLLING_CHORD);
+    return same_as_separate(SIM_TANGENTIAL_REGULARISED, SIM_ROLLING_CHORD, 0);
+}
+
+/* Many blocks of entries: each block's results stay on the stack and are scattered in turn. */
+static int spring_rolling_large(void)
+{
+    return same_as_separate(SIM_TANGENTIAL_SPRING, SIM_ROLLING_FIXED, 1);
 }
 
 /* Two threads take the separate passes (the fused one is for one thread) with the same bits. */
@@ -104,5 +124,37 @@ static int threads_not_fused(void)
     return 0;
 }
 
+/* The threaded reduction's arrays (transposed list, per-entry results) exist only with threads,
+ * and a world given threads between steps builds them for its present list at once: its steps
+ * then take the threaded pass (no fused drift) with the same bits as a one-thread twin. */
+static int threads_build_their_arrays(void)
+{
+    SimGrainBuffer b1, b2;
+    SimWorld *one = make_pile(SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF, &b1, 1);
+    SimWorld *two = make_pile(SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF, &b2, 1);
+    TEST_ASSERT(one && two);
+    TEST_ASSERT(tu_step(one, 300) == 0 && tu_step(two, 300) == 0);
+    TEST_ASSERT(!two->nl.in_ready && two->nl.out == NULL && two->nl.in_entry == NULL);
+    const long builds = two->rebuilds, fused = two->fused_steps;
+    sim_world_set_threads(two, 2);
+    TEST_ASSERT(two->nl.in_ready && two->nl.out && two->rebuilds == builds);
+    const int entries = two->nl.start[two->mobile_count];
+    TEST_ASSERT(two->nl.in_start[two->count] == entries);
+    TEST_ASSERT(tu_step(one, 900) == 0 && tu_step(two, 900) == 0);
+    TEST_ASSERT(two->fused_steps == fused && one->fused_steps > fused);
+    TEST_ASSERT(sim_world_hash(one) == sim_world_hash(two));
+    TEST_ASSERT(SAME(one->fx, two->fx, one->count) && SAME(one->torque, two->torque, one->count));
+    sim_world_set_threads(two, 1); /* back to the fused pass, the arrays idle until freed */
+    TEST_ASSERT(!two->nl.in_ready);
+    TEST_ASSERT(tu_step(one, 300) == 0 && tu_step(two, 300) == 0);
+    TEST_ASSERT(two->fused_steps > fused && sim_world_hash(one) == sim_world_hash(two));
+    sim_world_destroy(one);
+    sim_world_destroy(two);
+    sim_grain_buffer_free(&b1);
+    sim_grain_buffer_free(&b2);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(spring), TEST_CASE(spring_rolling), TEST_CASE(regularised_rolling),
-          TEST_CASE(threads_not_fused))
+          TEST_CASE(spring_rolling_large), TEST_CASE(threads_not_fused),
+          TEST_CASE(threads_build_their_arrays))
