@@ -415,7 +415,7 @@ static int build_pairs(SimWorld *world, const HistoryRecord *records, int record
 /* The list transposed (NeighbourList.in_start, in_entry) and the per-entry results of the
  * threaded pass (nl.out): a counting sort of the entries by partner, filled in entry order so that
  * each grain's entries stay ascending. Built for a world with threads only (one thread scatters
- * block by block and needs neither: 8 + 32 bytes per entry less). They only speed the pass up: out
+ * block by block and needs neither: 4 + 32 bytes per entry less). They only speed the pass up: out
  * of memory, in_ready stays 0 and the serial scatter gives the same bits. */
 void sim_neighbour_build_incoming(SimWorld *world)
 {

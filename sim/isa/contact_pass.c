@@ -132,11 +132,17 @@ KERNEL Results results_whole(const SimWorld *world)
 /* Entries per block of the one-thread passes (a block's results: 16 KiB). */
 enum { FUSED_BLOCK = 512 };
 
+/* The results of the block of entries from k0 on, in `block` (4 * FUSED_BLOCK doubles). */
+KERNEL Results results_block(double *block, const int k0)
+{
+    return (Results){block, FUSED_BLOCK, k0};
+}
+
 /* The grain-grain pass runs in two phases over the half list (style: data-parallel first, then
  * the scatter).
  * 1. pair_range: every entry k on its own, in one flat loop without branches, so that the compiler
  *    vectorises it (gathers of the partners' state, masks for the entries not in contact). Its
- *    results go to nl.out: the force on j along x and y (the force on i is minus that), f_t and M.
+ *    results (`Results`): the force on j along x and y (the force on i is minus that), f_t, M.
  * 2. accumulate: adds them to the grains in the order of the scalar loop, so the sums (and the
  *    results, to the bit) do not depend on the vector width. */
 /* Entries entry[0..SIM_LANES) of the half list (the last ones repeated in a short final block;
@@ -336,7 +342,7 @@ KERNEL void grain_pass(SimWorld *world, const unsigned key)
     Scatter state = {0.0, 0.0, 0.0, world->nl.owner[0]};
     for (int k0 = 0; k0 < total; k0 += FUSED_BLOCK) {
         const int k1 = total - k0 > FUSED_BLOCK ? k0 + FUSED_BLOCK : total;
-        const Results res = {block, FUSED_BLOCK, k0};
+        const Results res = results_block(block, k0);
         pair_range(world, key, k0, k1, history_in_place(world), res);
         scatter_range(world, key, k0, k1, res, &state);
     }
@@ -395,7 +401,7 @@ KERNEL int fused_pass(SimWorld *world, const unsigned key, RangeFn *drift, const
             }
             front = to;
         }
-        const Results res = {block, FUSED_BLOCK, k0};
+        const Results res = results_block(block, k0);
         pair_range(world, key, k0, k1, spare, res);
         scatter_range(world, key, k0, k1, res, &state);
     }

@@ -73,8 +73,6 @@ static inline int tu_step(SimWorld *w, long steps)
     return 0;
 }
 
-/* 150 grains of radius 0.05 m +- 8 % rained (000 §6.1 lattice) into x in [0.1, 1.9] m from height
- * y0 up to 1.8 m, with `seed`: the small polydisperse set of the determinism and golden tests. */
 /* A rain of up to `count` grains of mean radius `radius` (8 % polydisperse) on a lattice of
  * pitch radius `pitch` over [0.1, 1.9] x [y0, 1.8], m. */
 static inline void tu_rain(SimGrainBuffer *b, uint64_t seed, double y0, double radius, double pitch,
@@ -100,6 +98,8 @@ static inline void tu_rain(SimGrainBuffer *b, uint64_t seed, double y0, double r
     sim_build_rain(b, &rd, &rng);
 }
 
+/* 150 grains of radius 0.05 m +- 8 % rained (000 §6.1 lattice) into x in [0.1, 1.9] m from height
+ * y0 up to 1.8 m, with `seed`: the small polydisperse set of the determinism and golden tests. */
 static inline void tu_rain_150(SimGrainBuffer *b, uint64_t seed, double y0)
 {
     tu_rain(b, seed, y0, 0.05, 0.054, 150);
