@@ -3,6 +3,7 @@
  * in chunks that end on output times (energy rows, movie frames, trace rows, settle test), and
  * save a checkpoint. Every output is written under path.tmp and renamed when complete, so an
  * interrupted run never leaves a truncated file under a final name. */
+#define _GNU_SOURCE /* sched_getaffinity, CPU_COUNT */
 #include "run.h"
 
 #include "checkpoint.h"
@@ -13,6 +14,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <sched.h>
 #include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -68,6 +70,9 @@ typedef struct Run {
     SimError error;
     int render_warned;
     int progress_tty;
+    int cpus;            /* app_cpu_count(), for APP_THREADS_AUTO */
+    int threads_asked;   /* the count last given to the world (sim_world_set_threads) */
+    int threads_most;    /* the most threads the step ran on: summary.json's "threads" */
     AppContext context;  /* what the experiment families' hooks see */
     char observed[2048]; /* their summary.json members */
     /* The motions' clocks by world time (sim_world_set_motion), from the stages' `motions`. */
@@ -92,6 +97,39 @@ AppRunOptions app_run_options_default(void)
     o.threads = 1;
     o.sablier_version = "unknown";
     return o;
+}
+
+int app_cpu_count(void)
+{
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0)
+        return CPU_COUNT(&set);
+    const long online = sysconf(_SC_NPROCESSORS_ONLN);
+    return online > 0 ? (int)(online < 1024 ? online : 1024) : 1;
+}
+
+int app_step_threads(int mobile, int cpus, int grains_per_thread)
+{
+    const int per = grains_per_thread > 0 ? grains_per_thread : APP_GRAINS_PER_THREAD;
+    int n = mobile / per;
+    n = n < cpus ? n : cpus;
+    return n > 1 ? n : 1;
+}
+
+/* The step's threads for the world as it is now (AppRunOptions.threads): set when the count
+ * changes, or at once for a new world (`fresh`); the results do not depend on it. */
+static void apply_threads(Run *run, int fresh)
+{
+    const AppRunOptions *o = run->options;
+    const int want = o->threads > 0 ? o->threads
+                                    : app_step_threads(sim_world_mobile_count(run->world),
+                                                       run->cpus, o->grains_per_thread);
+    if (fresh || want != run->threads_asked)
+        sim_world_set_threads(run->world, want);
+    run->threads_asked = want;
+    const int have = sim_world_threads(run->world);
+    run->threads_most = have > run->threads_most ? have : run->threads_most;
 }
 
 static void out_path(const Run *run, char *out, const char *name, const char *suffix)
@@ -174,7 +212,9 @@ static int write_summary(const Run *run, double wall_seconds)
         "  \"contacts_mean\": %s,\n  \"status\": \"%s\",\n  \"message\": %s,\n"
         "  \"effects\": %s,\n  \"threads\": %d,\n",
         name, file, (unsigned long long)scene->seed, grains, mobile, run->steps, n1, n2, n3, n4,
-        status, message, effects_json, run->options->threads);
+        status, message, effects_json,
+        run->threads_most > 0 ? run->threads_most
+                              : (run->options->threads > 0 ? run->options->threads : 1));
     n += run_sinks_json(text + n, size - n, run);
     if (run->unit_time > 0.0 && n < size) {
         char d[40], m[40], t[40];
@@ -433,10 +473,10 @@ static int stage_world(Run *run, int k)
     }
     if (!world)
         return -1;
-    sim_world_set_threads(world, run->options->threads); /* same bits for any count */
     if (run->world)
         sim_world_destroy(run->world);
     run->world = world;
+    apply_threads(run, 1); /* same bits for any count */
     return 0;
 }
 
@@ -1056,6 +1096,7 @@ static int stage_loop(Run *run, int k, StageClock *clock, long done, int resumed
         long next = next_due(run, k, clock, done);
         if (next - done > SIGNAL_CHECK_STEPS)
             next = done + SIGNAL_CHECK_STEPS;
+        apply_threads(run, 0); /* grains come and go: APP_THREADS_AUTO follows them */
         double t0 = app_now_seconds();
         SimStatus s = sim_world_step(run->world, next - done, &run->error);
         double t1 = app_now_seconds();
@@ -1173,11 +1214,11 @@ static int resume_world(Run *run, int k)
     SimWorld *world = world_from_state(run, k, run->resume_state);
     if (!world)
         return -1;
-    sim_world_set_threads(world, run->options->threads);
     if (run->world)
         sim_world_destroy(run->world);
     run->world = world;
     run->context.world = world;
+    apply_threads(run, 1);
     const SceneStage *stage = &scene->stages[k];
     sim_world_set_gravity(world, stage->gravity_x, stage->gravity_y);
     int motions_declared = 0;
@@ -1453,6 +1494,7 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     run->started = (long long)started;
     run->resume_stage = -1;
     run->checkpoint_wall = wall_start;
+    run->cpus = app_cpu_count();
     if (prepare_folder(run) != 0) {
         free(run->resume_record);
         free(run);

@@ -20,9 +20,14 @@
 #include <stddef.h>
 
 typedef struct AppRunOptions {
-    const char *out_dir;         ///< created if missing
-    int quiet;                   ///< 1: one line per stage only
-    int threads;                 ///< physics step, encoding, rendering (same results for any)
+    const char *out_dir; ///< created if missing
+    int quiet;           ///< 1: one line per stage only
+    /// Threads of the physics step (the same results for any count): N, or APP_THREADS_AUTO
+    /// (0): every CPU this process may use, as many as the world's size pays for
+    /// (app_step_threads), re-chosen as grains come and go. Default 1 (the multi-run drivers run
+    /// members side by side); `sablier run` defaults to APP_THREADS_AUTO.
+    int threads;
+    int grains_per_thread;       ///< APP_THREADS_AUTO: mobile grains per thread; 0: the default
     const AppRender *render;     ///< NULL: figures and movies skipped with one warning
     int render_off;              ///< 1: the caller chose no rendering (NULL render, no warning)
     const char *sablier_version; ///< for summary.json
@@ -33,6 +38,19 @@ typedef struct AppRunOptions {
 } AppRunOptions;
 
 AppRunOptions app_run_options_default(void);
+
+#define APP_THREADS_AUTO      0
+/// Mobile grains per thread of APP_THREADS_AUTO: below about 2000 grains a second thread does
+/// not pay for its synchronisation (docs/dev/scaling.md, "Threads by default").
+#define APP_GRAINS_PER_THREAD 2000
+
+/// The CPUs this process may run on (its affinity mask: taskset, a Slurm or cgroup CPU set),
+/// at least 1.
+int app_cpu_count(void);
+
+/// The threads APP_THREADS_AUTO gives a world of `mobile` grains on `cpus` CPUs: one per
+/// `grains_per_thread` grains (0: APP_GRAINS_PER_THREAD), at least 1, at most `cpus`.
+int app_step_threads(int mobile, int cpus, int grains_per_thread);
 
 /// Exit statuses of app_run besides 0 (ok), 1 (simulation failed) and 2 (bad input, I/O):
 /// 128 + the signal for a run interrupted by SIGINT (130) or SIGTERM (143), which finishes its

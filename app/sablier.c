@@ -66,14 +66,15 @@ static void print_usage(FILE *out)
 }
 
 static const char USAGE_RUN[] =
-    "usage: sablier run SCENE [--out DIR] [--set KEY=VALUE]... [--threads N] [--quiet]\n"
+    "usage: sablier run SCENE [--out DIR] [--set KEY=VALUE]... [--threads N|auto] [--quiet]\n"
     "                   [--force] [--resume]\n"
     "\n"
     "  --out DIR          output folder (default out/<scene name>/)\n"
     "  --set KEY=VALUE    override a scene key by its dotted path, e.g. time.dt=2e-5,\n"
     "                     species.0.k_n=1e6, stages.collapse.time.end=2 (see docs/scenes.md)\n"
-    "  --threads N        threads for the physics step, encoding and rendering (results do not\n"
-    "                     depend on N)\n"
+    "  --threads N|auto   threads for the physics step (results do not depend on N); auto,\n"
+    "                     the default: every CPU this process may use, one per 2000 mobile\n"
+    "                     grains (re-chosen as grains come and go)\n"
     "  --quiet            one line per stage, no progress\n"
     "  --force            run into a folder that holds another run's outputs without a\n"
     "                     manifest.txt (a previous sablier run's own files are replaced anyway)\n"
@@ -155,7 +156,7 @@ static int command_run(int argc, char **argv)
 {
     const char *scene_path = NULL, *out = NULL, *value, *sets[MAX_SETS];
     int set_count = 0, quiet = 0, force = 0, resume = 0;
-    long threads = 1;
+    long threads = APP_THREADS_AUTO;
     for (int i = 2; i < argc; ++i) {
         int m;
         if ((m = app_option(argc, argv, &i, "--out", &value)) != 0) {
@@ -166,8 +167,11 @@ static int command_run(int argc, char **argv)
             if (m < 0 || app_collect_set(sets, &set_count, MAX_SETS, value) < 0)
                 return 2;
         } else if ((m = app_option(argc, argv, &i, "--threads", &value)) != 0) {
-            if (m < 0 || app_parse_count(value, 1, 1024, &threads) < 0)
-                return app_usage_error(USAGE_RUN, "--threads needs a count in [1, 1024], got",
+            if (m > 0 && strcmp(value, "auto") == 0)
+                threads = APP_THREADS_AUTO;
+            else if (m < 0 || app_parse_count(value, 1, 1024, &threads) < 0)
+                return app_usage_error(USAGE_RUN,
+                                       "--threads needs a count in [1, 1024] or auto, got",
                                        m < 0 ? "nothing" : value);
         } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
             quiet = 1;

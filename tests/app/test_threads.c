@@ -3,11 +3,15 @@
  * stage's world with sim_world_set_threads), and the results do not depend on it: a run of the
  * small crater scene (deposit, dig, collapse: checkpoints, energy.csv, profile.csv, crater.csv,
  * observables.csv) on 1, 2 and 3 threads writes byte-identical files; only summary.json differs
- * (wall times and the "threads" it reports). No rendering. */
+ * (wall times and the "threads" it reports). APP_THREADS_AUTO (`sablier run`'s default): the
+ * count it chooses, the CPUs it counts, and a run whose count changes as grains are added, with
+ * the one-thread run's outputs. No rendering. */
+#define _GNU_SOURCE /* sched_setaffinity */
 #include "app_test_run.h"
 #include "test.h"
 
 #include <dirent.h>
+#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,7 +24,8 @@ static void run_dir(char *out, size_t size, int threads)
     snprintf(out, size, "/tmp/sablier_test_threads_%ld_%d", (long)getpid(), threads);
 }
 
-static int run_on(int threads)
+/* The small crater on `threads` (APP_THREADS_AUTO: 0) with `per` grains per thread. */
+static int run_with(int threads, int per)
 {
     const char *sets[] = {"stages.deposit.time.end=0.6", "stages.collapse.time.end=0.3"};
     char err[2048], dir[256];
@@ -34,9 +39,15 @@ static int run_on(int threads)
     options.out_dir = dir;
     options.quiet = 1;
     options.threads = threads;
+    options.grains_per_thread = per;
     int status = app_run(scene, &options);
     scene_free(scene);
     return status;
+}
+
+static int run_on(int threads)
+{
+    return run_with(threads, 0);
 }
 
 /* 1 when DIR_A/NAME and DIR_B/NAME hold the same bytes. */
@@ -98,4 +109,80 @@ static int same_outputs_any_thread_count(void)
     return 0;
 }
 
-TEST_MAIN(TEST_CASE(same_outputs_any_thread_count))
+/* APP_THREADS_AUTO: one thread per APP_GRAINS_PER_THREAD mobile grains, at least 1, at most the
+ * CPUs; the CPUs are those of the process's affinity mask (what taskset or Slurm gives it). */
+static int auto_count(void)
+{
+    TEST_ASSERT(app_step_threads(0, 8, 0) == 1);
+    TEST_ASSERT(app_step_threads(APP_GRAINS_PER_THREAD * 2 - 1, 8, 0) == 1);
+    TEST_ASSERT(app_step_threads(APP_GRAINS_PER_THREAD * 2, 8, 0) == 2);
+    TEST_ASSERT(app_step_threads(70000, 8, 0) == 8);
+    TEST_ASSERT(app_step_threads(70000, 1, 0) == 1);
+    TEST_ASSERT(app_step_threads(350, 16, 100) == 3);
+    cpu_set_t all, one;
+    TEST_ASSERT(sched_getaffinity(0, sizeof all, &all) == 0);
+    TEST_ASSERT(app_cpu_count() == CPU_COUNT(&all));
+    int first = 0;
+    while (!CPU_ISSET(first, &all))
+        ++first;
+    CPU_ZERO(&one);
+    CPU_SET(first, &one);
+    TEST_ASSERT(sched_setaffinity(0, sizeof one, &one) == 0);
+    const int pinned = app_cpu_count();
+    TEST_ASSERT(sched_setaffinity(0, sizeof all, &all) == 0);
+    TEST_ASSERT(pinned == 1);
+    return 0;
+}
+
+/* The integer after `"key": ` in a summary.json, or -1. */
+static long summary_int(const char *dir, const char *key)
+{
+    char path[1024], pattern[64];
+    snprintf(path, sizeof path, "%s/summary.json", dir);
+    snprintf(pattern, sizeof pattern, "\"%s\": ", key);
+    long n = 0, value = -1;
+    char *text = test_read_file(path, &n);
+    const char *at = text ? strstr(text, pattern) : NULL;
+    if (at)
+        value = strtol(at + strlen(pattern), NULL, 10);
+    free(text);
+    return value;
+}
+
+/* APP_THREADS_AUTO re-chooses the count as the rain adds grains (50 grains per thread here, so
+ * that the small bed crosses several counts): every output but summary.json is the one-thread
+ * run's, byte for byte, and summary.json reports the most threads the step ran on. */
+static int auto_follows_the_grains(void)
+{
+    char one[256], autod[256];
+    run_dir(one, sizeof one, 1);
+    run_dir(autod, sizeof autod, APP_THREADS_AUTO);
+    app_test_remove_dir(one);
+    app_test_remove_dir(autod);
+    TEST_ASSERT(run_on(1) == 0);
+    TEST_ASSERT(run_with(APP_THREADS_AUTO, 50) == 0);
+    int mismatched = 0, compared = 0;
+    DIR *d = opendir(one);
+    TEST_ASSERT(d);
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) {
+        if (e->d_name[0] == '.' || strcmp(e->d_name, "summary.json") == 0)
+            continue;
+        mismatched += !same_file(one, autod, e->d_name);
+        ++compared;
+    }
+    closedir(d);
+    const long most = summary_int(autod, "threads"), mobile = summary_int(one, "mobile_grains");
+    printf("%d files compared; auto ran on up to %ld threads (%d CPUs, %ld mobile grains)\n",
+           compared, most, app_cpu_count(), mobile);
+    app_test_remove_dir(one);
+    app_test_remove_dir(autod);
+    TEST_ASSERT(compared >= 6 && mismatched == 0);
+    /* the bed's grains (before the dig) are more than the collapse's */
+    TEST_ASSERT(mobile > 100 && most >= app_step_threads((int)mobile, app_cpu_count(), 50));
+    TEST_ASSERT(most <= app_cpu_count() && (app_cpu_count() < 2 || most >= 2));
+    return 0;
+}
+
+TEST_MAIN(TEST_CASE(same_outputs_any_thread_count), TEST_CASE(auto_count),
+          TEST_CASE(auto_follows_the_grains))
