@@ -66,6 +66,45 @@ static int same_file(const char *dir_a, const char *dir_b, const char *name)
     return same;
 }
 
+/* The integer after `"key": ` in a summary.json, or -1. */
+static long summary_int(const char *dir, const char *key)
+{
+    char path[1024], pattern[64];
+    snprintf(path, sizeof path, "%s/summary.json", dir);
+    snprintf(pattern, sizeof pattern, "\"%s\": ", key);
+    long n = 0, value = -1;
+    char *text = test_read_file(path, &n);
+    const char *at = text ? strstr(text, pattern) : NULL;
+    if (at)
+        value = strtol(at + strlen(pattern), NULL, 10);
+    free(text);
+    return value;
+}
+
+/* Compares every file of DIR_A but summary.json with its namesake in DIR_B: returns how many
+ * differ, or -1 when DIR_A cannot be read; *compared counts the files, *found those among
+ * names[0 .. count). */
+static int differing_outputs(const char *dir_a, const char *dir_b, const char *const *names,
+                             int count, int *found, int *compared)
+{
+    DIR *d = opendir(dir_a);
+    if (!d)
+        return -1;
+    int differ = 0;
+    *found = *compared = 0;
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) {
+        if (e->d_name[0] == '.' || strcmp(e->d_name, "summary.json") == 0)
+            continue;
+        for (int x = 0; x < count; ++x)
+            *found += strcmp(e->d_name, names[x]) == 0;
+        differ += !same_file(dir_a, dir_b, e->d_name);
+        ++*compared;
+    }
+    closedir(d);
+    return differ;
+}
+
 /* Every output of the one-thread run but summary.json is in the others, byte for byte, and the
  * states and tables the brief names are among them. */
 static int same_outputs_any_thread_count(void)
@@ -79,32 +118,17 @@ static int same_outputs_any_thread_count(void)
     }
     static const char *const expected[] = {"energy.csv",      "profile.csv",   "crater.csv",
                                            "observables.csv", "deposit.state", "collapse.state"};
-    int found = 0, compared = 0, mismatched = 0;
-    DIR *d = opendir(dirs[0]);
-    TEST_ASSERT(d);
-    struct dirent *e;
-    while ((e = readdir(d)) != NULL) {
-        if (e->d_name[0] == '.' || strcmp(e->d_name, "summary.json") == 0)
-            continue;
-        for (size_t x = 0; x < sizeof expected / sizeof expected[0]; ++x)
-            found += strcmp(e->d_name, expected[x]) == 0;
-        for (int k = 1; k < 3; ++k)
-            mismatched += !same_file(dirs[0], dirs[k], e->d_name);
-        ++compared;
-    }
-    closedir(d);
+    const int names = (int)(sizeof expected / sizeof expected[0]);
+    int found = 0, compared = 0, found_too = 0, compared_too = 0;
+    const int differ_2 = differing_outputs(dirs[0], dirs[1], expected, names, &found, &compared);
+    const int differ_3 =
+        differing_outputs(dirs[0], dirs[2], expected, names, &found_too, &compared_too);
     printf("%d files compared across 1, 2 and 3 threads\n", compared);
-    /* summary.json reports the count */
-    char path[1024];
-    snprintf(path, sizeof path, "%s/summary.json", dirs[1]);
-    long n = 0;
-    char *summary = test_read_file(path, &n);
-    int reports = summary && (summary[n] = '\0', strstr(summary, "\"threads\": 2") != NULL);
-    free(summary);
+    const int reports = summary_int(dirs[1], "threads") == 2; /* summary.json reports the count */
     for (int k = 0; k < 3; ++k)
         app_test_remove_dir(dirs[k]);
-    TEST_ASSERT(found == (int)(sizeof expected / sizeof expected[0]));
-    TEST_ASSERT(mismatched == 0);
+    TEST_ASSERT(found == names && compared == compared_too);
+    TEST_ASSERT(differ_2 == 0 && differ_3 == 0);
     TEST_ASSERT(reports);
     return 0;
 }
@@ -134,21 +158,6 @@ static int auto_count(void)
     return 0;
 }
 
-/* The integer after `"key": ` in a summary.json, or -1. */
-static long summary_int(const char *dir, const char *key)
-{
-    char path[1024], pattern[64];
-    snprintf(path, sizeof path, "%s/summary.json", dir);
-    snprintf(pattern, sizeof pattern, "\"%s\": ", key);
-    long n = 0, value = -1;
-    char *text = test_read_file(path, &n);
-    const char *at = text ? strstr(text, pattern) : NULL;
-    if (at)
-        value = strtol(at + strlen(pattern), NULL, 10);
-    free(text);
-    return value;
-}
-
 /* APP_THREADS_AUTO re-chooses the count as the rain adds grains (50 grains per thread here, so
  * that the small bed crosses several counts): every output but summary.json is the one-thread
  * run's, byte for byte, and summary.json reports the most threads the step ran on. */
@@ -161,17 +170,8 @@ static int auto_follows_the_grains(void)
     app_test_remove_dir(autod);
     TEST_ASSERT(run_on(1) == 0);
     TEST_ASSERT(run_with(APP_THREADS_AUTO, 50) == 0);
-    int mismatched = 0, compared = 0;
-    DIR *d = opendir(one);
-    TEST_ASSERT(d);
-    struct dirent *e;
-    while ((e = readdir(d)) != NULL) {
-        if (e->d_name[0] == '.' || strcmp(e->d_name, "summary.json") == 0)
-            continue;
-        mismatched += !same_file(one, autod, e->d_name);
-        ++compared;
-    }
-    closedir(d);
+    int found = 0, compared = 0;
+    const int mismatched = differing_outputs(one, autod, NULL, 0, &found, &compared);
     const long most = summary_int(autod, "threads"), mobile = summary_int(one, "mobile_grains");
     printf("%d files compared; auto ran on up to %ld threads (%d CPUs, %ld mobile grains)\n",
            compared, most, app_cpu_count(), mobile);
