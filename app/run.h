@@ -40,9 +40,10 @@ typedef struct AppRunOptions {
 AppRunOptions app_run_options_default(void);
 
 #define APP_THREADS_AUTO      0
-/// Mobile grains per thread of APP_THREADS_AUTO: below about 2000 grains a second thread does
-/// not pay for its synchronisation (docs/dev/scaling.md, "Threads by default").
-#define APP_GRAINS_PER_THREAD 2000
+/// Mobile grains per thread of APP_THREADS_AUTO: two threads on 1500 grains already took 0.77
+/// of one thread's time with the fused pass in parts; 1000 per thread keeps a margin
+/// (docs/dev/scaling.md, "Threads by default").
+#define APP_GRAINS_PER_THREAD 1000
 
 /// The CPUs this process may run on (its affinity mask: taskset, a Slurm or cgroup CPU set),
 /// at least 1.

@@ -73,7 +73,7 @@ static const char USAGE_RUN[] =
     "  --set KEY=VALUE    override a scene key by its dotted path, e.g. time.dt=2e-5,\n"
     "                     species.0.k_n=1e6, stages.collapse.time.end=2 (see docs/scenes.md)\n"
     "  --threads N|auto   threads for the physics step (results do not depend on N); auto,\n"
-    "                     the default: every CPU this process may use, one per 2000 mobile\n"
+    "                     the default: every CPU this process may use, one per 1000 mobile\n"
     "                     grains (re-chosen as grains come and go)\n"
     "  --quiet            one line per stage, no progress\n"
     "  --force            run into a folder that holds another run's outputs without a\n"

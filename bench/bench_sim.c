@@ -419,10 +419,12 @@ static void layout_bytes(const SimWorld *w, double *per_grain, double *per_entry
                                        sizeof(unsigned) + sizeof(uint32_t)) +
         (double)w->count * (2.0 * sizeof(int) + 7.0 * sizeof(double) + 4.0 * sizeof(int)) +
         (double)w->cell_capacity * sizeof(int) + (double)(w->mobile_count + 1) * sizeof(int) +
-        (double)w->nl.in_capacity * sizeof(int);
+        (double)w->nl.in_capacity * sizeof(int) +
+        (double)(doubles * SIM_GRAIN_SLACK * sizeof(double)) + /* the parts' sinks */
+        (double)w->nl.plan.grain_capacity * 3.0 * sizeof(int); /* the parts' plan, per grain */
     /* partner, owner, gamma_n, pair index; the contact history and the fused pass's spare copy;
      * with threads, the vector pass's four per-entry results and the transposed list of the
-     * threaded reduction (in_entry, out_capacity entries) */
+     * threaded separate passes (in_entry, out_capacity entries; they run on rebuild steps) */
     double entry = 2.0 * sizeof(int) + sizeof(double) + sizeof(uint8_t);
     if (w->effects & SIM_EFFECT_PERIODIC_X)
         entry += sizeof(double);
@@ -434,8 +436,14 @@ static void layout_bytes(const SimWorld *w, double *per_grain, double *per_entry
     *per_grain = grain / w->count;
     const double out_share = w->nl.capacity > 0 ? (double)w->nl.out_capacity / w->nl.capacity : 0.0;
     *per_entry = entry + out_share * threaded;
+    /* with threads, the parts' targets (per entry) and slots (entries that reach a shared
+     * grain: entry, place in the grain's run, four results) */
+    const double parts =
+        (double)w->nl.plan.target_capacity * sizeof(int) +
+        (double)w->nl.plan.slot_capacity * (2.0 * sizeof(int) + 4.0 * sizeof(double));
+    *per_entry += w->nl.capacity > 0 ? parts / w->nl.capacity : 0.0;
     *list_total = (double)w->nl.capacity * entry + (double)w->nl.out_capacity * threaded +
-                  (double)w->wl.capacity * wall_entry;
+                  (double)w->wl.capacity * wall_entry + parts;
 }
 
 static int cmp_double(const void *a, const void *b)

@@ -21,16 +21,18 @@ int sim_grains_reserve(SimWorld *world, int capacity)
         memset(p + old, 0, (n + 1 - old) * sizeof *p); /* an empty list until the first build */
         world->nl.start = p;
     }
-#define GROW(name)                                                                                 \
+#define GROW_BY(name, slack)                                                                       \
     {                                                                                              \
-        void *p = realloc(world->name, n * sizeof *world->name);                                   \
+        void *p = realloc(world->name, (n + (slack)) * sizeof *world->name);                       \
         if (!p)                                                                                    \
             return -1;                                                                             \
         world->name = p;                                                                           \
         memset(world->name + world->capacity, 0,                                                   \
-               (n - (size_t)world->capacity) * sizeof *world->name);                               \
+               (n + (slack) - (size_t)world->capacity) * sizeof *world->name);                     \
     }
-    SIM_GRAIN_DOUBLE_ARRAYS(GROW)
+#define GROW(name)        GROW_BY(name, 0)
+#define GROW_DOUBLE(name) GROW_BY(name, SIM_GRAIN_SLACK) /* the parts' sinks (internal.h) */
+    SIM_GRAIN_DOUBLE_ARRAYS(GROW_DOUBLE)
     SIM_GRAIN_INT_ARRAYS(GROW)
     GROW(flags)
     GROW(id)
@@ -39,6 +41,8 @@ int sim_grains_reserve(SimWorld *world, int capacity)
     GROW(cell_items)
     GROW(cell_of)
 #undef GROW
+#undef GROW_DOUBLE
+#undef GROW_BY
     world->capacity = capacity;
     return 0;
 }

@@ -6,6 +6,7 @@
 
 #include "sim.h"
 
+#include <stdatomic.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -43,6 +44,38 @@ typedef struct SimKernels {
     void (*integrator_finish)(SimWorld *world); /* a deferred closing kick, if any */
 } SimKernels;
 
+/* The most parts of the threaded fused contact pass (parts.c), and the spare doubles every grain
+ * array has past its capacity: one cache line of sink per part (a part's scatter subtracts the
+ * results of entries whose partner is shared there, grains.c), and one line between. */
+enum { SIM_MAX_PARTS = 64, SIM_GRAIN_SLACK = 8 * (SIM_MAX_PARTS + 2) };
+
+/* The plan of the threaded fused contact pass for the present list (parts.c builds it with the
+ * list when the world has threads; count 0: not built, and the threaded separate passes run).
+ * Part p owns mobile grains [first[p], first[p + 1]) and their entries, and runs as the one-thread
+ * fused pass (sim/isa/contact_pass.c), writing only its own grains. A grain that entries of
+ * another part reach is shared: every entry reaching it subtracts into its part's sink instead
+ * (target), leaves its results in a slot, and after the parts a serial pass adds a shared
+ * grain's slots and then its own sum in the serial scatter's order. */
+typedef struct PartPlan {
+    int count;
+    int first[SIM_MAX_PARTS + 1];
+    int head[SIM_MAX_PARTS];           /* [first[p], head[p]) holds part p's shared grains */
+    int slot_first[SIM_MAX_PARTS + 1]; /* part p's entries fill slots [slot_first[p], ..[p+1]) */
+    _Atomic int head_state[SIM_MAX_PARTS]; /* 0 not drifted, 1 being drifted, 2 drifted */
+    _Atomic int abort;                     /* a part found a grain past the rebuild threshold */
+    RangeFn *drift;                        /* the pass's drift and its alignment */
+    int align;
+    int *target;       /* per entry: the partner, or the sink of the entry's part */
+    int *slot_entry;   /* per slot: its entry, ascending */
+    double *slot_out;  /* 4 arrays of slot_capacity: a slot's fx, fy, f_t, M */
+    int shared;        /* shared grains */
+    int *shared_grain; /* ascending */
+    int *shared_start; /* shared + 1: grain s's slots are shared_slot[shared_start[s] ..) */
+    int *shared_slot;  /* ascending within a grain */
+    int *mark;         /* per grain: the build's scratch */
+    int target_capacity, slot_capacity, grain_capacity;
+} PartPlan;
+
 /* Half neighbour list in CSR form over mobile grains i: entries k in [start[i], start[i+1]) hold
  * partners j > i (mobile or fixed). Per-entry constants are computed at the build. */
 typedef struct NeighbourList {
@@ -67,6 +100,7 @@ typedef struct NeighbourList {
     int *in_start; /* in_capacity >= count + 1 */
     int *in_entry; /* out_capacity */
     int in_capacity, out_capacity, in_ready;
+    PartPlan plan;
 } NeighbourList;
 
 /* Grain-wall candidate list: entries (grain, wall). */
@@ -247,8 +281,9 @@ SimWorld *sim_world_create_restored(const SimWorldDef *def, SimError *error);
  * computes all forces: contacts, walls, body forces (no gravity: the integrators add it). */
 void sim_world_forces_at(SimWorld *world, double time);
 /* A drift of the mobile grains that also clears their forces (`drift`, over ranges that are
- * multiples of `align`), then the forces at `time`: on one thread with the drift fused into the
- * contact pass (FusedFn), on several over fixed ranges first; the same bits either way. */
+ * multiples of `align`), then the forces at `time`: with the drift fused into the contact pass
+ * (FusedFn; on threads, in the parts of NeighbourList.plan), or, when the fused pass cannot run,
+ * over fixed ranges first and then the separate passes; the same bits either way. */
 void sim_world_drift_forces_at(SimWorld *world, double time, RangeFn *drift, int align);
 /* neighbour.c */
 /* Rebuilds the lists; out of memory, it leaves them empty and sets world->out_of_memory. */
@@ -258,6 +293,14 @@ void sim_neighbour_free(SimWorld *world);
  * has threads (in_ready = 1); with one thread, or out of memory, in_ready = 0 (the serial scatter:
  * the same bits). */
 void sim_neighbour_build_incoming(SimWorld *world);
+/* parts.c */
+/* The threaded fused pass's plan for the present list (NeighbourList.plan); count 0 with one
+ * thread, a pile too small to cut, or out of memory (the threaded separate passes: same bits). */
+void sim_parts_build(SimWorld *world);
+void sim_parts_free(SimWorld *world);
+/* Makes sure part q's shared grains are drifted: drifts them if no thread has begun to (returning
+ * the drift's flag), or waits until the thread that has is done (returning 0). */
+int sim_parts_drift_head(SimWorld *world, int q);
 double sim_def_worst_overlap(const SimWorldDef *def, int *first, int *second);
 /* Collects contact history by ids now, for the next build (before grains are reordered); -1 when
  * out of memory (the world unchanged). */
@@ -326,6 +369,9 @@ int sim_contact_key_history(unsigned key);
 /* Evaluates every contact without applying it (frame, energy, guard). Calls visit for each. */
 typedef void ContactVisit(void *context, const SimContact *contact, double elastic_energy);
 void sim_contacts_visit(SimWorld *world, ContactVisit *visit, void *context);
+/* The largest overlap as a fraction of the smaller diameter, and its pair (*j = -1 - wall for a
+ * wall; -1, -1 when nothing overlaps): the guard's scan, without the laws (contact.c). */
+double sim_contacts_worst_overlap(const SimWorld *world, int *i, int *j);
 
 /* integrate.c */
 /* How many scratch arrays (SimWorld.scratch) the integrator uses, with or without rotation. */
@@ -341,6 +387,9 @@ double sim_stability_limit(SimIntegrator integrator, double omega, double zeta);
  * thread that runs a chunk change only who computes what: a body that writes only to its own
  * indices, from data no other range writes, gives the same bits for every thread count. */
 int sim_parallel_ranges(SimWorld *world, RangeFn *fn, int n, int align);
+/* Runs fn(world, u, u + 1) for every unit u of [0, n) on the world's threads, each first taking
+ * its own contiguous run of units (sim_parallel_ranges' chunks of one); the OR of the results. */
+int sim_parallel_units(SimWorld *world, RangeFn *fn, int n);
 /* Stops and frees the world's threads (sim_world_destroy). */
 void sim_parallel_free(SimWorld *world);
 

@@ -113,6 +113,7 @@ void sim_neighbour_free(SimWorld *world)
     free(nl->out);
     free(nl->in_start);
     free(nl->in_entry);
+    sim_parts_free(world);
     free(nl->hist_t);
     free(nl->hist_r);
     free(nl->hist_t_spare);
@@ -421,8 +422,10 @@ void sim_neighbour_build_incoming(SimWorld *world)
 {
     NeighbourList *nl = &world->nl;
     nl->in_ready = 0;
+    nl->plan.count = 0;
     if (world->threads <= 1 || !nl->start)
         return;
+    sim_parts_build(world);
     const int n = world->count, total = nl->start[world->mobile_count];
     if (n + 1 > nl->in_capacity) {
         int *grown = realloc(nl->in_start, ((size_t)n + 1) * sizeof *grown);
@@ -642,6 +645,7 @@ void sim_neighbour_build(SimWorld *world)
         failed = spatial_sort(world) != 0;
     }
     world->nl.in_ready = 0;
+    world->nl.plan.count = 0;
     if (!failed) {
         grid_fill(world); /* same cells, new indices */
         failed = build_pairs(world, records, record_count) != 0 ||
@@ -655,6 +659,7 @@ void sim_neighbour_build(SimWorld *world)
         memset(world->nl.start, 0, (size_t)(world->mobile_count + 1) * sizeof *world->nl.start);
         world->wl.count = 0;
         world->nl.in_ready = 0; /* the contact pass takes the serial scatter */
+        world->nl.plan.count = 0;
         sim_world_out_of_memory(world, "the neighbour build");
     }
 

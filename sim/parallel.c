@@ -205,6 +205,8 @@ static SimPool *pool_create(int threads, Worker **slots)
     return p;
 }
 
+static int run_job(SimPool *p, SimWorld *world, RangeFn *fn, int n, int chunk, int parts);
+
 int sim_parallel_ranges(SimWorld *world, RangeFn *fn, int n, int align)
 {
     SimPool *p = world->pool;
@@ -219,6 +221,23 @@ int sim_parallel_ranges(SimWorld *world, RangeFn *fn, int n, int align)
      * run of them. */
     int chunk = n / (parts * CHUNKS_PER_PART);
     chunk = chunk > align ? chunk - chunk % align : align;
+    return run_job(p, world, fn, n, chunk, parts);
+}
+
+int sim_parallel_units(SimWorld *world, RangeFn *fn, int n)
+{
+    SimPool *p = world->pool;
+    int parts = p && p->owner == getpid() ? p->workers + 1 : 1;
+    parts = parts < n ? parts : n;
+    if (parts <= 1)
+        return n > 0 ? fn(world, 0, n) : 0;
+    return run_job(p, world, fn, n, 1, parts);
+}
+
+/* Runs fn over [0, n) in chunks of `chunk` on `parts` threads (the caller's and parts - 1
+ * workers); the OR of the results. */
+static int run_job(SimPool *p, SimWorld *world, RangeFn *fn, int n, int chunk, int parts)
+{
     const int chunks = (n + chunk - 1) / chunk;
     for (int c = 0; c < parts; ++c) {
         atomic_store_explicit(&p->queues[c].next, (int)((long long)chunks * c / parts),
@@ -265,7 +284,7 @@ void sim_world_set_threads(SimWorld *world, int threads)
         if (world->pool)
             world->threads = world->pool->workers + 1;
     }
-    sim_neighbour_build_incoming(world); /* for the list the world has now */
+    sim_neighbour_build_incoming(world); /* for the list the world has now (and the parts) */
 }
 
 int sim_world_threads(const SimWorld *world)

@@ -742,7 +742,8 @@ void sim_world_drift_forces_at(SimWorld *w, double t, RangeFn *drift, int align)
 {
     if (w->effects & SIM_EFFECT_VIBRATION)
         sim_motion_move(w, t);
-    if (w->fused_pass && w->threads <= 1 && !rebuild_due(w) && !probe_due(w)) {
+    if (w->fused_pass && (w->threads <= 1 || w->nl.plan.count > 0) && !rebuild_due(w) &&
+        !probe_due(w)) {
         clear_forces(w, w->mobile_count); /* the fixed grains' (the drift clears the others) */
         ++w->fused_steps;
         if (w->fused_pass(w, drift, align) == 0) {
@@ -1271,27 +1272,6 @@ static void guard_restore(SimWorld *w)
     sim_integrator_start(w);
 }
 
-typedef struct OverlapScan {
-    double worst;
-    int i, j;
-    const double *radius;
-} OverlapScan;
-
-static void overlap_visit(void *context, const SimContact *c, double energy)
-{
-    OverlapScan *scan = context;
-    (void)energy;
-    double d = 2.0 * scan->radius[c->i];
-    if (c->j >= 0)
-        d = fmin(d, 2.0 * scan->radius[c->j]);
-    double ratio = c->overlap / d;
-    if (ratio > scan->worst) {
-        scan->worst = ratio;
-        scan->i = c->i;
-        scan->j = c->j;
-    }
-}
-
 /* The likely cause of grain i's speed v for the guard's messages: a flow that gravity keeps
  * accelerating (grain i moves with the bulk, within twice its mean velocity, and no faster than
  * free fall since the guard's set-up from the initial and wall speeds), else `otherwise` (a
@@ -1354,16 +1334,15 @@ static SimStatus guard_check(SimWorld *w, SimError *error)
             return SIM_ERROR_UNSTABLE;
         }
     }
-    OverlapScan scan = {0.0, -1, -1, w->radius};
-    sim_contacts_visit(w, overlap_visit, &scan);
-    if (scan.worst > w->def.guard_max_overlap) {
+    int oi, oj;
+    const double worst = sim_contacts_worst_overlap(w, &oi, &oj);
+    if (worst > w->def.guard_max_overlap) {
         fail(error, SIM_ERROR_UNSTABLE, "grains",
              "step %ld: grain %u overlaps %s%d by %.3g of the smaller diameter (bound %g); %s",
-             w->step, w->id[scan.i], scan.j >= 0 ? "grain " : "wall ",
-             scan.j >= 0 ? (int)w->id[scan.j] : -1 - scan.j, scan.worst, w->def.guard_max_overlap,
-             cause);
+             w->step, w->id[oi], oj >= 0 ? "grain " : "wall ", oj >= 0 ? (int)w->id[oj] : -1 - oj,
+             worst, w->def.guard_max_overlap, cause);
         error->step = w->step;
-        error->grain = w->id[scan.i];
+        error->grain = w->id[oi];
         return SIM_ERROR_UNSTABLE;
     }
     return SIM_OK;

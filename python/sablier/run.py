@@ -38,7 +38,7 @@ def run(scene, out, sets=None, quiet=True, threads=None, check=True, executable=
     """`sablier run SCENE --out OUT [--set K=V]...`; returns RunOutputs(out). sets: a dict
     {"time.end": 30} or a list of "KEY=VALUE". check=True raises RunError on a non-zero exit
     (the outputs written so far stay in `out`: RunError.out). threads: a count or "auto";
-    None leaves the CLI's default, auto (every CPU, one thread per 2000 mobile grains)."""
+    None leaves the CLI's default, auto (every CPU, one thread per 1000 mobile grains)."""
     args = ["run", scene, "--out", out]
     for s in _sets_list(sets):
         args += ["--set", s]

@@ -275,13 +275,15 @@ typedef struct Scatter {
     int owner;
 } Scatter;
 
+/* `partner`: where entry k's results are subtracted (nl.j, or a part's targets, which send the
+ * entries that reach a shared grain to the part's sink). */
 KERNEL void scatter_range(SimWorld *world, const unsigned key, const int k0, const int k1,
-                          const Results res, Scatter *state)
+                          const Results res, Scatter *state, const int *restrict partner)
 {
     const size_t cap = res.stride;
     const double *restrict radius = world->radius;
     double *restrict fx = world->fx, *restrict fy = world->fy, *restrict torque = world->torque;
-    const int *restrict partner = world->nl.j, *restrict owner = world->nl.owner;
+    const int *restrict owner = world->nl.owner;
     const double *restrict out_x = res.base - res.k0, *restrict out_y = out_x + cap;
     const double *restrict out_t = out_x + 2 * cap, *restrict out_m = out_x + 3 * cap;
     const unsigned law = key & KEY_TANGENTIAL;
@@ -344,7 +346,7 @@ KERNEL void grain_pass(SimWorld *world, const unsigned key)
         const int k1 = total - k0 > FUSED_BLOCK ? k0 + FUSED_BLOCK : total;
         const Results res = results_block(block, k0);
         pair_range(world, key, k0, k1, history_in_place(world), res);
-        scatter_range(world, key, k0, k1, res, &state);
+        scatter_range(world, key, k0, k1, res, &state, world->nl.j);
     }
     scatter_finish(world, key, &state);
 }
@@ -378,38 +380,194 @@ KERNEL void swap_history(NeighbourList *nl, const unsigned key)
     }
 }
 
-KERNEL int fused_pass(SimWorld *world, const unsigned key, RangeFn *drift, const int align)
+/* What one run of the fused pass covers: the one-thread pass (every mobile grain, one part), or
+ * part `part` of the plan (sim/parts.c). */
+typedef struct FusedRun {
+    int g0, g1;      /* its mobile grains, whose entries it runs and which it drifts */
+    int front;       /* grains [g0, front) are drifted already (a part's head) */
+    int part, parts; /* the heads of parts part + 1 .. parts - 1 are drifted before it reads them */
+    const int *target;  /* where the scatter subtracts (scatter_range) */
+    int slot, slot_end; /* the slots its entries that reach a shared grain fill, in entry order */
+} FusedRun;
+
+/* Copies the results of the block's entries that reach a shared grain to their slots. */
+KERNEL int copy_slots(const PartPlan *pp, const unsigned key, int slot, const int slot_end,
+                      const int k1, const Results res)
+{
+    const size_t cap = (size_t)pp->slot_capacity;
+    for (; slot < slot_end && pp->slot_entry[slot] < k1; ++slot) {
+        const int at = pp->slot_entry[slot] - res.k0;
+        pp->slot_out[slot] = res.base[at];
+        pp->slot_out[cap + slot] = res.base[res.stride + at];
+        if (KEY_ROTATION(key))
+            pp->slot_out[2 * cap + slot] = res.base[2 * res.stride + at];
+        if (key & KEY_ROLLING)
+            pp->slot_out[3 * cap + slot] = res.base[3 * res.stride + at];
+    }
+    return slot;
+}
+
+/* The largest mobile partner of entries [k0, k1), or 0 (selects without a branch, so that the
+ * loop vectorises: a branch on `j < mobile` cost a sixth of the pass, mispredicted). */
+KERNEL int last_mobile_partner(const int *restrict partner, const int k0, const int k1,
+                               const int mobile)
+{
+    int last = 0;
+    for (int k = k0; k < k1; ++k) {
+        const int j = partner[k] < mobile ? partner[k] : 0;
+        last = j > last ? j : last;
+    }
+    return last;
+}
+
+/* The contact pass with the velocity-Verlet drift fused into it (sim_world_drift_forces_at), over
+ * the entries of grains [g0, g1): the entries run in blocks of FUSED_BLOCK, each block's phase 1
+ * and phase 2 in turn, and before a block, `drift` moves the grains up to the largest mobile
+ * grain it reads, owner or partner (rounded up to a multiple of `align`; fixed grains do not
+ * drift, and a fixed partner no longer drifts every grain at once). The drift
+ * also clears the grains' forces after reading them. Every grain is then drifted before any entry
+ * reads it, and cleared before any entry adds to it: the same operations on the same values as
+ * the drift of every grain followed by the whole pass, so the same bits, with each grain's data
+ * still in cache from its drift when its entries use it (on a large pile the separate drift
+ * streamed every grain array from memory once more per step). The new history goes to the spare
+ * arrays, swapped in once every run has completed (only those the key's laws write: the other
+ * stays as the list build left it). Returns 0, or 1 when a drift reports a grain past the rebuild
+ * threshold (or, on several threads, another part has): the drift then runs to g1, the history
+ * is as it was, and the caller rebuilds the list and evaluates the forces anew (what the separate
+ * passes do), discarding this pass's sums. */
+KERNEL int fused_run(SimWorld *world, const unsigned key, RangeFn *drift, const int align,
+                     FusedRun run)
 {
     NeighbourList *nl = &world->nl;
-    const int mobile = world->mobile_count, total = nl->start[mobile];
-    const int *restrict partner = nl->j;
+    PartPlan *pp = &nl->plan;
+    const int mobile = world->mobile_count, k0 = nl->start[run.g0], k1 = nl->start[run.g1];
     const History spare = {nl->hist_t_spare, nl->hist_r_spare};
-    Scatter state = {0.0, 0.0, 0.0, total > 0 ? nl->owner[0] : 0};
-    int front = 0; /* grains [0, front) are drifted */
+    Scatter state = {0.0, 0.0, 0.0, k1 > k0 ? nl->owner[k0] : 0};
+    int front = run.front, next = run.part + 1, moved = 0;
     double block[4 * FUSED_BLOCK] __attribute__((aligned(64)));
-    for (int k0 = 0; k0 < total; k0 += FUSED_BLOCK) {
-        const int k1 = total - k0 > FUSED_BLOCK ? k0 + FUSED_BLOCK : total;
-        int last = 0;
-        for (int k = k0; k < k1; ++k)
-            last = partner[k] > last ? partner[k] : last;
-        if (last >= front && front < mobile) {
+    for (int b0 = k0; b0 < k1; b0 += FUSED_BLOCK) {
+        const int b1 = k1 - b0 > FUSED_BLOCK ? b0 + FUSED_BLOCK : k1;
+        /* the block reads its owners too: a block whose partners are all fixed grains names
+         * no mobile partner, and its owners must still be drifted before it reads them */
+        const int partner_last = last_mobile_partner(nl->j, b0, b1, mobile);
+        const int last = partner_last > nl->owner[b1 - 1] ? partner_last : nl->owner[b1 - 1];
+        if (last >= front && front < run.g1) {
             int to = (last / align + 1) * align;
-            to = to < mobile ? to : mobile;
-            if (drift(world, front, to)) {
-                drift(world, to, mobile);
-                return 1;
-            }
+            to = to < run.g1 ? to : run.g1;
+            moved |= drift(world, front, to);
             front = to;
         }
-        const Results res = results_block(block, k0);
-        pair_range(world, key, k0, k1, spare, res);
-        scatter_range(world, key, k0, k1, res, &state);
+        for (; next < run.parts && last >= pp->first[next]; ++next)
+            moved |= sim_parts_drift_head(world, next);
+        if (run.parts > 1 && !moved)
+            moved = atomic_load_explicit(&pp->abort, memory_order_relaxed);
+        if (moved)
+            break;
+        const Results res = results_block(block, b0);
+        pair_range(world, key, b0, b1, spare, res);
+        run.slot = copy_slots(pp, key, run.slot, run.slot_end, b1, res);
+        scatter_range(world, key, b0, b1, res, &state, run.target);
     }
-    if (front < mobile && drift(world, front, mobile))
-        return 1;
-    if (total > 0)
+    if (moved && run.parts > 1)
+        atomic_store_explicit(&pp->abort, 1, memory_order_relaxed);
+    if (front < run.g1)
+        moved |= drift(world, front, run.g1);
+    if (!moved && k1 > k0)
         scatter_finish(world, key, &state);
-    swap_history(nl, key);
+    return moved;
+}
+
+/* fused_run for one key (one copy per key, called by both passes below). */
+typedef int FusedRunFn(SimWorld *world, RangeFn *drift, int align, FusedRun run);
+
+/* One thread: a single run over every mobile grain. */
+KERNEL int fused_pass(SimWorld *world, const unsigned key, FusedRunFn *run, RangeFn *drift,
+                      const int align)
+{
+    const FusedRun whole = {0, world->mobile_count, 0, 0, 1, world->nl.j, 0, 0};
+    if (run(world, drift, align, whole))
+        return 1;
+    swap_history(&world->nl, key);
+    return 0;
+}
+
+/* Several threads: part p of the plan, its head (shared grains) drifted first. */
+KERNEL int fused_part(SimWorld *world, FusedRunFn *run, const int p)
+{
+    PartPlan *pp = &world->nl.plan;
+    const int moved = sim_parts_drift_head(world, p);
+    const FusedRun part = {pp->first[p], pp->first[p + 1],  pp->head[p],          p, pp->count,
+                           pp->target,   pp->slot_first[p], pp->slot_first[p + 1]};
+    return run(world, pp->drift, pp->align, part) | moved;
+}
+
+/* The serial scatter's operations on a grain g from the entries whose partner is g, in the order
+ * of list[from .. to) (ascending k): each entry's force subtracted, and its torque -r_g f_t then
+ * +M. `out` holds the results in four arrays of `cap` (fx, fy, f_t, M), indexed by list's
+ * values: nl.out by entry (the threaded gather) or the parts' slots (shared_fixup). */
+KERNEL void subtract_partner_entries(const unsigned key, const double rg, const int *restrict list,
+                                     const int from, const int to, const double *restrict out,
+                                     const size_t cap, double *fxg, double *fyg, double *tg)
+{
+    const unsigned law = key & KEY_TANGENTIAL;
+    double x = *fxg, y = *fyg, t = *tg;
+    for (int q = from; q < to; ++q) {
+        const int e = list[q];
+        if (KEY_ROTATION(key)) {
+            if (law != SIM_TANGENTIAL_NONE)
+                t -= rg * out[2 * cap + e];
+            if (key & KEY_ROLLING)
+                t += out[3 * cap + e];
+        }
+        x -= out[e];
+        y -= out[cap + e];
+    }
+    *fxg = x;
+    *fyg = y;
+    *tg = t;
+}
+
+/* After the parts: each shared grain gets its slots, in ascending k, subtracted from its cleared
+ * force (+0.0, as the drift or clear_forces left it), then its own sum, which its part added to
+ * that cleared force (so the force holds the sum itself): the serial scatter's operations in its
+ * order (sim/parts.c). A grain that owns no entry gets no sum, as in the serial scatter. */
+KERNEL void shared_fixup(SimWorld *world, const unsigned key)
+{
+    const PartPlan *pp = &world->nl.plan;
+    const int mobile = world->mobile_count, *start = world->nl.start;
+    for (int s = 0; s < pp->shared; ++s) {
+        const int g = pp->shared_grain[s];
+        double fxg = 0.0, fyg = 0.0, tg = 0.0;
+        subtract_partner_entries(key, world->radius[g], pp->shared_slot, pp->shared_start[s],
+                                 pp->shared_start[s + 1], pp->slot_out, (size_t)pp->slot_capacity,
+                                 &fxg, &fyg, &tg);
+        if (g < mobile && start[g + 1] > start[g]) {
+            fxg += world->fx[g];
+            fyg += world->fy[g];
+            if (KEY_ROTATION(key))
+                tg += world->torque[g];
+        }
+        world->fx[g] = fxg;
+        world->fy[g] = fyg;
+        if (KEY_ROTATION(key))
+            world->torque[g] = tg;
+    }
+}
+
+/* The fused pass on the plan's parts (run by `parts`, a per-key RangeFn over part indices). */
+KERNEL int fused_parts(SimWorld *world, const unsigned key, RangeFn *parts, RangeFn *drift,
+                       const int align)
+{
+    PartPlan *pp = &world->nl.plan;
+    pp->drift = drift;
+    pp->align = align;
+    for (int p = 0; p < pp->count; ++p)
+        atomic_store_explicit(&pp->head_state[p], 0, memory_order_relaxed);
+    atomic_store_explicit(&pp->abort, 0, memory_order_relaxed);
+    if (sim_parallel_units(world, parts, pp->count))
+        return 1;
+    shared_fixup(world, key);
+    swap_history(&world->nl, key);
     return 0;
 }
 
@@ -436,17 +594,8 @@ KERNEL void reduce_range(SimWorld *world, const unsigned key, const int g0, cons
     for (int g = g0; g < g1; ++g) {
         const double rg = radius[g];
         double fxg = fx[g], fyg = fy[g], tg = KEY_ROTATION(key) ? torque[g] : 0.0;
-        for (int q = in_start[g]; q < in_start[g + 1]; ++q) {
-            const int k = in_entry[q];
-            if (KEY_ROTATION(key)) {
-                if (law != SIM_TANGENTIAL_NONE)
-                    tg -= rg * out_t[k];
-                if (key & KEY_ROLLING)
-                    tg += out_m[k];
-            }
-            fxg -= out_x[k];
-            fyg -= out_y[k];
-        }
+        subtract_partner_entries(key, rg, in_entry, in_start[g], in_start[g + 1], world->nl.out,
+                                 cap, &fxg, &fyg, &tg);
         if (g < mobile) {
             const int first = start[g], end = start[g + 1];
             double sum_x = 0.0, sum_y = 0.0, sum_t = 0.0;
@@ -581,11 +730,25 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
             grain_pass(world, (KEY));                                                              \
         }                                                                                          \
     }                                                                                              \
-    static int fused_pass_##name(SimWorld *world, RangeFn *drift, int align)                       \
+    __attribute__((noinline)) static int fused_run_##name(SimWorld *world, RangeFn *drift,         \
+                                                          int align, FusedRun run)                 \
     {                                                                                              \
         if (world->def.species_count == 1)                                                         \
-            return fused_pass(world, (KEY) | KEY_UNIFORM, drift, align);                           \
-        return fused_pass(world, (KEY), drift, align);                                             \
+            return fused_run(world, (KEY) | KEY_UNIFORM, drift, align, run);                       \
+        return fused_run(world, (KEY), drift, align, run);                                         \
+    }                                                                                              \
+    static int part_range_##name(SimWorld *world, int begin, int end)                              \
+    {                                                                                              \
+        int moved = 0;                                                                             \
+        for (int p = begin; p < end; ++p)                                                          \
+            moved |= fused_part(world, fused_run_##name, p);                                       \
+        return moved;                                                                              \
+    }                                                                                              \
+    static int fused_pass_##name(SimWorld *world, RangeFn *drift, int align)                       \
+    {                                                                                              \
+        if (world->threads > 1 && world->nl.plan.count > 0)                                        \
+            return fused_parts(world, (KEY), part_range_##name, drift, align);                     \
+        return fused_pass(world, (KEY), fused_run_##name, drift, align);                           \
     }                                                                                              \
     static void wall_pass_##name(SimWorld *world)                                                  \
     {                                                                                              \

@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
-/* The fused drift (sim/isa/contact_pass.c, fused_pass): on one thread the velocity-Verlet drift
- * runs inside the contact pass. It must make the same operations as the separate passes: the
- * same grains, forces and contact history to the bit, with steps where a grain passes the
- * rebuild threshold in the middle of the pass (which must then leave the history as it was). */
+/* The fused drift (sim/isa/contact_pass.c, fused_run): the velocity-Verlet drift runs inside the
+ * contact pass (on threads, in each part of the pile: sim/parts.c). It must make the same
+ * operations as the separate passes: the same grains, forces and contact history to the bit, with
+ * steps where a grain passes the rebuild threshold in the middle of the pass (which must then leave
+ * the history as it was). */
 #include "sim_test_util.h"
 #include "test.h"
 
@@ -50,15 +51,20 @@ static SimWorld *make(SimTangentialLaw tangential, SimRollingLaw rolling, SimGra
 
 #define SAME(a, b, n) (memcmp((a), (b), (size_t)(n) * sizeof *(a)) == 0)
 
-/* One world fused, one with the separate passes, stepped in batches (so that the closing kick is
- * deferred into the next drift, as in a run); compared after every batch. */
-static int same_as_separate(SimTangentialLaw tangential, SimRollingLaw rolling, int large)
+/* One world fused (on `threads` threads: in parts, sim/parts.c), one with the separate passes on
+ * one thread, stepped in batches (so that the closing kick is deferred into the next drift, as in
+ * a run); compared after every batch. */
+static int same_as_separate_on(SimTangentialLaw tangential, SimRollingLaw rolling, int large,
+                               int threads)
 {
     SimGrainBuffer b1, b2;
     SimWorld *fused = make_pile(tangential, rolling, &b1, large);
     SimWorld *plain = make_pile(tangential, rolling, &b2, large);
     TEST_ASSERT(fused && plain);
     plain->fused_pass = NULL;
+    sim_world_set_threads(fused, threads);
+    TEST_ASSERT(sim_world_threads(fused) == threads);
+    int fixed_shared = 0;
     for (int batch = 0; batch < 40; ++batch) {
         TEST_ASSERT(tu_step(fused, 75) == 0);
         TEST_ASSERT(tu_step(plain, 75) == 0);
@@ -70,7 +76,14 @@ static int same_as_separate(SimTangentialLaw tangential, SimRollingLaw rolling, 
         TEST_ASSERT(SAME(fused->nl.j, plain->nl.j, entries));
         TEST_ASSERT(SAME(fused->nl.hist_t, plain->nl.hist_t, entries));
         TEST_ASSERT(SAME(fused->nl.hist_r, plain->nl.hist_r, entries));
+        if (threads > 1) { /* in parts, with shared grains */
+            const PartPlan *pp = &fused->nl.plan;
+            TEST_ASSERT(pp->count >= 2 && pp->shared > 0);
+            fixed_shared |= pp->shared_grain[pp->shared - 1] >= fused->mobile_count;
+        }
     }
+    /* parts thinner than a row: the fixed base is reached from two parts */
+    TEST_ASSERT(threads < 16 || fixed_shared);
     /* the path under test ran, and met rebuilds found mid-pass */
     TEST_ASSERT(fused->fused_steps > 2000 && fused->fused_trips > 3);
     TEST_ASSERT(plain->fused_steps == 0);
@@ -83,6 +96,11 @@ static int same_as_separate(SimTangentialLaw tangential, SimRollingLaw rolling, 
     sim_grain_buffer_free(&b1);
     sim_grain_buffer_free(&b2);
     return 0;
+}
+
+static int same_as_separate(SimTangentialLaw tangential, SimRollingLaw rolling, int large)
+{
+    return same_as_separate_on(tangential, rolling, large, 1);
 }
 
 static int spring(void)
@@ -106,14 +124,88 @@ static int spring_rolling_large(void)
     return same_as_separate(SIM_TANGENTIAL_SPRING, SIM_ROLLING_FIXED, 1);
 }
 
-/* Two threads take the separate passes (the fused one is for one thread) with the same bits. */
-static int threads_not_fused(void)
+/* A sparse row of grains on a floor of fixed grains, no two within reach of each other: every
+ * entry's partner is fixed, and the pass must still drift each block's owners before it reads
+ * them (a drift front that followed the mobile partners alone left them behind). */
+static SimWorld *make_sparse_row(SimGrainBuffer *b)
+{
+    sim_grain_buffer_init(b);
+    sim_build_fixed_row(b, 0.0, 48.0, 0.0, 0.005, 0, -1);
+    for (int k = 0; k < 600; ++k) /* 1 mm above touching the floor; 5 cm gaps between them */
+        sim_grain_buffer_add(b, 0.03 + 0.08 * k, 0.021, 0.015, 0, 0, -1);
+    for (int k = 0; k < b->count; ++k)
+        if (!(b->flags[k] & SIM_GRAIN_FIXED))
+            b->vx[k] = (double)(k % 5 - 2) * 0.01;
+    SimWorldDef def = tu_def(1000.0, 1e5, 0.0);
+    def.steps_per_contact = 50.0;
+    def.gravity_y = -G0;
+    return tu_create(&def, b);
+}
+
+static int fixed_partners_only(void)
+{
+    for (int threads = 1; threads <= 2; ++threads) {
+        SimGrainBuffer b1, b2;
+        SimWorld *fused = make_sparse_row(&b1), *plain = make_sparse_row(&b2);
+        TEST_ASSERT(fused && plain);
+        plain->fused_pass = NULL;
+        sim_world_set_threads(fused, threads);
+        TEST_ASSERT(tu_step(fused, 1) == 0 && tu_step(plain, 1) == 0);
+        /* several blocks of entries, none with a mobile partner */
+        const int entries = fused->nl.start[fused->mobile_count];
+        TEST_ASSERT(entries > 1200);
+        for (int k = 0; k < entries; ++k)
+            TEST_ASSERT(fused->nl.j[k] >= fused->mobile_count);
+        for (int batch = 0; batch < 10; ++batch) {
+            TEST_ASSERT(tu_step(fused, 50) == 0 && tu_step(plain, 50) == 0);
+            TEST_ASSERT(sim_world_hash(fused) == sim_world_hash(plain));
+            TEST_ASSERT(SAME(fused->fy, plain->fy, fused->count));
+        }
+        TEST_ASSERT(fused->fused_steps > 400);
+        sim_world_destroy(fused);
+        sim_world_destroy(plain);
+        sim_grain_buffer_free(&b1);
+        sim_grain_buffer_free(&b2);
+    }
+    return 0;
+}
+
+/* On threads the fused pass runs in parts (sim/parts.c): each part writes only its own grains,
+ * the entries that reach a shared grain leave their results in slots, added after the parts in
+ * the serial order. Every law's results, forces, torques and history equal the separate passes'
+ * on one thread, with rebuilds found mid-pass, on 2, 3, 8 and 16 threads (8 on the small pile:
+ * parts of about a row, most grains shared; 16 on the large one: 32 parts, the fixed base reached
+ * from two of them). */
+static int parts_spring_rolling(void)
+{
+    return same_as_separate_on(SIM_TANGENTIAL_SPRING, SIM_ROLLING_FIXED, 1, 2);
+}
+
+static int parts_regularised_chord(void)
+{
+    return same_as_separate_on(SIM_TANGENTIAL_REGULARISED, SIM_ROLLING_CHORD, 1, 3);
+}
+
+static int parts_small_pile(void)
+{
+    return same_as_separate_on(SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF, 0, 8);
+}
+
+static int parts_thin(void)
+{
+    return same_as_separate_on(SIM_TANGENTIAL_SPRING, SIM_ROLLING_FIXED, 1, 16);
+}
+
+/* The threaded separate passes (what a step takes when the fused one cannot run: a rebuild, a
+ * prescribed motion) give the one-thread bits too. */
+static int threads_separate_passes(void)
 {
     SimGrainBuffer b1, b2;
-    SimWorld *one = make(SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF, &b1);
-    SimWorld *two = make(SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF, &b2);
+    SimWorld *one = make(SIM_TANGENTIAL_SPRING, SIM_ROLLING_FIXED, &b1);
+    SimWorld *two = make(SIM_TANGENTIAL_SPRING, SIM_ROLLING_FIXED, &b2);
     TEST_ASSERT(one && two);
     sim_world_set_threads(two, 2);
+    two->fused_pass = NULL;
     TEST_ASSERT(tu_step(one, 1500) == 0 && tu_step(two, 1500) == 0);
     TEST_ASSERT(sim_world_hash(one) == sim_world_hash(two));
     TEST_ASSERT(one->fused_steps > 1000 && two->fused_steps == 0);
@@ -124,9 +216,10 @@ static int threads_not_fused(void)
     return 0;
 }
 
-/* The threaded reduction's arrays (transposed list, per-entry results) exist only with threads,
- * and a world given threads between steps builds them for its present list at once: its steps
- * then take the threaded pass (no fused drift) with the same bits as a one-thread twin. */
+/* The threaded arrays (the parts' plan; the transposed list and per-entry results of the
+ * separate passes) exist only with threads, and a world given threads between steps builds them
+ * for its present list at once: its steps then run in parts with the same bits as a one-thread
+ * twin. */
 static int threads_build_their_arrays(void)
 {
     SimGrainBuffer b1, b2;
@@ -138,14 +231,15 @@ static int threads_build_their_arrays(void)
     const long builds = two->rebuilds, fused = two->fused_steps;
     sim_world_set_threads(two, 2);
     TEST_ASSERT(two->nl.in_ready && two->nl.out && two->rebuilds == builds);
+    TEST_ASSERT(two->nl.plan.count == 2 && two->nl.plan.first[2] == two->mobile_count);
     const int entries = two->nl.start[two->mobile_count];
     TEST_ASSERT(two->nl.in_start[two->count] == entries);
     TEST_ASSERT(tu_step(one, 900) == 0 && tu_step(two, 900) == 0);
-    TEST_ASSERT(two->fused_steps == fused && one->fused_steps > fused);
+    TEST_ASSERT(two->fused_steps > fused + 800);
     TEST_ASSERT(sim_world_hash(one) == sim_world_hash(two));
     TEST_ASSERT(SAME(one->fx, two->fx, one->count) && SAME(one->torque, two->torque, one->count));
     sim_world_set_threads(two, 1); /* back to the fused pass, the arrays idle until freed */
-    TEST_ASSERT(!two->nl.in_ready);
+    TEST_ASSERT(!two->nl.in_ready && two->nl.plan.count == 0);
     TEST_ASSERT(tu_step(one, 300) == 0 && tu_step(two, 300) == 0);
     TEST_ASSERT(two->fused_steps > fused && sim_world_hash(one) == sim_world_hash(two));
     sim_world_destroy(one);
@@ -156,5 +250,7 @@ static int threads_build_their_arrays(void)
 }
 
 TEST_MAIN(TEST_CASE(spring), TEST_CASE(spring_rolling), TEST_CASE(regularised_rolling),
-          TEST_CASE(spring_rolling_large), TEST_CASE(threads_not_fused),
+          TEST_CASE(spring_rolling_large), TEST_CASE(parts_spring_rolling),
+          TEST_CASE(parts_regularised_chord), TEST_CASE(parts_small_pile), TEST_CASE(parts_thin),
+          TEST_CASE(fixed_partners_only), TEST_CASE(threads_separate_passes),
           TEST_CASE(threads_build_their_arrays))
