@@ -6,7 +6,9 @@
  * others', and bodies that write only their own indices, so that the results do not depend on the
  * thread count or on which thread ran a chunk (README.md, Determinism). Helping keeps a thread that
  * the scheduler delays from holding the pass up: with one competing process on 2 cores, 2 threads
- * ran at 57 M particle-steps/s with it against 36-42 without (docs/dev/scaling.md).
+ * ran at 57 M particle-steps/s with it against 36-42 without (docs/dev/scaling.md). The fused
+ * contact pass on threads runs its parts (sim/parts.c) through sim_parallel_units, the same jobs
+ * with chunks of one unit.
  *
  * Waiting: a thread that waits spins for up to SPIN_NS of the monotonic clock (a step's passes
  * follow each other within microseconds), offering its core to any other runnable thread
