@@ -75,6 +75,22 @@ static void visit_one(SimWorld *world, unsigned key, int i, int j, int wall, dou
     visit(context, &c, energy);
 }
 
+/* Entry k (owner i): 1 when the two disks overlap, with the vector from i to the partner and the
+ * distance; the geometry every scan of the list's contacts shares (the visitor, the guard's). */
+static inline int entry_touching(const SimWorld *world, unsigned key, int i, int k, double *dx,
+                                 double *dy, double *d)
+{
+    const int j = world->nl.j[k];
+    *dx = world->x[j] - world->x[i] + ((key & KEY_PERIODIC) ? world->nl.shift[k] : 0.0);
+    *dy = world->y[j] - world->y[i];
+    const double rs = world->radius[i] + world->radius[j];
+    const double d2 = *dx * *dx + *dy * *dy;
+    if (d2 >= rs * rs)
+        return 0;
+    *d = sqrt(d2);
+    return 1;
+}
+
 void sim_contacts_visit(SimWorld *world, ContactVisit *visit, void *context)
 {
     const unsigned key = sim_contact_key(world);
@@ -84,13 +100,10 @@ void sim_contacts_visit(SimWorld *world, ContactVisit *visit, void *context)
         double wi = world->rotation ? world->omega[i] : 0.0;
         for (int k = world->nl.start[i]; k < world->nl.start[i + 1]; ++k) {
             int j = world->nl.j[k];
-            double dx = x[j] - x[i] + ((key & KEY_PERIODIC) ? world->nl.shift[k] : 0.0);
-            double dy = y[j] - y[i];
-            double rs = r[i] + r[j];
-            double d2 = dx * dx + dy * dy;
-            if (d2 >= rs * rs)
+            double dx, dy, d;
+            if (!entry_touching(world, key, i, k, &dx, &dy, &d))
                 continue;
-            double d = sqrt(d2);
+            double rs = r[i] + r[j];
             double nx = d > 0.0 ? dx / d : 1.0, ny = d > 0.0 ? dy / d : 0.0;
             double dvx = world->vx[j] - world->vx[i], dvy = world->vy[j] - world->vy[i];
             double wj = world->rotation ? world->omega[j] : 0.0;
@@ -132,20 +145,17 @@ void sim_contacts_visit(SimWorld *world, ContactVisit *visit, void *context)
  * steps was 2 % of the step's time, serial while other threads waited. */
 double sim_contacts_worst_overlap(const SimWorld *world, int *worst_i, int *worst_j)
 {
-    const int periodic = (sim_contact_key(world) & KEY_PERIODIC) != 0;
+    const unsigned key = sim_contact_key(world);
     const double *x = world->x, *y = world->y, *r = world->radius;
     double worst = 0.0;
     *worst_i = *worst_j = -1;
     for (int i = 0; i < world->mobile_count; ++i) {
         for (int k = world->nl.start[i]; k < world->nl.start[i + 1]; ++k) {
             const int j = world->nl.j[k];
-            const double dx = x[j] - x[i] + (periodic ? world->nl.shift[k] : 0.0);
-            const double dy = y[j] - y[i];
-            const double rs = r[i] + r[j];
-            const double d2 = dx * dx + dy * dy;
-            if (d2 >= rs * rs)
+            double dx, dy, d;
+            if (!entry_touching(world, key, i, k, &dx, &dy, &d))
                 continue;
-            const double ratio = (rs - sqrt(d2)) / fmin(2.0 * r[i], 2.0 * r[j]);
+            const double ratio = (r[i] + r[j] - d) / fmin(2.0 * r[i], 2.0 * r[j]);
             if (ratio > worst) {
                 worst = ratio;
                 *worst_i = i;
