@@ -21,35 +21,13 @@ static inline double displacement2(const SimWorld *w, int i)
 /* ---- velocity Verlet: kick-drift, forces, kick. The dissipative forces see the predicted
  * velocity v(t + dt) ~ v(t + dt/2) + a(t) dt/2 (as thesis 004's code does), which keeps the
  * scheme second order with damping; the VV_* scratch arrays hold the half-step velocities. */
-/* Asks for the grain arrays of [i0, i1) (clipped to the mobile grains): the fused pass drifts
- * short ranges, each far from the last in time, and the hardware's stream detection loses them. */
-static inline __attribute__((always_inline)) void prefetch_next(const SimWorld *w, const int rot,
-                                                                int i0, int i1)
-{
-    i1 = i1 < w->mobile_count ? i1 : w->mobile_count;
-    double *const rw[] = {w->x,  w->y, w->vx, w->vy, w->scratch[VV_VX_HALF], w->scratch[VV_VY_HALF],
-                          w->fx, w->fy};
-    const double *const ro[] = {w->inv_mass, w->x_ref, w->y_ref};
-    for (int i = i0; i < i1; i += 8) {
-        for (size_t a = 0; a < sizeof rw / sizeof rw[0]; ++a)
-            __builtin_prefetch(rw[a] + i, 1);
-        for (size_t a = 0; a < sizeof ro / sizeof ro[0]; ++a)
-            __builtin_prefetch(ro[a] + i, 0);
-        if (rot) {
-            __builtin_prefetch(w->omega + i, 1);
-            __builtin_prefetch(w->scratch[VV_OMEGA_HALF] + i, 1);
-            __builtin_prefetch(w->angle + i, 1);
-            __builtin_prefetch(w->torque + i, 1);
-            __builtin_prefetch(w->inv_inertia + i, 0);
-        }
-    }
-}
-
 /* The opening kick and drift. `closing`: first apply the previous step's closing kick, deferred
  * by sim_world_step (same arithmetic as velocity_verlet_close, so the same bits; it saves one pass
  * over the grains per step). The forces read are then set to +0.0, as the force evaluation
  * would (sim_world_drift_forces_at: one pass less over the force arrays, and the fused contact
- * pass needs each grain's forces cleared when it drifts it). */
+ * pass needs each grain's forces cleared when it drifts it). No software prefetch: asking for the
+ * next range's 17 arrays (about 500 lines, L1's size) evicted what the contact pass was using; the
+ * hardware's prefetch alone is 5 % faster on a 700 000-grain pile (docs/dev/scaling.md). */
 static inline __attribute__((always_inline)) int
 velocity_verlet_open(SimWorld *w, const int rot, const int closing, const int i0, const int i1)
 {
@@ -61,7 +39,6 @@ velocity_verlet_open(SimWorld *w, const int rot, const int closing, const int i0
     const double *restrict xr = w->x_ref, *restrict yr = w->y_ref;
     const double limit2 = w->disp_limit2;
     int moved = 0;
-    prefetch_next(w, rot, i1, i1 + (i1 - i0));
     /* The arrays never alias (restrict is not enough for GCC to vectorise): */
 #pragma GCC ivdep
     for (int i = i0; i < i1; ++i) {
