@@ -53,47 +53,37 @@ void sim_parts_free(SimWorld *world)
     memset(pp, 0, sizeof *pp);
 }
 
-/* Grows *a to hold n items of `size` bytes (its capacity *cap items); -1 out of memory. */
-static int grow(void **a, int *cap, int n, size_t size)
+/* Resizes *a to n items of `size` bytes; -1 out of memory (*a then as it was). */
+static int resize(void **a, int n, size_t size)
 {
-    if (n <= *cap)
-        return 0;
     void *p = realloc(*a, (size_t)n * size);
     if (!p)
         return -1;
     *a = p;
-    *cap = n;
     return 0;
 }
 
+/* The plan's arrays grown for `grains` grains, `entries` list entries and `slots` slots (each
+ * group shares one capacity); -1 out of memory. */
 static int reserve(PartPlan *pp, int grains, int entries, int slots)
 {
-    int grain_cap = pp->grain_capacity;
-    if (grains > grain_cap) {
-        int c = grain_cap;
-        if (grow((void **)&pp->mark, &c, grains, sizeof(int)) != 0)
-            return -1;
-        c = grain_cap;
-        if (grow((void **)&pp->shared_grain, &c, grains, sizeof(int)) != 0)
-            return -1;
-        c = grain_cap;
-        if (grow((void **)&pp->shared_start, &c, grains + 1, sizeof(int)) != 0)
+    if (grains > pp->grain_capacity) {
+        if (resize((void **)&pp->mark, grains, sizeof(int)) != 0 ||
+            resize((void **)&pp->shared_grain, grains, sizeof(int)) != 0 ||
+            resize((void **)&pp->shared_start, grains + 1, sizeof(int)) != 0)
             return -1;
         pp->grain_capacity = grains;
     }
-    if (grow((void **)&pp->target, &pp->target_capacity, entries, sizeof(int)) != 0)
-        return -1;
+    if (entries > pp->target_capacity) {
+        if (resize((void **)&pp->target, entries, sizeof(int)) != 0)
+            return -1;
+        pp->target_capacity = entries;
+    }
     if (slots > pp->slot_capacity) {
-        int c = pp->slot_capacity;
-        if (grow((void **)&pp->slot_entry, &c, slots, sizeof(int)) != 0)
+        if (resize((void **)&pp->slot_entry, slots, sizeof(int)) != 0 ||
+            resize((void **)&pp->shared_slot, slots, sizeof(int)) != 0 ||
+            resize((void **)&pp->slot_out, slots, 4 * sizeof(double)) != 0)
             return -1;
-        c = pp->slot_capacity;
-        if (grow((void **)&pp->shared_slot, &c, slots, sizeof(int)) != 0)
-            return -1;
-        double *out = realloc(pp->slot_out, 4 * (size_t)slots * sizeof *out);
-        if (!out)
-            return -1;
-        pp->slot_out = out;
         pp->slot_capacity = slots;
     }
     return 0;
