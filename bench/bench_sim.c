@@ -85,7 +85,6 @@ typedef struct Result {
     double mps_cpu;              /* same per second of process CPU time (best repeat) */
     double contacts_per_grain, coordination, entries_per_grain;
     double rebuilds_per_1000;
-    double paired; /* the share of the timed steps run two in one pass (fused_two) */
     double skin_d; /* skin at the end of the timed runs / mean mobile diameter */
     double layout_bytes_per_grain, layout_bytes_per_entry, layout_bytes_per_contact;
     double heap_bytes, heap_bytes_per_grain;
@@ -482,7 +481,7 @@ static int run_variant(const Options *o, const Variant *v, Result *r)
     if (!times)
         abort();
     double *cpu = times + o->repeats;
-    const long rebuilds0 = w->rebuilds, paired0 = w->paired_steps;
+    const long rebuilds0 = w->rebuilds;
     for (int k = 0; k < o->repeats; ++k) {
         double t0 = now_s(), c0 = cpu_s();
         SimStatus s = sim_world_step(w, o->steps, &err);
@@ -495,7 +494,7 @@ static int run_variant(const Options *o, const Variant *v, Result *r)
             return 1;
         }
     }
-    const long rebuilds = w->rebuilds - rebuilds0, paired = w->paired_steps - paired0;
+    const long rebuilds = w->rebuilds - rebuilds0;
     qsort(times, (size_t)o->repeats, sizeof *times, cmp_double);
     qsort(cpu, (size_t)o->repeats, sizeof *cpu, cmp_double);
 
@@ -522,7 +521,6 @@ static int run_variant(const Options *o, const Variant *v, Result *r)
         .coordination = sim_world_coordination(w),
         .entries_per_grain = (double)(w->nl.start[mobile] + w->wl.count) / mobile,
         .rebuilds_per_1000 = 1000.0 * (double)rebuilds / ((double)o->steps * o->repeats),
-        .paired = (double)paired / ((double)o->steps * o->repeats),
         .skin_d = sim_world_skin(w) / mean_d,
         .layout_bytes_per_grain = per_grain,
         .layout_bytes_per_entry = per_entry,
@@ -642,9 +640,8 @@ int main(int argc, char **argv)
                results[k].entries_per_grain, results[k].rebuilds_per_1000, results[k].skin_d,
                results[k].layout_bytes_per_grain, results[k].layout_bytes_per_contact);
     for (int k = 0; k < n; ++k)
-        printf("# %s: state hash after the timed runs 0x%016" PRIx64
-               "; %.1f %% of its steps two in one pass\n",
-               results[k].name, results[k].hash, 100.0 * results[k].paired);
+        printf("# %s: state hash after the timed runs 0x%016" PRIx64 "\n", results[k].name,
+               results[k].hash);
     for (int k = 0; k < n; ++k) {
         if (results[k].heap_bytes > 0.0)
             printf("# %s: heap grown by create + warm-up: %.0f B (%.0f B per mobile grain)\n",

@@ -31,12 +31,8 @@ typedef int RangeFn(SimWorld *world, int begin, int end);
 /* The one-thread contact pass with a drift fused into it (contact_pass.c, fused_pass): `drift`
  * moves and clears grains [begin, end) (begin a multiple of `align`) and returns 1 when one
  * passed the rebuild threshold. Returns 0 with the forces complete, or 1 with every grain
- * drifted and the forces to be evaluated anew after a rebuild. `next` (NULL: one step): two steps
- * in one pass (fused_two, one thread), `next` the second step's closing kick and drift; the caller
- * has made sure that `drift` moves no grain past the threshold; returns 0 with both steps' forces,
- * or 2 with the first step complete, every grain drifted for the second and its forces to be
- * evaluated after a rebuild. */
-typedef int FusedFn(SimWorld *world, RangeFn *drift, RangeFn *next, int align);
+ * drifted and the forces to be evaluated anew after a rebuild. */
+typedef int FusedFn(SimWorld *world, RangeFn *drift, int align);
 
 /* The hot loops (sim/isa/: the contact passes and the integrators' steps), compiled once per
  * instruction set; isa.c picks the copy a new world uses (sim_isa, docs/dev/isa.md). */
@@ -199,11 +195,8 @@ struct SimWorld {
     long skin_probe;
     /* velocity Verlet: sim_world_step asks to defer a step's closing kick into the next step's
      * opening loop (defer_kick); kick_pending says one is deferred. Never pending outside
-     * sim_world_step. Two steps in one pass (sim_world_pair_ready): sim_world_step allows a pair
-     * when nothing looks at the state between its two steps (pair_allowed; defer_pair: the second
-     * step's closing kick may wait), and the integrator says it took one (pair_taken). */
+     * sim_world_step. */
     int defer_kick, kick_pending;
-    int pair_allowed, defer_pair, pair_taken;
 
     NeighbourList nl;
     WallList wl;
@@ -227,9 +220,7 @@ struct SimWorld {
     StageFn *wall_pass;
     FusedFn *fused_pass; /* NULL: the separate passes always (tests/sim/test_fused.c) */
     StageFn *integrate;
-    long fused_steps, fused_trips;   /* steps whose drift ran fused; those that found a rebuild */
-    long paired_steps, paired_trips; /* of those, the steps run two in one pass (fused_two), and
-                                      * the pairs whose second step found a rebuild */
+    long fused_steps, fused_trips; /* steps whose drift ran fused; those that found a rebuild */
     unsigned contact_key; /* sim_contact_key at create (the passes of a run-time-key build) */
 
     /* sinks */
@@ -294,15 +285,6 @@ void sim_world_forces_at(SimWorld *world, double time);
  * (FusedFn; on threads, in the parts of NeighbourList.plan), or, when the fused pass cannot run,
  * over fixed ranges first and then the separate passes; the same bits either way. */
 void sim_world_drift_forces_at(SimWorld *world, double time, RangeFn *drift, int align);
-/* Whether the next two steps may run in one pass (fused_two): sim_world_step allows it, one
- * thread, the fused pass, no walls, body forces or motions (forces that the pass does not make),
- * and no rebuild or skin probe due at either step. The integrator must still check that its first
- * drift moves no grain past the rebuild threshold. */
-int sim_world_pair_ready(const SimWorld *world);
-/* Two steps' drifts and forces in one pass (fused_two; sim_world_pair_ready holds and the first
- * drift moves no grain past the threshold): `drift` the first step's, `next` the second's. The
- * clock moves to the end of the first step in between (sim_world_step moves it past the second). */
-void sim_world_drift_forces_two(SimWorld *world, RangeFn *drift, RangeFn *next, int align);
 /* neighbour.c */
 /* Rebuilds the lists; out of memory, it leaves them empty and sets world->out_of_memory. */
 void sim_neighbour_build(SimWorld *world);

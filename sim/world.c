@@ -746,7 +746,7 @@ void sim_world_drift_forces_at(SimWorld *w, double t, RangeFn *drift, int align)
         !probe_due(w)) {
         clear_forces(w, w->mobile_count); /* the fixed grains' (the drift clears the others) */
         ++w->fused_steps;
-        if (w->fused_pass(w, drift, NULL, align) == 0) {
+        if (w->fused_pass(w, drift, align) == 0) {
             forces_after_contacts(w, t);
             return;
         }
@@ -757,36 +757,6 @@ void sim_world_drift_forces_at(SimWorld *w, double t, RangeFn *drift, int align)
     }
     forces_after_motion(w, 1);
     forces_after_contacts(w, t);
-}
-
-int sim_world_pair_ready(const SimWorld *w)
-{
-    return w->pair_allowed && w->fused_pass && w->threads <= 1 && w->wall_count == 0 &&
-           !(w->effects & (SIM_EFFECT_FLUID_DRAG | SIM_EFFECT_VIBRATION)) && !rebuild_due(w) &&
-           !(w->skin_auto && w->step + 1 >= w->skin_probe);
-}
-
-/* The clock at the end of the present step. */
-static void advance_clock(SimWorld *w)
-{
-    ++w->step;
-    w->time = w->def.start_time + (double)w->step * w->dt;
-}
-
-void sim_world_drift_forces_two(SimWorld *w, RangeFn *drift, RangeFn *next, int align)
-{
-    clear_forces(w, w->mobile_count); /* the fixed grains' (the drifts clear the others) */
-    w->fused_steps += 2;
-    w->paired_steps += 2;
-    const int second_trips = w->fused_pass(w, drift, next, align) != 0;
-    advance_clock(w); /* the first step is complete */
-    if (second_trips) {
-        ++w->fused_trips;
-        ++w->paired_trips;
-        w->need_rebuild = 1;
-        forces_after_motion(w, 1);
-        forces_after_contacts(w, w->time + w->dt);
-    }
 }
 
 void sim_world_set_gravity(SimWorld *w, double gravity_x, double gravity_y)
@@ -1422,14 +1392,9 @@ SimStatus sim_world_step(SimWorld *w, long steps, SimError *error)
         /* Nothing looks at the velocities between two steps of this loop unless the guard is
          * due: the closing kick can wait for the next step's opening loop. */
         w->defer_kick = s + 1 < steps && w->step + 1 < w->guard_next;
-        /* the same condition lets two steps run in one pass (the integrator decides) */
-        w->pair_allowed = w->defer_kick;
-        w->defer_pair = s + 2 < steps && w->step + 2 < w->guard_next;
-        w->pair_taken = 0;
         w->integrate(w);
-        w->pair_allowed = 0;
-        s += w->pair_taken; /* the clock is at the end of the pair's first step */
-        advance_clock(w);
+        ++w->step;
+        w->time = w->def.start_time + (double)w->step * w->dt;
         if (w->out_of_memory)
             return memory_failure(w, error);
         if (w->jump_grain >= 0) {

@@ -277,13 +277,9 @@ typedef struct Scatter {
 
 /* `partner`: where entry k's results are subtracted (nl.j, or a part's targets, which send the
  * entries that reach a shared grain to the part's sink). */
-/* `sink`: 0, or where the entries whose partner is a fixed grain subtract instead (the first of
- * two steps in one pass, fused_two: the fixed grains' forces are the second step's). */
 KERNEL void scatter_range(SimWorld *world, const unsigned key, const int k0, const int k1,
-                          const Results res, Scatter *state, const int *restrict partner,
-                          const int sink)
+                          const Results res, Scatter *state, const int *restrict partner)
 {
-    const int mobile = world->mobile_count;
     const size_t cap = res.stride;
     const double *restrict radius = world->radius;
     double *restrict fx = world->fx, *restrict fy = world->fy, *restrict torque = world->torque;
@@ -295,7 +291,7 @@ KERNEL void scatter_range(SimWorld *world, const unsigned key, const int k0, con
     double sum_x = state->x, sum_y = state->y, sum_t = state->t;
     int previous = state->owner;
     for (int k = k0; k < k1; ++k) {
-        const int i = owner[k], j = sink && partner[k] >= mobile ? sink : partner[k];
+        const int i = owner[k], j = partner[k];
         const int first = i != previous;
         const double px = fx[previous], py = fy[previous];
         fx[previous] = first ? px + sum_x : px;
@@ -350,7 +346,7 @@ KERNEL void grain_pass(SimWorld *world, const unsigned key)
         const int k1 = total - k0 > FUSED_BLOCK ? k0 + FUSED_BLOCK : total;
         const Results res = results_block(block, k0);
         pair_range(world, key, k0, k1, history_in_place(world), res);
-        scatter_range(world, key, k0, k1, res, &state, world->nl.j, 0);
+        scatter_range(world, key, k0, k1, res, &state, world->nl.j);
     }
     scatter_finish(world, key, &state);
 }
@@ -470,7 +466,7 @@ KERNEL int fused_run(SimWorld *world, const unsigned key, RangeFn *drift, const 
         const Results res = results_block(block, b0);
         pair_range(world, key, b0, b1, spare, res);
         run.slot = copy_slots(pp, key, run.slot, run.slot_end, b1, res);
-        scatter_range(world, key, b0, b1, res, &state, run.target, 0);
+        scatter_range(world, key, b0, b1, res, &state, run.target);
     }
     if (moved && run.parts > 1)
         atomic_store_explicit(&pp->abort, 1, memory_order_relaxed);
@@ -503,98 +499,6 @@ KERNEL int fused_part(SimWorld *world, FusedRunFn *run, const int p)
     const FusedRun part = {pp->first[p], pp->first[p + 1],  pp->head[p],          p, pp->count,
                            pp->target,   pp->slot_first[p], pp->slot_first[p + 1]};
     return run(world, pp->drift, pp->align, part) | moved;
-}
-
-/* ---- Two velocity-Verlet steps in one pass (one thread; docs/dev/scaling.md, "Two steps in one
- * pass"). A pile larger than the cache streams every grain array from memory once per pass; two
- * steps per pass halve that. Four fronts move up the grains, each behind the one before:
- *   1. the first step's drift (`drift`), ahead of the entries that read the grains (fused_run);
- *   2. the first step's entries, a block of FUSED_BLOCK at a time, phase 1 then the scatter;
- *   3. the second step's drift (`next`: the first step's closing kick, then the drift) of the
- *      grains whose first-step force is complete: those below the scatter's owner (a partner is
- *      always above its owner, so every entry reaching a grain below it has been scattered);
- *   4. the second step's entries, each block once the third front has passed every grain it reads.
- * Each grain gets the operations of two sequential steps on the same values, so the same bits.
- * The first step's history goes to the spare arrays and the second step reads it there and writes
- * over the first step's inputs (which the second front has read already), so after both steps the
- * list's arrays hold the new history and nothing is swapped. The fixed grains' forces: the first
- * step's entries subtract into a sink and the second step's into the grains (cleared before the
- * pass), which is what two sequential steps leave. The caller has made sure that the first drift
- * moves no grain past the rebuild threshold (sim_world_pair_ready and the integrator's scan: the
- * same arithmetic as the drift): a grain of the first step past it cannot be drifted back. When
- * the second drift reports one, the fourth front stops, the first step still completes, every
- * grain is drifted for the second step, and fused_two returns 2: the first step's history is the
- * list's, and the caller rebuilds and evaluates the second step's forces. */
-
-/* Phase 1 then the scatter over entries [b0, b1) (one per key, below); `out`: where the new
- * history goes; `sink`: scatter_range's. */
-typedef void BlockFn(SimWorld *world, int b0, int b1, History out, Scatter *state, int sink);
-typedef void FinishFn(SimWorld *world, const Scatter *state);
-
-/* The largest mobile grain that entries [b0, b1) read, owner or partner. */
-KERNEL int block_reach(const NeighbourList *nl, const int b0, const int b1, const int mobile)
-{
-    const int partner_last = last_mobile_partner(nl->j, b0, b1, mobile);
-    return partner_last > nl->owner[b1 - 1] ? partner_last : nl->owner[b1 - 1];
-}
-
-/* The second step's blocks from entry b on whose grains the second drift has passed (`front`). */
-static int second_blocks(SimWorld *world, const unsigned key, BlockFn *block, int b,
-                         const int total, const int front, Scatter *state)
-{
-    NeighbourList *nl = &world->nl;
-    while (b < total) {
-        const int b1 = total - b > FUSED_BLOCK ? b + FUSED_BLOCK : total;
-        if (front < world->mobile_count && block_reach(nl, b, b1, world->mobile_count) >= front)
-            break;
-        swap_history(nl, key); /* the first step's new history is the second step's input */
-        block(world, b, b1, (History){nl->hist_t_spare, nl->hist_r_spare}, state, 0);
-        swap_history(nl, key);
-        b = b1;
-    }
-    return b;
-}
-
-static int fused_two(SimWorld *world, const unsigned key, BlockFn *block, FinishFn *finish,
-                     RangeFn *drift, RangeFn *next, const int align)
-{
-    NeighbourList *nl = &world->nl;
-    const int mobile = world->mobile_count, total = nl->start[mobile];
-    const int sink = world->count + 8 * (SIM_MAX_PARTS + 1); /* past the parts' sinks */
-    const History first = {nl->hist_t_spare, nl->hist_r_spare};
-    Scatter one = {0.0, 0.0, 0.0, total > 0 ? nl->owner[0] : 0}, two = one;
-    int front1 = 0, front2 = 0, b = 0, tripped = 0;
-    for (int a = 0; a < total; a += FUSED_BLOCK) {
-        const int a1 = total - a > FUSED_BLOCK ? a + FUSED_BLOCK : total;
-        const int last = block_reach(nl, a, a1, mobile);
-        if (last >= front1 && front1 < mobile) {
-            const int to = (last / align + 1) * align;
-            drift(world, front1, to < mobile ? to : mobile); /* never past: the caller's scan */
-            front1 = to < mobile ? to : mobile;
-        }
-        block(world, a, a1, first, &one, sink);
-        const int done = one.owner / align * align;
-        if (done > front2) {
-            tripped |= next(world, front2, done);
-            front2 = done;
-        }
-        if (!tripped)
-            b = second_blocks(world, key, block, b, total, front2, &two);
-    }
-    if (total > 0)
-        finish(world, &one);
-    if (front1 < mobile)
-        drift(world, front1, mobile);
-    if (front2 < mobile)
-        tripped |= next(world, front2, mobile);
-    if (!tripped) {
-        second_blocks(world, key, block, b, total, mobile, &two);
-        if (total > 0)
-            finish(world, &two);
-        return 0;
-    }
-    swap_history(nl, key);
-    return 2;
 }
 
 /* The serial scatter's operations on a grain g from the entries whose partner is g, in the order
@@ -840,28 +744,8 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
             moved |= fused_part(world, fused_run_##name, p);                                       \
         return moved;                                                                              \
     }                                                                                              \
-    __attribute__((noinline)) static void block_##name(SimWorld *world, int b0, int b1,            \
-                                                       History out, Scatter *state, int sink)      \
+    static int fused_pass_##name(SimWorld *world, RangeFn *drift, int align)                       \
     {                                                                                              \
-        double buf[4 * FUSED_BLOCK] __attribute__((aligned(64)));                                  \
-        const Results res = results_block(buf, b0);                                                \
-        if (world->def.species_count == 1)                                                         \
-            pair_range(world, (KEY) | KEY_UNIFORM, b0, b1, out, res);                              \
-        else                                                                                       \
-            pair_range(world, (KEY), b0, b1, out, res);                                            \
-        if (sink)                                                                                  \
-            scatter_range(world, (KEY), b0, b1, res, state, world->nl.j, sink);                    \
-        else                                                                                       \
-            scatter_range(world, (KEY), b0, b1, res, state, world->nl.j, 0);                       \
-    }                                                                                              \
-    static void finish_##name(SimWorld *world, const Scatter *state)                               \
-    {                                                                                              \
-        scatter_finish(world, (KEY), state);                                                       \
-    }                                                                                              \
-    static int fused_pass_##name(SimWorld *world, RangeFn *drift, RangeFn *next, int align)        \
-    {                                                                                              \
-        if (next)                                                                                  \
-            return fused_two(world, (KEY), block_##name, finish_##name, drift, next, align);       \
         if (world->threads > 1 && world->nl.plan.count > 0)                                        \
             return fused_parts(world, (KEY), part_range_##name, drift, align);                     \
         return fused_pass(world, (KEY), fused_run_##name, drift, align);                           \

@@ -75,31 +75,6 @@ velocity_verlet_open(SimWorld *w, const int rot, const int closing, const int i0
     return moved;
 }
 
-/* Whether velocity_verlet_open over [i0, i1) would move a grain past the rebuild threshold: the
- * same arithmetic on the same values, nothing written (before two steps in one pass, whose first
- * drift cannot be undone: sim_world_pair_ready). */
-static inline __attribute__((always_inline)) int
-velocity_verlet_moves(const SimWorld *w, const int closing, const int i0, const int i1)
-{
-    const double dt = w->dt, half = 0.5 * dt, gx = w->def.gravity_x, gy = w->def.gravity_y;
-    const double *restrict x = w->x, *restrict y = w->y, *restrict vx = w->vx, *restrict vy = w->vy;
-    const double *restrict hx = w->scratch[VV_VX_HALF], *restrict hy = w->scratch[VV_VY_HALF];
-    const double *restrict fx = w->fx, *restrict fy = w->fy, *restrict im = w->inv_mass;
-    const double *restrict xr = w->x_ref, *restrict yr = w->y_ref;
-    const double limit2 = w->disp_limit2;
-    int moved = 0;
-#pragma GCC ivdep
-    for (int i = i0; i < i1; ++i) {
-        double ax = fx[i] * im[i] + gx, ay = fy[i] * im[i] + gy;
-        double vxi = closing ? hx[i] + half * ax : vx[i];
-        double vyi = closing ? hy[i] + half * ay : vy[i];
-        double xn = x[i] + dt * (vxi + half * ax), yn = y[i] + dt * (vyi + half * ay);
-        double dx = xn - xr[i], dy = yn - yr[i];
-        moved |= dx * dx + dy * dy > limit2;
-    }
-    return moved;
-}
-
 /* The closing kick with the new forces. */
 static inline __attribute__((always_inline)) int velocity_verlet_close(SimWorld *w, const int rot,
                                                                        const int i0, const int i1)
@@ -149,25 +124,13 @@ static int vv_close_1(SimWorld *w, int begin, int end)
 /* Ranges of 8 grains: whole vectors, and no two threads on one cache line of a double array. */
 enum { VV_ALIGN = 8 };
 
-/* A step, or two in one pass when the world allows it and the first drift moves no grain past
- * the rebuild threshold (sim_world_pair_ready; the second step's drift is the first's closing
- * kick and its own drift, vv_open_*_1). */
 static inline void velocity_verlet(SimWorld *w, const int rot)
 {
-    const int closing = w->kick_pending;
-    RangeFn *open =
-        rot ? (closing ? vv_open_1_1 : vv_open_1_0) : (closing ? vv_open_0_1 : vv_open_0_0);
+    RangeFn *open = rot ? (w->kick_pending ? vv_open_1_1 : vv_open_1_0)
+                        : (w->kick_pending ? vv_open_0_1 : vv_open_0_0);
     w->kick_pending = 0;
-    int defer = w->defer_kick;
-    if (sim_world_pair_ready(w) && !(closing ? velocity_verlet_moves(w, 1, 0, w->mobile_count)
-                                             : velocity_verlet_moves(w, 0, 0, w->mobile_count))) {
-        sim_world_drift_forces_two(w, open, rot ? vv_open_1_1 : vv_open_0_1, VV_ALIGN);
-        w->pair_taken = 1;
-        defer = w->defer_pair;
-    } else {
-        sim_world_drift_forces_at(w, w->time + w->dt, open, VV_ALIGN);
-    }
-    if (defer)
+    sim_world_drift_forces_at(w, w->time + w->dt, open, VV_ALIGN);
+    if (w->defer_kick)
         w->kick_pending = 1;
     else
         sim_parallel_ranges(w, rot ? vv_close_1 : vv_close_0, w->mobile_count, VV_ALIGN);

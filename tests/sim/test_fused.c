@@ -11,11 +11,9 @@
 
 #include <string.h>
 
-/* `large`: 1500 grains instead of 150, a list of many of the passes' blocks of entries.
- * `walls`: the box's sides are walls, or (0) columns of fixed grains (no forces outside the
- * grain-grain pass: two steps may run in one pass, sim_world_pair_ready). */
-static SimWorld *make_box(SimTangentialLaw tangential, SimRollingLaw rolling, SimGrainBuffer *b,
-                          int large, int walls)
+/* `large`: 1500 grains instead of 150, a list of many of the passes' blocks of entries. */
+static SimWorld *make_pile(SimTangentialLaw tangential, SimRollingLaw rolling, SimGrainBuffer *b,
+                           int large)
 {
     static const SimWall box[3] = {{.x0 = 0.0, .y0 = 0.0, .x1 = 2.0, .y1 = 0.0, .motion = -1},
                                    {.x0 = 0.0, .y0 = 0.0, .x1 = 0.0, .y1 = 3.0, .motion = -1},
@@ -28,10 +26,6 @@ static SimWorld *make_box(SimTangentialLaw tangential, SimRollingLaw rolling, Si
         b->omega[k] = (double)(k % 7 - 3) * 2.0;
     const double row = large ? 0.01 : 0.025;
     sim_build_fixed_row(b, row, 2.0 - row, row, row, 0, -1); /* fixed partners of the list */
-    if (!walls) {
-        sim_build_fixed_column(b, -row, row, 3.0, row, 0, -1);
-        sim_build_fixed_column(b, 2.0 + row, row, 3.0, row, 0, -1);
-    }
     SimWorldDef def = tu_def(1000.0, 1e5, 0.0);
     def.steps_per_contact = 50.0;
     def.gravity_y = -G0;
@@ -45,15 +39,9 @@ static SimWorld *make_box(SimTangentialLaw tangential, SimRollingLaw rolling, Si
     m->restitution = 0.5;
     m->rolling_friction = 0.002;
     m->rolling_stiffness = 5.0;
-    def.wall_count = walls ? 3 : 0;
-    def.walls = walls ? box : NULL;
+    def.wall_count = 3;
+    def.walls = box;
     return tu_create(&def, b);
-}
-
-static SimWorld *make_pile(SimTangentialLaw tangential, SimRollingLaw rolling, SimGrainBuffer *b,
-                           int large)
-{
-    return make_box(tangential, rolling, b, large, 1);
 }
 
 static SimWorld *make(SimTangentialLaw tangential, SimRollingLaw rolling, SimGrainBuffer *b)
@@ -261,84 +249,8 @@ static int threads_build_their_arrays(void)
     return 0;
 }
 
-/* Two steps in one pass (fused_two): in a box walled by fixed grains, stepped in batches, every
- * law's grains, forces, torques and history equal the separate passes' after every batch, with
- * rebuilds found by the second step's drift mid-pass and pairs refused (a rebuild due at the
- * first step, an odd step left in a batch). */
-static int pairs_same_as_separate(SimTangentialLaw tangential, SimRollingLaw rolling, int large)
-{
-    SimGrainBuffer b1, b2;
-    SimWorld *paired = make_box(tangential, rolling, &b1, large, 0);
-    SimWorld *plain = make_box(tangential, rolling, &b2, large, 0);
-    TEST_ASSERT(paired && plain);
-    plain->fused_pass = NULL;
-    for (int batch = 0; batch < 40; ++batch) {
-        TEST_ASSERT(tu_step(paired, 75) == 0 && tu_step(plain, 75) == 0);
-        TEST_ASSERT(sim_world_hash(paired) == sim_world_hash(plain));
-        const int n = paired->count, entries = paired->nl.start[paired->mobile_count];
-        TEST_ASSERT(n == plain->count && entries == plain->nl.start[plain->mobile_count]);
-        TEST_ASSERT(SAME(paired->fx, plain->fx, n) && SAME(paired->fy, plain->fy, n));
-        TEST_ASSERT(SAME(paired->torque, plain->torque, n));
-        TEST_ASSERT(SAME(paired->nl.j, plain->nl.j, entries));
-        TEST_ASSERT(SAME(paired->nl.hist_t, plain->nl.hist_t, entries));
-        TEST_ASSERT(SAME(paired->nl.hist_r, plain->nl.hist_r, entries));
-    }
-    TEST_ASSERT(paired->paired_steps > 1500 && paired->paired_trips > 3);
-    TEST_ASSERT(paired->fused_steps > paired->paired_steps); /* some steps alone */
-    TEST_ASSERT(plain->paired_steps == 0);
-    TEST_ASSERT(sim_world_energy(paired).contacts > 100);
-    sim_world_destroy(paired);
-    sim_world_destroy(plain);
-    sim_grain_buffer_free(&b1);
-    sim_grain_buffer_free(&b2);
-    return 0;
-}
-
-static int pairs_spring_rolling(void)
-{
-    return pairs_same_as_separate(SIM_TANGENTIAL_SPRING, SIM_ROLLING_FIXED, 0);
-}
-
-static int pairs_regularised_chord_large(void)
-{
-    return pairs_same_as_separate(SIM_TANGENTIAL_REGULARISED, SIM_ROLLING_CHORD, 1);
-}
-
-static int pairs_spring_large(void)
-{
-    return pairs_same_as_separate(SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF, 1);
-}
-
-/* A pair needs one thread, no walls, and both of its steps inside one call: a call of one step,
- * a walled box or a second thread runs every step alone. */
-static int pairs_only_where_allowed(void)
-{
-    SimGrainBuffer b1, b2, b3;
-    SimWorld *single = make_box(SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF, &b1, 0, 0);
-    SimWorld *walled = make_box(SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF, &b2, 0, 1);
-    SimWorld *threaded = make_box(SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF, &b3, 0, 0);
-    TEST_ASSERT(single && walled && threaded);
-    sim_world_set_threads(threaded, 2);
-    for (int s = 0; s < 300; ++s)
-        TEST_ASSERT(tu_step(single, 1) == 0);
-    TEST_ASSERT(tu_step(walled, 300) == 0 && tu_step(threaded, 300) == 0);
-    TEST_ASSERT(single->fused_steps > 200 && walled->fused_steps > 200);
-    TEST_ASSERT(threaded->fused_steps > 200);
-    TEST_ASSERT(single->paired_steps == 0 && walled->paired_steps == 0);
-    TEST_ASSERT(threaded->paired_steps == 0);
-    sim_world_destroy(single);
-    sim_world_destroy(walled);
-    sim_world_destroy(threaded);
-    sim_grain_buffer_free(&b1);
-    sim_grain_buffer_free(&b2);
-    sim_grain_buffer_free(&b3);
-    return 0;
-}
-
 TEST_MAIN(TEST_CASE(spring), TEST_CASE(spring_rolling), TEST_CASE(regularised_rolling),
           TEST_CASE(spring_rolling_large), TEST_CASE(parts_spring_rolling),
           TEST_CASE(parts_regularised_chord), TEST_CASE(parts_small_pile), TEST_CASE(parts_thin),
           TEST_CASE(fixed_partners_only), TEST_CASE(threads_separate_passes),
-          TEST_CASE(threads_build_their_arrays), TEST_CASE(pairs_spring_rolling),
-          TEST_CASE(pairs_regularised_chord_large), TEST_CASE(pairs_spring_large),
-          TEST_CASE(pairs_only_where_allowed))
+          TEST_CASE(threads_build_their_arrays))
