@@ -6,6 +6,35 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The double grain arrays start at different places within a page: array k is allocated
+ * GRAIN_STAGGER * k doubles longer and begins that far into its block. A large array comes from
+ * mmap at a page start (plus the allocator's header), so without it every array of a pile of
+ * 10^5 grains or more begins at the same offset in its page, and grain i of each of the 17
+ * arrays the drift streams falls into the same set of the 8-way L1 cache. 24 doubles = 3 lines,
+ * 22 arrays: 66 of the 64 sets' worth of lines, each array a different set from its neighbours'.
+ * Only addresses change: the same bits. */
+enum { GRAIN_STAGGER = 24 };
+
+/* *a (capacity `old`, NULL when 0; array number k) grown to n + SIM_GRAIN_SLACK doubles (the
+ * parts' sinks, internal.h), the new ones +0.0. -1 when out of memory, *a as it was. */
+static int grow_staggered(double **a, int old, size_t n, int k)
+{
+    const size_t lead = (size_t)GRAIN_STAGGER * (size_t)k;
+    double *base = *a ? *a - lead : NULL;
+    double *p = realloc(base, (lead + n + SIM_GRAIN_SLACK) * sizeof *p);
+    if (!p)
+        return -1;
+    *a = p + lead;
+    memset(*a + old, 0, (n + SIM_GRAIN_SLACK - (size_t)old) * sizeof *p);
+    return 0;
+}
+
+/* The start of a block of grow_staggered's (array number k), for free. */
+static void *staggered_block(double *a, int k)
+{
+    return a ? a - (size_t)GRAIN_STAGGER * (size_t)k : NULL;
+}
+
 /* Grows the grain arrays, and the per-grain arrays of the neighbour build (list starts, cells), to
  * `capacity` grains, so that a build inside a step has only the lists themselves to grow. */
 int sim_grains_reserve(SimWorld *world, int capacity)
@@ -30,14 +59,17 @@ int sim_grains_reserve(SimWorld *world, int capacity)
         memset(world->name + world->capacity, 0,                                                   \
                (n + (slack) - (size_t)world->capacity) * sizeof *world->name);                     \
     }
-#define GROW(name)        GROW_BY(name, 0)
-#define GROW_DOUBLE(name) GROW_BY(name, SIM_GRAIN_SLACK) /* the parts' sinks (internal.h) */
+#define GROW(name) GROW_BY(name, 0)
+    int k = 0;
+#define GROW_DOUBLE(name)                                                                          \
+    if (grow_staggered(&world->name, world->capacity, n, k++) != 0)                                \
+        return -1;
     SIM_GRAIN_DOUBLE_ARRAYS(GROW_DOUBLE)
+    for (int s = 0; s < world->scratch_count; ++s)
+        GROW_DOUBLE(scratch[s])
     SIM_GRAIN_INT_ARRAYS(GROW)
     GROW(flags)
     GROW(id)
-    for (int k = 0; k < world->scratch_count; ++k)
-        GROW(scratch[k])
     GROW(cell_items)
     GROW(cell_of)
 #undef GROW
@@ -78,14 +110,17 @@ int sim_grains_permute(SimWorld *world, const int *order, int count)
 
 void sim_grains_free(SimWorld *world)
 {
-#define RELEASE(name) free(world->name);
-    SIM_GRAIN_DOUBLE_ARRAYS(RELEASE)
+    int k = 0;
+#define RELEASE_DOUBLE(name) free(staggered_block(world->name, k++));
+#define RELEASE(name)        free(world->name);
+    SIM_GRAIN_DOUBLE_ARRAYS(RELEASE_DOUBLE)
+    for (int s = 0; s < SIM_SCRATCH_MAX; ++s)
+        RELEASE_DOUBLE(scratch[s])
     SIM_GRAIN_INT_ARRAYS(RELEASE)
     RELEASE(flags)
     RELEASE(id)
-    for (int k = 0; k < SIM_SCRATCH_MAX; ++k)
-        RELEASE(scratch[k])
 #undef RELEASE
+#undef RELEASE_DOUBLE
 }
 
 /* Drops flagged grains (keeping order) after contact history was collected; called from the
