@@ -8,11 +8,12 @@
 
 /* The double grain arrays start at different places within a page: array k is allocated
  * GRAIN_STAGGER * k doubles longer and begins that far into its block. A large array comes from
- * mmap at a page start (plus the allocator's header), so without it every array of a pile of
- * 10^5 grains or more begins at the same offset in its page, and grain i of each of the 17
- * arrays the drift streams falls into the same set of the 8-way L1 cache. 24 doubles = 3 lines,
- * 22 arrays: 66 of the 64 sets' worth of lines, each array a different set from its neighbours'.
- * Only addresses change: the same bits. */
+ * mmap at a page start plus the allocator's header (glibc: blocks over 128 KiB, about 16 000
+ * grains, at first), so without it every array of a large pile begins at the same offset in its
+ * page, and grain i of each of the arrays the velocity-Verlet drift streams (14 read, 12
+ * written) falls into the same set of the 8-way, 64-set L1 cache. 24 doubles = 3 lines: the 22
+ * arrays (19 and 3 integrator scratch) fall into 22 different sets. Only addresses change: the
+ * same bits (docs/dev/scaling.md, "the grain arrays staggered within their pages"). */
 enum { GRAIN_STAGGER = 24 };
 
 /* *a (capacity `old`, NULL when 0; array number k) grown to n + SIM_GRAIN_SLACK doubles (the
