@@ -6,34 +6,23 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The double grain arrays start at different places within a page: array k is allocated
- * GRAIN_STAGGER * k doubles longer and begins that far into its block. A large array comes from
- * mmap at a page start plus the allocator's header (glibc: blocks over 128 KiB, about 16 000
- * grains, at first), so without it every array of a large pile begins at the same offset in its
- * page, and grain i of each of the arrays the velocity-Verlet drift streams (14 read, 12
- * written) falls into the same set of the 8-way, 64-set L1 cache. 24 doubles = 3 lines: the 22
- * arrays (19 and 3 integrator scratch) fall into 22 different sets. Only addresses change: the
- * same bits (docs/dev/scaling.md, "the grain arrays staggered within their pages"). */
-enum { GRAIN_STAGGER = 24 };
+/* The double grain arrays are staggered blocks (sim_stagger_grow, internal.h): without it every
+ * array of a large pile begins at the same offset in its page (blocks over glibc's mmap threshold,
+ * about 16 000 grains, at first), and grain i of each of the arrays the velocity-Verlet drift
+ * streams (14 read, 12 written) falls into the same set of the L1 cache. The 22 arrays (19 and 3
+ * integrator scratch) are numbered 0-21: 22 different sets (docs/dev/scaling.md, "the grain
+ * arrays staggered within their pages"). */
 
 /* *a (capacity `old`, NULL when 0; array number k) grown to n + SIM_GRAIN_SLACK doubles (the
  * parts' sinks, internal.h), the new ones +0.0. -1 when out of memory, *a as it was. */
 static int grow_staggered(double **a, int old, size_t n, int k)
 {
-    const size_t lead = (size_t)GRAIN_STAGGER * (size_t)k;
-    double *base = *a ? *a - lead : NULL;
-    double *p = realloc(base, (lead + n + SIM_GRAIN_SLACK) * sizeof *p);
+    double *p = sim_stagger_grow(*a, (n + SIM_GRAIN_SLACK) * sizeof *p, k);
     if (!p)
         return -1;
-    *a = p + lead;
-    memset(*a + old, 0, (n + SIM_GRAIN_SLACK - (size_t)old) * sizeof *p);
+    *a = p;
+    memset(p + old, 0, (n + SIM_GRAIN_SLACK - (size_t)old) * sizeof *p);
     return 0;
-}
-
-/* The start of a block of grow_staggered's (array number k), for free. */
-static void *staggered_block(double *a, int k)
-{
-    return a ? a - (size_t)GRAIN_STAGGER * (size_t)k : NULL;
 }
 
 /* Grows the grain arrays, and the per-grain arrays of the neighbour build (list starts, cells), to
@@ -111,8 +100,7 @@ int sim_grains_permute(SimWorld *world, const int *order, int count)
 
 void sim_grains_free(SimWorld *world)
 {
-    int k = 0;
-#define RELEASE_DOUBLE(name) free(staggered_block(world->name, k++));
+#define RELEASE_DOUBLE(name) sim_stagger_free(world->name);
 #define RELEASE(name)        free(world->name);
     SIM_GRAIN_DOUBLE_ARRAYS(RELEASE_DOUBLE)
     for (int s = 0; s < SIM_SCRATCH_MAX; ++s)

@@ -393,6 +393,27 @@ int sim_parallel_units(SimWorld *world, RangeFn *fn, int n);
 /* Stops and frees the world's threads (sim_world_destroy). */
 void sim_parallel_free(SimWorld *world);
 
+/* stagger.c: blocks for arrays that one loop reads at the same index. A large block comes from
+ * mmap at a page start plus the allocator's header (glibc: over 128 KiB), so every large array
+ * would begin at the same offset in its page and element i of each fall into the same set of the
+ * 8-way, 64-set L1. Array number k of a family begins sim_stagger_lead(k) bytes into its block
+ * instead: 64 + 192 k (one line for the lead itself, then 3 lines per array), so up to 64 arrays
+ * of one element size fall into 64 different sets. Only addresses change: the same bits. */
+enum { SIM_STAGGER_LINES = 3 };
+
+static inline size_t sim_stagger_lead(int k)
+{
+    return 64u * (1u + SIM_STAGGER_LINES * (size_t)k);
+}
+
+/* `data` (NULL, or from this function) grown to `bytes`, its contents kept as realloc keeps them;
+ * a new block gets lead k, a grown one keeps its own (so blocks may swap owners, as the history
+ * and its spare do). NULL when out of memory, `data` as it was. */
+void *sim_stagger_grow(void *data, size_t bytes, int k);
+void sim_stagger_free(void *data);
+/* The lead of a block from sim_stagger_grow (0 for NULL): where its data begin in it. */
+size_t sim_stagger_offset(const void *data);
+
 /* grains.c */
 int sim_grains_reserve(SimWorld *world, int capacity);
 /* -1 when out of memory (the grains left as they were). */

@@ -51,15 +51,34 @@ static const HistoryRecord *record_find(const HistoryRecord *records, int count,
 /* Out of memory the build cannot return an error (it runs inside a step): the growers below
  * leave the array as it was, record the failure (world->out_of_memory, which sim_world_step
  * reports) and the build ends with empty lists. */
-#define GROW(array, count)                                                                         \
+#define GROW_TO(array, grown)                                                                      \
     do {                                                                                           \
-        void *grown_ = realloc(array, ((count) > 0 ? (count) : 1) * sizeof *(array));              \
+        void *grown_ = (grown);                                                                    \
         if (!grown_) {                                                                             \
             sim_world_out_of_memory(world, "the neighbour list");                                  \
             return -1;                                                                             \
         }                                                                                          \
         (array) = grown_;                                                                          \
     } while (0)
+#define GROW(array, count)                                                                         \
+    GROW_TO(array, realloc(array, ((count) > 0 ? (count) : 1) * sizeof *(array)))
+
+/* The per-entry arrays the contact pass reads at one entry index are staggered blocks
+ * (sim_stagger_grow, internal.h; docs/dev/scaling.md, "the list's arrays staggered"), numbered: */
+enum {
+    LIST_J,
+    LIST_OWNER,
+    LIST_GAMMA,
+    LIST_PAIR,
+    LIST_SHIFT,
+    LIST_HIST_T,
+    LIST_HIST_R,
+    LIST_HIST_T_SPARE,
+    LIST_HIST_R_SPARE
+};
+
+#define GROW_STAGGERED(array, count, k)                                                            \
+    GROW_TO(array, sim_stagger_grow(array, (count) * sizeof *(array), k))
 
 static int list_reserve(SimWorld *world, int capacity)
 {
@@ -67,17 +86,17 @@ static int list_reserve(SimWorld *world, int capacity)
     if (capacity <= nl->capacity)
         return 0;
     size_t n = (size_t)capacity;
-    GROW(nl->j, n);
-    GROW(nl->gamma, n);
-    GROW(nl->pair, n);
-    GROW(nl->owner, n);
+    GROW_STAGGERED(nl->j, n, LIST_J);
+    GROW_STAGGERED(nl->gamma, n, LIST_GAMMA);
+    GROW_STAGGERED(nl->pair, n, LIST_PAIR);
+    GROW_STAGGERED(nl->owner, n, LIST_OWNER);
     if (world->effects & SIM_EFFECT_PERIODIC_X)
-        GROW(nl->shift, n);
+        GROW_STAGGERED(nl->shift, n, LIST_SHIFT);
     if (world->has_history) {
-        GROW(nl->hist_t, n);
-        GROW(nl->hist_r, n);
-        GROW(nl->hist_t_spare, n);
-        GROW(nl->hist_r_spare, n);
+        GROW_STAGGERED(nl->hist_t, n, LIST_HIST_T);
+        GROW_STAGGERED(nl->hist_r, n, LIST_HIST_R);
+        GROW_STAGGERED(nl->hist_t_spare, n, LIST_HIST_T_SPARE);
+        GROW_STAGGERED(nl->hist_r_spare, n, LIST_HIST_R_SPARE);
     }
     nl->capacity = capacity;
     return 0;
@@ -105,19 +124,19 @@ void sim_neighbour_free(SimWorld *world)
 {
     NeighbourList *nl = &world->nl;
     free(nl->start);
-    free(nl->j);
-    free(nl->gamma);
-    free(nl->pair);
-    free(nl->shift);
-    free(nl->owner);
+    sim_stagger_free(nl->j);
+    sim_stagger_free(nl->gamma);
+    sim_stagger_free(nl->pair);
+    sim_stagger_free(nl->shift);
+    sim_stagger_free(nl->owner);
     free(nl->out);
     free(nl->in_start);
     free(nl->in_entry);
     sim_parts_free(world);
-    free(nl->hist_t);
-    free(nl->hist_r);
-    free(nl->hist_t_spare);
-    free(nl->hist_r_spare);
+    sim_stagger_free(nl->hist_t);
+    sim_stagger_free(nl->hist_r);
+    sim_stagger_free(nl->hist_t_spare);
+    sim_stagger_free(nl->hist_r_spare);
     WallList *wl = &world->wl;
     free(wl->grain);
     free(wl->wall);
