@@ -356,6 +356,10 @@ static int member_argv(Ensemble *E, int member)
     const char *head[] = {"sablier", command, o->scene_path, "--out", dir, "--quiet"};
     for (size_t k = 0; k < sizeof head / sizeof head[0]; ++k)
         words[n++] = head[k];
+    if (strcmp(command, "run") == 0) { /* members side by side, one thread each (docs/cli.md) */
+        words[n++] = "--threads";
+        words[n++] = "1";
+    }
     for (int k = 0; k < set_count; ++k) {
         words[n++] = "--set";
         words[n++] = sets[k];

@@ -4,7 +4,8 @@
 # (ensemble_fall.scene: a free fall, symplectic Euler's height is shifted by -g T (dt - dt_ref)/2,
 # velocity Verlet's not at all): the tables' structure, the shift reproduced within its interval
 # and significant at the coarse dts, no shift with velocity Verlet, the answer lines, the same
-# tables with --jobs 1 and 2 (CPU columns aside), and a refused time step runs nothing.
+# tables with --jobs 1 and 2 (CPU columns aside), each member started on one thread, and a refused
+# time step runs nothing.
 set -u
 sablier=$1 scene=$2 work=$3 render=${4:-ON}
 fail() { echo "cli.ensemble: $*" >&2; exit 1; }
@@ -31,6 +32,11 @@ head -1 "$se/members.csv" | grep -qx "dt_s,steps_per_contact,seed,status,cpu_s,t
 awk -F, 'NR > 1 && ($4 != 0 || !($5 > 0)) { bad = 1 } NR > 1 { y[$6] = 1 }
   END { n = 0; for (k in y) ++n; exit bad || n < 6 }' "$se/members.csv" ||
   fail "members.csv: a member failed, has no CPU time, or the seeds gave one height"
+# members run side by side, each started on one thread (docs/cli.md; their command lines)
+summaries=$(find "$se" -name summary.json | wc -l)
+single=$(grep -l '"--quiet", "--threads", "1"' $(find "$se" -name summary.json) | wc -l)
+[ "$summaries" = 24 ] && [ "$single" = 24 ] ||
+  fail "$single of $summaries member summaries (24 expected) record --threads 1"
 # the known shift: rows by dt, finest (the reference) first
 awk -F, -v g=9.806 'NR > 1 && $1 == "trace.csv:y" {
     ++k; dt[k] = $2; n[k] = $4; shift[k] = $8; half[k] = $9; within[k] = $11 }

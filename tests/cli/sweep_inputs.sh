@@ -3,7 +3,8 @@
 # cli.sweep_inputs: the sweep driver refuses bad inputs before anything runs (exit 2, no output
 # folder): a --from checkpoint that does not exist or is not a state, a --vary list with more
 # values than a key takes, a sweep-file member whose --set is wrong (reported at its line); a long
-# --vary list within the bound is kept whole (it was cut at 256 characters).
+# --vary list within the bound is kept whole (it was cut at 256 characters), and each member is
+# started on one thread.
 set -u
 sablier=$1 scene=$2 work=$3
 rm -rf "$work" && mkdir -p "$work"
@@ -34,6 +35,9 @@ long=$(for k in $(seq 1 30); do printf '0.%08d,' "$k"; done)
   >"$work/out.txt" 2>"$work/err.txt" || fail "long --vary list refused: $(cat "$work/err.txt")"
 members=$(grep -c "mu=0.000000" "$work/out.txt")
 [ "$members" = 30 ] || fail "long --vary list: $members members, expected 30"
+# members run side by side, each on one thread (docs/cli.md): every member command says so
+one=$(grep "mu=0.000000" "$work/out.txt" | grep -c -e " run .* --threads 1 ")
+[ "$one" = 30 ] || fail "dry run: $one of 30 member commands ask for --threads 1"
 
 cat >"$work/bad.sweep" <<SWEEP
 scene = "$scene";
