@@ -356,9 +356,10 @@ static int member_argv(Ensemble *E, int member)
     const char *head[] = {"sablier", command, o->scene_path, "--out", dir, "--quiet"};
     for (size_t k = 0; k < sizeof head / sizeof head[0]; ++k)
         words[n++] = head[k];
-    if (strcmp(command, "run") == 0) { /* members side by side, one thread each (docs/cli.md) */
+    const char *threads = app_pool_member_threads((int)o->jobs);
+    if (strcmp(command, "run") == 0 && threads) { /* side by side: one thread each */
         words[n++] = "--threads";
-        words[n++] = "1";
+        words[n++] = threads;
     }
     for (int k = 0; k < set_count; ++k) {
         words[n++] = "--set";

@@ -6,6 +6,8 @@
 #include "pool_local.h"
 #include "pool_mpi.h"
 
+#include <stddef.h>
+
 void app_pool_begin(void)
 {
 #ifdef SABLIER_WITH_MPI
@@ -20,6 +22,11 @@ int app_pool_width(int jobs)
         return app_pool_mpi_workers();
 #endif
     return jobs < 1 ? 1 : jobs > APP_POOL_MAX_JOBS ? APP_POOL_MAX_JOBS : jobs;
+}
+
+const char *app_pool_member_threads(int jobs)
+{
+    return app_pool_width(jobs) > 1 ? "1" : NULL;
 }
 
 int app_pool_run(const AppPool *pool)

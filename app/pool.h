@@ -44,6 +44,11 @@ void app_pool_begin(void);
 /// How many tasks run at once: jobs, or the worker ranks under MPI (for the drivers' messages).
 int app_pool_width(int jobs);
 
+/// The `--threads` value for a member command the pool starts: "1" when members run side by side
+/// (app_pool_width > 1: the cores go to members, one each), NULL when they run one at a time (the
+/// member then takes the threads `--threads auto` gives it). Results do not depend on it.
+const char *app_pool_member_threads(int jobs);
+
 /// Runs the pool's tasks. 0, or -1 when a fork failed or waiting for the children failed.
 int app_pool_run(const AppPool *pool);
 

@@ -310,17 +310,18 @@ static void free_argv(char **argv)
 }
 
 /* argv of `sablier run SCENE --out DIR --quiet [--threads 1] --set ...` (malloc'd strings, NULL
- * ended). The members run side by side (--jobs, or one per MPI rank), each on one thread
- * (docs/cli.md); the bed runs alone while the members wait, on the threads `auto` gives it. */
+ * ended). Members side by side (--jobs, or the MPI ranks) run on one thread each, one at a time on
+ * the threads `auto` gives them (app_pool_member_threads); so does the bed, which runs alone. */
 static int member_argv(const Sweep *w, const Member *m, int bed_run, char **argv, int capacity)
 {
     int n = 0;
     const char *fixed[] = {"sablier", "run", w->scene_path, "--out", m->dir, "--quiet"};
     for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; ++k)
         argv[n++] = format(fixed[k], "");
-    if (!bed_run) {
+    const char *threads = bed_run ? NULL : app_pool_member_threads(w->o->jobs);
+    if (threads) {
         argv[n++] = format("--threads", "");
-        argv[n++] = format("1", "");
+        argv[n++] = format(threads, "");
     }
     const char *sets[3 * MAX_SETS + SCENE_MAX_STAGES + 1];
     char buffers[SCENE_MAX_STAGES + 1][SWEEP_PATH + 2 * SCENE_NAME_MAX];

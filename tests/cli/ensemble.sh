@@ -4,8 +4,8 @@
 # (ensemble_fall.scene: a free fall, symplectic Euler's height is shifted by -g T (dt - dt_ref)/2,
 # velocity Verlet's not at all): the tables' structure, the shift reproduced within its interval
 # and significant at the coarse dts, no shift with velocity Verlet, the answer lines, the same
-# tables with --jobs 1 and 2 (CPU columns aside), each member started on one thread, and a refused
-# time step runs nothing.
+# tables with --jobs 1 and 2 (CPU columns aside), each member started on one thread when two run at
+# once (and on `auto`'s threads with --jobs 1), and a refused time step runs nothing.
 set -u
 sablier=$1 scene=$2 work=$3 render=${4:-ON}
 fail() { echo "cli.ensemble: $*" >&2; exit 1; }
@@ -72,6 +72,9 @@ for table in ensemble.csv members.csv; do
     fail "$table differs between --jobs 2 and --jobs 1"
 done
 cmp -s "$se.stdout" "$work/se1.stdout" || fail "answers differ between --jobs 2 and --jobs 1"
+# one member at a time (--jobs 1): no --threads 1, the member takes what `auto` gives it
+! grep -l -e '"--threads"' $(find "$work/se1" -name summary.json) >/dev/null ||
+  fail "--jobs 1: a member was started with --threads"
 # velocity Verlet is exact for a free fall: no shift at any dt
 run "$work/vv" --set integrator=velocity_verlet
 awk -F, 'NR > 1 && $1 == "trace.csv:y" { d = $8 < 0 ? -$8 : $8; if ($11 != 1 || d > 1e-7) exit 1 }' \

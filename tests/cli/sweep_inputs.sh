@@ -4,7 +4,7 @@
 # folder): a --from checkpoint that does not exist or is not a state, a --vary list with more
 # values than a key takes, a sweep-file member whose --set is wrong (reported at its line); a long
 # --vary list within the bound is kept whole (it was cut at 256 characters), and each member is
-# started on one thread.
+# started on one thread when members run side by side (on `auto`'s threads with --jobs 1).
 set -u
 sablier=$1 scene=$2 work=$3
 rm -rf "$work" && mkdir -p "$work"
@@ -38,6 +38,11 @@ members=$(grep -c "mu=0.000000" "$work/out.txt")
 # members run side by side, each on one thread (docs/cli.md): every member command says so
 one=$(grep "mu=0.000000" "$work/out.txt" | grep -c -e " run .* --threads 1 ")
 [ "$one" = 30 ] || fail "dry run: $one of 30 member commands ask for --threads 1"
+# one member at a time (--jobs 1): the member takes the threads `auto` gives it
+"$sablier" sweep "$scene" --vary species.0.mu=0.3,0.5 --jobs 1 --dry-run --out "$work/jobs1" \
+  >"$work/out.txt" 2>"$work/err.txt" || fail "--jobs 1 dry run refused: $(cat "$work/err.txt")"
+[ "$(grep -c " run " "$work/out.txt")" = 2 ] && ! grep -q -e "--threads" "$work/out.txt" ||
+  fail "--jobs 1 dry run: expected 2 member commands without --threads: $(cat "$work/out.txt")"
 
 cat >"$work/bad.sweep" <<SWEEP
 scene = "$scene";
