@@ -138,31 +138,35 @@ void sim_contacts_visit(SimWorld *world, ContactVisit *visit, void *context)
     }
 }
 
-/* The guard's scan (world.c): the contact whose overlap is the largest fraction of the smaller
- * diameter (2 r_i against a wall), the first one in sim_contacts_visit's order on a tie, with the
- * visitor's arithmetic for the overlap; *i and *j as SimContact's (j = -1 - wall), -1 and -1
- * when nothing overlaps. It evaluates no law: on a 7000-grain pile the full visitor every 100
- * steps was 2 % of the step's time, serial while other threads waited. */
-double sim_contacts_worst_overlap(const SimWorld *world, int *worst_i, int *worst_j)
+/* The largest overlap ratio among the entries of the owners [i0, i1) that beats *worst (the
+ * visitor's arithmetic for the overlap, the first on a tie), with its pair in *worst_i, *worst_j.
+ */
+static void worst_pair_overlap(const SimWorld *world, unsigned key, int i0, int i1, double *worst,
+                               int *worst_i, int *worst_j)
 {
-    const unsigned key = sim_contact_key(world);
-    const double *x = world->x, *y = world->y, *r = world->radius;
-    double worst = 0.0;
-    *worst_i = *worst_j = -1;
-    for (int i = 0; i < world->mobile_count; ++i) {
+    const double *r = world->radius;
+    double best = *worst;
+    for (int i = i0; i < i1; ++i) {
         for (int k = world->nl.start[i]; k < world->nl.start[i + 1]; ++k) {
             const int j = world->nl.j[k];
             double dx, dy, d;
             if (!entry_touching(world, key, i, k, &dx, &dy, &d))
                 continue;
             const double ratio = (r[i] + r[j] - d) / fmin(2.0 * r[i], 2.0 * r[j]);
-            if (ratio > worst) {
-                worst = ratio;
+            if (ratio > best) {
+                best = ratio;
                 *worst_i = i;
                 *worst_j = j;
             }
         }
     }
+    *worst = best;
+}
+
+/* The same over the wall entries, with *worst_j = -1 - wall (2 r_i is the smaller diameter). */
+static void worst_wall_overlap(const SimWorld *world, double *worst, int *worst_i, int *worst_j)
+{
+    const double *x = world->x, *y = world->y, *r = world->radius;
     for (int k = 0; k < world->wl.count; ++k) {
         const int i = world->wl.grain[k], w = world->wl.wall[k];
         double nx, ny;
@@ -170,13 +174,51 @@ double sim_contacts_worst_overlap(const SimWorld *world, int *worst_i, int *wors
         if (d >= r[i])
             continue;
         const double ratio = (r[i] - d) / (2.0 * r[i]);
-        if (ratio > worst) {
-            worst = ratio;
+        if (ratio > *worst) {
+            *worst = ratio;
             *worst_i = i;
             *worst_j = -1 - w;
         }
     }
+}
+
+/* The guard's scan (world.c): the contact whose overlap is the largest fraction of the smaller
+ * diameter (2 r_i against a wall), the first one in sim_contacts_visit's order on a tie, with the
+ * visitor's arithmetic for the overlap; *i and *j as SimContact's (j = -1 - wall), -1 and -1
+ * when nothing overlaps. It evaluates no law: on a 7000-grain pile the full visitor every 100
+ * steps was 2 % of the step's time, serial while other threads waited. */
+double sim_contacts_worst_overlap(const SimWorld *world, int *worst_i, int *worst_j)
+{
+    double worst = 0.0;
+    *worst_i = *worst_j = -1;
+    worst_pair_overlap(world, sim_contact_key(world), 0, world->mobile_count, &worst, worst_i,
+                       worst_j);
+    worst_wall_overlap(world, &worst, worst_i, worst_j);
     return worst;
+}
+
+/* 1 when a pair among the owners [begin, end) overlaps by more than the guard's bound. */
+static int pairs_over_bound(SimWorld *world, int begin, int end)
+{
+    double worst = world->def.guard_max_overlap;
+    int i = -1, j = -1;
+    worst_pair_overlap(world, sim_contact_key(world), begin, end, &worst, &i, &j);
+    return i >= 0;
+}
+
+/* 1 when sim_contacts_worst_overlap's answer exceeds the guard's bound def.guard_max_overlap
+ * (> 0), found without the serial scan: the pairs on the world's threads, each owner's entries on
+ * one of them (a yes-or-no answer, so the same for any thread count), then the walls' few
+ * entries. The guard asks this every guard_every steps; on 2 threads the serial scan was a
+ * quarter of the time the second thread waited (docs/dev/scaling.md). */
+int sim_contacts_overlap_over_bound(SimWorld *world)
+{
+    if (sim_parallel_ranges(world, pairs_over_bound, world->mobile_count, 1))
+        return 1;
+    double worst = world->def.guard_max_overlap;
+    int i = -1, j = -1;
+    worst_wall_overlap(world, &worst, &i, &j);
+    return i >= 0;
 }
 
 int sim_contact_key_rotation(unsigned key)

@@ -235,6 +235,7 @@ struct SimWorld {
 
     struct {
         int valid, count, mobile_count;
+        size_t stride; /* of the arrays in data and ints (count, at least 1) */
         double time;
         long step;
         double *data;    /* x, y, vx, vy, angle, omega, radius per grain */
@@ -372,6 +373,8 @@ void sim_contacts_visit(SimWorld *world, ContactVisit *visit, void *context);
 /* The largest overlap as a fraction of the smaller diameter, and its pair (*j = -1 - wall for a
  * wall; -1, -1 when nothing overlaps): the guard's scan, without the laws (contact.c). */
 double sim_contacts_worst_overlap(const SimWorld *world, int *i, int *j);
+/* 1 when that overlap exceeds def.guard_max_overlap, scanned on the world's threads. */
+int sim_contacts_overlap_over_bound(SimWorld *world);
 
 /* integrate.c */
 /* How many scratch arrays (SimWorld.scratch) the integrator uses, with or without rotation. */

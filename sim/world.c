@@ -1210,6 +1210,24 @@ void sim_world_freeze(SimWorld *w)
 
 /* ------------------------------------------------------------------ guard */
 
+/* Copies grains [begin, end) into the snapshot (arrays of stride good.stride). */
+static int snapshot_range(SimWorld *w, int begin, int end)
+{
+    const size_t n = w->good.stride, count = (size_t)(end - begin);
+    const double *src[7] = {w->x, w->y, w->vx, w->vy, w->angle, w->omega, w->radius};
+    double *d = w->good.data;
+    int *q = w->good.ints;
+    for (int a = 0; a < 7; ++a)
+        memcpy(d + (size_t)a * n + begin, src[a] + begin, count * sizeof *d);
+    memcpy(q + begin, w->species + begin, count * sizeof *q);
+    memcpy(q + n + begin, w->motion + begin, count * sizeof *q);
+    memcpy(w->good.flags + begin, w->flags + begin, count * sizeof *w->good.flags);
+    memcpy(w->good.ids + begin, w->id + begin, count * sizeof *w->good.ids);
+    return 0;
+}
+
+/* The state the guard rolls back to, copied on the world's threads (a pass over every grain
+ * array each guard_every steps: serial, it kept the other threads waiting). */
 static void guard_snapshot(SimWorld *w)
 {
     size_t n = (size_t)(w->count > 0 ? w->count : 1);
@@ -1225,15 +1243,8 @@ static void guard_snapshot(SimWorld *w)
         w->good.valid = 0;
         return;
     }
-    const double *src[7] = {w->x, w->y, w->vx, w->vy, w->angle, w->omega, w->radius};
-    for (int a = 0; a < 7; ++a)
-        memcpy(d + (size_t)a * n, src[a], (size_t)w->count * sizeof *d);
-    for (int i = 0; i < w->count; ++i) {
-        q[i] = w->species[i];
-        q[n + (size_t)i] = w->motion[i];
-    }
-    memcpy(flags, w->flags, (size_t)w->count * sizeof *flags);
-    memcpy(ids, w->id, (size_t)w->count * sizeof *ids);
+    w->good.stride = n;
+    sim_parallel_ranges(w, snapshot_range, w->count, 8);
     w->good.count = w->count;
     w->good.mobile_count = w->mobile_count;
     w->good.time = w->time;
@@ -1300,15 +1311,21 @@ static void speed_cause(const SimWorld *w, int i, double v, const char *otherwis
         snprintf(out, size, "%s", otherwise);
 }
 
-static SimStatus guard_check(SimWorld *w, SimError *error)
+/* 1 when a grain of [begin, end) has a non-finite state or moves faster than the guard's bound. */
+static int grains_unsound(SimWorld *w, int begin, int end)
 {
-    const SimTiming *t = &w->timing;
-    char cause[200];
-    snprintf(cause, sizeof cause,
-             "likely cause: time step %g s is %.3g of the contact time %g s of the stiffest, "
-             "lightest pair (%.3g steps per contact; stability limit %g s)",
-             w->dt, w->dt / t->contact_time_min, t->contact_time_min, t->steps_per_contact,
-             t->stability_limit);
+    int bad = 0;
+    for (int i = begin; i < end; ++i) {
+        const double v2 = w->vx[i] * w->vx[i] + w->vy[i] * w->vy[i];
+        bad |= !isfinite(w->x[i]) || !isfinite(w->y[i]) || !isfinite(v2) ||
+               !isfinite(w->omega[i]) || v2 > w->guard_speed2;
+    }
+    return bad;
+}
+
+/* The first unsound grain's failure (grains_unsound), SIM_OK when there is none. */
+static SimStatus speed_failure(SimWorld *w, const char *cause, SimError *error)
+{
     for (int i = 0; i < w->mobile_count; ++i) {
         double v2 = w->vx[i] * w->vx[i] + w->vy[i] * w->vy[i];
         if (!isfinite(w->x[i]) || !isfinite(w->y[i]) || !isfinite(v2) || !isfinite(w->omega[i])) {
@@ -1334,18 +1351,35 @@ static SimStatus guard_check(SimWorld *w, SimError *error)
             return SIM_ERROR_UNSTABLE;
         }
     }
+    return SIM_OK;
+}
+
+/* The guard's two scans run on the world's threads as yes-or-no questions; only a failing one is
+ * repeated on one thread to name the first (or worst) grain, so the messages do not depend on
+ * the thread count either. */
+static SimStatus guard_check(SimWorld *w, SimError *error)
+{
+    const SimTiming *t = &w->timing;
+    char cause[200];
+    snprintf(cause, sizeof cause,
+             "likely cause: time step %g s is %.3g of the contact time %g s of the stiffest, "
+             "lightest pair (%.3g steps per contact; stability limit %g s)",
+             w->dt, w->dt / t->contact_time_min, t->contact_time_min, t->steps_per_contact,
+             t->stability_limit);
+    if (sim_parallel_ranges(w, grains_unsound, w->mobile_count, 8) &&
+        speed_failure(w, cause, error) != SIM_OK)
+        return SIM_ERROR_UNSTABLE;
+    if (!sim_contacts_overlap_over_bound(w))
+        return SIM_OK;
     int oi, oj;
     const double worst = sim_contacts_worst_overlap(w, &oi, &oj);
-    if (worst > w->def.guard_max_overlap) {
-        fail(error, SIM_ERROR_UNSTABLE, "grains",
-             "step %ld: grain %u overlaps %s%d by %.3g of the smaller diameter (bound %g); %s",
-             w->step, w->id[oi], oj >= 0 ? "grain " : "wall ", oj >= 0 ? (int)w->id[oj] : -1 - oj,
-             worst, w->def.guard_max_overlap, cause);
-        error->step = w->step;
-        error->grain = w->id[oi];
-        return SIM_ERROR_UNSTABLE;
-    }
-    return SIM_OK;
+    fail(error, SIM_ERROR_UNSTABLE, "grains",
+         "step %ld: grain %u overlaps %s%d by %.3g of the smaller diameter (bound %g); %s", w->step,
+         w->id[oi], oj >= 0 ? "grain " : "wall ", oj >= 0 ? (int)w->id[oj] : -1 - oj, worst,
+         w->def.guard_max_overlap, cause);
+    error->step = w->step;
+    error->grain = w->id[oi];
+    return SIM_ERROR_UNSTABLE;
 }
 
 /* ------------------------------------------------------------------ stepping */

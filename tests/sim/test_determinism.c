@@ -164,6 +164,61 @@ static int event_onset_threads_same_hash(void)
     return 0;
 }
 
+/* The run guard on threads (world.c guard_check, guard_snapshot): its scans and its snapshot run
+ * on the world's threads, so a failure must name the same step and grain as on one thread, and
+ * the roll-back must restore the last good state. 400 grains at rest on a lattice with no contact
+ * (no gravity), and above them the grains 400 and 401, the last in the sorted order (the last
+ * thread's range). `overlap`: 401 approaches 400 at 0.2 m/s from 1 % of a diameter away, so the
+ * guard at step 100 passes (and takes its snapshot on the threads) and the one at step 200 finds
+ * them overlapping by 1 % of the diameter (bound 0.5 %); otherwise grain 400 moves at 2 m/s
+ * (bound 1 m/s) and the guard stops the run at step 100. */
+static int guard_failure_on_threads(int overlap, const char *expected)
+{
+    char messages[2][sizeof(((SimError *)0)->message)];
+    for (int run = 0; run < 2; ++run) {
+        SimGrainBuffer b;
+        sim_grain_buffer_init(&b);
+        for (int k = 0; k < 400; ++k)
+            sim_grain_buffer_add(&b, 0.03 * (k % 20), 0.03 * (k / 20), 0.01, 0, 0, -1);
+        int top = sim_grain_buffer_add(&b, 0.3, 0.7, 0.01, 0, 0, -1);
+        int other = sim_grain_buffer_add(&b, overlap ? 0.3202 : 0.4, 0.7, 0.01, 0, 0, -1);
+        if (overlap)
+            b.vx[other] = -0.2;
+        else
+            b.vx[top] = 2.0;
+        SimWorldDef def = tu_def(1000.0, 1e3, 1e-5);
+        def.guard_max_overlap = 0.005;
+        def.guard_max_speed = 1.0;
+        SimWorld *w = tu_create(&def, &b);
+        TEST_ASSERT(w != NULL);
+        sim_world_set_threads(w, run == 0 ? 1 : 3);
+        if (overlap)
+            TEST_ASSERT(tu_step(w, 100) == 0);
+        const uint64_t good = sim_world_hash(w);
+        SimError err;
+        TEST_ASSERT(sim_world_step(w, 300, &err) == SIM_ERROR_UNSTABLE);
+        TEST_ASSERT(err.step == (overlap ? 200 : 100) && err.grain == 400);
+        TEST_ASSERT(strstr(err.message, expected) != NULL);
+        TEST_ASSERT(sim_world_hash(w) == good); /* rolled back to the last good check */
+        memcpy(messages[run], err.message, sizeof messages[run]);
+        sim_world_destroy(w);
+        sim_grain_buffer_free(&b);
+    }
+    TEST_ASSERT(strcmp(messages[0], messages[1]) == 0);
+    return 0;
+}
+
+static int guard_overlap_same_on_threads(void)
+{
+    return guard_failure_on_threads(1, "step 200: grain 400 overlaps grain 401 by 0.00");
+}
+
+static int guard_speed_same_on_threads(void)
+{
+    return guard_failure_on_threads(0, "grain 400 at (0.3");
+}
+
 TEST_MAIN(TEST_CASE(same_seed_same_hash), TEST_CASE(different_seed_different_hash),
           TEST_CASE(split_steps_same_hash), TEST_CASE(rng_stream),
-          TEST_CASE(event_onset_threads_same_hash))
+          TEST_CASE(event_onset_threads_same_hash), TEST_CASE(guard_overlap_same_on_threads),
+          TEST_CASE(guard_speed_same_on_threads))
