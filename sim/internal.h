@@ -101,6 +101,7 @@ typedef struct NeighbourList {
     int *in_entry; /* out_capacity */
     int in_capacity, out_capacity, in_ready;
     PartPlan plan;
+    struct ListBuild *build; /* the build's per-part candidates (neighbour.c) */
 } NeighbourList;
 
 /* Grain-wall candidate list: entries (grain, wall). */

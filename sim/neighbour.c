@@ -120,6 +120,64 @@ static int wall_list_reserve(SimWorld *world, int capacity)
     return 0;
 }
 
+/* The pair build runs in parts, one per thread (the grains [mobile p / P, mobile (p + 1) / P)),
+ * in two passes over the threads: the first finds each grain's partners (the cell search, most
+ * of the build) into its part's sink, the second, once the counts give every grain its place,
+ * writes the list's entries (partner, owner, species pair, damping, shift, history). The list is
+ * the concatenation in grain order whatever the number of parts: the same bits on any thread
+ * count. The first part's sink is the list itself, so one thread needs no more memory than the
+ * serial build did; the other parts' sinks keep their arrays between builds (4 bytes per entry,
+ * 12 with a periodic x). Serial, the build kept the other thread waiting for 1-2 % of a
+ * 2-thread step's time (docs/dev/scaling.md). */
+typedef struct ListSink {
+    int *j;
+    double *shift; /* periodic x only */
+    int count, capacity;
+    long wide, touching; /* the automatic skin's counts (build_pairs) */
+    int failed;          /* out of memory */
+} ListSink;
+
+struct ListBuild {
+    int parts;
+    ListSink *sinks;
+    const HistoryRecord *records; /* the history to carry over, sorted by key */
+    int record_count;
+};
+
+static void build_free(struct ListBuild *b)
+{
+    if (!b)
+        return;
+    for (int p = 0; p < b->parts; ++p) {
+        free(b->sinks[p].j);
+        free(b->sinks[p].shift);
+    }
+    free(b->sinks);
+    free(b);
+}
+
+/* The build's parts for the world's thread count (their sinks kept while it stays the same);
+ * NULL when out of memory. */
+static struct ListBuild *build_parts(SimWorld *world)
+{
+    NeighbourList *nl = &world->nl;
+    const int parts = world->threads > 1 ? world->threads : 1;
+    if (nl->build && nl->build->parts == parts)
+        return nl->build;
+    build_free(nl->build);
+    nl->build = calloc(1, sizeof *nl->build);
+    if (nl->build) {
+        nl->build->sinks = calloc((size_t)parts, sizeof *nl->build->sinks);
+        if (!nl->build->sinks) {
+            free(nl->build);
+            nl->build = NULL;
+        } else {
+            nl->build->parts = parts;
+        }
+    }
+    return nl->build;
+}
+
 void sim_neighbour_free(SimWorld *world)
 {
     NeighbourList *nl = &world->nl;
@@ -133,6 +191,8 @@ void sim_neighbour_free(SimWorld *world)
     free(nl->in_start);
     free(nl->in_entry);
     sim_parts_free(world);
+    build_free(nl->build);
+    nl->build = NULL;
     sim_stagger_free(nl->hist_t);
     sim_stagger_free(nl->hist_r);
     sim_stagger_free(nl->hist_t_spare);
@@ -353,23 +413,54 @@ static HistoryRecord *collect_history(const SimWorld *world, int *count, History
     return records;
 }
 
-static int build_pairs(SimWorld *world, const HistoryRecord *records, int record_count)
+/* Appends partner j (with its periodic shift) to a part's sink; the first part's sink is the list
+ * itself (its entries are where the partners are found, so one thread needs no sink, and several
+ * need sinks for all parts but the first). -1 when out of memory. */
+static int sink_push(SimWorld *world, ListSink *sink, int first, int periodic, int j, double shift)
 {
-    const int mobile = world->mobile_count;
+    if (first) {
+        NeighbourList *nl = &world->nl;
+        if (sink->count == nl->capacity && list_reserve(world, 2 * nl->capacity) != 0)
+            return -1;
+        nl->j[sink->count] = j;
+        if (periodic)
+            nl->shift[sink->count] = shift;
+        ++sink->count;
+        return 0;
+    }
+    if (sink->count == sink->capacity) {
+        const int capacity = 2 * sink->capacity + 256;
+        int *grown = realloc(sink->j, (size_t)capacity * sizeof *grown);
+        if (grown)
+            sink->j = grown;
+        double *shifts = grown && periodic ? realloc(sink->shift, (size_t)capacity * sizeof *shifts)
+                                           : sink->shift;
+        if (!grown || (periodic && !shifts))
+            return -1;
+        sink->shift = shifts;
+        sink->capacity = capacity;
+    }
+    sink->j[sink->count] = j;
+    if (periodic)
+        sink->shift[sink->count] = shift;
+    ++sink->count;
+    return 0;
+}
+
+/* The partners j > i within rs + skin of the grains [i0, i1) into a sink, their count per grain in
+ * nl.start[i + 1]. The automatic skin also counts the pairs within skin_max (the grid's cells are
+ * that wide, so the loop visits them all) to learn how the list grows with the skin. */
+static int find_partners(SimWorld *world, ListSink *sink, int first, int i0, int i1)
+{
     const int periodic = (world->effects & SIM_EFFECT_PERIODIC_X) != 0;
     const double span = world->def.domain_x1 - world->def.domain_x0;
     const double skin = world->skin;
-    /* The automatic skin counts the pairs within skin_max (the grid's cells are that wide, so
-     * the loop visits them all) to learn how the list grows with the skin. */
     const double reach = world->skin_auto ? world->skin_max : skin;
-    long wide = 0, touching = 0;
-    NeighbourList *nl = &world->nl;
-    /* nl->start holds capacity + 1 entries (sim_grains_reserve) */
-    if (nl->capacity < 4 * mobile + 16 && list_reserve(world, 4 * mobile + 16) != 0)
-        return -1;
-    int k = 0;
-    for (int i = 0; i < mobile; ++i) {
-        nl->start[i] = k;
+    int *start = world->nl.start;
+    sink->count = 0;
+    sink->wide = sink->touching = 0;
+    for (int i = i0; i < i1; ++i) {
+        const int before = sink->count;
         const double xi = world->x[i], yi = world->y[i], ri = world->radius[i];
         const int c = world->cell_of[i];
         const int cx = c % world->ncx, cy = c / world->ncx;
@@ -396,39 +487,116 @@ static int build_pairs(SimWorld *world, const HistoryRecord *records, int record
                     if (world->skin_auto) {
                         if (d2 >= (rs + reach) * (rs + reach))
                             continue;
-                        ++wide;
-                        touching += d2 < rs * rs;
+                        ++sink->wide;
+                        sink->touching += d2 < rs * rs;
                     }
                     double cut = rs + skin;
                     if (d2 >= cut * cut)
                         continue;
-                    if (k >= nl->capacity && list_reserve(world, 2 * nl->capacity) != 0)
+                    if (sink_push(world, sink, first, periodic, j, shift) != 0)
                         return -1;
-                    int si = world->species[i], sj = world->species[j];
-                    nl->j[k] = j;
-                    nl->owner[k] = i;
-                    nl->pair[k] = (uint8_t)(si * SIM_MAX_SPECIES + sj);
-                    nl->gamma[k] =
-                        pair_gamma(world, si, sj, world->inv_mass[i], world->inv_mass[j]);
-                    if (periodic)
-                        nl->shift[k] = shift;
-                    if (world->has_history) {
-                        const HistoryRecord *h =
-                            record_count ? record_find(records, record_count,
-                                                       pair_key(world->id[i], world->id[j]))
-                                         : NULL;
-                        nl->hist_t[k] = h ? h->t : 0.0;
-                        nl->hist_r[k] = h ? (world->id[i] < world->id[j] ? h->r : -h->r) : 0.0;
-                    }
-                    ++k;
                 }
             }
         }
+        start[i + 1] = sink->count - before;
     }
-    nl->start[mobile] = k;
-    if (world->skin_auto)
+    return 0;
+}
+
+/* The list's entries of the grains [i0, i1) from their sink, at the places nl.start gives. */
+static void write_entries(SimWorld *world, const ListSink *sink, int first, int i0, int i1)
+{
+    const struct ListBuild *b = world->nl.build;
+    const int periodic = (world->effects & SIM_EFFECT_PERIODIC_X) != 0;
+    NeighbourList *nl = &world->nl;
+    const int *partner = first ? nl->j : sink->j; /* the first part's are in place */
+    const double *shift = first ? nl->shift : sink->shift;
+    int s = 0;
+    for (int i = i0; i < i1; ++i) {
+        const int si = world->species[i];
+        for (int k = nl->start[i]; k < nl->start[i + 1]; ++k, ++s) {
+            const int j = partner[s], sj = world->species[j];
+            nl->j[k] = j;
+            nl->owner[k] = i;
+            nl->pair[k] = (uint8_t)(si * SIM_MAX_SPECIES + sj);
+            nl->gamma[k] = pair_gamma(world, si, sj, world->inv_mass[i], world->inv_mass[j]);
+            if (periodic)
+                nl->shift[k] = shift[s];
+            if (world->has_history) {
+                const HistoryRecord *h = b->record_count
+                                             ? record_find(b->records, b->record_count,
+                                                           pair_key(world->id[i], world->id[j]))
+                                             : NULL;
+                nl->hist_t[k] = h ? h->t : 0.0;
+                nl->hist_r[k] = h ? (world->id[i] < world->id[j] ? h->r : -h->r) : 0.0;
+            }
+        }
+    }
+}
+
+static int part_first(const SimWorld *world, int p)
+{
+    return (int)((long long)world->mobile_count * p / world->nl.build->parts);
+}
+
+/* The two passes over parts [begin, end) (sim_parallel_units): 1 when a sink ran out of memory. */
+static int find_parts(SimWorld *world, int begin, int end)
+{
+    int failed = 0;
+    for (int p = begin; p < end; ++p) {
+        ListSink *sink = &world->nl.build->sinks[p];
+        sink->failed =
+            find_partners(world, sink, p == 0, part_first(world, p), part_first(world, p + 1));
+        failed |= sink->failed != 0;
+    }
+    return failed;
+}
+
+static int write_parts(SimWorld *world, int begin, int end)
+{
+    for (int p = begin; p < end; ++p)
+        write_entries(world, &world->nl.build->sinks[p], p == 0, part_first(world, p),
+                      part_first(world, p + 1));
+    return 0;
+}
+
+/* The half list in CSR form, on the world's threads (ListSink above). */
+static int build_pairs(SimWorld *world, const HistoryRecord *records, int record_count)
+{
+    const int mobile = world->mobile_count;
+    NeighbourList *nl = &world->nl;
+    struct ListBuild *b = build_parts(world);
+    /* nl->start holds capacity + 1 entries (sim_grains_reserve) */
+    if (!b || (nl->capacity < 4 * mobile + 16 && list_reserve(world, 4 * mobile + 16) != 0)) {
+        sim_world_out_of_memory(world, "the neighbour list");
+        return -1;
+    }
+    b->records = records;
+    b->record_count = record_count;
+    if (sim_parallel_units(world, find_parts, b->parts) != 0) {
+        sim_world_out_of_memory(world, "the neighbour list");
+        return -1;
+    }
+    long wide = 0, touching = 0;
+    for (int p = 0; p < b->parts; ++p) {
+        wide += b->sinks[p].wide;
+        touching += b->sinks[p].touching;
+    }
+    nl->start[0] = 0;
+    for (int i = 0; i < mobile; ++i)
+        nl->start[i + 1] += nl->start[i];
+    int capacity = nl->capacity;
+    while (capacity < nl->start[mobile])
+        capacity *= 2;
+    if (list_reserve(world, capacity) != 0)
+        return -1;
+    sim_parallel_units(world, write_parts, b->parts);
+    b->records = NULL;
+    if (world->skin_auto) {
+        const double reach = world->skin_max;
         world->skin_density =
             mobile > 0 && reach > 0.0 ? (double)(wide - touching) / ((double)mobile * reach) : 0.0;
+    }
     return 0;
 }
 

@@ -397,6 +397,48 @@ static int auto_skin_follows_motion(void)
     return 0;
 }
 
+/* The list is built in parts on the world's threads (neighbour.c, ListSink): on 3 threads it
+ * must still hold every contact of the brute force (moving grains, the automatic skin, the seam),
+ * and give the bits of one thread, the automatic skin included (its pair counts are summed over
+ * the parts); on the settled pile, whose tangential springs are carried over at each build, the
+ * same bits on 1 and 3 threads after 3000 steps. */
+static int cells_match_on_threads(void)
+{
+    for (int periodic = 0; periodic < 2; ++periodic) {
+        SimWorld *w[2];
+        for (int run = 0; run < 2; ++run) {
+            w[run] = make(periodic, 7, 0.5, 0.0);
+            TEST_ASSERT(w[run]);
+            sim_world_set_threads(w[run], run == 0 ? 1 : 3);
+        }
+        TEST_ASSERT(sim_world_threads(w[1]) == 3);
+        const long builds0 = sim_world_list_builds(w[1]);
+        int seen = 0;
+        for (int s = 0; s < 120; ++s) {
+            TEST_ASSERT(compare(w[1], &seen) == 0);
+            TEST_ASSERT(tu_step(w[0], 25) == 0 && tu_step(w[1], 25) == 0);
+            TEST_ASSERT(sim_world_skin(w[0]) == sim_world_skin(w[1]));
+        }
+        TEST_ASSERT(sim_world_list_builds(w[1]) - builds0 >= 5);
+        TEST_ASSERT(seen > 500);
+        TEST_ASSERT(sim_world_hash(w[0]) == sim_world_hash(w[1]));
+        sim_world_destroy(w[0]);
+        sim_world_destroy(w[1]);
+    }
+    uint64_t hashes[2];
+    for (int run = 0; run < 2; ++run) {
+        SimWorld *p = pile(0.0, 0.5);
+        TEST_ASSERT(p);
+        sim_world_set_threads(p, run == 0 ? 1 : 3);
+        TEST_ASSERT(tu_step(p, 3000) == 0);
+        TEST_ASSERT(sim_world_energy(p).contacts > 50);
+        hashes[run] = sim_world_hash(p);
+        sim_world_destroy(p);
+    }
+    TEST_ASSERT(hashes[0] == hashes[1]);
+    return 0;
+}
+
 /* Grains spread over more than DBL_MAX (x1 - x0 overflows to inf): the grid falls back to one
  * cell instead of coarsening forever (fuzz finding), and a touching pair among them is found. */
 static int spread_beyond_double_range(void)
@@ -421,4 +463,5 @@ static int spread_beyond_double_range(void)
 
 TEST_MAIN(TEST_CASE(cells_match_brute_force), TEST_CASE(cells_match_brute_force_periodic),
           TEST_CASE(cells_match_after_motion), TEST_CASE(auto_skin_matches_brute_force),
-          TEST_CASE(auto_skin_follows_motion), TEST_CASE(spread_beyond_double_range))
+          TEST_CASE(auto_skin_follows_motion), TEST_CASE(spread_beyond_double_range),
+          TEST_CASE(cells_match_on_threads))
