@@ -134,7 +134,6 @@ typedef struct ListSink {
     double *shift; /* periodic x only */
     int count, capacity;
     long wide, touching; /* the automatic skin's counts (build_pairs) */
-    int failed;          /* out of memory */
 } ListSink;
 
 struct ListBuild {
@@ -543,12 +542,9 @@ static int part_first(const SimWorld *world, int p)
 static int find_parts(SimWorld *world, int begin, int end)
 {
     int failed = 0;
-    for (int p = begin; p < end; ++p) {
-        ListSink *sink = &world->nl.build->sinks[p];
-        sink->failed =
-            find_partners(world, sink, p == 0, part_first(world, p), part_first(world, p + 1));
-        failed |= sink->failed != 0;
-    }
+    for (int p = begin; p < end; ++p)
+        failed |= find_partners(world, &world->nl.build->sinks[p], p == 0, part_first(world, p),
+                                part_first(world, p + 1)) != 0;
     return failed;
 }
 
