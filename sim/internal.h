@@ -236,7 +236,6 @@ struct SimWorld {
 
     struct {
         int valid, count, mobile_count;
-        size_t stride; /* of the arrays in data and ints (count, at least 1) */
         double time;
         long step;
         double *data;    /* x, y, vx, vy, angle, omega, radius per grain */

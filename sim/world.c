@@ -1210,10 +1210,17 @@ void sim_world_freeze(SimWorld *w)
 
 /* ------------------------------------------------------------------ guard */
 
-/* Copies grains [begin, end) into the snapshot (arrays of stride good.stride). */
+/* The length of each snapshot array for `count` grains (at least 1, so that realloc never frees).
+ */
+static size_t snapshot_stride(int count)
+{
+    return (size_t)(count > 0 ? count : 1);
+}
+
+/* Copies grains [begin, end) of the world's w->count into the snapshot. */
 static int snapshot_range(SimWorld *w, int begin, int end)
 {
-    const size_t n = w->good.stride, count = (size_t)(end - begin);
+    const size_t n = snapshot_stride(w->count), count = (size_t)(end - begin);
     const double *src[7] = {w->x, w->y, w->vx, w->vy, w->angle, w->omega, w->radius};
     double *d = w->good.data;
     int *q = w->good.ints;
@@ -1230,7 +1237,7 @@ static int snapshot_range(SimWorld *w, int begin, int end)
  * array each guard_every steps: serial, it kept the other threads waiting). */
 static void guard_snapshot(SimWorld *w)
 {
-    size_t n = (size_t)(w->count > 0 ? w->count : 1);
+    size_t n = snapshot_stride(w->count);
     double *d = realloc(w->good.data, 7 * n * sizeof *d);
     w->good.data = d ? d : w->good.data;
     int *q = realloc(w->good.ints, 2 * n * sizeof *q);
@@ -1243,7 +1250,6 @@ static void guard_snapshot(SimWorld *w)
         w->good.valid = 0;
         return;
     }
-    w->good.stride = n;
     sim_parallel_ranges(w, snapshot_range, w->count, 8);
     w->good.count = w->count;
     w->good.mobile_count = w->mobile_count;
@@ -1257,7 +1263,7 @@ static void guard_restore(SimWorld *w)
 {
     if (!w->good.valid)
         return;
-    size_t n = (size_t)(w->good.count > 0 ? w->good.count : 1);
+    size_t n = snapshot_stride(w->good.count);
     const double *d = w->good.data;
     const int *q = w->good.ints;
     SimGrainSet g = {.count = w->good.count,
@@ -1311,14 +1317,19 @@ static void speed_cause(const SimWorld *w, int i, double v, const char *otherwis
         snprintf(out, size, "%s", otherwise);
 }
 
+/* 1 when grain i (speed squared v2) has a non-finite state. */
+static int grain_nonfinite(const SimWorld *w, int i, double v2)
+{
+    return !isfinite(w->x[i]) || !isfinite(w->y[i]) || !isfinite(v2) || !isfinite(w->omega[i]);
+}
+
 /* 1 when a grain of [begin, end) has a non-finite state or moves faster than the guard's bound. */
 static int grains_unsound(SimWorld *w, int begin, int end)
 {
     int bad = 0;
     for (int i = begin; i < end; ++i) {
         const double v2 = w->vx[i] * w->vx[i] + w->vy[i] * w->vy[i];
-        bad |= !isfinite(w->x[i]) || !isfinite(w->y[i]) || !isfinite(v2) ||
-               !isfinite(w->omega[i]) || v2 > w->guard_speed2;
+        bad |= grain_nonfinite(w, i, v2) || v2 > w->guard_speed2;
     }
     return bad;
 }
@@ -1328,7 +1339,7 @@ static SimStatus speed_failure(SimWorld *w, const char *cause, SimError *error)
 {
     for (int i = 0; i < w->mobile_count; ++i) {
         double v2 = w->vx[i] * w->vx[i] + w->vy[i] * w->vy[i];
-        if (!isfinite(w->x[i]) || !isfinite(w->y[i]) || !isfinite(v2) || !isfinite(w->omega[i])) {
+        if (grain_nonfinite(w, i, v2)) {
             fail(error, SIM_ERROR_UNSTABLE, "grains",
                  "step %ld: grain %u has a non-finite state "
                  "(NaN or infinity); %s",
