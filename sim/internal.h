@@ -207,9 +207,9 @@ struct SimWorld {
     double grid_x0, grid_y0;
     int *cell_start, *cell_items, *cell_of;
 
-    /* Threads of the step (sim_world_set_threads, default 1; parallel.c). The threaded passes
-     * split their loops into fixed ranges whose results do not depend on the split
-     * (sim_parallel_ranges). */
+    /* Threads of the step (sim_world_set_threads in world.c, default 1; the pool in parallel.c).
+     * The threaded passes split their loops into fixed ranges whose results do not depend on the
+     * split (sim_parallel_ranges). */
     int threads;
     struct SimPool *pool;             /* threads - 1 workers (parallel.c), NULL with one thread */
     struct SimPoolWorker *pool_slots; /* their arguments */
@@ -393,7 +393,10 @@ int sim_parallel_ranges(SimWorld *world, RangeFn *fn, int n, int align);
 /* Runs fn(world, u, u + 1) for every unit u of [0, n) on the world's threads, each first taking
  * its own contiguous run of units (sim_parallel_ranges' chunks of one); the OR of the results. */
 int sim_parallel_units(SimWorld *world, RangeFn *fn, int n);
-/* Stops and frees the world's threads (sim_world_destroy). */
+/* Replaces the world's threads by `threads` (its pool of threads - 1 workers; world->threads is
+ * how many started, 1 when none could; sim_world_set_threads). */
+void sim_parallel_start(SimWorld *world, int threads);
+/* Stops and frees the world's threads, leaving one (sim_world_destroy). */
 void sim_parallel_free(SimWorld *world);
 
 /* stagger.c: blocks for arrays that one loop reads at the same index. A large block comes from

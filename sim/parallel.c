@@ -272,13 +272,9 @@ static int run_job(SimPool *p, SimWorld *world, RangeFn *fn, int n, int chunk, i
     return flags;
 }
 
-void sim_world_set_threads(SimWorld *world, int threads)
+void sim_parallel_start(SimWorld *world, int threads)
 {
-    threads = threads > 1 ? threads : 1;
-    if (threads == world->threads)
-        return;
     sim_parallel_free(world);
-    world->threads = 1;
     if (threads > 1) {
         Worker *slots = NULL;
         world->pool = pool_create(threads, &slots);
@@ -286,12 +282,6 @@ void sim_world_set_threads(SimWorld *world, int threads)
         if (world->pool)
             world->threads = world->pool->workers + 1;
     }
-    sim_neighbour_build_incoming(world); /* for the list the world has now (and the parts) */
-}
-
-int sim_world_threads(const SimWorld *world)
-{
-    return world->threads;
 }
 
 void sim_parallel_free(SimWorld *world)

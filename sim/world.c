@@ -759,6 +759,22 @@ void sim_world_drift_forces_at(SimWorld *w, double t, RangeFn *drift, int align)
     forces_after_contacts(w, t);
 }
 
+/* The pool is parallel.c's; what depends on the thread count (the list's transpose and the fused
+ * pass's parts) is rebuilt here for the list the world has now. */
+void sim_world_set_threads(SimWorld *w, int threads)
+{
+    threads = threads > 1 ? threads : 1;
+    if (threads == w->threads)
+        return;
+    sim_parallel_start(w, threads);
+    sim_neighbour_build_incoming(w);
+}
+
+int sim_world_threads(const SimWorld *w)
+{
+    return w->threads;
+}
+
 void sim_world_set_gravity(SimWorld *w, double gravity_x, double gravity_y)
 {
     w->def.gravity_x = gravity_x;
