@@ -1,23 +1,25 @@
 /* SPDX-License-Identifier: MIT */
 /* bench_stream: what the velocity-Verlet drift's memory stream costs per grain on this machine, by
- * size and by layout, outside the simulation (issue 17, docs/dev/scaling.md "the drift's stream
- * measured alone"). A model of the drift, not the drift: the same arrays read and written per
- * grain (the opening kick with the deferred closing kick, rotation on: 13 read, 12 written, 3 of
- * those write-only) and the same arithmetic, one loop over N grains for both layouts (sablier's
- * drift runs its rotation in a second loop over the same short range, in cache), in two layouts:
- *   split   every per-grain quantity its own array (sablier's layout), the arrays staggered within
- *           their blocks as sim/stagger.c places them (64 + 192 k bytes);
- *   packed  the seven quantities only the drift reads (half-step velocities, reference positions,
- *           inverse mass and inertia) interleaved in one 64-byte record per grain, the nine others
- *           (positions, velocities, angle, forces, torque) as in `split`.
- * The drift loops are built for AVX2 as well as the baseline and the best one this CPU runs is
- * taken (target_clones), as sim/isa.c does for sablier's own passes, so that in cache the loop is
- * as fast as the simulation's and the figures from memory show the stream, not the arithmetic.
- * Prints CSV: layout,grains,ns_per_grain,GB_per_s (best of --repeats, each timing about
+ * size and by layout, outside the simulation (issue 17, docs/dev/scaling.md, "the large piles'
+ * cost against LAMMPS and the drift's stream alone"). A model of the drift, not the drift: the same
+ * arrays read and written per grain (the opening kick with the deferred closing kick, rotation on:
+ * 13 read, 12 written, 3 of those write-only) and the same arithmetic, one loop over N grains for
+ * both layouts (sablier's drift runs its rotation in a second loop over the same short range, in
+ * cache), in two layouts: split   every per-grain quantity its own array (sablier's layout), each a
+ * block of sim/stagger.c's, so that they fall into different L1 sets as sablier's arrays do; packed
+ * the seven quantities only the drift reads (half-step velocities, reference positions, inverse
+ * mass and inertia) interleaved in one 64-byte record per grain, the nine others (positions,
+ * velocities, angle, forces, torque) as in `split`. The drift loops are built for AVX2 as well as
+ * the baseline and the best one this CPU runs is taken (target_clones), as sim/isa.c does for
+ * sablier's own passes, so that in cache the loop is as fast as the simulation's and the figures
+ * from memory show the stream, not the arithmetic. Prints CSV: layout,grains,ns_per_grain,GB_per_s
+ * (best of --repeats, each timing about
  * --seconds of passes). Nothing here is asserted; figures only.
  *
  *   bench_stream [--sizes "7000 70000 700000 1001000"] [--repeats 5] [--seconds 0.3] */
 #define _POSIX_C_SOURCE 200809L
+#include "sim/internal.h"
+
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,17 +35,14 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* An array of n doubles starting `k` staggers into its own block (sim/stagger.c's leads). */
-static double *staggered(size_t n, int k, void **block)
+/* Array number k of the layout, n doubles in a staggered block (sim_stagger_grow), filled. */
+static double *staggered(size_t n, int k)
 {
-    const size_t lead = 64 + 192 * (size_t)k;
-    char *b = malloc(lead + n * sizeof(double));
-    if (!b) {
+    double *a = sim_stagger_grow(NULL, n * sizeof(double), k);
+    if (!a) {
         fprintf(stderr, "bench_stream: out of memory\n");
         exit(1);
     }
-    *block = b;
-    double *a = (double *)(void *)(b + lead);
     for (size_t i = 0; i < n; ++i)
         a[i] = 1.0 + 1e-3 * (double)(i % 97);
     return a;
@@ -109,44 +108,34 @@ BEST_ISA static int drift_packed(double *const *q, int n, Consts c)
     return drift(q, RECORD, n, c);
 }
 
-/* Bytes a pass moves per grain, write-allocate reads counted (a written line is read first). */
-static double split_bytes(void)
-{
-    return 8.0 * (16 + 12); /* 16 arrays read (3 only for ownership), 12 written back */
-}
-
-static double packed_bytes(void)
-{
-    return 8.0 * (9 + 9) +
-           64.0 * 2; /* 9 arrays read (3 for ownership) and written, the record too */
-}
-
 typedef enum { SPLIT, PACKED, LAYOUTS } Layout;
 
 static const char *const layout_name[LAYOUTS] = {"split", "packed"};
 
+/* Bytes a pass moves per grain, write-allocate reads counted (a written line is read first):
+ * split, 16 arrays read (3 only for ownership) and 12 written back; packed, 9 arrays read (3 for
+ * ownership) and written back, and the 64-byte record read and written back. */
+static const double layout_bytes[LAYOUTS] = {8.0 * (16 + 12), 8.0 * (9 + 9) + 64.0 * 2};
+
 /* Best ns per grain of `repeats` timings of about `seconds` of passes each. */
 static double time_layout(Layout l, int n, int repeats, double seconds, double *sink)
 {
-    void *blocks[SPLIT_ARRAYS + 1];
     double *q[SPLIT_ARRAYS];
     int count = 0;
-    for (int k = l == SPLIT ? 0 : X; k < SPLIT_ARRAYS; ++k, ++count)
-        q[k] = staggered((size_t)n, count, &blocks[count]);
+    for (int k = l == SPLIT ? 0 : X; k < SPLIT_ARRAYS; ++k)
+        q[k] = staggered((size_t)n, count++);
     if (l == PACKED) {
-        double *rec = staggered((size_t)n * RECORD, count, &blocks[count]);
-        ++count;
-        for (int k = HX; k < X; ++k)
-            q[k] = rec + (k - HX);
+        q[HX] = staggered((size_t)n * RECORD, count);
+        for (int k = HX + 1; k < X; ++k)
+            q[k] = q[HX] + (k - HX);
     }
     const Consts c = {1e-6, 0.5e-6, 0.0, -9.81, 1e-4};
     double best = 1e30;
     int passes = 1;
     for (int r = -1; r < repeats; ++r) { /* r = -1 warms up and sizes the timing */
         const double t0 = now();
-        for (int p = 0; p < passes; ++p) {
+        for (int p = 0; p < passes; ++p)
             *sink += l == SPLIT ? drift_split(q, n, c) : drift_packed(q, n, c);
-        }
         const double t = now() - t0;
         if (r < 0) {
             const double per_pass = t / passes;
@@ -156,14 +145,11 @@ static double time_layout(Layout l, int n, int repeats, double seconds, double *
         const double ns = 1e9 * t / ((double)passes * n);
         best = ns < best ? ns : best;
     }
-    for (int k = 0; k < count; ++k)
-        free(blocks[k]);
+    /* the packed layout's record is q[HX]; its other fields point into it */
+    for (int k = 0; k < SPLIT_ARRAYS; ++k)
+        if (l == SPLIT || k == HX || k >= X)
+            sim_stagger_free(q[k]);
     return best;
-}
-
-static double layout_bytes(Layout l)
-{
-    return l == SPLIT ? split_bytes() : packed_bytes();
 }
 
 int main(int argc, char **argv)
@@ -188,24 +174,36 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_stream: --repeats must be >= 1 and --seconds > 0\n");
         return 2;
     }
-    double sink = 0.0;
-    printf("layout,grains,ns_per_grain,GB_per_s\n");
-    for (const char *s = sizes; *s;) {
+
+    /* every size checked before anything runs */
+    enum { MAX_SIZES = 64 };
+
+    long size[MAX_SIZES];
+    int sizes_count = 0;
+    for (const char *s = sizes;;) {
+        while (*s == ' ')
+            ++s;
+        if (!*s)
+            break;
         char *end;
         const long n = strtol(s, &end, 10);
-        if (end == s)
-            break;
-        s = end;
-        if (n < 1 || n > INT32_MAX / RECORD) {
-            fprintf(stderr, "bench_stream: size %ld out of range\n", n);
+        if (end == s || (*end && *end != ' ') || n < 1 || n > INT32_MAX / RECORD ||
+            sizes_count == MAX_SIZES) {
+            fprintf(stderr, "bench_stream: --sizes: '%s' is not a grain count from 1 to %d%s\n", s,
+                    INT32_MAX / RECORD, sizes_count == MAX_SIZES ? " (64 sizes at most)" : "");
             return 2;
         }
+        size[sizes_count++] = n;
+        s = end;
+    }
+    double sink = 0.0;
+    printf("layout,grains,ns_per_grain,GB_per_s\n");
+    for (int z = 0; z < sizes_count; ++z)
         for (int l = 0; l < LAYOUTS; ++l) {
-            const double ns = time_layout((Layout)l, (int)n, repeats, seconds, &sink);
-            printf("%s,%ld,%.3f,%.1f\n", layout_name[l], n, ns, layout_bytes((Layout)l) / ns);
+            const double ns = time_layout((Layout)l, (int)size[z], repeats, seconds, &sink);
+            printf("%s,%ld,%.3f,%.1f\n", layout_name[l], size[z], ns, layout_bytes[l] / ns);
             fflush(stdout);
         }
-    }
     fprintf(stderr, "(checksum %g)\n", sink);
     return 0;
 }
