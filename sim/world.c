@@ -1381,23 +1381,32 @@ static SimStatus speed_failure(SimWorld *w, const char *cause, SimError *error)
     return SIM_OK;
 }
 
+/* The guard's default likely cause: the time step against the stiffest, lightest pair's contact
+ * time. Formatted only once a check has failed (it used to be at every check). */
+static void time_step_cause(const SimWorld *w, char *out, size_t size)
+{
+    const SimTiming *t = &w->timing;
+    snprintf(out, size,
+             "likely cause: time step %g s is %.3g of the contact time %g s of the stiffest, "
+             "lightest pair (%.3g steps per contact; stability limit %g s)",
+             w->dt, w->dt / t->contact_time_min, t->contact_time_min, t->steps_per_contact,
+             t->stability_limit);
+}
+
 /* The guard's two scans run on the world's threads as yes-or-no questions; only a failing one is
  * repeated on one thread to name the first (or worst) grain, so the messages do not depend on
  * the thread count either. */
 static SimStatus guard_check(SimWorld *w, SimError *error)
 {
-    const SimTiming *t = &w->timing;
     char cause[200];
-    snprintf(cause, sizeof cause,
-             "likely cause: time step %g s is %.3g of the contact time %g s of the stiffest, "
-             "lightest pair (%.3g steps per contact; stability limit %g s)",
-             w->dt, w->dt / t->contact_time_min, t->contact_time_min, t->steps_per_contact,
-             t->stability_limit);
-    if (sim_parallel_ranges(w, grains_unsound, w->mobile_count, 8) &&
-        speed_failure(w, cause, error) != SIM_OK)
-        return SIM_ERROR_UNSTABLE;
+    if (sim_parallel_ranges(w, grains_unsound, w->mobile_count, 8)) {
+        time_step_cause(w, cause, sizeof cause);
+        if (speed_failure(w, cause, error) != SIM_OK)
+            return SIM_ERROR_UNSTABLE;
+    }
     if (!sim_contacts_overlap_over_bound(w))
         return SIM_OK;
+    time_step_cause(w, cause, sizeof cause);
     int oi, oj;
     const double worst = sim_contacts_worst_overlap(w, &oi, &oj);
     fail(error, SIM_ERROR_UNSTABLE, "grains",

@@ -116,7 +116,7 @@ endif()
 add_test(NAME cli.run_unstable
          COMMAND ${CMAKE_COMMAND} -DSABLIER=$<TARGET_FILE:sablier>
                  "-DARGS=run|${CLI_TINY}|--quiet|--out|${CLI_WORK}/unstable|--set|guard.max_overlap=1e-4"
-                 -DRC=1 "-DERR=simulation failed at step [0-9]+ .*grain 0.*run.last_good.state"
+                 -DRC=1 "-DERR=simulation failed at step [0-9]+ .*grain 0.*likely cause: time step [^;]* of the contact time.*run.last_good.state"
                  -P ${CLI_DIR}/expect.cmake)
 set_tests_properties(cli.run_unstable PROPERTIES LABELS cli)
 if(NOT SABLIER_WITH_RENDER)
