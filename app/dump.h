@@ -143,6 +143,8 @@ void app_state_frame_free(AppStateFrame *columns);
 
 /// `sablier export STATE [--format lammps|vtk|csv] -o FILE`: the exit status.
 int app_dump_export(int argc, char **argv);
+/// Its command line only (the `parse` of an AppCommand): 0, or the exit status of a usage error.
+int app_dump_export_parse(int argc, char **argv);
 extern const char app_dump_export_usage[];
 
 #endif

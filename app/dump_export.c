@@ -142,7 +142,10 @@ static int format_of(const char *path)
     return -1;
 }
 
-int app_dump_export(int argc, char **argv)
+/* The command line of `sablier export`: the state, the output and its format (0 lammps, 1 vtk,
+ * 2 csv). 0, or the exit status of a usage error (message on stderr). */
+static int export_arguments(int argc, char **argv, const char **state_path, const char **out_path,
+                            int *format_index)
 {
     static const char *const formats[] = {"lammps", "vtk", "csv"};
     const char *state = NULL, *out = NULL, *value;
@@ -176,6 +179,26 @@ int app_dump_export(int argc, char **argv)
     if (format < 0 && (format = format_of(out)) < 0)
         return app_usage_error(app_dump_export_usage,
                                "give --format: no format from the extension of", out);
+    *state_path = state;
+    *out_path = out;
+    *format_index = format;
+    return 0;
+}
+
+int app_dump_export_parse(int argc, char **argv)
+{
+    const char *state, *out;
+    int format;
+    return export_arguments(argc, argv, &state, &out, &format);
+}
+
+int app_dump_export(int argc, char **argv)
+{
+    const char *state = NULL, *out = NULL;
+    int format = -1;
+    int bad = export_arguments(argc, argv, &state, &out, &format);
+    if (bad)
+        return bad;
     SimGrainSet grains;
     SimWall *walls = NULL;
     int wall_count = 0;

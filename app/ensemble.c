@@ -826,6 +826,14 @@ static int members_status(const Ensemble *E)
     return rc;
 }
 
+int app_ensemble_parse(int argc, char **argv)
+{
+    Options *o = calloc(1, sizeof *o);
+    int rc = o ? parse_options(o, argc, argv) : 2;
+    free(o);
+    return rc;
+}
+
 int app_ensemble_command(int argc, char **argv, const AppEnv *env)
 {
     Options *o = calloc(1, sizeof *o);

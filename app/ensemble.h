@@ -14,4 +14,7 @@ extern const char app_ensemble_usage[];
 /// `sablier ensemble ...` (argv[1] is "ensemble"). Returns the exit status.
 int app_ensemble_command(int argc, char **argv, const AppEnv *env);
 
+/// Its command line only (AppCommand.parse): 0, or the exit status of a usage error.
+int app_ensemble_parse(int argc, char **argv);
+
 #endif

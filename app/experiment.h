@@ -85,6 +85,10 @@ typedef struct AppCommand {
     const char *help;  ///< its line in `sablier --help`: "NAME ARGS  what it does" (no newline)
     const char *usage; ///< `sablier NAME --help`
     int (*run)(int argc, char **argv, const AppEnv *env);
+    /// Checks the command line only, as `run` does first: 0 when it is good, else the exit status
+    /// of the usage error (message on stderr). Reads no file, writes nothing, starts nothing
+    /// (tests/fuzz/fuzz_cli.c calls it on any argument list).
+    int (*parse)(int argc, char **argv);
 } AppCommand;
 
 typedef struct AppExperiment {

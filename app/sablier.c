@@ -4,6 +4,7 @@
  * the runner its figure and movie hooks. Built without render/ (SABLIER_WITH_RENDER=OFF), figures
  * and movies are skipped with a warning and `diff`/`render` exit 2. */
 #include "advice.h"
+#include "cli.h"
 #include "diff_folders.h"
 #include "dump.h"
 #include "ensemble.h"
@@ -152,41 +153,65 @@ static const char *render_versions(void)
 
 /* ---------------------------------------------------------------- commands */
 
-static int command_run(int argc, char **argv)
+/* `sablier run`'s command line. */
+typedef struct RunArgs {
+    const char *scene_path, *out, *sets[MAX_SETS];
+    int set_count, quiet, force, resume;
+    long threads;
+} RunArgs;
+
+/* The command line into *a: 0, or the exit status of a usage error (message on stderr). */
+static int run_arguments(int argc, char **argv, RunArgs *a)
 {
-    const char *scene_path = NULL, *out = NULL, *value, *sets[MAX_SETS];
-    int set_count = 0, quiet = 0, force = 0, resume = 0;
-    long threads = APP_THREADS_AUTO;
+    const char *value;
+    *a = (RunArgs){.threads = APP_THREADS_AUTO};
     for (int i = 2; i < argc; ++i) {
         int m;
         if ((m = app_option(argc, argv, &i, "--out", &value)) != 0) {
             if (m < 0)
                 return 2;
-            out = value;
+            a->out = value;
         } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
-            if (m < 0 || app_collect_set(sets, &set_count, MAX_SETS, value) < 0)
+            if (m < 0 || app_collect_set(a->sets, &a->set_count, MAX_SETS, value) < 0)
                 return 2;
         } else if ((m = app_option(argc, argv, &i, "--threads", &value)) != 0) {
             if (m > 0 && strcmp(value, "auto") == 0)
-                threads = APP_THREADS_AUTO;
-            else if (m < 0 || app_parse_count(value, 1, 1024, &threads) < 0)
+                a->threads = APP_THREADS_AUTO;
+            else if (m < 0 || app_parse_count(value, 1, 1024, &a->threads) < 0)
                 return app_usage_error(USAGE_RUN,
                                        "--threads needs a count in [1, 1024] or auto, got",
                                        m < 0 ? "nothing" : value);
         } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
-            quiet = 1;
+            a->quiet = 1;
         } else if (strcmp(argv[i], "--force") == 0) {
-            force = 1;
+            a->force = 1;
         } else if (strcmp(argv[i], "--resume") == 0) {
-            resume = 1;
-        } else if (app_scene_argument(USAGE_RUN, argv[i], &scene_path) != 0) {
+            a->resume = 1;
+        } else if (app_scene_argument(USAGE_RUN, argv[i], &a->scene_path) != 0) {
             return 2;
         }
     }
-    if (!scene_path)
+    if (!a->scene_path)
         return app_usage_error(USAGE_RUN, "missing SCENE", NULL);
+    return 0;
+}
+
+static int parse_run(int argc, char **argv)
+{
+    RunArgs a;
+    return run_arguments(argc, argv, &a);
+}
+
+static int command_run(int argc, char **argv)
+{
+    RunArgs a;
+    int bad = run_arguments(argc, argv, &a);
+    if (bad)
+        return bad;
+    const char *const *sets = a.sets;
+    int set_count = a.set_count;
     char err[4096];
-    Scene *scene = scene_load(scene_path, sets, set_count, err, sizeof err);
+    Scene *scene = scene_load(a.scene_path, sets, set_count, err, sizeof err);
     if (!scene) {
         fprintf(stderr, "%s\n", err);
         return 2;
@@ -194,16 +219,16 @@ static int command_run(int argc, char **argv)
     char default_out[SCENE_NAME_MAX + 8];
     snprintf(default_out, sizeof default_out, "out/%s", scene->name);
     AppRunOptions options = app_run_options_default();
-    options.out_dir = out ? out : default_out;
-    options.quiet = quiet;
-    options.threads = (int)threads;
+    options.out_dir = a.out ? a.out : default_out;
+    options.quiet = a.quiet;
+    options.threads = (int)a.threads;
     options.sablier_version = SABLIER_VERSION;
     options.render_versions = render_versions();
-    options.force = force;
-    options.resume = resume;
+    options.force = a.force;
+    options.resume = a.resume;
     options.provenance = (AppProvenance){.argc = argc,
                                          .argv = argv,
-                                         .sets = sets,
+                                         .sets = a.sets,
                                          .set_count = set_count,
                                          .revision = SABLIER_REVISION};
 #ifdef SABLIER_HAVE_RENDER
@@ -246,17 +271,24 @@ static void print_timing(const Scene *scene, int k)
     printf("  steps per contact %.1f\n", t.steps_per_contact);
 }
 
-static int command_check(int argc, char **argv)
+/* `sablier check`'s command line. */
+typedef struct CheckArgs {
+    const char *scene_path, *sets[MAX_SETS];
+    int set_count;
+    double target; /* --target-error, 0 when not given */
+} CheckArgs;
+
+/* The command line into *a: 0, or the exit status of a usage error (message on stderr). */
+static int check_arguments(int argc, char **argv, CheckArgs *a)
 {
-    const char *scene_path = NULL, *value, *sets[MAX_SETS];
-    int set_count = 0;
-    double target = 0.0;
+    const char *value;
+    *a = (CheckArgs){.scene_path = NULL};
     for (int i = 2; i < argc; ++i) {
         int m = app_option(argc, argv, &i, "--target-error", &value);
         if (m != 0) {
             const AppNumberList how = {.min = 0.0, .skip_empty = 0, .strict = 1, .exact = 1};
-            if (m < 0 || app_parse_numbers(value, &how, &target, 1) != 1 ||
-                !(target > 0.0 && target < 0.5))
+            if (m < 0 || app_parse_numbers(value, &how, &a->target, 1) != 1 ||
+                !(a->target > 0.0 && a->target < 0.5))
                 return app_usage_error(USAGE_CHECK, "--target-error must be in (0, 0.5), got",
                                        m < 0 ? "" : value);
             continue;
@@ -265,16 +297,32 @@ static int command_check(int argc, char **argv)
         if (m < 0)
             return 2;
         if (m > 0) {
-            if (app_collect_set(sets, &set_count, MAX_SETS, value) < 0)
+            if (app_collect_set(a->sets, &a->set_count, MAX_SETS, value) < 0)
                 return 2;
-        } else if (app_scene_argument(USAGE_CHECK, argv[i], &scene_path) != 0) {
+        } else if (app_scene_argument(USAGE_CHECK, argv[i], &a->scene_path) != 0) {
             return 2;
         }
     }
-    if (!scene_path)
+    if (!a->scene_path)
         return app_usage_error(USAGE_CHECK, "missing SCENE", NULL);
+    return 0;
+}
+
+static int parse_check(int argc, char **argv)
+{
+    CheckArgs a;
+    return check_arguments(argc, argv, &a);
+}
+
+static int command_check(int argc, char **argv)
+{
+    CheckArgs a;
+    int bad = check_arguments(argc, argv, &a);
+    if (bad)
+        return bad;
+    double target = a.target;
     char err[4096];
-    Scene *scene = scene_load(scene_path, sets, set_count, err, sizeof err);
+    Scene *scene = scene_load(a.scene_path, a.sets, a.set_count, err, sizeof err);
     if (!scene) {
         fprintf(stderr, "%s\n", err);
         return 2;
@@ -504,6 +552,12 @@ static int diff_files(const DiffArgs *d, const RenderDiffOptions *options)
 }
 #endif
 
+static int parse_diff(int argc, char **argv)
+{
+    DiffArgs d = {.threshold = -1, .shift = -1, .max_pixels = -1};
+    return diff_arguments(argc, argv, &d);
+}
+
 static int command_diff(int argc, char **argv)
 {
     DiffArgs d = {.threshold = -1, .shift = -1, .max_pixels = -1};
@@ -644,6 +698,10 @@ static int render_args(int argc, char **argv, RenderArgs *a)
             return app_usage_error(USAGE_RENDER, "one state at a time; extra argument", argv[i]);
         }
     }
+    if (!a->state || !a->out)
+        return app_usage_error(USAGE_RENDER, a->state ? "missing -o FIG" : "missing STATE", NULL);
+    if (a->set_count && !a->scene_path)
+        return app_usage_error(USAGE_RENDER, "--set needs --scene", NULL);
     return 0;
 }
 #endif
@@ -659,10 +717,6 @@ static int command_render(int argc, char **argv)
     const char *const *sets = args.sets;
     int set_count = args.set_count;
     SceneStyle over = args.over;
-    if (!state || !out)
-        return app_usage_error(USAGE_RENDER, state ? "missing -o FIG" : "missing STATE", NULL);
-    if (set_count && !scene_path)
-        return app_usage_error(USAGE_RENDER, "--set needs --scene", NULL);
     char err[4096] = "";
     Scene *scene = NULL;
     if (scene_path && !(scene = scene_load(scene_path, sets, set_count, err, sizeof err))) {
@@ -737,6 +791,16 @@ static int command_render(int argc, char **argv)
 #endif
 }
 
+static int parse_render(int argc, char **argv)
+{
+#ifdef SABLIER_HAVE_RENDER
+    RenderArgs args = {.over = scene_style_unset()};
+    return render_args(argc, argv, &args);
+#else
+    return command_render(argc, argv); /* a message and 2, nothing else */
+#endif
+}
+
 /* What a multi-run command (a family's, or `ensemble`) is given; under mpirun a worker rank
  * starts serving the command's pools here. */
 static AppEnv driver_env(void)
@@ -772,7 +836,24 @@ static int command_version(void)
     return 0;
 }
 
-int main(int argc, char **argv)
+/* The commands of this file and `ensemble`; the families' come from the registry. */
+static const struct {
+    const char *name;
+    int (*run)(int, char **);
+    int (*parse)(int, char **); /* the command line only, as AppCommand.parse */
+    const char *usage;
+} CORE[] = {
+    {"run", command_run, parse_run, USAGE_RUN},
+    {"check", command_check, parse_check, USAGE_CHECK},
+    {"diff", command_diff, parse_diff, USAGE_DIFF},
+    {"render", command_render, parse_render, USAGE_RENDER},
+    {"export", app_dump_export, app_dump_export_parse, app_dump_export_usage},
+    {"ensemble", command_ensemble, app_ensemble_parse, app_ensemble_usage},
+};
+
+/* `sablier ARGS`: runs the command, or with parse_only checks its command line only (nothing
+ * printed on stdout, nothing read, written or started): the exit status either way. */
+static int dispatch(int argc, char **argv, int parse_only)
 {
     if (argc < 2) {
         print_usage(stderr);
@@ -781,40 +862,31 @@ int main(int argc, char **argv)
     const char *command = argv[1];
     if (strcmp(command, "--help") == 0 || strcmp(command, "-h") == 0 ||
         strcmp(command, "help") == 0) {
-        print_usage(stdout);
+        if (!parse_only)
+            print_usage(stdout);
         return 0;
     }
     if (strcmp(command, "--version") == 0 || strcmp(command, "version") == 0)
-        return command_version();
-
-    static const struct {
-        const char *name;
-        int (*run)(int, char **);
-        const char *usage;
-    } core[] = {
-        {"run", command_run, USAGE_RUN},
-        {"check", command_check, USAGE_CHECK},
-        {"diff", command_diff, USAGE_DIFF},
-        {"render", command_render, USAGE_RENDER},
-        {"export", app_dump_export, app_dump_export_usage},
-        {"ensemble", command_ensemble, app_ensemble_usage},
-    };
-
-    for (size_t k = 0; k < sizeof core / sizeof core[0]; ++k) {
-        if (strcmp(command, core[k].name) != 0)
+        return parse_only ? 0 : command_version();
+    for (size_t k = 0; k < sizeof CORE / sizeof CORE[0]; ++k) {
+        if (strcmp(command, CORE[k].name) != 0)
             continue;
         if (wants_help(argc, argv)) {
-            fputs(core[k].usage, stdout);
+            if (!parse_only)
+                fputs(CORE[k].usage, stdout);
             return 0;
         }
-        return core[k].run(argc, argv);
+        return parse_only ? CORE[k].parse(argc, argv) : CORE[k].run(argc, argv);
     }
     const AppCommand *family = app_experiment_command(command);
     if (family) {
         if (wants_help(argc, argv)) {
-            fputs(family->usage, stdout);
+            if (!parse_only)
+                fputs(family->usage, stdout);
             return 0;
         }
+        if (parse_only)
+            return family->parse ? family->parse(argc, argv) : 0;
         AppEnv env = driver_env();
         return family->run(argc, argv, &env);
     }
@@ -822,3 +894,15 @@ int main(int argc, char **argv)
     print_usage(stderr);
     return 2;
 }
+
+int sablier_parse_arguments(int argc, char **argv)
+{
+    return dispatch(argc, argv, 1);
+}
+
+#ifndef SABLIER_NO_MAIN /* tests/fuzz/fuzz_cli.c links this file for sablier_parse_arguments */
+int main(int argc, char **argv)
+{
+    return dispatch(argc, argv, 0);
+}
+#endif

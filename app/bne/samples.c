@@ -531,9 +531,18 @@ static const char USAGE_BNE[] =
     "outputs go to DIR/KEY=value/seed-S/ (movies and figures only with --movies). The runs are\n"
     "separate processes, --jobs N at a time (default 2; results do not depend on N).\n";
 
-static int bne_command(int argc, char **argv, const AppEnv *env)
+/* The command line of `sablier bne`. */
+typedef struct BneArgs {
+    AppBneSamplesOptions o;
+    const char *sets[APP_MAX_SETS];
+    char default_out[SCENE_PATH_MAX];
+    int movies;
+} BneArgs;
+
+/* The command line into *a: 0, or the exit status of a usage error (message on stderr). */
+static int bne_arguments(int argc, char **argv, BneArgs *a)
 {
-    const char *path = NULL, *value, *sets[APP_MAX_SETS], *out = NULL;
+    const char *path = NULL, *value, **sets = a->sets, *out = NULL;
     int set_count = 0, movies = 0;
     long seeds = 5, seed0 = 1, jobs = 2;
     AppBneSamplesOptions o;
@@ -580,24 +589,40 @@ static int bne_command(int argc, char **argv, const AppEnv *env)
     }
     if (!path)
         return app_usage_error(USAGE_BNE, "missing SCENE", NULL);
-    char default_out[SCENE_PATH_MAX];
     const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
-    snprintf(default_out, sizeof default_out, "out/bne-%.*s", (int)strcspn(base, "."), base);
+    snprintf(a->default_out, sizeof a->default_out, "out/bne-%.*s", (int)strcspn(base, "."), base);
     o.scene_path = path;
-    o.out_dir = out ? out : default_out;
-    o.sets = sets;
+    o.out_dir = out ? out : a->default_out;
+    o.sets = a->sets;
     o.set_count = set_count;
     o.seeds = (int)seeds;
     o.seed0 = seed0;
     o.jobs = (int)jobs;
-    if (movies)
-        o.render = env->render;
-    o.plot = env->render;
-    return app_bne_samples(&o);
+    a->o = o;
+    a->movies = movies;
+    return 0;
+}
+
+static int bne_parse(int argc, char **argv)
+{
+    BneArgs a;
+    return bne_arguments(argc, argv, &a);
+}
+
+static int bne_command(int argc, char **argv, const AppEnv *env)
+{
+    BneArgs a;
+    int status = bne_arguments(argc, argv, &a);
+    if (status != 0)
+        return status;
+    if (a.movies)
+        a.o.render = env->render;
+    a.o.plot = env->render;
+    return app_bne_samples(&a.o);
 }
 
 const AppCommand app_bne_commands[] = {
     {"bne",
      "bne SCENE      Brazil-nut samples over seeds and one varied key: rise curves, LDF (002)",
-     USAGE_BNE, bne_command},
+     USAGE_BNE, bne_command, bne_parse},
 };

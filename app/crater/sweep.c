@@ -795,9 +795,16 @@ static const char USAGE_SWEEP[] =
     "  --dry-run          print the member commands, run nothing\n"
     "  --quiet            no per-member lines\n";
 
-static int sweep_command(int argc, char **argv, const AppEnv *env)
+/* The command line of `sablier sweep`. */
+typedef struct SweepArgs {
+    AppSweepOptions o;
+    const char *sets[APP_MAX_SETS], *vary[8];
+} SweepArgs;
+
+/* The command line into *a: 0, or the exit status of a usage error (message on stderr). */
+static int sweep_arguments(int argc, char **argv, SweepArgs *a)
 {
-    const char *path = NULL, *value, *sets[APP_MAX_SETS], *vary[8];
+    const char *path = NULL, *value, **sets = a->sets, **vary = a->vary;
     int set_count = 0, vary_count = 0;
     long jobs = 2;
     AppSweepOptions o = app_sweep_options_default();
@@ -847,17 +854,33 @@ static int sweep_command(int argc, char **argv, const AppEnv *env)
         o.definition = path;
     else
         o.scene_path = path;
-    o.self = env->self;
     o.jobs = (int)jobs;
-    o.sets = sets;
+    o.sets = a->sets;
     o.set_count = set_count;
-    o.vary = vary;
+    o.vary = a->vary;
     o.vary_count = vary_count;
-    o.render = env->render;
-    return app_sweep(&o);
+    a->o = o;
+    return 0;
+}
+
+static int sweep_parse(int argc, char **argv)
+{
+    SweepArgs a;
+    return sweep_arguments(argc, argv, &a);
+}
+
+static int sweep_command(int argc, char **argv, const AppEnv *env)
+{
+    SweepArgs a;
+    int status = sweep_arguments(argc, argv, &a);
+    if (status != 0)
+        return status;
+    a.o.self = env->self;
+    a.o.render = env->render;
+    return app_sweep(&a.o);
 }
 
 const AppCommand app_sweep_commands[] = {
     {"sweep", "sweep SWEEP    run sweep members from one settled bed (crater studies)", USAGE_SWEEP,
-     sweep_command},
+     sweep_command, sweep_parse},
 };

@@ -277,6 +277,12 @@ static int run_discharge(DischargeRun *d)
     return status;
 }
 
+static int discharge_parse(int argc, char **argv)
+{
+    DischargeArgs a;
+    return parse_args(argc, argv, &a);
+}
+
 static int discharge_command(int argc, char **argv, const AppEnv *env)
 {
     DischargeArgs a;
@@ -322,7 +328,7 @@ static int discharge_command(int argc, char **argv, const AppEnv *env)
 
 const AppCommand app_discharge_commands[] = {
     {"discharge", "discharge SCENE  build an open pile and discharge it through an orifice (004)",
-     APP_DISCHARGE_USAGE, discharge_command},
+     APP_DISCHARGE_USAGE, discharge_command, discharge_parse},
     {"study", "study SCENE    jamming statistics over base lengths and widths (004)",
-     APP_STUDY_USAGE, app_study_command},
+     APP_STUDY_USAGE, app_study_command, app_study_parse},
 };

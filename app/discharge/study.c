@@ -1464,6 +1464,15 @@ static int parse_study_args(int argc, char **argv, StudyArgs *a, Study *st)
     return parse_lists(st, lengths_text, widths_text);
 }
 
+int app_study_parse(int argc, char **argv)
+{
+    Study st;
+    memset(&st, 0, sizeof st);
+    StudyArgs args;
+    memset(&args, 0, sizeof args);
+    return parse_study_args(argc, argv, &args, &st);
+}
+
 int app_study_command(int argc, char **argv, const AppEnv *env)
 {
     const AppRender *render = env ? env->render : NULL;

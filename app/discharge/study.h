@@ -16,6 +16,9 @@
 /// `sablier study SCENE ...`; returns the exit status (env may be NULL: no rendering).
 int app_study_command(int argc, char **argv, const AppEnv *env);
 
+/// Its command line only (AppCommand.parse): 0, or the exit status of a usage error.
+int app_study_parse(int argc, char **argv);
+
 extern const char APP_DISCHARGE_USAGE[];
 extern const char APP_STUDY_USAGE[];
 

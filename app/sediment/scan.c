@@ -348,7 +348,31 @@ static int parse_scan_args(int argc, char **argv, Scan *sc, const char **list)
             return scan_usage("one scene at a time; extra argument", a);
         }
     }
+    if (!sc->scene_path)
+        return scan_usage("missing SCENE", NULL);
+    if (!*list)
+        return scan_usage("missing --shields T1,T2,...", NULL);
+    static const AppNumberList shields_list = {.min = 0.0, .exact = 1};
+    sc->count = app_parse_numbers(*list, &shields_list, sc->shields, SCAN_MAX);
+    if (sc->count < 1)
+        return scan_usage("--shields needs up to 64 numbers >= 0 separated by commas, got", *list);
     return 0;
+}
+
+/* A Scan with the defaults and the command line: 0, or the exit status of a usage error. */
+static int scan_arguments(int argc, char **argv, Scan *sc)
+{
+    memset(sc, 0, sizeof *sc);
+    sc->jobs = 2;
+    sc->level = 1e-3;
+    const char *list = NULL;
+    return parse_scan_args(argc, argv, sc, &list);
+}
+
+static int sediment_parse(int argc, char **argv)
+{
+    Scan sc;
+    return scan_arguments(argc, argv, &sc);
 }
 
 /* The scene checked once before forking: bad input exits 2 with its file:line message. */
@@ -372,22 +396,10 @@ static int check_scene(const Scan *sc)
 int app_sediment_command(int argc, char **argv, const AppEnv *env)
 {
     Scan sc;
-    memset(&sc, 0, sizeof sc);
-    sc.jobs = 2;
-    sc.level = 1e-3;
-    sc.render = env ? env->render : NULL;
-    const char *list = NULL;
-    int rc = parse_scan_args(argc, argv, &sc, &list);
+    int rc = scan_arguments(argc, argv, &sc);
     if (rc != 0)
         return rc;
-    if (!sc.scene_path)
-        return scan_usage("missing SCENE", NULL);
-    if (!list)
-        return scan_usage("missing --shields T1,T2,...", NULL);
-    static const AppNumberList shields_list = {.min = 0.0, .exact = 1};
-    sc.count = app_parse_numbers(list, &shields_list, sc.shields, SCAN_MAX);
-    if (sc.count < 1)
-        return scan_usage("--shields needs up to 64 numbers >= 0 separated by commas, got", list);
+    sc.render = env ? env->render : NULL;
     char default_out[SCAN_PATH];
     const char *base =
         strrchr(sc.scene_path, '/') ? strrchr(sc.scene_path, '/') + 1 : sc.scene_path;
@@ -418,5 +430,5 @@ int app_sediment_command(int argc, char **argv, const AppEnv *env)
 const AppCommand app_sediment_commands[] = {
     {"sediment",
      "sediment SCENE Shields scan of bed-load transport: flux against Shields, threshold (002)",
-     APP_SEDIMENT_USAGE, app_sediment_command},
+     APP_SEDIMENT_USAGE, app_sediment_command, sediment_parse},
 };
