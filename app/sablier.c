@@ -53,7 +53,8 @@ static const char USAGE_TAIL[] =
     "  sablier COMMAND --help   options of one command\n"
     "  sablier --version        versions of sablier and its libraries\n"
     "\n"
-    "exit status: 0 success, 1 the simulation failed, 2 bad usage or bad input\n";
+    "exit status: 0 success, 1 the simulation failed, 2 bad usage or bad input (nothing\n"
+    "written), 3 disk full, 130/143 interrupted by SIGINT/SIGTERM (docs/cli.md)\n";
 
 static void print_usage(FILE *out)
 {
