@@ -359,6 +359,7 @@ typedef struct SourceState {
 struct AppSources {
     const Scene *scene;
     int count;
+    int signalled; /* a signal was raised before the insertion in progress began */
     SourceState state[SCENE_SOURCE_MAX];
 };
 
@@ -477,6 +478,14 @@ static int place_free(const SimFrame *f, const SimGrainBuffer *batch, double x, 
     return 1;
 }
 
+/* 1 when a signal raised during the insertion in progress asks the run to stop. One raised before
+ * it (while the world stepped) lets it end as usual: the run stops after this step's outputs,
+ * and a resumed run continues it to the bit. */
+static int stop_asked(const AppSources *a)
+{
+    return !a->signalled && app_run_signal() != 0;
+}
+
 /* One grain of source k into the batch (or skipped after `attempts` tries). */
 static void place_one(AppSources *a, int k, const SimFrame *f, SimGrainBuffer *batch)
 {
@@ -484,7 +493,7 @@ static void place_one(AppSources *a, int k, const SimFrame *f, SimGrainBuffer *b
     SourceState *st = &a->state[k];
     const double r = st->next_radius;
     int placed = 0;
-    for (int t = 0; t < s->attempts && !placed && !app_run_signal(); ++t) {
+    for (int t = 0; t < s->attempts && !placed && !stop_asked(a); ++t) {
         double x = s->x0 + sim_rng_uniform(&st->rng) * (s->x1 - s->x0);
         double y = s->y0 + sim_rng_uniform(&st->rng) * (s->y1 - s->y0);
         if (place_free(f, batch, x, y, r)) {
@@ -514,12 +523,13 @@ int app_sources_insert(AppSources *a, SimWorld *world, long done, double dt, cha
     sim_world_frame(world, &f);
     SourceState before[SCENE_SOURCE_MAX];
     memcpy(before, a->state, sizeof before);
-    for (int k = 0; k < a->count && !app_run_signal(); ++k)
-        for (long s = due_step(a, k, dt); s >= 0 && s <= done && !app_run_signal();
+    a->signalled = app_run_signal() != 0;
+    for (int k = 0; k < a->count && !stop_asked(a); ++k)
+        for (long s = due_step(a, k, dt); s >= 0 && s <= done && !stop_asked(a);
              s = due_step(a, k, dt))
             place_one(a, k, &f, &batch);
     int status = 0;
-    if (app_run_signal()) { /* the step's grains put off whole: the sources as they were */
+    if (stop_asked(a)) { /* the step's grains put off whole: the sources as they were */
         memcpy(a->state, before, sizeof before);
         batch.count = 0;
     }

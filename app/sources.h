@@ -46,7 +46,8 @@ void app_sources_stage_begin(AppSources *sources, int stage);
 /// The first step after `done` (steps from the stage start, dt s) at which a grain is due.
 long app_sources_next_step(const AppSources *sources, long done, double dt, long limit);
 /// Inserts the grains due at step `done`. 0, or -1 with err (sim_world_add_grains failed).
-/// A run's signal (app_run_signal) stops the placing: that step's grains are then put off whole.
+/// A run's signal (app_run_signal) raised during the placing stops it: that step's grains are
+/// then put off whole (one raised before lets it finish, so that a resumed run is exact).
 int app_sources_insert(AppSources *sources, SimWorld *world, long done, double dt, char *err,
                        size_t err_size);
 /// `"sources": [...]` members for summary.json (name, inserted, skipped), "" without sources.
