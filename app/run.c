@@ -38,6 +38,11 @@ static void on_signal(int signo)
     run_signal = signo; /* the handler is reset (SA_RESETHAND): a second signal kills */
 }
 
+int app_run_signal(void)
+{
+    return run_signal;
+}
+
 typedef struct StageReport {
     long steps;
     double start_time, end_time; /* s */

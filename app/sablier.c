@@ -264,7 +264,7 @@ static void print_stage_forcing(const Scene *scene, int k)
 static void print_timing(const Scene *scene, int k)
 {
     SimWorldDef def = scene_world_def(scene, k);
-    SimTiming t = sim_world_def_timing(&def);
+    SimTiming t = app_sources_timing(scene, &def); /* the sources' grains' contacts too */
     printf("  time step        %g s%s\n", t.time_step,
            scene->stages[k].time_step > 0.0 ? "" : " (chosen from steps_per_contact)");
     printf("  contact time     %g s (shortest pair)\n", t.contact_time_min);

@@ -13,6 +13,7 @@
 #include "provenance.h"
 #include "scene.h"
 #include "scene_internal.h"
+#include "sources.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -767,6 +768,10 @@ SimWorldDef scene_world_def(const Scene *scene, int stage)
     for (int f = 0; app_experiments[f]; ++f)
         if (scene->experiments[f] && app_experiments[f]->adjust_def)
             app_experiments[f]->adjust_def(scene->experiments[f], stage, &def);
+    /* the automatic time step of a world built from the scene resolves the grains its sources
+     * will insert too (a scene fed by sources alone had no grains to choose it from: dt 0) */
+    if (def.time_step == 0.0 && scene->source_count > 0 && s->load == SCENE_LOAD_SCENE)
+        def.time_step = app_sources_timing(scene, &def).time_step;
     return def;
 }
 

@@ -4,6 +4,7 @@
  * boundaries (random places in a region, no overlap, a retry budget). */
 #include "sources.h"
 
+#include "run.h"
 #include "scene_internal.h"
 
 #include <math.h>
@@ -204,8 +205,9 @@ static int parse_source(Loader *L, const config_setting_t *g, int k, SceneSource
                                "%s: give a `rate` (grains/s), a `mass_rate` (kg/s) or "
                                "a `count` alone",
                                what);
-    if (count < 0 || attempts < 1)
-        return app_config_fail(&L->p, g, "%s: `count` >= 0 and `attempts` >= 1", what);
+    if (count < 0 || attempts < 1 || attempts > SCENE_SOURCE_MAX_ATTEMPTS)
+        return app_config_fail(&L->p, g, "%s: `count` >= 0 and `attempts` in [1, %d]", what,
+                               SCENE_SOURCE_MAX_ATTEMPTS);
     s->x0 = region[0];
     s->y0 = region[1];
     s->x1 = region[2];
@@ -215,6 +217,108 @@ static int parse_source(Loader *L, const config_setting_t *g, int k, SceneSource
     s->count = (long)count;
     s->attempts = (int)attempts;
     return check_region(L, g, s);
+}
+
+/* The smallest radius a source inserts, m. */
+static double smallest_radius(const SceneSource *s)
+{
+    double r = INFINITY;
+    for (int k = 0; k < s->radii_count; ++k)
+        r = fmin(r, s->radii[k]);
+    for (int k = 0; s->radii_count == 0 && k < s->mixture_count; ++k)
+        r = fmin(r, s->radius_min[k]);
+    return r;
+}
+
+/* The most grains of the source that its region can hold at once: disks of diameter d whose
+ * centres lie in a w x h rectangle, at most 2 / sqrt 3 w h / d^2 + (w + h) / d + 1 (Oler's
+ * bound for centres at least d apart in a convex region). */
+static double region_capacity(const SceneSource *s)
+{
+    const double d = 2.0 * smallest_radius(s), w = s->x1 - s->x0, h = s->y1 - s->y0;
+    return floor(2.0 / sqrt(3.0) * (w / d) * (h / d) + (w + h) / d + 1.0);
+}
+
+/* The time step of stage k as a run takes it (its own, or the automatic one), s. */
+static double stage_time_step(const Scene *scene, int k)
+{
+    SimWorldDef def = scene_world_def(scene, k);
+    return def.time_step > 0.0 ? def.time_step : app_sources_timing(scene, &def).time_step;
+}
+
+/* What one step may ask of source k: no more grains than its region holds (a `rate` of 1e12
+ * grains/s asked 1e9 grains a step, each tried `attempts` times against every grain). The
+ * bound is checked at every stage the source is active in, with that stage's time step. */
+static int check_source_bounds(Loader *L, const config_setting_t *g, int k)
+{
+    const Scene *scene = L->scene;
+    const SceneSource *s = &scene->sources[k];
+    const double capacity = region_capacity(s);
+    if (s->count > 0 && !(s->rate > 0.0) && !(s->mass_rate > 0.0) && s->count > capacity)
+        return app_config_fail(&L->p, app_config_member(g, "count"),
+                               "sources.%d: `count` %ld alone puts every grain in at the stage "
+                               "start, but its region holds at most %.0f grains of radius %g",
+                               k, s->count, capacity, smallest_radius(s));
+    double lightest = INFINITY; /* kg: a mass rate asks the most grains of the lightest */
+    for (int m = 0; m < s->mixture_count; ++m)
+        lightest =
+            fmin(lightest,
+                 sim_grain_mass(scene->def.mass_model, scene->def.materials[s->species[m]].density,
+                                s->radii_count > 0 ? smallest_radius(s) : s->radius_min[m]));
+    for (int stage = 0; stage < scene->stage_count; ++stage) {
+        const double dt = stage_time_step(scene, stage);
+        if (!((s->stages >> stage) & 1u) || !(dt > 0.0))
+            continue;
+        if (s->rate > 0.0 && s->rate * dt > capacity)
+            return app_config_fail(&L->p, app_config_member(g, "rate"),
+                                   "sources.%d: `rate` %g grains/s asks %.3g grains a step (dt = "
+                                   "%g s in stage %s), but its region holds at most %.0f grains "
+                                   "of radius %g: at most %g grains/s",
+                                   k, s->rate, s->rate * dt, dt, scene->stages[stage].name,
+                                   capacity, smallest_radius(s), capacity / dt);
+        if (s->mass_rate > 0.0 && s->mass_rate * dt > capacity * lightest)
+            return app_config_fail(&L->p, app_config_member(g, "mass_rate"),
+                                   "sources.%d: `mass_rate` %g kg/s asks %.3g grains a step (dt "
+                                   "= %g s in stage %s), but its region holds at most %.0f grains "
+                                   "of radius %g: at most %g kg/s",
+                                   k, s->mass_rate, s->mass_rate * dt / lightest, dt,
+                                   scene->stages[stage].name, capacity, smallest_radius(s),
+                                   capacity * lightest / dt);
+    }
+    return 0;
+}
+
+SimTiming app_sources_timing(const Scene *scene, const SimWorldDef *def)
+{
+    const SimGrainSet *g = &def->grains;
+    const int extra = scene->source_count * SIM_MAX_SPECIES, n = g->count + extra;
+    double *radius = malloc((size_t)(n > 0 ? n : 1) * sizeof *radius);
+    int *species = malloc((size_t)(n > 0 ? n : 1) * sizeof *species);
+    unsigned *flags = malloc((size_t)(n > 0 ? n : 1) * sizeof *flags);
+    SimWorldDef d = *def;
+    int count = 0;
+    if (radius && species && flags) {
+        for (int i = 0; i < g->count; ++i, ++count) {
+            radius[count] = g->radius[i];
+            species[count] = g->species ? g->species[i] : 0;
+            flags[count] = g->flags ? g->flags[i] : 0u;
+        }
+        for (int k = 0; k < scene->source_count; ++k) { /* the lightest grain of each species */
+            const SceneSource *s = &scene->sources[k];
+            for (int m = 0; m < s->mixture_count; ++m, ++count) {
+                radius[count] = s->radii_count > 0 ? smallest_radius(s) : s->radius_min[m];
+                species[count] = s->species[m];
+                flags[count] = 0u;
+            }
+        }
+        d.grains =
+            (SimGrainSet){.count = count, .radius = radius, .species = species, .flags = flags};
+    }
+    const SimTiming t = sim_world_def_timing(&d);
+    free(radius);
+    free(species);
+    free(flags);
+    return t;
 }
 
 int loader_parse_sources(Loader *L, const config_setting_t *root)
@@ -233,6 +337,9 @@ int loader_parse_sources(Loader *L, const config_setting_t *root)
             0)
             return -1;
     L->scene->source_count = count;
+    for (int k = 0; k < count; ++k)
+        if (check_source_bounds(L, config_setting_get_elem(list, (unsigned)k), k) < 0)
+            return -1;
     return 0;
 }
 
@@ -252,6 +359,7 @@ typedef struct SourceState {
 struct AppSources {
     const Scene *scene;
     int count;
+    int signalled; /* a signal was raised before the insertion in progress began */
     SourceState state[SCENE_SOURCE_MAX];
 };
 
@@ -370,6 +478,14 @@ static int place_free(const SimFrame *f, const SimGrainBuffer *batch, double x, 
     return 1;
 }
 
+/* 1 when a signal raised during the insertion in progress asks the run to stop. One raised before
+ * it (while the world stepped) lets it end as usual: the run stops after this step's outputs,
+ * and a resumed run continues it to the bit. */
+static int stop_asked(const AppSources *a)
+{
+    return !a->signalled && app_run_signal() != 0;
+}
+
 /* One grain of source k into the batch (or skipped after `attempts` tries). */
 static void place_one(AppSources *a, int k, const SimFrame *f, SimGrainBuffer *batch)
 {
@@ -377,7 +493,7 @@ static void place_one(AppSources *a, int k, const SimFrame *f, SimGrainBuffer *b
     SourceState *st = &a->state[k];
     const double r = st->next_radius;
     int placed = 0;
-    for (int t = 0; t < s->attempts && !placed; ++t) {
+    for (int t = 0; t < s->attempts && !placed && !stop_asked(a); ++t) {
         double x = s->x0 + sim_rng_uniform(&st->rng) * (s->x1 - s->x0);
         double y = s->y0 + sim_rng_uniform(&st->rng) * (s->y1 - s->y0);
         if (place_free(f, batch, x, y, r)) {
@@ -405,10 +521,18 @@ int app_sources_insert(AppSources *a, SimWorld *world, long done, double dt, cha
     sim_grain_buffer_init(&batch);
     SimFrame f;
     sim_world_frame(world, &f);
-    for (int k = 0; k < a->count; ++k)
-        for (long s = due_step(a, k, dt); s >= 0 && s <= done; s = due_step(a, k, dt))
+    SourceState before[SCENE_SOURCE_MAX];
+    memcpy(before, a->state, sizeof before);
+    a->signalled = app_run_signal() != 0;
+    for (int k = 0; k < a->count && !stop_asked(a); ++k)
+        for (long s = due_step(a, k, dt); s >= 0 && s <= done && !stop_asked(a);
+             s = due_step(a, k, dt))
             place_one(a, k, &f, &batch);
     int status = 0;
+    if (stop_asked(a)) { /* the step's grains put off whole: the sources as they were */
+        memcpy(a->state, before, sizeof before);
+        batch.count = 0;
+    }
     if (batch.count > 0) {
         SimGrainSet set = sim_grain_buffer_view(&batch);
         set.id = NULL; /* fresh ids above every id in use */

@@ -9,8 +9,10 @@
 
 #include "scene.h"
 
-#define SCENE_SOURCE_MAX       8
-#define SCENE_SOURCE_MAX_RADII 64
+#define SCENE_SOURCE_MAX          8
+#define SCENE_SOURCE_MAX_RADII    64
+/* The most random places a source tries per grain (`attempts`). */
+#define SCENE_SOURCE_MAX_ATTEMPTS 1000000
 
 typedef struct SceneSource {
     char name[SCENE_NAME_MAX];
@@ -31,6 +33,11 @@ typedef struct SceneSource {
 
 typedef struct AppSources AppSources;
 
+/// The timing (sim_world_def_timing) of `def` with, besides its grains, the lightest grain of
+/// every species each source of the scene inserts (its smallest radius): the automatic time step
+/// of a scene fed by sources resolves their contacts too.
+SimTiming app_sources_timing(const Scene *scene, const SimWorldDef *def);
+
 /// Run-time state of the scene's sources (NULL when it has none, or out of memory: *failed).
 AppSources *app_sources_create(const Scene *scene, int *failed);
 void app_sources_free(AppSources *sources);
@@ -39,6 +46,8 @@ void app_sources_stage_begin(AppSources *sources, int stage);
 /// The first step after `done` (steps from the stage start, dt s) at which a grain is due.
 long app_sources_next_step(const AppSources *sources, long done, double dt, long limit);
 /// Inserts the grains due at step `done`. 0, or -1 with err (sim_world_add_grains failed).
+/// A run's signal (app_run_signal) raised during the placing stops it: that step's grains are
+/// then put off whole (one raised before lets it finish, so that a resumed run is exact).
 int app_sources_insert(AppSources *sources, SimWorld *world, long done, double dt, char *err,
                        size_t err_size);
 /// `"sources": [...]` members for summary.json (name, inserted, skipped), "" without sources.

@@ -91,8 +91,9 @@ typedef struct NeighbourList {
      * hist_t and hist_r when it completes, so that a rebuild found mid-pass sees the old one. */
     double *hist_t_spare, *hist_r_spare;
     int *owner; /* i of entry k (the flat, vectorised force pass) */
-    /* Per-entry results of that pass on several threads: 4 arrays of out_capacity (fx, fy, f_t,
-     * M); NULL on one thread, whose passes keep a block's results on the stack. */
+    /* Per-entry results of that pass on several threads: 4 arrays (fx, fy, f_t, M) at a stride
+     * of capacity, so out_capacity (what they hold) follows capacity, not the entry count; NULL
+     * on one thread, whose passes keep a block's results on the stack. */
     double *out;
     /* The list transposed, for the threaded reduction (contact.c): the entries k whose partner
      * j is grain g are in_entry[in_start[g] .. in_start[g+1]), ascending k (the order in which

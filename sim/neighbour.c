@@ -617,7 +617,10 @@ void sim_neighbour_build_incoming(SimWorld *world)
         nl->in_start = grown;
         nl->in_capacity = n + 1;
     }
-    if (total > nl->out_capacity) {
+    /* nl.out holds its four results at a stride of the list's capacity (results_whole), so it
+     * follows the capacity, not the entry count: a build may grow the capacity with the mobile
+     * count (grains added mid-run) while the entries still fit the old size. */
+    if (nl->capacity > nl->out_capacity) {
         const size_t cap = (size_t)nl->capacity; /* >= total */
         int *entry = realloc(nl->in_entry, cap * sizeof *entry);
         if (entry)

@@ -300,3 +300,12 @@ sablier_cli_test(hard.chute_rough_unbounded
                  "run|${PROJECT_SOURCE_DIR}/scenes/chute/chute.scene|--quiet|--out|${CLI_WORK}/hard_chute_rough|--set|species.0.mu=0|--set|species.1.mu=0|--set|stages.flow.gravity=[0.8660254,-0.5]|--set|stages.flow.time.end=400"
                  1 ERR "stage flow: simulation failed at step [0-9]+ [(]t = [0-9.]+ s[)].*the flow accelerates without bound.*or stop earlier [(]dt = ")
 set_tests_properties(cli.hard.chute_rough_unbounded PROPERTIES LABELS "cli;slow")
+# insertion sources (issue 42): the same bytes on 1, 2, 3 and 8 threads, the automatic time step
+# of a scene fed by sources alone, a rate bounded by what the region holds per step, and the
+# insertion stopped by a signal
+foreach(mode threads auto_dt rate_bound interrupt)
+  add_test(NAME cli.sources.${mode}
+           COMMAND bash ${CLI_DIR}/sources.sh $<TARGET_FILE:sablier> ${mode} ${CLI_DIR}
+                   ${PROJECT_SOURCE_DIR} ${CLI_WORK}/sources_${mode})
+  set_tests_properties(cli.sources.${mode} PROPERTIES LABELS cli)
+endforeach()

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Adding grains to a running world (rain-like deposition, 004 §3.1): counts and ids, contact
- * history carried over, refusals (overlap, duplicate id). */
+ * history carried over, refusals (overlap, duplicate id), the same bits on any thread count. */
+#include "sim_test_util.h"
 #include "test.h"
 
 #include "sim/sim.h"
@@ -127,5 +128,84 @@ static int auto_skin_follows_added_grains(void)
     return 0;
 }
 
+/* One batch of `rows` rows of 16 grains (radius 0.045-0.054 m, 0.11 m apart) just above the
+ * highest grain of the pile, falling at 1 m/s onto it. */
+static SimStatus add_batch(SimWorld *w, int rows, int batch, SimError *err)
+{
+    enum { COLUMNS = 16, MAX_ROWS = 8 };
+
+    double x[COLUMNS * MAX_ROWS], y[COLUMNS * MAX_ROWS], r[COLUMNS * MAX_ROWS];
+    double vx[COLUMNS * MAX_ROWS], vy[COLUMNS * MAX_ROWS];
+    SimFrame f;
+    sim_world_frame(w, &f);
+    double top = 0.0;
+    for (int i = 0; i < f.count; ++i)
+        top = fmax(top, f.y[i] + f.radius[i]);
+    int n = 0;
+    for (int row = 0; row < rows && row < MAX_ROWS; ++row)
+        for (int c = 0; c < COLUMNS; ++c, ++n) {
+            x[n] = 0.15 + 0.11 * c + 0.01 * (row % 2);
+            y[n] = top + 0.06 + 0.11 * row;
+            r[n] = 0.045 + 0.001 * ((7 * n + 3 * batch) % 10);
+            vx[n] = 0.0;
+            vy[n] = -1.0;
+        }
+    SimGrainSet add = {.count = n, .x = x, .y = y, .radius = r, .vx = vx, .vy = vy};
+    return sim_world_add_grains(w, &add, err);
+}
+
+/* The contact pass's per-entry buffers (the threaded transpose and results, whose stride is the
+ * list's capacity) follow the list as grains are added mid-run: batches of grains dropped onto a
+ * dense pile on 1, 2, 3 and 8 threads give one thread's bits, and nothing is written out of
+ * bounds (the sanitizer build ran a heap-buffer-overflow here: the list grew with the mobile
+ * count while the results kept their old size). */
+static int add_on_threads_same_hash(void)
+{
+    static const SimWall walls[3] = {
+        {.x0 = 0.0, .y0 = 0.0, .x1 = 2.0, .y1 = 0.0, .species = 0, .motion = -1},
+        {.x0 = 0.0, .y0 = 0.0, .x1 = 0.0, .y1 = 9.0, .species = 0, .motion = -1},
+        {.x0 = 2.0, .y0 = 0.0, .x1 = 2.0, .y1 = 9.0, .species = 0, .motion = -1}};
+    static const int threads[4] = {1, 2, 3, 8};
+    static const int rows[5] = {1, 4, 8, 2, 8};
+    uint64_t hash[4];
+    for (int run = 0; run < 4; ++run) {
+        SimGrainBuffer b;
+        tu_rain_150(&b, 5, 0.06);
+        SimWorldDef def = tu_def(1000.0, 1e5, 0.0);
+        def.steps_per_contact = 40.0;
+        def.gravity_y = -G0;
+        def.effects |= SIM_EFFECT_FRICTION | SIM_EFFECT_ROLLING;
+        def.contact.tangential = SIM_TANGENTIAL_SPRING;
+        def.contact.rolling = SIM_ROLLING_FIXED; /* every per-entry result in use */
+        def.materials[0].friction = 0.5;
+        def.materials[0].tangential_stiffness = 0.75e5;
+        def.materials[0].rolling_friction = 0.005;
+        def.materials[0].rolling_stiffness = 25.0;
+        def.materials[0].damping_mode = SIM_DAMPING_RESTITUTION;
+        def.materials[0].restitution = 0.3;
+        def.wall_count = 3;
+        def.walls = walls;
+        SimWorld *w = tu_create(&def, &b);
+        sim_grain_buffer_free(&b);
+        TEST_ASSERT(w != NULL);
+        sim_world_set_threads(w, threads[run]);
+        TEST_ASSERT(tu_step(w, 2500) == 0); /* the rain lands: a pile in contact */
+        TEST_ASSERT(sim_world_energy(w).contacts > 120);
+        SimError err;
+        for (int batch = 0; batch < 5; ++batch) {
+            TEST_ASSERT(add_batch(w, rows[batch], batch, &err) == SIM_OK);
+            TEST_ASSERT(tu_step(w, 200) == 0);
+        }
+        TEST_ASSERT(sim_world_mobile_count(w) == 150 + 16 * 23);
+        hash[run] = sim_world_hash(w);
+        fprintf(stderr, "%d threads: hash %016llx, %d contacts\n", threads[run],
+                (unsigned long long)hash[run], sim_world_energy(w).contacts);
+        sim_world_destroy(w);
+    }
+    for (int run = 1; run < 4; ++run)
+        TEST_ASSERT(hash[run] == hash[0]);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(add_keeps_history_and_ids), TEST_CASE(add_refuses_overlap_and_duplicate_id),
-          TEST_CASE(auto_skin_follows_added_grains))
+          TEST_CASE(auto_skin_follows_added_grains), TEST_CASE(add_on_threads_same_hash))
