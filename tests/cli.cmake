@@ -175,6 +175,12 @@ endforeach()
 add_test(NAME cli.cadence_huge
          COMMAND bash ${CLI_DIR}/cadence.sh $<TARGET_FILE:sablier> ${CLI_TINY} ${CLI_WORK}/cadence)
 set_tests_properties(cli.cadence_huge PROPERTIES LABELS cli)
+# a measure's windows at exact multiples of its cadence with a step that divides nothing, and a
+# window that ends with its stage written at its end (tests/cli/measure_window.sh)
+add_test(NAME cli.measure_window
+         COMMAND bash ${CLI_DIR}/measure_window.sh $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/measure_window.scene ${CLI_WORK}/measure_window)
+set_tests_properties(cli.measure_window PROPERTIES LABELS cli)
 add_test(NAME cli.check_target_error
          COMMAND bash ${CLI_DIR}/target_error.sh $<TARGET_FILE:sablier> ${CLI_TINY})
 set_tests_properties(cli.check_target_error PROPERTIES LABELS cli)
