@@ -181,6 +181,12 @@ add_test(NAME cli.measure_window
          COMMAND bash ${CLI_DIR}/measure_window.sh $<TARGET_FILE:sablier>
                  ${CLI_DIR}/measure_window.scene ${CLI_WORK}/measure_window)
 set_tests_properties(cli.measure_window PROPERTIES LABELS cli)
+# a stage that loads a checkpoint whose walls (or wall motions) are not the scene's: refused at
+# load (tests/cli/load_walls.sh)
+add_test(NAME cli.load_walls
+         COMMAND bash ${CLI_DIR}/load_walls.sh $<TARGET_FILE:sablier> ${CLI_DIR}/load_walls.scene
+                 ${CLI_WORK}/load_walls)
+set_tests_properties(cli.load_walls PROPERTIES LABELS cli)
 add_test(NAME cli.check_target_error
          COMMAND bash ${CLI_DIR}/target_error.sh $<TARGET_FILE:sablier> ${CLI_TINY})
 set_tests_properties(cli.check_target_error PROPERTIES LABELS cli)

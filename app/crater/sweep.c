@@ -659,8 +659,9 @@ static int setup(Sweep *w)
         fprintf(stderr, "%s\n", err);
         return 2;
     }
-    char why[600];
-    if (o->from && app_state_check(o->from, why, sizeof why) != 0) {
+    char why[1200];
+    if (o->from &&
+        app_state_check(o->from, scene->def.walls, scene->def.wall_count, why, sizeof why) != 0) {
         fprintf(stderr, "sablier: sweep: --from: %s\n", why);
         scene_free(scene);
         return 2;
