@@ -6,6 +6,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -268,6 +269,23 @@ static int same_walls(const char *path, const SimWall *saved, int saved_count, c
         }
     }
     return 0;
+}
+
+void app_catch_signals(void (*handler)(int), int flags, struct sigaction *saved, int restore)
+{
+    const int signals[2] = {SIGINT, SIGTERM};
+    for (int k = 0; k < 2; ++k) {
+        if (restore) {
+            sigaction(signals[k], &saved[k], NULL);
+            continue;
+        }
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = handler;
+        sa.sa_flags = flags;
+        sigemptyset(&sa.sa_mask);
+        sigaction(signals[k], &sa, &saved[k]);
+    }
 }
 
 int app_state_check(const char *path, const SimWall *walls, int wall_count, char *err,

@@ -68,6 +68,12 @@ struct SimWall;
 int app_state_check(const char *path, const struct SimWall *walls, int wall_count, char *err,
                     size_t err_size);
 
+struct sigaction;
+/// SIGINT and SIGTERM to `handler` with sa_flags `flags` (restore = 0; the old actions into
+/// saved[0] and saved[1]), or the old actions back from them (restore = 1). The runner and the
+/// process pool catch the two signals through it.
+void app_catch_signals(void (*handler)(int), int flags, struct sigaction *saved, int restore);
+
 /// Monotonic wall clock, s (for timings only; never for results).
 double app_now_seconds(void);
 

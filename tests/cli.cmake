@@ -250,6 +250,14 @@ add_test(NAME cli.ensemble
                  ${CLI_WORK}/ensemble ${SABLIER_WITH_RENDER})
 set_tests_properties(cli.ensemble PROPERTIES LABELS cli
                      ENVIRONMENT "LSAN_OPTIONS=suppressions=${CLI_DIR}/lsan.supp")
+# SIGINT/SIGTERM to a multi-run command stop its members through the shared pool: exit 130/143,
+# no process left, the table with the unfinished members `interrupted`; --resume runs only those
+# (tests/cli/pool_signal.sh)
+add_test(NAME cli.pool_signal
+         COMMAND bash ${CLI_DIR}/pool_signal.sh $<TARGET_FILE:sablier> ${CLI_DIR}/ensemble_fall.scene
+                 ${CLI_WORK}/pool_signal)
+set_tests_properties(cli.pool_signal PROPERTIES LABELS cli
+                     ENVIRONMENT "LSAN_OPTIONS=suppressions=${CLI_DIR}/lsan.supp")
 # the ensemble reaches the discharge protocol (its own dt: discharge.dt_divisor = 0)
 add_test(NAME cli.ensemble_discharge
          COMMAND bash ${CLI_DIR}/ensemble_discharge.sh $<TARGET_FILE:sablier>
