@@ -10,6 +10,7 @@
 #include "experiments.h"
 #include "pool.h"
 #include "provenance.h" /* app_json_string, app_json_number */
+#include "run.h"
 #include "run_value.h"
 #include "scene.h"
 #include "stats.h"
@@ -36,7 +37,7 @@
 const char app_ensemble_usage[] =
     "usage: sablier ensemble SCENE (--dt LIST | --steps-per-contact LIST) --observe KEY[,KEY...]\n"
     "                        [--seeds N] [--seed0 S] [--jobs N] [--out DIR] [--set KEY=VALUE]...\n"
-    "                        [--quiet]\n"
+    "                        [--resume] [--quiet]\n"
     "\n"
     "Runs SCENE for N seeds (default 5, at least 2) at each time step of the list and tells, per\n"
     "observable, from which dt on the ensemble mean stays within its statistical error of the\n"
@@ -56,11 +57,14 @@ const char app_ensemble_usage[] =
     "  --jobs N                  members at a time, 1-64 (default 2; results do not depend on N)\n"
     "  --set KEY=VALUE           override for every member\n"
     "  --out DIR                 default out/ensemble-<scene name>\n"
+    "  --resume                  skip the members whose folder holds a completed run\n"
     "Writes DIR/members.csv (every member's values and CPU s), DIR/ensemble.csv and\n"
     "DIR/ensemble.json (per observable and dt: n, mean, std, 95 % CI, shift against the\n"
     "reference with its Welch CI, mean CPU s per member), DIR/ensemble.png and .pdf; members'\n"
     "outputs in DIR/dt=X/seed-S/ (log.txt). Exit 0; 1 when a member went unstable; 2 on bad\n"
-    "input (nothing runs) or when a member failed otherwise or an observable is missing.\n";
+    "input (nothing runs) or when a member failed otherwise or an observable is missing; 130 or\n"
+    "143 after SIGINT or SIGTERM (the members stopped, the tables of the finished ones written,\n"
+    "the others `interrupted` in members.csv).\n";
 
 typedef struct Options {
     const char *scene_path, *out_dir, *self;
@@ -72,7 +76,7 @@ typedef struct Options {
     char keys[ENS_KEYS][ENS_KEY];
     int key_count;
     long seeds, seed0, jobs;
-    int quiet;
+    int quiet, resume;
     const AppRender *render;
     char default_out[ENS_PATH];
 } Options;
@@ -186,6 +190,8 @@ static int parse_option(Options *o, int argc, char **argv, int *i)
             return usage_error("--jobs needs a count in [1, 64], got", m < 0 ? "nothing" : value);
     } else if (strcmp(argv[*i], "--quiet") == 0 || strcmp(argv[*i], "-q") == 0) {
         o->quiet = 1;
+    } else if (strcmp(argv[*i], "--resume") == 0) {
+        o->resume = 1;
     } else {
         return app_scene_argument(app_ensemble_usage, argv[*i], &o->scene_path);
     }
@@ -403,26 +409,12 @@ static int member_run(void *ctx, int k)
         dup2(fd, STDERR_FILENO);
         close(fd);
     }
-    fflush(NULL);
-    pid_t pid = fork();
-    if (pid < 0) {
-        fprintf(stderr, "sablier: ensemble: cannot fork: %s\n", strerror(errno));
-        return 2;
-    }
-    if (pid == 0) {
-        execv(E->o->self, E->argv);
-        fprintf(stderr, "sablier: ensemble: cannot run %s: %s\n", E->o->self, strerror(errno));
-        fflush(NULL);
-        _exit(2);
-    }
-    int status = 0;
     struct rusage usage;
-    pid_t got;
-    do
-        got = wait4(pid, &status, 0, &usage);
-    while (got < 0 && errno == EINTR);
-    if (got < 0)
+    int status = app_pool_exec_wait(E->o->self, E->argv, &usage);
+    if (status < 0) {
+        fprintf(stderr, "sablier: ensemble: cannot run %s: %s\n", E->o->self, strerror(errno));
         return 2;
+    }
     double cpu = (double)usage.ru_utime.tv_sec + 1e-6 * (double)usage.ru_utime.tv_usec +
                  (double)usage.ru_stime.tv_sec + 1e-6 * (double)usage.ru_stime.tv_usec;
     char text[64];
@@ -430,7 +422,7 @@ static int member_run(void *ctx, int k)
     snprintf(path, sizeof path, "%s/cpu_seconds.txt", dir);
     if (app_write_atomic(path, text) != 0)
         fprintf(stderr, "sablier: ensemble: cannot write %s\n", path);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+    return status;
 }
 
 static void member_done(void *ctx, int k, int status)
@@ -445,12 +437,20 @@ static void member_done(void *ctx, int k, int status)
         char dir[ENS_PATH];
         member_dir(E, k, dir, sizeof dir);
         fprintf(stderr, "sablier: ensemble: %s: %s\n", dir,
-                status == 0   ? "ok"
-                : status == 1 ? "unstable"
-                              : "failed (see its log.txt)");
+                status == 0                      ? "ok"
+                : status == 1                    ? "unstable"
+                : status == APP_POOL_INTERRUPTED ? "interrupted"
+                                                 : "failed (see its log.txt)");
     }
 }
 
+static int member_folder(void *ctx, int k, char *dir, size_t size)
+{
+    member_dir(ctx, k, dir, size);
+    return 0;
+}
+
+/* The members through the pool: 0, 2 when a fork failed, or 128 + the signal that stopped it. */
 static int run_members(Ensemble *E)
 {
     for (int k = 0; k < E->member_count; ++k)
@@ -464,8 +464,11 @@ static int run_members(Ensemble *E)
                     .start = member_start,
                     .run = member_run,
                     .done = member_done,
-                    .signal_status = 1};
-    return app_pool_run(&pool) == 0 ? 0 : 2;
+                    .signal_status = 1,
+                    .folder = member_folder,
+                    .resume = E->o->resume};
+    int rc = app_pool_run(&pool);
+    return rc == 0 || rc > APP_EXIT_SIGNAL ? rc : 2;
 }
 
 /* ---------------------------------------------------------------- reduction */
@@ -557,7 +560,9 @@ static int write_members_csv(const Ensemble *E, const char *path)
     fprintf(f, "\n");
     for (int k = 0; k < E->member_count; ++k) {
         const Level *L = &E->levels[k / o->seeds];
-        fprintf(f, "%.9g,%.9g,%ld,%d", L->dt, L->per_contact, member_seed(E, k), E->status[k]);
+        char status[16];
+        fprintf(f, "%.9g,%.9g,%ld,%s", L->dt, L->per_contact, member_seed(E, k),
+                app_pool_status_text(E->status[k], status));
         csv_number(f, E->cpu[k]);
         for (int j = 0; j < o->key_count; ++j)
             csv_number(f, E->value[k * o->key_count + j]);
@@ -856,12 +861,13 @@ int app_ensemble_command(int argc, char **argv, const AppEnv *env)
         E->value = calloc((size_t)E->member_count * (size_t)o->key_count, sizeof *E->value);
         rc = E->status && E->cpu && E->value ? run_members(E) : 2;
     }
-    if (rc == 0) {
+    if (rc == 0 || rc > APP_EXIT_SIGNAL) { /* interrupted: the finished members' tables */
+        int interrupted = rc;
         read_members(E);
         reduce(E);
         rc = write_outputs(E);
         int members = members_status(E);
-        rc = members ? members : rc ? rc : E->missing ? 2 : 0;
+        rc = interrupted ? interrupted : members ? members : rc ? rc : E->missing ? 2 : 0;
     }
     if (E) {
         free(E->status);

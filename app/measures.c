@@ -43,8 +43,10 @@ typedef struct Measure {
     FILE *csv;
     char path[MEASURE_PATH];
     int vti_count;
-    long every_steps, window_steps, window_end, total_steps, mid_step;
-    double t_sum; /* sample times in the open window, s */
+    /* samples are due every `every` s of the stage: sample k at k * every after its start, its
+     * step rounded from that (never accumulated); the open window j ends at j * window */
+    long next_sample, window_index, total_steps, mid_step;
+    double t_sum; /* nominal sample times in the open window, s */
     int active;
     int started;  /* 1 once a sample was taken */
     double *last; /* field_count * nodes: the last row written (figures) */
@@ -475,17 +477,17 @@ static int measure_objects(Measure *m, AppContext *c)
 static int measures_stage_begin(void *state, AppContext *c)
 {
     AppMeasures *ms = state;
-    double dt = sim_world_time_step(c->world);
     for (int k = 0; k < ms->count; ++k) {
         Measure *m = &ms->m[k];
         m->active = m->stage < 0 || m->stage == c->stage;
         if (!m->active)
             continue;
-        m->every_steps = (long)fmax(1.0, (double)llround(m->every / dt));
-        m->window_steps = m->window > 0.0 ? (long)fmax(1.0, (double)llround(m->window / dt)) : 0;
+        /* a sample at the stage's start only in the first stage the measure runs in, and not
+           into a window (flux: no row at the start) */
+        m->next_sample = m->kind != KIND_FLUX && !m->started && m->window == 0.0 ? 0 : 1;
+        m->window_index = 1;
         m->total_steps = c->stage_steps;
         m->mid_step = c->stage_steps / 2;
-        m->window_end = m->window_steps;
         m->t_sum = 0.0;
         if (measure_objects(m, c) != 0)
             return -1;
@@ -595,15 +597,59 @@ static void flux_row(Measure *m, const AppContext *c)
     m->last_t = t;
 }
 
+/* The step of the stage at which sample k is due: k * every after the stage's start, rounded to
+ * a step from k (never accumulated), the stage's last step at the latest so that a sample at its
+ * end is taken; -1 when k lies past the stage's end. */
+static long sample_step(const Measure *m, const AppContext *c, long k)
+{
+    double dt = sim_world_time_step(c->world), t = (double)k * m->every;
+    if (t > c->scene->stages[c->stage].duration + 0.5 * dt)
+        return -1;
+    long step = (long)llround(t / dt);
+    return step < c->stage_steps ? step : c->stage_steps;
+}
+
+/* 1 when a sample is due at step `done`, its index in *k (the last one due when `every` is
+ * shorter than a step); the next sample's index advanced past it. */
+static int sample_due(Measure *m, const AppContext *c, long done, long *k)
+{
+    long step = sample_step(m, c, m->next_sample);
+    if (step < 0 || step > done)
+        return 0;
+    while ((step = sample_step(m, c, m->next_sample + 1)) >= 0 && step <= done)
+        ++m->next_sample;
+    *k = m->next_sample++;
+    return 1;
+}
+
+/* 1 when the open window closes at step `done`, where sample k (-1: none) was just added: its
+ * end j * window reached by the sample's time, or the stage's last step when the window ends
+ * with the stage. The next window's index set from the sample's time. */
+static int window_closes(Measure *m, const AppContext *c, long done, long k)
+{
+    const double eps = 1e-9 * m->every;
+    const double end = (double)m->window_index * m->window;
+    const double dt = sim_world_time_step(c->world);
+    int close = k >= 0 && (double)k * m->every >= end - eps;
+    if (!close && done == c->stage_steps && end <= c->scene->stages[c->stage].duration + 0.5 * dt)
+        close = sim_coarse_samples(m->cg) > 0;
+    if (close)
+        m->window_index = k >= 0 ? (long)floor(((double)k * m->every + eps) / m->window) + 1
+                                 : m->window_index + 1;
+    return close;
+}
+
 static void measures_step(void *state, AppContext *c, long done)
 {
     AppMeasures *ms = state;
     SimFrame frame;
     int framed = 0;
-    for (int k = 0; k < ms->count; ++k) {
-        Measure *m = &ms->m[k];
+    for (int j = 0; j < ms->count; ++j) {
+        Measure *m = &ms->m[j];
         if (!m->active)
             continue;
+        long k = -1;
+        int sample = sample_due(m, c, done, &k);
         if (m->kind == KIND_FLUX) {
             if (done > 0 && sim_flux_update(m->flux, c->world) != SIM_OK)
                 continue; /* out of memory: the count stops (reported by the step soon after) */
@@ -611,42 +657,37 @@ static void measures_step(void *state, AppContext *c, long done)
                 sim_flux_totals(m->flux, &m->mid_count, &m->mid_mass);
                 m->mid_t = sim_world_time(c->world);
             }
-            if (done > 0 && done % m->every_steps == 0)
+            if (sample)
                 flux_row(m, c);
             continue;
         }
-        /* at the start only of the first stage it runs in, and not into a window */
-        int sample = done % m->every_steps == 0 && (done > 0 || (!m->started && !m->window_steps));
-        if (!sample)
-            continue;
-        m->started = 1;
-        if (!framed && frame_masses(ms, c->world, &frame) != 0)
-            return;
-        framed = 1;
-        double vx, vy, t = sim_world_time(c->world);
-        frame_velocity(c, m, t, &vx, &vy);
-        if (sim_coarse_add(m->cg, &frame, ms->mass, vx, vy) != SIM_OK)
-            continue;
-        m->t_sum += t;
-        if (m->window_steps > 0 && done < m->window_end)
+        if (sample) {
+            m->started = 1;
+            if (!framed && frame_masses(ms, c->world, &frame) != 0)
+                return;
+            framed = 1;
+            double vx, vy;
+            frame_velocity(c, m, sim_world_time(c->world), &vx, &vy);
+            if (sim_coarse_add(m->cg, &frame, ms->mass, vx, vy) != SIM_OK)
+                continue;
+            m->t_sum += c->stage_start + (double)k * m->every; /* the declared sample time */
+        }
+        if (m->window > 0.0 && !window_closes(m, c, done, sample ? k : -1))
             continue; /* the window is still open */
-        while (m->window_steps > 0 && m->window_end <= done)
-            m->window_end += m->window_steps;
-        if (write_fields(m, c) != 0)
+        if ((sample || m->window > 0.0) && write_fields(m, c) != 0)
             fprintf(stderr, "sablier: warning: measure %s: cannot write its .vti file\n", m->name);
     }
 }
 
 static long measures_next_step(const void *state, const AppContext *c, long done, long next)
 {
-    (void)c;
     const AppMeasures *ms = state;
     for (int k = 0; k < ms->count; ++k) {
         const Measure *m = &ms->m[k];
         if (!m->active)
             continue;
-        long due = m->kind == KIND_FLUX ? done + 1 : (done / m->every_steps + 1) * m->every_steps;
-        if (due < next)
+        long due = m->kind == KIND_FLUX ? done + 1 : sample_step(m, c, m->next_sample);
+        if (due > done && due < next)
             next = due;
     }
     return next;
@@ -834,7 +875,8 @@ static int measures_end(void *state, AppContext *c, int ok)
 
 static void measure_numbers(Measure *m, double *v, int load)
 {
-    long *l[7] = {&m->every_steps, &m->window_steps, &m->window_end, &m->total_steps,
+    long spare = 0; /* a slot kept so that the line keeps its length */
+    long *l[7] = {&m->next_sample, &m->window_index, &spare,       &m->total_steps,
                   &m->mid_step,    &m->last_count,   &m->mid_count};
     double *d[4] = {&m->t_sum, &m->last_mass, &m->last_t, &m->mid_mass};
     int *n[4] = {&m->active, &m->started, &m->vti_count, &m->have_last};

@@ -6,7 +6,15 @@
 #include "pool_local.h"
 #include "pool_mpi.h"
 
+#include <errno.h>
+#include <signal.h>
 #include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 void app_pool_begin(void)
 {
@@ -36,4 +44,48 @@ int app_pool_run(const AppPool *pool)
         return app_pool_mpi_run(pool);
 #endif
     return app_pool_run_local(pool);
+}
+
+const char *app_pool_status_text(int status, char text[16])
+{
+    if (status == APP_POOL_INTERRUPTED)
+        return "interrupted";
+    snprintf(text, 16, "%d", status);
+    return text;
+}
+
+int app_pool_exec_wait(const char *path, char *const argv[], struct rusage *usage)
+{
+    sigset_t block, mask;
+    sigemptyset(&block);
+    sigaddset(&block, SIGINT);
+    sigaddset(&block, SIGTERM);
+    sigprocmask(SIG_BLOCK, &block, &mask); /* until the waiting side ignores them */
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid == 0) {
+        sigprocmask(SIG_SETMASK, &mask, NULL);
+        execv(path, argv);
+        fprintf(stderr, "sablier: cannot run %s: %s\n", path, strerror(errno));
+        fflush(NULL);
+        _exit(2);
+    }
+    struct sigaction ignore, saved[2];
+    memset(&ignore, 0, sizeof ignore);
+    ignore.sa_handler = SIG_IGN;
+    sigemptyset(&ignore.sa_mask);
+    sigaction(SIGINT, &ignore, &saved[0]);
+    sigaction(SIGTERM, &ignore, &saved[1]);
+    sigprocmask(SIG_SETMASK, &mask, NULL);
+    int status = 0;
+    pid_t got = pid;
+    if (pid > 0)
+        do
+            got = wait4(pid, &status, 0, usage);
+        while (got < 0 && errno == EINTR);
+    sigaction(SIGINT, &saved[0], NULL);
+    sigaction(SIGTERM, &saved[1], NULL);
+    if (pid < 0 || got < 0)
+        return -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
 }

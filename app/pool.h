@@ -9,15 +9,34 @@
  * the workers run the command too, but only up to each pool while rank 0 waits at it, so a
  * driver writes nothing but folders before a pool (the workers see the files rank 0 saw),
  * and what it writes after a pool is rank 0's alone. start is called on rank 0 as a task is
- * handed out and again on the worker that runs it (a skip there ends the task with status 2). */
+ * handed out and again on the worker that runs it (a skip there ends the task with status 2).
+ *
+ * Signals: SIGINT and SIGTERM are caught while a pool runs. After one, no task starts; every
+ * running task's process group (each task runs in a group of its own, with SIGINT and SIGTERM
+ * at their defaults, so a member's own children are reached too) gets the signal once, and the
+ * pool waits for them (a `sablier run` member finishes its step, saves its state and exits 130
+ * or 143); a second signal kills them (SIGKILL). done reports APP_POOL_INTERRUPTED for every
+ * task that did not end with 0 then, and for every task not started; app_pool_run returns 128
+ * plus the first signal, the exit status the driver ends with after writing its tables. Under
+ * MPI a worker rank that gets the signal passes it on to its task and runs no further one (a
+ * worker heeds the signals only through the flag, so it never dies between tasks); rank 0 hands
+ * out no further task once it or a worker got one, and waits for those running.
+ *
+ * Resume: with `resume` set and a `folder` hook, a task whose folder holds a run that completed
+ * (summary.json: "status": "ok") is not run again: done reports 0 for it, start is not called. */
 #ifndef APP_POOL_H
 #define APP_POOL_H
+
+#include <stddef.h>
 
 /// Jobs beyond this many run this many at a time.
 #define APP_POOL_MAX_JOBS 256
 
 /// done's status for a task whose fork failed (errno says why).
 #define APP_POOL_NOT_STARTED (-1)
+/// done's status for a task SIGINT or SIGTERM stopped: not started, or ended otherwise than
+/// with 0 after the pool passed the signal on.
+#define APP_POOL_INTERRUPTED (-2)
 
 typedef struct AppPool {
     int count; ///< tasks 0 .. count-1, started in index order
@@ -34,6 +53,9 @@ typedef struct AppPool {
     /// not started; those running are still waited for).
     void (*done)(void *ctx, int index, int status);
     int signal_status;
+    /// Parent (optional): task `index`'s output folder into dir: 0, or -1 when it has none.
+    int (*folder)(void *ctx, int index, char *dir, size_t size);
+    int resume; ///< 1: skip the tasks whose folder holds a completed run (--resume)
 } AppPool;
 
 /// Joins the MPI job when the command was started by an MPI launcher with more than one rank
@@ -49,7 +71,22 @@ int app_pool_width(int jobs);
 /// member then takes the threads `--threads auto` gives it). Results do not depend on it.
 const char *app_pool_member_threads(int jobs);
 
-/// Runs the pool's tasks. 0, or -1 when a fork failed or waiting for the children failed.
+/// A task's status as the drivers' tables write it: "interrupted" for APP_POOL_INTERRUPTED,
+/// else the number (an exit status, -1: not run). `text` holds at least 16 bytes.
+const char *app_pool_status_text(int status, char text[16]);
+
+struct rusage;
+
+/// For a task (in its child) that runs a program as a child of its own and waits for it (to
+/// measure its CPU time): forks, execs `path` with argv, waits, the resources used into usage.
+/// SIGINT and SIGTERM are ignored while it waits, so that the signal the pool passes on to the
+/// task's group stops the program, not the waiting task. The program's exit status (1 when a
+/// signal ended it), or -1 when the fork or the wait failed (errno says why; a failed exec:
+/// status 2 with a message).
+int app_pool_exec_wait(const char *path, char *const argv[], struct rusage *usage);
+
+/// Runs the pool's tasks. 0, -1 when a fork failed or waiting for the children failed, or 128 +
+/// the signal when SIGINT (130) or SIGTERM (143) stopped the pool.
 int app_pool_run(const AppPool *pool);
 
 #endif

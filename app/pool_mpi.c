@@ -12,9 +12,11 @@
 #include "pool_mpi.h"
 
 #include "pool_local.h"
+#include "run.h"
 
 #include <fcntl.h>
 #include <mpi.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
@@ -144,6 +146,8 @@ void app_pool_mpi_begin(void)
     atexit(finish);
     if (M.rank == 0)
         return;
+    struct sigaction saved[2]; /* a worker heeds SIGINT and SIGTERM through the pool's flag */
+    app_pool_catch_signals(saved, 0);
     fflush(NULL);
     M.out_fd = fcntl(STDOUT_FILENO, F_DUPFD_CLOEXEC, 3);
     M.err_fd = fcntl(STDERR_FILENO, F_DUPFD_CLOEXEC, 3);
@@ -226,7 +230,8 @@ static int serve(const AppPool *pool)
         MPI_Recv(&index, 1, MPI_INT, 0, TAG_TASK, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
         if (index < 0)
             break;
-        int result[2] = {index, run_task(pool, index)};
+        /* after a signal the worker runs no further task (its running one got it: pool.h) */
+        int result[2] = {index, app_pool_signal() ? APP_POOL_INTERRUPTED : run_task(pool, index)};
         MPI_Send(result, 2, MPI_INT, 0, TAG_RESULT, MPI_COMM_WORLD);
     }
     return worker_wait(pool);
@@ -255,6 +260,29 @@ static void gather_workers(const AppPool *pool, int *free_ranks)
     }
 }
 
+/* Rank 0's record of one task's end: done called, the event kept for the workers. */
+static void report(const AppPool *pool, Event *events, int *n, int index, int status)
+{
+    if (pool->done)
+        pool->done(pool->ctx, index, status);
+    events[(*n)++] = (Event){index, EVENT_DONE, status};
+}
+
+/* The next task to hand out: its index, or -1 when none is left (skipped ones recorded). */
+static int next_task(const AppPool *pool, int *next, Event *events, int *n)
+{
+    while (*next < pool->count) {
+        int index = (*next)++;
+        if (app_pool_task_finished(pool, index))
+            report(pool, events, n, index, 0); /* --resume: a completed run */
+        else if (pool->start && pool->start(pool->ctx, index) != 0)
+            events[(*n)++] = (Event){index, EVENT_SKIPPED, 0};
+        else
+            return index;
+    }
+    return -1;
+}
+
 static int schedule(const AppPool *pool)
 {
     send_control(CONTROL_NEXT);
@@ -265,15 +293,14 @@ static int schedule(const AppPool *pool)
         fprintf(stderr, "sablier: mpi: out of memory\n");
         MPI_Abort(MPI_COMM_WORLD, 2);
     }
+    struct sigaction saved[2];
+    app_pool_catch_signals(saved, 0);
     gather_workers(pool, free_ranks);
-    int free_count = workers, next = 0, running = 0, n = 0, rc = 0;
+    int free_count = workers, next = 0, running = 0, n = 0, rc = 0, stopped = 0;
     for (;;) {
-        while (free_count > 0 && next < pool->count) {
-            int index = next++;
-            if (pool->start && pool->start(pool->ctx, index) != 0) {
-                events[n++] = (Event){index, EVENT_SKIPPED, 0};
-                continue;
-            }
+        stopped |= app_pool_signal() != 0;
+        int index;
+        while (free_count > 0 && !stopped && (index = next_task(pool, &next, events, &n)) >= 0) {
             MPI_Send(&index, 1, MPI_INT, free_ranks[--free_count], TAG_TASK, MPI_COMM_WORLD);
             ++running;
         }
@@ -286,22 +313,28 @@ static int schedule(const AppPool *pool)
                  MPI_STATUS_IGNORE);
         --running;
         free_ranks[free_count++] = status.MPI_SOURCE;
-        if (pool->done)
-            pool->done(pool->ctx, result[0], result[1]);
-        events[n++] = (Event){result[0], EVENT_DONE, result[1]};
+        if ((app_pool_signal() || result[1] == APP_POOL_INTERRUPTED) && result[1] != 0) {
+            result[1] = APP_POOL_INTERRUPTED; /* a worker's signal stops the pool too */
+            stopped = 1;
+        }
+        report(pool, events, &n, result[0], result[1]);
         if (result[1] == APP_POOL_NOT_STARTED) { /* as the local pool: no later task starts */
             rc = -1;
             next = pool->count;
         }
     }
+    for (; stopped && next < pool->count; ++next) /* the tasks the signal kept from starting */
+        report(pool, events, &n, next, APP_POOL_INTERRUPTED);
+    int signo = app_pool_signal();
+    app_pool_catch_signals(saved, 1);
     int none = -1;
     for (int w = 1; w < M.size; ++w)
         MPI_Send(&none, 1, MPI_INT, w, TAG_TASK, MPI_COMM_WORLD);
     free(free_ranks);
     M.events = events;
     M.event_count = n;
-    M.rc = rc;
-    return rc;
+    M.rc = stopped ? APP_EXIT_SIGNAL + (signo ? signo : SIGTERM) : rc;
+    return M.rc;
 }
 
 int app_pool_mpi_run(const AppPool *pool)

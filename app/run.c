@@ -1401,22 +1401,11 @@ static void disk_full_status(Run *run)
              text);
 }
 
-/* SIGINT and SIGTERM set run_signal while a run is in progress (old handlers in `saved`). */
+/* SIGINT and SIGTERM set run_signal while a run is in progress (old handlers in `saved`); the
+ * handler is reset by the first (SA_RESETHAND): a second signal kills. */
 static void catch_signals(struct sigaction saved[2], int restore)
 {
-    const int signals[2] = {SIGINT, SIGTERM};
-    for (int k = 0; k < 2; ++k) {
-        if (restore) {
-            sigaction(signals[k], &saved[k], NULL);
-            continue;
-        }
-        struct sigaction sa;
-        memset(&sa, 0, sizeof sa);
-        sa.sa_handler = on_signal;
-        sa.sa_flags = SA_RESETHAND | SA_RESTART;
-        sigemptyset(&sa.sa_mask);
-        sigaction(signals[k], &sa, &saved[k]);
-    }
+    app_catch_signals(on_signal, SA_RESETHAND | SA_RESTART, saved, restore);
 }
 
 /* A CSV output opened under PATH.tmp: with its header, or (--resume, bytes >= 0) with the part a

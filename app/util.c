@@ -6,6 +6,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -228,7 +229,67 @@ int app_make_dirs(const char *path)
     return stat(buffer, &st) == 0 && S_ISDIR(st.st_mode) ? 0 : -1;
 }
 
-int app_state_check(const char *path, char *err, size_t err_size)
+/* What differs between a checkpoint's wall and the scene's: NULL when nothing does. */
+static const char *wall_difference(const SimWall *saved, const SimWall *scene)
+{
+    if (saved->motion != scene->motion)
+        return "motion";
+    if (saved->species != scene->species)
+        return "species";
+    const double a[] = {saved->x0,     saved->y0,       saved->x1,
+                        saved->y1,     saved->center_x, saved->center_y,
+                        saved->radius, saved->angle0,   saved->angle1};
+    const double b[] = {scene->x0,     scene->y0,       scene->x1,
+                        scene->y1,     scene->center_x, scene->center_y,
+                        scene->radius, scene->angle0,   scene->angle1};
+    int same = saved->shape == scene->shape && saved->side == scene->side;
+    for (size_t k = 0; same && k < sizeof a / sizeof a[0]; ++k)
+        same = a[k] == b[k];
+    return same ? NULL : "position or shape";
+}
+
+/* 0 when the checkpoint's walls are the scene's, else -1 with why in err. */
+static int same_walls(const char *path, const SimWall *saved, int saved_count, const SimWall *walls,
+                      int wall_count, char *err, size_t err_size)
+{
+    const char *rule = "a stage that loads a checkpoint keeps its walls, which must be the "
+                       "scene's (docs/scenes.md, stages)";
+    if (saved_count != wall_count) {
+        snprintf(err, err_size, "checkpoint `%s` has %d walls, the scene %d: %s", path, saved_count,
+                 wall_count, rule);
+        return -1;
+    }
+    for (int k = 0; k < wall_count; ++k) {
+        const char *what = wall_difference(&saved[k], &walls[k]);
+        if (what) {
+            snprintf(err, err_size,
+                     "checkpoint `%s`: its wall %d differs from the scene's in %s: %s", path, k,
+                     what, rule);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+void app_catch_signals(void (*handler)(int), int flags, struct sigaction *saved, int restore)
+{
+    const int signals[2] = {SIGINT, SIGTERM};
+    for (int k = 0; k < 2; ++k) {
+        if (restore) {
+            sigaction(signals[k], &saved[k], NULL);
+            continue;
+        }
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = handler;
+        sa.sa_flags = flags;
+        sigemptyset(&sa.sa_mask);
+        sigaction(signals[k], &sa, &saved[k]);
+    }
+}
+
+int app_state_check(const char *path, const SimWall *walls, int wall_count, char *err,
+                    size_t err_size)
 {
     FILE *f = fopen(path, "rb");
     if (!f) {
@@ -237,15 +298,16 @@ int app_state_check(const char *path, char *err, size_t err_size)
     }
     fclose(f);
     SimGrainSet grains;
-    SimWall *walls = NULL;
-    int wall_count = 0;
+    SimWall *saved = NULL;
+    int saved_count = 0;
     double time = 0.0;
     SimError error;
-    if (sim_state_load(path, &grains, &walls, &wall_count, &time, &error) != SIM_OK) {
+    if (sim_state_load(path, &grains, &saved, &saved_count, &time, &error) != SIM_OK) {
         snprintf(err, err_size, "checkpoint `%s`: %s", path, error.message);
         return -1;
     }
+    int rc = walls ? same_walls(path, saved, saved_count, walls, wall_count, err, err_size) : 0;
     sim_grain_set_free(&grains);
-    free(walls);
-    return 0;
+    free(saved);
+    return rc;
 }

@@ -61,8 +61,18 @@ int app_make_dirs(const char *path);
 
 /// Reads the checkpoint at `path` whole (sim_state_load), so that a bad file is refused before
 /// anything runs: 0, or -1 with why in err ("cannot read checkpoint `PATH`: reason",
-/// or "checkpoint `PATH`: " and the loader's message).
-int app_state_check(const char *path, char *err, size_t err_size);
+/// or "checkpoint `PATH`: " and the loader's message). With `walls` (not NULL), the
+/// checkpoint's walls must be these, in order, motions included (a stage that loads a checkpoint
+/// keeps its walls): else -1 with the first difference.
+struct SimWall;
+int app_state_check(const char *path, const struct SimWall *walls, int wall_count, char *err,
+                    size_t err_size);
+
+struct sigaction;
+/// SIGINT and SIGTERM to `handler` with sa_flags `flags` (restore = 0; the old actions into
+/// saved[0] and saved[1]), or the old actions back from them (restore = 1). The runner and the
+/// process pool catch the two signals through it.
+void app_catch_signals(void (*handler)(int), int flags, struct sigaction *saved, int restore);
 
 /// Monotonic wall clock, s (for timings only; never for results).
 double app_now_seconds(void);

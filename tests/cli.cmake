@@ -175,6 +175,18 @@ endforeach()
 add_test(NAME cli.cadence_huge
          COMMAND bash ${CLI_DIR}/cadence.sh $<TARGET_FILE:sablier> ${CLI_TINY} ${CLI_WORK}/cadence)
 set_tests_properties(cli.cadence_huge PROPERTIES LABELS cli)
+# a measure's windows at exact multiples of its cadence with a step that divides nothing, and a
+# window that ends with its stage written at its end (tests/cli/measure_window.sh)
+add_test(NAME cli.measure_window
+         COMMAND bash ${CLI_DIR}/measure_window.sh $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/measure_window.scene ${CLI_WORK}/measure_window)
+set_tests_properties(cli.measure_window PROPERTIES LABELS cli)
+# a stage that loads a checkpoint whose walls (or wall motions) are not the scene's: refused at
+# load (tests/cli/load_walls.sh)
+add_test(NAME cli.load_walls
+         COMMAND bash ${CLI_DIR}/load_walls.sh $<TARGET_FILE:sablier> ${CLI_DIR}/load_walls.scene
+                 ${CLI_WORK}/load_walls)
+set_tests_properties(cli.load_walls PROPERTIES LABELS cli)
 add_test(NAME cli.check_target_error
          COMMAND bash ${CLI_DIR}/target_error.sh $<TARGET_FILE:sablier> ${CLI_TINY})
 set_tests_properties(cli.check_target_error PROPERTIES LABELS cli)
@@ -237,6 +249,14 @@ add_test(NAME cli.ensemble
          COMMAND bash ${CLI_DIR}/ensemble.sh $<TARGET_FILE:sablier> ${CLI_DIR}/ensemble_fall.scene
                  ${CLI_WORK}/ensemble ${SABLIER_WITH_RENDER})
 set_tests_properties(cli.ensemble PROPERTIES LABELS cli
+                     ENVIRONMENT "LSAN_OPTIONS=suppressions=${CLI_DIR}/lsan.supp")
+# SIGINT/SIGTERM to a multi-run command stop its members through the shared pool: exit 130/143,
+# no process left, the table with the unfinished members `interrupted`; --resume runs only those
+# (tests/cli/pool_signal.sh)
+add_test(NAME cli.pool_signal
+         COMMAND bash ${CLI_DIR}/pool_signal.sh $<TARGET_FILE:sablier> ${CLI_DIR}/ensemble_fall.scene
+                 ${CLI_WORK}/pool_signal)
+set_tests_properties(cli.pool_signal PROPERTIES LABELS cli
                      ENVIRONMENT "LSAN_OPTIONS=suppressions=${CLI_DIR}/lsan.supp")
 # the ensemble reaches the discharge protocol (its own dt: discharge.dt_divisor = 0)
 add_test(NAME cli.ensemble_discharge

@@ -130,6 +130,7 @@ typedef struct AppBneSamplesOptions {
     int jobs;           ///< runs at a time (child processes, app/pool.h); MPI ranks under mpirun
     double ldf_periods; ///< window of the large-deviation function, in shaking periods (0 = off)
     int quiet;
+    int resume;              ///< 1: skip the runs whose folder holds a completed run
     const AppRender *render; ///< each run's movies and figures, or NULL
     const AppRender *plot;   ///< rise curves and LDF plots, or NULL
 } AppBneSamplesOptions;

@@ -266,7 +266,15 @@ static void sample_done(void *ctx, int k, int status)
     S->status[k] = status;
 }
 
-/* Every value and seed, until one fails: 0, or the exit status of the first that failed. */
+static int sample_folder(void *ctx, int k, char *dir, size_t size)
+{
+    const Samples *S = ctx;
+    run_dir(S, S->values[k / S->o->seeds], S->o->seed0 + k % S->o->seeds, dir, size);
+    return 0;
+}
+
+/* Every value and seed, until one fails: 0, the exit status of the first that failed, or 128 +
+ * the signal that stopped the pool (samples.csv then holds the runs finished before). */
 static int run_samples(Samples *S)
 {
     int total = S->value_count * S->o->seeds;
@@ -278,11 +286,14 @@ static int run_samples(Samples *S)
                     .start = sample_start,
                     .run = sample_run,
                     .done = sample_done,
-                    .signal_status = 1};
-    int rc = app_pool_run(&pool) != 0 ? 2 : 0;
+                    .signal_status = 1,
+                    .folder = sample_folder,
+                    .resume = S->o->resume};
+    int pool_rc = app_pool_run(&pool);
+    int rc = pool_rc > APP_EXIT_SIGNAL ? pool_rc : pool_rc != 0 ? 2 : 0;
     for (S->done = 0; S->done < total && S->status[S->done] == 0; ++S->done)
         ;
-    if (S->done < total && S->status[S->done] > 0)
+    if (S->done < total && S->status[S->done] > 0 && rc <= APP_EXIT_SIGNAL)
         rc = S->status[S->done];
     return rc;
 }
@@ -523,13 +534,15 @@ int app_bne_samples(const AppBneSamplesOptions *o)
 
 static const char USAGE_BNE[] =
     "usage: sablier bne SCENE [--seeds N] [--seed0 S] [--vary KEY=v1,v2,...] [--ldf PERIODS]\n"
-    "                   [--jobs N] [--out DIR] [--set KEY=VALUE]... [--movies] [--quiet]\n"
+    "                   [--jobs N] [--out DIR] [--set KEY=VALUE]... [--movies] [--resume]\n"
+    "                   [--quiet]\n"
     "Runs a scene with a `bne` group for N seeds (default 5) and each value of KEY; writes\n"
     "DIR/samples.csv (rise time and rate per run), rise.csv and rise.png (mean +- std of the\n"
     "intruder's rise against time), ldf.csv and ldf.png (large-deviation function of the rise\n"
     "rate over windows of PERIODS shaking periods, default 5; docs/brazil_nut.md). Each run's own\n"
     "outputs go to DIR/KEY=value/seed-S/ (movies and figures only with --movies). The runs are\n"
-    "separate processes, --jobs N at a time (default 2; results do not depend on N).\n";
+    "separate processes, --jobs N at a time (default 2; results do not depend on N). SIGINT or\n"
+    "SIGTERM stops the runs, writes the tables of those finished and exits 130 or 143.\n";
 
 /* The command line of `sablier bne`. */
 typedef struct BneArgs {
@@ -583,6 +596,8 @@ static int bne_arguments(int argc, char **argv, BneArgs *a)
             movies = 1;
         } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
             o.quiet = 1;
+        } else if (strcmp(argv[i], "--resume") == 0) {
+            o.resume = 1;
         } else if (app_scene_argument(USAGE_BNE, argv[i], &path) != 0) {
             return 2;
         }

@@ -36,7 +36,7 @@ typedef struct Member {
     int set_count;
     char sets[MAX_SETS][SWEEP_STRING];
     char dir[SWEEP_PATH];
-    int status; /* exit status; -1 not run */
+    int status; /* exit status; -1 not run, APP_POOL_INTERRUPTED */
     double started, wall_seconds;
 } Member;
 
@@ -417,19 +417,28 @@ static void member_done(void *ctx, int i, int status)
         not_started(run, m);
         return;
     }
-    m->wall_seconds = now_seconds() - m->started;
+    m->wall_seconds = m->started > 0.0 ? now_seconds() - m->started : 0.0; /* 0: --resume */
     m->status = status;
     if (!run->bed_run && !run->w->o->quiet)
         fprintf(stderr, "sablier: sweep: member %d/%d %s: %s (%.1f s), crater height %.4g m\n",
                 i + 1, run->w->member_count, m->label,
-                m->status == 0   ? "ok"
-                : m->status == 1 ? "unstable"
-                                 : "error",
+                m->status == 0                      ? "ok"
+                : m->status == 1                    ? "unstable"
+                : m->status == APP_POOL_INTERRUPTED ? "interrupted"
+                                                    : "error",
                 m->wall_seconds, app_observable(m->dir, "crater_height_m"));
 }
 
-/* Runs `count` members (the bed: bed_run = 1), `jobs` at a time (app/pool.h). */
-static void run_members(Sweep *w, Member *members, int count, int bed_run)
+static int member_folder(void *ctx, int i, char *dir, size_t size)
+{
+    const SweepRun *run = ctx;
+    return snprintf(dir, size, "%s", run->members[i].dir) < (int)size ? 0 : -1;
+}
+
+/* Runs `count` members (the bed: bed_run = 1), `jobs` at a time (app/pool.h); --resume skips
+ * those whose folder holds a completed run. The pool's status: 0, or 128 + a signal that
+ * stopped it. */
+static int run_members(Sweep *w, Member *members, int count, int bed_run)
 {
     SweepRun run = {.w = w, .members = members, .bed_run = bed_run};
     AppPool pool = {.count = count,
@@ -438,10 +447,13 @@ static void run_members(Sweep *w, Member *members, int count, int bed_run)
                     .start = member_start,
                     .run = member_exec,
                     .done = member_done,
-                    .signal_status = 2};
-    app_pool_run(&pool);
+                    .signal_status = 2,
+                    .folder = member_folder,
+                    .resume = w->o->resume};
+    int rc = app_pool_run(&pool);
     if (run.argv[0])
         free_argv(run.argv);
+    return rc > APP_EXIT_SIGNAL ? rc : 0;
 }
 
 /* ---------------------------------------------------------------- outputs */
@@ -477,7 +489,8 @@ static int write_table(const Sweep *w)
         const Member *m = &w->members[i];
         fprintf(f, "%d,", i + 1);
         csv_text(f, m->label);
-        fprintf(f, ",%.10g,%d", m->value, m->status);
+        char status[16];
+        fprintf(f, ",%.10g,%s", m->value, app_pool_status_text(m->status, status));
         for (size_t k = 0; k < sizeof keys / sizeof keys[0]; ++k)
             fprintf(f, ",%.10g", app_observable(m->dir, keys[k]));
         fprintf(f, ",%.3f,", m->wall_seconds);
@@ -659,8 +672,9 @@ static int setup(Sweep *w)
         fprintf(stderr, "%s\n", err);
         return 2;
     }
-    char why[600];
-    if (o->from && app_state_check(o->from, why, sizeof why) != 0) {
+    char why[1200];
+    if (o->from &&
+        app_state_check(o->from, scene->def.walls, scene->def.wall_count, why, sizeof why) != 0) {
         fprintf(stderr, "sablier: sweep: --from: %s\n", why);
         scene_free(scene);
         return 2;
@@ -701,6 +715,7 @@ int app_sweep(const AppSweepOptions *o)
         status = 2;
     }
     double start = now_seconds();
+    int interrupted = 0, tables = 0; /* interrupted: 128 + the signal that stopped a pool */
     /* the bed: given, or the scene's stages up to the bed stage, run once */
     if (status == 0) {
         if (o->from) {
@@ -719,8 +734,12 @@ int app_sweep(const AppSweepOptions *o)
                         w->stage_names[w->bed_stage], bed.dir);
             if (!o->dry_run && status == 0) {
                 bed.status = 2; /* until it ends */
-                run_members(w, &bed, 1, 1);
-                if (bed.status != 0) {
+                interrupted = run_members(w, &bed, 1, 1);
+                if (interrupted) {
+                    status = interrupted; /* no member starts; each one is "interrupted" */
+                    for (int i = 0; i < w->member_count; ++i)
+                        w->members[i].status = APP_POOL_INTERRUPTED;
+                } else if (bed.status != 0) {
                     fprintf(stderr,
                             "sablier: sweep: the bed run failed (status %d): see %s/log.txt\n",
                             bed.status, bed.dir);
@@ -756,10 +775,13 @@ int app_sweep(const AppSweepOptions *o)
         if (!o->quiet)
             fprintf(stderr, "sablier: sweep: %d members from %s, %d at a time, into %s\n",
                     w->member_count, w->bed_state, app_pool_width(o->jobs), w->out_dir);
-        run_members(w, w->members, w->member_count, 0);
+        interrupted = run_members(w, w->members, w->member_count, 0);
         for (int i = 0; i < w->member_count; ++i)
             if (w->members[i].status != 0 && status != 2)
                 status = w->members[i].status == 1 ? 1 : 2;
+        tables = 1;
+    }
+    if (tables || interrupted) { /* the finished members, the others "interrupted" */
         if (write_table(w) != 0) {
             fprintf(stderr, "sablier: sweep: cannot write %s/sweep.csv\n", w->out_dir);
             status = 2;
@@ -767,9 +789,11 @@ int app_sweep(const AppSweepOptions *o)
         if (write_plots(w) != 0 && status == 0)
             status = 2;
         if (!o->quiet)
-            fprintf(stderr, "sablier: sweep: done in %.1f s: %s/sweep.csv\n", now_seconds() - start,
-                    w->out_dir);
+            fprintf(stderr, "sablier: sweep: %s in %.1f s: %s/sweep.csv\n",
+                    interrupted ? "interrupted" : "done", now_seconds() - start, w->out_dir);
     }
+    if (interrupted)
+        status = interrupted;
     free(members);
     free(w);
     return status;
@@ -793,7 +817,11 @@ static const char USAGE_SWEEP[] =
     "  --jobs N           members at a time (default 2; results do not depend on N)\n"
     "  --out DIR          output folder (default out/sweep-<file name> or out/<scene>-sweep)\n"
     "  --dry-run          print the member commands, run nothing\n"
-    "  --quiet            no per-member lines\n";
+    "  --resume           skip the bed and the members whose folder holds a completed run\n"
+    "  --quiet            no per-member lines\n"
+    "\n"
+    "SIGINT or SIGTERM stops the members (each saves its state), writes sweep.csv with status\n"
+    "`interrupted` for the members not finished, and exits 130 or 143.\n";
 
 /* The command line of `sablier sweep`. */
 typedef struct SweepArgs {
@@ -839,6 +867,8 @@ static int sweep_arguments(int argc, char **argv, SweepArgs *a)
             o.quiet = 1;
         } else if (strcmp(argv[i], "--dry-run") == 0) {
             o.dry_run = 1;
+        } else if (strcmp(argv[i], "--resume") == 0) {
+            o.resume = 1;
         } else if (argv[i][0] == '-' && argv[i][1]) {
             return app_usage_error(USAGE_SWEEP, "unknown option", argv[i]);
         } else if (!path) {

@@ -26,6 +26,7 @@ typedef struct AppSweepOptions {
     int jobs;                ///< processes at a time (>= 1)
     int quiet;               ///< no per-member lines
     int dry_run;             ///< 1: list the members and their commands, run nothing
+    int resume;              ///< 1: skip the bed and members whose folder holds a completed run
     const char *const *sets; ///< KEY=VALUE for the bed run and every member
     int set_count;
     const char *const *vary; ///< "KEY=v1,v2,...": one member per combination

@@ -7,6 +7,7 @@
 
 #include "drivers.h"
 #include "pool.h"
+#include "run.h"
 #include "util.h"
 
 #include <errno.h>
@@ -28,7 +29,7 @@
 
 const char APP_STUDY_USAGE[] =
     "usage: sablier study SCENE [--L 25,50,...] [--widths 1.0:7.0:0.2] [--samples N]\n"
-    "                     [--jobs J] [--out DIR] [--set KEY=VALUE]... [--reduce-only]\n"
+    "                     [--jobs J] [--out DIR] [--set KEY=VALUE]... [--reduce-only] [--resume]\n"
     "\n"
     "Thesis 004 statistics. Each sample (seed = scene seed + sample index) is one pile per L,\n"
     "discharged at every width; samples run in J parallel processes and an interrupted study\n"
@@ -41,7 +42,10 @@ const char APP_STUDY_USAGE[] =
     "  --widths SPEC   A:B:STEP or a comma list, d (default 1.0:7.0:0.2)\n"
     "  --samples N     samples per L (default 10)\n"
     "  --jobs J        parallel processes (default 2)\n"
-    "  --reduce-only   only rebuild tables and plots from finished runs\n";
+    "  --reduce-only   only rebuild tables and plots from finished runs\n"
+    "  --resume        accepted for every driver alike: a study always resumes\n"
+    "SIGINT or SIGTERM stops the samples (each width done is kept), writes the tables of what\n"
+    "finished and exits 130 or 143.\n";
 
 /* "--name VALUE" or "--name=VALUE"; 1 matched, 0 not, -1 missing value. */
 
@@ -543,10 +547,15 @@ static void study_task_done(void *ctx, int index, int status)
         fprintf(stderr, "sablier: study: fork failed: %s\n", strerror(errno));
         return;
     }
+    Task t = run->tasks[index];
+    if (status == APP_POOL_INTERRUPTED) {
+        fprintf(stderr, "sablier: study: L = %g sample %d interrupted\n",
+                run->st->lengths[t.length], t.sample);
+        return;
+    }
     int ok = status == 0, finished = ++run->finished;
     run->failed |= !ok;
     double elapsed = app_now_seconds() - run->start;
-    Task t = run->tasks[index];
     fprintf(stderr, "sablier: study: L = %g sample %d %s (%d/%d, %.0f s, ETA %.0f s)\n",
             run->st->lengths[t.length], t.sample, ok ? "done" : "FAILED", finished, run->count,
             elapsed, elapsed / finished * (run->count - finished));
@@ -574,7 +583,8 @@ static int pending_tasks(const Study *st, Task *tasks)
     return n;
 }
 
-/* Runs the samples not finished yet: 0, 1 when one failed, 2 when out of memory. */
+/* Runs the samples not finished yet: 0, 1 when one failed, 2 when out of memory, 128 + the
+ * signal that stopped the pool. */
 static int run_study(const Study *st, Scene **scenes)
 {
     int total = st->length_count * st->samples;
@@ -594,10 +604,11 @@ static int run_study(const Study *st, Scene **scenes)
                     .run = study_run_task,
                     .done = study_task_done,
                     .signal_status = 1};
-    if (app_pool_run(&pool) != 0)
+    int rc = app_pool_run(&pool);
+    if (rc != 0)
         run.failed = 1;
     free(tasks);
-    return run.failed ? 1 : 0;
+    return rc > APP_EXIT_SIGNAL ? rc : run.failed ? 1 : 0;
 }
 
 /* ---------------------------------------------------------------- reduction */
@@ -1453,6 +1464,8 @@ static int parse_study_args(int argc, char **argv, StudyArgs *a, Study *st)
                                        m < 0 ? "nothing" : value);
         } else if (strcmp(argv[i], "--reduce-only") == 0) {
             a->reduce_only = 1;
+        } else if (strcmp(argv[i], "--resume") == 0) {
+            /* a study always resumes: its finished samples are never run again */
         } else if (app_scene_argument(APP_STUDY_USAGE, argv[i], &a->scene_path) != 0) {
             return 2;
         }

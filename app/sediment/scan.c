@@ -59,7 +59,7 @@ double app_sediment_threshold(const double *shields, const double *q_star, int c
 typedef struct Scan {
     const char *scene_path, *out_dir;
     const char *sets[SCAN_MAX + 1];
-    int set_count, jobs, quiet, render_runs;
+    int set_count, jobs, quiet, render_runs, resume;
     double shields[SCAN_MAX], level;
     int count;
     const AppRender *render;
@@ -107,6 +107,12 @@ typedef struct ScanRun {
     int failed;
 } ScanRun;
 
+static int scan_folder(void *ctx, int k, char *dir, size_t size)
+{
+    member_dir(((ScanRun *)ctx)->sc, k, dir, size);
+    return 0;
+}
+
 static int scan_run(void *ctx, int k)
 {
     return run_member(((ScanRun *)ctx)->sc, k);
@@ -124,7 +130,9 @@ static void scan_done(void *ctx, int k, int status)
     run->failed |= status != 0;
     if (!run->sc->quiet)
         fprintf(stderr, "sablier: sediment: Theta = %g %s\n", run->sc->shields[k],
-                status == 0 ? "done" : "FAILED");
+                status == 0                      ? "done"
+                : status == APP_POOL_INTERRUPTED ? "interrupted"
+                                                 : "FAILED");
 }
 
 /* Member `key` of a member's sediment.json (app_json_path_number; NAN for null or absent). */
@@ -200,8 +208,9 @@ static int write_flux(const Scan *sc, const int *status, const ScanResult *r)
     }
     for (int j = 0; j < sc->count; ++j) {
         int k = r->idx[j];
-        fprintf(f, "%.9g,%.9g,%.9g,%.9g,%d,%d\n", sc->shields[k], r->q[k], r->q_star[k],
-                r->t_sat[k], r->q_star[k] > sc->level, status[k]);
+        char text[16];
+        fprintf(f, "%.9g,%.9g,%.9g,%.9g,%d,%s\n", sc->shields[k], r->q[k], r->q_star[k],
+                r->t_sat[k], r->q_star[k] > sc->level, app_pool_status_text(status[k], text));
     }
     if (app_tmp_commit(&f, path) != 0) {
         fprintf(stderr, "sablier: sediment: cannot write %s\n", path);
@@ -340,6 +349,8 @@ static int parse_scan_args(int argc, char **argv, Scan *sc, const char **list)
             sc->render_runs = 1;
         } else if (strcmp(a, "--quiet") == 0 || strcmp(a, "-q") == 0) {
             sc->quiet = 1;
+        } else if (strcmp(a, "--resume") == 0) {
+            sc->resume = 1;
         } else if (a[0] == '-' && a[1]) {
             return scan_usage(has_value ? "unknown option" : "unknown option or missing value", a);
         } else if (!sc->scene_path) {
@@ -420,11 +431,14 @@ int app_sediment_command(int argc, char **argv, const AppEnv *env)
                     .ctx = &run,
                     .run = scan_run,
                     .done = scan_done,
-                    .signal_status = 1};
-    if (app_pool_run(&pool) != 0)
+                    .signal_status = 1,
+                    .folder = scan_folder,
+                    .resume = sc.resume};
+    int pool_rc = app_pool_run(&pool);
+    if (pool_rc != 0)
         run.failed = 1;
-    rc = write_scan_outputs(&sc, run.status);
-    return run.failed ? 1 : rc;
+    rc = write_scan_outputs(&sc, run.status); /* interrupted: the finished members */
+    return pool_rc > APP_EXIT_SIGNAL ? pool_rc : run.failed ? 1 : rc;
 }
 
 const AppCommand app_sediment_commands[] = {
