@@ -689,13 +689,44 @@ static const char *field_unit(const AppContext *c, SimCoarseField field)
     return c->scene->style.normalised_units ? "" : sim_coarse_field_unit(field);
 }
 
+/* A field's name as plot markup (docs/figures.md#markup): phi as \phi, syy as \sigma_{yy}. */
+static const char *field_markup(const char *name)
+{
+    static const char *const names[][2] = {{"phi", "\\phi"},
+                                           {"rho", "\\rho"},
+                                           {"jx", "j_x"},
+                                           {"jy", "j_y"},
+                                           {"vx", "v_x"},
+                                           {"vy", "v_y"},
+                                           {"kxx", "\\sigma^k_{xx}"},
+                                           {"kxy", "\\sigma^k_{xy}"},
+                                           {"kyy", "\\sigma^k_{yy}"},
+                                           {"cxx", "\\sigma^c_{xx}"},
+                                           {"cxy", "\\sigma^c_{xy}"},
+                                           {"cyx", "\\sigma^c_{yx}"},
+                                           {"cyy", "\\sigma^c_{yy}"},
+                                           {"sxx", "\\sigma_{xx}"},
+                                           {"sxy", "\\sigma_{xy}"},
+                                           {"syx", "\\sigma_{yx}"},
+                                           {"syy", "\\sigma_{yy}"},
+                                           {"z", "Z"},
+                                           {"fxx", "F_{xx}"},
+                                           {"fxy", "F_{xy}"},
+                                           {"fyy", "F_{yy}"}};
+    for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k)
+        if (strcmp(names[k][0], name) == 0)
+            return names[k][1];
+    return name;
+}
+
+/* A field's axis or colour-bar label: its markup name and unit ("1": none). */
 static void field_label(const AppContext *c, const char *name, const char *unit, char *buf,
                         size_t size)
 {
-    if (c->scene->style.normalised_units)
-        snprintf(buf, size, "%s", name);
+    if (c->scene->style.normalised_units || strcmp(unit, "1") == 0)
+        snprintf(buf, size, "%s", field_markup(name));
     else
-        snprintf(buf, size, "%s (%s)", name, unit);
+        snprintf(buf, size, "%s (%s)", field_markup(name), unit);
 }
 
 static int draw_arrows(const Measure *m, const AppContext *c)
@@ -775,7 +806,8 @@ static int draw_figure(const Measure *m, const AppContext *c, int figure)
                         .panel_count = 1,
                         .panels = &panel,
                         .scene = c->scene->name,
-                        .seed = c->scene->seed};
+                        .seed = c->scene->seed,
+                        .print = &c->scene->style};
         rc =
             c->render->plot ? c->render->plot(c->render->context, &plot, path, err, sizeof err) : 0;
         free(pos);
