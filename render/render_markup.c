@@ -103,6 +103,22 @@ static void token(const char **s, char out[16])
     *s = p + n;
 }
 
+/* A ^ or _ at s starts a script when a {group} follows, or one character (a \command) that
+ * ends a word: v_x, t_0), rho_I/rho, x^2. Else (crater_quick, bne.gamma_x) it is written. */
+static int is_script(const char *s)
+{
+    if (s[1] == '{')
+        return 1;
+    if (s[1] == '\\' && isalpha((unsigned char)s[2]))
+        return 1;
+    if (!s[1] || s[1] == ' ')
+        return 0;
+    const char *q = s + 2;
+    while ((*q & 0xc0) == 0x80) /* the rest of a UTF-8 character */
+        ++q;
+    return !isalnum((unsigned char)*q);
+}
+
 static void group(Markup *m, const char **s, double size, double dy, int depth, int braced);
 
 /* A script after ^ or _ at *s (its marker): one token or a {group}. */
@@ -133,7 +149,7 @@ static void group(Markup *m, const char **s, double size, double dy, int depth, 
         } else if (c == '{') {
             ++*s;
             group(m, s, size, dy, depth, 1);
-        } else if (c == '^' || c == '_') {
+        } else if ((c == '^' || c == '_') && is_script(*s)) {
             flush(m);
             double start = m->x;
             script(m, s, size, dy, depth);

@@ -120,7 +120,8 @@ typedef struct Panel {
     double xlo, xhi, ylo, yhi;
     int xlog, ylog;
     AxisTicks xt, yt;
-    double lw, lh; /* legend frame (0 = none) */
+    double lw, lh;       /* legend frame (0 = none) */
+    RenderLegend legend; /* where it goes: a best legend too large for the axes goes outside */
 } Panel;
 
 /* The text boxes placed (render_plot_layout); NULL boxes = not recorded. */
@@ -357,10 +358,21 @@ static void text_size(cairo_t *cr, const char *text, double size, int bold, doub
     *h = a + *below;
 }
 
+/* The figure title's font: 1.2 em, smaller (down to 0.7 em) when that is wider than the canvas. */
+static double title_font(cairo_t *cr, const RenderPlot *p, double fs)
+{
+    double w, h, b, size = 1.2 * fs;
+    text_size(cr, p->title, size, 0, &w, &h, &b);
+    if (w > p->width - 0.8 * fs)
+        size = fmax(0.7 * fs, size * (p->width - 0.8 * fs) / w);
+    render_text_font(cr, fs, 0);
+    return size;
+}
+
 static double figure_top(cairo_t *cr, const RenderPlot *p, double fs)
 {
     double w, h, b;
-    text_size(cr, p->title, 1.2 * fs, 0, &w, &h, &b);
+    text_size(cr, p->title, title_font(cr, p, fs), 0, &w, &h, &b);
     render_text_font(cr, fs, 0);
     return p->title ? 0.4 * fs + h + 0.3 * fs : 0;
 }
@@ -389,7 +401,7 @@ static void panel_margins(const RenderPanel *pn, const Panel *g, const double si
         up = fmax(up, pad + yt->oa + yt->ob + gap);
     if (pn->title)
         up = fmax(up, pad + title + 0.5 * fs + (yt->offset[0] ? yt->oa + yt->ob + gap : 0));
-    if (pn->legend == RENDER_LEGEND_OUTSIDE && sizes[3] > 0)
+    if (g->legend == RENDER_LEGEND_OUTSIDE && sizes[3] > 0)
         right += 0.5 * fs + sizes[3];
     m[0] = left;
     m[1] = right;
@@ -424,7 +436,10 @@ static int panel_layout(cairo_t *cr, const RenderPlot *p, int index, Panel *g)
     sizes[3] = g->lw;
     g->aw = fmax(1.0, g->cw - 6 * fs);
     g->ah = fmax(1.0, g->ch - 5 * fs);
+    g->legend = pn->legend;
     for (int pass = 0; pass < 3; ++pass) {
+        if (pass == 1 && g->legend == RENDER_LEGEND_BEST && g->lw * g->lh > 0.2 * g->aw * g->ah)
+            g->legend = RENDER_LEGEND_OUTSIDE; /* it would hide a fifth of the axes */
         choose_ticks(cr, g->xlo, g->xhi, g->xlog, g->aw, 0, fs, &g->xt);
         choose_ticks(cr, g->ylo, g->yhi, g->ylog, g->ah, 1, fs, &g->yt);
         double m[4];
@@ -560,6 +575,15 @@ static int check_plot(const RenderPlot *p, char *err, size_t err_size)
     return 0;
 }
 
+/* Pixel of point k of a series; 0 when it cannot be drawn (NaN, <= 0 on a log axis). */
+static int series_point(const Panel *g, const RenderSeries *se, int k, double *px, double *py)
+{
+    if (!valid(se->x[k], g->xlog) || !valid(se->y[k], g->ylog))
+        return 0;
+    to_pixel(g, se->x[k], se->y[k], px, py);
+    return 1;
+}
+
 static void draw_series(cairo_t *cr, const Panel *g, const RenderSeries *se, uint32_t rgb,
                         double fs)
 {
@@ -595,12 +619,11 @@ static void draw_series(cairo_t *cr, const Panel *g, const RenderSeries *se, uin
         line_style(cr, se, lw);
         int pen = 0;
         for (int k = 0; k < se->count; ++k) {
-            if (!valid(se->x[k], g->xlog) || !valid(se->y[k], g->ylog)) {
+            double px, py;
+            if (!series_point(g, se, k, &px, &py)) {
                 pen = 0;
                 continue;
             }
-            double px, py;
-            to_pixel(g, se->x[k], se->y[k], &px, &py);
             if (pen)
                 cairo_line_to(cr, px, py);
             else
@@ -613,11 +636,9 @@ static void draw_series(cairo_t *cr, const Panel *g, const RenderSeries *se, uin
     if (se->marker != RENDER_MARKER_NONE) {
         cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
         for (int k = 0; k < se->count; ++k) {
-            if (!valid(se->x[k], g->xlog) || !valid(se->y[k], g->ylog))
-                continue;
             double px, py;
-            to_pixel(g, se->x[k], se->y[k], &px, &py);
-            marker_path(cr, se->marker, px, py, ms);
+            if (series_point(g, se, k, &px, &py))
+                marker_path(cr, se->marker, px, py, ms);
         }
         finish_marker(cr, se->marker, lw);
     }
@@ -718,12 +739,11 @@ static long legend_cover(const Panel *g, const RenderPanel *pn, const double box
         double qx = 0, qy = 0;
         int pen = 0;
         for (int k = 0; k < se->count; ++k) {
-            if (!valid(se->x[k], g->xlog) || !valid(se->y[k], g->ylog)) {
+            double px, py;
+            if (!series_point(g, se, k, &px, &py)) {
                 pen = 0;
                 continue;
             }
-            double px, py;
-            to_pixel(g, se->x[k], se->y[k], &px, &py);
             int steps = pen && se->line ? 8 : 1;
             for (int j = 1; j <= steps; ++j) {
                 double f = (double)j / steps, x = qx + f * (px - qx), y = qy + f * (py - qy);
@@ -748,7 +768,7 @@ static void legend_place(const Panel *g, const RenderPanel *pn, double fs, doubl
     static const double spots[][2] = {{1, 0},   {0, 0},   {0, 1},   {1, 1},    {1, 0.5},
                                       {0, 0.5}, {0.5, 1}, {0.5, 0}, {0.5, 0.5}};
     double m = 0.5 * fs, w = g->lw, h = g->lh, fx = 1, fy = 0;
-    switch (pn->legend) {
+    switch (g->legend) {
     case RENDER_LEGEND_UPPER_LEFT:
         fx = 0;
         break;
@@ -905,10 +925,10 @@ static void draw_plot(cairo_t *cr, void *context)
     for (int k = 0; k < rows * cols; ++k)
         draw_panel(cr, p, k, d->rec);
     if (p->title) {
-        double fs = plot_font(p), b[4];
-        render_text_font(cr, 1.2 * fs, 0);
+        double fs = plot_font(p), b[4], size = title_font(cr, p, fs);
+        render_text_font(cr, size, 0);
         render_set_rgb(cr, axis_rgb);
-        render_markup_draw(cr, 0.5 * p->width, 0.4 * fs, p->title, 1.2 * fs, 0.5, 0, b);
+        render_markup_draw(cr, 0.5 * p->width, 0.4 * fs, p->title, size, 0.5, 0, b);
         record(d->rec, RENDER_TEXT_TITLE, -1, b, NULL);
     }
 }

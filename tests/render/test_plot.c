@@ -347,7 +347,12 @@ static int layout_energy(void)
                                   .series_count = 1,
                                   .series = &s};
     RenderPlot sizes[] = {
-        {.width = 1004, .height = 756, .rows = 1, .cols = 1, .dpi = 300},
+        {.width = 1004,
+         .height = 756,
+         .rows = 1,
+         .cols = 1,
+         .dpi = 300,
+         .title = "crater_quick: dimensionless energies of the last stage"}, /* shrunk to fit */
         {.width = 2102, .height = 1051, .rows = 2, .cols = 2, .dpi = 300, .title = "energies"},
         {.width = 1000, .height = 700, .rows = 2, .cols = 2},
         {.width = 1000, .height = 700, .rows = 2, .cols = 2, .font_size = 17.5},
@@ -537,6 +542,11 @@ static int markup(void)
     TEST_NEAR(w1, w2, 1e-9);
     render_markup_measure(cr, "a\\_b", 20, &w1, &a1, &b1);
     TEST_NEAR(w1, render_text_width(cr, "a_b"), 1e-9);
+    /* a name with an underscore inside a word stays as written */
+    render_markup_measure(cr, "crater_quick", 20, &w1, &a1, &b1);
+    TEST_NEAR(w1, render_text_width(cr, "crater_quick"), 1e-9);
+    render_markup_measure(cr, "\\rho_I/\\rho", 20, &w1, &a1, &b1);
+    TEST_ASSERT(w1 < render_text_width(cr, "\xcf\x81I/\xcf\x81") - 1); /* rho_I: a smaller I */
     cairo_destroy(cr);
     cairo_surface_destroy(surface);
     return 0;
