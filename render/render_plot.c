@@ -120,7 +120,7 @@ typedef struct Panel {
     double xlo, xhi, ylo, yhi;
     int xlog, ylog;
     AxisTicks xt, yt;
-    double lw, lh;       /* legend frame (0 = none) */
+    double lw, lh, lfs;  /* legend frame (0 = none) and font size */
     RenderLegend legend; /* where it goes: a best legend too large for the axes goes outside */
 } Panel;
 
@@ -305,6 +305,16 @@ static int ticks_fit(const AxisTicks *t, double lo, double hi, double length, in
     return 1;
 }
 
+static void axis_ticks(cairo_t *cr, double lo, double hi, int log, int target, double fs,
+                       AxisTicks *t)
+{
+    t->log = log;
+    t->n = render_axis_ticks(lo, hi, log, target, t->v, MAX_TICKS);
+    t->step = t->n > 1 ? t->v[1] - t->v[0] : hi - lo;
+    format_ticks(t);
+    measure_ticks(cr, t, fs);
+}
+
 /* Ticks for an axis `length` pixels long: about one per 3 em across, per 2 em up (matplotlib's
  * tick space), fewer until their labels do not touch. */
 static void choose_ticks(cairo_t *cr, double lo, double hi, int log, double length, int is_y,
@@ -313,13 +323,16 @@ static void choose_ticks(cairo_t *cr, double lo, double hi, int log, double leng
     int target = (int)floor(length / ((is_y ? 2.0 : 3.0) * fs));
     target = target < 2 ? 2 : target > 10 ? 10 : target;
     for (;; --target) {
-        t->log = log;
-        t->n = render_axis_ticks(lo, hi, log, target, t->v, MAX_TICKS);
-        t->step = t->n > 1 ? t->v[1] - t->v[0] : hi - lo;
-        format_ticks(t);
-        measure_ticks(cr, t, fs);
+        axis_ticks(cr, lo, hi, log, target, fs, t);
         if (target <= 2 || ticks_fit(t, lo, hi, length, is_y, fs))
-            return;
+            break;
+    }
+    /* A short axis with a single tick: take more ticks when their labels still fit. */
+    AxisTicks more;
+    for (int k = target + 1; t->n < 2 && k <= 6; ++k) {
+        axis_ticks(cr, lo, hi, log, k, fs, &more);
+        if (more.n >= 2 && ticks_fit(&more, lo, hi, length, is_y, fs))
+            *t = more;
     }
 }
 
@@ -377,6 +390,20 @@ static double figure_top(cairo_t *cr, const RenderPlot *p, double fs)
     return p->title ? 0.4 * fs + h + 0.3 * fs : 0;
 }
 
+/* A legend wider than the axes is set smaller (down to 0.7 em); a best one that would hide a
+ * fifth of the axes goes outside when that leaves the axes most of the cell. */
+static void legend_fit(cairo_t *cr, const RenderPanel *pn, double fs, Panel *g)
+{
+    double room = g->aw - fs;
+    if (g->lw > room && room > 0) {
+        g->lfs = fs * fmax(0.7, room / g->lw);
+        legend_size(cr, pn, g->lfs, &g->lw, &g->lh);
+    }
+    if (g->legend == RENDER_LEGEND_BEST && g->lw * g->lh > 0.2 * g->aw * g->ah &&
+        g->lw + 0.5 * fs < 0.4 * g->cw)
+        g->legend = RENDER_LEGEND_OUTSIDE;
+}
+
 /* Margins of the axes in their cell from the measured text around them. */
 static void panel_margins(const RenderPanel *pn, const Panel *g, const double sizes[6], double fs,
                           double m[4])
@@ -432,14 +459,17 @@ static int panel_layout(cairo_t *cr, const RenderPlot *p, int index, Panel *g)
     text_size(cr, pn->x.label, fs, 0, &w, &sizes[1], &b);
     text_size(cr, pn->title, 1.05 * fs, 1, &w, &sizes[2], &b);
     render_text_font(cr, fs, 0);
+    g->lfs = fs;
     legend_size(cr, pn, fs, &g->lw, &g->lh);
     sizes[3] = g->lw;
     g->aw = fmax(1.0, g->cw - 6 * fs);
     g->ah = fmax(1.0, g->ch - 5 * fs);
     g->legend = pn->legend;
     for (int pass = 0; pass < 3; ++pass) {
-        if (pass == 1 && g->legend == RENDER_LEGEND_BEST && g->lw * g->lh > 0.2 * g->aw * g->ah)
-            g->legend = RENDER_LEGEND_OUTSIDE; /* it would hide a fifth of the axes */
+        if (pass == 1) {
+            legend_fit(cr, pn, fs, g);
+            sizes[3] = g->lw;
+        }
         choose_ticks(cr, g->xlo, g->xhi, g->xlog, g->aw, 0, fs, &g->xt);
         choose_ticks(cr, g->ylo, g->yhi, g->ylog, g->ah, 1, fs, &g->yt);
         double m[4];
@@ -817,7 +847,7 @@ static void draw_legend(cairo_t *cr, const Panel *g, const RenderPanel *pn, doub
     double box[4];
     legend_place(g, pn, fs, box);
     double x = box[0], y = box[1], w = g->lw, h = g->lh;
-    double row = 1.45 * fs, sample = 2.2 * fs, pad = 0.5 * fs;
+    double lfs = g->lfs, row = 1.45 * lfs, sample = 2.2 * lfs, pad = 0.5 * lfs;
     cairo_set_source_rgba(cr, 1, 1, 1, 0.9);
     cairo_rectangle(cr, x, y, w, h);
     cairo_fill_preserve(cr);
@@ -825,6 +855,8 @@ static void draw_legend(cairo_t *cr, const Panel *g, const RenderPanel *pn, doub
     cairo_set_line_width(cr, fmax(1.0, fs / 24.0));
     cairo_stroke(cr);
     record(rec, RENDER_TEXT_LEGEND, panel, box, NULL);
+    cairo_save(cr);
+    render_text_font(cr, lfs, 0);
     int k = 0;
     for (int s = 0; s < pn->series_count; ++s) {
         const RenderSeries *se = &pn->series[s];
@@ -846,9 +878,10 @@ static void draw_legend(cairo_t *cr, const Panel *g, const RenderPanel *pn, doub
             finish_marker(cr, se->marker, lw);
         }
         render_set_rgb(cr, axis_rgb);
-        render_markup_draw(cr, x + pad + sample + 0.5 * fs, cy, se->label, fs, 0, 0.5, NULL);
+        render_markup_draw(cr, x + pad + sample + 0.5 * lfs, cy, se->label, lfs, 0, 0.5, NULL);
         ++k;
     }
+    cairo_restore(cr);
 }
 
 /* Axis labels and the panel title, placed as panel_margins reserved them. */

@@ -251,6 +251,9 @@ static int plot_files(void)
     TEST_ASSERT(render_plot_write(&plot, &meta, DIR "/energy.png", err, sizeof err) == 0);
     TEST_ASSERT(render_plot_write(&plot, &meta, DIR "/energy.pdf", err, sizeof err) == 0);
     TEST_ASSERT(render_plot_write(&plot, &meta, DIR "/energy.svg", err, sizeof err) == 0);
+    /* byte-reproducible: a second PNG of the same plot is the same file */
+    TEST_ASSERT(render_plot_write(&plot, &meta, DIR "/energy2.png", err, sizeof err) == 0);
+    TEST_ASSERT(test_same_bytes(DIR "/energy.png", DIR "/energy2.png"));
     RenderImage image;
     TEST_ASSERT(render_png_read(DIR "/energy.png", &image, err, sizeof err) == 0);
     TEST_ASSERT(image.width == 800 && image.height == 600);
