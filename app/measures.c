@@ -743,8 +743,9 @@ static int draw_arrows(const Measure *m, const AppContext *c)
     SimCoarseField fv = (SimCoarseField)m->fields[m->arrows[1]];
     char path[MEASURE_PATH + SCENE_NAME_MAX], title[160], label[80], err[512] = "";
     snprintf(path, sizeof path, "%s/%s_arrows.png", c->out_dir, m->name);
-    snprintf(title, sizeof title, "%s: (%s, %s) (%s)", m->name, sim_coarse_field_name(fu),
-             sim_coarse_field_name(fv), m->window > 0.0 ? "window average" : "last sample");
+    snprintf(title, sizeof title, "%s: (%s, %s) (%s)", m->name,
+             field_markup(sim_coarse_field_name(fu)), field_markup(sim_coarse_field_name(fv)),
+             m->window > 0.0 ? "window average" : "last sample");
     char name[64];
     snprintf(name, sizeof name, "|(%s, %s)|", sim_coarse_field_name(fu), sim_coarse_field_name(fv));
     field_label(c, name, sim_coarse_field_unit(fu), label, sizeof label);
@@ -768,7 +769,8 @@ static int draw_figure(const Measure *m, const AppContext *c, int figure)
     const double *values = m->last + (size_t)f * nodes;
     char path[MEASURE_PATH + SCENE_NAME_MAX], title[160], label[64], err[512] = "";
     snprintf(path, sizeof path, "%s/%s_%s.png", c->out_dir, m->name, sim_coarse_field_name(field));
-    snprintf(title, sizeof title, "%s: %s (%s)", m->name, sim_coarse_field_name(field),
+    snprintf(title, sizeof title, "%s: %s (%s)", m->name,
+             field_markup(sim_coarse_field_name(field)),
              m->window > 0.0 ? "window average" : "last sample");
     field_label(c, sim_coarse_field_name(field), sim_coarse_field_unit(field), label, sizeof label);
     FigureLabels axes;

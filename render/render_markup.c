@@ -71,7 +71,7 @@ static void append(Markup *m, const char *utf8, double size, double dy)
 }
 
 /* One token at *s: an escaped character, a \command (its symbol; unknown ones stay as
- * written) or one UTF-8 character. */
+ * written; a space after it is kept, unlike TeX) or one UTF-8 character. */
 static void token(const char **s, char out[16])
 {
     const char *p = *s;
@@ -90,7 +90,7 @@ static void token(const char **s, char out[16])
         for (size_t k = 0; k < sizeof symbols / sizeof symbols[0]; ++k)
             if (strlen(symbols[k][0]) == len && strncmp(symbols[k][0], p + 1, len) == 0) {
                 strcpy(out, symbols[k][1]);
-                *s = *q == ' ' ? q + 1 : q;
+                *s = q; /* the space after it stays: "\phi (y)" is "φ (y)" */
                 return;
             }
         n = len + 1 < 15 ? len + 1 : 15;

@@ -545,6 +545,9 @@ static int markup(void)
     TEST_NEAR(w1, w2, 1e-9);
     render_markup_measure(cr, "a\\_b", 20, &w1, &a1, &b1);
     TEST_NEAR(w1, render_text_width(cr, "a_b"), 1e-9);
+    /* a space after a command is kept */
+    render_markup_measure(cr, "\\phi (y)", 20, &w1, &a1, &b1);
+    TEST_NEAR(w1, render_text_width(cr, "\xcf\x86 (y)"), 1e-9);
     /* a name with an underscore inside a word stays as written */
     render_markup_measure(cr, "crater_quick", 20, &w1, &a1, &b1);
     TEST_NEAR(w1, render_text_width(cr, "crater_quick"), 1e-9);
