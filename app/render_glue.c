@@ -549,6 +549,22 @@ static int hook_plot(void *context, const AppPlot *plot, const char *path, char 
                        .seed = plot->seed,
                        .comment = renderer_comment(context)};
     int rc = render_plot_write(&r, &meta, path, err, err_size) == 0 ? 0 : -1;
+    /* render.plot_format = "pdf" or "svg": the same plot beside the PNG in that format */
+    static const char *const extensions[] = {"png", "pdf", "svg"};
+    size_t len = strlen(path);
+    int format = plot->print ? plot->print->plot_format : -1;
+    if (rc == 0 && format >= 1 && format <= 2 && len > 4 && strcmp(path + len - 4, ".png") == 0) {
+        char *other = malloc(len + 1);
+        if (!other) {
+            snprintf(err, err_size, "out of memory");
+            rc = -1;
+        } else {
+            memcpy(other, path, len - 3);
+            memcpy(other + len - 3, extensions[format], 4);
+            rc = render_plot_write(&r, &meta, other, err, err_size) == 0 ? 0 : -1;
+            free(other);
+        }
+    }
     free(series);
     return rc;
 }
