@@ -729,6 +729,25 @@ static void field_label(const AppContext *c, const char *name, const char *unit,
         snprintf(buf, size, "%s (%s)", field_markup(name), unit);
 }
 
+/* A per-mass mean (v_x, v_y, T) of a profile is undefined where no grain is: when the measure
+ * also samples phi or rho, those bins become NaN in `out` (the plot lifts its pen there instead
+ * of drawing 0). Returns the values to plot. */
+static const double *empty_bins(const Measure *m, SimCoarseField field, const double *values,
+                                double *out)
+{
+    if (field != SIM_CG_VX && field != SIM_CG_VY && field != SIM_CG_T)
+        return values;
+    int nodes = m->nx * m->ny;
+    for (int q = 0; q < m->field_count; ++q)
+        if (m->fields[q] == SIM_CG_PHI || m->fields[q] == SIM_CG_RHO) {
+            const double *density = m->last + (size_t)q * nodes;
+            for (int k = 0; k < nodes; ++k)
+                out[k] = density[k] > 0.0 ? values[k] : (double)NAN;
+            return out;
+        }
+    return values;
+}
+
 static int draw_arrows(const Measure *m, const AppContext *c)
 {
     int nodes = m->nx * m->ny;
@@ -782,7 +801,7 @@ static int draw_figure(const Measure *m, const AppContext *c, int figure)
                  ? c->render->map(c->render->context, c->scene, &map, path, err, sizeof err)
                  : 0;
     } else {
-        double *pos = malloc((size_t)nodes * sizeof *pos);
+        double *pos = malloc(2 * (size_t)nodes * sizeof *pos);
         if (!pos)
             return -1;
         for (int k = 0; k < nodes; ++k) {
@@ -791,10 +810,11 @@ static int draw_figure(const Measure *m, const AppContext *c, int figure)
             pos[k] = m->kind == KIND_PROFILE_Y ? y : x;
         }
         int along_y = m->kind == KIND_PROFILE_Y;
+        const double *shown = empty_bins(m, field, values, pos + nodes);
         AppPlotSeries s = {.label = NULL,
                            .count = nodes,
-                           .x = along_y ? values : pos,
-                           .y = along_y ? pos : values,
+                           .x = along_y ? shown : pos,
+                           .y = along_y ? pos : shown,
                            .line = 1,
                            .rgb = APP_RGB_AUTO};
         AppPlotPanel panel = {.x_label = along_y ? label : axes.x,
