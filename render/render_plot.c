@@ -391,7 +391,8 @@ static double figure_top(cairo_t *cr, const RenderPlot *p, double fs)
 }
 
 /* A legend wider than the axes is set smaller (down to 0.7 em); a best one that would hide a
- * fifth of the axes goes outside when that leaves the axes most of the cell. */
+ * fifth of the axes is set at 0.8 em, then goes outside if still that large and outside
+ * leaves the axes over half the cell. */
 static void legend_fit(cairo_t *cr, const RenderPanel *pn, double fs, Panel *g)
 {
     double room = g->aw - fs;
@@ -399,8 +400,13 @@ static void legend_fit(cairo_t *cr, const RenderPanel *pn, double fs, Panel *g)
         g->lfs = fs * fmax(0.7, room / g->lw);
         legend_size(cr, pn, g->lfs, &g->lw, &g->lh);
     }
-    if (g->legend == RENDER_LEGEND_BEST && g->lw * g->lh > 0.2 * g->aw * g->ah &&
-        g->lw + 0.5 * fs < 0.4 * g->cw)
+    if (g->legend != RENDER_LEGEND_BEST || g->lw * g->lh <= 0.2 * g->aw * g->ah)
+        return;
+    if (g->lfs > 0.8 * fs) { /* first a smaller font, as matplotlib's fontsize="small" */
+        g->lfs = 0.8 * fs;
+        legend_size(cr, pn, g->lfs, &g->lw, &g->lh);
+    }
+    if (g->lw * g->lh > 0.2 * g->aw * g->ah && g->lw + 0.5 * fs < 0.45 * g->cw)
         g->legend = RENDER_LEGEND_OUTSIDE;
 }
 

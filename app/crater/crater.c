@@ -619,13 +619,18 @@ int app_chart_profiles_run(AppChart *plot, int panel, const char *run_dir, int c
     snprintf(p->y_label, sizeof p->y_label, "free surface y (m)");
     double *x = malloc((size_t)c.count * sizeof *x), *y = malloc((size_t)c.count * sizeof *y);
     rc = x && y ? 0 : -1;
-    /* the profile spans the box: the plot's x axis never runs past it */
+    /* the profile's bins span the box's interior (centres half a bin inside its walls): the
+     * plot's x axis never runs past it */
     p->x_domain[0] = INFINITY;
     p->x_domain[1] = -INFINITY;
     for (int r = first; r < c.count; ++r) {
         p->x_domain[0] = fmin(p->x_domain[0], c.v[(size_t)r * 4 + 2]);
         p->x_domain[1] = fmax(p->x_domain[1], c.v[(size_t)r * 4 + 2]);
     }
+    int bins = starts[1] - starts[0];
+    double half = bins > 1 ? 0.5 * (p->x_domain[1] - p->x_domain[0]) / (bins - 1) : 0.0;
+    p->x_domain[0] -= half;
+    p->x_domain[1] += half;
     for (int k = 0; rc == 0 && k < curves; ++k) {
         int s = curves == 1 ? samples - 1 : (int)lround((double)k * (samples - 1) / (curves - 1));
         int n = 0;
