@@ -782,7 +782,6 @@ static void write_figure(const Ensemble *E)
                     .height = 100 + 540 * rows,
                     .rows = rows,
                     .cols = cols,
-                    .font_size = 16.0,
                     .panel_count = o->key_count,
                     .panels = F->panels,
                     .scene = o->scene_path};

@@ -730,13 +730,63 @@ static const char *field_unit(const AppContext *c, SimCoarseField field)
     return c->scene->style.normalised_units ? "" : sim_coarse_field_unit(field);
 }
 
+/* A field's name as plot markup (docs/figures.md#markup): phi as \phi, syy as \sigma_{yy}. */
+static const char *field_markup(const char *name)
+{
+    static const char *const names[][2] = {{"phi", "\\phi"},
+                                           {"rho", "\\rho"},
+                                           {"jx", "j_x"},
+                                           {"jy", "j_y"},
+                                           {"vx", "v_x"},
+                                           {"vy", "v_y"},
+                                           {"kxx", "\\sigma^k_{xx}"},
+                                           {"kxy", "\\sigma^k_{xy}"},
+                                           {"kyy", "\\sigma^k_{yy}"},
+                                           {"cxx", "\\sigma^c_{xx}"},
+                                           {"cxy", "\\sigma^c_{xy}"},
+                                           {"cyx", "\\sigma^c_{yx}"},
+                                           {"cyy", "\\sigma^c_{yy}"},
+                                           {"sxx", "\\sigma_{xx}"},
+                                           {"sxy", "\\sigma_{xy}"},
+                                           {"syx", "\\sigma_{yx}"},
+                                           {"syy", "\\sigma_{yy}"},
+                                           {"z", "Z"},
+                                           {"fxx", "F_{xx}"},
+                                           {"fxy", "F_{xy}"},
+                                           {"fyy", "F_{yy}"}};
+    for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k)
+        if (strcmp(names[k][0], name) == 0)
+            return names[k][1];
+    return name;
+}
+
+/* A field's axis or colour-bar label: its markup name and unit ("1": none). */
 static void field_label(const AppContext *c, const char *name, const char *unit, char *buf,
                         size_t size)
 {
-    if (c->scene->style.normalised_units)
-        snprintf(buf, size, "%s", name);
+    if (c->scene->style.normalised_units || strcmp(unit, "1") == 0)
+        snprintf(buf, size, "%s", field_markup(name));
     else
-        snprintf(buf, size, "%s (%s)", name, unit);
+        snprintf(buf, size, "%s (%s)", field_markup(name), unit);
+}
+
+/* A per-mass mean (v_x, v_y, T) of a profile is undefined where no grain is: when the measure
+ * also samples phi or rho, those bins become NaN in `out` (the plot lifts its pen there instead
+ * of drawing 0). Returns the values to plot. */
+static const double *empty_bins(const Measure *m, SimCoarseField field, const double *values,
+                                double *out)
+{
+    if (field != SIM_CG_VX && field != SIM_CG_VY && field != SIM_CG_T)
+        return values;
+    int nodes = m->nx * m->ny;
+    for (int q = 0; q < m->field_count; ++q)
+        if (m->fields[q] == SIM_CG_PHI || m->fields[q] == SIM_CG_RHO) {
+            const double *density = m->last + (size_t)q * nodes;
+            for (int k = 0; k < nodes; ++k)
+                out[k] = density[k] > 0.0 ? values[k] : (double)NAN;
+            return out;
+        }
+    return values;
 }
 
 static int draw_arrows(const Measure *m, const AppContext *c)
@@ -753,8 +803,9 @@ static int draw_arrows(const Measure *m, const AppContext *c)
     SimCoarseField fv = (SimCoarseField)m->fields[m->arrows[1]];
     char path[MEASURE_PATH + SCENE_NAME_MAX], title[160], label[80], err[512] = "";
     snprintf(path, sizeof path, "%s/%s_arrows.png", c->out_dir, m->name);
-    snprintf(title, sizeof title, "%s: (%s, %s) (%s)", m->name, sim_coarse_field_name(fu),
-             sim_coarse_field_name(fv), m->window > 0.0 ? "window average" : "last sample");
+    snprintf(title, sizeof title, "%s: (%s, %s) (%s)", m->name,
+             field_markup(sim_coarse_field_name(fu)), field_markup(sim_coarse_field_name(fv)),
+             m->window > 0.0 ? "window average" : "last sample");
     char name[64];
     snprintf(name, sizeof name, "|(%s, %s)|", sim_coarse_field_name(fu), sim_coarse_field_name(fv));
     field_label(c, name, sim_coarse_field_unit(fu), label, sizeof label);
@@ -778,7 +829,8 @@ static int draw_figure(const Measure *m, const AppContext *c, int figure)
     const double *values = m->last + (size_t)f * nodes;
     char path[MEASURE_PATH + SCENE_NAME_MAX], title[160], label[64], err[512] = "";
     snprintf(path, sizeof path, "%s/%s_%s.png", c->out_dir, m->name, sim_coarse_field_name(field));
-    snprintf(title, sizeof title, "%s: %s (%s)", m->name, sim_coarse_field_name(field),
+    snprintf(title, sizeof title, "%s: %s (%s)", m->name,
+             field_markup(sim_coarse_field_name(field)),
              m->window > 0.0 ? "window average" : "last sample");
     field_label(c, sim_coarse_field_name(field), sim_coarse_field_unit(field), label, sizeof label);
     FigureLabels axes;
@@ -790,7 +842,7 @@ static int draw_figure(const Measure *m, const AppContext *c, int figure)
                  ? c->render->map(c->render->context, c->scene, &map, path, err, sizeof err)
                  : 0;
     } else {
-        double *pos = malloc((size_t)nodes * sizeof *pos);
+        double *pos = malloc(2 * (size_t)nodes * sizeof *pos);
         if (!pos)
             return -1;
         for (int k = 0; k < nodes; ++k) {
@@ -799,10 +851,11 @@ static int draw_figure(const Measure *m, const AppContext *c, int figure)
             pos[k] = m->kind == KIND_PROFILE_Y ? y : x;
         }
         int along_y = m->kind == KIND_PROFILE_Y;
+        const double *shown = empty_bins(m, field, values, pos + nodes);
         AppPlotSeries s = {.label = NULL,
                            .count = nodes,
-                           .x = along_y ? values : pos,
-                           .y = along_y ? pos : values,
+                           .x = along_y ? shown : pos,
+                           .y = along_y ? pos : shown,
                            .line = 1,
                            .rgb = APP_RGB_AUTO};
         AppPlotPanel panel = {.x_label = along_y ? label : axes.x,
@@ -816,7 +869,8 @@ static int draw_figure(const Measure *m, const AppContext *c, int figure)
                         .panel_count = 1,
                         .panels = &panel,
                         .scene = c->scene->name,
-                        .seed = c->scene->seed};
+                        .seed = c->scene->seed,
+                        .print = &c->scene->style};
         rc =
             c->render->plot ? c->render->plot(c->render->context, &plot, path, err, sizeof err) : 0;
         free(pos);

@@ -15,29 +15,65 @@ _Static_assert((long)SCENE_MAX_FPS == (long)RENDER_VIDEO_MAX_FPS, "SCENE_MAX_FPS
 /* Journal column presets (docs/figures.md#print-sizes): width x height, cm. */
 static const double preset_cm[][2] = {{8.5, 6.4}, {17.8, 8.9}};
 
-/* Print size: `size` (cm or in) or a `style` preset at `dpi` (300 when a size is given) sets the
- * pixels; `font_size` points (8 pt with a preset) set the font at that dpi. */
-static void print_size(const SceneStyle *s, RenderStyle *r)
+/* A print size: width and height (inches, 0 = none), dpi (0 = unset) and font (pixels, 0 =
+ * unset). */
+typedef struct PrintSize {
+    double w_in, h_in, dpi, font_px;
+} PrintSize;
+
+/* `size` (cm or in), else a `style` preset, else the preset `fallback` (-1 none), at `dpi` (300
+ * when a size is known); `font_size` points (8 pt with a preset) at that dpi. */
+static PrintSize print_resolve(const SceneStyle *s, int fallback)
 {
     int preset = s->preset >= 0 && s->preset <= 1 ? s->preset : -1;
-    double w_in = 0.0, h_in = 0.0;
+    int sized = preset >= 0 ? preset : fallback;
+    PrintSize p = {0};
     if (!isnan(s->size_w)) {
         double per_unit = s->size_inches == 1 ? 1.0 : 1.0 / 2.54;
-        w_in = s->size_w * per_unit;
-        h_in = s->size_h * per_unit;
-    } else if (preset >= 0) {
-        w_in = preset_cm[preset][0] / 2.54;
-        h_in = preset_cm[preset][1] / 2.54;
+        p.w_in = s->size_w * per_unit;
+        p.h_in = s->size_h * per_unit;
+    } else if (sized >= 0) {
+        p.w_in = preset_cm[sized][0] / 2.54;
+        p.h_in = preset_cm[sized][1] / 2.54;
     }
-    double dpi = !isnan(s->dpi) ? s->dpi : w_in > 0.0 ? 300.0 : 0.0;
-    r->dpi = dpi;
-    if (w_in > 0.0) {
-        r->width = (int)fmin(16384.0, fmax(16.0, round(w_in * dpi)));
-        r->height = (int)fmin(16384.0, fmax(16.0, round(h_in * dpi)));
-    }
+    p.dpi = !isnan(s->dpi) ? s->dpi : p.w_in > 0.0 ? 300.0 : 0.0;
     double pt = !isnan(s->font_pt) ? s->font_pt : preset >= 0 ? 8.0 : 0.0;
-    if (pt > 0.0)
-        r->font_size = pt * (dpi > 0.0 ? dpi : 96.0) / 72.0;
+    p.font_px = pt > 0.0 ? pt * (p.dpi > 0.0 ? p.dpi : 96.0) / 72.0 : 0.0;
+    return p;
+}
+
+static int print_pixels(double inches, double dpi)
+{
+    return (int)fmin(16384.0, fmax(16.0, round(inches * dpi)));
+}
+
+/* Print size of a grain figure (docs/figures.md#print-sizes). */
+static void print_size(const SceneStyle *s, RenderStyle *r)
+{
+    PrintSize p = print_resolve(s, -1);
+    r->dpi = p.dpi;
+    if (p.w_in > 0.0) {
+        r->width = print_pixels(p.w_in, p.dpi);
+        r->height = print_pixels(p.h_in, p.dpi);
+    }
+    if (p.font_px > 0.0)
+        r->font_size = p.font_px;
+}
+
+/* Print size of a plot (docs/figures.md#plots): the print keys, else one column wide (two for
+ * several columns of panels) at 300 dpi with the family's width:height. */
+static void plot_print(const AppPlot *plot, int cols, RenderPlot *r)
+{
+    SceneStyle none = scene_style_unset();
+    const SceneStyle *s = plot->print ? plot->print : &none;
+    double w = plot->width > 0 ? plot->width : 1000, h = plot->height > 0 ? plot->height : 700;
+    PrintSize p = print_resolve(s, cols > 1 ? 1 : 0);
+    if (isnan(s->size_w) && !(s->preset >= 0 && s->preset <= 1))
+        p.h_in = p.w_in * h / w; /* the family's shape at a column's width */
+    r->dpi = p.dpi;
+    r->width = print_pixels(p.w_in, p.dpi);
+    r->height = print_pixels(p.h_in, p.dpi);
+    r->font_size = plot->font_size > 0 ? plot->font_size * p.dpi / 72.0 : p.font_px;
 }
 
 void app_render_names(const Scene *scene, const char *names[SIM_MAX_SPECIES], RenderStyle *style)
@@ -296,7 +332,8 @@ static int side_by_side(const RenderImage *bed, const RenderImage *plot, int shi
 /* Panels beside a grain figure on the same heights (thesis 002 fig. 31 for the sediment bed):
  * the grains (render_cairo_draw) and the plot (render_plot_draw) side by side, the plot's y axis
  * the grain view's y range, its height adjusted until the two scales match to a pixel. Each
- * series is clipped to that range; an x range left unset runs from 0 to 1.05 max |x|. */
+ * series is clipped to that range (a gap where it leaves it); an x range left unset runs from 0
+ * to 1.05 max |x|. Text at the grain figure's font size. */
 static int side_figure(const SimFrame *frame, const RenderStyle *style, const RenderMeta *meta,
                        const AppFigureExtras *extras, const char *path, char *err, size_t err_size)
 {
@@ -333,7 +370,11 @@ static int side_figure(const SimFrame *frame, const RenderStyle *style, const Re
                 if (s->y[i] >= y_bottom && s->y[i] <= y_top) {
                     x[n] = s->x[i];
                     y[n++] = s->y[i];
-                    x_max = fmax(x_max, fabs(s->x[i]));
+                    if (isfinite(s->x[i]))
+                        x_max = fmax(x_max, fabs(s->x[i]));
+                } else if (n > 0 && !isnan(y[n - 1])) { /* a gap: the pen lifts */
+                    x[n] = y[n] = (double)NAN;
+                    ++n;
                 }
             next += 2 * (size_t)s->count;
             series[k][j] = (RenderSeries){.label = s->label,
@@ -361,7 +402,8 @@ static int side_figure(const SimFrame *frame, const RenderStyle *style, const Re
                     .rows = 1,
                     .cols = panel_count,
                     .panels = panels,
-                    .font_size = 14.0};
+                    .font_size = render_style_resolve(frame, style).font_size,
+                    .dpi = style->dpi};
     if (r.width < 360)
         r.width = 360;
     int rc = render_cairo_draw(frame, style, &bed) == 0 ? 0 : -1;
@@ -439,8 +481,10 @@ static RenderLegend legend_of(const AppPlotPanel *p)
         return RENDER_LEGEND_UPPER_RIGHT;
     case APP_LEGEND_UPPER_LEFT:
         return RENDER_LEGEND_UPPER_LEFT;
+    case APP_LEGEND_OUTSIDE:
+        return RENDER_LEGEND_OUTSIDE;
     default:
-        return p->series_count > 1 ? RENDER_LEGEND_UPPER_RIGHT : RENDER_LEGEND_NONE;
+        return p->series_count > 1 ? RENDER_LEGEND_BEST : RENDER_LEGEND_NONE;
     }
 }
 
@@ -482,25 +526,45 @@ static int hook_plot(void *context, const AppPlot *plot, const char *path, char 
                                     .dashed = s->dashed,
                                     .marker = (RenderMarker)s->marker};
         }
-        panels[p] = (RenderPanel){
-            .title = in->title,
-            .x = {.label = in->x_label, .log = in->x_log, .min = in->x_min, .max = in->x_max},
-            .y = {.label = in->y_label, .log = in->y_log, .min = in->y_min, .max = in->y_max},
-            .series_count = n,
-            .series = out,
-            .legend = legend_of(in)};
+        panels[p] = (RenderPanel){.title = in->title,
+                                  .x = {.label = in->x_label,
+                                        .log = in->x_log,
+                                        .min = in->x_min,
+                                        .max = in->x_max,
+                                        .domain_min = in->x_domain_min,
+                                        .domain_max = in->x_domain_max},
+                                  .y = {.label = in->y_label,
+                                        .log = in->y_log,
+                                        .min = in->y_min,
+                                        .max = in->y_max,
+                                        .domain_min = in->y_domain_min,
+                                        .domain_max = in->y_domain_max},
+                                  .series_count = n,
+                                  .series = out,
+                                  .legend = legend_of(in)};
     }
-    RenderPlot r = {.width = plot->width > 0 ? plot->width : 1000,
-                    .height = plot->height > 0 ? plot->height : 700,
-                    .rows = plot->rows,
-                    .cols = plot->cols,
-                    .panels = panels,
-                    .title = plot->title,
-                    .font_size = plot->font_size};
+    RenderPlot r = {.rows = plot->rows, .cols = plot->cols, .panels = panels, .title = plot->title};
+    plot_print(plot, plot->cols, &r);
     RenderMeta meta = {.scene = plot->scene ? plot->scene : "",
                        .seed = plot->seed,
                        .comment = renderer_comment(context)};
     int rc = render_plot_write(&r, &meta, path, err, err_size) == 0 ? 0 : -1;
+    /* render.plot_format = "pdf" or "svg": the same plot beside the PNG in that format */
+    static const char *const extensions[] = {"png", "pdf", "svg"};
+    size_t len = strlen(path);
+    int format = plot->print ? plot->print->plot_format : -1;
+    if (rc == 0 && format >= 1 && format <= 2 && len > 4 && strcmp(path + len - 4, ".png") == 0) {
+        char *other = malloc(len + 1);
+        if (!other) {
+            snprintf(err, err_size, "out of memory");
+            rc = -1;
+        } else {
+            memcpy(other, path, len - 3);
+            memcpy(other + len - 3, extensions[format], 4);
+            rc = render_plot_write(&r, &meta, other, err, err_size) == 0 ? 0 : -1;
+            free(other);
+        }
+    }
     free(series);
     return rc;
 }

@@ -19,6 +19,7 @@
 #include <stdint.h>
 
 struct Scene;
+struct SceneStyle;
 struct SceneFigure;
 
 /// Marker shapes; same order as RenderMarker.
@@ -30,12 +31,14 @@ typedef enum AppMarker {
     APP_MARKER_CROSS = 4,
 } AppMarker;
 
-/// Where a panel's legend goes. AUTO: upper right when the panel has more than one series.
+/// Where a panel's legend goes. AUTO: where it hides the fewest data (matplotlib's "best") when
+/// the panel has more than one series; OUTSIDE: right of the axes.
 typedef enum AppLegend {
     APP_LEGEND_AUTO = 0,
     APP_LEGEND_NONE = 1,
     APP_LEGEND_UPPER_RIGHT = 2,
     APP_LEGEND_UPPER_LEFT = 3,
+    APP_LEGEND_OUTSIDE = 4,
 } AppLegend;
 
 /// Colour of a series: automatic (the next of the palette), or the previous series' colour (a
@@ -43,6 +46,8 @@ typedef enum AppLegend {
 #define APP_RGB_AUTO     (-1L)
 #define APP_RGB_PREVIOUS (-2L)
 
+/// Text of plots (titles, axis labels, legends) is markup (docs/figures.md#markup): E^*_{kin},
+/// \sigma_{yy}, \phi, \rho_I/\rho.
 typedef struct AppPlotSeries {
     const char *label; ///< legend text, NULL = none
     int count;
@@ -56,22 +61,28 @@ typedef struct AppPlotPanel {
     const char *title, *x_label, *y_label; ///< NULL = none
     int x_log, y_log;                      ///< 1: base-10 logarithmic axis
     AppLegend legend;
-    /// Axis ranges; min >= max: from the data.
+    /// Axis ranges; min >= max: from the data plus a 5 % margin.
     double x_min, x_max, y_min, y_max;
+    /// Physical domains (a box's width) that automatic ranges never leave; min >= max: none.
+    double x_domain_min, x_domain_max, y_domain_min, y_domain_max;
     int series_count;
     const AppPlotSeries *series;
 } AppPlotPanel;
 
-/// One figure of panels on a rows x cols grid (row-major).
+/// One figure of panels on a rows x cols grid (row-major). Its print size (docs/figures.md#plots):
+/// the `size`, `size_unit`, `dpi`, `font_size` and `style` of `print` (the scene's `render` keys)
+/// when set; else one column (8.5 cm; 17.8 cm for several columns of panels) wide at 300 dpi,
+/// width:height as width and height say.
 typedef struct AppPlot {
     const char *title; ///< NULL = none
-    int width, height; ///< pixels; 0 = 1000 x 700
+    int width, height; ///< aspect ratio only; 0 = 1000 x 700
     int rows, cols;    ///< 0 = 1 x panel_count
-    double font_size;  ///< 0 = the renderer's default
+    double font_size;  ///< points at print size; 0 = `print`'s, else the renderer's default
     int panel_count;
     const AppPlotPanel *panels;
     const char *scene; ///< PNG metadata (NULL = "")
     uint64_t seed;
+    const struct SceneStyle *print; ///< print keys (size, dpi, font_size, style); NULL = none
 } AppPlot;
 
 /// A heat map on square cells: values row-major, index j * nx + i, row 0 at the bottom; NaN =

@@ -73,6 +73,7 @@ typedef struct SceneStyle {
     double font_pt;        ///< font size, points (NaN = unset)
     int preset;            ///< style: -1 none, 0 single_column, 1 double_column
     int field_color;       ///< 0/1: velocity-field arrows coloured by speed
+    int plot_format;       ///< plots also written as: -1 unset (PNG only), 0 png, 1 pdf, 2 svg
 } SceneStyle;
 
 /// How a stage gets its grains.

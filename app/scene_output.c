@@ -36,6 +36,7 @@ static const char *const STYLE_KEYS[] = {"width",
                                          "font_size",
                                          "style",
                                          "field_color",
+                                         "plot_format",
                                          NULL};
 
 const char *scene_axis_label(const Scene *scene, const char *name, SceneQuantity quantity,
@@ -65,7 +66,7 @@ SceneStyle scene_style_unset(void)
     s.chain_threshold = s.chain_width_max = unset;
     s.view_x0 = s.view_y0 = s.view_x1 = s.view_y1 = unset;
     s.background_rgb = s.fill_rgb = s.fixed_rgb = -1;
-    s.axes = s.size_inches = s.preset = s.field_color = -1;
+    s.axes = s.size_inches = s.preset = s.field_color = s.plot_format = -1;
     s.size_w = s.size_h = s.dpi = s.font_pt = unset;
     return s;
 }
@@ -100,16 +101,18 @@ static int get_pixels(Loader *L, const config_setting_t *g, const char *key, int
 }
 
 /* Print keys (docs/figures.md#print-sizes): axes, size [w, h] in size_unit at dpi, font_size in
- * points, a journal-column style preset, field_color. */
+ * points, a journal-column style preset, field_color, the plots' extra format. */
 static int parse_print(Loader *L, const config_setting_t *g, SceneStyle *s)
 {
     static const char *const units[] = {"cm", "in", NULL};
     static const char *const presets[] = {"single_column", "double_column", NULL};
+    static const char *const formats[] = {"png", "pdf", "svg", NULL};
     double size[2] = {0.0, 0.0};
     if (app_config_bool(&L->p, g, "axes", &s->axes) < 0 ||
         app_config_bool(&L->p, g, "field_color", &s->field_color) < 0 ||
         app_config_choice(&L->p, g, "size_unit", units, &s->size_inches) < 0 ||
         app_config_choice(&L->p, g, "style", presets, &s->preset) < 0 ||
+        app_config_choice(&L->p, g, "plot_format", formats, &s->plot_format) < 0 ||
         app_config_number(&L->p, g, "dpi", &s->dpi) < 0 ||
         app_config_number(&L->p, g, "font_size", &s->font_pt) < 0)
         return -1;

@@ -157,9 +157,12 @@ typedef struct RenderSeries {
 } RenderSeries;
 
 typedef struct RenderAxis {
-    const char *label; ///< e.g. "t* = t / sqrt(d / g)"; NULL = none
+    const char *label; ///< markup (render_markup_draw), e.g. "t^* = t / \sqrt{d/g}"; NULL = none
     int log;           ///< 1: base-10 logarithmic
-    double min, max;   ///< min >= max = from the data, widened to nice numbers
+    double min, max;   ///< min >= max = from the data plus a 5 % margin
+    /// The physical domain of the quantity (a box's width): automatic limits never leave it.
+    /// domain_min >= domain_max = none.
+    double domain_min, domain_max;
 } RenderAxis;
 
 typedef enum RenderLegend {
@@ -168,6 +171,8 @@ typedef enum RenderLegend {
     RENDER_LEGEND_UPPER_LEFT = 2,
     RENDER_LEGEND_LOWER_LEFT = 3,
     RENDER_LEGEND_LOWER_RIGHT = 4,
+    RENDER_LEGEND_BEST = 5,    ///< inside, where it covers the fewest data (matplotlib's "best")
+    RENDER_LEGEND_OUTSIDE = 6, ///< right of the axes, outside them
 } RenderLegend;
 
 typedef struct RenderPanel {
@@ -179,12 +184,38 @@ typedef struct RenderPanel {
 } RenderPanel;
 
 typedef struct RenderPlot {
-    int width, height;         ///< pixels (1 pixel = 1/96 inch = 0.75 pt in PDF and SVG)
+    int width, height;         ///< pixels
     int rows, cols;            ///< panel grid (0 = 1)
     const RenderPanel *panels; ///< rows * cols panels, row-major
-    const char *title;         ///< figure title; NULL = none
-    double font_size;          ///< pixels (0 = min(width, height) / 40, at least 10)
+    const char *title;         ///< figure title (markup); NULL = none
+    double font_size;          ///< pixels (0 = RENDER_PLOT_FONT_PT points at dpi)
+    double dpi;                ///< pixels per inch of the written file (0 = 96)
 } RenderPlot;
+
+/// Default plot font size, points at the plot's print size (width / dpi).
+#define RENDER_PLOT_FONT_PT 9.0
+
+/// What a text box of a plot holds (render_plot_layout).
+typedef enum RenderPlotText {
+    RENDER_TEXT_TITLE = 0,       ///< the figure's title
+    RENDER_TEXT_PANEL_TITLE = 1, ///< a panel's title ("(a) kinetic")
+    RENDER_TEXT_X_TICK = 2,
+    RENDER_TEXT_Y_TICK = 3,
+    RENDER_TEXT_X_LABEL = 4,
+    RENDER_TEXT_Y_LABEL = 5,
+    RENDER_TEXT_X_OFFSET = 6, ///< the axis' common factor "x10^-3"
+    RENDER_TEXT_Y_OFFSET = 7,
+    RENDER_TEXT_LEGEND = 8, ///< the legend's frame (all its entries)
+} RenderPlotText;
+
+/// A text box the layout placed: pixels, y down, x0 < x1, y0 < y1 (ink of the glyphs, advance
+/// width); `text` is the string drawn (tick labels, offsets; "" for others).
+typedef struct RenderPlotBox {
+    double x0, y0, x1, y1;
+    RenderPlotText kind;
+    int panel; ///< -1 for the figure title
+    char text[40];
+} RenderPlotBox;
 
 /// Draws a plot into a new BGRA image (white background). 0, or -1 with a message in err.
 int render_plot_draw(const RenderPlot *plot, RenderImage *out, char *err, size_t err_size);
@@ -194,8 +225,15 @@ int render_plot_write(const RenderPlot *plot, const RenderMeta *meta, const char
 /// Pixel position of data point (x, y) in a panel, as drawn. 0, or -1 if outside the axes'
 /// domain (e.g. x <= 0 on a log axis).
 int render_plot_map(const RenderPlot *plot, int panel, double x, double y, double *px, double *py);
-/// Nice axis ticks (1, 2, 5 x 10^k steps; decades on a log axis) covering [lo, hi] with about
-/// `target` ticks; writes at most `capacity` values inside [lo, hi] and returns how many.
+/// The layout's record of the text it placed (tick labels, axis labels, offsets, titles, legend
+/// frames), as drawn by render_plot_draw: writes at most `capacity` boxes, returns how many there
+/// are (or -1 on a bad plot). Nothing overlaps, and all lies inside the canvas.
+int render_plot_layout(const RenderPlot *plot, RenderPlotBox *boxes, int capacity);
+/// A panel's axis limits as drawn: lim = {x_lo, x_hi, y_lo, y_hi}. 0, or -1 on a bad plot or panel.
+int render_plot_limits(const RenderPlot *plot, int panel, double lim[4]);
+/// Nice axis ticks (1, 2, 2.5, 5 x 10^k steps; decades on a log axis) covering [lo, hi] with at
+/// most about `target` intervals; writes at most `capacity` values inside [lo, hi], returns how
+/// many.
 int render_axis_ticks(double lo, double hi, int log, int target, double *ticks, int capacity);
 /// Widens [*lo, *hi] outward to tick multiples (linear) or whole decades (log).
 void render_axis_nice_range(double *lo, double *hi, int log, int target);

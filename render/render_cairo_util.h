@@ -39,6 +39,18 @@ double render_arrow_reference(double top);
 /// width; the head is 0.3 of the length, at most head_max pixels.
 void render_arrow(cairo_t *cr, double x, double y, double dx, double dy, double head_max);
 
+/// Plot text markup (docs/figures.md#markup): x^2, x_i, x^{ab}, x_{ab} (raised or lowered at 0.7
+/// size; a superscript and a subscript in a row are stacked, E^*_{kin}), \alpha...\omega and
+/// \Gamma...\Omega, \sqrt, \times, \cdot, \pm, \langle, \rangle, \deg; \_ \^ \{ \} \\ literal.
+/// Measures text in the current font (size `size` pixels): advance width, ink above and below the
+/// baseline (both >= 0).
+void render_markup_measure(cairo_t *cr, const char *text, double size, double *width, double *above,
+                           double *below);
+/// Draws markup anchored like render_text_draw (halign 0 left .. 1 right; valign 0 top of the
+/// capitals, 0.5 middle, 1 baseline); box (optional) receives x0, y0, x1, y1 of its ink.
+void render_markup_draw(cairo_t *cr, double x, double y, const char *text, double size,
+                        double halign, double valign, double box[4]);
+
 typedef void (*RenderDrawFn)(cairo_t *cr, void *context);
 
 /// Draws with `draw` (in pixel units) into path: .png through libpng with text chunks

@@ -192,24 +192,25 @@ static void draw_map(cairo_t *cr, void *context)
         render_text_draw(cr, g.bx + g.bw + 0.6 * g.fs, py, text, 0, 0.5);
     }
     if (m->x_label)
-        render_text_draw(cr, g.ax + 0.5 * g.aw, g.ay + g.ah + 2.3 * g.fs, m->x_label, 0.5, 0);
+        render_markup_draw(cr, g.ax + 0.5 * g.aw, g.ay + g.ah + 2.3 * g.fs, m->x_label, g.fs, 0.5,
+                           0, NULL);
     if (m->y_label) {
         cairo_save(cr);
         cairo_translate(cr, g.ax - 4.6 * g.fs, g.ay + 0.5 * g.ah);
         cairo_rotate(cr, -SIM_PI / 2);
-        render_text_draw(cr, 0, 0, m->y_label, 0.5, 0.5);
+        render_markup_draw(cr, 0, 0, m->y_label, g.fs, 0.5, 0.5, NULL);
         cairo_restore(cr);
     }
     if (m->bar_label) {
         cairo_save(cr);
         cairo_translate(cr, g.bx + g.bw + 4.3 * g.fs, g.by + 0.5 * g.bh);
         cairo_rotate(cr, -SIM_PI / 2);
-        render_text_draw(cr, 0, 0, m->bar_label, 0.5, 0.5);
+        render_markup_draw(cr, 0, 0, m->bar_label, g.fs, 0.5, 0.5, NULL);
         cairo_restore(cr);
     }
     if (m->title) {
         render_text_font(cr, 1.2 * g.fs, 0);
-        render_text_draw(cr, 0.5 * m->width, 1.2 * g.fs, m->title, 0.5, 0.5);
+        render_markup_draw(cr, 0.5 * m->width, 1.2 * g.fs, m->title, 1.2 * g.fs, 0.5, 0.5, NULL);
     }
 }
 

@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* render_plot.c: line and scatter plots for figures such as the 2x2 dimensionless energy panels of
- * thesis 000 fig. 6.15: nice-number ticks, log axes, error bars, legends, multi-panel grids; drawn
- * with Cairo, written as PNG, PDF or SVG like frame figures. */
+ * thesis 000 fig. 6.15: ticks on 1, 2, 2.5, 5 x 10^k with one format per axis, log axes, error
+ * bars, legends placed where they hide the fewest data, multi-panel grids, text in the markup of
+ * render_markup.c; laid out from measured text (every placed text box is recorded:
+ * render_plot_layout), drawn with Cairo, written as PNG, PDF or SVG like frame figures. */
 #include "render_cairo_util.h"
 
 #include "render/render.h"
@@ -20,14 +22,14 @@ static const uint32_t palette[8] = {0x0072b2, 0xd55e00, 0x009e73, 0xcc79a7,
 
 /* ---------------------------------------------------------------- ticks */
 
-/* Smallest of 1, 2, 5 x 10^k not below raw. */
+/* Smallest of 1, 2, 2.5, 5 x 10^k not below raw (matplotlib's MaxNLocator steps). */
 static double nice_step(double raw)
 {
     if (!(raw > 0) || !isfinite(raw))
         return 1;
     double p = pow(10, floor(log10(raw)));
-    static const double m[] = {1, 2, 5, 10};
-    for (int k = 0; k < 4; ++k)
+    static const double m[] = {1, 2, 2.5, 5, 10};
+    for (int k = 0; k < 5; ++k)
         if (m[k] * p >= raw * (1 - 1e-9))
             return m[k] * p;
     return 10 * p;
@@ -100,18 +102,57 @@ void render_axis_nice_range(double *lo, double *hi, int log, int target)
 
 /* ---------------------------------------------------------------- layout */
 
+enum { MAX_TICKS = 32 };
+
+/* An axis' ticks with their labels (one format for the axis) and measured sizes. */
+typedef struct AxisTicks {
+    int n, log;
+    double v[MAX_TICKS], step;
+    char label[MAX_TICKS][40];
+    double w[MAX_TICKS], h[MAX_TICKS], wmax, hmax, amax, bmax; /* hmax = amax + bmax */
+    char offset[40]; /* "x10^-3" at the axis end, "" = none */
+    double ow, oa, ob;
+} AxisTicks;
+
 typedef struct Panel {
     double cx, cy, cw, ch; /* grid cell, pixels */
     double ax, ay, aw, ah; /* axes rectangle, pixels */
     double xlo, xhi, ylo, yhi;
     int xlog, ylog;
+    AxisTicks xt, yt;
+    double lw, lh, lfs;  /* legend frame (0 = none) and font size */
+    RenderLegend legend; /* where it goes: a best legend too large for the axes goes outside */
 } Panel;
+
+/* The text boxes placed (render_plot_layout); NULL boxes = not recorded. */
+typedef struct Recorder {
+    RenderPlotBox *boxes;
+    int capacity, n;
+} Recorder;
+
+typedef struct PlotDraw {
+    const RenderPlot *plot;
+    Recorder *rec;
+} PlotDraw;
+
+static void record(Recorder *r, RenderPlotText kind, int panel, const double b[4], const char *text)
+{
+    if (!r)
+        return;
+    if (r->n < r->capacity) {
+        RenderPlotBox *o = &r->boxes[r->n];
+        *o = (RenderPlotBox){
+            .x0 = b[0], .y0 = b[1], .x1 = b[2], .y1 = b[3], .kind = kind, .panel = panel};
+        snprintf(o->text, sizeof o->text, "%s", text ? text : "");
+    }
+    ++r->n;
+}
 
 static double plot_font(const RenderPlot *p)
 {
     if (p->font_size > 0)
         return p->font_size;
-    return fmax(10.0, fmin(p->width, p->height) / 40.0);
+    return RENDER_PLOT_FONT_PT * (p->dpi > 0 ? p->dpi : 96.0) / 72.0;
 }
 
 static int valid(double v, int log)
@@ -119,64 +160,71 @@ static int valid(double v, int log)
     return isfinite(v) && (!log || v > 0);
 }
 
-static void axis_range(const RenderPanel *pn, int is_y, double *lo, double *hi)
+/* Data bounds of a panel's axis (error bars included); 0 when there is no valid point. */
+static int data_bounds(const RenderPanel *pn, int is_y, double *lo, double *hi)
 {
-    const RenderAxis *axis = is_y ? &pn->y : &pn->x;
-    if (axis->min < axis->max && (!axis->log || axis->min > 0)) {
-        *lo = axis->min;
-        *hi = axis->max;
-        return;
-    }
     double a = INFINITY, b = -INFINITY;
+    int log = is_y ? pn->y.log : pn->x.log;
     for (int s = 0; s < pn->series_count; ++s) {
         const RenderSeries *se = &pn->series[s];
         for (int k = 0; k < se->count; ++k) {
             double x = se->x[k], y = se->y[k];
             if (!valid(x, pn->x.log) || !valid(y, pn->y.log))
                 continue;
-            if (!is_y) {
-                a = fmin(a, x);
-                b = fmax(b, x);
-                continue;
-            }
-            double e = se->y_err && isfinite(se->y_err[k]) ? fabs(se->y_err[k]) : 0;
-            b = fmax(b, y + e);
-            a = fmin(a, valid(y - e, axis->log) ? y - e : y);
+            double v = is_y ? y : x;
+            double e = is_y && se->y_err && isfinite(se->y_err[k]) ? fabs(se->y_err[k]) : 0;
+            b = fmax(b, v + e);
+            a = fmin(a, valid(v - e, log) ? v - e : v);
         }
     }
-    if (!(a <= b)) {
-        a = axis->log ? 1 : 0;
-        b = axis->log ? 10 : 1;
-    }
-    render_axis_nice_range(&a, &b, axis->log, 5);
     *lo = a;
     *hi = b;
+    return a <= b;
 }
 
-static int panel_layout(const RenderPlot *p, int index, Panel *g)
+/* Axis limits: the declared ones, else the data plus 5 % of their span on each side (in
+ * decades on a log axis), never beyond the declared domain. */
+static void axis_range(const RenderPanel *pn, int is_y, double *lo, double *hi)
 {
-    int rows = p->rows > 0 ? p->rows : 1, cols = p->cols > 0 ? p->cols : 1;
-    if (index < 0 || index >= rows * cols)
-        return -1;
-    const RenderPanel *pn = &p->panels[index];
-    double fs = plot_font(p), pad = 0.5 * fs;
-    double top = p->title ? 2.2 * fs : 0;
-    g->cw = (p->width - 2 * pad) / cols;
-    g->ch = (p->height - top - 2 * pad) / rows;
-    g->cx = pad + (index % cols) * g->cw;
-    g->cy = top + pad + (index / cols) * g->ch;
-    double left = (pn->y.label ? 2.0 * fs : 0.6 * fs) + 3.6 * fs;
-    double bottom = (pn->x.label ? 1.9 * fs : 0.4 * fs) + 1.6 * fs;
-    double up = pn->title ? 2.0 * fs : 0.8 * fs;
-    g->ax = g->cx + left;
-    g->ay = g->cy + up;
-    g->aw = fmax(1.0, g->cw - left - 1.2 * fs);
-    g->ah = fmax(1.0, g->ch - up - bottom);
-    g->xlog = pn->x.log;
-    g->ylog = pn->y.log;
-    axis_range(pn, 0, &g->xlo, &g->xhi);
-    axis_range(pn, 1, &g->ylo, &g->yhi);
-    return 0;
+    const RenderAxis *axis = is_y ? &pn->y : &pn->x;
+    int log = axis->log;
+    if (axis->min < axis->max && (!log || axis->min > 0)) {
+        *lo = axis->min;
+        *hi = axis->max;
+        return;
+    }
+    double a, b;
+    if (!data_bounds(pn, is_y, &a, &b)) {
+        a = log ? 1 : 0;
+        b = log ? 10 : 1;
+    }
+    if (log) {
+        a = log10(a);
+        b = log10(b);
+    }
+    if (!(b > a)) {
+        double w = a != 0 ? 0.1 * fabs(a) : 1;
+        a -= 0.5 * w;
+        b += 0.5 * w;
+    }
+    double margin = 0.05 * (b - a);
+    a -= margin;
+    b += margin;
+    if (log) {
+        a = pow(10, a);
+        b = pow(10, b);
+    }
+    int domain = axis->domain_min < axis->domain_max && (!log || axis->domain_min > 0);
+    if (domain) {
+        a = fmax(a, axis->domain_min);
+        b = fmin(b, axis->domain_max);
+        if (!(b > a)) {
+            a = axis->domain_min;
+            b = axis->domain_max;
+        }
+    }
+    *lo = a;
+    *hi = b;
 }
 
 static double axis_pos(double v, double lo, double hi, int log)
@@ -186,54 +234,291 @@ static double axis_pos(double v, double lo, double hi, int log)
     return (v - lo) / (hi - lo);
 }
 
+/* One format for all labels of an axis: the fewest decimals that show every tick exactly, and
+ * a common factor "x10^e" (render_tick_exponent) written once at the axis end. Log axes: 10^e. */
+static void format_ticks(AxisTicks *t)
+{
+    t->offset[0] = '\0';
+    if (t->log) {
+        for (int k = 0; k < t->n; ++k) {
+            int e = (int)floor(log10(t->v[k]) + 0.5);
+            if (e == 0 || e == 1)
+                snprintf(t->label[k], sizeof t->label[k], "%d", e == 0 ? 1 : 10);
+            else
+                snprintf(t->label[k], sizeof t->label[k], "10^{%d}", e);
+        }
+        return;
+    }
+    int e = render_tick_exponent(t->v, t->n);
+    double scale = pow(10, -e), step = t->step * scale;
+    int d = 0;
+    for (int ok = 0; !ok && d < 8; d += !ok) {
+        ok = 1;
+        for (int k = 0; k < t->n; ++k) {
+            double x = t->v[k] * scale * pow(10, d);
+            if (fabs(x - round(x)) > 1e-6 * fmax(1, fabs(x)))
+                ok = 0;
+        }
+    }
+    for (int k = 0; k < t->n; ++k) {
+        double x = t->v[k] * scale;
+        if (fabs(x) < 1e-9 * step)
+            x = 0;
+        char text[32];
+        snprintf(text, sizeof text, "%.*f", d, x);
+        /* a true minus sign (U+2212), as typeset */
+        snprintf(t->label[k], sizeof t->label[k], "%s%s", text[0] == '-' ? "\xe2\x88\x92" : "",
+                 text[0] == '-' ? text + 1 : text);
+    }
+    if (e != 0)
+        render_exponent_text(e, t->offset, sizeof t->offset);
+}
+
+static void measure_ticks(cairo_t *cr, AxisTicks *t, double fs)
+{
+    t->wmax = t->amax = t->bmax = 0;
+    for (int k = 0; k < t->n; ++k) {
+        double a, b;
+        render_markup_measure(cr, t->label[k], fs, &t->w[k], &a, &b);
+        t->h[k] = a + b;
+        t->wmax = fmax(t->wmax, t->w[k]);
+        t->amax = fmax(t->amax, a);
+        t->bmax = fmax(t->bmax, b);
+    }
+    t->hmax = t->amax + t->bmax;
+    t->ow = t->oa = t->ob = 0;
+    if (t->offset[0])
+        render_markup_measure(cr, t->offset, fs, &t->ow, &t->oa, &t->ob);
+}
+
+/* Neighbouring labels keep a gap: 0.8 em across the x axis, 0.4 em up the y axis. */
+static int ticks_fit(const AxisTicks *t, double lo, double hi, double length, int is_y, double fs)
+{
+    for (int k = 1; k < t->n; ++k) {
+        double dist =
+            (axis_pos(t->v[k], lo, hi, t->log) - axis_pos(t->v[k - 1], lo, hi, t->log)) * length;
+        double need = is_y ? 0.5 * (t->h[k] + t->h[k - 1]) + 0.4 * fs
+                           : 0.5 * (t->w[k] + t->w[k - 1]) + 0.8 * fs;
+        if (dist < need)
+            return 0;
+    }
+    return 1;
+}
+
+static void axis_ticks(cairo_t *cr, double lo, double hi, int log, int target, double fs,
+                       AxisTicks *t)
+{
+    t->log = log;
+    t->n = render_axis_ticks(lo, hi, log, target, t->v, MAX_TICKS);
+    t->step = t->n > 1 ? t->v[1] - t->v[0] : hi - lo;
+    format_ticks(t);
+    measure_ticks(cr, t, fs);
+}
+
+/* Ticks for an axis `length` pixels long: about one per 3 em across, per 2 em up (matplotlib's
+ * tick space), fewer until their labels do not touch. */
+static void choose_ticks(cairo_t *cr, double lo, double hi, int log, double length, int is_y,
+                         double fs, AxisTicks *t)
+{
+    int target = (int)floor(length / ((is_y ? 2.0 : 3.0) * fs));
+    target = target < 2 ? 2 : target > 10 ? 10 : target;
+    for (;; --target) {
+        axis_ticks(cr, lo, hi, log, target, fs, t);
+        if (target <= 2 || ticks_fit(t, lo, hi, length, is_y, fs))
+            break;
+    }
+    /* A short axis with a single tick: take more ticks when their labels still fit. */
+    AxisTicks more;
+    for (int k = target + 1; t->n < 2 && k <= 6; ++k) {
+        axis_ticks(cr, lo, hi, log, k, fs, &more);
+        if (more.n >= 2 && ticks_fit(&more, lo, hi, length, is_y, fs))
+            *t = more;
+    }
+}
+
+static int legend_entries(const RenderPanel *pn)
+{
+    int n = 0;
+    for (int s = 0; s < pn->series_count; ++s)
+        n += pn->series[s].label != NULL;
+    return pn->legend == RENDER_LEGEND_NONE ? 0 : n;
+}
+
+static void legend_size(cairo_t *cr, const RenderPanel *pn, double fs, double *w, double *h)
+{
+    int n = legend_entries(pn);
+    double wmax = 0;
+    for (int s = 0; s < pn->series_count && n > 0; ++s)
+        if (pn->series[s].label) {
+            double lw, a, b;
+            render_markup_measure(cr, pn->series[s].label, fs, &lw, &a, &b);
+            wmax = fmax(wmax, lw);
+        }
+    *w = n > 0 ? 0.5 * fs + 2.2 * fs + 0.5 * fs + wmax + 0.5 * fs : 0;
+    *h = n > 0 ? n * 1.45 * fs + 0.5 * fs : 0;
+}
+
+/* Size of a markup text: width and ink height (above + below the baseline). */
+static void text_size(cairo_t *cr, const char *text, double size, int bold, double *w, double *h,
+                      double *below)
+{
+    *w = *h = *below = 0;
+    if (!text)
+        return;
+    double a;
+    render_text_font(cr, size, bold);
+    render_markup_measure(cr, text, size, w, &a, below);
+    *h = a + *below;
+}
+
+/* The figure title's font: 1.2 em, smaller (down to 0.7 em) when that is wider than the canvas. */
+static double title_font(cairo_t *cr, const RenderPlot *p, double fs)
+{
+    double w, h, b, size = 1.2 * fs;
+    text_size(cr, p->title, size, 0, &w, &h, &b);
+    if (w > p->width - 0.8 * fs)
+        size = fmax(0.7 * fs, size * (p->width - 0.8 * fs) / w);
+    render_text_font(cr, fs, 0);
+    return size;
+}
+
+static double figure_top(cairo_t *cr, const RenderPlot *p, double fs)
+{
+    double w, h, b;
+    text_size(cr, p->title, title_font(cr, p, fs), 0, &w, &h, &b);
+    render_text_font(cr, fs, 0);
+    return p->title ? 0.4 * fs + h + 0.3 * fs : 0;
+}
+
+/* A legend wider than the axes is set smaller (down to 0.7 em); a best one that would hide a
+ * fifth of the axes is set at 0.8 em, then goes outside if still that large and outside
+ * leaves the axes over half the cell. */
+static void legend_fit(cairo_t *cr, const RenderPanel *pn, double fs, Panel *g)
+{
+    double room = g->aw - fs;
+    if (g->lw > room && room > 0) {
+        g->lfs = fs * fmax(0.7, room / g->lw);
+        legend_size(cr, pn, g->lfs, &g->lw, &g->lh);
+    }
+    if (g->legend != RENDER_LEGEND_BEST || g->lw * g->lh <= 0.2 * g->aw * g->ah)
+        return;
+    if (g->lfs > 0.8 * fs) { /* first a smaller font, as matplotlib's fontsize="small" */
+        g->lfs = 0.8 * fs;
+        legend_size(cr, pn, g->lfs, &g->lw, &g->lh);
+    }
+    if (g->lw * g->lh > 0.2 * g->aw * g->ah && g->lw + 0.5 * fs < 0.45 * g->cw)
+        g->legend = RENDER_LEGEND_OUTSIDE;
+}
+
+/* Margins of the axes in their cell from the measured text around them. */
+static void panel_margins(const RenderPanel *pn, const Panel *g, const double sizes[6], double fs,
+                          double m[4])
+{
+    double gap = 0.3 * fs, tl = 0.35 * fs, pad = 0.4 * fs;
+    const AxisTicks *xt = &g->xt, *yt = &g->yt;
+    double y_label = sizes[0], x_label = sizes[1], title = sizes[2];
+    double left = pad + (pn->y.label ? y_label + gap : 0) + yt->wmax + gap + tl;
+    double right = pad, up = pad, bottom = pad + tl + gap + xt->hmax;
+    if (xt->n > 0) { /* the first and last x labels are centred on their ticks */
+        double p0 = axis_pos(xt->v[0], g->xlo, g->xhi, g->xlog) * g->aw;
+        double p1 = (1 - axis_pos(xt->v[xt->n - 1], g->xlo, g->xhi, g->xlog)) * g->aw;
+        left = fmax(left, pad + 0.5 * xt->w[0] - p0);
+        right = fmax(right, pad + 0.5 * xt->w[xt->n - 1] - p1);
+    }
+    if (xt->offset[0])
+        bottom += gap + xt->oa + xt->ob;
+    if (pn->x.label)
+        bottom += gap + x_label;
+    up += fmax(0, yt->amax - 0.3645 * fs); /* the top y label: capitals centred on its tick */
+    if (yt->offset[0])
+        up = fmax(up, pad + yt->oa + yt->ob + gap);
+    if (pn->title)
+        up = fmax(up, pad + title + 0.5 * fs + (yt->offset[0] ? yt->oa + yt->ob + gap : 0));
+    if (g->legend == RENDER_LEGEND_OUTSIDE && sizes[3] > 0)
+        right += 0.5 * fs + sizes[3];
+    m[0] = left;
+    m[1] = right;
+    m[2] = up;
+    m[3] = bottom;
+}
+
+/* A panel's cell, limits, ticks and axes rectangle: the ticks follow the axes' length and the
+ * margins the ticks' labels, so the two are iterated to agreement. */
+static int panel_layout(cairo_t *cr, const RenderPlot *p, int index, Panel *g)
+{
+    int rows = p->rows > 0 ? p->rows : 1, cols = p->cols > 0 ? p->cols : 1;
+    if (index < 0 || index >= rows * cols)
+        return -1;
+    const RenderPanel *pn = &p->panels[index];
+    double fs = plot_font(p), edge = 0.2 * fs;
+    double top = figure_top(cr, p, fs);
+    g->cw = (p->width - 2 * edge) / cols;
+    g->ch = (p->height - top - 2 * edge) / rows;
+    g->cx = edge + (index % cols) * g->cw;
+    g->cy = top + edge + (index / cols) * g->ch;
+    g->xlog = pn->x.log;
+    g->ylog = pn->y.log;
+    axis_range(pn, 0, &g->xlo, &g->xhi);
+    axis_range(pn, 1, &g->ylo, &g->yhi);
+    double sizes[6] = {0}, w, b;
+    text_size(cr, pn->y.label, fs, 0, &w, &sizes[0], &b);
+    text_size(cr, pn->x.label, fs, 0, &w, &sizes[1], &b);
+    text_size(cr, pn->title, 1.05 * fs, 1, &w, &sizes[2], &b);
+    render_text_font(cr, fs, 0);
+    g->lfs = fs;
+    legend_size(cr, pn, fs, &g->lw, &g->lh);
+    sizes[3] = g->lw;
+    g->aw = fmax(1.0, g->cw - 6 * fs);
+    g->ah = fmax(1.0, g->ch - 5 * fs);
+    g->legend = pn->legend;
+    for (int pass = 0; pass < 3; ++pass) {
+        if (pass == 1) {
+            legend_fit(cr, pn, fs, g);
+            sizes[3] = g->lw;
+        }
+        choose_ticks(cr, g->xlo, g->xhi, g->xlog, g->aw, 0, fs, &g->xt);
+        choose_ticks(cr, g->ylo, g->yhi, g->ylog, g->ah, 1, fs, &g->yt);
+        double m[4];
+        panel_margins(pn, g, sizes, fs, m);
+        g->ax = g->cx + m[0];
+        g->ay = g->cy + m[2];
+        g->aw = fmax(1.0, g->cw - m[0] - m[1]);
+        g->ah = fmax(1.0, g->ch - m[2] - m[3]);
+    }
+    return 0;
+}
+
 static void to_pixel(const Panel *g, double x, double y, double *px, double *py)
 {
     *px = g->ax + axis_pos(x, g->xlo, g->xhi, g->xlog) * g->aw;
     *py = g->ay + g->ah - axis_pos(y, g->ylo, g->yhi, g->ylog) * g->ah;
 }
 
+/* A context on a 1x1 surface for measuring text (unhinted metrics: the same on any surface). */
+static cairo_t *measure_context(void)
+{
+    cairo_surface_t *surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, 1, 1);
+    cairo_t *cr = cairo_create(surface);
+    cairo_surface_destroy(surface);
+    return cr;
+}
+
 int render_plot_map(const RenderPlot *plot, int panel, double x, double y, double *px, double *py)
 {
-    Panel g;
-    if (!plot || !plot->panels || panel_layout(plot, panel, &g) != 0)
+    if (!plot || !plot->panels)
         return -1;
-    if (!valid(x, g.xlog) || !valid(y, g.ylog))
+    Panel g;
+    cairo_t *cr = measure_context();
+    render_text_font(cr, plot_font(plot), 0);
+    int rc = panel_layout(cr, plot, panel, &g);
+    cairo_destroy(cr);
+    if (rc != 0 || !valid(x, g.xlog) || !valid(y, g.ylog))
         return -1;
     to_pixel(&g, x, y, px, py);
     return 0;
 }
 
 /* ---------------------------------------------------------------- drawing */
-
-/* "10" with a superscript exponent, anchored like render_text_draw; returns the width. */
-static double draw_pow10(cairo_t *cr, double x, double y, double value, double halign,
-                         double valign, double fs, int measure_only)
-{
-    int e = (int)floor(log10(value) + 0.5);
-    char base[] = "10", exp[16];
-    snprintf(exp, sizeof exp, "%d", e);
-    if (e == 0 || e == 1) { /* 1 and 10 read better plain */
-        snprintf(exp, sizeof exp, "%d", e == 0 ? 1 : 10);
-        double w = render_text_width(cr, exp);
-        if (!measure_only)
-            render_text_draw(cr, x, y, exp, halign, valign);
-        return w;
-    }
-    double wb = render_text_width(cr, base);
-    render_text_font(cr, 0.7 * fs, 0);
-    double we = render_text_width(cr, exp);
-    render_text_font(cr, fs, 0);
-    double w = wb + we;
-    if (measure_only)
-        return w;
-    double x0 = x - halign * w;
-    render_text_draw(cr, x0, y, base, 0, valign);
-    render_text_font(cr, 0.7 * fs, 0);
-    /* Raise the exponent by half a capital height. */
-    render_text_draw(cr, x0 + wb, y - 0.45 * 0.729 * fs, exp, 0, valign);
-    render_text_font(cr, fs, 0);
-    return w;
-}
 
 static void marker_path(cairo_t *cr, RenderMarker m, double x, double y, double size)
 {
@@ -287,6 +572,54 @@ static void line_style(cairo_t *cr, const RenderSeries *se, double lw)
     }
 }
 
+static uint32_t series_rgb(const RenderPanel *pn, int s)
+{
+    while (s > 0 && pn->series[s].rgb == RENDER_RGB_PREVIOUS)
+        --s;
+    if (pn->series[s].rgb == RENDER_RGB_PREVIOUS) /* the first series: nothing before it */
+        return palette[0];
+    if (pn->series[s].rgb != RENDER_RGB_AUTO)
+        return pn->series[s].rgb;
+    int k = 0;
+    for (int t = 0; t < s; ++t)
+        if (pn->series[t].rgb == RENDER_RGB_AUTO)
+            ++k;
+    return palette[k % 8];
+}
+
+static int check_plot(const RenderPlot *p, char *err, size_t err_size)
+{
+    if (!p || p->width <= 0 || p->height <= 0 || !p->panels) {
+        snprintf(err, err_size, "plot: bad size or no panels");
+        return -1;
+    }
+    int rows = p->rows > 0 ? p->rows : 1, cols = p->cols > 0 ? p->cols : 1;
+    for (int k = 0; k < rows * cols; ++k) {
+        const RenderPanel *pn = &p->panels[k];
+        if (pn->series_count < 0 || (pn->series_count > 0 && !pn->series)) {
+            snprintf(err, err_size, "plot: panel %d: bad series list", k);
+            return -1;
+        }
+        for (int s = 0; s < pn->series_count; ++s) {
+            const RenderSeries *se = &pn->series[s];
+            if (se->count < 0 || (se->count > 0 && (!se->x || !se->y))) {
+                snprintf(err, err_size, "plot: panel %d series %d: missing data", k, s);
+                return -1;
+            }
+        }
+    }
+    return 0;
+}
+
+/* Pixel of point k of a series; 0 when it cannot be drawn (NaN, <= 0 on a log axis). */
+static int series_point(const Panel *g, const RenderSeries *se, int k, double *px, double *py)
+{
+    if (!valid(se->x[k], g->xlog) || !valid(se->y[k], g->ylog))
+        return 0;
+    to_pixel(g, se->x[k], se->y[k], px, py);
+    return 1;
+}
+
 static void draw_series(cairo_t *cr, const Panel *g, const RenderSeries *se, uint32_t rgb,
                         double fs)
 {
@@ -318,16 +651,15 @@ static void draw_series(cairo_t *cr, const Panel *g, const RenderSeries *se, uin
         }
         cairo_stroke(cr);
     }
-    if (se->line) {
+    if (se->line) { /* a missing value (NaN, an empty bin) lifts the pen */
         line_style(cr, se, lw);
         int pen = 0;
         for (int k = 0; k < se->count; ++k) {
-            if (!valid(se->x[k], g->xlog) || !valid(se->y[k], g->ylog)) {
+            double px, py;
+            if (!series_point(g, se, k, &px, &py)) {
                 pen = 0;
                 continue;
             }
-            double px, py;
-            to_pixel(g, se->x[k], se->y[k], &px, &py);
             if (pen)
                 cairo_line_to(cr, px, py);
             else
@@ -340,142 +672,204 @@ static void draw_series(cairo_t *cr, const Panel *g, const RenderSeries *se, uin
     if (se->marker != RENDER_MARKER_NONE) {
         cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
         for (int k = 0; k < se->count; ++k) {
-            if (!valid(se->x[k], g->xlog) || !valid(se->y[k], g->ylog))
-                continue;
             double px, py;
-            to_pixel(g, se->x[k], se->y[k], &px, &py);
-            marker_path(cr, se->marker, px, py, ms);
+            if (series_point(g, se, k, &px, &py))
+                marker_path(cr, se->marker, px, py, ms);
         }
         finish_marker(cr, se->marker, lw);
     }
 }
 
-static void draw_axis_ticks(cairo_t *cr, const Panel *g, int is_y, double fs)
+/* Grid lines at the major ticks of both axes. */
+static void draw_grid(cairo_t *cr, const Panel *g, double fs)
 {
-    double lo = is_y ? g->ylo : g->xlo, hi = is_y ? g->yhi : g->xhi;
-    int log = is_y ? g->ylog : g->xlog;
-    double ticks[64];
-    int n = render_axis_ticks(lo, hi, log, 5, ticks, 64);
-    double step = n > 1 ? ticks[1] - ticks[0] : hi - lo;
-    double tl = 0.35 * fs;
-    /* Grid lines first, then tick marks and labels. */
+    double lw = fmax(1.0, fs / 24.0);
     render_set_rgb(cr, grid_rgb);
-    cairo_set_line_width(cr, 1);
-    for (int k = 0; k < n; ++k) {
+    cairo_set_line_width(cr, lw);
+    int crisp = lw < 1.5; /* one-pixel lines on pixel centres */
+    for (int k = 0; k < g->yt.n; ++k) {
         double px, py;
-        to_pixel(g, is_y ? g->xlo : ticks[k], is_y ? ticks[k] : g->ylo, &px, &py);
-        if (is_y) {
-            py = floor(py) + 0.5; /* crisp one-pixel lines */
-            cairo_move_to(cr, g->ax, py);
-            cairo_line_to(cr, g->ax + g->aw, py);
-        } else {
-            px = floor(px) + 0.5;
-            cairo_move_to(cr, px, g->ay);
-            cairo_line_to(cr, px, g->ay + g->ah);
-        }
+        to_pixel(g, g->xlo, g->yt.v[k], &px, &py);
+        py = crisp ? floor(py) + 0.5 : py;
+        cairo_move_to(cr, g->ax, py);
+        cairo_line_to(cr, g->ax + g->aw, py);
+    }
+    for (int k = 0; k < g->xt.n; ++k) {
+        double px, py;
+        to_pixel(g, g->xt.v[k], g->ylo, &px, &py);
+        px = crisp ? floor(px) + 0.5 : px;
+        cairo_move_to(cr, px, g->ay);
+        cairo_line_to(cr, px, g->ay + g->ah);
     }
     cairo_stroke(cr);
+}
+
+/* Minor ticks at 2..9 x 10^k on a log axis showing few decades. */
+static void draw_minor_log(cairo_t *cr, const Panel *g, int is_y, double tl)
+{
+    double lo = is_y ? g->ylo : g->xlo, hi = is_y ? g->yhi : g->xhi;
+    double a = floor(log10(lo)), b = ceil(log10(hi));
+    if (b - a > 8)
+        return;
+    for (double e = a; e < b; e += 1)
+        for (int m = 2; m <= 9; ++m) {
+            double v = m * pow(10, e), px, py;
+            if (v < lo || v > hi)
+                continue;
+            to_pixel(g, is_y ? g->xlo : v, is_y ? v : g->ylo, &px, &py);
+            if (is_y) {
+                cairo_move_to(cr, g->ax, py);
+                cairo_line_to(cr, g->ax - 0.55 * tl, py);
+            } else {
+                cairo_move_to(cr, px, g->ay + g->ah);
+                cairo_line_to(cr, px, g->ay + g->ah + 0.55 * tl);
+            }
+        }
+    cairo_stroke(cr);
+}
+
+/* Tick marks, their labels (one format per axis) and the axis' common factor. */
+static void draw_axis_ticks(cairo_t *cr, const Panel *g, int is_y, double fs, Recorder *rec,
+                            int panel)
+{
+    const AxisTicks *t = is_y ? &g->yt : &g->xt;
+    double tl = 0.35 * fs, gap = 0.3 * fs, b[4];
     render_set_rgb(cr, axis_rgb);
-    for (int k = 0; k < n; ++k) {
+    cairo_set_line_width(cr, fmax(1.0, fs / 14.0));
+    for (int k = 0; k < t->n; ++k) {
         double px, py;
-        to_pixel(g, is_y ? g->xlo : ticks[k], is_y ? ticks[k] : g->ylo, &px, &py);
-        char text[40];
+        to_pixel(g, is_y ? g->xlo : t->v[k], is_y ? t->v[k] : g->ylo, &px, &py);
         if (is_y) {
             cairo_move_to(cr, g->ax, py);
             cairo_line_to(cr, g->ax - tl, py);
             cairo_stroke(cr);
-            if (log)
-                draw_pow10(cr, g->ax - tl - 0.25 * fs, py, ticks[k], 1, 0.5, fs, 0);
-            else {
-                render_format_tick(ticks[k], step, 0, text, sizeof text);
-                render_text_draw(cr, g->ax - tl - 0.25 * fs, py, text, 1, 0.5);
-            }
+            render_markup_draw(cr, g->ax - tl - gap, py, t->label[k], fs, 1, 0.5, b);
         } else {
             cairo_move_to(cr, px, g->ay + g->ah);
             cairo_line_to(cr, px, g->ay + g->ah + tl);
             cairo_stroke(cr);
-            if (log)
-                draw_pow10(cr, px, g->ay + g->ah + tl + 0.35 * fs, ticks[k], 0.5, 0, fs, 0);
-            else {
-                render_format_tick(ticks[k], step, 0, text, sizeof text);
-                render_text_draw(cr, px, g->ay + g->ah + tl + 0.35 * fs, text, 0.5, 0);
+            double base = g->ay + g->ah + tl + gap + t->amax;
+            render_markup_draw(cr, px, base, t->label[k], fs, 0.5, 1, b);
+        }
+        record(rec, is_y ? RENDER_TEXT_Y_TICK : RENDER_TEXT_X_TICK, panel, b, t->label[k]);
+    }
+    if ((is_y ? g->ylog : g->xlog))
+        draw_minor_log(cr, g, is_y, tl);
+    if (!t->offset[0])
+        return;
+    if (is_y)
+        render_markup_draw(cr, g->ax, g->ay - gap - t->ob, t->offset, fs, 0, 1, b);
+    else
+        render_markup_draw(cr, g->ax + g->aw, g->ay + g->ah + tl + gap + t->hmax + gap + t->oa,
+                           t->offset, fs, 1, 1, b);
+    record(rec, is_y ? RENDER_TEXT_Y_OFFSET : RENDER_TEXT_X_OFFSET, panel, b, t->offset);
+}
+
+/* How many of the panel's data the legend frame at (x, y) would hide: points, and points every
+ * 1/8 along each line segment. */
+static long legend_cover(const Panel *g, const RenderPanel *pn, const double box[4])
+{
+    long hidden = 0;
+    for (int s = 0; s < pn->series_count; ++s) {
+        const RenderSeries *se = &pn->series[s];
+        double qx = 0, qy = 0;
+        int pen = 0;
+        for (int k = 0; k < se->count; ++k) {
+            double px, py;
+            if (!series_point(g, se, k, &px, &py)) {
+                pen = 0;
+                continue;
+            }
+            int steps = pen && se->line ? 8 : 1;
+            for (int j = 1; j <= steps; ++j) {
+                double f = (double)j / steps, x = qx + f * (px - qx), y = qy + f * (py - qy);
+                if (steps == 1) {
+                    x = px;
+                    y = py;
+                }
+                hidden += x >= box[0] && x <= box[2] && y >= box[1] && y <= box[3];
+            }
+            qx = px;
+            qy = py;
+            pen = 1;
+        }
+    }
+    return hidden;
+}
+
+/* The legend's frame: a corner asked for, outside right of the axes, or (best) the place
+ * inside that hides the fewest data, first of matplotlib's order on a tie. */
+static void legend_place(const Panel *g, const RenderPanel *pn, double fs, double box[4])
+{
+    static const double spots[][2] = {{1, 0},   {0, 0},   {0, 1},   {1, 1},    {1, 0.5},
+                                      {0, 0.5}, {0.5, 1}, {0.5, 0}, {0.5, 0.5}};
+    double m = 0.5 * fs, w = g->lw, h = g->lh, fx = 1, fy = 0;
+    switch (g->legend) {
+    case RENDER_LEGEND_UPPER_LEFT:
+        fx = 0;
+        break;
+    case RENDER_LEGEND_LOWER_LEFT:
+        fx = 0;
+        fy = 1;
+        break;
+    case RENDER_LEGEND_LOWER_RIGHT:
+        fy = 1;
+        break;
+    case RENDER_LEGEND_OUTSIDE:
+        box[0] = g->ax + g->aw + m;
+        box[1] = g->ay;
+        box[2] = box[0] + w;
+        box[3] = box[1] + h;
+        return;
+    case RENDER_LEGEND_BEST: {
+        long best = -1;
+        for (size_t k = 0; k < sizeof spots / sizeof spots[0]; ++k) {
+            double x = g->ax + m + spots[k][0] * (g->aw - w - 2 * m);
+            double y = g->ay + m + spots[k][1] * (g->ah - h - 2 * m);
+            double b[4] = {x, y, x + w, y + h};
+            long hidden = legend_cover(g, pn, b);
+            if (best < 0 || hidden < best) {
+                best = hidden;
+                fx = spots[k][0];
+                fy = spots[k][1];
             }
         }
+        break;
     }
-    if (log) { /* minor ticks at 2..9 x 10^k when few decades are shown */
-        double a = floor(log10(lo)), b = ceil(log10(hi));
-        if (b - a <= 8) {
-            for (double e = a; e < b; e += 1)
-                for (int m = 2; m <= 9; ++m) {
-                    double v = m * pow(10, e);
-                    if (v < lo || v > hi)
-                        continue;
-                    double px, py;
-                    to_pixel(g, is_y ? g->xlo : v, is_y ? v : g->ylo, &px, &py);
-                    if (is_y) {
-                        cairo_move_to(cr, g->ax, py);
-                        cairo_line_to(cr, g->ax - 0.55 * tl, py);
-                    } else {
-                        cairo_move_to(cr, px, g->ay + g->ah);
-                        cairo_line_to(cr, px, g->ay + g->ah + 0.55 * tl);
-                    }
-                }
-            cairo_set_line_width(cr, 0.8);
-            cairo_stroke(cr);
-            cairo_set_line_width(cr, 1);
-        }
+    default:
+        break;
     }
+    box[0] = g->ax + m + fx * (g->aw - w - 2 * m);
+    box[1] = g->ay + m + fy * (g->ah - h - 2 * m);
+    box[2] = box[0] + w;
+    box[3] = box[1] + h;
 }
 
-static uint32_t series_rgb(const RenderPanel *pn, int s)
+static void draw_legend(cairo_t *cr, const Panel *g, const RenderPanel *pn, double fs,
+                        Recorder *rec, int panel)
 {
-    while (s > 0 && pn->series[s].rgb == RENDER_RGB_PREVIOUS)
-        --s;
-    if (pn->series[s].rgb == RENDER_RGB_PREVIOUS) /* the first series: nothing before it */
-        return palette[0];
-    if (pn->series[s].rgb != RENDER_RGB_AUTO)
-        return pn->series[s].rgb;
-    int k = 0;
-    for (int t = 0; t < s; ++t)
-        if (pn->series[t].rgb == RENDER_RGB_AUTO)
-            ++k;
-    return palette[k % 8];
-}
-
-static void draw_legend(cairo_t *cr, const Panel *g, const RenderPanel *pn, double fs)
-{
-    if (pn->legend == RENDER_LEGEND_NONE)
+    if (g->lw <= 0)
         return;
-    int n = 0;
-    double wmax = 0;
-    for (int s = 0; s < pn->series_count; ++s)
-        if (pn->series[s].label) {
-            ++n;
-            wmax = fmax(wmax, render_text_width(cr, pn->series[s].label));
-        }
-    if (n == 0)
-        return;
-    double row = 1.45 * fs, sample = 2.2 * fs, pad = 0.5 * fs;
-    double w = pad + sample + 0.5 * fs + wmax + pad, h = n * row + pad;
-    double m = 0.5 * fs;
-    int right = pn->legend == RENDER_LEGEND_UPPER_RIGHT || pn->legend == RENDER_LEGEND_LOWER_RIGHT;
-    int upper = pn->legend == RENDER_LEGEND_UPPER_RIGHT || pn->legend == RENDER_LEGEND_UPPER_LEFT;
-    double x = right ? g->ax + g->aw - m - w : g->ax + m;
-    double y = upper ? g->ay + m : g->ay + g->ah - m - h;
+    double box[4];
+    legend_place(g, pn, fs, box);
+    double x = box[0], y = box[1], w = g->lw, h = g->lh;
+    double lfs = g->lfs, row = 1.45 * lfs, sample = 2.2 * lfs, pad = 0.5 * lfs;
     cairo_set_source_rgba(cr, 1, 1, 1, 0.9);
     cairo_rectangle(cr, x, y, w, h);
     cairo_fill_preserve(cr);
     render_set_rgb(cr, 0xb0b0b0);
-    cairo_set_line_width(cr, 1);
+    cairo_set_line_width(cr, fmax(1.0, fs / 24.0));
     cairo_stroke(cr);
+    record(rec, RENDER_TEXT_LEGEND, panel, box, NULL);
+    cairo_save(cr);
+    render_text_font(cr, lfs, 0);
     int k = 0;
     for (int s = 0; s < pn->series_count; ++s) {
         const RenderSeries *se = &pn->series[s];
         if (!se->label)
             continue;
         double cy = y + 0.5 * pad + (k + 0.5) * row;
-        uint32_t rgb = series_rgb(pn, s);
-        render_set_rgb(cr, rgb);
+        render_set_rgb(cr, series_rgb(pn, s));
         double lw = se->line_width > 0 ? se->line_width : fs / 8.0;
         double ms = se->marker_size > 0 ? se->marker_size : fs / 2.0;
         if (se->line || se->marker == RENDER_MARKER_NONE) {
@@ -490,21 +884,59 @@ static void draw_legend(cairo_t *cr, const Panel *g, const RenderPanel *pn, doub
             finish_marker(cr, se->marker, lw);
         }
         render_set_rgb(cr, axis_rgb);
-        render_text_draw(cr, x + pad + sample + 0.5 * fs, cy, se->label, 0, 0.5);
+        render_markup_draw(cr, x + pad + sample + 0.5 * lfs, cy, se->label, lfs, 0, 0.5, NULL);
         ++k;
+    }
+    cairo_restore(cr);
+}
+
+/* Axis labels and the panel title, placed as panel_margins reserved them. */
+static void draw_labels(cairo_t *cr, const Panel *g, const RenderPanel *pn, double fs,
+                        Recorder *rec, int panel)
+{
+    double gap = 0.3 * fs, tl = 0.35 * fs, b[4], w, a, below;
+    render_set_rgb(cr, axis_rgb);
+    if (pn->x.label) {
+        double top = g->ay + g->ah + tl + gap + g->xt.hmax + gap;
+        if (g->xt.offset[0])
+            top += g->xt.oa + g->xt.ob + gap;
+        render_markup_measure(cr, pn->x.label, fs, &w, &a, &below);
+        render_markup_draw(cr, g->ax + 0.5 * g->aw, top + a, pn->x.label, fs, 0.5, 1, b);
+        record(rec, RENDER_TEXT_X_LABEL, panel, b, NULL);
+    }
+    if (pn->y.label) { /* turned a quarter anticlockwise: its ink above the baseline is left */
+        render_markup_measure(cr, pn->y.label, fs, &w, &a, &below);
+        double xb = g->ax - tl - gap - g->yt.wmax - gap - below, yc = g->ay + 0.5 * g->ah;
+        cairo_save(cr);
+        cairo_translate(cr, xb, yc);
+        cairo_rotate(cr, -0.5 * SIM_PI);
+        render_markup_draw(cr, 0, 0, pn->y.label, fs, 0.5, 1, b);
+        cairo_restore(cr);
+        double r[4] = {xb + b[1], yc - b[2], xb + b[3], yc - b[0]};
+        record(rec, RENDER_TEXT_Y_LABEL, panel, r, NULL);
+    }
+    if (pn->title) {
+        render_text_font(cr, 1.05 * fs, 1);
+        render_markup_measure(cr, pn->title, 1.05 * fs, &w, &a, &below);
+        double bottom = g->ay - 0.5 * fs - (g->yt.offset[0] ? g->yt.oa + g->yt.ob + gap : 0);
+        double x = g->ax + 0.5 * g->aw; /* centred on the axes, kept inside the cell */
+        x = fmin(x, g->cx + g->cw - 0.4 * fs - 0.5 * w);
+        x = fmax(x, g->cx + 0.4 * fs + 0.5 * w);
+        render_markup_draw(cr, x, bottom - below, pn->title, 1.05 * fs, 0.5, 1, b);
+        record(rec, RENDER_TEXT_PANEL_TITLE, panel, b, NULL);
+        render_text_font(cr, fs, 0);
     }
 }
 
-static void draw_panel(cairo_t *cr, const RenderPlot *p, int index)
+static void draw_panel(cairo_t *cr, const RenderPlot *p, int index, Recorder *rec)
 {
     Panel g;
-    if (panel_layout(p, index, &g) != 0)
-        return;
-    const RenderPanel *pn = &p->panels[index];
     double fs = plot_font(p);
     render_text_font(cr, fs, 0);
-    draw_axis_ticks(cr, &g, 0, fs);
-    draw_axis_ticks(cr, &g, 1, fs);
+    if (panel_layout(cr, p, index, &g) != 0)
+        return;
+    const RenderPanel *pn = &p->panels[index];
+    draw_grid(cr, &g, fs);
     cairo_save(cr);
     cairo_rectangle(cr, g.ax, g.ay, g.aw, g.ah);
     cairo_clip(cr);
@@ -512,65 +944,44 @@ static void draw_panel(cairo_t *cr, const RenderPlot *p, int index)
         draw_series(cr, &g, &pn->series[s], series_rgb(pn, s), fs);
     cairo_restore(cr);
     render_set_rgb(cr, axis_rgb);
-    cairo_set_line_width(cr, 1.2);
+    cairo_set_line_width(cr, fmax(1.2, fs / 14.0));
     cairo_rectangle(cr, g.ax, g.ay, g.aw, g.ah);
     cairo_stroke(cr);
-    draw_legend(cr, &g, pn, fs);
-    render_set_rgb(cr, axis_rgb);
-    if (pn->x.label)
-        render_text_draw(cr, g.ax + 0.5 * g.aw, g.ay + g.ah + 2.3 * fs, pn->x.label, 0.5, 0);
-    if (pn->y.label) {
-        cairo_save(cr);
-        cairo_translate(cr, g.cx + 0.4 * fs, g.ay + 0.5 * g.ah);
-        cairo_rotate(cr, -0.5 * SIM_PI);
-        render_text_draw(cr, 0, 0, pn->y.label, 0.5, 0);
-        cairo_restore(cr);
-    }
-    if (pn->title) {
-        render_text_font(cr, 1.05 * fs, 1);
-        render_text_draw(cr, g.ax + 0.5 * g.aw, g.ay - 0.6 * fs, pn->title, 0.5, 1);
-        render_text_font(cr, fs, 0);
-    }
+    draw_axis_ticks(cr, &g, 0, fs, rec, index);
+    draw_axis_ticks(cr, &g, 1, fs, rec, index);
+    draw_legend(cr, &g, pn, fs, rec, index);
+    draw_labels(cr, &g, pn, fs, rec, index);
 }
 
 static void draw_plot(cairo_t *cr, void *context)
 {
-    const RenderPlot *p = context;
+    const PlotDraw *d = context;
+    const RenderPlot *p = d->plot;
     cairo_set_antialias(cr, CAIRO_ANTIALIAS_GOOD);
     cairo_set_source_rgb(cr, 1, 1, 1);
     cairo_paint(cr);
     int rows = p->rows > 0 ? p->rows : 1, cols = p->cols > 0 ? p->cols : 1;
     for (int k = 0; k < rows * cols; ++k)
-        draw_panel(cr, p, k);
+        draw_panel(cr, p, k, d->rec);
     if (p->title) {
-        double fs = plot_font(p);
-        render_text_font(cr, 1.2 * fs, 0);
+        double fs = plot_font(p), b[4], size = title_font(cr, p, fs);
+        render_text_font(cr, size, 0);
         render_set_rgb(cr, axis_rgb);
-        render_text_draw(cr, 0.5 * p->width, 0.5 * fs + 1.1 * fs, p->title, 0.5, 0.5);
+        render_markup_draw(cr, 0.5 * p->width, 0.4 * fs, p->title, size, 0.5, 0, b);
+        record(d->rec, RENDER_TEXT_TITLE, -1, b, NULL);
     }
 }
 
-static int check_plot(const RenderPlot *p, char *err, size_t err_size)
+int render_plot_limits(const RenderPlot *plot, int panel, double lim[4])
 {
-    if (!p || p->width <= 0 || p->height <= 0 || !p->panels) {
-        snprintf(err, err_size, "plot: bad size or no panels");
+    char err[128];
+    if (check_plot(plot, err, sizeof err) != 0)
         return -1;
-    }
-    int rows = p->rows > 0 ? p->rows : 1, cols = p->cols > 0 ? p->cols : 1;
-    for (int k = 0; k < rows * cols; ++k) {
-        const RenderPanel *pn = &p->panels[k];
-        if (pn->series_count < 0 || (pn->series_count > 0 && !pn->series)) {
-            snprintf(err, err_size, "plot: panel %d: bad series list", k);
-            return -1;
-        }
-        for (int s = 0; s < pn->series_count; ++s) {
-            const RenderSeries *se = &pn->series[s];
-            if (se->count < 0 || (se->count > 0 && (!se->x || !se->y))) {
-                snprintf(err, err_size, "plot: panel %d series %d: missing data", k, s);
-                return -1;
-            }
-        }
-    }
+    const int rows = plot->rows > 0 ? plot->rows : 1, cols = plot->cols > 0 ? plot->cols : 1;
+    if (panel < 0 || panel >= rows * cols)
+        return -1;
+    axis_range(&plot->panels[panel], 0, &lim[0], &lim[1]);
+    axis_range(&plot->panels[panel], 1, &lim[2], &lim[3]);
     return 0;
 }
 
@@ -579,9 +990,21 @@ int render_plot_draw(const RenderPlot *plot, RenderImage *out, char *err, size_t
     out->pixels = NULL;
     if (check_plot(plot, err, err_size) != 0)
         return -1;
-    /* The context is only read. */
-    return render_cairo_image(plot->width, plot->height, draw_plot, (void *)(uintptr_t)plot, out,
-                              err, err_size);
+    PlotDraw d = {.plot = plot};
+    return render_cairo_image(plot->width, plot->height, draw_plot, &d, out, err, err_size);
+}
+
+int render_plot_layout(const RenderPlot *plot, RenderPlotBox *boxes, int capacity)
+{
+    char err[128];
+    if (check_plot(plot, err, sizeof err) != 0)
+        return -1;
+    Recorder rec = {.boxes = boxes, .capacity = capacity > 0 ? capacity : 0};
+    PlotDraw d = {.plot = plot, .rec = &rec};
+    cairo_t *cr = measure_context();
+    draw_plot(cr, &d);
+    cairo_destroy(cr);
+    return rec.n;
 }
 
 int render_plot_write(const RenderPlot *plot, const RenderMeta *meta, const char *path, char *err,
@@ -595,6 +1018,7 @@ int render_plot_write(const RenderPlot *plot, const RenderMeta *meta, const char
     render_provenance(meta, plot->title, 0, seed, text, &n);
     text[n++] = NULL;
     text[n++] = NULL;
-    return render_cairo_write(path, plot->width, plot->height, draw_plot, (void *)(uintptr_t)plot,
-                              text, err, err_size);
+    PlotDraw d = {.plot = plot};
+    return render_cairo_write_dpi(path, plot->width, plot->height, plot->dpi, draw_plot, &d, text,
+                                  err, err_size);
 }

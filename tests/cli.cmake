@@ -124,6 +124,12 @@ if(NOT SABLIER_WITH_RENDER)
   sablier_cli_test(render_not_built "render|a.state|-o|a.png" 2 ERR "rendering is not built")
 endif()
 
+# plots at print size, in a second format, byte-identical (issue 38 part 1)
+add_test(NAME cli.plot_format
+         COMMAND bash ${CLI_DIR}/plot_format.sh $<TARGET_FILE:sablier>
+                 ${PROJECT_SOURCE_DIR}/scenes/measure/column.scene ${CLI_WORK}/plot_format)
+set_tests_properties(cli.plot_format PROPERTIES LABELS cli)
+
 # SIGINT/SIGTERM, stale outputs, foreign folders and provenance (issue 18 parts 1 and 3)
 add_test(NAME cli.interrupt
          COMMAND bash ${CLI_DIR}/interrupt.sh $<TARGET_FILE:sablier>

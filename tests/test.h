@@ -57,6 +57,18 @@ static inline char *test_read_file(const char *path, long *size)
     return data;
 }
 
+/* 1 when the two files hold the same bytes (both readable). */
+static inline int test_same_bytes(const char *a, const char *b)
+{
+    long na = 0, nb = 0;
+    unsigned char *pa = (unsigned char *)test_read_file(a, &na),
+                  *pb = (unsigned char *)test_read_file(b, &nb);
+    int same = pa && pb && na == nb && memcmp(pa, pb, (size_t)na) == 0;
+    free(pa);
+    free(pb);
+    return same;
+}
+
 /* A new empty file for a test's output, named /tmp/sablier-test-XXXXXX made unique by mkstemp,
  * in path (32 bytes). 0, or -1 when it cannot be made. The test removes it. */
 static inline int test_tmp_file(char path[32])

@@ -80,14 +80,14 @@ typedef struct Record {
     double *t, *h;
 } Record;
 
-/* One panel of curves, as every `sablier bne` plot (legend upper left). */
+/* One panel of curves, as every `sablier bne` plot (legend where it hides the fewest data). */
 static int bne_plot(const AppRender *render, const char *path, const char *title,
                     const char *x_label, const char *y_label, const AppPlotSeries *series,
                     int count, char *err, size_t err_size)
 {
     AppPlotPanel panel = {.x_label = x_label,
                           .y_label = y_label,
-                          .legend = APP_LEGEND_UPPER_LEFT,
+                          .legend = APP_LEGEND_AUTO,
                           .series_count = count < 64 ? count : 64,
                           .series = series};
     AppPlot plot = {.title = title,

@@ -566,11 +566,12 @@ int app_chart_energy_run(AppChart *plot, const char *run_dir, const char *label)
     }
     static const char *const titles[4] = {"(a) kinetic", "(b) potential - start", "(c) rotational",
                                           "(d) elastic"};
-    static const char *const ylabels[4] = {"E*_kin", "E*_pot - E*_pot(0)", "E*_rot", "E*_el"};
+    static const char *const ylabels[4] = {"E^*_{kin}", "E^*_{pot} \xe2\x88\x92 E^*_{pot}(0)",
+                                           "E^*_{rot}", "E^*_{el}"};
     for (int k = 0; rc == 0 && k < 4; ++k) {
         AppChartPanel *p = &plot->panels[k];
         snprintf(p->title, sizeof p->title, "%s", titles[k]);
-        snprintf(p->x_label, sizeof p->x_label, "t* = (t - t0) / sqrt(D/g)");
+        snprintf(p->x_label, sizeof p->x_label, "t^* = (t \xe2\x88\x92 t_0) / \\sqrt{D/g}");
         snprintf(p->y_label, sizeof p->y_label, "%s", ylabels[k]);
         rc = app_chart_add(plot, k, label, x, y[k], n, 1, 0);
     }
@@ -618,6 +619,18 @@ int app_chart_profiles_run(AppChart *plot, int panel, const char *run_dir, int c
     snprintf(p->y_label, sizeof p->y_label, "free surface y (m)");
     double *x = malloc((size_t)c.count * sizeof *x), *y = malloc((size_t)c.count * sizeof *y);
     rc = x && y ? 0 : -1;
+    /* the profile's bins span the box's interior (centres half a bin inside its walls): the
+     * plot's x axis never runs past it */
+    p->x_domain[0] = INFINITY;
+    p->x_domain[1] = -INFINITY;
+    for (int r = first; r < c.count; ++r) {
+        p->x_domain[0] = fmin(p->x_domain[0], c.v[(size_t)r * 4 + 2]);
+        p->x_domain[1] = fmax(p->x_domain[1], c.v[(size_t)r * 4 + 2]);
+    }
+    int bins = starts[1] - starts[0];
+    double half = bins > 1 ? 0.5 * (p->x_domain[1] - p->x_domain[0]) / (bins - 1) : 0.0;
+    p->x_domain[0] -= half;
+    p->x_domain[1] += half;
     for (int k = 0; rc == 0 && k < curves; ++k) {
         int s = curves == 1 ? samples - 1 : (int)lround((double)k * (samples - 1) / (curves - 1));
         int n = 0;
@@ -629,7 +642,8 @@ int app_chart_profiles_run(AppChart *plot, int panel, const char *run_dir, int c
         if (curves == 1 && label)
             snprintf(text, sizeof text, "%s", label);
         else
-            snprintf(text, sizeof text, "t - t0 = %.2f s", c.v[(size_t)starts[s] * 4 + 1]);
+            snprintf(text, sizeof text, "t \xe2\x88\x92 t_0 = %.2f s",
+                     c.v[(size_t)starts[s] * 4 + 1]);
         rc = app_chart_add(plot, panel, text, x, y, n, 1, 0);
     }
     free(x);
@@ -681,7 +695,9 @@ int app_chart_write(const AppChart *chart, const AppRender *render, const char *
         panels[p].y_label = a->y_label[0] ? a->y_label : NULL;
         panels[p].series_count = a->series_count;
         panels[p].series = series[p];
-        panels[p].legend = a->series_count > 1 ? APP_LEGEND_UPPER_RIGHT : APP_LEGEND_NONE;
+        panels[p].legend = a->series_count > 1 ? APP_LEGEND_AUTO : APP_LEGEND_NONE;
+        panels[p].x_domain_min = a->x_domain[0];
+        panels[p].x_domain_max = a->x_domain[1];
     }
     AppPlot plot = {.title = chart->title[0] ? chart->title : NULL,
                     .width = chart->width,
@@ -689,7 +705,8 @@ int app_chart_write(const AppChart *chart, const AppRender *render, const char *
                     .rows = chart->rows,
                     .cols = chart->cols,
                     .panel_count = count < APP_CHART_MAX_PANELS ? count : APP_CHART_MAX_PANELS,
-                    .panels = panels};
+                    .panels = panels,
+                    .print = chart->print};
     return render->plot(render->context, &plot, path, err, err_size);
 }
 
@@ -702,6 +719,7 @@ int app_crater_plots(const Scene *scene, const char *out_dir, const AppRender *r
     AppChart plot;
     snprintf(title, sizeof title, "%s: dimensionless energies of the last stage", scene->name);
     app_chart_init(&plot, 2, 2, title);
+    plot.print = &scene->style;
     int rc = 0;
     if (app_chart_energy_run(&plot, out_dir, scene->name) == 0) {
         snprintf(path, sizeof path, "%s/energy_panels.png", out_dir);
@@ -711,6 +729,7 @@ int app_crater_plots(const Scene *scene, const char *out_dir, const AppRender *r
     snprintf(title, sizeof title, "%s: free-surface profile evolution (000 fig. 7.30)",
              scene->name);
     app_chart_init(&plot, 1, 1, title);
+    plot.print = &scene->style;
     if (rc == 0 && app_chart_profiles_run(&plot, 0, out_dir, 8, NULL) == 0) {
         snprintf(path, sizeof path, "%s/profiles.png", out_dir);
         rc = app_chart_write(&plot, render, path, err, err_size);

@@ -105,14 +105,16 @@ typedef struct AppChartSeries {
 } AppChartSeries;
 
 typedef struct AppChartPanel {
-    char title[64], x_label[64], y_label[64];
+    char title[64], x_label[64], y_label[64]; ///< markup (docs/figures.md#markup)
+    double x_domain[2];                       ///< the x axis' physical domain (min >= max: none)
     int series_count;
     AppChartSeries series[APP_CHART_MAX_SERIES];
 } AppChartPanel;
 
 typedef struct AppChart {
     char title[160];
-    int rows, cols, width, height; ///< panel grid, pixels
+    int rows, cols, width, height;  ///< panel grid, pixels
+    const struct SceneStyle *print; ///< the scene's print keys (NULL = none)
     AppChartPanel panels[APP_CHART_MAX_PANELS];
 } AppChart;
 

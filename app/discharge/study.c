@@ -648,7 +648,8 @@ static int study_plot(const AppRender *render, const Scene *scene, const StudyPl
                     .panel_count = 1,
                     .panels = &panel,
                     .scene = scene->name,
-                    .seed = scene->seed};
+                    .seed = scene->seed,
+                    .print = &scene->style};
     return render->plot(render->context, &plot, path, err, err_size);
 }
 

@@ -261,7 +261,7 @@ static void plot_flux(const Scan *sc, const ScanResult *r)
     char label[96];
     snprintf(label, sizeof label, "threshold %.3g", theta_c);
     AppPlotSeries curves[3] = {
-        {.label = "q*_sat (mean over the last third)",
+        {.label = "q^*_{sat} (mean over the last third)",
          .count = n,
          .x = r->xs,
          .y = r->ys,
@@ -283,8 +283,8 @@ static void plot_flux(const Scan *sc, const ScanResult *r)
          .dashed = 1,
          .rgb = APP_RGB_AUTO},
     };
-    AppPlotPanel panel = {.x_label = "Shields number Theta",
-                          .y_label = "q* = q / (d sqrt((D_R - 1) g d))",
+    AppPlotPanel panel = {.x_label = "Shields number \\Theta",
+                          .y_label = "q^* = q / (d \\sqrt{(D_R - 1) g d})",
                           .legend = APP_LEGEND_UPPER_LEFT,
                           .series_count = isfinite(theta_c) ? 3 : 2,
                           .series = curves};

@@ -587,7 +587,7 @@ static int sediment_figure_extras(void *state, const SimFrame *frame, AppFigureE
     sim_fluid_profile(s->fluid, &p);
     s->side_series[0] = (AppPlotSeries){
         .label = "u(y)", .count = p.cells, .x = p.u, .y = p.y, .line = 1, .rgb = 0x1f77b4};
-    s->side_series[1] = (AppPlotSeries){.label = "phi(y)",
+    s->side_series[1] = (AppPlotSeries){.label = "\\phi(y)",
                                         .count = p.cells,
                                         .x = p.solid_fraction,
                                         .y = p.y,
@@ -600,7 +600,7 @@ static int sediment_figure_extras(void *state, const SimFrame *frame, AppFigureE
                                        .series_count = 1,
                                        .series = &s->side_series[0]};
     s->side_panels[1] = (AppPlotPanel){.title = "grain fraction",
-                                       .x_label = "phi",
+                                       .x_label = "\\phi",
                                        .legend = APP_LEGEND_NONE,
                                        .x_max = 1.0,
                                        .series_count = 1,

@@ -27,17 +27,6 @@ static RenderStyle figure_style(void)
     return s;
 }
 
-static int same_bytes(const char *a, const char *b)
-{
-    long na = 0, nb = 0;
-    unsigned char *pa = (unsigned char *)test_read_file(a, &na),
-                  *pb = (unsigned char *)test_read_file(b, &nb);
-    int same = pa && pb && na == nb && memcmp(pa, pb, (size_t)na) == 0;
-    free(pa);
-    free(pb);
-    return same;
-}
-
 /* strstr over binary data (PDF streams hold NUL bytes). */
 static int contains(const unsigned char *buf, long n, const char *text)
 {
@@ -135,7 +124,7 @@ static int png_byte_identical(void)
     char err[256];
     TEST_ASSERT(render_figure_write(&f.frame, &s, &meta, DIR "/run1.png", err, sizeof err) == 0);
     TEST_ASSERT(render_figure_write(&f.frame, &s, &meta, DIR "/run2.png", err, sizeof err) == 0);
-    TEST_ASSERT(same_bytes(DIR "/run1.png", DIR "/run2.png"));
+    TEST_ASSERT(test_same_bytes(DIR "/run1.png", DIR "/run2.png"));
     fixture_free(&f);
     return 0;
 }
@@ -151,7 +140,7 @@ static int pdf_byte_identical(void)
     TEST_ASSERT(render_figure_write(&f.frame, &s, &meta, DIR "/run1.pdf", err, sizeof err) == 0);
     TEST_ASSERT(render_figure_write(&f.frame, &s, &meta, DIR "/run2.PDF", err, sizeof err) == 0);
     TEST_ASSERT(!file_exists(DIR "/run1.pdf.tmp"));
-    TEST_ASSERT(same_bytes(DIR "/run1.pdf", DIR "/run2.PDF"));
+    TEST_ASSERT(test_same_bytes(DIR "/run1.pdf", DIR "/run2.PDF"));
     long n = 0;
     unsigned char *pdf = (unsigned char *)test_read_file(DIR "/run1.pdf", &n);
     TEST_ASSERT(pdf && n > 1000);
