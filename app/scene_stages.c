@@ -61,7 +61,8 @@ static int checkpoint_path(Loader *L, const config_setting_t *g, const char *loa
     memcpy(stage->load_path + dir_length, load, strlen(load) + 1);
     /* the whole state read now, so that a bad file stops the run before any stage */
     char why[600];
-    if (app_state_check(stage->load_path, why, sizeof why) != 0)
+    if (app_state_check(stage->load_path, L->scene->def.species_count, L->scene->def.motion_count,
+                        why, sizeof why) != 0)
         return app_config_fail(&L->p, app_config_member(g, "load"), "%s", why);
     return 0;
 }

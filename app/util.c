@@ -180,11 +180,11 @@ int app_parse_key_values(const char *text, char *key, size_t key_size, double *v
 const char *app_list_item(const char **list, size_t *length)
 {
     const char *item = *list;
-    if (!item || !*item)
+    if (!item)
         return NULL;
     size_t n = strcspn(item, ",");
     *length = n;
-    *list = item + n + (item[n] == ',');
+    *list = item[n] == ',' ? item + n + 1 : NULL;
     return item;
 }
 
@@ -192,9 +192,11 @@ int app_parse_numbers(const char *text, const AppNumberList *how, double *values
 {
     int n = 0;
     size_t length;
+    if (!text || !*text)
+        return 0;
     for (const char *item; (item = app_list_item(&text, &length)) != NULL;) {
-        if (length == 0 && how->skip_empty)
-            continue;
+        if (length == 0)
+            return -1;
         if (n == max)
             return how->exact ? -1 : n;
         char *end;
@@ -228,7 +230,30 @@ int app_make_dirs(const char *path)
     return stat(buffer, &st) == 0 && S_ISDIR(st.st_mode) ? 0 : -1;
 }
 
-int app_state_check(const char *path, char *err, size_t err_size)
+/* The first grain of `grains` whose species or motion the scene lacks: 0, or -1 with why. */
+static int state_grains_fit(const char *path, const SimGrainSet *grains, int species_count,
+                            int motion_count, char *err, size_t err_size)
+{
+    for (int i = 0; i < grains->count; ++i) {
+        int species = grains->species[i], motion = grains->motion[i];
+        if (species < 0 || species >= species_count) {
+            snprintf(err, err_size,
+                     "checkpoint `%s`: grain %u has species %d; the scene has species 0 to %d",
+                     path, grains->id[i], species, species_count - 1);
+            return -1;
+        }
+        if (motion < -1 || motion >= motion_count) {
+            snprintf(err, err_size,
+                     "checkpoint `%s`: grain %u follows motion %d; the scene has %d motion(s)",
+                     path, grains->id[i], motion, motion_count);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+int app_state_check(const char *path, int species_count, int motion_count, char *err,
+                    size_t err_size)
 {
     FILE *f = fopen(path, "rb");
     if (!f) {
@@ -245,7 +270,8 @@ int app_state_check(const char *path, char *err, size_t err_size)
         snprintf(err, err_size, "checkpoint `%s`: %s", path, error.message);
         return -1;
     }
+    int fits = state_grains_fit(path, &grains, species_count, motion_count, err, err_size);
     sim_grain_set_free(&grains);
     free(walls);
-    return 0;
+    return fits;
 }
