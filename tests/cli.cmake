@@ -255,6 +255,8 @@ sablier_cli_test(study_widths_empty_item
 sablier_cli_test(study_widths_too_small
                  "study|${CLI_DISCHARGE}|--widths|0.5,2|--out|${CLI_WORK}/study_widths_too_small" 2
                  ERR "study: --widths 0.5: an orifice width must be in")
+sablier_cli_test(set_array_empty_element "check|${CLI_TINY}|--set|effects=[friction,,rolling_resistance]"
+                 2 ERR "--set effects: an empty element in \\[a, b, ...\\]")
 sablier_cli_test(diff_threshold_over "diff|a.png|b.png|--threshold|300" 2
                  ERR "--threshold needs a count in \\[0, 255\\], got 300")
 if(SABLIER_WITH_RENDER)
