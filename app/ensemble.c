@@ -139,7 +139,7 @@ static int parse_keys(Options *o, const char *list)
 /* --dt or --steps-per-contact LIST: 0, or the exit status. */
 static int parse_values(Options *o, const char *name, const char *list, int by_steps)
 {
-    static const AppNumberList how = {.min = 0.0, .skip_empty = 0, .strict = 1, .exact = 1};
+    static const AppNumberList how = {.min = 0.0, .strict = 1, .exact = 1};
     if (o->value_count > 0)
         return usage_error("give one list: --dt or --steps-per-contact, once; got", name);
     o->by_steps = by_steps;

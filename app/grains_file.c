@@ -28,6 +28,9 @@ enum {
 
 #define MAX_COLUMNS 32
 #define LINE_MAX    4096
+/* The largest id a file may give (2^31 - 1): the ids of grains added later (sources) count on
+ * from the largest in 32 bits, so a larger one would wrap onto the file's. */
+#define ID_MAX      2147483647.0
 
 typedef struct Reader {
     const char *path;
@@ -36,6 +39,8 @@ typedef struct Reader {
     size_t err_size;
     int column[COL_COUNT]; /* field index of each known column, -1 when absent */
     int fields;            /* columns per row */
+    long *id_line;         /* the line of each row read (for a duplicate id's message) */
+    int id_capacity;
 } Reader;
 
 static int fail(Reader *r, const char *message, const char *detail)
@@ -101,12 +106,58 @@ static int read_header(Reader *r, char **names, int n, int lammps)
         if (c < 0 && !(lammps && (strcmp(names[k], "z") == 0 || strcmp(names[k], "vz") == 0 ||
                                   strncmp(names[k], "omega", 5) == 0)))
             return fail(r, "unknown column ", names[k]);
+        if (c >= 0 && r->column[c] >= 0)
+            return fail(r, "a column given twice: ", names[k]);
         if (c >= 0)
             r->column[c] = k;
     }
     if (r->column[COL_X] < 0 || r->column[COL_Y] < 0 || r->column[COL_R] < 0)
         return fail(r, "the header needs columns x, y and r (radius)", NULL);
     r->fields = n;
+    return 0;
+}
+
+/* Keeps the line of row `row` (of the buffer) for a duplicate id's message: 0, or -1. */
+static int note_line(Reader *r, int row)
+{
+    if (row >= r->id_capacity) {
+        int capacity = row < 512 ? 1024 : 2 * row;
+        long *grown = realloc(r->id_line, (size_t)capacity * sizeof *grown);
+        if (!grown)
+            return -1;
+        r->id_line = grown;
+        r->id_capacity = capacity;
+    }
+    r->id_line[row] = r->line;
+    return 0;
+}
+
+static int by_id(const void *a, const void *b)
+{
+    const uint64_t ka = *(const uint64_t *)a, kb = *(const uint64_t *)b;
+    return (ka > kb) - (ka < kb);
+}
+
+/* Every id of rows first.. of the buffer once: 0, or -1 at the line of a repeated id. */
+static int ids_unique(Reader *r, const SimGrainBuffer *b, int first)
+{
+    const int n = b->count - first;
+    uint64_t *key = malloc((size_t)(n > 0 ? n : 1) * sizeof *key); /* id << 32 | row */
+    if (!key)
+        return fail(r, "out of memory", NULL);
+    for (int k = 0; k < n; ++k)
+        key[k] = ((uint64_t)b->id[first + k] << 32) | (uint64_t)k;
+    qsort(key, (size_t)n, sizeof *key, by_id);
+    for (int k = 1; k < n; ++k)
+        if (key[k] >> 32 == key[k - 1] >> 32) {
+            uint32_t a = (uint32_t)key[k - 1], c = (uint32_t)key[k];
+            r->line = r->id_line[first + (int)(a > c ? a : c)];
+            char id[16];
+            snprintf(id, sizeof id, "%u", (unsigned)(key[k] >> 32));
+            free(key);
+            return fail(r, "an id given twice (every grain's id must differ): ", id);
+        }
+    free(key);
     return 0;
 }
 
@@ -133,8 +184,13 @@ static int read_row(Reader *r, char **field, int n, int lammps, int species_coun
                     NULL);
     if (!(v[COL_R] > 0.0))
         return fail(r, "the radius must be > 0", NULL);
-    if (r->column[COL_ID] >= 0 && (v[COL_ID] < 0 || v[COL_ID] != floor(v[COL_ID])))
-        return fail(r, "ids must be integers >= 0", NULL);
+    if (v[COL_FIXED] != 0.0 && v[COL_FIXED] != 1.0)
+        return fail(r, "`fixed` must be 0 or 1, got ", field[r->column[COL_FIXED]]);
+    if (r->column[COL_ID] >= 0 &&
+        (v[COL_ID] < 0 || v[COL_ID] > ID_MAX || v[COL_ID] != floor(v[COL_ID])))
+        return fail(r, "ids must be integers in [0, 2^31 - 1], got ", field[r->column[COL_ID]]);
+    if (r->column[COL_ID] >= 0 && note_line(r, b->count) < 0)
+        return fail(r, "out of memory", NULL);
     int i = sim_grain_buffer_add(b, v[COL_X], v[COL_Y], v[COL_R], species,
                                  v[COL_FIXED] != 0.0 ? SIM_GRAIN_FIXED : 0u, -1);
     b->vx[i] = v[COL_VX];
@@ -143,6 +199,21 @@ static int read_row(Reader *r, char **field, int n, int lammps, int species_coun
     b->angle[i] = v[COL_ANGLE];
     if (r->column[COL_ID] >= 0)
         b->id[i] = (uint32_t)v[COL_ID];
+    return 0;
+}
+
+/* The line after `ITEM: NUMBER OF ATOMS`: an integer in [1, 1e9] into *atoms, or -1. */
+static int atom_count(Reader *r, const char *line, long *atoms)
+{
+    char *end;
+    errno = 0;
+    long n = strtol(line, &end, 10);
+    if (end == line || end[strspn(end, " \t\r\n")] != '\0' || errno || n < 1 || n > 1000000000L) {
+        char shown[48];
+        snprintf(shown, sizeof shown, "`%.*s`", (int)strcspn(line, "\r\n"), line);
+        return fail(r, "NUMBER OF ATOMS must be a count in [1, 1e9], got ", shown);
+    }
+    *atoms = n;
     return 0;
 }
 
@@ -157,7 +228,8 @@ static int read_lammps(Reader *r, FILE *f, int species_count, SimGrainBuffer *b)
             if (!fgets(line, sizeof line, f))
                 break;
             ++r->line;
-            atoms = strtol(line, NULL, 10);
+            if (atom_count(r, line, &atoms) < 0)
+                return -1;
         } else if (strncmp(line, "ITEM: ATOMS", 11) == 0) {
             int n = split(line + 11, 0, field);
             if (atoms < 0 || read_header(r, field, n, 1) < 0)
@@ -169,6 +241,12 @@ static int read_lammps(Reader *r, FILE *f, int species_count, SimGrainBuffer *b)
                 n = split(line, 0, field);
                 if (read_row(r, field, n, 1, species_count, b) < 0)
                     return -1;
+            }
+            if (fgets(line, sizeof line, f) && strncmp(line, "ITEM:", 5) != 0 &&
+                line[strspn(line, " \t\r\n")] != '\0') {
+                ++r->line;
+                return fail(r, "more atom rows than NUMBER OF ATOMS says (a wrong atom count?)",
+                            NULL);
             }
             return 0;
         }
@@ -204,6 +282,7 @@ int app_grains_read(const char *path, int species_count, SimGrainBuffer *buffer,
         return -1;
     }
     char first[LINE_MAX];
+    const int first_row = buffer->count;
     int status;
     if (!fgets(first, sizeof first, f)) {
         r.line = 1;
@@ -217,5 +296,8 @@ int app_grains_read(const char *path, int species_count, SimGrainBuffer *buffer,
     }
     fclose(f);
     *has_ids = r.column[COL_ID] >= 0;
+    if (status == 0 && *has_ids)
+        status = ids_unique(&r, buffer, first_row);
+    free(r.id_line);
     return status;
 }

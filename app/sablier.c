@@ -24,6 +24,7 @@
 #include "revision.h" /* SABLIER_REVISION, made at build time (cmake/revision.cmake) */
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -287,7 +288,7 @@ static int check_arguments(int argc, char **argv, CheckArgs *a)
     for (int i = 2; i < argc; ++i) {
         int m = app_option(argc, argv, &i, "--target-error", &value);
         if (m != 0) {
-            const AppNumberList how = {.min = 0.0, .skip_empty = 0, .strict = 1, .exact = 1};
+            const AppNumberList how = {.min = 0.0, .strict = 1, .exact = 1};
             if (m < 0 || app_parse_numbers(value, &how, &a->target, 1) != 1 ||
                 !(a->target > 0.0 && a->target < 0.5))
                 return app_usage_error(USAGE_CHECK, "--target-error must be in (0, 0.5), got",
@@ -446,12 +447,15 @@ static int diff_arguments(int argc, char **argv, DiffArgs *d)
         else if ((m = app_option(argc, argv, &i, "--max-pixels", &value)) != 0)
             target = &d->max_pixels;
         if (target) {
-            /* a shift is searched in a (2N+1)^2 window per differing pixel: at most 32 */
-            long max = target == &d->shift ? 32 : 1000000000L;
+            /* a shift is searched in a (2N+1)^2 window per differing pixel: at most 32; a
+             * channel differs by at most 255; any count of pixels is a bound */
+            long max = target == &d->shift ? 32 : target == &d->threshold ? 255 : LONG_MAX;
             if (m < 0 || app_parse_count(value, 0, max, target) < 0)
                 return app_usage_error(USAGE_DIFF,
                                        target == &d->shift ? "--shift needs a count in [0, 32], got"
-                                                           : "expected a count >= 0, got",
+                                       : target == &d->threshold
+                                           ? "--threshold needs a count in [0, 255], got"
+                                           : "--max-pixels needs a count >= 0, got",
                                        m < 0 ? "nothing" : value);
         } else if (strcmp(argv[i], "--update") == 0) {
             d->update = 1;
@@ -504,7 +508,7 @@ static RenderDiffOptions diff_options(const DiffArgs *d)
 {
     RenderDiffOptions options = render_diff_options_default();
     if (d->threshold >= 0)
-        options.channel_threshold = (int)(d->threshold > 255 ? 255 : d->threshold);
+        options.channel_threshold = (int)d->threshold;
     if (d->shift >= 0)
         options.shift_tolerance = (int)d->shift;
     if (d->max_pixels >= 0)

@@ -25,6 +25,9 @@
 #define SCENE_MAX_TRACE   64
 #define SCENE_NAME_MAX    64
 #define SCENE_PATH_MAX    1024
+/// The largest `seed` (2^53 - 1): summary.json and the figures' metadata write it as a JSON
+/// number, which every reader holds exactly only up to 2^53.
+#define SCENE_SEED_MAX    9007199254740991ll
 
 /// Colour-by choices; same order as RenderColorBy (render_style.h).
 typedef enum SceneColorBy {

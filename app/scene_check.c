@@ -3,6 +3,7 @@
  * start-configuration checks (grains overlapping grains or walls) and scene_validate_def (the
  * time step against the contacts, then sim_world_def_validate with the field mapped back). */
 #include "scene_internal.h"
+#include "sources.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -130,6 +131,62 @@ int loader_check_overlaps(Loader *L)
     }
     return 0;
 }
+
+/* ---------------------------------------------------------------- views */
+
+/* The smallest grain radius of the scene, else of its sources' grains; 0 when it has neither. */
+static double smallest_radius(const Scene *scene)
+{
+    double r = INFINITY;
+    for (int i = 0; i < scene->grains.count; ++i)
+        r = fmin(r, scene->grains.radius[i]);
+    for (int k = 0; k < scene->source_count && scene->grains.count == 0; ++k) {
+        const SceneSource *s = &scene->sources[k];
+        for (int j = 0; j < s->radii_count; ++j) /* a list of radii, else a mixture's ranges */
+            r = fmin(r, s->radii[j]);
+        for (int j = 0; j < s->mixture_count && s->radii_count == 0; ++j)
+            r = fmin(r, s->radius_min[j]);
+    }
+    return isfinite(r) ? r : 0.0;
+}
+
+/* The view of `group` (when it has one) against the smallest radius r. 0, or -1. */
+static int check_view(Loader *L, const config_setting_t *group, double r)
+{
+    double v[4];
+    if (!group || !app_config_member(group, "view") ||
+        app_config_vector(&L->p, group, "view", v, 4) <= 0)
+        return L->p.failed ? -1 : 0;
+    double w = v[2] - v[0], h = v[3] - v[1];
+    if (w >= 0.1 * r && h >= 0.1 * r && w <= 1e9 * r && h <= 1e9 * r)
+        return 0;
+    return app_config_fail(&L->p, app_config_member(group, "view"),
+                           "`view` of %g x %g m: each side must be within [0.1, 1e9] times the "
+                           "smallest grain radius %g m",
+                           w, h, r);
+}
+
+int loader_check_views(Loader *L)
+{
+    const double r = smallest_radius(L->scene);
+    if (!(r > 0.0)) /* nothing to draw at any scale */
+        return 0;
+    if (check_view(L, config_lookup(&L->config, "render"), r) < 0)
+        return -1;
+    const char *lists[] = {"output.figures", "stages"};
+    for (int l = 0; l < 2; ++l) {
+        const config_setting_t *list = config_lookup(&L->config, lists[l]);
+        int n = list && config_setting_is_aggregate(list) ? config_setting_length(list) : 0;
+        for (int k = 0; k < n; ++k) {
+            const config_setting_t *g = config_setting_get_elem(list, (unsigned)k);
+            if (config_setting_is_group(g) && check_view(L, g, r) < 0)
+                return -1;
+        }
+    }
+    return 0;
+}
+
+/* ---------------------------------------------------------------- definitions */
 
 int scene_validate_def(const Scene *scene, int stage, const SimWorldDef *def, char *err,
                        size_t err_size)

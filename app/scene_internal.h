@@ -90,5 +90,10 @@ void loader_where_add(Loader *L, const char *field, const config_setting_t *s);
 void loader_where_grains(Loader *L, int first, const config_setting_t *s, const char *field);
 /// Grains overlapping grains (a mobile one involved) or walls at the start. 0, or -1.
 int loader_check_overlaps(Loader *L);
+/// Every `view` = [x0, y0, x1, y1] of the scene (render, figures, stages), once every group is
+/// read: each side within [0.1, 1e9] times the smallest grain radius of the scene (of its
+/// sources when it has no grains), so that a view of 1e-300 never sends the renderer into
+/// endless drawing. 0, or -1 at the view's line.
+int loader_check_views(Loader *L);
 
 #endif

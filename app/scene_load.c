@@ -93,8 +93,10 @@ static int parse_identity(Loader *L, const config_setting_t *root)
     if (app_config_need(&L->p, root, "seed", "the scene") < 0 ||
         app_config_int(&L->p, root, "seed", &seed) < 0)
         return -1;
-    if (seed < 0)
-        return app_config_fail(&L->p, app_config_member(root, "seed"), "`seed` must be >= 0");
+    if (seed < 0 || seed > SCENE_SEED_MAX)
+        return app_config_fail(&L->p, app_config_member(root, "seed"),
+                               "`seed` must be in [0, 2^53 - 1] (%lld), got %lld", SCENE_SEED_MAX,
+                               seed);
     scene->seed = (uint64_t)seed;
     if (app_config_choice(&L->p, root, "units", units, &choice) < 0)
         return -1;
@@ -405,14 +407,17 @@ static int resolve_scene(Loader *L, const char *path)
 }
 
 /* libconfig keeps an integer literal in 32 bits unless it ends in L (4294969314 reads as 2018),
- * so the loader refuses a literal outside [-2^31, 2^31) without the suffix before libconfig
+ * so the loader refuses a literal outside [-2^31, 2^31) without the suffix (and one outside
+ * 64 bits with it, which libconfig would wrap) before libconfig
  * reads the file: `file:line: integer 4294969314 is out of range ...`. Strings and comments are
  * skipped; @include files are checked the same way (to a depth of 10). */
 static int int_literal_fail(Loader *L, const char *path, int line, const char *start, size_t n)
 {
+    int suffix = start[n] == 'L' || start[n] == 'l';
     snprintf(L->p.err, L->p.err_size,
-             "%s:%d: integer %.*s is out of range of libconfig's 32-bit integers (write it "
-             "with the suffix L for a 64-bit integer, or as a float)",
+             suffix ? "%s:%d: integer %.*sL is out of range of 64-bit integers"
+                    : "%s:%d: integer %.*s is out of range of libconfig's 32-bit integers (write "
+                      "it with the suffix L for a 64-bit integer, or as a float)",
              path, line, (int)(n > 40 ? 40 : n), start);
     return -1;
 }
@@ -436,13 +441,13 @@ static int check_literal(Loader *L, const char *path, int line, const char *text
     int is_float = !hex && (text[k] == '.' || text[k] == 'e' || text[k] == 'E');
     int suffix = text[k] == 'L' || text[k] == 'l';
     *at = k;
-    if (is_float || suffix)
+    if (is_float)
         return 0;
     errno = 0;
     char *end = NULL;
     long long v = strtoll(text + start, &end, hex ? 16 : 10);
-    int fits = errno == 0 && (hex ? (unsigned long long)v <= 0xffffffffull
-                                  : v >= -2147483648ll && v <= 2147483647ll);
+    int fits = errno == 0 && (suffix || (hex ? (unsigned long long)v <= 0xffffffffull
+                                             : v >= -2147483648ll && v <= 2147483647ll));
     return fits ? 0 : int_literal_fail(L, path, line, text + start, k - start);
 }
 
@@ -534,8 +539,16 @@ static int check_int_literals(Loader *L, const char *path, int depth)
             while (k + 1 < size && text[k + 1] != '\n')
                 ++k;
         } else if (ch == '/' && text[k + 1] == '*') {
+            int opened = line;
             for (k += 2; k + 1 < size && !(text[k] == '*' && text[k + 1] == '/'); ++k)
                 line += text[k] == '\n';
+            if (k + 1 >= size) { /* libconfig would drop the rest of the file without a word */
+                snprintf(L->p.err, L->p.err_size,
+                         "%s:%d: a `/*` comment that is never closed (no `*/` before the end of "
+                         "the file)",
+                         path, opened);
+                rc = -1;
+            }
             ++k;
         } else if (ch == '"') {
             for (++k; k < size && text[k] != '"'; ++k) {
@@ -637,7 +650,7 @@ static int parse_scene(Loader *L, const config_setting_t *root)
     return 0;
 }
 
-/* t* and the traced grains, once every group is read. */
+/* t*, the traced grains and the views, once every group is read. */
 static int finish_output(Loader *L)
 {
     Scene *scene = L->scene;
@@ -662,7 +675,7 @@ static int finish_output(Loader *L)
             return app_config_fail(&L->p, config_lookup(&L->config, "output.trace"),
                                    "`trace` id %u is not a grain of the scene (ids 0 to %d)",
                                    scene->output.trace_ids[k], scene->grains.count - 1);
-    return 0;
+    return loader_check_views(L);
 }
 
 /* Stage k's step count, duration / dt, within what a run can count (a `time.end = 1e15`, a
@@ -684,22 +697,16 @@ static int check_step_count(const Scene *scene, int k, char *err, size_t err_siz
     return -1;
 }
 
-/* Each distinct stage time step against the contacts and sim's checks. 0, or -1. */
+/* Every stage's world definition, as the stage will build it (its time step, forcing and what a
+ * family's adjust_def makes of it: a Brazil-nut box at rest, then shaken), against the contacts
+ * and sim's checks, so that nothing a later stage needs is first found wrong once earlier stages
+ * ran. 0, or -1. */
 static int validate_stages(const Scene *scene, char *err, size_t err_size)
 {
     for (int k = 0; k < scene->stage_count; ++k)
         if (check_step_count(scene, k, err, err_size) != 0)
             return -1;
     for (int k = 0; k < scene->stage_count; ++k) {
-        int seen = 0; /* validate each distinct time step and forcing once */
-        const SceneStage *s = &scene->stages[k];
-        for (int j = 0; j < k; ++j)
-            seen |= scene->stages[j].time_step == s->time_step &&
-                    scene->stages[j].effects == s->effects &&
-                    scene->stages[j].gravity_x == s->gravity_x &&
-                    scene->stages[j].gravity_y == s->gravity_y;
-        if (seen && k > 0)
-            continue;
         SimWorldDef def = scene_world_def(scene, k);
         if (scene_validate_def(scene, k, &def, err, err_size) != 0)
             return -1;

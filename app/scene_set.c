@@ -3,6 +3,7 @@
  * the scene is parsed. A setting an override touched carries the key as its hook, so that every
  * later message about it reads "--set KEY: message" instead of a file line. */
 #include "scene_internal.h"
+#include "util.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -115,13 +116,24 @@ static int set_array(Loader *L, config_setting_t *s, const char *key, char *valu
                                             : CONFIG_TYPE_NONE;
     while (config_setting_length(s) > 0)
         config_setting_remove_elem(s, 0);
-    char *save = NULL;
-    for (char *item = strtok_r(value + 1, ",", &save); item; item = strtok_r(NULL, ",", &save)) {
+    const char *list = value + 1;
+    size_t length;
+    while (isspace((unsigned char)*list))
+        ++list;
+    if (!*list) /* [] */
+        return 0;
+    for (const char *next; (next = app_list_item(&list, &length)) != NULL;) {
+        char element[256], *item = element;
+        snprintf(element, sizeof element, "%.*s", (int)length, next);
         while (isspace((unsigned char)*item))
             ++item;
         char *end = item + strlen(item);
         while (end > item && isspace((unsigned char)end[-1]))
             *--end = '\0';
+        if (!*item || length >= sizeof element)
+            return set_fail(L, key,
+                            !*item ? "an empty element in [a, b, ...] (`,,` or a comma at an end)"
+                                   : "an array element longer than 255 characters");
         if (type == CONFIG_TYPE_NONE)
             type = infer_type(item);
         if (type == CONFIG_TYPE_INT && infer_type(item) == CONFIG_TYPE_FLOAT)

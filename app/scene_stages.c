@@ -59,11 +59,10 @@ static int checkpoint_path(Loader *L, const config_setting_t *g, const char *loa
         stage->load_path[dir_length - 1] = '/';
     }
     memcpy(stage->load_path + dir_length, load, strlen(load) + 1);
-    /* the whole state read now, so that a bad file (or one whose walls are not the scene's)
-       stops the run before any stage */
+    /* the whole state read now, so that a bad file (grains the scene lacks, or walls that are not
+       the scene's) stops the run before any stage */
     char why[1200];
-    if (app_state_check(stage->load_path, L->scene->def.walls, L->scene->def.wall_count, why,
-                        sizeof why) != 0)
+    if (app_state_check(stage->load_path, &L->scene->def, why, sizeof why) != 0)
         return app_config_fail(&L->p, app_config_member(g, "load"), "%s", why);
     return 0;
 }

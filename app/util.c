@@ -181,11 +181,11 @@ int app_parse_key_values(const char *text, char *key, size_t key_size, double *v
 const char *app_list_item(const char **list, size_t *length)
 {
     const char *item = *list;
-    if (!item || !*item)
+    if (!item)
         return NULL;
     size_t n = strcspn(item, ",");
     *length = n;
-    *list = item + n + (item[n] == ',');
+    *list = item[n] == ',' ? item + n + 1 : NULL;
     return item;
 }
 
@@ -193,9 +193,11 @@ int app_parse_numbers(const char *text, const AppNumberList *how, double *values
 {
     int n = 0;
     size_t length;
+    if (!text || !*text)
+        return 0;
     for (const char *item; (item = app_list_item(&text, &length)) != NULL;) {
-        if (length == 0 && how->skip_empty)
-            continue;
+        if (length == 0)
+            return -1;
         if (n == max)
             return how->exact ? -1 : n;
         char *end;
@@ -271,6 +273,28 @@ static int same_walls(const char *path, const SimWall *saved, int saved_count, c
     return 0;
 }
 
+/* The first grain of `grains` whose species or motion the scene lacks: 0, or -1 with why. */
+static int state_grains_fit(const char *path, const SimGrainSet *grains, int species_count,
+                            int motion_count, char *err, size_t err_size)
+{
+    for (int i = 0; i < grains->count; ++i) {
+        int species = grains->species[i], motion = grains->motion[i];
+        if (species < 0 || species >= species_count) {
+            snprintf(err, err_size,
+                     "checkpoint `%s`: grain %u has species %d; the scene has species 0 to %d",
+                     path, grains->id[i], species, species_count - 1);
+            return -1;
+        }
+        if (motion < -1 || motion >= motion_count) {
+            snprintf(err, err_size,
+                     "checkpoint `%s`: grain %u follows motion %d; the scene has %d motion(s)",
+                     path, grains->id[i], motion, motion_count);
+            return -1;
+        }
+    }
+    return 0;
+}
+
 void app_catch_signals(void (*handler)(int), int flags, struct sigaction *saved, int restore)
 {
     const int signals[2] = {SIGINT, SIGTERM};
@@ -288,8 +312,7 @@ void app_catch_signals(void (*handler)(int), int flags, struct sigaction *saved,
     }
 }
 
-int app_state_check(const char *path, const SimWall *walls, int wall_count, char *err,
-                    size_t err_size)
+int app_state_check(const char *path, const SimWorldDef *def, char *err, size_t err_size)
 {
     FILE *f = fopen(path, "rb");
     if (!f) {
@@ -306,7 +329,11 @@ int app_state_check(const char *path, const SimWall *walls, int wall_count, char
         snprintf(err, err_size, "checkpoint `%s`: %s", path, error.message);
         return -1;
     }
-    int rc = walls ? same_walls(path, saved, saved_count, walls, wall_count, err, err_size) : 0;
+    int rc = 0;
+    if (def)
+        rc = state_grains_fit(path, &grains, def->species_count, def->motion_count, err, err_size);
+    if (def && rc == 0)
+        rc = same_walls(path, saved, saved_count, def->walls, def->wall_count, err, err_size);
     sim_grain_set_free(&grains);
     free(saved);
     return rc;

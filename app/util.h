@@ -35,20 +35,21 @@ int app_collect_set(const char **sets, int *count, int max, const char *value);
 int app_parse_count(const char *text, long min, long max, long *out);
 
 /// The items of a comma list, one at a time: the next item of *list (up to a comma or the end),
-/// its length in *length (0 for an empty item: ",," or a leading comma), and *list moved past it
-/// and its comma; NULL at the end (a comma at the very end ends the list).
+/// its length in *length, and *list moved past it and its comma; NULL at the end. Every comma
+/// separates two items, so ",,", a leading and a trailing comma give empty items (length 0),
+/// which every list refuses (an empty string is one empty item).
 const char *app_list_item(const char **list, size_t *length);
 
 /// How app_parse_numbers reads a list (the drivers' lists differ in these, as they always have).
 typedef struct AppNumberList {
-    double min;     ///< smallest value accepted (-INFINITY: any finite number)
-    int skip_empty; ///< 1: empty items are skipped; 0: an empty item is malformed
-    int strict;     ///< 1: a value strtod finds out of range (ERANGE: 1e-400) is malformed
-    int exact;      ///< 1: more than max values is malformed; 0: the first max are read
+    double min; ///< smallest value accepted (-INFINITY: any finite number)
+    int strict; ///< 1: a value strtod finds out of range (ERANGE: 1e-400) is malformed
+    int exact;  ///< 1: more than max values is malformed; 0: the first max are read
 } AppNumberList;
 
 /// A comma list of finite numbers (each item all of one strtod number) into at most `max`
-/// values: the count (0 for an empty list), or -1 when malformed.
+/// values: the count (0 for an empty string), or -1 when malformed (an empty item: "1,,2",
+/// "1,2,", ",1").
 int app_parse_numbers(const char *text, const AppNumberList *how, double *values, int max);
 
 /// A `KEY=v1,v2,...` list of numbers: the key into key[key_size] and at most `max` values (the
@@ -60,13 +61,13 @@ int app_parse_key_values(const char *text, char *key, size_t key_size, double *v
 int app_make_dirs(const char *path);
 
 /// Reads the checkpoint at `path` whole (sim_state_load), so that a bad file is refused before
-/// anything runs: 0, or -1 with why in err ("cannot read checkpoint `PATH`: reason",
-/// or "checkpoint `PATH`: " and the loader's message). With `walls` (not NULL), the
-/// checkpoint's walls must be these, in order, motions included (a stage that loads a checkpoint
-/// keeps its walls): else -1 with the first difference.
-struct SimWall;
-int app_state_check(const char *path, const struct SimWall *walls, int wall_count, char *err,
-                    size_t err_size);
+/// anything runs. With `def` (not NULL, the scene that will load it), its grains must fit the
+/// scene (each species below def->species_count, each motion below def->motion_count, -1: none)
+/// and its walls must be def's walls, in order, motions included (a stage that loads a
+/// checkpoint keeps its walls). 0, or -1 with why in err ("cannot read checkpoint `PATH`:
+/// reason", or "checkpoint `PATH`: " and the first thing wrong).
+struct SimWorldDef;
+int app_state_check(const char *path, const struct SimWorldDef *def, char *err, size_t err_size);
 
 struct sigaction;
 /// SIGINT and SIGTERM to `handler` with sa_flags `flags` (restore = 0; the old actions into

@@ -340,6 +340,9 @@ int sim_exact_write(FILE *f, const SimWorld *world);
  * 0 the section does not fit this world's definition (another time step, integrator or laws:
  * the world starts afresh from the grains), -1 truncated, -2 out of memory. */
 int sim_exact_apply(SimWorld *world, FILE *f, const SimGrainSet *saved, long step, double time);
+/* Reads the section's header at f's position: NULL when sound, else what is wrong (a value no
+ * written section holds, such as a cell size of 0; or the file ends first). */
+const char *sim_exact_check(FILE *f);
 /* world.c: rebuild the lists now (used after installing history). */
 void sim_world_rebuild_now(SimWorld *world);
 /* gamma_n of a pair of species (the mean of the two species' damping specifications) for a

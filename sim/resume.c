@@ -8,6 +8,7 @@
  * a state continues bit for bit as the saved one would have. */
 #include "internal.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -142,6 +143,37 @@ static int restore_order(SimWorld *w, const uint32_t *ids)
     return ok ? 0 : -1;
 }
 
+/* What no written section holds: a time step, length or speed that is not a finite number of
+ * its sign (a cell size of 0 made the grid set-up loop for ever), negative list sizes; NULL
+ * when the header is sound. A header without the section's tag is not looked at (it is never
+ * applied). */
+static const char *header_problem(const ExactHeader *h)
+{
+    if (memcmp(h->tag, exact_tag, sizeof h->tag) != 0)
+        return NULL;
+    const double at_least_0[] = {h->def_skin,     h->skin,        h->skin_min,   h->skin_max,
+                                 h->skin_density, h->disp_limit2, h->max_radius, h->wall_shift};
+    for (size_t k = 0; k < sizeof at_least_0 / sizeof at_least_0[0]; ++k)
+        if (!(at_least_0[k] >= 0.0) || !isfinite(at_least_0[k]))
+            return "continuation section: a skin or radius not finite and >= 0";
+    if (!(h->cell_size > 0.0) || !isfinite(h->cell_size))
+        return "continuation section: a cell size not finite and > 0";
+    if (!(h->dt > 0.0) || !isfinite(h->dt) || !isfinite(h->start_time) || !(h->guard_speed2 >= 0.0))
+        return "continuation section: time step or guard out of range";
+    if (h->pairs < 0 || h->wall_pairs < 0 || h->scratch_count < 0 || h->skin_probe < 0 ||
+        h->build_step < 0 || h->rebuilds < 0)
+        return "continuation section: a negative count";
+    return NULL;
+}
+
+const char *sim_exact_check(FILE *f)
+{
+    ExactHeader h;
+    if (fread(&h, sizeof h, 1, f) != 1)
+        return "truncated state file (its continuation section)";
+    return header_problem(&h);
+}
+
 /* 1 when the section fits this world (same grains, time step, integrator arrays, laws and skin
  * setting): only then does it continue exactly; else the world starts afresh from the grains. */
 static int exact_fits(const SimWorld *w, const ExactHeader *h)
@@ -248,7 +280,7 @@ static int read_arrays(SimWorld *w, FILE *f, const ExactHeader *h)
 int sim_exact_apply(SimWorld *w, FILE *f, const SimGrainSet *saved, long step, double time)
 {
     ExactHeader h;
-    if (fread(&h, sizeof h, 1, f) != 1)
+    if (fread(&h, sizeof h, 1, f) != 1 || header_problem(&h))
         return -1;
     if (!exact_fits(w, &h) || saved->count != w->count)
         return 0;

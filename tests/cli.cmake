@@ -142,6 +142,10 @@ set_tests_properties(cli.sweep_inputs PROPERTIES LABELS cli)
 add_test(NAME cli.include_fifo
          COMMAND bash ${CLI_DIR}/include_fifo.sh $<TARGET_FILE:sablier> ${CLI_WORK}/include_fifo)
 set_tests_properties(cli.include_fifo PROPERTIES LABELS cli)
+add_test(NAME cli.late_checks
+         COMMAND bash ${CLI_DIR}/late_checks.sh $<TARGET_FILE:sablier> ${CLI_TINY}
+                 ${PROJECT_SOURCE_DIR}/scenes/brazil_nut/small.scene ${CLI_WORK}/late_checks)
+set_tests_properties(cli.late_checks PROPERTIES LABELS cli TIMEOUT 120)
 add_test(NAME cli.remove_ids_missing
          COMMAND bash ${CLI_DIR}/remove_ids.sh $<TARGET_FILE:sablier> ${CLI_TINY}
                  ${CLI_WORK}/remove_ids)
@@ -246,6 +250,38 @@ add_test(NAME cli.render_bad_state
          COMMAND bash ${CLI_DIR}/render_bad_state.sh $<TARGET_FILE:sablier> ${CLI_TINY}
                  ${CLI_WORK}/render_bad_state)
 set_tests_properties(cli.render_bad_state PROPERTIES LABELS cli)
+# bad command-line values refused before anything runs or is written (issue 42): an --ldf of
+# inf (a heap overflow in app_bne_ldf), an orifice of width 0 ("jammed" through no orifice), an
+# empty list item (was dropped), a base of 1e13 grains (exit 1, an empty message), a threshold
+# above 255 (was run as 255); a --max-pixels of 2^31 - 1 is a count (was refused)
+set(CLI_BNE ${PROJECT_SOURCE_DIR}/scenes/brazil_nut/small.scene)
+set(CLI_DISCHARGE ${PROJECT_SOURCE_DIR}/scenes/discharge/rolling_fixed.scene)
+sablier_cli_test(bne_ldf_inf "bne|${CLI_BNE}|--seeds|2|--ldf|inf|--out|${CLI_WORK}/bne_ldf_inf" 2
+                 ERR "--ldf needs a number of periods in \\[0, 1e6\\] [(]0: no LDF[)], got inf")
+sablier_cli_test(discharge_width_zero
+                 "discharge|${CLI_DISCHARGE}|--width|0|--out|${CLI_WORK}/discharge_width_zero" 2
+                 ERR "--width 0: an orifice width must be in \\[1, base_length = 25\\] d")
+sablier_cli_test(discharge_width_scene
+                 "check|${CLI_DISCHARGE}|--set|discharge.widths=[2.0,0.5]" 2
+                 ERR "--set discharge.widths: orifice width 0.5 d out of \\[1, base_length")
+sablier_cli_test(discharge_base_too_long
+                 "check|${CLI_DISCHARGE}|--set|discharge.base_length=1e12" 2
+                 ERR "`base_length` 1e[+]12 d makes a base of 1e[+]13 grains")
+sablier_cli_test(study_widths_empty_item
+                 "study|${CLI_DISCHARGE}|--widths|1,,2|--out|${CLI_WORK}/study_widths_empty_item" 2
+                 ERR "--widths must be A:B:STEP or a list, got 1,,2")
+sablier_cli_test(study_widths_too_small
+                 "study|${CLI_DISCHARGE}|--widths|0.5,2|--out|${CLI_WORK}/study_widths_too_small" 2
+                 ERR "study: --widths 0.5: an orifice width must be in")
+sablier_cli_test(set_array_empty_element "check|${CLI_TINY}|--set|effects=[friction,,rolling_resistance]"
+                 2 ERR "--set effects: an empty element in \\[a, b, ...\\]")
+sablier_cli_test(diff_threshold_over "diff|a.png|b.png|--threshold|300" 2
+                 ERR "--threshold needs a count in \\[0, 255\\], got 300")
+if(SABLIER_WITH_RENDER)
+  set(CLI_PNG ${PROJECT_SOURCE_DIR}/tests/render/reference/annotations.png)
+  sablier_cli_test(diff_max_pixels_large "diff|${CLI_PNG}|${CLI_PNG}|--max-pixels|2147483647" 0
+                   OUT "\"max_pixels\": 2147483647")
+endif()
 # a dig beside every grain and wall is refused at load (issue 18 part 4)
 sablier_cli_test(dig_outside "check|scenes/crater/quick.scene|--set|stages.dig.dig.center_x=1e308"
                  2 ERR "dig: the cavity .* lies outside the scene's grains and walls")

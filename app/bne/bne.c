@@ -144,6 +144,12 @@ static int parse_shaking(AppConfig *p, const config_setting_t *g, Scene *scene, 
         b->amplitude = fabs(mo->amplitude);
         b->gamma = b->amplitude * omega * omega / b->gravity;
     }
+    if (!isfinite(b->amplitude) || !isfinite(b->frequency) || !isfinite(b->gamma))
+        return app_config_fail(p,
+                               app_config_member(g, "period") ? app_config_member(g, "period") : g,
+                               "period %g s and Gamma %g give a shaking amplitude %g (A = Gamma "
+                               "g / omega^2): not a finite number",
+                               b->period, b->gamma, b->amplitude);
     mo->amplitude = b->amplitude;
     mo->frequency = b->frequency;
     mo->phase = 0.0;

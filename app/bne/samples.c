@@ -22,17 +22,19 @@ int app_bne_ldf(const double *const *t, const double *const *height, const int *
                 double tau, int bins, double v_min, double v_max, double *centre,
                 double *probability, double *rate_function)
 {
-    /* windows: from each record, consecutive non-overlapping spans of length tau */
+    /* windows: from each record, consecutive non-overlapping spans of length tau; each spans at
+     * least one sample (j > k), so there are fewer than a record's samples (a tau that is not a
+     * positive finite number: none) */
     int capacity = 0, n = 0;
     for (int r = 0; r < records; ++r)
         capacity += count[r];
     double *v = malloc((size_t)(capacity > 0 ? capacity : 1) * sizeof *v);
-    if (!v || bins < 1)
+    if (!v || bins < 1 || !(tau > 0.0) || !isfinite(tau))
         return free(v), 0;
     for (int r = 0; r < records; ++r) {
         int k = 0;
         while (k < count[r]) {
-            int j = k;
+            int j = k + 1;
             while (j < count[r] && t[r][j] < t[r][k] + tau - 1e-9 * tau)
                 ++j;
             if (j >= count[r])
@@ -185,11 +187,13 @@ static int read_record(const Samples *S, Record *rec)
 
 /* One run: the scene with seed (and the varied key = value), through the stage runner, into
  * rec. Returns the run's exit status. */
-static int run_one(Samples *S, double value, long seed, Record *rec)
+/* The scene of the run at (key = value, seed), with a `bne` group: NULL with a message on
+ * stderr when it does not load. */
+static Scene *load_run_scene(const Samples *S, double value, long seed)
 {
     const AppBneSamplesOptions *o = S->o;
     const char *sets[64];
-    char seed_set[64], vary_set[200], dir[BNE_PATH], err[2048] = "";
+    char seed_set[64], vary_set[200], err[2048] = "";
     int n = 0;
     for (int k = 0; k < o->set_count; ++k)
         sets[n++] = o->sets[k];
@@ -199,17 +203,27 @@ static int run_one(Samples *S, double value, long seed, Record *rec)
         snprintf(vary_set, sizeof vary_set, "%s=%.17g", S->key, value);
         sets[n++] = vary_set;
     }
-    run_dir(S, value, seed, dir, sizeof dir);
     Scene *scene = scene_load(o->scene_path, sets, n, err, sizeof err);
     if (!scene) {
         fprintf(stderr, "%s\n", err);
-        return 2;
+        return NULL;
     }
     if (!app_bne_of(scene)) {
         fprintf(stderr, "sablier: bne: %s has no `bne` group\n", o->scene_path);
         scene_free(scene);
-        return 2;
+        return NULL;
     }
+    return scene;
+}
+
+static int run_one(Samples *S, double value, long seed, Record *rec)
+{
+    const AppBneSamplesOptions *o = S->o;
+    char dir[BNE_PATH];
+    run_dir(S, value, seed, dir, sizeof dir);
+    Scene *scene = load_run_scene(S, value, seed);
+    if (!scene)
+        return 2;
     AppRunOptions ro = app_run_options_default();
     ro.out_dir = dir;
     ro.quiet = 1;
@@ -488,6 +502,13 @@ static int samples_setup(Samples *S)
         fprintf(stderr, "sablier: bne: --seeds must be >= 1\n");
         return 2;
     }
+    /* every value's scene (with the first seed) loads before any folder or file is made */
+    for (int v = 0; v < S->value_count; ++v) {
+        Scene *scene = load_run_scene(S, S->values[v], o->seed0);
+        if (!scene)
+            return 2;
+        scene_free(scene);
+    }
     if (app_make_dirs(o->out_dir) != 0) {
         fprintf(stderr, "sablier: bne: cannot create %s\n", o->out_dir);
         return 2;
@@ -587,10 +608,13 @@ static int bne_arguments(int argc, char **argv, BneArgs *a)
                 return app_usage_error(USAGE_BNE, "--seed0 needs a seed >= 0, got",
                                        m < 0 ? "nothing" : value);
         } else if ((m = app_option(argc, argv, &i, "--ldf", &value)) != 0) {
-            char *end = NULL;
-            o.ldf_periods = m < 0 ? -1.0 : strtod(value, &end);
-            if (m < 0 || !end || *end || !(o.ldf_periods >= 0.0))
-                return app_usage_error(USAGE_BNE, "--ldf needs a number of periods >= 0, got",
+            /* windows longer than a run are empty: 1e6 shaking periods is past any run */
+            static const AppNumberList periods = {.min = 0.0, .strict = 1, .exact = 1};
+            if (m < 0 || app_parse_numbers(value, &periods, &o.ldf_periods, 1) != 1 ||
+                o.ldf_periods > 1e6)
+                return app_usage_error(USAGE_BNE,
+                                       "--ldf needs a number of periods in [0, 1e6] (0: no LDF), "
+                                       "got",
                                        m < 0 ? "nothing" : value);
         } else if (strcmp(argv[i], "--movies") == 0) {
             movies = 1;

@@ -239,8 +239,10 @@ static int expand_vary(Sweep *w, char vary[][VARY_STRING], int vary_count)
         const char *list = eq + 1, *item;
         size_t length;
         while ((item = app_list_item(&list, &length)) != NULL) {
-            if (length == 0) /* ",," and a leading comma: no value */
-                continue;
+            if (length == 0) { /* ",,", a leading or trailing comma: no value */
+                fprintf(stderr, "sablier: sweep: --vary %s: an empty value in the list\n", vary[v]);
+                return -1;
+            }
             if (counts[v] >= MAX_VALUES) {
                 fprintf(stderr, "sablier: sweep: at most %d values per key\n", MAX_VALUES);
                 return -1;
@@ -673,8 +675,7 @@ static int setup(Sweep *w)
         return 2;
     }
     char why[1200];
-    if (o->from &&
-        app_state_check(o->from, scene->def.walls, scene->def.wall_count, why, sizeof why) != 0) {
+    if (o->from && app_state_check(o->from, &scene->def, why, sizeof why) != 0) {
         fprintf(stderr, "sablier: sweep: --from: %s\n", why);
         scene_free(scene);
         return 2;

@@ -61,7 +61,7 @@ static int parse_args(int argc, char **argv, DischargeArgs *a)
             double w;
             if (m < 0 || app_discharge_parse_real(value, &w) != 0 || !(w >= 0.0) ||
                 a->width_count >= MAX_WIDTHS)
-                return app_usage_error(APP_DISCHARGE_USAGE, "--width needs a width >= 0 (d), got",
+                return app_usage_error(APP_DISCHARGE_USAGE, "--width needs a width (d), got",
                                        m < 0 ? "nothing" : value);
             a->widths[a->width_count++] = w;
         } else if ((m = app_option(argc, argv, &i, "--seed", &value)) != 0) {
@@ -155,7 +155,8 @@ static int deposit_pile(DischargeRun *d)
         status = 2;
     if (!world) {
         if (!status)
-            fprintf(stderr, "sablier: deposition: %s\n", err);
+            fprintf(stderr, "sablier: deposition: %s\n",
+                    err[0] ? err : "the pile could not be built (no cause recorded)");
         return status ? status : 1;
     }
     snprintf(d->pile_path, sizeof d->pile_path, "%s/pile.state", d->dir);
@@ -301,6 +302,11 @@ static int discharge_command(int argc, char **argv, const AppEnv *env)
     if (a.width_count == 0)
         for (int k = 0; k < d.def->width_count; ++k)
             a.widths[a.width_count++] = d.def->widths[k];
+    if (app_discharge_check_widths(scene, a.widths, a.width_count, "--width", err, sizeof err)) {
+        fprintf(stderr, "%s\n", err);
+        scene_free(scene);
+        return 2;
+    }
     snprintf(d.dir, sizeof d.dir, "%s%s", a.out ? "" : "out/", a.out ? a.out : scene->name);
     if (app_make_dirs(d.dir) != 0) {
         fprintf(stderr, "sablier: cannot create output folder %s: %s\n", d.dir, strerror(errno));

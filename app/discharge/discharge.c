@@ -69,6 +69,12 @@ int app_discharge_parse(const config_setting_t *g, const char *scene_path, int s
         app_config_int_in(&p, g, "base_species", 0, 1000000000L, &def->base_species) < 0 ||
         app_config_number_min(&p, g, "exit_half_width", 0.0, &def->exit_half_width) < 0)
         return -1;
+    if (def->base_length / def->base_diameter > APP_DISCHARGE_MAX_BASE_GRAINS)
+        return app_config_fail(&p, config_setting_get_member(g, "base_length"),
+                               "`base_length` %g d makes a base of %.3g grains of base_diameter "
+                               "%g d; at most 1e7",
+                               def->base_length, def->base_length / def->base_diameter,
+                               def->base_diameter);
     if (def->dt_divisor > 0.0 && def->dt_divisor < 1.0)
         return app_config_fail(&p, config_setting_get_member(g, "dt_divisor"),
                                "`dt_divisor` must be >= 1, or 0 for the scene's time step (got %g)",
@@ -116,7 +122,17 @@ int app_discharge_parse(const config_setting_t *g, const char *scene_path, int s
     got = app_config_array(&p, g, "widths", 64, def->widths, &def->width_count);
     if (got < 0)
         return -1;
+    for (int k = 0; k < def->width_count; ++k)
+        if (!app_discharge_width_fits(def, def->widths[k]))
+            return app_config_fail(&p, config_setting_get_member(g, "widths"),
+                                   "orifice width %g d out of [1, base_length = %g] d",
+                                   def->widths[k], def->base_length);
     return 0;
+}
+
+int app_discharge_width_fits(const AppDischargeDef *def, double w)
+{
+    return w >= 1.0 && w <= def->base_length;
 }
 
 /* ---------------------------------------------------------------- geometry */

@@ -54,6 +54,14 @@ typedef struct AppDischargeDef {
     int width_count;
 } AppDischargeDef;
 
+/// The largest base: at most this many base grains (L / base_diameter), the loader's bound on a
+/// fixed row (docs/scenes.md).
+#define APP_DISCHARGE_MAX_BASE_GRAINS 1e7
+
+/// 1 when an orifice of width w (d) fits the base of `def`: w in [1, L] (a narrower orifice
+/// passes no grain, or none of the base's is removed; a wider one than the base leaves none).
+int app_discharge_width_fits(const AppDischargeDef *def, double w);
+
 /// Parses a scene's `discharge` group (called by the scene loader). Returns 0, or -1 with
 /// "file:line: message" in err.
 int app_discharge_parse(const config_setting_t *group, const char *scene_path, int species_count,

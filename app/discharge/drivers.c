@@ -43,7 +43,7 @@ int app_discharge_parse_widths(const char *text, double *out, int max)
         }
         return n;
     }
-    static const AppNumberList list = {.min = -INFINITY, .skip_empty = 1, .strict = 1};
+    static const AppNumberList list = {.min = -INFINITY, .strict = 1};
     n = app_parse_numbers(buffer, &list, out, max);
     for (int k = 0; k < n; ++k)
         out[k] = floor(out[k] * 1e9 + 0.5) / 1e9;
@@ -77,6 +77,21 @@ Scene *app_discharge_load_scene(const char *path, const char *const *sets, int s
         return NULL;
     }
     return scene;
+}
+
+int app_discharge_check_widths(const Scene *scene, const double *widths, int count,
+                               const char *option, char *err, size_t err_size)
+{
+    const AppDischargeDef *def = app_discharge_of(scene);
+    for (int k = 0; k < count; ++k)
+        if (!app_discharge_width_fits(def, widths[k])) {
+            snprintf(err, err_size,
+                     "sablier: %s %g: an orifice width must be in [1, base_length = %g] d (a "
+                     "narrower one passes no grain, a wider one leaves no base)",
+                     option, widths[k], def->base_length);
+            return -1;
+        }
+    return 0;
 }
 
 /* ---------------------------------------------------------------- movies and figures */

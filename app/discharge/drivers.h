@@ -21,6 +21,11 @@ void app_discharge_width_name(double w, char *out, size_t size);
 Scene *app_discharge_load_scene(const char *path, const char *const *sets, int set_count, double L,
                                 char *err, size_t err_size);
 
+/// Every width of widths[count] fits the scene's base (app_discharge_width_fits): 0, or -1 with
+/// "OPTION W: ..." in err (option: the command line's name of the list, "--width").
+int app_discharge_check_widths(const Scene *scene, const double *widths, int count,
+                               const char *option, char *err, size_t err_size);
+
 typedef struct AppDischargeMovie {
     const AppRender *render;
     int open;

@@ -1513,7 +1513,9 @@ int app_study_command(int argc, char **argv, const AppEnv *env)
     int status = 0;
     for (int l = 0; l < st.length_count && status == 0; ++l)
         if (!(scenes[l] = app_discharge_load_scene(scene_path, sets, set_count, st.lengths[l], err,
-                                                   sizeof err))) {
+                                                   sizeof err)) ||
+            app_discharge_check_widths(scenes[l], st.widths, st.width_count, "study: --widths", err,
+                                       sizeof err) != 0) {
             fprintf(stderr, "%s\n", err);
             status = 2;
         }

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* test_grains_file.c: `grains.file` (app/grains_file.c): a CSV written from a world with %.17g in
  * the `sablier export --format csv` layout reads back the same positions bit for bit; a LAMMPS
- * dump's columns are found by name; a bad row names the file and line. */
+ * dump's columns are found by name; a bad row names the file and line; a column given twice,
+ * `fixed` not 0/1, ids out of range or repeated and a wrong atom count are refused. */
 #include "grains_file.h"
 #include "scene.h"
 #include "test.h"
@@ -94,4 +95,52 @@ static int grains_file_formats_and_errors(void)
     return 0;
 }
 
-TEST_MAIN(TEST_CASE(grains_csv_round_trip), TEST_CASE(grains_file_formats_and_errors))
+/* Files refused at their line (issue 42): a column given twice, `fixed` other than 0/1, an id
+ * beyond 2^31 - 1 (99999999999 was wrapped to 1215752191), an id given twice, and a LAMMPS dump
+ * whose atom count is not a count or is smaller than its rows (was "no mobile grains"). */
+static int grains_file_refused(void)
+{
+    static const char dump_head[] = "ITEM: TIMESTEP\n5\nITEM: NUMBER OF ATOMS\n";
+    static const char dump_atoms[] = "ITEM: BOX BOUNDS pp pp pp\n0 2\n0 2\n-1 1\n"
+                                     "ITEM: ATOMS id type x y radius\n"
+                                     "1 1 0.5 0.5 0.1\n2 1 1.0 0.5 0.1\n";
+
+    static const struct {
+        const char *head, *body;
+        int line;
+        const char *says;
+    } cases[] = {
+        {"", "x,y,r,x\n0.5,0.5,0.1,0.5\n", 1, "a column given twice: x"},
+        {"", "x,y,r,fixed\n0.5,0.5,0.1,1\n1.5,0.5,0.1,2\n", 3, "`fixed` must be 0 or 1, got 2"},
+        {"", "id,x,y,r\n99999999999,0.5,0.5,0.1\n", 2, "ids must be integers in [0, 2^31 - 1]"},
+        {"", "id,x,y,r\n3,0.5,0.5,0.1\n4,1.5,0.5,0.1\n3,2.5,0.5,0.1\n", 4,
+         "an id given twice (every grain's id must differ): 3"},
+        {dump_head, "many\n", 4, "NUMBER OF ATOMS must be a count in [1, 1e9], got `many`"},
+        {dump_head, "0\n", 4, "NUMBER OF ATOMS must be a count in [1, 1e9], got `0`"},
+        {dump_head, "1\n", 11, "more atom rows than NUMBER OF ATOMS says"},
+    };
+
+    char path[64], err[512], expect[256];
+    snprintf(path, sizeof path, "/tmp/sablier_test_grains_bad_%ld.csv", (long)getpid());
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        FILE *f = fopen(path, "w");
+        TEST_ASSERT(f);
+        fprintf(f, "%s%s%s", cases[k].head, cases[k].body, cases[k].head[0] ? dump_atoms : "");
+        fclose(f);
+        SimGrainBuffer r;
+        sim_grain_buffer_init(&r);
+        int has_ids = 0;
+        err[0] = '\0';
+        int rc = app_grains_read(path, 1, &r, &has_ids, err, sizeof err);
+        sim_grain_buffer_free(&r);
+        snprintf(expect, sizeof expect, "%s:%d: %s", path, cases[k].line, cases[k].says);
+        if (rc == 0 || strncmp(err, expect, strlen(expect)) != 0)
+            fprintf(stderr, "case %zu: got `%s`, expected `%s...`\n", k, err, expect);
+        TEST_ASSERT(rc != 0 && strncmp(err, expect, strlen(expect)) == 0);
+    }
+    remove(path);
+    return 0;
+}
+
+TEST_MAIN(TEST_CASE(grains_csv_round_trip), TEST_CASE(grains_file_formats_and_errors),
+          TEST_CASE(grains_file_refused))
