@@ -172,14 +172,15 @@ static void join(char *out, size_t size, const char *a, const char *b, const cha
     snprintf(out, size, "%s/%s%s%s", a, b, c ? "/" : "", c ? c : "");
 }
 
-/* One pair: bytes first (a deterministic figure is the same file), then the image diff. */
+/* One pair: bytes first (a deterministic figure is the same file), then the image diff, which
+ * draws PDFs and SVGs (their metadata is no difference) or says that it cannot. */
 static void compare_pair(const char *baseline, const char *fresh, const AppFolderDiff *o, Entry *e)
 {
     char a[PATH_MAX], b[PATH_MAX], d[PATH_MAX];
     join(a, sizeof a, baseline, e->name, NULL);
     join(b, sizeof b, fresh, e->name, NULL);
     int same = same_bytes(a, b);
-    if (same != 0 || !e->is_png || !o->compare) {
+    if (same != 0 || !o->compare) {
         e->status = same == 1 ? IDENTICAL : same == 0 ? CHANGED : UNREADABLE;
         if (same < 0) /* the name is in the entry: the note says which side */
             snprintf(e->note, sizeof e->note, "cannot read the %s file",
@@ -189,11 +190,18 @@ static void compare_pair(const char *baseline, const char *fresh, const AppFolde
         return;
     }
     const char *diff_png = NULL;
-    if (o->report_dir) {
+    if (o->report_dir && e->is_png) { /* the report shows a difference image of PNGs */
         join(d, sizeof d, o->report_dir, "diff", e->name);
         diff_png = make_parent(d) == 0 ? d : NULL;
     }
     int v = o->compare(o->context, a, b, diff_png, &e->diff, e->note, sizeof e->note);
+    if (v < 0) { /* no pixels of this format in this build: its bytes decide */
+        char why[sizeof e->note];
+        memcpy(why, e->note, sizeof why);
+        snprintf(e->note, sizeof e->note, "the bytes differ (%.280s)", why);
+        e->status = CHANGED;
+        return;
+    }
     e->status = v == 0 ? WITHIN : v == 1 ? CHANGED : UNREADABLE;
     if (v == 0) {
         e->note[0] = '\0';

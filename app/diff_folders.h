@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* diff_folders.h: `sablier diff BASELINE FRESH` on two folders (docs/ci.md): the figures (PNG,
  * SVG, PDF) of both, paired by their path relative to each folder; the missing and extra ones;
- * each PNG pair compared by the image diff the caller gives (the app core sees no renderer),
- * SVG and PDF by their bytes; a summary page (index.html) and report.json; --update copies the
- * fresh figures over the baseline. */
+ * each pair compared by the image diff the caller gives (the app core sees no renderer): PNGs,
+ * and PDFs and SVGs drawn as pixels where the renderer can, else by their bytes; a summary page
+ * (index.html) and report.json; --update copies the fresh figures over the baseline. */
 #ifndef APP_DIFF_FOLDERS_H
 #define APP_DIFF_FOLDERS_H
 
@@ -19,8 +19,9 @@ typedef struct AppImageDiff {
     int width, height;     ///< pixels, of the baseline; 0 when the pixels were not compared
 } AppImageDiff;
 
-/// Compares baseline and fresh PNG files; writes an image of the differences to diff_png when
-/// not NULL. Returns the verdict (also in *result), with a message in err when it is not 0.
+/// Compares baseline and fresh figure files by their pixels; writes an image of the differences
+/// to diff_png when not NULL. Returns the verdict (also in *result), with a message in err when
+/// it is not 0; -1 when it cannot draw that format (err says why: the bytes decide).
 typedef int (*AppImageCompare)(void *context, const char *baseline, const char *fresh,
                                const char *diff_png, AppImageDiff *result, char *err,
                                size_t err_size);

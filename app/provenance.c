@@ -200,23 +200,94 @@ static void cpu_name(char *out, size_t size)
     fclose(f);
 }
 
-static void utc_date(char *out, size_t size)
+int app_provenance_date(char *out, size_t size)
 {
-    time_t now = time(NULL);
+    const char *epoch = getenv("SOURCE_DATE_EPOCH");
+    char *end = NULL;
+    long long seconds = epoch && *epoch ? strtoll(epoch, &end, 10) : -1;
+    int pinned = end && *end == '\0' && seconds >= 0;
+    time_t now = pinned ? (time_t)seconds : time(NULL);
     struct tm tm;
     if (gmtime_r(&now, &tm))
         strftime(out, size, "%Y-%m-%dT%H:%M:%SZ", &tm);
     else
         snprintf(out, size, "unknown");
+    return pinned;
 }
 
-/* A JSON array of strings. */
-static size_t json_strings(char *out, size_t size, const char *const *items, int count)
+/* `path` (absolute) inside `dir` (absolute): the rest, "." for dir itself; else NULL. */
+static const char *inside(const char *path, const char *dir)
+{
+    size_t n = strlen(dir);
+    while (n > 1 && dir[n - 1] == '/')
+        --n;
+    if (n == 0 || strncmp(path, dir, n) != 0 || (path[n] != '/' && path[n] != '\0'))
+        return NULL;
+    const char *rest = path + n;
+    while (*rest == '/')
+        ++rest;
+    return *rest ? rest : ".";
+}
+
+void app_provenance_path(const AppProvenance *p, const char *path, char *out, size_t size)
+{
+    if (path[0] != '/') { /* as given */
+        snprintf(out, size, "%s", path);
+        return;
+    }
+    char out_dir[PATH_MAX], cwd[PATH_MAX], real[PATH_MAX];
+    const char *target = realpath(path, real) ? real : path, *rest = NULL;
+    if (p && p->out_dir && realpath(p->out_dir, out_dir))
+        rest = inside(target, out_dir);
+    if (!rest && getcwd(cwd, sizeof cwd))
+        rest = inside(target, cwd);
+    if (!rest) {
+        const char *slash = strrchr(path, '/');
+        rest = slash && slash[1] ? slash + 1 : ".";
+    }
+    snprintf(out, size, "%s", rest);
+}
+
+/* Argument k of the command line as recorded. */
+static void recorded_argument(const AppProvenance *p, int k, char *out, size_t size)
+{
+    const char *arg = p->argv[k], *eq = strchr(arg, '=');
+    if (k == 0) {
+        snprintf(out, size, "sablier");
+    } else if (arg[0] == '/') {
+        app_provenance_path(p, arg, out, size);
+    } else if (eq && eq[1] == '/') {
+        int key = (int)(eq - arg + 1);
+        snprintf(out, size, "%.*s", key, arg);
+        size_t n = strlen(out);
+        app_provenance_path(p, eq + 1, out + n, size - n);
+    } else {
+        snprintf(out, size, "%s", arg);
+    }
+}
+
+size_t app_provenance_command(const AppProvenance *p, char *out, size_t size)
+{
+    size_t n = 0;
+    out[0] = '\0';
+    for (int k = 0; p && k < p->argc && n < size; ++k) {
+        char arg[1024];
+        recorded_argument(p, k, arg, sizeof arg);
+        n += (size_t)snprintf(out + n, size - n, "%s%s", k ? " " : "", arg);
+    }
+    return n < size ? n : size - 1;
+}
+
+/* A JSON array of strings: the items, or the recorded command line when items is NULL. */
+static size_t json_strings(char *out, size_t size, const AppProvenance *p, const char *const *items,
+                           int count)
 {
     size_t n = (size_t)snprintf(out, size, "[");
     for (int k = 0; k < count && n < size; ++k) {
-        char item[1100];
-        app_json_string(item, sizeof item, items[k]);
+        char arg[1024], item[1100];
+        if (!items)
+            recorded_argument(p, k, arg, sizeof arg);
+        app_json_string(item, sizeof item, items ? items[k] : arg);
         n += (size_t)snprintf(out + n, size - n, "%s%s", k ? ", " : "", item);
     }
     if (n < size)
@@ -229,16 +300,15 @@ size_t app_provenance_json(const AppProvenance *p, const char *scene_sha256,
 {
     char command[4096], sets[4096], host[300] = "unknown", host_json[320], cpu[256], cpu_json[300],
                                     date[40], revision[120], resolved[300];
-    json_strings(command, sizeof command, (const char *const *)(p ? p->argv : NULL),
-                 p ? p->argc : 0);
-    json_strings(sets, sizeof sets, p ? p->sets : NULL, p ? p->set_count : 0);
+    json_strings(command, sizeof command, p, NULL, p && p->argv ? p->argc : 0);
+    json_strings(sets, sizeof sets, p, p ? p->sets : NULL, p && p->sets ? p->set_count : 0);
     if (gethostname(host, sizeof host - 1) != 0)
         snprintf(host, sizeof host, "unknown");
     host[sizeof host - 1] = '\0';
     app_json_string(host_json, sizeof host_json, host);
     cpu_name(cpu, sizeof cpu);
     app_json_string(cpu_json, sizeof cpu_json, cpu);
-    utc_date(date, sizeof date);
+    app_provenance_date(date, sizeof date);
     app_json_string(revision, sizeof revision,
                     p && p->revision && p->revision[0] ? p->revision : "unknown");
     app_json_string(resolved, sizeof resolved, resolved_name ? resolved_name : "");
@@ -254,16 +324,17 @@ size_t app_provenance_json(const AppProvenance *p, const char *scene_sha256,
 void app_provenance_comment(const AppProvenance *p, const char *scene_sha256, char *out,
                             size_t size)
 {
-    size_t n = (size_t)snprintf(out, size, "command:");
-    for (int k = 0; p && k < p->argc && n < size; ++k)
-        n += (size_t)snprintf(out + n, size - n, " %s", p->argv[k]);
-    char date[40], cpu[256];
-    utc_date(date, sizeof date);
+    size_t n = (size_t)snprintf(out, size, "command: ");
+    if (n < size)
+        n += app_provenance_command(p, out + n, size - n);
+    char date[40], cpu[256], dated[60] = "";
+    if (app_provenance_date(date, sizeof date)) /* else no date: same bytes on every run */
+        snprintf(dated, sizeof dated, "; date: %s", date);
     cpu_name(cpu, sizeof cpu);
     if (n < size)
-        snprintf(out + n, size - n, "; scene sha256: %s; revision: %s; date: %s; cpu: %s",
+        snprintf(out + n, size - n, "; scene sha256: %s; revision: %s%s; cpu: %s",
                  scene_sha256 ? scene_sha256 : "",
-                 p && p->revision && p->revision[0] ? p->revision : "unknown", date, cpu);
+                 p && p->revision && p->revision[0] ? p->revision : "unknown", dated, cpu);
 }
 
 /* ---------------------------------------------------------------- manifests */

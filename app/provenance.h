@@ -27,13 +27,25 @@ typedef struct AppProvenance {
     const char *const *sets; ///< the --set overrides, in order
     int set_count;
     const char *revision; ///< version control revision of the build, or NULL/""
+    const char *out_dir;  ///< the output folder: absolute paths recorded relative to it
 } AppProvenance;
 
+/// The command line as recorded (docs/cli.md "Provenance"): argv[0] as `sablier`; an absolute
+/// path (an argument, or the value after `=`) relative to the output folder when inside it (`.`
+/// for the folder), else relative to the working directory when inside it, else its last
+/// component; so no machine path lands in an output file. Returns the length written.
+size_t app_provenance_command(const AppProvenance *p, char *out, size_t size);
+/// One path as app_provenance_command records it (a relative path is kept as given).
+void app_provenance_path(const AppProvenance *p, const char *path, char *out, size_t size);
+/// The date of a run as recorded: SOURCE_DATE_EPOCH when set (reproducible builds), else the
+/// clock; UTC, ISO 8601. 1 when it came from SOURCE_DATE_EPOCH.
+int app_provenance_date(char *out, size_t size);
 /// The last member `"provenance": {...}\n` of summary.json (scene_sha256 and resolved file given
 /// by the caller). Returns the length written (cut to size).
 size_t app_provenance_json(const AppProvenance *p, const char *scene_sha256,
                            const char *resolved_name, char *out, size_t size);
-/// The same on one line for a PNG text chunk ("command: ...; scene sha256: ...; ...").
+/// The same on one line for a figure's text chunk or metadata ("command: ...; scene sha256: ...;
+/// ..."): no date unless SOURCE_DATE_EPOCH sets one, so that two runs write the same bytes.
 void app_provenance_comment(const AppProvenance *p, const char *scene_sha256, char *out,
                             size_t size);
 

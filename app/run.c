@@ -188,7 +188,9 @@ static int write_summary(const Run *run, double wall_seconds)
     char name[256], file[2 * SCENE_PATH_MAX], message[2200], render[600], effects[256],
         effects_json[300], n1[40], n2[40], n3[40], n4[40];
     app_json_string(name, sizeof name, scene->name);
-    app_json_string(file, sizeof file, scene->path);
+    char recorded[SCENE_PATH_MAX]; /* no machine path in the output (docs/cli.md "Provenance") */
+    app_provenance_path(&run->options->provenance, scene->path, recorded, sizeof recorded);
+    app_json_string(file, sizeof file, recorded);
     app_json_string(message, sizeof message, run->message);
     app_json_string(render, sizeof render,
                     run->options->render_versions ? run->options->render_versions : "not built");

@@ -232,7 +232,8 @@ static int command_run(int argc, char **argv)
                                          .argv = argv,
                                          .sets = a.sets,
                                          .set_count = set_count,
-                                         .revision = SABLIER_REVISION};
+                                         .revision = SABLIER_REVISION,
+                                         .out_dir = options.out_dir};
 #ifdef SABLIER_HAVE_RENDER
     options.render = app_render_glue();
 #endif
@@ -516,12 +517,19 @@ static RenderDiffOptions diff_options(const DiffArgs *d)
     return options;
 }
 
-/* The image diff of a folder pair (AppImageCompare): a size change is a difference. */
+/* The image diff of a folder pair (AppImageCompare): a size change is a difference; -1 for a
+ * format this build cannot draw. */
 static int diff_pair(void *context, const char *a, const char *b, const char *diff_png,
                      AppImageDiff *result, char *err, size_t err_size)
 {
     RenderDiffResult r;
     memset(&r, 0, sizeof r);
+    memset(result, 0, sizeof *result);
+    if (!render_figure_readable(a)) { /* a PDF or SVG without poppler and librsvg */
+        RenderImage none;
+        render_figure_read(a, 0.0, &none, err, err_size);
+        return -1;
+    }
     int rc = render_diff_files(a, b, context, diff_png, &r, err, err_size);
     int compared = rc != 2; /* else no pixel counts and no difference image */
     if (rc == 2 && strncmp(err, "different sizes", 15) == 0)

@@ -42,6 +42,9 @@ else()
   if(SABLIER_WITH_RENDER)
     string(APPEND sablier_deb_depends ", libcairo2, libpng16-16, libosmesa6, libavcodec59, "
            "libavformat59, libswscale6, libavutil57")
+    if(SABLIER_RASTER_FOUND)
+      string(APPEND sablier_deb_depends ", libpoppler-glib8, librsvg2-2")
+    endif()
   endif()
 endif()
 # The figures' text is drawn in DejaVu Sans (fontconfig finds it; other fonts move pixels).

@@ -50,6 +50,19 @@ int render_png_write(const RenderImage *image, const char *path, const char *con
 /// Reads a PNG into an RGBA image; 0 on success.
 int render_png_read(const char *path, RenderImage *out, char *err, size_t err_size);
 
+/* ---- figures read back as pixels (owned by render_raster.c) ---- */
+
+/// The resolution at which render_figure_read draws a PDF or SVG (dots per inch).
+#define RENDER_RASTER_DPI 150.0
+/// Reads a figure as pixels: a PNG as it is; the first page of a PDF (poppler-glib) or an SVG
+/// (librsvg) drawn on white at `dpi` (0: RENDER_RASTER_DPI). 0 on success; 1 when this build
+/// cannot draw that format (built without poppler-glib and librsvg; message in err); -1 when the
+/// file cannot be read (message in err). The caller frees the image with render_image_free.
+int render_figure_read(const char *path, double dpi, RenderImage *out, char *err, size_t err_size);
+/// 1 when render_figure_read can draw a file of this name's format (.png; .pdf and .svg in a
+/// build with poppler-glib and librsvg), else 0.
+int render_figure_readable(const char *path);
+
 /* ---- drawing helpers shared by the Cairo and OSMesa drawers (render_cairo.c, render_colormap.c),
  * so both agree on layout and colours ---- */
 
@@ -323,8 +336,9 @@ typedef struct RenderDiffResult {
 } RenderDiffResult;
 
 RenderDiffOptions render_diff_options_default(void);
-/// Compares two PNG files. Returns 0 match, 1 differ, 2 bad input (message in err). Writes a diff
-/// image to diff_path when not NULL.
+/// Compares two figure files (PNG, or PDF and SVG drawn by render_figure_read) by their pixels.
+/// Returns 0 match, 1 differ, 2 bad input (message in err). Writes a diff image (PNG) to
+/// diff_path when not NULL.
 int render_diff_files(const char *a, const char *b, const RenderDiffOptions *options,
                       const char *diff_path, RenderDiffResult *result, char *err, size_t err_size);
 

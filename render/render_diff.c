@@ -4,6 +4,7 @@
  * directions (VTK's AllowShift idea, anchors-render 3.2): renderer noise and sub-pixel moves give
  * 0, a missing force-chain segment does not. RMS is reported but never decides. */
 #include "render/render.h"
+#include "render/render_file.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -15,16 +16,6 @@ RenderDiffOptions render_diff_options_default(void)
 {
     RenderDiffOptions o = {.channel_threshold = 32, .shift_tolerance = 1, .max_pixels = 0};
     return o;
-}
-
-static void set_err(char *err, size_t size, const char *fmt, ...)
-{
-    if (!err || size == 0)
-        return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, size, fmt, ap);
-    va_end(ap);
 }
 
 static int max_channel_diff(const uint8_t *p, const uint8_t *q)
@@ -82,8 +73,8 @@ int render_diff_images(const RenderImage *a, const RenderImage *b, const RenderD
     if (diff)
         diff->pixels = NULL;
     if (a->width != b->width || a->height != b->height) {
-        set_err(err, err_size, "different sizes: %dx%d and %dx%d", a->width, a->height, b->width,
-                b->height);
+        render_set_err(err, err_size, "different sizes: %dx%d and %dx%d", a->width, a->height,
+                       b->width, b->height);
         if (result)
             *result = r;
         return 2;
@@ -93,7 +84,7 @@ int render_diff_images(const RenderImage *a, const RenderImage *b, const RenderD
     if (!pa || !pb || (diff && render_image_alloc(diff, w, h, RENDER_PIXEL_RGBA) != 0)) {
         free(pa);
         free(pb);
-        set_err(err, err_size, "out of memory");
+        render_set_err(err, err_size, "out of memory");
         if (result)
             *result = r;
         return 2;
@@ -146,8 +137,9 @@ int render_diff_images(const RenderImage *a, const RenderImage *b, const RenderD
     if (result)
         *result = r;
     if (r.verdict == 1)
-        set_err(err, err_size, "%ld pixels differ (threshold %d, shift %d, allowed %ld)",
-                r.differing_pixels, opt.channel_threshold, opt.shift_tolerance, opt.max_pixels);
+        render_set_err(err, err_size, "%ld pixels differ (threshold %d, shift %d, allowed %ld)",
+                       r.differing_pixels, opt.channel_threshold, opt.shift_tolerance,
+                       opt.max_pixels);
     return r.verdict;
 }
 
@@ -160,20 +152,20 @@ int render_diff_files(const char *a, const char *b, const RenderDiffOptions *opt
     r.verdict = 2;
     if (result)
         *result = r;
-    if (render_png_read(a, &ia, err, err_size) != 0)
+    if (render_figure_read(a, 0.0, &ia, err, err_size) != 0)
         return 2;
-    if (render_png_read(b, &ib, err, err_size) != 0) {
+    if (render_figure_read(b, 0.0, &ib, err, err_size) != 0) {
         render_image_free(&ia);
         return 2;
     }
     int rc = render_diff_images(&ia, &ib, options, diff_path ? &id : NULL, result, err, err_size);
     if (rc == 2 && (ia.width != ib.width || ia.height != ib.height))
-        set_err(err, err_size, "different sizes: %s is %dx%d, %s is %dx%d", a, ia.width, ia.height,
-                b, ib.width, ib.height);
+        render_set_err(err, err_size, "different sizes: %s is %dx%d, %s is %dx%d", a, ia.width,
+                       ia.height, b, ib.width, ib.height);
     if (diff_path && rc != 2) {
         char werr[300];
         if (render_png_write(&id, diff_path, NULL, werr, sizeof werr) != 0) {
-            set_err(err, err_size, "%s", werr);
+            render_set_err(err, err_size, "%s", werr);
             rc = 2;
             if (result)
                 result->verdict = 2;

@@ -19,19 +19,23 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 /* Pinned PDF dates: cairo 1.16 ignores SOURCE_DATE_EPOCH and would write the wall clock
- * (anchors-render 2a), which breaks byte-identical reruns. */
+ * (anchors-render 2a), which breaks byte-identical reruns; so a PDF's date is SOURCE_DATE_EPOCH
+ * when set (as newer cairo does), else this fixed one, never the clock. */
 #define PDF_FIXED_DATE "2000-01-01T00:00:00Z"
 
-static void set_err(char *err, size_t size, const char *fmt, ...)
+static void pdf_date(char *out, size_t size)
 {
-    if (!err || size == 0)
-        return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, size, fmt, ap);
-    va_end(ap);
+    const char *epoch = getenv("SOURCE_DATE_EPOCH");
+    char *end = NULL;
+    long long seconds = epoch && *epoch ? strtoll(epoch, &end, 10) : -1;
+    time_t t = (time_t)seconds;
+    struct tm tm;
+    if (!end || *end != '\0' || seconds < 0 || !gmtime_r(&t, &tm) ||
+        strftime(out, size, "%Y-%m-%dT%H:%M:%SZ", &tm) == 0)
+        snprintf(out, size, "%s", PDF_FIXED_DATE);
 }
 
 void render_text_font(cairo_t *cr, double size, int bold)
@@ -166,30 +170,15 @@ void render_arrow(cairo_t *cr, double x, double y, double dx, double dy, double 
     cairo_fill(cr);
 }
 
-static int has_extension(const char *path, const char *ext)
-{
-    const char *dot = strrchr(path, '.');
-    if (!dot)
-        return 0;
-    ++dot;
-    size_t n = strlen(ext);
-    if (strlen(dot) != n)
-        return 0;
-    for (size_t k = 0; k < n; ++k)
-        if (tolower((unsigned char)dot[k]) != ext[k])
-            return 0;
-    return 1;
-}
-
 int render_cairo_image(int width, int height, RenderDrawFn draw, void *context, RenderImage *out,
                        char *err, size_t err_size)
 {
     if (render_image_alloc(out, width, height, RENDER_PIXEL_BGRA_PREMUL) != 0) {
-        set_err(err, err_size, "cannot allocate a %dx%d image", width, height);
+        render_set_err(err, err_size, "cannot allocate a %dx%d image", width, height);
         return -1;
     }
     if (cairo_format_stride_for_width(CAIRO_FORMAT_ARGB32, width) != out->stride) {
-        set_err(err, err_size, "unexpected Cairo stride");
+        render_set_err(err, err_size, "unexpected Cairo stride");
         render_image_free(out);
         return -1;
     }
@@ -202,7 +191,7 @@ int render_cairo_image(int width, int height, RenderDrawFn draw, void *context, 
     cairo_surface_flush(surface);
     cairo_surface_destroy(surface);
     if (status != CAIRO_STATUS_SUCCESS) {
-        set_err(err, err_size, "cairo: %s", cairo_status_to_string(status));
+        render_set_err(err, err_size, "cairo: %s", cairo_status_to_string(status));
         render_image_free(out);
         return -1;
     }
@@ -266,14 +255,14 @@ int render_cairo_write(const char *path, int width, int height, RenderDrawFn dra
 int render_cairo_write_dpi(const char *path, int width, int height, double dpi, RenderDrawFn draw,
                            void *context, const char *const *text, char *err, size_t err_size)
 {
-    int png = has_extension(path, "png"), pdf = has_extension(path, "pdf"),
-        svg = has_extension(path, "svg");
+    int png = render_has_extension(path, "png"), pdf = render_has_extension(path, "pdf"),
+        svg = render_has_extension(path, "svg");
     if (!png && !pdf && !svg) {
-        set_err(err, err_size, "%s: unknown figure format (use .png, .pdf or .svg)", path);
+        render_set_err(err, err_size, "%s: unknown figure format (use .png, .pdf or .svg)", path);
         return -1;
     }
     if (width <= 0 || height <= 0) {
-        set_err(err, err_size, "%s: bad size %dx%d", path, width, height);
+        render_set_err(err, err_size, "%s: bad size %dx%d", path, width, height);
         return -1;
     }
     if (png) {
@@ -293,8 +282,8 @@ int render_cairo_write_dpi(const char *path, int width, int height, double dpi, 
     cairo_surface_t *surface =
         pdf ? cairo_pdf_surface_create(tmp, w_pt, h_pt) : cairo_svg_surface_create(tmp, w_pt, h_pt);
     if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) {
-        set_err(err, err_size, "%s: %s", tmp,
-                cairo_status_to_string(cairo_surface_status(surface)));
+        render_set_err(err, err_size, "%s: %s", tmp,
+                       cairo_status_to_string(cairo_surface_status(surface)));
         cairo_surface_destroy(surface);
         return render_tmp_commit(tmp, path, 0, err, err_size);
     }
@@ -308,8 +297,10 @@ int render_cairo_write_dpi(const char *path, int width, int height, double dpi, 
             cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_TITLE, title);
         cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_SUBJECT, subject);
         cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATOR, "sablier " SIM_VERSION);
-        cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATE_DATE, PDF_FIXED_DATE);
-        cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_MOD_DATE, PDF_FIXED_DATE);
+        char date[40];
+        pdf_date(date, sizeof date);
+        cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATE_DATE, date);
+        cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_MOD_DATE, date);
     } else {
         cairo_svg_surface_restrict_to_version(surface, CAIRO_SVG_VERSION_1_1);
         cairo_svg_surface_set_document_unit(surface, CAIRO_SVG_UNIT_PT);
@@ -325,7 +316,7 @@ int render_cairo_write_dpi(const char *path, int width, int height, double dpi, 
         status = cairo_surface_status(surface);
     cairo_surface_destroy(surface);
     if (status != CAIRO_STATUS_SUCCESS)
-        set_err(err, err_size, "%s: cairo: %s", tmp, cairo_status_to_string(status));
+        render_set_err(err, err_size, "%s: cairo: %s", tmp, cairo_status_to_string(status));
     return render_tmp_commit(tmp, path, status == CAIRO_STATUS_SUCCESS, err, err_size);
 }
 

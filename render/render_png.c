@@ -39,16 +39,6 @@ static void png_warning_fn(png_structp png, png_const_charp message)
     (void)message;
 }
 
-static void set_err(char *err, size_t size, const char *fmt, ...)
-{
-    if (!err || size == 0)
-        return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, size, fmt, ap);
-    va_end(ap);
-}
-
 static int image_is_opaque(const RenderImage *image)
 {
     for (int y = 0; y < image->height; ++y) {
@@ -103,7 +93,7 @@ int render_png_write_dpi(const RenderImage *image, const char *path, const char 
                          double dpi, char *err, size_t err_size)
 {
     if (!image || !image->pixels || image->width <= 0 || image->height <= 0) {
-        set_err(err, err_size, "%s: empty image", path);
+        render_set_err(err, err_size, "%s: empty image", path);
         return -1;
     }
     char *tmp = render_tmp_name(path, err, err_size);
@@ -120,16 +110,16 @@ int render_png_write_dpi(const RenderImage *image, const char *path, const char 
     job.texts = ntext ? calloc((size_t)ntext, sizeof *job.texts) : NULL;
     job.file = fopen(tmp, "wb");
     if (!job.row || (ntext && !job.texts) || !job.file) {
-        set_err(err, err_size, "%s: %s", tmp, job.file ? "out of memory" : strerror(errno));
+        render_set_err(err, err_size, "%s: %s", tmp, job.file ? "out of memory" : strerror(errno));
         goto fail;
     }
     job.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &job, png_error_fn, png_warning_fn);
     if (!job.png || !(job.info = png_create_info_struct(job.png))) {
-        set_err(err, err_size, "%s: cannot create libpng writer", path);
+        render_set_err(err, err_size, "%s: cannot create libpng writer", path);
         goto fail;
     }
     if (setjmp(png_jmpbuf(job.png))) {
-        set_err(err, err_size, "%s: libpng: %s", tmp, job.message);
+        render_set_err(err, err_size, "%s: libpng: %s", tmp, job.message);
         goto fail;
     }
     png_init_io(job.png, job.file);
@@ -166,7 +156,7 @@ int render_png_write_dpi(const RenderImage *image, const char *path, const char 
     free(job.texts);
     int closed = fclose(job.file) == 0;
     if (!closed)
-        set_err(err, err_size, "%s: %s", tmp, strerror(errno));
+        render_set_err(err, err_size, "%s: %s", tmp, strerror(errno));
     return render_tmp_commit(tmp, path, closed, err, err_size);
 fail:
     if (job.png)
@@ -188,22 +178,22 @@ int render_png_read(const char *path, RenderImage *out, char *err, size_t err_si
     PngJob job = {0};
     job.file = fopen(path, "rb");
     if (!job.file) {
-        set_err(err, err_size, "%s: %s", path, strerror(errno));
+        render_set_err(err, err_size, "%s: %s", path, strerror(errno));
         return -1;
     }
     uint8_t sig[8];
     if (fread(sig, 1, 8, job.file) != 8 || png_sig_cmp(sig, 0, 8) != 0) {
-        set_err(err, err_size, "%s: not a PNG file", path);
+        render_set_err(err, err_size, "%s: not a PNG file", path);
         fclose(job.file);
         return -1;
     }
     job.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &job, png_error_fn, png_warning_fn);
     if (!job.png || !(job.info = png_create_info_struct(job.png))) {
-        set_err(err, err_size, "%s: cannot create libpng reader", path);
+        render_set_err(err, err_size, "%s: cannot create libpng reader", path);
         goto fail;
     }
     if (setjmp(png_jmpbuf(job.png))) {
-        set_err(err, err_size, "%s: libpng: %s", path, job.message);
+        render_set_err(err, err_size, "%s: libpng: %s", path, job.message);
         goto fail;
     }
     png_init_io(job.png, job.file);

@@ -111,6 +111,13 @@ if(SABLIER_WITH_RENDER)
                    -P ${CLI_DIR}/print_figures.cmake)
   set_tests_properties(cli.print_figures PROPERTIES LABELS cli
                        ENVIRONMENT "LSAN_OPTIONS=suppressions=${CLI_DIR}/lsan.supp")
+  # two identical runs: the same PNG, PDF and SVG bytes, no absolute path in any output, the date
+  # only from SOURCE_DATE_EPOCH (issue 38 part 4)
+  add_test(NAME cli.reproducible
+           COMMAND bash ${CLI_DIR}/reproducible.sh $<TARGET_FILE:sablier>
+                   ${CLI_DIR}/reproducible.scene ${CLI_WORK}/reproducible)
+  set_tests_properties(cli.reproducible PROPERTIES LABELS cli
+                       ENVIRONMENT "LSAN_OPTIONS=suppressions=${CLI_DIR}/lsan.supp")
 endif()
 # a run that blows up: exit 1, message with step and grain, last good state saved
 add_test(NAME cli.run_unstable

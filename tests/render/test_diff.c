@@ -1,8 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /* Image diff: what it must catch (a recoloured grain, a missing force-chain segment) and what it
- * must forgive (a one-pixel shift of the whole drawing), and bad input. */
+ * must forgive (a one-pixel shift of the whole drawing), and bad input; PDF and SVG figures
+ * compared by their drawn pixels, not by their bytes (issue 38 part 4). */
 #include "fixture.h"
 #include "test.h"
+
+#include "render/render_cairo_util.h"
+
+#include <stdio.h>
 
 #define DIR "out/render-tests/diff"
 
@@ -208,5 +213,91 @@ static int mixed_formats(void)
     return 0;
 }
 
+/* A grey square, and a red disc when the context says so. */
+static void draw_shape(cairo_t *cr, void *context)
+{
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
+    cairo_rectangle(cr, 40, 40, 120, 80);
+    cairo_fill(cr);
+    if (*(const int *)context) {
+        cairo_set_source_rgb(cr, 0.9, 0.1, 0.1);
+        cairo_arc(cr, 240, 160, 30, 0, 6.283185307179586);
+        cairo_fill(cr);
+    }
+}
+
+static long file_bytes(const char *path, char *buf, long size)
+{
+    FILE *f = fopen(path, "rb");
+    long n = f ? (long)fread(buf, 1, (size_t)size, f) : -1;
+    if (f)
+        fclose(f);
+    return n;
+}
+
+/* Two figures of one format: the same drawing with other metadata (another date and comment)
+ * matches by pixels though the bytes differ; an added disc is a change. */
+static int vector_pair(const char *ext)
+{
+    make_dirs();
+    char a[128], b[128], c[128], err[256];
+    snprintf(a, sizeof a, DIR "/meta_a.%s", ext);
+    snprintf(b, sizeof b, DIR "/meta_b.%s", ext);
+    snprintf(c, sizeof c, DIR "/shape.%s", ext);
+    const char *text_a[] = {"Comment", "command: sablier run /home/a/x.scene", "Title", "a", NULL};
+    const char *text_b[] = {"Comment", "command: sablier run x.scene", "Title", "b", NULL};
+    int plain = 0, disc = 1;
+    TEST_ASSERT(render_cairo_write(a, 320, 240, draw_shape, &plain, text_a, err, sizeof err) == 0);
+    setenv("SOURCE_DATE_EPOCH", "86400", 1); /* another date in the PDF */
+    TEST_ASSERT(render_cairo_write(b, 320, 240, draw_shape, &plain, text_b, err, sizeof err) == 0);
+    unsetenv("SOURCE_DATE_EPOCH");
+    TEST_ASSERT(render_cairo_write(c, 320, 240, draw_shape, &disc, text_a, err, sizeof err) == 0);
+    static char bytes_a[1 << 16], bytes_b[1 << 16];
+    long na = file_bytes(a, bytes_a, sizeof bytes_a), nb = file_bytes(b, bytes_b, sizeof bytes_b);
+    TEST_ASSERT(na > 0 && nb > 0);
+    if (strcmp(ext, "pdf") == 0) /* SVG has no metadata: its bytes are the same */
+        TEST_ASSERT(na != nb || memcmp(bytes_a, bytes_b, (size_t)na) != 0);
+    RenderDiffResult r;
+    if (!render_figure_readable(a)) { /* built without poppler-glib and librsvg */
+        RenderImage none;
+        TEST_ASSERT(render_figure_read(a, 0.0, &none, err, sizeof err) == 1);
+        TEST_ASSERT(strstr(err, "built without"));
+        TEST_ASSERT(render_diff_files(a, b, NULL, NULL, &r, err, sizeof err) == 2);
+        return 0;
+    }
+    TEST_ASSERT(render_diff_files(a, b, NULL, NULL, &r, err, sizeof err) == 0);
+    TEST_ASSERT(r.differing_pixels == 0 && r.max_channel_diff == 0);
+    /* drawn at RENDER_RASTER_DPI from a page of 320 x 240 px at RENDER_PT_PER_PX pt/px */
+    TEST_ASSERT(r.width == (int)ceil(320 * RENDER_PT_PER_PX * RENDER_RASTER_DPI / 72.0 - 1e-9));
+    TEST_ASSERT(r.height == (int)ceil(240 * RENDER_PT_PER_PX * RENDER_RASTER_DPI / 72.0 - 1e-9));
+    TEST_ASSERT(render_diff_files(a, c, NULL, DIR "/shape_diff.png", &r, err, sizeof err) == 1);
+    TEST_ASSERT(r.differing_pixels > 1000 && r.max_channel_diff > 100);
+    RenderImage page;
+    TEST_ASSERT(render_figure_read(c, 72.0, &page, err, sizeof err) == 0);
+    uint8_t grey[4], red[4], white[4];
+    render_image_get_rgba(&page, (int)(80 * RENDER_PT_PER_PX), (int)(60 * RENDER_PT_PER_PX), grey);
+    render_image_get_rgba(&page, (int)(240 * RENDER_PT_PER_PX), (int)(160 * RENDER_PT_PER_PX), red);
+    render_image_get_rgba(&page, 1, (int)(230 * RENDER_PT_PER_PX), white);
+    TEST_ASSERT(grey[0] > 60 && grey[0] < 90 && grey[0] == grey[2]);
+    TEST_ASSERT(red[0] > 200 && red[1] < 50);
+    TEST_ASSERT(white[0] == 255 && white[1] == 255 && white[2] == 255 && white[3] == 255);
+    render_image_free(&page);
+    TEST_ASSERT(render_figure_read(DIR "/none.pdf", 0.0, &page, err, sizeof err) == -1);
+    return 0;
+}
+
+static int pdf_by_pixels(void)
+{
+    return vector_pair("pdf");
+}
+
+static int svg_by_pixels(void)
+{
+    return vector_pair("svg");
+}
+
 TEST_MAIN(TEST_CASE(identical), TEST_CASE(recoloured_grain), TEST_CASE(missing_chain_segment),
-          TEST_CASE(one_pixel_shift), TEST_CASE(bad_input), TEST_CASE(mixed_formats))
+          TEST_CASE(one_pixel_shift), TEST_CASE(bad_input), TEST_CASE(mixed_formats),
+          TEST_CASE(pdf_by_pixels), TEST_CASE(svg_by_pixels))
