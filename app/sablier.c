@@ -663,6 +663,11 @@ static int command_render(int argc, char **argv)
         return app_usage_error(USAGE_RENDER, state ? "missing -o FIG" : "missing STATE", NULL);
     if (set_count && !scene_path)
         return app_usage_error(USAGE_RENDER, "--set needs --scene", NULL);
+    const char *why = NULL;
+    if (sim_output_target(out, &why) != 0) { /* a device or a link is never replaced */
+        fprintf(stderr, "sablier: render: cannot write %s: %s\n", out, why);
+        return 2;
+    }
     char err[4096] = "";
     Scene *scene = NULL;
     if (scene_path && !(scene = scene_load(scene_path, sets, set_count, err, sizeof err))) {
@@ -719,8 +724,9 @@ static int command_render(int argc, char **argv)
     }
     if (status == 0 &&
         render_figure_write(&frame, &render_style, &meta, out, err, sizeof err) != 0) {
-        fprintf(stderr, "sablier: render: %s: %s\n", out, err);
-        status = 2;
+        int full = app_failed_for_space(err);
+        fprintf(stderr, "sablier: render: %s%s: %s\n", full ? "disk full: " : "", out, err);
+        status = full ? APP_EXIT_DISK_FULL : 2;
     }
     if (world)
         sim_world_destroy(world);

@@ -14,6 +14,8 @@
 #include "scene.h"
 #include "scene_internal.h"
 
+#include "sim/sim.h"
+
 #include <ctype.h>
 #include <errno.h>
 #include <libconfig.h>
@@ -448,19 +450,18 @@ static int check_literal(Loader *L, const char *path, int line, const char *text
 static int check_int_literals(Loader *L, const char *path, int depth);
 
 /* 0 when `path` is a regular file; else -1 with why in `why` (a folder, a FIFO or device, which
- * libconfig would fail on without a line or block on, or the error of stat). */
+ * libconfig would fail on without a line or block on, or why it cannot be opened): checked
+ * through sim_open_input, which never blocks. */
 static int regular_file(const char *path, char *why, size_t size)
 {
-    struct stat st;
-    if (stat(path, &st) != 0)
-        snprintf(why, size, "%s", strerror(errno));
-    else if (S_ISDIR(st.st_mode))
-        snprintf(why, size, "it is a folder");
-    else if (!S_ISREG(st.st_mode))
-        snprintf(why, size, "not a regular file (a FIFO, socket or device)");
-    else
-        return 0;
-    return -1;
+    const char *reason = NULL;
+    FILE *f = sim_open_input(path, &reason);
+    if (!f) {
+        snprintf(why, size, "%s", reason);
+        return -1;
+    }
+    fclose(f);
+    return 0;
 }
 
 /* An `@include "NAME"` at text[*at], line `line` of `file`: the included file checked (NAME
@@ -499,7 +500,7 @@ static int check_include(Loader *L, const char *file, int line, const char *text
 
 static int check_int_literals(Loader *L, const char *path, int depth)
 {
-    FILE *f = fopen(path, "rb");
+    FILE *f = sim_open_input(path, NULL);
     if (!f)
         return 0; /* libconfig reports it */
     char *text = NULL;

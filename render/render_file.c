@@ -2,6 +2,8 @@
 /* render_file.c: the temporary-name-then-rename tail shared by the PNG and PDF/SVG writers. */
 #include "render/render_file.h"
 
+#include "sim/sim.h"
+
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,11 +13,17 @@ char *render_tmp_name(const char *path, char *err, size_t err_size)
 {
     size_t n = strlen(path) + 5;
     char *tmp = malloc(n);
-    if (tmp)
+    const char *why = "out of memory";
+    FILE *fresh = tmp ? sim_open_output(path, &why) : NULL;
+    if (fresh) {
+        fclose(fresh);
         snprintf(tmp, n, "%s.tmp", path);
-    else if (err && err_size)
-        snprintf(err, err_size, "%s: out of memory", path);
-    return tmp;
+        return tmp;
+    }
+    if (err && err_size)
+        snprintf(err, err_size, "%s: %s", path, why);
+    free(tmp);
+    return NULL;
 }
 
 int render_tmp_commit(char *tmp, const char *path, int ok, char *err, size_t err_size)
