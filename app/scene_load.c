@@ -625,7 +625,8 @@ static int parse_scene(Loader *L, const config_setting_t *root)
         loader_parse_grains(L, root) < 0 || loader_parse_walls(L, root) < 0 ||
         apply_target_error(L) < 0 || loader_parse_sinks(L, root) < 0 ||
         loader_parse_stages(L, root) < 0 || loader_parse_sources(L, root) < 0 ||
-        loader_check_remove_ids(L, root) < 0 || loader_parse_output(L, root) < 0)
+        loader_check_remove_ids(L, root) < 0 || loader_claim_run_outputs(L, root) < 0 ||
+        loader_parse_output(L, root) < 0)
         return -1;
     normalised_labels(scene);
     for (int f = 0; app_experiments[f]; ++f) { /* each family parses its own keys */
@@ -633,6 +634,10 @@ static int parse_scene(Loader *L, const config_setting_t *root)
         if (e->parse && e->parse(root, e->group ? app_config_member(root, e->group) : NULL, scene,
                                  &scene->experiments[f], L->p.err, L->p.err_size) != 0)
             return -1;
+        /* the family's own files, which no figure or measure may overwrite */
+        for (int k = 0; scene->experiments[f] && e->outputs && e->outputs[k]; ++k)
+            if (scene_claim_output(scene, &L->p, NULL, e->name, e->outputs[k]) < 0)
+                return -1;
     }
     return 0;
 }
@@ -723,6 +728,7 @@ Scene *scene_load(const char *path, const char *const *sets, int set_count, char
     config_destroy(&L->config);
     for (int k = 0; k < L->set_count; ++k)
         free(L->set_keys[k]);
+    scene_claims_free(scene);
     if (!ok) {
         scene_free(scene);
         return NULL;
@@ -745,6 +751,7 @@ void scene_free(Scene *scene)
     for (int f = 0; app_experiments[f]; ++f)
         if (scene->experiments[f] && app_experiments[f]->free)
             app_experiments[f]->free(scene->experiments[f]);
+    scene_claims_free(scene);
     if (scene->where) {
         free(scene->where->items);
         free(scene->where->grain_item);
