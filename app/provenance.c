@@ -354,11 +354,11 @@ int app_manifest_write(const char *dir, int keep_listed)
     /* sorted, each once: the same run makes the same manifest */
     if (l.count > 0)
         qsort(l.paths, (size_t)l.count, sizeof(char *), compare_paths);
-    for (int k = 0; k < l.count; ++k) {
-        if (out && (k == 0 || strcmp(l.paths[k], l.paths[k - 1]) != 0))
+    for (int k = 0; out && k < l.count; ++k)
+        if (k == 0 || strcmp(l.paths[k], l.paths[k - 1]) != 0)
             fprintf(out, "%s\n", l.paths[k]);
+    for (int k = 0; k < l.count; ++k)
         free(l.paths[k]);
-    }
     free(l.paths);
     return out ? app_tmp_commit(&out, path) : -1;
 }
