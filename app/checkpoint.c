@@ -4,6 +4,8 @@
 
 #include "util.h"
 
+#include "sim/sim.h"
+
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
@@ -61,7 +63,7 @@ long app_checkpoint_bytes(FILE *file)
 
 char *app_checkpoint_read(const char *path)
 {
-    FILE *f = fopen(path, "rb");
+    FILE *f = sim_open_input(path, NULL);
     long size = f && fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
     char *text = size >= 0 && fseek(f, 0, SEEK_SET) == 0 ? malloc((size_t)size + 1) : NULL;
     if (text && fread(text, 1, (size_t)size, f) != (size_t)size) {
@@ -102,7 +104,7 @@ FILE *app_tmp_reopen(const char *path, long bytes)
         snprintf(tmp, size, "%s.tmp", path);
         const char *from[2] = {tmp, path};
         for (int k = 0; k < 2 && !out; ++k) {
-            FILE *f = fopen(from[k], "rb");
+            FILE *f = sim_open_input(from[k], NULL);
             size_t got = f ? fread(text, 1, (size_t)bytes, f) : 0;
             if (f)
                 fclose(f);
@@ -140,7 +142,7 @@ void app_checkpoint_keep_files(const char *record, const char *dir)
             continue;
         snprintf(path, sizeof path, "%s/%s", dir, name);
         snprintf(tmp, sizeof tmp, "%s.tmp", path);
-        FILE *f = fopen(tmp, "rb");
+        FILE *f = sim_open_input(tmp, NULL);
         long size = f && fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
         if (f)
             fclose(f);

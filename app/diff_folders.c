@@ -7,6 +7,8 @@
 #include "provenance.h" /* app_json_string, app_json_number */
 #include "util.h"
 
+#include "sim/sim.h"
+
 #include <dirent.h>
 #include <errno.h>
 #include <limits.h>
@@ -117,7 +119,7 @@ static int compare_names(const void *a, const void *b)
 /* 1 when the two files hold the same bytes, 0 when not, -1 when one cannot be read. */
 static int same_bytes(const char *a, const char *b)
 {
-    FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
+    FILE *fa = sim_open_input(a, NULL), *fb = sim_open_input(b, NULL);
     int same = fa && fb ? 1 : -1;
     while (same == 1) {
         char ba[8192], bb[8192];
@@ -151,7 +153,7 @@ static int make_parent(const char *path)
 /* Copies src to dst through dst.tmp and a rename, making dst's folder. 0, or -1. */
 static int copy_atomic(const char *src, const char *dst)
 {
-    FILE *in = fopen(src, "rb");
+    FILE *in = sim_open_input(src, NULL);
     FILE *out = in && make_parent(dst) == 0 ? app_tmp_open(dst, NULL) : NULL;
     int ok = out != NULL;
     char buffer[65536];

@@ -4,6 +4,7 @@
  * checkpoint has no contact forces without a scene's materials). Also the frame of saved grains
  * that `sablier render` draws without a scene. */
 #include "dump.h"
+#include "run.h"
 #include "util.h"
 
 #include <errno.h>
@@ -199,6 +200,11 @@ int app_dump_export(int argc, char **argv)
     int bad = export_arguments(argc, argv, &state, &out, &format);
     if (bad)
         return bad;
+    const char *why = NULL;
+    if (sim_output_target(out, &why) != 0) { /* a device or a link is never replaced */
+        fprintf(stderr, "sablier: export: cannot write %s: %s\n", out, why);
+        return 2;
+    }
     SimGrainSet grains;
     SimWall *walls = NULL;
     int wall_count = 0;
@@ -222,9 +228,10 @@ int app_dump_export(int argc, char **argv)
                                                      (int)sizeof EXPORT_FIELDS, NULL)
                                : write_csv(out, &frame);
         if (rc != 0) {
-            fprintf(stderr, "sablier: export: cannot write %s%s%s\n", out, errno ? ": " : "",
-                    errno ? strerror(errno) : "");
-            status = 2;
+            int full = app_failed_for_space(NULL), reason = full ? ENOSPC : errno;
+            fprintf(stderr, "sablier: export: %scannot write %s%s%s\n", full ? "disk full: " : "",
+                    out, reason ? ": " : "", reason ? strerror(reason) : "");
+            status = full ? APP_EXIT_DISK_FULL : 2;
         }
     }
     app_state_frame_free(&columns);

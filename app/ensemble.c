@@ -16,6 +16,8 @@
 #include "stats.h"
 #include "util.h"
 
+#include "sim/sim.h"
+
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -486,7 +488,7 @@ static void read_members(Ensemble *E)
         if (E->status[k] != 0)
             continue;
         snprintf(path, sizeof path, "%s/cpu_seconds.txt", dir);
-        FILE *f = fopen(path, "r");
+        FILE *f = sim_open_input(path, NULL);
         if (!f || fscanf(f, "%lf", &E->cpu[k]) != 1)
             E->cpu[k] = NAN;
         if (f)

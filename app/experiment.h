@@ -98,6 +98,9 @@ typedef struct AppExperiment {
     /// NULL); the loader accepts them and leaves them to parse.
     const char *const *stage_keys;
     const char *const *output_keys;
+    /// The files the family writes into a run's folder under fixed names (NULL-ended, or NULL),
+    /// claimed for it when a scene uses it: no figure or measure may write one of them.
+    const char *const *outputs;
     /// Parses the family's settings: `group` is the top-level group (NULL when absent), `root` the
     /// whole scene (for stage and output keys). The scene's physics, grains, stages and output
     /// are parsed. Sets *state (NULL: the scene does not use the family) and returns 0, or -1

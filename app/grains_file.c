@@ -6,6 +6,8 @@
  * type - 1). Errors name the file and line. */
 #include "grains_file.h"
 
+#include "sim/sim.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -276,9 +278,10 @@ int app_grains_read(const char *path, int species_count, SimGrainBuffer *buffer,
 {
     *has_ids = 0;
     Reader r = {.path = path, .line = 0, .err = err, .err_size = err_size, .column = {-1}};
-    FILE *f = fopen(path, "r");
+    const char *why = NULL;
+    FILE *f = sim_open_input(path, &why);
     if (!f) {
-        snprintf(err, err_size, "%s:1: cannot read the grains file: %s", path, strerror(errno));
+        snprintf(err, err_size, "%s:1: cannot read the grains file: %s", path, why);
         return -1;
     }
     char first[LINE_MAX];

@@ -308,8 +308,33 @@ static int parse_one(AppConfig *p, const config_setting_t *g, const Scene *scene
     return 0;
 }
 
+/* The files measure m writes (its CSV; a grid's VTK folder; its figures) claimed in the output
+ * folder, against the run's, the stages', the figures' and the other measures' files. */
+static int claim_files(AppConfig *p, const config_setting_t *g, Scene *scene, const Measure *m)
+{
+    const config_setting_t *at = app_config_member(g, "name");
+    char what[SCENE_NAME_MAX + 16], file[2 * SCENE_NAME_MAX + 16];
+    snprintf(what, sizeof what, "measure `%s`", m->name);
+    snprintf(file, sizeof file, "%s.csv", m->name);
+    int rc = scene_claim_output(scene, p, at, what, file);
+    if (rc == 0 && m->kind == KIND_GRID) {
+        snprintf(file, sizeof file, "%s/", m->name);
+        rc = scene_claim_output(scene, p, at, what, file);
+    }
+    for (int k = 0; rc == 0 && k < m->figure_count; ++k) {
+        snprintf(file, sizeof file, "%s_%s.png", m->name,
+                 sim_coarse_field_name((SimCoarseField)m->fields[m->figures[k]]));
+        rc = scene_claim_output(scene, p, at, what, file);
+    }
+    if (rc == 0 && m->arrow_count > 0) {
+        snprintf(file, sizeof file, "%s_arrows.png", m->name);
+        rc = scene_claim_output(scene, p, at, what, file);
+    }
+    return rc;
+}
+
 /* One `measures` list (top level: stage -1). */
-static int parse_list(AppConfig *p, const config_setting_t *list, const Scene *scene, int stage,
+static int parse_list(AppConfig *p, const config_setting_t *list, Scene *scene, int stage,
                       AppMeasures *out)
 {
     for (int k = 0; list && k < config_setting_length(list); ++k) {
@@ -323,6 +348,8 @@ static int parse_list(AppConfig *p, const config_setting_t *list, const Scene *s
             if (strcmp(out->m[q].name, m->name) == 0)
                 return app_config_fail(p, app_config_member(g, "name"),
                                        "a measure named `%s` is declared twice", m->name);
+        if (claim_files(p, g, scene, m) < 0)
+            return -1;
         out->count++;
     }
     return 0;

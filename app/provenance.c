@@ -5,8 +5,10 @@
 
 #include "util.h"
 
+#include "sim/sim.h"
+
 #include <errno.h>
-#include <ftw.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
@@ -126,7 +128,7 @@ void app_sha256(const void *data, size_t n, uint8_t digest[32])
 
 int app_sha256_file(const char *path, char hex[65])
 {
-    FILE *f = fopen(path, "rb");
+    FILE *f = sim_open_input(path, NULL);
     hex[0] = '\0';
     if (!f)
         return -1;
@@ -339,65 +341,6 @@ void app_provenance_comment(const AppProvenance *p, const char *scene_sha256, ch
 
 /* ---------------------------------------------------------------- manifests */
 
-static struct {
-    char **paths; /* relative paths found */
-    int count, capacity;
-    size_t prefix; /* length of "dir/" */
-    time_t since;
-    int failed;
-} manifest_walk;
-
-static int manifest_entry(const char *path, const struct stat *st, int type, struct FTW *ftw)
-{
-    (void)ftw;
-    if (type != FTW_F || !S_ISREG(st->st_mode) || st->st_mtime < manifest_walk.since)
-        return 0;
-    const char *rel = path + manifest_walk.prefix;
-    size_t len = strlen(rel);
-    if (strcmp(rel, "manifest.txt") == 0 || (len > 4 && strcmp(rel + len - 4, ".tmp") == 0))
-        return 0;
-    if (manifest_walk.count == manifest_walk.capacity) {
-        int capacity = manifest_walk.capacity ? 2 * manifest_walk.capacity : 64;
-        char **grown = realloc(manifest_walk.paths, (size_t)capacity * sizeof *grown);
-        if (!grown)
-            return manifest_walk.failed = -1;
-        manifest_walk.paths = grown;
-        manifest_walk.capacity = capacity;
-    }
-    if (!(manifest_walk.paths[manifest_walk.count] = strdup(rel)))
-        return manifest_walk.failed = -1;
-    manifest_walk.count++;
-    return 0;
-}
-
-static int compare_paths(const void *a, const void *b)
-{
-    return strcmp(*(char *const *)a, *(char *const *)b);
-}
-
-int app_manifest_write(const char *dir, time_t since)
-{
-    char path[PATH_MAX];
-    if (snprintf(path, sizeof path, "%s/manifest.txt", dir) >= (int)sizeof path)
-        return -1;
-    memset(&manifest_walk, 0, sizeof manifest_walk);
-    manifest_walk.prefix = strlen(dir) + 1;
-    manifest_walk.since = since;
-    int rc = nftw(dir, manifest_entry, 16, FTW_PHYS) == 0 && !manifest_walk.failed ? 0 : -1;
-    FILE *out = rc == 0 ? app_tmp_open(path, NULL) : NULL;
-    /* sorted: the same run makes the same manifest */
-    if (manifest_walk.count > 0)
-        qsort(manifest_walk.paths, (size_t)manifest_walk.count, sizeof(char *), compare_paths);
-    for (int k = 0; k < manifest_walk.count; ++k) {
-        if (out)
-            fprintf(out, "%s\n", manifest_walk.paths[k]);
-        free(manifest_walk.paths[k]);
-    }
-    free(manifest_walk.paths);
-    memset(&manifest_walk, 0, sizeof manifest_walk);
-    return out ? app_tmp_commit(&out, path) : -1;
-}
-
 /* A manifest line is ours to remove: relative, no "..", no empty component. */
 static int safe_relative(const char *rel)
 {
@@ -412,15 +355,124 @@ static int safe_relative(const char *rel)
     return 1;
 }
 
-static int kept(const char *path, const char *const *keep, int keep_count)
+/* `path` relative to `dir` when it names something inside dir ("dir/REL"), else NULL. */
+static const char *inside(const char *dir, const char *path)
 {
-    struct stat a, b;
-    if (stat(path, &a) != 0)
-        return 0;
+    size_t n = strlen(dir);
+    while (n > 1 && dir[n - 1] == '/')
+        --n;
+    if (strncmp(path, dir, n) != 0 || path[n] != '/')
+        return NULL;
+    const char *rel = path + n;
+    while (*rel == '/')
+        ++rel;
+    return safe_relative(rel) && strcmp(rel, "manifest.txt") != 0 ? rel : NULL;
+}
+
+typedef struct Listing {
+    char **paths; /* relative to the folder */
+    int count, capacity, failed;
+} Listing;
+
+/* Adds `rel` when dir/rel is a regular file now (not a link: lstat). */
+static void listing_add(Listing *l, const char *dir, const char *rel)
+{
+    char path[2 * PATH_MAX + 2];
+    struct stat st;
+    snprintf(path, sizeof path, "%s/%s", dir, rel);
+    if (lstat(path, &st) != 0 || !S_ISREG(st.st_mode))
+        return;
+    if (l->count == l->capacity) {
+        int capacity = l->capacity ? 2 * l->capacity : 64;
+        char **grown = realloc(l->paths, (size_t)capacity * sizeof *grown);
+        if (!grown) {
+            l->failed = 1;
+            return;
+        }
+        l->paths = grown;
+        l->capacity = capacity;
+    }
+    if ((l->paths[l->count] = strdup(rel)) != NULL)
+        l->count++;
+    else
+        l->failed = 1;
+}
+
+static int compare_paths(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+int app_manifest_write(const char *dir, int keep_listed)
+{
+    char path[PATH_MAX], line[PATH_MAX];
+    if (snprintf(path, sizeof path, "%s/manifest.txt", dir) >= (int)sizeof path)
+        return -1;
+    Listing l = {0};
+    const char *noted, *rel;
+    for (int k = 0; (noted = app_output_committed(k)) != NULL; ++k)
+        if ((rel = inside(dir, noted)) != NULL)
+            listing_add(&l, dir, rel);
+    FILE *old = keep_listed ? sim_open_input(path, NULL) : NULL;
+    while (old && fgets(line, sizeof line, old)) {
+        line[strcspn(line, "\n")] = '\0';
+        if (safe_relative(line) && strcmp(line, "manifest.txt") != 0)
+            listing_add(&l, dir, line);
+    }
+    if (old)
+        fclose(old);
+    FILE *out = l.failed ? NULL : app_tmp_open(path, NULL);
+    /* sorted, each once: the same run makes the same manifest */
+    if (l.count > 0)
+        qsort(l.paths, (size_t)l.count, sizeof(char *), compare_paths);
+    for (int k = 0; out && k < l.count; ++k)
+        if (k == 0 || strcmp(l.paths[k], l.paths[k - 1]) != 0)
+            fprintf(out, "%s\n", l.paths[k]);
+    for (int k = 0; k < l.count; ++k)
+        free(l.paths[k]);
+    free(l.paths);
+    return out ? app_tmp_commit(&out, path) : -1;
+}
+
+/* 1 when the file `st` describes is one of the `keep` paths. */
+static int kept(const struct stat *st, const char *const *keep, int keep_count)
+{
+    struct stat b;
     for (int k = 0; k < keep_count; ++k)
-        if (keep[k] && stat(keep[k], &b) == 0 && a.st_dev == b.st_dev && a.st_ino == b.st_ino)
+        if (keep[k] && stat(keep[k], &b) == 0 && st->st_dev == b.st_dev && st->st_ino == b.st_ino)
             return 1;
     return 0;
+}
+
+/* Removes dir/REL when it is a regular file reached without leaving dir: each folder on the way
+ * opened with O_NOFOLLOW (a link to a folder elsewhere is never followed), the file itself looked
+ * at without following a link (a link, a FIFO or a device is left alone), and not one of `keep`.
+ * 1 removed, 0 left alone (absent, or not a file of ours), -1 (errno) when it cannot be removed. */
+static int remove_listed(const char *dir, const char *rel, const char *const *keep, int keep_count)
+{
+    char part[PATH_MAX];
+    int fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    for (const char *c = rel; fd >= 0;) {
+        size_t len = strcspn(c, "/");
+        snprintf(part, sizeof part, "%.*s", (int)len, c);
+        if (c[len] != '/')
+            break;
+        int next = openat(fd, part, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+        close(fd);
+        fd = next;
+        c += len + 1;
+    }
+    if (fd < 0)
+        return 0; /* a folder on the way is missing, or is a link */
+    struct stat st;
+    int rc = 0;
+    if (fstatat(fd, part, &st, AT_SYMLINK_NOFOLLOW) == 0 && S_ISREG(st.st_mode) &&
+        !kept(&st, keep, keep_count))
+        rc = unlinkat(fd, part, 0) == 0 ? 1 : errno == ENOENT ? 0 : -1;
+    int saved = errno;
+    close(fd);
+    errno = saved;
+    return rc;
 }
 
 int app_manifest_remove_stale(const char *dir, const char *const *keep, int keep_count, char *err,
@@ -429,26 +481,21 @@ int app_manifest_remove_stale(const char *dir, const char *const *keep, int keep
     char manifest[PATH_MAX];
     if (snprintf(manifest, sizeof manifest, "%s/manifest.txt", dir) >= (int)sizeof manifest)
         return 0;
-    FILE *f = fopen(manifest, "r");
+    FILE *f = sim_open_input(manifest, NULL);
     if (!f)
         return 0; /* nothing of ours there */
-    char line[PATH_MAX], path[2 * PATH_MAX + 2];
+    char line[PATH_MAX];
     int removed = 0, rc = 0;
     while (fgets(line, sizeof line, f)) {
         line[strcspn(line, "\n")] = '\0';
-        if (!safe_relative(line))
-            continue;
-        snprintf(path, sizeof path, "%s/%s", dir, line);
-        if (kept(path, keep, keep_count))
-            continue;
-        if (unlink(path) == 0)
-            ++removed;
-        else if (errno != ENOENT) {
-            snprintf(err, err_size, "cannot remove the previous run's %s: %s", path,
+        int gone = safe_relative(line) ? remove_listed(dir, line, keep, keep_count) : 0;
+        if (gone < 0) {
+            snprintf(err, err_size, "cannot remove the previous run's %s/%s: %s", dir, line,
                      strerror(errno));
             rc = -1;
             break;
         }
+        removed += gone;
     }
     fclose(f);
     if (rc == 0)

@@ -49,13 +49,17 @@ size_t app_provenance_json(const AppProvenance *p, const char *scene_sha256,
 void app_provenance_comment(const AppProvenance *p, const char *scene_sha256, char *out,
                             size_t size);
 
-/// The manifest of an output folder: every regular file under dir (recursively) modified at or
-/// after `since` (the run's start), as relative paths one per line, into dir/manifest.txt
-/// (atomically). 0, or -1.
-int app_manifest_write(const char *dir, time_t since);
-/// Removes the files a previous run listed in dir/manifest.txt (relative paths inside dir only;
-/// `keep` paths, e.g. the states this run loads, are kept) and the manifest itself. Returns the
-/// number removed; -1 with a message in err when a listed file cannot be removed.
+/// The manifest of an output folder: the files this process wrote under dir (the outputs noted
+/// by app_output_note, e.g. through app_tmp_commit) that are regular files there now, as
+/// relative paths one per line, sorted, into dir/manifest.txt (atomically). Nothing else: a file
+/// the run did not write is never listed. keep_listed: the files dir/manifest.txt lists already
+/// (still regular files) stay listed too (a resumed run, which continues that run). 0, or -1.
+int app_manifest_write(const char *dir, int keep_listed);
+/// Removes the files a previous run listed in dir/manifest.txt, and the manifest itself: only
+/// regular files inside dir (relative paths without ".."; no link is followed on the way, a
+/// listed link, FIFO or device is left alone; `keep` paths, e.g. the scene and the states this
+/// run loads, are kept). Returns the number removed; -1 with a message in err when a listed
+/// file cannot be removed.
 int app_manifest_remove_stale(const char *dir, const char *const *keep, int keep_count, char *err,
                               size_t err_size);
 

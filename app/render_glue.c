@@ -4,6 +4,8 @@
  * to a figure comes as AppFigureExtras (marks, side panels). */
 #include "render_glue.h"
 
+#include "util.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -304,6 +306,8 @@ static int hook_movie_close(void *context, char *err, size_t err_size)
     }
     int rc = render_movie_close(renderer->movie, err, err_size);
     renderer->movie = NULL;
+    if (rc == 0)
+        app_output_note(renderer->path);
     return rc == 0 ? 0 : -1;
 }
 
@@ -467,9 +471,13 @@ static int hook_figure(void *context, const Scene *scene, const SceneFigure *fig
         style.force_chains = 1;
     }
     size_t len = strlen(path);
-    if (extras && extras->side_panel_count > 0 && len > 4 && strcmp(path + len - 4, ".png") == 0)
-        return side_figure(frame, &style, &meta, extras, path, err, err_size);
-    return render_figure_write(frame, &style, &meta, path, err, err_size) == 0 ? 0 : -1;
+    int rc =
+        extras && extras->side_panel_count > 0 && len > 4 && strcmp(path + len - 4, ".png") == 0
+            ? side_figure(frame, &style, &meta, extras, path, err, err_size)
+            : render_figure_write(frame, &style, &meta, path, err, err_size);
+    if (rc == 0)
+        app_output_note(path);
+    return rc == 0 ? 0 : -1;
 }
 
 static RenderLegend legend_of(const AppPlotPanel *p)
@@ -549,6 +557,8 @@ static int hook_plot(void *context, const AppPlot *plot, const char *path, char 
                        .seed = plot->seed,
                        .comment = renderer_comment(context)};
     int rc = render_plot_write(&r, &meta, path, err, err_size) == 0 ? 0 : -1;
+    if (rc == 0)
+        app_output_note(path);
     /* render.plot_format = "pdf" or "svg": the same plot beside the PNG in that format */
     static const char *const extensions[] = {"png", "pdf", "svg"};
     size_t len = strlen(path);
@@ -562,6 +572,8 @@ static int hook_plot(void *context, const AppPlot *plot, const char *path, char 
             memcpy(other, path, len - 3);
             memcpy(other + len - 3, extensions[format], 4);
             rc = render_plot_write(&r, &meta, other, err, err_size) == 0 ? 0 : -1;
+            if (rc == 0)
+                app_output_note(other);
             free(other);
         }
     }
@@ -593,7 +605,10 @@ static int hook_map(void *context, const Scene *scene, const AppMap *map, const 
     RenderMeta meta = {.scene = scene ? scene->name : "",
                        .seed = scene ? scene->seed : 0,
                        .comment = renderer_comment(context)};
-    return render_map_write(&r, &meta, path, err, err_size) == 0 ? 0 : -1;
+    if (render_map_write(&r, &meta, path, err, err_size) != 0)
+        return -1;
+    app_output_note(path);
+    return 0;
 }
 
 const AppRender *app_render_glue(void)

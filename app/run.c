@@ -12,6 +12,8 @@
 #include "sources.h"
 #include "util.h"
 
+#include "sim/sim.h"
+
 #include <errno.h>
 #include <math.h>
 #include <sched.h>
@@ -604,7 +606,7 @@ static void unstable_message(Run *run, int k)
     char path[PATH_SIZE];
     out_path(run, path, stage->name, ".last_good.state");
     SimError save_error;
-    int saved = sim_world_save(run->world, path, &save_error) == SIM_OK;
+    int saved = app_state_save(run->world, path, &save_error) == 0;
     SimTiming timing = sim_world_timing(run->world);
     const char *cause =
         timing.steps_per_contact < 20.0
@@ -866,7 +868,7 @@ static int checkpoint_write(Run *run, int k, long done, int interrupted, const A
     snprintf(name, sizeof name, "%s%s", stage->name,
              interrupted ? ".interrupted.state" : ".checkpoint.state");
     out_path(run, path, name, "");
-    if (!interrupted && sim_world_save(run->world, path, &run->error) != SIM_OK) {
+    if (!interrupted && app_state_save(run->world, path, &run->error) != 0) {
         snprintf(run->message, sizeof run->message, "checkpoint %s: %s", path, run->error.message);
         return -1;
     }
@@ -1057,7 +1059,7 @@ static int resume_same_scene(const Run *run)
 {
     char path[PATH_SIZE];
     out_path(run, path, RESOLVED_NAME, "");
-    FILE *f = fopen(path, "rb");
+    FILE *f = sim_open_input(path, NULL);
     const char *want = run->scene->resolved ? run->scene->resolved : "";
     size_t length = strlen(want);
     char *text = malloc(length + 2);
@@ -1138,7 +1140,7 @@ static int stage_finish(Run *run, int k, StageClock *clock, int status)
     if (status > APP_EXIT_SIGNAL) { /* the checkpoint first: the dump, the families and the
                                        report as the loop left them */
         report->end_time = sim_world_time(run->world);
-        if (sim_world_save(run->world, path, &run->error) != SIM_OK) {
+        if (app_state_save(run->world, path, &run->error) != 0) {
             snprintf(run->message, sizeof run->message, "checkpoint %s: %s", path,
                      run->error.message);
             status = 2;
@@ -1177,7 +1179,7 @@ static int stage_finish(Run *run, int k, StageClock *clock, int status)
     if (status != 0)
         return status;
     out_path(run, path, stage->name, ".state");
-    if (sim_world_save(run->world, path, &run->error) != SIM_OK) {
+    if (app_state_save(run->world, path, &run->error) != 0) {
         snprintf(run->message, sizeof run->message, "checkpoint %s: %s", path, run->error.message);
         return 2;
     }
@@ -1374,8 +1376,9 @@ static int prepare_folder(Run *run)
                 dir);
         return -1;
     }
-    const char *keep[SCENE_MAX_STAGES];
+    const char *keep[SCENE_MAX_STAGES + 1];
     int keep_count = 0;
+    keep[keep_count++] = scene->path; /* the scene, should it sit in the folder */
     for (int k = 0; k < scene->stage_count; ++k)
         if (scene->stages[k].load == SCENE_LOAD_FILE)
             keep[keep_count++] = scene->stages[k].load_path;
@@ -1394,7 +1397,7 @@ static int prepare_folder(Run *run)
 /* A failed output (status 2) that failed for want of space becomes APP_EXIT_DISK_FULL. */
 static void disk_full_status(Run *run)
 {
-    if (run->status != 2 || (!app_out_of_space() && !strstr(run->message, strerror(ENOSPC))))
+    if (run->status != 2 || !app_failed_for_space(run->message))
         return;
     run->status = APP_EXIT_DISK_FULL;
     char text[sizeof run->message];
@@ -1522,8 +1525,8 @@ int app_run(const Scene *scene, const AppRunOptions *options)
         run->status = 2;
     }
     families_figures(run); /* after summary.json, as before: a figure failure exits 2 */
-    /* a resumed run lists the files of the run it continues too */
-    if (app_manifest_write(options->out_dir, (time_t)run->started) != 0 && run->status == 0) {
+    /* what this run wrote; a resumed run lists the files of the run it continues too */
+    if (app_manifest_write(options->out_dir, options->resume) != 0 && run->status == 0) {
         snprintf(run->message, sizeof run->message, "cannot write %s/manifest.txt",
                  options->out_dir);
         run->status = 2;

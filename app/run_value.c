@@ -2,6 +2,8 @@
 /* run_value.c: a number from a run's output folder by key (run_value.h). */
 #include "run_value.h"
 
+#include "sim/sim.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -287,9 +289,10 @@ int app_run_value(const char *dir, const char *key, double *value, char *err, si
         split_key(key, file, sizeof file, &path) != 0)
         return -1;
     snprintf(full, sizeof full, "%s/%s", dir, file);
-    FILE *f = fopen(full, "rb");
+    const char *why = NULL;
+    FILE *f = sim_open_input(full, &why);
     if (!f) {
-        snprintf(err, err_size, "cannot read %s: %s", full, strerror(errno));
+        snprintf(err, err_size, "cannot read %s: %s", full, why);
         return -1;
     }
     int rc;

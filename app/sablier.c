@@ -730,6 +730,11 @@ static int command_render(int argc, char **argv)
     const char *const *sets = args.sets;
     int set_count = args.set_count;
     SceneStyle over = args.over;
+    const char *why = NULL;
+    if (sim_output_target(out, &why) != 0) { /* a device or a link is never replaced */
+        fprintf(stderr, "sablier: render: cannot write %s: %s\n", out, why);
+        return 2;
+    }
     char err[4096] = "";
     Scene *scene = NULL;
     if (scene_path && !(scene = scene_load(scene_path, sets, set_count, err, sizeof err))) {
@@ -786,8 +791,9 @@ static int command_render(int argc, char **argv)
     }
     if (status == 0 &&
         render_figure_write(&frame, &render_style, &meta, out, err, sizeof err) != 0) {
-        fprintf(stderr, "sablier: render: %s: %s\n", out, err);
-        status = 2;
+        int full = app_failed_for_space(err);
+        fprintf(stderr, "sablier: render: %s%s: %s\n", full ? "disk full: " : "", out, err);
+        status = full ? APP_EXIT_DISK_FULL : 2;
     }
     if (world)
         sim_world_destroy(world);

@@ -177,6 +177,9 @@ typedef struct Scene {
     SceneOutput output;
     SceneStyle style; ///< `render` group
     SceneWhere *where;
+    /// The names of the output folder's files taken while the scene loads (scene_claim_output),
+    /// so that no two outputs share one; freed once loaded.
+    struct SceneClaims *claims;
     char sha256[65]; ///< SHA-256 of the scene file as read (hex; "" when unreadable)
     char *resolved;  ///< the scene as loaded: includes expanded, --set applied (libconfig text)
     /// Per experiment family, in registry order (app/experiments.h): its parsed state, NULL when

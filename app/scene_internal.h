@@ -54,6 +54,17 @@ typedef struct Loader {
 int loader_gate(Loader *L, const config_setting_t *g, const char *key, unsigned effect);
 /// Names used in file names: letters, digits, '_', '-', '.'.
 int loader_check_file_name(Loader *L, const config_setting_t *g, const char *key, const char *v);
+/// Claims the file NAME of the output folder (a folder: "NAME/") for one output of the scene:
+/// `what` writes it ("measure `stress`"), declared at setting `s` (NULL: one of the run's or a
+/// family's own files). No two outputs may share a name: -1 with "file:line: ..." through p (at
+/// the declared one of the two) when NAME is taken already, else 0. Two undeclared claims of one
+/// name are one file (0).
+int scene_claim_output(Scene *scene, AppConfig *p, const config_setting_t *s, const char *what,
+                       const char *name);
+/// Frees the claims (NULL-safe); scene->claims NULL after.
+void scene_claims_free(Scene *scene);
+/// The run's own files and each stage's (STAGE.state, STAGE.mp4, ...) claimed. 0, or -1.
+int loader_claim_run_outputs(Loader *L, const config_setting_t *root);
 /// The keys the registered experiment families own (app/experiments.c): their top-level groups
 /// (which = 0), stage keys (1) or output keys (2); NULL-ended.
 const char *const *loader_family_keys(int which);

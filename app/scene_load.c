@@ -15,6 +15,8 @@
 #include "scene_internal.h"
 #include "sources.h"
 
+#include "sim/sim.h"
+
 #include <ctype.h>
 #include <errno.h>
 #include <libconfig.h>
@@ -454,19 +456,18 @@ static int check_literal(Loader *L, const char *path, int line, const char *text
 static int check_int_literals(Loader *L, const char *path, int depth);
 
 /* 0 when `path` is a regular file; else -1 with why in `why` (a folder, a FIFO or device, which
- * libconfig would fail on without a line or block on, or the error of stat). */
+ * libconfig would fail on without a line or block on, or why it cannot be opened): checked
+ * through sim_open_input, which never blocks. */
 static int regular_file(const char *path, char *why, size_t size)
 {
-    struct stat st;
-    if (stat(path, &st) != 0)
-        snprintf(why, size, "%s", strerror(errno));
-    else if (S_ISDIR(st.st_mode))
-        snprintf(why, size, "it is a folder");
-    else if (!S_ISREG(st.st_mode))
-        snprintf(why, size, "not a regular file (a FIFO, socket or device)");
-    else
-        return 0;
-    return -1;
+    const char *reason = NULL;
+    FILE *f = sim_open_input(path, &reason);
+    if (!f) {
+        snprintf(why, size, "%s", reason);
+        return -1;
+    }
+    fclose(f);
+    return 0;
 }
 
 /* An `@include "NAME"` at text[*at], line `line` of `file`: the included file checked (NAME
@@ -505,7 +506,7 @@ static int check_include(Loader *L, const char *file, int line, const char *text
 
 static int check_int_literals(Loader *L, const char *path, int depth)
 {
-    FILE *f = fopen(path, "rb");
+    FILE *f = sim_open_input(path, NULL);
     if (!f)
         return 0; /* libconfig reports it */
     char *text = NULL;
@@ -638,7 +639,8 @@ static int parse_scene(Loader *L, const config_setting_t *root)
         loader_parse_grains(L, root) < 0 || loader_parse_walls(L, root) < 0 ||
         apply_target_error(L) < 0 || loader_parse_sinks(L, root) < 0 ||
         loader_parse_stages(L, root) < 0 || loader_parse_sources(L, root) < 0 ||
-        loader_check_remove_ids(L, root) < 0 || loader_parse_output(L, root) < 0)
+        loader_check_remove_ids(L, root) < 0 || loader_claim_run_outputs(L, root) < 0 ||
+        loader_parse_output(L, root) < 0)
         return -1;
     normalised_labels(scene);
     for (int f = 0; app_experiments[f]; ++f) { /* each family parses its own keys */
@@ -646,6 +648,10 @@ static int parse_scene(Loader *L, const config_setting_t *root)
         if (e->parse && e->parse(root, e->group ? app_config_member(root, e->group) : NULL, scene,
                                  &scene->experiments[f], L->p.err, L->p.err_size) != 0)
             return -1;
+        /* the family's own files, which no figure or measure may overwrite */
+        for (int k = 0; scene->experiments[f] && e->outputs && e->outputs[k]; ++k)
+            if (scene_claim_output(scene, &L->p, NULL, e->name, e->outputs[k]) < 0)
+                return -1;
     }
     return 0;
 }
@@ -730,6 +736,7 @@ Scene *scene_load(const char *path, const char *const *sets, int set_count, char
     config_destroy(&L->config);
     for (int k = 0; k < L->set_count; ++k)
         free(L->set_keys[k]);
+    scene_claims_free(scene);
     if (!ok) {
         scene_free(scene);
         return NULL;
@@ -752,6 +759,7 @@ void scene_free(Scene *scene)
     for (int f = 0; app_experiments[f]; ++f)
         if (scene->experiments[f] && app_experiments[f]->free)
             app_experiments[f]->free(scene->experiments[f]);
+    scene_claims_free(scene);
     if (scene->where) {
         free(scene->where->items);
         free(scene->where->grain_item);

@@ -247,6 +247,104 @@ static void style_merge(SceneStyle *out, const SceneStyle *over)
         out->font_pt = over->font_pt;
 }
 
+/* ---------------------------------------------------------------- output names */
+
+typedef struct Claim {
+    char name[SCENE_NAME_MAX + 32];
+    char what[SCENE_NAME_MAX + 32];
+    char where[WHERE_MAX]; /* "file:line", "" for the run's and the families' own files */
+} Claim;
+
+struct SceneClaims {
+    Claim *items;
+    int count, capacity;
+};
+
+static int claim_taken(AppConfig *p, const config_setting_t *s, const char *what, const char *name,
+                       const Claim *c)
+{
+    if (s)
+        return app_config_fail(p, s, "%s would write %s, which %s writes: choose another name",
+                               what, name, c->what);
+    if (c->where[0])
+        return app_config_fail_at(p, c->where,
+                                  "%s would write %s, which %s writes: choose another name",
+                                  c->what, name, what);
+    return 0;
+}
+
+int scene_claim_output(Scene *scene, AppConfig *p, const config_setting_t *s, const char *what,
+                       const char *name)
+{
+    if (!scene->claims && !(scene->claims = calloc(1, sizeof *scene->claims)))
+        return app_config_fail(p, s, "out of memory");
+    struct SceneClaims *c = scene->claims;
+    for (int k = 0; k < c->count; ++k)
+        if (strcmp(c->items[k].name, name) == 0)
+            return claim_taken(p, s, what, name, &c->items[k]);
+    if (c->count == c->capacity) {
+        int capacity = c->capacity ? 2 * c->capacity : 64;
+        Claim *grown = realloc(c->items, (size_t)capacity * sizeof *grown);
+        if (!grown)
+            return app_config_fail(p, s, "out of memory");
+        c->items = grown;
+        c->capacity = capacity;
+    }
+    Claim *claim = &c->items[c->count++];
+    snprintf(claim->name, sizeof claim->name, "%s", name);
+    snprintf(claim->what, sizeof claim->what, "%s", what);
+    claim->where[0] = '\0';
+    if (s)
+        app_config_where(p, s, claim->where, sizeof claim->where);
+    return 0;
+}
+
+void scene_claims_free(Scene *scene)
+{
+    if (scene->claims)
+        free(scene->claims->items);
+    free(scene->claims);
+    scene->claims = NULL;
+}
+
+int loader_claim_run_outputs(Loader *L, const config_setting_t *root)
+{
+    /* run.c's files, the crater figures hook's (any scene), the ensemble driver's */
+    static const char *const own[] = {"energy.csv",         "trace.csv",
+                                      "summary.json",       "manifest.txt",
+                                      "scene.resolved.cfg", "checkpoint.txt",
+                                      "energy_panels.png",  "profiles.png",
+                                      "cpu_seconds.txt",    NULL};
+    /* each stage's: checkpoints (run.c), movie, dumps (dump.c) */
+    static const char *const per_stage[] = {".state",
+                                            ".last_good.state",
+                                            ".checkpoint.state",
+                                            ".interrupted.state",
+                                            ".mp4",
+                                            ".lammpstrj",
+                                            "/",
+                                            ".pvd",
+                                            "_contacts.pvd",
+                                            NULL};
+    Scene *scene = L->scene;
+    for (int k = 0; own[k]; ++k)
+        if (scene_claim_output(scene, &L->p, NULL, "the run", own[k]) < 0)
+            return -1;
+    const config_setting_t *stages = app_config_member(root, "stages");
+    for (int k = 0; k < scene->stage_count; ++k) {
+        const config_setting_t *g = stages ? config_setting_get_elem(stages, (unsigned)k) : NULL;
+        const config_setting_t *at = g ? app_config_member(g, "name") : NULL;
+        char file[SCENE_NAME_MAX + 32], what[SCENE_NAME_MAX + 16];
+        snprintf(what, sizeof what, "stage `%s`", scene->stages[k].name);
+        for (int j = 0; per_stage[j]; ++j) {
+            snprintf(file, sizeof file, "%s%s", scene->stages[k].name, per_stage[j]);
+            if (scene_claim_output(scene, &L->p, at ? at : g, what, file) < 0)
+                return -1;
+        }
+    }
+    return 0;
+}
+
 static int parse_figures(Loader *L, const config_setting_t *output)
 {
     static const char *const keys[] = {"name", "stage", "at", "format", NULL};
@@ -288,22 +386,13 @@ static int parse_figures(Loader *L, const config_setting_t *output)
         } else if (app_config_choice(&L->p, g, "at", at_names, &at) < 0) {
             return -1;
         }
-        /* names of the run's own outputs (run.c, the crater figures hook) */
-        static const char *const reserved[] = {"energy_panels",  "profiles", "summary",
-                                               "energy",         "trace",    "manifest",
-                                               "scene.resolved", NULL};
-        for (int r = 0; reserved[r]; ++r)
-            if (strcmp(name, reserved[r]) == 0)
-                return app_config_fail(&L->p, app_config_member(g, "name"),
-                                       "figure name `%s` is taken by one of the run's own "
-                                       "outputs; choose another",
-                                       name);
+        /* its file may be no other output's (the run's own files, a stage's, a measure's) */
+        char file[SCENE_NAME_MAX + 8], writer[SCENE_NAME_MAX + 16];
+        snprintf(file, sizeof file, "%s.%s", name, formats[format]);
+        snprintf(writer, sizeof writer, "figure `%s`", name);
+        if (scene_claim_output(scene, &L->p, app_config_member(g, "name"), writer, file) < 0)
+            return -1;
         snprintf(f->name, sizeof f->name, "%s", name);
-        for (int j = 0; j < k; ++j)
-            if (strcmp(scene->output.figures[j].name, name) == 0 &&
-                strcmp(scene->output.figures[j].format, formats[format]) == 0)
-                return app_config_fail(&L->p, app_config_member(g, "name"),
-                                       "figure `%s` is declared twice", name);
         f->stage = scene->stage_count - 1;
         if (stage) {
             f->stage = scene_stage_index(scene, stage);

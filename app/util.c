@@ -4,6 +4,8 @@
 
 #include "scene.h"
 
+#include "sim/sim.h"
+
 #include <errno.h>
 #include <math.h>
 #include <signal.h>
@@ -76,12 +78,35 @@ static char *tmp_name(const char *path)
 
 FILE *app_tmp_open(const char *path, const char *header)
 {
-    char *tmp = tmp_name(path);
-    FILE *f = tmp ? fopen(tmp, "w") : NULL;
-    free(tmp);
+    FILE *f = sim_open_output(path, NULL);
     if (f && header)
         fprintf(f, "%s\n", header);
     return f;
+}
+
+/* The outputs this process committed, by the paths they were committed as (app_output_note). */
+static struct {
+    char **paths;
+    int count, capacity;
+} committed;
+
+void app_output_note(const char *path)
+{
+    if (committed.count == committed.capacity) {
+        int capacity = committed.capacity ? 2 * committed.capacity : 64;
+        char **grown = realloc(committed.paths, (size_t)capacity * sizeof *grown);
+        if (!grown)
+            return; /* the manifest then misses it: the next run leaves it, never the reverse */
+        committed.paths = grown;
+        committed.capacity = capacity;
+    }
+    if ((committed.paths[committed.count] = strdup(path)) != NULL)
+        committed.count++;
+}
+
+const char *app_output_committed(int k)
+{
+    return k >= 0 && k < committed.count ? committed.paths[k] : NULL;
 }
 
 static int out_of_space; /* a write failed with ENOSPC or EDQUOT */
@@ -95,6 +120,14 @@ static void note_write_error(void)
 int app_out_of_space(void)
 {
     return out_of_space;
+}
+
+int app_failed_for_space(const char *message)
+{
+    if (errno == ENOSPC || errno == EDQUOT)
+        out_of_space = 1;
+    return out_of_space ||
+           (message && (strstr(message, strerror(ENOSPC)) || strstr(message, strerror(EDQUOT))));
 }
 
 int app_tmp_commit(FILE **file, const char *path)
@@ -116,6 +149,8 @@ int app_tmp_commit(FILE **file, const char *path)
         ok = 0;
     }
     free(tmp);
+    if (ok)
+        app_output_note(path);
     return ok ? 0 : -1;
 }
 
@@ -138,6 +173,14 @@ int app_write_atomic(const char *path, const char *text)
         return -1;
     int ok = fputs(text, f) >= 0;
     return app_tmp_commit(&f, path) == 0 && ok ? 0 : -1;
+}
+
+int app_state_save(SimWorld *world, const char *path, SimError *error)
+{
+    if (sim_world_save(world, path, error) != SIM_OK)
+        return -1;
+    app_output_note(path);
+    return 0;
 }
 
 double app_now_seconds(void)
@@ -314,9 +357,10 @@ void app_catch_signals(void (*handler)(int), int flags, struct sigaction *saved,
 
 int app_state_check(const char *path, const SimWorldDef *def, char *err, size_t err_size)
 {
-    FILE *f = fopen(path, "rb");
+    const char *why = NULL;
+    FILE *f = sim_open_input(path, &why);
     if (!f) {
-        snprintf(err, err_size, "cannot read checkpoint `%s`: %s", path, strerror(errno));
+        snprintf(err, err_size, "cannot read checkpoint `%s`: %s", path, why);
         return -1;
     }
     fclose(f);

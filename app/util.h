@@ -8,11 +8,18 @@
 #include <stdio.h>
 
 /// Output files are written to PATH.tmp and renamed when complete. Opens PATH.tmp for writing and
-/// writes `header` and a newline when not NULL; NULL when it cannot be opened.
+/// writes `header` and a newline when not NULL; NULL when it cannot be opened, or when PATH is
+/// not a regular file (a link or a special file is never replaced: sim_open_output, errno set).
 FILE *app_tmp_open(const char *path, const char *header);
-/// Closes *file (NULL: nothing to do, 0) and renames PATH.tmp to PATH; on failure removes
-/// PATH.tmp and returns -1.
+/// Closes *file (NULL: nothing to do, 0) and renames PATH.tmp to PATH (noted: app_output_note);
+/// on failure removes PATH.tmp and returns -1.
 int app_tmp_commit(FILE **file, const char *path);
+/// Notes that this process wrote the output PATH (committed under that name): every writer of
+/// an output folder's files calls it (app_tmp_commit does), and the folder's manifest lists
+/// what was noted under the folder (app_manifest_write), nothing else.
+void app_output_note(const char *path);
+/// The k-th output noted (from 0, in the order noted, repeats included), or NULL past the last.
+const char *app_output_committed(int k);
 /// Closes *file (NULL: nothing to do) and removes PATH.tmp: an output abandoned before it was
 /// complete leaves nothing behind.
 void app_tmp_discard(FILE **file, const char *path);
@@ -20,6 +27,10 @@ void app_tmp_discard(FILE **file, const char *path);
 int app_write_atomic(const char *path, const char *text);
 /// 1 once an output failed because the disk (or the quota) was full (ENOSPC, EDQUOT).
 int app_out_of_space(void);
+/// After a failed write reported as `message`: 1 when it failed for lack of space
+/// (app_out_of_space, errno as the failing call left it, or `message` naming ENOSPC or EDQUOT),
+/// which a command reports with exit status 3 (APP_EXIT_DISK_FULL), not 2.
+int app_failed_for_space(const char *message);
 
 /// Doubles the capacity (first: `initial`) of two parallel arrays, e.g. a time series t and v.
 /// 0, or -1 when out of memory (the arrays keep their contents).
@@ -74,6 +85,12 @@ struct sigaction;
 /// saved[0] and saved[1]), or the old actions back from them (restore = 1). The runner and the
 /// process pool catch the two signals through it.
 void app_catch_signals(void (*handler)(int), int flags, struct sigaction *saved, int restore);
+
+struct SimWorld;
+struct SimError;
+/// sim_world_save to PATH (an output: noted with app_output_note once saved). 0, or -1 with the
+/// reason in *error.
+int app_state_save(struct SimWorld *world, const char *path, struct SimError *error);
 
 /// Monotonic wall clock, s (for timings only; never for results).
 double app_now_seconds(void);

@@ -3,6 +3,8 @@
  * file name's format and the error message of every writer and reader. */
 #include "render/render_file.h"
 
+#include "sim/sim.h"
+
 #include <ctype.h>
 #include <errno.h>
 #include <stdarg.h>
@@ -14,11 +16,17 @@ char *render_tmp_name(const char *path, char *err, size_t err_size)
 {
     size_t n = strlen(path) + 5;
     char *tmp = malloc(n);
-    if (tmp)
+    const char *why = "out of memory";
+    FILE *fresh = tmp ? sim_open_output(path, &why) : NULL;
+    if (fresh) {
+        fclose(fresh);
         snprintf(tmp, n, "%s.tmp", path);
-    else if (err && err_size)
-        snprintf(err, err_size, "%s: out of memory", path);
-    return tmp;
+        return tmp;
+    }
+    if (err && err_size)
+        snprintf(err, err_size, "%s: %s", path, why);
+    free(tmp);
+    return NULL;
 }
 
 int render_tmp_commit(char *tmp, const char *path, int ok, char *err, size_t err_size)

@@ -7,7 +7,8 @@
 
 #include <stddef.h>
 
-/// PATH.tmp in a new buffer, or NULL with "PATH: out of memory" in err.
+/// PATH.tmp in a new buffer, made anew as an empty regular file (sim_open_output: PATH refused
+/// unless it is a regular file or absent), or NULL with "PATH: reason" in err.
 char *render_tmp_name(const char *path, char *err, size_t err_size);
 /// Finishes a write through `tmp` (from render_tmp_name, freed here): `ok` renames it to PATH,
 /// else it is removed (the caller has written the message). A failed rename removes it too and

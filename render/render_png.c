@@ -5,6 +5,7 @@
 
 #include "render/render.h"
 #include "render/render_file.h"
+#include "sim/sim.h"
 
 #include <errno.h>
 #include <math.h>
@@ -118,8 +119,11 @@ int render_png_write_dpi(const RenderImage *image, const char *path, const char 
         render_set_err(err, err_size, "%s: cannot create libpng writer", path);
         goto fail;
     }
+    errno = 0; /* a failed write leaves its reason (ENOSPC: disk full) for the message */
     if (setjmp(png_jmpbuf(job.png))) {
-        render_set_err(err, err_size, "%s: libpng: %s", tmp, job.message);
+        int why = errno;
+        render_set_err(err, err_size, "%s: libpng: %s%s%s", tmp, job.message, why ? ": " : "",
+                       why ? strerror(why) : "");
         goto fail;
     }
     png_init_io(job.png, job.file);
@@ -176,9 +180,10 @@ int render_png_read(const char *path, RenderImage *out, char *err, size_t err_si
     out->pixels = NULL;
     out->width = out->height = out->stride = 0;
     PngJob job = {0};
-    job.file = fopen(path, "rb");
+    const char *why = NULL;
+    job.file = sim_open_input(path, &why);
     if (!job.file) {
-        render_set_err(err, err_size, "%s: %s", path, strerror(errno));
+        render_set_err(err, err_size, "%s: %s", path, why);
         return -1;
     }
     uint8_t sig[8];

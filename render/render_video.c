@@ -14,6 +14,7 @@
  * honouring a BT.709 tag shows off by up to 12 levels). */
 #include "render/render.h"
 #include "render/render_gl.h"
+#include "sim/sim.h"
 
 #include <errno.h>
 #include <libavcodec/avcodec.h>
@@ -428,6 +429,14 @@ RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *sty
         av_dict_set(&movie->format->metadata, "comment", text, 0);
     }
 
+    /* PATH.tmp made anew as a regular file, PATH refused unless one (sim_open_output) */
+    const char *why = NULL;
+    FILE *fresh = sim_open_output(movie->path, &why);
+    if (!fresh) {
+        fail(movie, "%s: %s", movie->path, why);
+        goto fail;
+    }
+    fclose(fresh);
     rc = avio_open(&movie->format->pb, movie->temp_path, AVIO_FLAG_WRITE);
     if (rc < 0) {
         fail(movie, "%s: cannot create %s: %s", movie->path, movie->temp_path,

@@ -22,6 +22,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -689,6 +690,24 @@ void sim_world_set_gravity(SimWorld *world, double gravity_x, double gravity_y);
 void sim_world_set_motion(SimWorld *world, int motion, double on, double off);
 
 /* ---------------------------------------------------------------- checkpoints */
+
+/// Opens `path` for reading (binary) only when it is a regular file. The file is opened without
+/// blocking and checked with fstat before anything is read, so a FIFO (which would wait for a
+/// writer), a device, a socket or a folder never blocks a command: each is refused. Every input
+/// file of sablier is opened through this. NULL on failure, with a short reason in *why (when
+/// why is not NULL): "it is a folder", "not a regular file (a FIFO, socket or device)" (errno
+/// 0), or strerror of the failing call (errno kept).
+FILE *sim_open_input(const char *path, const char **why);
+/// 0 when `path` may receive an output: nothing is there yet, or a regular file (which the
+/// output replaces by a rename). -1 with a reason in *why (when not NULL) for anything else: a
+/// symbolic link, a FIFO, a device, a socket or a folder is never replaced by an output (errno
+/// ELOOP, EISDIR or EEXIST).
+int sim_output_target(const char *path, const char **why);
+/// Opens PATH.tmp for writing (binary), for an output renamed to PATH once complete: refused
+/// (sim_output_target) when PATH is not a regular file; whatever was at PATH.tmp (a stale file, a
+/// link, a FIFO) is removed and PATH.tmp made anew as a regular file, so an output never writes
+/// through a link or into a special file. NULL on failure, with a reason in *why (when not NULL).
+FILE *sim_open_output(const char *path, const char **why);
 
 /// Saves the whole state (grains, walls, time, contact history, sink counts) atomically
 /// (written to path.tmp, then renamed).

@@ -5,11 +5,13 @@
 #include "internal.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 /* Version 2 adds the exact-continuation section (resume.c) after the contact history; version 1
  * files (without it) still load, starting afresh from their grains. */
@@ -42,6 +44,90 @@ static SimStatus memory_fail(SimError *error, const char *path, const char *what
     if (error)
         error->status = SIM_ERROR_MEMORY;
     return SIM_ERROR_MEMORY;
+}
+
+FILE *sim_open_input(const char *path, const char **why)
+{
+    const char *reason = NULL;
+    FILE *f = NULL;
+    struct stat st;
+    /* O_NONBLOCK: opening a FIFO returns at once instead of waiting for a writer */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+    if (fd < 0 || fstat(fd, &st) != 0)
+        reason = strerror(errno);
+    else if (S_ISDIR(st.st_mode) || !S_ISREG(st.st_mode)) {
+        errno = 0;
+        reason = S_ISDIR(st.st_mode) ? "it is a folder"
+                                     : "not a regular file (a FIFO, socket or device)";
+    } else if (fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK) != 0 || !(f = fdopen(fd, "rb")))
+        reason = strerror(errno);
+    if (!f && fd >= 0) {
+        int saved = errno;
+        close(fd);
+        errno = saved;
+    }
+    if (why)
+        *why = reason;
+    return f;
+}
+
+int sim_output_target(const char *path, const char **why)
+{
+    struct stat st;
+    const char *reason = NULL;
+    if (lstat(path, &st) != 0) {
+        if (errno != ENOENT)
+            reason = strerror(errno);
+    } else if (!S_ISREG(st.st_mode)) {
+        /* errno for callers that print strerror: ELOOP as O_NOFOLLOW has it for a link */
+        errno = S_ISLNK(st.st_mode) ? ELOOP : S_ISDIR(st.st_mode) ? EISDIR : EEXIST;
+        reason = S_ISLNK(st.st_mode)   ? "a symbolic link (outputs are regular files only)"
+                 : S_ISDIR(st.st_mode) ? "it is a folder"
+                                       : "not a regular file (a FIFO, socket or device)";
+    }
+    if (why)
+        *why = reason;
+    return reason ? -1 : 0;
+}
+
+FILE *sim_open_output(const char *path, const char **why)
+{
+    if (sim_output_target(path, why) != 0)
+        return NULL;
+    size_t n = strlen(path) + 5;
+    char *tmp = malloc(n);
+    if (!tmp) {
+        if (why)
+            *why = strerror(ENOMEM);
+        return NULL;
+    }
+    snprintf(tmp, n, "%s.tmp", path);
+    FILE *f = NULL;
+    /* O_EXCL | O_NOFOLLOW: a new regular file, never through a link left at PATH.tmp */
+    int fd = unlink(tmp) == 0 || errno == ENOENT
+                 ? open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666)
+                 : -1;
+    if (fd >= 0 && !(f = fdopen(fd, "wb"))) {
+        int saved = errno;
+        close(fd);
+        unlink(tmp);
+        errno = saved;
+    }
+    if (!f && why)
+        *why = strerror(errno);
+    free(tmp);
+    return f;
+}
+
+/* A state file opened for reading (sim_open_input): NULL with the reason in *error. */
+static FILE *state_open(const char *path, SimError *error)
+{
+    const char *why = NULL;
+    errno = 0;
+    FILE *f = sim_open_input(path, &why);
+    if (!f)
+        io_fail(error, path, errno ? "cannot open state file" : why);
+    return f;
 }
 
 typedef struct StateHeader {
@@ -123,10 +209,13 @@ SimStatus sim_world_save(SimWorld *w, const char *path, SimError *error)
         return io_fail(error, path, "path too long");
     if (w->out_of_memory) /* its lists are empty: the contact history is lost */
         return memory_fail(error, path, "the world ran out of memory; its state is incomplete");
+    const char *why = NULL;
     errno = 0;
-    FILE *f = fopen(tmp, "wb");
-    if (!f)
-        return io_fail(error, tmp, "cannot open for writing");
+    FILE *f = sim_open_output(path, &why);
+    if (!f) {
+        errno = 0;
+        return io_fail(error, path, why);
+    }
     StateHeader h;
     memset(&h, 0, sizeof h);
     memcpy(h.magic, magic, sizeof magic);
@@ -245,10 +334,9 @@ static SimStatus state_read(const char *path, SimGrainSet *grains, SimWall **wal
     memset(grains, 0, sizeof *grains);
     *walls = NULL;
     *wall_count = 0;
-    errno = 0;
-    FILE *f = fopen(path, "rb");
+    FILE *f = state_open(path, error);
     if (!f)
-        return io_fail(error, path, "cannot open state file");
+        return SIM_ERROR_IO;
     StateHeader h;
     if (fread(&h, sizeof h, 1, f) != 1 || !header_sound(&h)) {
         fclose(f);
@@ -350,10 +438,9 @@ SimStatus sim_world_restore_contacts(SimWorld *w, const char *path, SimError *er
 {
     if (w->exact_restored) /* sim_world_load installed the saved lists, history included */
         return SIM_OK;
-    errno = 0;
-    FILE *f = fopen(path, "rb");
+    FILE *f = state_open(path, error);
     if (!f)
-        return io_fail(error, path, "cannot open state file");
+        return SIM_ERROR_IO;
     StateHeader h;
     int ok = fread(&h, sizeof h, 1, f) == 1 && header_sound(&h);
     ok = ok && fseek(f, grain_wall_bytes(&h), SEEK_CUR) == 0;
@@ -401,10 +488,9 @@ SimStatus sim_world_restore_contacts(SimWorld *w, const char *path, SimError *er
 static SimStatus exact_section(SimWorld *world, const char *path, const SimGrainSet *grains,
                                const StateHeader *h, SimError *error)
 {
-    errno = 0;
-    FILE *f = fopen(path, "rb");
+    FILE *f = state_open(path, error);
     if (!f)
-        return io_fail(error, path, "cannot open state file");
+        return SIM_ERROR_IO;
     int32_t counts[2];
     int ok = fseek(f, (long)sizeof *h + grain_wall_bytes(h), SEEK_SET) == 0 &&
              fread(counts, sizeof counts, 1, f) == 1 && counts[0] >= 0 && counts[1] >= 0 &&

@@ -153,6 +153,24 @@ add_test(NAME cli.late_checks
          COMMAND bash ${CLI_DIR}/late_checks.sh $<TARGET_FILE:sablier> ${CLI_TINY}
                  ${PROJECT_SOURCE_DIR}/scenes/brazil_nut/small.scene ${CLI_WORK}/late_checks)
 set_tests_properties(cli.late_checks PROPERTIES LABELS cli TIMEOUT 120)
+# every input file refused unless regular, before it is read: a FIFO never blocks (issue 42)
+add_test(NAME cli.input_fifo
+         COMMAND bash ${CLI_DIR}/input_fifo.sh $<TARGET_FILE:sablier> ${CLI_WORK}/input_fifo)
+set_tests_properties(cli.input_fifo PROPERTIES LABELS cli)
+# outputs: regular files through a temporary name, never a link or a device; a full disk
+# exits 3 (issue 42). The shim stands in for a full disk without mounting one.
+add_library(full_disk_shim MODULE ${CLI_DIR}/full_disk_shim.c)
+target_link_libraries(full_disk_shim PRIVATE ${CMAKE_DL_LIBS})
+add_test(NAME cli.output_files
+         COMMAND bash ${CLI_DIR}/output_files.sh $<TARGET_FILE:sablier> ${CLI_TINY}
+                 $<TARGET_FILE:full_disk_shim> ${CLI_WORK}/output_files)
+set_tests_properties(cli.output_files PROPERTIES LABELS cli)
+# the output folder is a sandbox: the manifest lists what the run wrote; its cleanup follows no
+# link and removes only regular files inside the folder (issue 42)
+add_test(NAME cli.manifest_sandbox
+         COMMAND bash ${CLI_DIR}/manifest_sandbox.sh $<TARGET_FILE:sablier> ${CLI_TINY}
+                 ${CLI_WORK}/manifest_sandbox)
+set_tests_properties(cli.manifest_sandbox PROPERTIES LABELS cli)
 add_test(NAME cli.remove_ids_missing
          COMMAND bash ${CLI_DIR}/remove_ids.sh $<TARGET_FILE:sablier> ${CLI_TINY}
                  ${CLI_WORK}/remove_ids)

@@ -1084,8 +1084,11 @@ AppBne *app_bne_of(const Scene *scene)
     return scene_experiment_state(scene, &app_bne_experiment);
 }
 
+static const char *const OUTPUTS[] = {"bne.csv",          "bne.json",        "phase_field.csv",
+                                      "phase_fields.csv", "phase_field.png", NULL};
 const AppExperiment app_bne_experiment = {
     .name = "bne",
+    .outputs = OUTPUTS,
     .group = "bne",
     .parse = bne_parse,
     .free = bne_free,

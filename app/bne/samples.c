@@ -8,6 +8,8 @@
 #include "run.h"
 #include "util.h"
 
+#include "sim/sim.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -166,7 +168,7 @@ static int read_record(const Samples *S, Record *rec)
 {
     char path[BNE_PATH + 16];
     record_path(S, rec, path, sizeof path);
-    FILE *f = fopen(path, "rb");
+    FILE *f = sim_open_input(path, NULL);
     int ok = f && fread(&rec->result, sizeof rec->result, 1, f) == 1 && rec->result.count >= 0;
     size_t n = ok ? (size_t)rec->result.count : 0;
     rec->t = ok ? malloc((n > 0 ? n : 1) * sizeof(double)) : NULL;

@@ -9,6 +9,8 @@
 #include "run_value.h"
 #include "util.h"
 
+#include "sim/sim.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -505,7 +507,7 @@ static int read_csv(const char *path, int width, int tag_column, Columns *out)
 {
     memset(out, 0, sizeof *out);
     out->width = width;
-    FILE *f = fopen(path, "r");
+    FILE *f = sim_open_input(path, NULL);
     if (!f)
         return -1;
     char line[1024];

@@ -295,8 +295,10 @@ static int crater_figures(const void *state, const AppContext *ctx)
 static const char *const STAGE_KEYS[] = {"dig", NULL};
 static const char *const OUTPUT_KEYS[] = {"profile_every", "profile_bin", NULL};
 
+static const char *const OUTPUTS[] = {"profile.csv", "crater.csv", "observables.csv", NULL};
 const AppExperiment app_crater_experiment = {
     .name = "crater",
+    .outputs = OUTPUTS,
     .group = NULL,
     .stage_keys = STAGE_KEYS,
     .output_keys = OUTPUT_KEYS,

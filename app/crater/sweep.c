@@ -9,6 +9,8 @@
 #include "scene.h"
 #include "util.h"
 
+#include "sim/sim.h"
+
 #include <errno.h>
 #include <fcntl.h>
 #include <libconfig.h>
@@ -122,7 +124,16 @@ static int read_definition(Sweep *w, const char *file, char vary[][VARY_STRING],
     config_t config;
     config_init(&config);
     int rc = 0;
-    if (config_read_file(&config, file) != CONFIG_TRUE) {
+    const char *why = NULL;
+    FILE *in = sim_open_input(file, &why);
+    if (!in) {
+        fprintf(stderr, "sablier: sweep: cannot read %s: %s\n", file, why);
+        config_destroy(&config);
+        return -1;
+    }
+    int read = config_read(&config, in);
+    fclose(in);
+    if (read != CONFIG_TRUE) {
         fprintf(stderr, "%s:%d: %s\n",
                 config_error_file(&config) ? config_error_file(&config) : file,
                 config_error_line(&config), config_error_text(&config));

@@ -140,18 +140,14 @@ static int deposit_pile(DischargeRun *d)
     if (app_discharge_movie_start(&d->movie, scene, path, &frames, d->frame_time, d->geo.dt) != 0)
         status = 2;
     snprintf(path, sizeof path, "%s/deposition.csv", d->dir);
-    char tmp[PATH + 80];
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    FILE *trace = fopen(tmp, "w");
-    if (trace)
-        fprintf(trace, "t,row,released,pile,mobile\n");
+    FILE *trace = app_tmp_open(path, "t,row,released,pile,mobile");
     AppDeposit dep;
     SimWorld *world = status ? NULL
                              : app_deposit(scene, a->seed_given ? a->seed : scene->seed, &frames,
                                            trace, &dep, err, sizeof err);
     if (app_discharge_movie_finish(&d->movie) != 0)
         status = 2;
-    if (trace && (fclose(trace) != 0 || rename(tmp, path) != 0))
+    if (app_tmp_commit(&trace, path) != 0)
         status = 2;
     if (!world) {
         if (!status)

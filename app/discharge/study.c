@@ -10,6 +10,8 @@
 #include "run.h"
 #include "util.h"
 
+#include "sim/sim.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -287,7 +289,7 @@ static int read_done(const char *path, const double *widths, int count, unsigned
 {
     *text = NULL;
     memset(done, 0, (size_t)count);
-    FILE *f = fopen(path, "r");
+    FILE *f = sim_open_input(path, NULL);
     if (!f)
         return 0;
     Text kept = {NULL, 0, 0};
@@ -324,7 +326,7 @@ static int read_maps(const char *path, const double *widths, int count, const un
     char *line = NULL;
     size_t cap = 0;
     int bad = 0;
-    FILE *f = fopen(path, "r");
+    FILE *f = sim_open_input(path, NULL);
     if (f) {
         ssize_t len;
         while (!bad && (len = getline(&line, &cap, f)) > 0) {
@@ -777,7 +779,7 @@ static void read_species_maps(const char *dir, double L, const double *widths, i
     size_t cap = 0;
     for (int s = 0; s < samples; ++s) {
         snprintf(path, sizeof path, "%s/L%g/samples/s%06d.map", dir, L, s);
-        FILE *f = fopen(path, "r");
+        FILE *f = sim_open_input(path, NULL);
         if (!f)
             continue;
         while (getline(&line, &cap, f) > 0) {
@@ -977,7 +979,7 @@ static int read_profiles(const Reduction *R, double L, int bins, double *profile
     for (int s = 0; s < R->samples; ++s) {
         char csv[PATH], dep[PATH], pile[PATH];
         sample_paths(R->dir, L, s, csv, dep, pile);
-        FILE *f = fopen(dep, "r");
+        FILE *f = sim_open_input(dep, NULL);
         if (!f)
             continue;
         static char line[1 << 16];
@@ -1043,7 +1045,7 @@ static int read_sample_rows(Reduction *R, int l, Text *tables)
     for (int s = 0; s < R->samples; ++s) {
         char csv[PATH], dep[PATH], pile[PATH];
         sample_paths(R->dir, L, s, csv, dep, pile);
-        FILE *f = fopen(csv, "r");
+        FILE *f = sim_open_input(csv, NULL);
         if (!f)
             continue;
         char line[1024];

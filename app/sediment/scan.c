@@ -8,6 +8,8 @@
 #include "sediment.h"
 #include "util.h"
 
+#include "sim/sim.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -144,7 +146,7 @@ static double json_number(const char *text, const char *key)
 
 static char *read_text(const char *path)
 {
-    FILE *f = fopen(path, "rb");
+    FILE *f = sim_open_input(path, NULL);
     if (!f)
         return NULL;
     char *text = malloc(65536);

@@ -615,8 +615,10 @@ AppSediment *app_sediment_of(const Scene *scene)
     return scene_experiment_state(scene, &app_sediment_experiment);
 }
 
+static const char *const OUTPUTS[] = {"sediment.csv", "sediment.json", NULL};
 const AppExperiment app_sediment_experiment = {
     .name = "sediment",
+    .outputs = OUTPUTS,
     .group = "fluid",
     .parse = sediment_parse,
     .free = sediment_free,

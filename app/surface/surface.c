@@ -180,8 +180,10 @@ static void surface_summary_json(const void *state, char *out, size_t size)
         snprintf(out, size, "  \"surface_angle_deg\": null,\n");
 }
 
+static const char *const OUTPUTS[] = {"surface.csv", NULL};
 const AppExperiment app_surface_experiment = {
     .name = "surface",
+    .outputs = OUTPUTS,
     .group = "surface",
     .parse = surface_parse,
     .free = surface_free,

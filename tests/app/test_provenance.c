@@ -3,10 +3,10 @@
  * only what an earlier run into its folder wrote. */
 #include "provenance.h"
 #include "test.h"
+#include "util.h"
 
 #include <stdint.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
 static void hex(const uint8_t d[32], char out[65])
@@ -55,11 +55,11 @@ static int touch(const char *path)
     return fclose(f);
 }
 
-/* The manifest lists the files written since the run began; the next run removes those (but the
- * kept ones) and never a path outside the folder. */
+/* The manifest lists the files the run wrote; the next run removes those (but the kept ones),
+ * never a path outside the folder, never through a link to a folder elsewhere, never a link. */
 static int manifest_removes_only_listed_files(void)
 {
-    char dir[] = "/tmp/sablier-test-manifest-XXXXXX", path[256], outside[256];
+    char dir[] = "/tmp/sablier-test-manifest-XXXXXX", path[256], outside[256], away[256];
     TEST_ASSERT(mkdtemp(dir));
     snprintf(outside, sizeof outside, "%s.outside", dir);
     TEST_ASSERT(touch(outside) == 0);
@@ -68,15 +68,20 @@ static int manifest_removes_only_listed_files(void)
     TEST_ASSERT(mkdir(path, 0777) == 0);
     for (int k = 0; k < 3; ++k) {
         snprintf(path, sizeof path, "%s/%s", dir, names[k]);
-        TEST_ASSERT(touch(path) == 0);
+        TEST_ASSERT(app_write_atomic(path, "x\n") == 0); /* noted as the run's */
     }
-    TEST_ASSERT(app_manifest_write(dir, time(NULL) - 5) == 0);
+    TEST_ASSERT(app_manifest_write(dir, 0) == 0);
     snprintf(path, sizeof path, "%s/manifest.txt", dir);
-    FILE *f = fopen(path, "a"); /* a hostile line must not reach outside the folder */
+    FILE *f = fopen(path, "a"); /* hostile lines must not reach outside the folder */
     TEST_ASSERT(f);
     const char *base = strrchr(outside, '/') + 1;
-    fprintf(f, "../%s\n/%s\n", base, outside);
+    fprintf(f, "../%s\n/%s\naway/%s\nlink\n", base, outside, base);
     fclose(f);
+    snprintf(away, sizeof away, "%s/away", dir); /* a link to the folder above */
+    TEST_ASSERT(symlink("..", away) == 0);
+    char link[256];
+    snprintf(link, sizeof link, "%s/link", dir); /* a listed link to a file outside */
+    TEST_ASSERT(symlink(outside, link) == 0);
     char keep[256], err[512] = "";
     snprintf(keep, sizeof keep, "%s/keep.state", dir);
     const char *keeps[] = {keep};
@@ -87,9 +92,12 @@ static int manifest_removes_only_listed_files(void)
     TEST_ASSERT(access(path, F_OK) != 0);
     TEST_ASSERT(access(keep, F_OK) == 0);
     TEST_ASSERT(access(outside, F_OK) == 0);
+    TEST_ASSERT(access(link, F_OK) == 0);
     snprintf(path, sizeof path, "%s/manifest.txt", dir);
     TEST_ASSERT(access(path, F_OK) != 0);
     unlink(keep);
+    unlink(link);
+    unlink(away);
     unlink(outside);
     snprintf(path, sizeof path, "%s/sub", dir);
     rmdir(path);
@@ -97,22 +105,26 @@ static int manifest_removes_only_listed_files(void)
     return 0;
 }
 
-/* Files older than the run's start are not the run's: not listed. */
+/* A file the run did not write is not the run's, whatever its modification time: not listed. */
 static int manifest_lists_files_of_this_run_only(void)
 {
-    char dir[] = "/tmp/sablier-test-manifest-XXXXXX", path[256];
+    char dir[] = "/tmp/sablier-test-manifest-XXXXXX", path[256], own[256];
     TEST_ASSERT(mkdtemp(dir));
-    snprintf(path, sizeof path, "%s/old.csv", dir);
-    TEST_ASSERT(touch(path) == 0);
-    TEST_ASSERT(app_manifest_write(dir, time(NULL) + 3600) == 0);
+    snprintf(path, sizeof path, "%s/user.csv", dir);
+    TEST_ASSERT(touch(path) == 0); /* written now, by someone else */
+    snprintf(own, sizeof own, "%s/own.csv", dir);
+    TEST_ASSERT(app_write_atomic(own, "x\n") == 0);
+    TEST_ASSERT(app_manifest_write(dir, 0) == 0);
     snprintf(path, sizeof path, "%s/manifest.txt", dir);
     FILE *f = fopen(path, "r");
     TEST_ASSERT(f);
     char line[64];
-    TEST_ASSERT(fgets(line, sizeof line, f) == NULL); /* empty */
+    TEST_ASSERT(fgets(line, sizeof line, f) && strcmp(line, "own.csv\n") == 0);
+    TEST_ASSERT(fgets(line, sizeof line, f) == NULL); /* nothing else */
     fclose(f);
     unlink(path);
-    snprintf(path, sizeof path, "%s/old.csv", dir);
+    unlink(own);
+    snprintf(path, sizeof path, "%s/user.csv", dir);
     unlink(path);
     rmdir(dir);
     return 0;
