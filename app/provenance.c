@@ -355,18 +355,13 @@ static int safe_relative(const char *rel)
     return 1;
 }
 
-/* `path` relative to `dir` when it names something inside dir ("dir/REL"), else NULL. */
-static const char *inside(const char *dir, const char *path)
+/* `path` relative to `dir` when it names a file inside dir other than the manifest, else NULL. */
+static const char *manifest_entry(const char *dir, const char *path)
 {
-    size_t n = strlen(dir);
-    while (n > 1 && dir[n - 1] == '/')
-        --n;
-    if (strncmp(path, dir, n) != 0 || path[n] != '/')
-        return NULL;
-    const char *rel = path + n;
-    while (*rel == '/')
-        ++rel;
-    return safe_relative(rel) && strcmp(rel, "manifest.txt") != 0 ? rel : NULL;
+    const char *rel = inside(path, dir);
+    return rel && strcmp(rel, ".") != 0 && safe_relative(rel) && strcmp(rel, "manifest.txt") != 0
+               ? rel
+               : NULL;
 }
 
 typedef struct Listing {
@@ -411,7 +406,7 @@ int app_manifest_write(const char *dir, int keep_listed)
     Listing l = {0};
     const char *noted, *rel;
     for (int k = 0; (noted = app_output_committed(k)) != NULL; ++k)
-        if ((rel = inside(dir, noted)) != NULL)
+        if ((rel = manifest_entry(dir, noted)) != NULL)
             listing_add(&l, dir, rel);
     FILE *old = keep_listed ? sim_open_input(path, NULL) : NULL;
     while (old && fgets(line, sizeof line, old)) {
