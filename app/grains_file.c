@@ -179,11 +179,14 @@ static int read_row(Reader *r, char **field, int n, int lammps, int species_coun
         if (end == field[r->column[c]] || *end || errno == ERANGE || !isfinite(v[c]))
             return fail(r, "not a number: ", field[r->column[c]]);
     }
-    int species = (int)v[COL_SPECIES] - (lammps ? 1 : 0);
+    /* the range tested on the double: a cast of 1e10 to int is undefined (fuzz_grains) */
+    double first = lammps ? 1.0 : 0.0;
     if (r->column[COL_SPECIES] >= 0 &&
-        (v[COL_SPECIES] != floor(v[COL_SPECIES]) || species < 0 || species >= species_count))
+        (v[COL_SPECIES] != floor(v[COL_SPECIES]) || v[COL_SPECIES] < first ||
+         v[COL_SPECIES] >= first + species_count))
         return fail(r, lammps ? "atom type out of the scene's species" : "species out of range",
                     NULL);
+    int species = (int)(v[COL_SPECIES] - first);
     if (!(v[COL_R] > 0.0))
         return fail(r, "the radius must be > 0", NULL);
     if (v[COL_FIXED] != 0.0 && v[COL_FIXED] != 1.0)
