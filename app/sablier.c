@@ -113,9 +113,9 @@ static const char USAGE_DIFF[] =
     "                     side) and DIR/report.json\n"
     "  --update           folders: then copy the changed and extra figures over the baseline and\n"
     "                     remove the missing ones (exit 0)\n"
-    "Two images: prints one JSON line. Two folders: pairs their figures (.png by the image diff,\n"
-    ".svg and .pdf by their bytes) by relative path and prints one line per changed, missing or\n"
-    "extra figure. Exit 0 match, 1 differ, 2 bad input.\n";
+    "Two images: prints one JSON line. Two folders: pairs their figures (.png, and .pdf and .svg\n"
+    "drawn at 150 dpi, by the image diff) by relative path and prints one line per changed,\n"
+    "missing or extra figure. Exit 0 match, 1 differ, 2 bad input.\n";
 
 static const char USAGE_RENDER[] =
     "usage: sablier render STATE -o FIG.png|pdf|svg [options]\n"
