@@ -325,6 +325,13 @@ add_test(NAME cli.pool_signal
                  ${CLI_WORK}/pool_signal)
 set_tests_properties(cli.pool_signal PROPERTIES LABELS cli
                      ENVIRONMENT "LSAN_OPTIONS=suppressions=${CLI_DIR}/lsan.supp")
+# SIGINT to `sablier bne`: samples.csv's status column says which runs were interrupted
+# (tests/cli/bne_signal.sh)
+add_test(NAME cli.bne_signal
+         COMMAND bash ${CLI_DIR}/bne_signal.sh $<TARGET_FILE:sablier>
+                 ${PROJECT_SOURCE_DIR}/scenes/brazil_nut/small.scene ${CLI_WORK}/bne_signal)
+set_tests_properties(cli.bne_signal PROPERTIES LABELS cli
+                     ENVIRONMENT "LSAN_OPTIONS=suppressions=${CLI_DIR}/lsan.supp")
 # the ensemble reaches the discharge protocol (its own dt: discharge.dt_divisor = 0)
 add_test(NAME cli.ensemble_discharge
          COMMAND bash ${CLI_DIR}/ensemble_discharge.sh $<TARGET_FILE:sablier>

@@ -314,20 +314,29 @@ static int run_samples(Samples *S)
     return rc;
 }
 
-/* samples.csv: rise time and rate per run. */
+/* samples.csv: every run, its status (app_pool_status_text: 0, the exit status of one that
+ * failed, -1 not run, "interrupted") and, for a run that finished, its rise time and rate. */
 static void write_samples_csv(const Samples *S, const char *path)
 {
-    FILE *f = fopen(path, "w");
-    if (!f)
+    FILE *f = app_tmp_open(
+        path, "value,seed,status,gamma,period,rise_time,rise_rate,start_height,end_height,surface");
+    if (!f) {
+        fprintf(stderr, "sablier: bne: cannot write %s\n", path);
         return;
-    fprintf(f, "value,seed,gamma,period,rise_time,rise_rate,start_height,end_height,surface\n");
-    for (int k = 0; k < S->done; ++k) {
-        const AppBneResult *r = &S->records[k].result;
-        fprintf(f, "%.9g,%ld,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", S->records[k].value,
-                S->records[k].seed, r->gamma, r->period, r->rise_time, r->rise_rate,
-                r->start_height, r->end_height, r->surface);
     }
-    fclose(f);
+    for (int k = 0; k < S->value_count * S->o->seeds; ++k) {
+        const AppBneResult *r = &S->records[k].result;
+        char status[16];
+        fprintf(f, "%.9g,%ld,%s", S->values[k / S->o->seeds], S->o->seed0 + k % S->o->seeds,
+                app_pool_status_text(S->status[k], status));
+        if (S->status[k] == 0)
+            fprintf(f, ",%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", r->gamma, r->period, r->rise_time,
+                    r->rise_rate, r->start_height, r->end_height, r->surface);
+        else
+            fprintf(f, ",,,,,,,\n");
+    }
+    if (app_tmp_commit(&f, path) != 0)
+        fprintf(stderr, "sablier: bne: cannot write %s\n", path);
 }
 
 /* The large-deviation function of the runs of values[v] (the first at records[first]): its
@@ -428,25 +437,31 @@ static void value_curves(const Samples *S, int v, FILE *rise, FILE *ldf, Curves 
     ++C->count;
 }
 
-/* rise.csv and ldf.csv (when ldf_periods > 0), and their curves. 1 when ldf.csv was opened. */
+/* rise.csv and ldf.csv (when ldf_periods > 0), and their curves, through temporary names. 1
+ * when ldf.csv was written. */
 static int write_curves(const Samples *S, Curves *C)
 {
-    char path[BNE_PATH];
-    snprintf(path, sizeof path, "%s/rise.csv", S->o->out_dir);
-    FILE *rise = fopen(path, "w");
-    snprintf(path, sizeof path, "%s/ldf.csv", S->o->out_dir);
-    FILE *ldf = S->o->ldf_periods > 0.0 ? fopen(path, "w") : NULL;
-    if (rise)
-        fprintf(rise, "value,t,mean_rise,std_rise,samples\n");
-    if (ldf)
-        fprintf(ldf, "value,tau,v,probability,rate_function\n");
+    char rise_path[BNE_PATH], ldf_path[BNE_PATH];
+    snprintf(rise_path, sizeof rise_path, "%s/rise.csv", S->o->out_dir);
+    snprintf(ldf_path, sizeof ldf_path, "%s/ldf.csv", S->o->out_dir);
+    FILE *rise = app_tmp_open(rise_path, "value,t,mean_rise,std_rise,samples");
+    FILE *ldf = S->o->ldf_periods > 0.0
+                    ? app_tmp_open(ldf_path, "value,tau,v,probability,rate_function")
+                    : NULL;
+    if (!rise)
+        fprintf(stderr, "sablier: bne: cannot write %s\n", rise_path);
+    if (!ldf && S->o->ldf_periods > 0.0)
+        fprintf(stderr, "sablier: bne: cannot write %s\n", ldf_path);
     for (int v = 0; v < S->value_count; ++v)
         value_curves(S, v, rise, ldf, C);
-    if (rise)
-        fclose(rise);
+    if (rise && app_tmp_commit(&rise, rise_path) != 0)
+        fprintf(stderr, "sablier: bne: cannot write %s\n", rise_path);
     if (!ldf)
         return 0;
-    fclose(ldf);
+    if (app_tmp_commit(&ldf, ldf_path) != 0) {
+        fprintf(stderr, "sablier: bne: cannot write %s\n", ldf_path);
+        return 0;
+    }
     return 1;
 }
 
