@@ -20,7 +20,8 @@
  * plus the first signal, the exit status the driver ends with after writing its tables. Under
  * MPI a worker rank that gets the signal passes it on to its task and runs no further one (a
  * worker heeds the signals only through the flag, so it never dies between tasks); rank 0 hands
- * out no further task once it or a worker got one, and waits for those running.
+ * out no further task once it or a worker got one, sends a stop to every worker whose task runs
+ * (the worker passes that signal on to its task, as if it had got it), and waits for them.
  *
  * Resume: with `resume` set and a `folder` hook, a task whose folder holds a run that completed
  * (summary.json: "status": "ok") is not run again: done reports 0 for it, start is not called. */

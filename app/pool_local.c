@@ -27,6 +27,21 @@ static void on_signal(int signo)
     pool_signal_count = pool_signal_count + 1;
 }
 
+static int (*pool_poll)(void);
+
+void app_pool_set_poll(int (*poll)(void))
+{
+    pool_poll = poll;
+}
+
+/* The poll hook's signal, as if it had been caught (unless one was): once, as rank 0 sends. */
+static void poll_signal(void)
+{
+    int signo = pool_poll ? pool_poll() : 0;
+    if (signo && !pool_signal)
+        on_signal(signo);
+}
+
 void app_pool_catch_signals(struct sigaction saved[2], int restore)
 {
     if (!restore)
@@ -167,6 +182,7 @@ int app_pool_run_local(const AppPool *pool)
     app_pool_catch_signals(saved, 0);
     int next = 0, running = 0, rc = 0, passed = 0;
     for (;;) {
+        poll_signal();
         running = fill_slots(&p, &next, running, pids, slot_task, &rc);
         pass_signal(pids, jobs, &passed);
         if (running == 0)

@@ -19,6 +19,11 @@ void app_pool_catch_signals(struct sigaction saved[2], int restore);
 /// The first SIGINT or SIGTERM caught since app_pool_catch_signals (0: none).
 int app_pool_signal(void);
 
+/// A check the local pool makes between its waits (NULL: none): a signal number, acted on as if
+/// that signal had come (unless one already had), or 0. An MPI worker sets it while it runs a
+/// task, to hear rank 0's stop (pool_mpi.c).
+void app_pool_set_poll(int (*poll)(void));
+
 /// 1 when pool->resume is set and task `index`'s folder (pool->folder) holds a run that
 /// completed: its summary.json says "status": "ok".
 int app_pool_task_finished(const AppPool *pool, int index);

@@ -8,7 +8,9 @@
  * local pool, one task at a time) and sends back its exit status. At the pool's end the workers
  * wait: when rank 0 enters its next pool it sends them what its start and done hooks saw, which
  * they replay so that their state stays rank 0's; when rank 0 exits they exit. So tables, plots
- * and messages are rank 0's alone; a worker's output outside its tasks goes to /dev/null. */
+ * and messages are rank 0's alone; a worker's output outside its tasks goes to /dev/null.
+ * After SIGINT or SIGTERM (rank 0's, or a worker's task interrupted) rank 0 sends each busy
+ * worker a stop, which the worker's local pool, polling for it, treats as that signal (pool.h). */
 #include "pool_mpi.h"
 
 #include "pool_local.h"
@@ -172,6 +174,25 @@ int app_pool_mpi_workers(void)
 
 /* ---------------------------------------------------------------- a worker */
 
+/* Rank 0's stop to a worker whose task runs: on TAG_TASK (the only message rank 0 sends a busy
+ * worker), -2 - the signal to pass on. */
+static int stop_code(int signo)
+{
+    return -2 - signo;
+}
+
+/* The local pool's poll while the worker's task runs: rank 0's stop, its signal (0: none). */
+static int stop_requested(void)
+{
+    int flag = 0, code;
+    MPI_Status status;
+    MPI_Iprobe(0, TAG_TASK, MPI_COMM_WORLD, &flag, &status);
+    if (!flag)
+        return 0;
+    MPI_Recv(&code, 1, MPI_INT, 0, TAG_TASK, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    return code < -2 ? -2 - code : SIGTERM;
+}
+
 /* One task of a worker, through the local pool (a child process of its own). */
 typedef struct Task {
     const AppPool *pool;
@@ -215,7 +236,9 @@ static int run_task(const AppPool *pool, int index)
                    .run = task_run,
                    .done = task_done,
                    .signal_status = pool->signal_status};
+    app_pool_set_poll(stop_requested);
     app_pool_run_local(&one);
+    app_pool_set_poll(NULL);
     return t.status;
 }
 
@@ -228,6 +251,8 @@ static int serve(const AppPool *pool)
         int index;
         wait_for(0, TAG_TASK, &status);
         MPI_Recv(&index, 1, MPI_INT, 0, TAG_TASK, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        if (index < -1)
+            continue; /* rank 0's stop, come after the task it was for ended */
         if (index < 0)
             break;
         /* after a signal the worker runs no further task (its running one got it: pool.h) */
@@ -283,13 +308,52 @@ static int next_task(const AppPool *pool, int *next, Event *events, int *n)
     return -1;
 }
 
+/* Rank 0 once the pool is stopped (its own signal, or a worker's task interrupted): the stop,
+ * with signo, to every worker whose task runs; once (*stopped). */
+static void halt(const int *busy, int *stopped, int signo)
+{
+    if (*stopped)
+        return;
+    *stopped = 1;
+    int code = stop_code(signo ? signo : SIGTERM);
+    for (int w = 1; w < M.size; ++w)
+        if (busy[w])
+            MPI_Send(&code, 1, MPI_INT, w, TAG_TASK, MPI_COMM_WORLD);
+}
+
+/* Rank 0: the next result from a worker into result, after waiting (as wait_for does) with an
+ * eye on the signals: one that comes meanwhile stops the busy workers at once. Returns the
+ * worker's rank, free again. */
+static int next_result(int *busy, int *stopped, int result[2])
+{
+    const struct timespec nap = {0, 2000000}; /* 2 ms */
+    MPI_Status status;
+    int flag = 0;
+    for (;;) {
+        if (app_pool_signal())
+            halt(busy, stopped, app_pool_signal());
+        MPI_Iprobe(MPI_ANY_SOURCE, TAG_RESULT, MPI_COMM_WORLD, &flag, &status);
+        if (flag)
+            break;
+        nanosleep(&nap, NULL);
+    }
+    MPI_Recv(result, 2, MPI_INT, status.MPI_SOURCE, TAG_RESULT, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    busy[status.MPI_SOURCE] = 0;
+    if ((app_pool_signal() || result[1] == APP_POOL_INTERRUPTED) && result[1] != 0) {
+        result[1] = APP_POOL_INTERRUPTED; /* a worker's signal stops the pool too */
+        halt(busy, stopped, app_pool_signal());
+    }
+    return status.MPI_SOURCE;
+}
+
 static int schedule(const AppPool *pool)
 {
     send_control(CONTROL_NEXT);
     int workers = M.size - 1;
     int *free_ranks = malloc((size_t)workers * sizeof *free_ranks);
     Event *events = malloc((size_t)(pool->count + 1) * sizeof *events);
-    if (!free_ranks || !events) {
+    int *busy = calloc((size_t)M.size, sizeof *busy); /* by rank: 1 while its task runs */
+    if (!free_ranks || !events || !busy) {
         fprintf(stderr, "sablier: mpi: out of memory\n");
         MPI_Abort(MPI_COMM_WORLD, 2);
     }
@@ -298,25 +362,20 @@ static int schedule(const AppPool *pool)
     gather_workers(pool, free_ranks);
     int free_count = workers, next = 0, running = 0, n = 0, rc = 0, stopped = 0;
     for (;;) {
-        stopped |= app_pool_signal() != 0;
+        if (app_pool_signal())
+            halt(busy, &stopped, app_pool_signal());
         int index;
         while (free_count > 0 && !stopped && (index = next_task(pool, &next, events, &n)) >= 0) {
-            MPI_Send(&index, 1, MPI_INT, free_ranks[--free_count], TAG_TASK, MPI_COMM_WORLD);
+            int rank = free_ranks[--free_count];
+            MPI_Send(&index, 1, MPI_INT, rank, TAG_TASK, MPI_COMM_WORLD);
+            busy[rank] = 1;
             ++running;
         }
         if (running == 0)
             break;
-        MPI_Status status;
         int result[2];
-        wait_for(MPI_ANY_SOURCE, TAG_RESULT, &status);
-        MPI_Recv(result, 2, MPI_INT, status.MPI_SOURCE, TAG_RESULT, MPI_COMM_WORLD,
-                 MPI_STATUS_IGNORE);
+        free_ranks[free_count++] = next_result(busy, &stopped, result);
         --running;
-        free_ranks[free_count++] = status.MPI_SOURCE;
-        if ((app_pool_signal() || result[1] == APP_POOL_INTERRUPTED) && result[1] != 0) {
-            result[1] = APP_POOL_INTERRUPTED; /* a worker's signal stops the pool too */
-            stopped = 1;
-        }
         report(pool, events, &n, result[0], result[1]);
         if (result[1] == APP_POOL_NOT_STARTED) { /* as the local pool: no later task starts */
             rc = -1;
@@ -331,6 +390,7 @@ static int schedule(const AppPool *pool)
     for (int w = 1; w < M.size; ++w)
         MPI_Send(&none, 1, MPI_INT, w, TAG_TASK, MPI_COMM_WORLD);
     free(free_ranks);
+    free(busy);
     M.events = events;
     M.event_count = n;
     M.rc = stopped ? APP_EXIT_SIGNAL + (signo ? signo : SIGTERM) : rc;

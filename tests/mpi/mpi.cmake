@@ -38,3 +38,11 @@ add_test(NAME mpi.ensemble
                  ${MPI_CHECK_BUILT}
          WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
 set_tests_properties(mpi.ensemble PROPERTIES LABELS mpi SKIP_RETURN_CODE 77)
+# SIGINT and SIGTERM to `mpirun -n 3 sablier ensemble`: every running member stops and saves its
+# state (tests/mpi/signal.sh)
+add_test(NAME mpi.signal
+         COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/signal.sh $<TARGET_FILE:sablier>
+                 ${PROJECT_SOURCE_DIR}/tests/cli/ensemble_fall.scene ${MPI_CHECK_WORK}/signal
+                 ${MPI_CHECK_BUILT}
+         WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+set_tests_properties(mpi.signal PROPERTIES LABELS mpi SKIP_RETURN_CODE 77)
