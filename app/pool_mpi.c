@@ -55,17 +55,24 @@ static int launched(void)
 }
 
 /* Waits until a message is there: probes with short sleeps, as a blocking receive would spin a
- * core that the members need. */
-static void wait_for(int source, int tag, MPI_Status *status)
+ * core that the members need; calls idle(ctx) (when not NULL) before each probe. */
+static void wait_idle(int source, int tag, MPI_Status *status, void (*idle)(void *), void *ctx)
 {
     const struct timespec nap = {0, 2000000}; /* 2 ms */
     int flag = 0;
     for (;;) {
+        if (idle)
+            idle(ctx);
         MPI_Iprobe(source, tag, MPI_COMM_WORLD, &flag, status);
         if (flag)
             return;
         nanosleep(&nap, NULL);
     }
+}
+
+static void wait_for(int source, int tag, MPI_Status *status)
+{
+    wait_idle(source, tag, status, NULL, NULL);
 }
 
 static void worker_fail(const char *what)
@@ -321,22 +328,26 @@ static void halt(const int *busy, int *stopped, int signo)
             MPI_Send(&code, 1, MPI_INT, w, TAG_TASK, MPI_COMM_WORLD);
 }
 
-/* Rank 0: the next result from a worker into result, after waiting (as wait_for does) with an
- * eye on the signals: one that comes meanwhile stops the busy workers at once. Returns the
+/* Rank 0's busy workers and whether the pool is stopped, for halt while it waits. */
+typedef struct Busy {
+    int *busy, *stopped;
+} Busy;
+
+/* While rank 0 waits: a signal that came stops the busy workers at once. */
+static void halt_on_signal(void *ctx)
+{
+    Busy *b = ctx;
+    if (app_pool_signal())
+        halt(b->busy, b->stopped, app_pool_signal());
+}
+
+/* Rank 0: the next result from a worker into result (halt_on_signal while it waits). Returns the
  * worker's rank, free again. */
 static int next_result(int *busy, int *stopped, int result[2])
 {
-    const struct timespec nap = {0, 2000000}; /* 2 ms */
     MPI_Status status;
-    int flag = 0;
-    for (;;) {
-        if (app_pool_signal())
-            halt(busy, stopped, app_pool_signal());
-        MPI_Iprobe(MPI_ANY_SOURCE, TAG_RESULT, MPI_COMM_WORLD, &flag, &status);
-        if (flag)
-            break;
-        nanosleep(&nap, NULL);
-    }
+    Busy b = {busy, stopped};
+    wait_idle(MPI_ANY_SOURCE, TAG_RESULT, &status, halt_on_signal, &b);
     MPI_Recv(result, 2, MPI_INT, status.MPI_SOURCE, TAG_RESULT, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     busy[status.MPI_SOURCE] = 0;
     if ((app_pool_signal() || result[1] == APP_POOL_INTERRUPTED) && result[1] != 0) {
