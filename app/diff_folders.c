@@ -28,8 +28,13 @@ typedef struct Entry {
     int status;
     int is_png;
     AppImageDiff diff;
+    int shown[3]; ///< the report holds the baseline, fresh and difference image to show
     char note[320];
 } Entry;
+
+enum { BASELINE_SIDE, FRESH_SIDE, DIFF_SIDE };
+
+static const char *const sides[3] = {"baseline", "fresh", "diff"};
 
 typedef struct NameList {
     char **names;
@@ -174,6 +179,14 @@ static void join(char *out, size_t size, const char *a, const char *b, const cha
     snprintf(out, size, "%s/%s%s%s", a, b, c ? "/" : "", c ? c : "");
 }
 
+/* The image the report shows for one side of e (dir NULL: relative to the report): the PNG
+ * itself, or NAME.png, a PDF or SVG drawn as pixels (the difference image of those too). */
+static void shown_path(char *out, size_t size, const char *dir, int side, const Entry *e)
+{
+    snprintf(out, size, "%s%s%s/%s%s", dir ? dir : "", dir ? "/" : "", sides[side], e->name,
+             e->is_png ? "" : ".png");
+}
+
 /* One pair: bytes first (a deterministic figure is the same file), then the image diff, which
  * draws PDFs and SVGs (their metadata is no difference) or says that it cannot. */
 static void compare_pair(const char *baseline, const char *fresh, const AppFolderDiff *o, Entry *e)
@@ -192,8 +205,8 @@ static void compare_pair(const char *baseline, const char *fresh, const AppFolde
         return;
     }
     const char *diff_png = NULL;
-    if (o->report_dir && e->is_png) { /* the report shows a difference image of PNGs */
-        join(d, sizeof d, o->report_dir, "diff", e->name);
+    if (o->report_dir) { /* the report shows a difference image (of a PDF or SVG's pixels too) */
+        shown_path(d, sizeof d, o->report_dir, DIFF_SIDE, e);
         diff_png = make_parent(d) == 0 ? d : NULL;
     }
     int v = o->compare(o->context, a, b, diff_png, &e->diff, e->note, sizeof e->note);
@@ -205,11 +218,9 @@ static void compare_pair(const char *baseline, const char *fresh, const AppFolde
         return;
     }
     e->status = v == 0 ? WITHIN : v == 1 ? CHANGED : UNREADABLE;
-    if (v == 0) {
+    if (v == 0)
         e->note[0] = '\0';
-        if (diff_png)
-            remove(diff_png);
-    }
+    e->shown[DIFF_SIDE] = diff_png && e->diff.width > 0; /* else none was written */
 }
 
 /* Both sorted lists merged into entries: missing (baseline only), extra (fresh only), pairs. */
@@ -252,10 +263,9 @@ static void html_text(FILE *f, const char *s)
 }
 
 /* A relative URL: path characters kept, the rest percent-encoded. */
-static void html_url(FILE *f, const char *folder, const char *name)
+static void html_url(FILE *f, const char *path)
 {
-    fprintf(f, "%s/", folder);
-    for (const unsigned char *s = (const unsigned char *)name; *s; ++s)
+    for (const unsigned char *s = (const unsigned char *)path; *s; ++s)
         if ((*s >= 'a' && *s <= 'z') || (*s >= 'A' && *s <= 'Z') || (*s >= '0' && *s <= '9') ||
             strchr("/._-", *s))
             fputc(*s, f);
@@ -263,93 +273,201 @@ static void html_url(FILE *f, const char *folder, const char *name)
             fprintf(f, "%%%02X", *s);
 }
 
-static void html_cell(FILE *f, const char *folder, const char *name, int present)
+/* The share of pixels that differ, in [0, 1]; 0 when no pixels were compared. */
+static double changed_share(const AppImageDiff *d)
 {
-    fputs("<td>", f);
-    if (!present) {
-        fputs("<span class=\"none\">none</span>", f);
-    } else if (strlen(name) > 4 && strcmp(name + strlen(name) - 4, ".pdf") == 0) {
-        fputs("<a href=\"", f);
-        html_url(f, folder, name);
-        fputs("\">PDF</a>", f);
-    } else {
-        fputs("<a href=\"", f);
-        html_url(f, folder, name);
-        fputs("\"><img src=\"", f);
-        html_url(f, folder, name);
-        fputs("\" alt=\"\"></a>", f);
-    }
-    fputs("</td>", f);
+    double n = (double)d->width * (double)d->height;
+    return n > 0.0 ? (double)d->differing_pixels / n : 0.0;
 }
 
-static void html_entry(FILE *f, const Entry *e)
+/* The page's style and script, inline: the page needs no network and fits any window. */
+static const char page_style[] =
+    "*{box-sizing:border-box}body{font-family:sans-serif;margin:0;padding:1em;max-width:100%;"
+    "overflow-wrap:anywhere}\n"
+    "h1{margin:0 0 .3em}code,.nums{font-family:monospace}.nums{margin:.3em 0}\n"
+    "#filters{border:1px solid #ccc;padding:.3em .6em;margin:.6em 0}\n"
+    "#filters label{display:inline-block;margin-right:1.2em;white-space:nowrap}\n"
+    ".fig{border:1px solid #ccc;border-radius:4px;margin:0 0 1em;padding:.5em;overflow:hidden}\n"
+    ".fig h2{font-size:1.05em;margin:0;overflow-wrap:anywhere}.fig p{margin:.2em 0}\n"
+    ".status{font-weight:bold}.changed .status,.unreadable .status{color:#c00}\n"
+    ".missing .status,.extra .status{color:#d60}.within_tolerance .status{color:#880}\n"
+    ".imgs{display:grid;gap:.5em;"
+    "grid-template-columns:repeat(auto-fit,minmax(min(100%,16em),1fr))}\n"
+    ".imgs figure{margin:0;min-width:0}.imgs figcaption{font-size:.9em;color:#444}\n"
+    ".imgs img{display:block;max-width:100%;height:auto;max-height:45vh;cursor:zoom-in;"
+    "border:1px solid #eee;background:#fff}\n"
+    ".none{color:#888}.hide{display:none}button{margin:.2em .4em .2em 0}\n"
+    "#zoom{position:fixed;inset:0;background:rgba(0,0,0,.85);display:none;overflow:auto;"
+    "cursor:zoom-out;z-index:9;padding:1em}\n"
+    "#zoom.on{display:block}#zoom img{display:block;margin:auto;max-width:none;background:#fff}\n";
+
+static const char page_script[] =
+    "var $=function(q,r){return Array.prototype.slice.call((r||document).querySelectorAll(q));};\n"
+    "$('#filters input').forEach(function(c){c.onchange=function(){"
+    "$('.fig[data-status=\"'+c.value+'\"]').forEach(function(f){"
+    "f.classList.toggle('hide',!c.checked);});};});\n"
+    "var zoom=document.getElementById('zoom'),big=zoom.querySelector('img');\n"
+    "$('.imgs img').forEach(function(i){i.onclick=function(){big.src=i.src;"
+    "zoom.classList.add('on');};});\n"
+    "zoom.onclick=function(){zoom.classList.remove('on');};\n"
+    "document.addEventListener('keydown',function(e){"
+    "if(e.key==='Escape')zoom.classList.remove('on');});\n"
+    "$('.fig').forEach(function(f){var i=f.querySelector('img.both');if(!i)return;\n"
+    " var cap=f.querySelector('.side'),timer=null;\n"
+    " function flip(){var s=i.dataset.side==='baseline'?'fresh':'baseline';\n"
+    "  i.dataset.side=s;i.src=i.dataset[s];cap.textContent=s;}\n"
+    " f.querySelector('button.flip').onclick=flip;\n"
+    " f.querySelector('button.blink').onclick=function(){if(timer){clearInterval(timer);"
+    "timer=null;this.textContent='blink';}else{timer=setInterval(flip,600);"
+    "this.textContent='stop';}};});\n";
+
+/* One image of a figure: side's PNG (shown 1), a link to its copy (2), or none (0). */
+static void html_figure(FILE *f, const char *caption, const Entry *e, int side)
 {
-    fprintf(f, "<tr class=\"%s\"><th>", status_names[e->status]);
+    char path[PATH_MAX];
+    shown_path(path, sizeof path, NULL, side, e);
+    fprintf(f, "<figure><figcaption>%s</figcaption>", caption);
+    if (e->shown[side] == 1) {
+        fputs("<img src=\"", f);
+        html_url(f, path);
+        fputs("\" alt=\"\" loading=\"lazy\">", f);
+    } else if (e->shown[side] == 2) { /* a PDF or SVG this build cannot draw */
+        join(path, sizeof path, sides[side], e->name, NULL);
+        fputs("<a href=\"", f);
+        html_url(f, path);
+        fputs("\">", f);
+        html_text(f, e->name);
+        fputs("</a> (not drawn: this build has no poppler-glib or librsvg)", f);
+    } else {
+        fputs("<span class=\"none\">none</span>", f);
+    }
+    fputs("</figure>", f);
+}
+
+/* The numbers the terminal prints: max channel difference, RMS, share of changed pixels. */
+static void html_numbers(FILE *f, const Entry *e)
+{
+    if (e->diff.width <= 0)
+        return;
+    char rms[32];
+    snprintf(rms, sizeof rms, "%.4g", e->diff.rms);
+    fprintf(f,
+            "<p class=\"nums\">max difference <b class=\"max\">%d</b> &middot; RMS "
+            "<b class=\"rms\">%s</b> &middot; changed <b class=\"share\">%.4g %%</b> of the "
+            "pixels (%ld of %dx%d)</p>\n",
+            e->diff.max_channel_diff, rms, 100.0 * changed_share(&e->diff),
+            e->diff.differing_pixels, e->diff.width, e->diff.height);
+}
+
+/* One figure: name, status, numbers, baseline, fresh, difference and the blink toggle. */
+static void html_entry(FILE *f, const Entry *e, int hidden)
+{
+    char path[3][PATH_MAX];
+    for (int s = 0; s < 3; ++s)
+        shown_path(path[s], sizeof path[s], NULL, s, e);
+    fprintf(f, "<section class=\"fig %s%s\" data-status=\"%s\"><h2>", status_names[e->status],
+            hidden ? " hide" : "", status_names[e->status]);
     html_text(f, e->name);
-    fprintf(f, "<br><span class=\"status\">%s</span>", status_names[e->status]);
+    fprintf(f, "</h2>\n<p><span class=\"status\">%s</span>", status_names[e->status]);
     if (e->note[0]) {
-        fputs("<br>", f);
+        fputs(": ", f);
         html_text(f, e->note);
     }
-    fputs("</th>", f);
-    html_cell(f, "baseline", e->name, e->status != EXTRA);
-    html_cell(f, "fresh", e->name, e->status != MISSING);
-    html_cell(f, "diff", e->name, e->status == CHANGED && e->is_png && e->diff.width > 0);
-    fputs("</tr>\n", f);
+    fputs("</p>\n", f);
+    html_numbers(f, e);
+    if (!e->shown[BASELINE_SIDE] && !e->shown[FRESH_SIDE] && !e->shown[DIFF_SIDE]) {
+        fputs("</section>\n", f);
+        return;
+    }
+    int both = e->shown[BASELINE_SIDE] == 1 && e->shown[FRESH_SIDE] == 1;
+    if (both)
+        fputs("<p><button class=\"flip\" type=\"button\">baseline / fresh</button>"
+              "<button class=\"blink\" type=\"button\">blink</button></p>\n",
+              f);
+    fputs("<div class=\"imgs\">", f);
+    html_figure(f, "baseline", e, BASELINE_SIDE);
+    html_figure(f, "fresh", e, FRESH_SIDE);
+    html_figure(f,
+                "difference (red: differs, orange: within the shift, yellow: under the threshold)",
+                e, DIFF_SIDE);
+    if (both) {
+        fputs("<figure><figcaption>toggle: <span class=\"side\">baseline</span></figcaption>"
+              "<img class=\"both\" alt=\"\" data-side=\"baseline\" src=\"",
+              f);
+        html_url(f, path[BASELINE_SIDE]);
+        fputs("\" data-baseline=\"", f);
+        html_url(f, path[BASELINE_SIDE]);
+        fputs("\" data-fresh=\"", f);
+        html_url(f, path[FRESH_SIDE]);
+        fputs("\"></figure>", f);
+    }
+    fputs("</div>\n</section>\n", f);
 }
 
-static int write_html(const char *path, const char *baseline, const char *fresh,
-                      const Entry *entries, int n, const int *counts)
+/* The head of the page: what was compared, the options and a filter by status. */
+static void html_head(FILE *f, const char *baseline, const char *fresh, const AppFolderDiff *o,
+                      const int *counts)
 {
-    FILE *f = app_tmp_open(path, "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\">");
+    char a[PATH_MAX], b[PATH_MAX];
+    app_provenance_path(NULL, baseline, a, sizeof a); /* no absolute path in the report */
+    app_provenance_path(NULL, fresh, b, sizeof b);
+    fprintf(f, "<title>sablier diff</title>\n<style>\n%s</style></head><body>\n", page_style);
+    fputs("<h1>sablier diff</h1>\n<p>baseline <code>", f);
+    html_text(f, a);
+    fputs("</code>, fresh <code>", f);
+    html_text(f, b);
+    fprintf(f,
+            "</code>; a pixel differs when a channel differs by more than %d levels and no pixel "
+            "within %d matches it; a figure matches when at most %ld pixels differ</p>\n",
+            o->threshold, o->shift, o->max_pixels);
+    fputs("<fieldset id=\"filters\"><legend>show</legend>", f);
+    for (int s = 0; s < STATUS_COUNT; ++s)
+        fprintf(f, "<label><input type=\"checkbox\" value=\"%s\"%s> %s (%d)</label>",
+                status_names[s], s == IDENTICAL ? "" : " checked", status_names[s], counts[s]);
+    fputs("</fieldset>\n", f);
+}
+
+/* index.html: every figure, the ones that do not match first; identical ones hidden at first. */
+static int write_html(const char *path, const char *baseline, const char *fresh,
+                      const AppFolderDiff *o, const Entry *entries, int n, const int *counts)
+{
+    FILE *f = app_tmp_open(path, "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+                                 "<meta name=\"viewport\" content=\"width=device-width, "
+                                 "initial-scale=1\">");
     if (!f)
         return -1;
-    fputs("<title>sablier diff</title><style>\n"
-          "body{font-family:sans-serif;margin:1em}table{border-collapse:collapse}\n"
-          "td,th{border:1px solid #ccc;padding:4px;vertical-align:top;text-align:left}\n"
-          "img{max-width:32vw;max-height:60vh}.status{font-weight:bold}.none{color:#888}\n"
-          "tr.changed .status,tr.unreadable .status{color:#c00}"
-          "tr.missing .status,tr.extra .status{color:#d60}\n"
-          "</style></head><body>\n<h1>sablier diff</h1>\n<p>baseline <code>",
-          f);
-    html_text(f, baseline);
-    fputs("</code>, fresh <code>", f);
-    html_text(f, fresh);
-    fputs("</code></p>\n<p>", f);
-    for (int s = 0; s < STATUS_COUNT; ++s)
-        fprintf(f, "%s%s %d", s ? ", " : "", status_names[s], counts[s]);
-    fputs("</p>\n<table>\n<tr><th>figure</th><th>baseline</th><th>fresh</th>"
-          "<th>difference (red: differs, orange: within the shift, yellow: under the "
-          "threshold)</th></tr>\n",
-          f);
-    for (int k = 0; k < n; ++k)
-        if (entries[k].status >= CHANGED)
-            html_entry(f, &entries[k]);
-    fputs("</table>\n<h2>matching</h2>\n<ul>\n", f);
-    for (int k = 0; k < n; ++k)
-        if (entries[k].status < CHANGED) {
-            fputs("<li>", f);
-            html_text(f, entries[k].name);
-            fprintf(f, " (%s)</li>\n", status_names[entries[k].status]);
-        }
-    fputs("</ul>\n</body></html>\n", f);
+    html_head(f, baseline, fresh, o, counts);
+    for (int pass = 0; pass < 2; ++pass)
+        for (int k = 0; k < n; ++k)
+            if ((entries[k].status >= CHANGED) == (pass == 0))
+                html_entry(f, &entries[k], entries[k].status == IDENTICAL);
+    fprintf(f, "<div id=\"zoom\"><img alt=\"\"></div>\n<script>\n%s</script>\n</body></html>\n",
+            page_script);
     return app_tmp_commit(&f, path);
 }
 
 static void json_entry(FILE *f, const Entry *e, int last)
 {
-    char name[2 * PATH_MAX], note[2 * sizeof e->note], rms[32];
+    char name[2 * PATH_MAX], note[2 * sizeof e->note], num[2][32], path[PATH_MAX],
+        json_path[2 * PATH_MAX];
     app_json_string(name, sizeof name, e->name);
     app_json_string(note, sizeof note, e->note);
     fprintf(f, "    {\"name\": %s, \"status\": \"%s\"", name, status_names[e->status]);
-    if (e->is_png && (e->status == WITHIN || e->status == CHANGED) && e->diff.width > 0) {
-        app_json_number(rms, sizeof rms, e->diff.rms);
+    if ((e->status == WITHIN || e->status == CHANGED) && e->diff.width > 0) {
+        app_json_number(num[0], sizeof num[0], e->diff.rms);
+        app_json_number(num[1], sizeof num[1], changed_share(&e->diff));
         fprintf(f,
                 ", \"width\": %d, \"height\": %d, \"differing_pixels\": %ld, \"raw_pixels\": %ld, "
-                "\"max_channel_diff\": %d, \"rms\": %s",
+                "\"max_channel_diff\": %d, \"rms\": %s, \"changed_share\": %s",
                 e->diff.width, e->diff.height, e->diff.differing_pixels, e->diff.raw_pixels,
-                e->diff.max_channel_diff, rms);
+                e->diff.max_channel_diff, num[0], num[1]);
     }
+    for (int s = 0; s < 3; ++s)
+        if (e->shown[s] == 1) { /* the images on the page, relative to the report folder */
+            shown_path(path, sizeof path, NULL, s, e);
+            app_json_string(json_path, sizeof json_path, path);
+            fprintf(f, ", \"%s_image\": %s", sides[s], json_path);
+        }
     if (e->note[0])
         fprintf(f, ", \"note\": %s", note);
     fprintf(f, "}%s\n", last ? "" : ",");
@@ -362,9 +480,11 @@ static int write_json(const char *path, const char *baseline, const char *fresh,
     FILE *f = app_tmp_open(path, "{");
     if (!f)
         return -1;
-    char a[2 * PATH_MAX], b[2 * PATH_MAX];
-    app_json_string(a, sizeof a, baseline);
-    app_json_string(b, sizeof b, fresh);
+    char rel[2][PATH_MAX], a[2 * PATH_MAX], b[2 * PATH_MAX];
+    app_provenance_path(NULL, baseline, rel[0], sizeof rel[0]);
+    app_provenance_path(NULL, fresh, rel[1], sizeof rel[1]);
+    app_json_string(a, sizeof a, rel[0]);
+    app_json_string(b, sizeof b, rel[1]);
     fprintf(f, "  \"result\": \"%s\",\n  \"baseline\": %s,\n  \"fresh\": %s,\n",
             status == 0 ? "match" : "differ", a, b);
     fprintf(f, "  \"options\": {\"threshold\": %d, \"shift\": %d, \"max_pixels\": %ld},\n",
@@ -379,29 +499,45 @@ static int write_json(const char *path, const char *baseline, const char *fresh,
     return app_tmp_commit(&f, path);
 }
 
+/* One side of a figure into the report: the copy, and for a PDF or SVG its pixels as a PNG
+ * (shown 1), or a link to the copy where they cannot be drawn (shown 2). 0, or -1 when a file
+ * cannot be written (an unreadable figure is shown as none). */
+static int report_side(const char *root, const AppFolderDiff *o, int side, Entry *e)
+{
+    char src[PATH_MAX], dst[PATH_MAX], png[PATH_MAX], err[512];
+    join(src, sizeof src, root, e->name, NULL);
+    join(dst, sizeof dst, o->report_dir, sides[side], e->name);
+    if (copy_atomic(src, dst) != 0)
+        return e->status == UNREADABLE ? 0 : -1;
+    if (e->is_png || !o->image) {
+        e->shown[side] = e->is_png ? 1 : 2;
+        return 0;
+    }
+    shown_path(png, sizeof png, o->report_dir, side, e);
+    int rc = o->image(o->context, src, png, err, sizeof err);
+    if (rc < 0)
+        fprintf(stderr, "sablier: diff: %s\n", err);
+    e->shown[side] = rc == 0 ? 1 : 2;
+    return rc < 0 ? -1 : 0;
+}
+
 /* index.html, report.json, and copies of the figures the page shows. */
 static int write_report(const char *baseline, const char *fresh, const AppFolderDiff *o,
-                        const Entry *entries, int n, const int *counts, int status)
+                        Entry *entries, int n, const int *counts, int status)
 {
     const char *dir = o->report_dir;
-    char src[PATH_MAX], dst[PATH_MAX];
     for (int k = 0; k < n; ++k) {
-        const Entry *e = &entries[k];
-        if (e->status < CHANGED)
+        Entry *e = &entries[k];
+        if (e->status == IDENTICAL)
             continue;
-        join(src, sizeof src, baseline, e->name, NULL);
-        join(dst, sizeof dst, dir, "baseline", e->name);
-        if (e->status != EXTRA && copy_atomic(src, dst) != 0 && e->status != UNREADABLE)
-            return -1;
-        join(src, sizeof src, fresh, e->name, NULL);
-        join(dst, sizeof dst, dir, "fresh", e->name);
-        if (e->status != MISSING && copy_atomic(src, dst) != 0 && e->status != UNREADABLE)
+        if ((e->status != EXTRA && report_side(baseline, o, BASELINE_SIDE, e) != 0) ||
+            (e->status != MISSING && report_side(fresh, o, FRESH_SIDE, e) != 0))
             return -1;
     }
     char html[PATH_MAX], json[PATH_MAX];
     join(html, sizeof html, dir, "index.html", NULL);
     join(json, sizeof json, dir, "report.json", NULL);
-    if (write_html(html, baseline, fresh, entries, n, counts) != 0 ||
+    if (write_html(html, baseline, fresh, o, entries, n, counts) != 0 ||
         write_json(json, baseline, fresh, o, entries, n, counts, status) != 0)
         return -1;
     return 0;
@@ -439,9 +575,10 @@ static int update_baseline(const char *baseline, const char *fresh, const Entry 
 static void print_entry(const Entry *e)
 {
     printf("%-10s %s", status_names[e->status], e->name);
-    if (e->status == CHANGED && e->is_png && e->diff.width > 0 && e->diff.differing_pixels > 0)
-        printf(": %ld pixels differ (max channel difference %d)", e->diff.differing_pixels,
-               e->diff.max_channel_diff);
+    if (e->status == CHANGED && e->diff.width > 0 && e->diff.differing_pixels > 0)
+        printf(": %ld pixels differ (max channel difference %d, RMS %.4g, %.4g %% of the pixels)",
+               e->diff.differing_pixels, e->diff.max_channel_diff, e->diff.rms,
+               100.0 * changed_share(&e->diff));
     else if (e->note[0])
         printf(": %s", e->note);
     else if (e->status == MISSING)

@@ -26,8 +26,15 @@ typedef int (*AppImageCompare)(void *context, const char *baseline, const char *
                                const char *diff_png, AppImageDiff *result, char *err,
                                size_t err_size);
 
+/// Draws a PDF or SVG figure as a PNG for the report page, through a temporary name and a
+/// rename. 0; 1 when it cannot draw the figure (the page links it); -1 when the PNG cannot be
+/// written; a message in err.
+typedef int (*AppFigureImage)(void *context, const char *figure, const char *png, char *err,
+                              size_t err_size);
+
 typedef struct AppFolderDiff {
     AppImageCompare compare; ///< the image diff (NULL: PNGs too are compared by their bytes)
+    AppFigureImage image;    ///< PDFs and SVGs as PNGs on the page (NULL: shown as links)
     void *context;
     int threshold, shift;   ///< the compare's options, for the report
     long max_pixels;        ///< same

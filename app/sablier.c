@@ -544,6 +544,19 @@ static int diff_pair(void *context, const char *a, const char *b, const char *di
     return rc;
 }
 
+/* A PDF or SVG drawn as the PNG that the report page shows (AppFigureImage). */
+static int diff_image(void *context, const char *figure, const char *png, char *err,
+                      size_t err_size)
+{
+    (void)context;
+    RenderImage image;
+    if (render_figure_read(figure, 0.0, &image, err, err_size) != 0)
+        return 1;
+    int rc = render_png_write(&image, png, NULL, err, err_size);
+    render_image_free(&image);
+    return rc == 0 ? 0 : -1;
+}
+
 static int diff_files(const DiffArgs *d, const RenderDiffOptions *options)
 {
     RenderDiffResult r;
@@ -585,6 +598,7 @@ static int command_diff(int argc, char **argv)
     if (!folders)
         return diff_files(&d, &options);
     AppFolderDiff o = {.compare = diff_pair,
+                       .image = diff_image,
                        .context = &options,
                        .threshold = options.channel_threshold,
                        .shift = options.shift_tolerance,

@@ -271,6 +271,16 @@ add_test(NAME cli.diff_folders
                  -DWORK=${CLI_WORK}/diff_folders -DRENDER=${SABLIER_WITH_RENDER}
                  -P ${CLI_DIR}/diff_folders.cmake)
 set_tests_properties(cli.diff_folders PROPERTIES LABELS cli)
+# the report of `sablier diff --report`: the terminal's numbers (max difference, RMS, share of
+# changed pixels) in index.html and report.json, filters, blink, zoom, a PDF pair drawn as PNGs,
+# relative paths, the same bytes from two runs, files written through NAME.tmp
+if(SABLIER_WITH_RENDER AND SABLIER_RASTER_FOUND)
+  add_test(NAME cli.diff_report
+           COMMAND ${CMAKE_COMMAND} -DSABLIER=$<TARGET_FILE:sablier>
+                   -DREF=${PROJECT_SOURCE_DIR}/tests/render/reference
+                   -DWORK=${CLI_WORK}/diff_report -P ${CLI_DIR}/diff_report.cmake)
+  set_tests_properties(cli.diff_report PROPERTIES LABELS cli)
+endif()
 add_test(NAME cli.render_bad_state
          COMMAND bash ${CLI_DIR}/render_bad_state.sh $<TARGET_FILE:sablier> ${CLI_TINY}
                  ${CLI_WORK}/render_bad_state)
