@@ -32,19 +32,6 @@
  * output times anyway; their lengths do not change the bits). */
 #define SIGNAL_CHECK_STEPS 2000
 
-/* The signal that asked the run to stop (0: none). */
-static volatile sig_atomic_t run_signal;
-
-static void on_signal(int signo)
-{
-    run_signal = signo; /* the handler is reset (SA_RESETHAND): a second signal kills */
-}
-
-int app_run_signal(void)
-{
-    return run_signal;
-}
-
 typedef struct StageReport {
     long steps;
     double start_time, end_time; /* s */
@@ -1098,8 +1085,8 @@ static int stage_loop(Run *run, int k, StageClock *clock, long done, int resumed
             status = 2;
             break;
         }
-        if (run_signal) {
-            status = APP_EXIT_SIGNAL + run_signal;
+        if (app_run_signal()) {
+            status = APP_EXIT_SIGNAL + app_run_signal();
             break;
         }
         long next = next_due(run, k, clock, done);
@@ -1406,13 +1393,6 @@ static void disk_full_status(Run *run)
              text);
 }
 
-/* SIGINT and SIGTERM set run_signal while a run is in progress (old handlers in `saved`); the
- * handler is reset by the first (SA_RESETHAND): a second signal kills. */
-static void catch_signals(struct sigaction saved[2], int restore)
-{
-    app_catch_signals(on_signal, SA_RESETHAND | SA_RESTART, saved, restore);
-}
-
 /* A CSV output opened under PATH.tmp: with its header, or (--resume, bytes >= 0) with the part a
  * checkpoint recorded. NULL on failure. */
 static FILE *csv_open(const char *path, const char *header, long bytes)
@@ -1505,8 +1485,7 @@ int app_run(const Scene *scene, const AppRunOptions *options)
         options->render->provenance(options->render->context, comment);
     }
     struct sigaction saved[2];
-    run_signal = 0;
-    catch_signals(saved, 0);
+    app_run_signal_catch(saved, 0);
     run->status = open_csv(run);
     run_stages(run);
     families_end(run);
@@ -1531,7 +1510,7 @@ int app_run(const Scene *scene, const AppRunOptions *options)
                  options->out_dir);
         run->status = 2;
     }
-    catch_signals(saved, 1);
+    app_run_signal_catch(saved, 1);
     disk_full_status(run);
     if (run->status != 0)
         fprintf(stderr, "sablier: %s\n", run->message);

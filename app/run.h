@@ -67,9 +67,4 @@ int app_step_threads(int mobile, int cpus, int grains_per_thread);
 /// restored on return.
 int app_run(const Scene *scene, const AppRunOptions *options);
 
-/// The signal (SIGINT or SIGTERM) that asked the run in progress to stop, 0 while none: every
-/// loop of the run over a size the user gives (a source's insertion attempts) looks at it, so
-/// that it ends within one step of the signal.
-int app_run_signal(void);
-
 #endif

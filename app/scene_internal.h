@@ -84,6 +84,9 @@ int loader_parse_sinks(Loader *L, const config_setting_t *root);
 
 /* sources.c */
 int loader_parse_sources(Loader *L, const config_setting_t *root);
+/// What one step may ask of each source, against the time step of every stage it is active in
+/// (stage_dt[stage], s, as a run takes it); 0, or -1 with the message.
+int loader_check_sources(Loader *L, const config_setting_t *root, const double *stage_dt);
 
 /* scene_stages.c */
 int loader_parse_stages(Loader *L, const config_setting_t *root);

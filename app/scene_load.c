@@ -630,6 +630,22 @@ static void normalised_labels(Scene *scene)
         scene->output.figures[k].style.normalised_units = labels;
 }
 
+/* The sources against the time step of each stage as a run takes it (its own, or the automatic
+ * one). 0, or -1. */
+static int check_sources(Loader *L, const config_setting_t *root)
+{
+    const Scene *scene = L->scene;
+    double stage_dt[SCENE_MAX_STAGES];
+    if (scene->source_count == 0)
+        return 0;
+    for (int k = 0; k < scene->stage_count; ++k) {
+        SimWorldDef def = scene_world_def(scene, k);
+        stage_dt[k] =
+            def.time_step > 0.0 ? def.time_step : app_sources_timing(scene, &def).time_step;
+    }
+    return loader_check_sources(L, root, stage_dt);
+}
+
 /* The scene's own groups in order, then each family's. 0, or -1. */
 static int parse_scene(Loader *L, const config_setting_t *root)
 {
@@ -639,8 +655,8 @@ static int parse_scene(Loader *L, const config_setting_t *root)
         loader_parse_grains(L, root) < 0 || loader_parse_walls(L, root) < 0 ||
         apply_target_error(L) < 0 || loader_parse_sinks(L, root) < 0 ||
         loader_parse_stages(L, root) < 0 || loader_parse_sources(L, root) < 0 ||
-        loader_check_remove_ids(L, root) < 0 || loader_claim_run_outputs(L, root) < 0 ||
-        loader_parse_output(L, root) < 0)
+        check_sources(L, root) < 0 || loader_check_remove_ids(L, root) < 0 ||
+        loader_claim_run_outputs(L, root) < 0 || loader_parse_output(L, root) < 0)
         return -1;
     normalised_labels(scene);
     for (int f = 0; app_experiments[f]; ++f) { /* each family parses its own keys */

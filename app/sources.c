@@ -4,8 +4,8 @@
  * boundaries (random places in a region, no overlap, a retry budget). */
 #include "sources.h"
 
-#include "run.h"
 #include "scene_internal.h"
+#include "util.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -239,17 +239,11 @@ static double region_capacity(const SceneSource *s)
     return floor(2.0 / sqrt(3.0) * (w / d) * (h / d) + (w + h) / d + 1.0);
 }
 
-/* The time step of stage k as a run takes it (its own, or the automatic one), s. */
-static double stage_time_step(const Scene *scene, int k)
-{
-    SimWorldDef def = scene_world_def(scene, k);
-    return def.time_step > 0.0 ? def.time_step : app_sources_timing(scene, &def).time_step;
-}
-
 /* What one step may ask of source k: no more grains than its region holds (a `rate` of 1e12
  * grains/s asked 1e9 grains a step, each tried `attempts` times against every grain). The
- * bound is checked at every stage the source is active in, with that stage's time step. */
-static int check_source_bounds(Loader *L, const config_setting_t *g, int k)
+ * bound is checked at every stage the source is active in, with that stage's time step
+ * (stage_dt[stage], s; 0: unknown, not checked). */
+static int check_source_bounds(Loader *L, const config_setting_t *g, int k, const double *stage_dt)
 {
     const Scene *scene = L->scene;
     const SceneSource *s = &scene->sources[k];
@@ -266,7 +260,7 @@ static int check_source_bounds(Loader *L, const config_setting_t *g, int k)
                  sim_grain_mass(scene->def.mass_model, scene->def.materials[s->species[m]].density,
                                 s->radii_count > 0 ? smallest_radius(s) : s->radius_min[m]));
     for (int stage = 0; stage < scene->stage_count; ++stage) {
-        const double dt = stage_time_step(scene, stage);
+        const double dt = stage_dt[stage];
         if (!((s->stages >> stage) & 1u) || !(dt > 0.0))
             continue;
         if (s->rate > 0.0 && s->rate * dt > capacity)
@@ -337,8 +331,14 @@ int loader_parse_sources(Loader *L, const config_setting_t *root)
             0)
             return -1;
     L->scene->source_count = count;
-    for (int k = 0; k < count; ++k)
-        if (check_source_bounds(L, config_setting_get_elem(list, (unsigned)k), k) < 0)
+    return 0;
+}
+
+int loader_check_sources(Loader *L, const config_setting_t *root, const double *stage_dt)
+{
+    const config_setting_t *list = app_config_member(root, "sources");
+    for (int k = 0; list && k < L->scene->source_count; ++k)
+        if (check_source_bounds(L, config_setting_get_elem(list, (unsigned)k), k, stage_dt) < 0)
             return -1;
     return 0;
 }

@@ -355,6 +355,26 @@ void app_catch_signals(void (*handler)(int), int flags, struct sigaction *saved,
     }
 }
 
+/* The signal that asked the run in progress to stop (0: none). */
+static volatile sig_atomic_t run_signal;
+
+static void on_run_signal(int signo)
+{
+    run_signal = signo; /* the handler is reset (SA_RESETHAND): a second signal kills */
+}
+
+int app_run_signal(void)
+{
+    return run_signal;
+}
+
+void app_run_signal_catch(struct sigaction *saved, int restore)
+{
+    if (!restore)
+        run_signal = 0;
+    app_catch_signals(on_run_signal, SA_RESETHAND | SA_RESTART, saved, restore);
+}
+
 int app_state_check(const char *path, const SimWorldDef *def, char *err, size_t err_size)
 {
     const char *why = NULL;

@@ -86,6 +86,16 @@ struct sigaction;
 /// process pool catch the two signals through it.
 void app_catch_signals(void (*handler)(int), int flags, struct sigaction *saved, int restore);
 
+/// The signal (SIGINT or SIGTERM) that asked the run in progress to stop, 0 while none: every
+/// loop of the run over a size the user gives (a source's insertion attempts) looks at it, so
+/// that it ends within one step of the signal.
+int app_run_signal(void);
+
+/// Clears the run's signal and catches SIGINT and SIGTERM for app_run_signal (restore 0; the
+/// old handlers into saved[0..1]), or puts the old handlers back (restore 1). The handler is reset
+/// by the first signal (SA_RESETHAND): a second one kills.
+void app_run_signal_catch(struct sigaction *saved, int restore);
+
 struct SimWorld;
 struct SimError;
 /// sim_world_save to PATH (an output: noted with app_output_note once saved). 0, or -1 with the

@@ -3,11 +3,15 @@
 #   layers.sh render-no-app   render/ never includes an app/ header
 #   layers.sh core-no-family  the app core (app/*.c, app/*.h) includes no family header
 #   layers.sh families-apart  a family folder app/F/ never includes another family's header
+#   layers.sh sources-below-run  app/sources.[ch] (used by the run and the scene loader) include
+#                             no run.h and name no function that app/run.c or app/scene_load.c
+#                             defines: no circle run -> sources -> run or scene_load -> sources
+#                             -> scene_load
 # A family is a folder app/F/. An include names a header by path ("bne/bne.h", "app/bne/bne.h")
 # or, since app/ and each family folder are include folders, by its bare name ("bne.h").
 # Prints each offending line as file:line: include, and exits 1 when there is any.
 set -euo pipefail
-rule=${1:?usage: layers.sh render-no-app|core-no-family|families-apart}
+rule=${1:?usage: layers.sh render-no-app|core-no-family|families-apart|sources-below-run}
 cd "$(dirname "$0")/../.."
 
 families=()
@@ -62,6 +66,16 @@ families-apart)
     mapfile -t files < <(find "app/$f" -name '*.[ch]')
     found+=$(offending "${files[@]}" -- "${names[@]}")$'\n'
   done
+  ;;
+sources-below-run)
+  files=(app/sources.c app/sources.h)
+  found=$(offending "${files[@]}" -- run.h scene_load.h)
+  # the functions defined at file scope (a name and "(" after a type, at the start of a line)
+  mapfile -t names < <(grep -hoE '^[A-Za-z_][A-Za-z0-9_ *]*[ *]((app|scene|loader)_[A-Za-z0-9_]+)[(]' \
+    app/run.c app/scene_load.c | sed -E 's/.*[ *]([A-Za-z0-9_]+)[(]$/\1/' | sort -u)
+  if [ ${#names[@]} -gt 0 ]; then
+    found+=$'\n'$(grep -nHwE "$(IFS='|'; echo "${names[*]}")" "${files[@]}" || true)
+  fi
   ;;
 *)
   echo "layers.sh: unknown rule $rule" >&2
