@@ -411,10 +411,13 @@ static void measures_describe_stage(const void *state, int stage, FILE *out)
         const Measure *m = &ms->m[k];
         if (m->stage >= 0 && m->stage != stage)
             continue;
+        char length[32], time[32];
+        scene_unit_after(ms->scene, SCENE_LENGTH, length, sizeof length);
+        scene_unit_after(ms->scene, SCENE_TIME, time, sizeof time);
         fprintf(out, ", measure %s (%s", m->name, kind_names[m->kind]);
         if (m->kind != KIND_FLUX)
-            fprintf(out, ", %d x %d nodes, width %g m", m->nx, m->ny, m->width);
-        fprintf(out, ", every %g s)", m->every);
+            fprintf(out, ", %d x %d nodes, width %g%s", m->nx, m->ny, m->width, length);
+        fprintf(out, ", every %g%s)", m->every, time);
     }
 }
 
@@ -752,9 +755,22 @@ static void figure_labels(const AppContext *c, FigureLabels *l)
     l->axes[1] = l->y;
 }
 
-static const char *field_unit(const AppContext *c, SimCoarseField field)
+/* A field's unit in the scene's units (scene_unit; SI as sim_coarse_field_unit lists them). */
+static const char *field_unit(const Scene *scene, SimCoarseField field, int figure)
 {
-    return c->scene->style.normalised_units ? "" : sim_coarse_field_unit(field);
+    SceneQuantity q = SCENE_STRESS; /* stresses and pressure */
+    if (field == SIM_CG_PHI || field == SIM_CG_Z || field == SIM_CG_FXX || field == SIM_CG_FXY ||
+        field == SIM_CG_FYY)
+        q = SCENE_DIMENSIONLESS;
+    else if (field == SIM_CG_RHO)
+        q = SCENE_AREAL_DENSITY;
+    else if (field == SIM_CG_JX || field == SIM_CG_JY)
+        q = SCENE_MOMENTUM_DENSITY;
+    else if (field == SIM_CG_VX || field == SIM_CG_VY)
+        q = SCENE_SPEED;
+    else if (field == SIM_CG_T)
+        q = SCENE_SPEED_SQUARED;
+    return scene_unit(scene, q, figure);
 }
 
 /* A field's name as plot markup (docs/figures.md#markup): phi as \phi, syy as \sigma_{yy}. */
@@ -787,12 +803,15 @@ static const char *field_markup(const char *name)
     return name;
 }
 
-/* A field's axis or colour-bar label: its markup name and unit ("1": none). */
-static void field_label(const AppContext *c, const char *name, const char *unit, char *buf,
+/* A field's axis or colour-bar label: its markup name and unit in the scene's units. */
+static void field_label(const AppContext *c, const char *name, SimCoarseField field, char *buf,
                         size_t size)
 {
-    if (c->scene->style.normalised_units || strcmp(unit, "1") == 0)
+    const char *unit = field_unit(c->scene, field, 1);
+    if (!unit[0])
         snprintf(buf, size, "%s", field_markup(name));
+    else if (c->scene->style.normalised_units)
+        snprintf(buf, size, "%s / (%s)", field_markup(name), unit);
     else
         snprintf(buf, size, "%s (%s)", field_markup(name), unit);
 }
@@ -835,13 +854,13 @@ static int draw_arrows(const Measure *m, const AppContext *c)
              m->window > 0.0 ? "window average" : "last sample");
     char name[64];
     snprintf(name, sizeof name, "|(%s, %s)|", sim_coarse_field_name(fu), sim_coarse_field_name(fv));
-    field_label(c, name, sim_coarse_field_unit(fu), label, sizeof label);
+    field_label(c, name, fu, label, sizeof label);
     FigureLabels axes;
     figure_labels(c, &axes);
     AppMap map = grid_map(m, title, label, size, axes.axes);
     map.arrow_x = u;
     map.arrow_y = v;
-    map.arrow_unit = field_unit(c, fu);
+    map.arrow_unit = field_unit(c->scene, fu, 1);
     int rc = c->render->map(c->render->context, c->scene, &map, path, err, sizeof err);
     if (rc != 0)
         snprintf(c->err, c->err_size, "measure %s: figure %s: %s", m->name, path, err);
@@ -859,7 +878,7 @@ static int draw_figure(const Measure *m, const AppContext *c, int figure)
     snprintf(title, sizeof title, "%s: %s (%s)", m->name,
              field_markup(sim_coarse_field_name(field)),
              m->window > 0.0 ? "window average" : "last sample");
-    field_label(c, sim_coarse_field_name(field), sim_coarse_field_unit(field), label, sizeof label);
+    field_label(c, sim_coarse_field_name(field), field, label, sizeof label);
     FigureLabels axes;
     figure_labels(c, &axes);
     int rc = 0;

@@ -220,8 +220,6 @@ static int movie_start(Renderer *renderer, const SimFrame *frame)
         style->view_x1 = w[2];
         style->view_y1 = w[3];
     }
-    if (!(style->font_size > 0)) /* the default font follows the height: pin it first */
-        style->font_size = fmax(10.0, style->height / 48.0);
     int height = render_fit_height(frame, style);
     height = height < 64 ? 64 : height > 4096 ? 4096 : height;
     style->height = height + height % 2;

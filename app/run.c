@@ -222,12 +222,13 @@ static int write_summary(const Run *run, double wall_seconds)
                               "\"mass_kg\": %s, \"time_s\": %s},\n",
                               d, m, t);
     }
-    if (run->scene->units_normalised && n < size)
-        n += (size_t)snprintf(
-            text + n, size - n,
-            "  \"units\": {\"system\": \"normalised\", \"length\": \"d\", "
-            "\"time\": \"%s\"},\n",
-            run->scene->style.normalised_units == SCENE_UNITS_NORMALISED_G ? "sqrt(d/g)" : "scene");
+    if (run->scene->units_normalised && n < size) {
+        const char *time = scene_unit(run->scene, SCENE_TIME, 0); /* "": the scene's own */
+        n += (size_t)snprintf(text + n, size - n,
+                              "  \"units\": {\"system\": \"normalised\", \"length\": \"%s\", "
+                              "\"time\": \"%s\"},\n",
+                              scene_unit(run->scene, SCENE_LENGTH, 0), time[0] ? time : "scene");
+    }
     char sources[2048];
     app_sources_json(run->sources, sources, sizeof sources);
     n += (size_t)snprintf(text + n, n < size ? size - n : 0, "%s%s  \"stages\": [", sources,
@@ -562,10 +563,9 @@ static void progress(Run *run, int k, double elapsed, double duration, double ra
         const StageReport *r = &run->stages[k];
         if (run->progress_tty)
             fputs("\r\033[K", stderr);
-        const int units = run->scene->style.normalised_units; /* simulated time in its units */
-        const char *u = units == SCENE_UNITS_NORMALISED_G ? " sqrt(d/g)"
-                        : units                           ? " time units"
-                                                          : " s";
+        char u[32]; /* simulated time in its units; the scene's own, unnamed: "time units" */
+        if (!scene_unit_after(run->scene, SCENE_TIME, u, sizeof u)[0])
+            snprintf(u, sizeof u, " time units");
         fprintf(stderr,
                 "sablier: stage %s: %.4g%s simulated (t = %.4g%s) in %.3g s, %ld steps, %d "
                 "mobile grains%s%s\n",

@@ -246,8 +246,10 @@ static int command_run(int argc, char **argv)
 static void print_stage_forcing(const Scene *scene, int k)
 {
     const SceneStage *s = &scene->stages[k];
+    char u[32];
     if (s->gravity_x != scene->def.gravity_x || s->gravity_y != scene->def.gravity_y)
-        printf(", gravity (%g, %g) m/s^2", s->gravity_x, s->gravity_y);
+        printf(", gravity (%g, %g)%s", s->gravity_x, s->gravity_y,
+               scene_unit_after(scene, SCENE_ACCELERATION, u, sizeof u));
     if (s->effects != scene->def.effects) {
         char names[256];
         scene_effect_names(s->effects, names, sizeof names);
@@ -267,10 +269,12 @@ static void print_timing(const Scene *scene, int k)
 {
     SimWorldDef def = scene_world_def(scene, k);
     SimTiming t = app_sources_timing(scene, &def); /* the sources' grains' contacts too */
-    printf("  time step        %g s%s\n", t.time_step,
+    char s[32];
+    scene_unit_after(scene, SCENE_TIME, s, sizeof s);
+    printf("  time step        %g%s%s\n", t.time_step, s,
            scene->stages[k].time_step > 0.0 ? "" : " (chosen from steps_per_contact)");
-    printf("  contact time     %g s (shortest pair)\n", t.contact_time_min);
-    printf("  stability limit  %g s\n", t.stability_limit);
+    printf("  contact time     %g%s (shortest pair)\n", t.contact_time_min, s);
+    printf("  stability limit  %g%s\n", t.stability_limit, s);
     printf("  steps per contact %.1f\n", t.steps_per_contact);
 }
 
@@ -336,8 +340,15 @@ static int command_check(int argc, char **argv)
     printf("scene    %s (%s)\n", scene->name, scene->path);
     printf("seed     %llu\n", (unsigned long long)scene->seed);
     printf("effects  %s\n", effects);
-    printf("mass     %s, integrator %s, gravity (%g, %g) m/s^2\n", mass[scene->def.mass_model],
-           sim_integrator_name(scene->def.integrator), scene->def.gravity_x, scene->def.gravity_y);
+    char u[5][32]; /* the scene's units (docs/scenes.md#units) */
+    scene_unit_after(scene, SCENE_ACCELERATION, u[0], sizeof u[0]);
+    scene_unit_after(scene, SCENE_LENGTH, u[1], sizeof u[1]);
+    scene_unit_after(scene, SCENE_TIME, u[2], sizeof u[2]);
+    scene_unit_after(scene, SCENE_ENERGY, u[3], sizeof u[3]);
+    scene_unit_after(scene, SCENE_MASS_RATE, u[4], sizeof u[4]);
+    printf("mass     %s, integrator %s, gravity (%g, %g)%s\n", mass[scene->def.mass_model],
+           sim_integrator_name(scene->def.integrator), scene->def.gravity_x, scene->def.gravity_y,
+           u[0]);
     printf("grains   %d (%d mobile, %d fixed), %d walls, %d species:", scene->grains.count,
            scene->grains.count - scene->fixed_count, scene->fixed_count, scene->def.wall_count,
            scene->def.species_count);
@@ -352,7 +363,7 @@ static int command_check(int argc, char **argv)
     }
     printf("\n");
     if (scene->def.skin > 0.0)
-        printf("lists    Verlet skin %g m (fixed)\n", scene->def.skin);
+        printf("lists    Verlet skin %g%s (fixed)\n", scene->def.skin, u[1]);
     else
         printf("lists    Verlet skin automatic, 0.01-0.2 mean diameter (the cheapest for the "
                "grains' motion)\n");
@@ -360,9 +371,9 @@ static int command_check(int argc, char **argv)
         const SceneSource *src = &scene->sources[k];
         printf("source   %s: [%g, %g, %g, %g], ", src->name, src->x0, src->y0, src->x1, src->y1);
         if (src->rate > 0.0)
-            printf("%g grains/s", src->rate);
+            printf("%g grains per%s", src->rate, u[2][0] ? u[2] : " time unit");
         else if (src->mass_rate > 0.0)
-            printf("%g kg/s", src->mass_rate);
+            printf("%g%s", src->mass_rate, u[4]);
         else
             printf("%ld grains at the stage start", src->count);
         printf("%s\n", src->rate > 0.0 && src->count > 0 ? " (capped)" : "");
@@ -371,12 +382,12 @@ static int command_check(int argc, char **argv)
     static const char *const loads[] = {"scene grains", "previous stage", "file"};
     for (int k = 0; k < scene->stage_count; ++k) {
         const SceneStage *s = &scene->stages[k];
-        printf("stage %s: from %s%s%s, time.end %g s", s->name, loads[s->load],
+        printf("stage %s: from %s%s%s, time.end %g%s", s->name, loads[s->load],
                s->load == SCENE_LOAD_FILE ? " " : "",
-               s->load == SCENE_LOAD_FILE ? s->load_path : "", s->duration);
+               s->load == SCENE_LOAD_FILE ? s->load_path : "", s->duration, u[2]);
         if (s->settle_kinetic > 0.0)
-            printf(", settle when E_kin + E_rot < %g J (after %g s)", s->settle_kinetic,
-                   s->settle_after);
+            printf(", settle when E_kin + E_rot < %g%s (after %g%s)", s->settle_kinetic, u[3],
+                   s->settle_after, u[2]);
         for (int f = 0; app_experiments[f]; ++f) /* the families' own stage settings */
             if (scene->experiments[f] && app_experiments[f]->describe_stage)
                 app_experiments[f]->describe_stage(scene->experiments[f], k, stdout);
@@ -388,14 +399,18 @@ static int command_check(int argc, char **argv)
         app_dump_describe(&scene->output.dump[k], s->duration, s->time_step, stdout);
     }
     const SceneOutput *o = &scene->output;
-    printf("output   energy every %g s, %g frames per simulated second, %d figures, %d traced "
-           "grains\n",
-           o->energy_every, o->frame_rate, o->figure_count, o->trace_count);
+    char per[128]; /* frames per simulated second, or per the scene's unit of time */
+    if (strcmp(u[2], " s") == 0 || !u[2][0])
+        snprintf(per, sizeof per, "%s", u[2][0] ? "simulated second" : "time unit");
+    else
+        snprintf(per, sizeof per, "%s of simulated time", u[2] + 1);
+    printf("output   energy every %g%s, %g frames per %s, %d figures, %d traced grains\n",
+           o->energy_every, u[2], o->frame_rate, per, o->figure_count, o->trace_count);
     for (int k = 0; k < o->figure_count; ++k)
         if (o->figures[k].at_end == 2)
-            printf("figure %s.%s: stage %s, at %g s after its start\n", o->figures[k].name,
+            printf("figure %s.%s: stage %s, at %g%s after its start\n", o->figures[k].name,
                    o->figures[k].format, scene->stages[o->figures[k].stage].name,
-                   o->figures[k].at_time);
+                   o->figures[k].at_time, u[2]);
         else
             printf("figure %s.%s: stage %s, at %s\n", o->figures[k].name, o->figures[k].format,
                    scene->stages[o->figures[k].stage].name, o->figures[k].at_end ? "end" : "start");

@@ -228,13 +228,41 @@ void scene_effect_names(unsigned effects, char *out, size_t out_size);
 /// The style with every field unset.
 SceneStyle scene_style_unset(void);
 
-/// What an axis of a family's chart or map shows, for scene_axis_label.
-typedef enum SceneQuantity { SCENE_LENGTH, SCENE_TIME, SCENE_SPEED } SceneQuantity;
+/// A physical quantity, for the scene's unit names (scene_unit, scene_axis_label).
+typedef enum SceneQuantity {
+    SCENE_LENGTH,
+    SCENE_TIME,
+    SCENE_SPEED,
+    SCENE_ACCELERATION,
+    SCENE_MASS,
+    SCENE_FORCE,
+    SCENE_ENERGY,
+    SCENE_STRESS,           ///< force per length (2D stress, stiffness)
+    SCENE_AREAL_DENSITY,    ///< mass per area
+    SCENE_MOMENTUM_DENSITY, ///< mass per length per time
+    SCENE_SPEED_SQUARED,
+    SCENE_RATE,      ///< per time
+    SCENE_MASS_RATE, ///< mass per time
+    SCENE_DIMENSIONLESS,
+    SCENE_QUANTITY_COUNT
+} SceneQuantity;
 
-/// The label of an axis `name` of `quantity` in the scene's units: "x (m)", "t (s)", "u (m/s)" in
-/// SI (and in reduced units, where the families' own files stay SI); with units = "normalised"
-/// "x / d", and with gravity 1 "t / √(d/g)", "u / √(gd)", else the time and speed names bare
-/// (the scene's own time unit). scene NULL: SI. Returns buf.
+/// The unit of `quantity` in the scene's unit system, the one table that every label, check
+/// line and summary reads (docs/scenes.md#units): SI ("m", "s", "N/m"; also in reduced units,
+/// whose inputs and families' files are SI); units = "normalised" with |g| = 1 in d, m and
+/// sqrt(d/g) ("d", "sqrt(d/g)", "m g/d"); normalised with another g in d and m with times bare
+/// (""). `figure` 1: figure text ("√(d/g)", "m/d²"), 0: ASCII for terminals, CSV and JSON.
+/// "" for no unit. scene NULL: SI.
+const char *scene_unit(const Scene *scene, SceneQuantity quantity, int figure);
+
+/// The ASCII unit of `quantity` after a number, with its space: " m", " sqrt(d/g)", or "" where
+/// the unit is "" (scene_unit). Returns buf.
+const char *scene_unit_after(const Scene *scene, SceneQuantity quantity, char *buf, size_t size);
+
+/// The label of an axis `name` of `quantity` in the scene's units (scene_unit): "x (m)", "t (s)",
+/// "u (m/s)" in SI (and in reduced units, where the families' own files stay SI); with units =
+/// "normalised" "x / d", "t / √(d/g)", "σ / (m g/d)", the name bare where the unit is "".
+/// scene NULL: SI. Returns buf.
 const char *scene_axis_label(const Scene *scene, const char *name, SceneQuantity quantity,
                              char *buf, size_t size);
 

@@ -39,21 +39,6 @@ static const char *const STYLE_KEYS[] = {"width",
                                          "plot_format",
                                          NULL};
 
-const char *scene_axis_label(const Scene *scene, const char *name, SceneQuantity quantity,
-                             char *buf, size_t size)
-{
-    static const char *const si[] = {"m", "s", "m/s"};
-    static const char *const own[] = {"d", "\xe2\x88\x9a(d/g)", "\xe2\x88\x9a(gd)"};
-    const int units = scene ? scene->style.normalised_units : 0;
-    if (!units)
-        snprintf(buf, size, "%s (%s)", name, si[quantity]);
-    else if (quantity == SCENE_LENGTH || units == SCENE_UNITS_NORMALISED_G)
-        snprintf(buf, size, "%s / %s", name, own[quantity]);
-    else
-        snprintf(buf, size, "%s", name);
-    return buf;
-}
-
 SceneStyle scene_style_unset(void)
 {
     SceneStyle s;

@@ -80,8 +80,7 @@ typedef struct RenderView {
 /// Lays out a frame: plot rectangle (room for title and colour bar) and world window.
 void render_view_fit(const SimFrame *frame, const RenderStyle *style, RenderView *view);
 /// The image height at which the style's window, at style->width, fills the width exactly
-/// with the style's margins (for movies sized to their view; pin style->font_size first, the
-/// default font follows the height).
+/// with the style's margins (for movies sized to their view).
 int render_fit_height(const SimFrame *frame, const RenderStyle *style);
 /// World (m) to pixel coordinates.
 void render_view_to_pixel(const RenderView *view, double x, double y, double *px, double *py);
@@ -261,7 +260,7 @@ typedef struct RenderMap {
     double min, max;      ///< colour range; min >= max = from the data, widened to nice numbers
     RenderColormap colormap;
     const char *title, *x_label, *y_label, *bar_label; ///< NULL = none
-    double font_size; ///< pixels (0 = min(width, height) / 40, at least 10)
+    double font_size; ///< pixels (0 = RENDER_FIGURE_FONT_PT points at 96 dpi)
     /// Optional arrow field on the cells' centres (same indexing; NULL = none, non-finite = no
     /// arrow): the longest arrow spans 0.9 cell, and a reference arrow under the colour bar is
     /// labelled with its value (a round number) and `arrow_unit`.

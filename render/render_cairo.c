@@ -39,7 +39,7 @@ static double font_size_of(const RenderStyle *style)
 {
     if (style->font_size > 0)
         return style->font_size;
-    return fmax(10.0, style->height / 48.0);
+    return RENDER_FIGURE_FONT_PT * (style->dpi > 0 ? style->dpi : 96.0) / 72.0;
 }
 
 static int is_fixed(const SimFrame *frame, int i)

@@ -44,7 +44,7 @@ static void value_range(const RenderMap *m, double *lo, double *hi)
 
 static void layout(const RenderMap *m, Layout *g)
 {
-    g->fs = m->font_size > 0 ? m->font_size : fmax(10.0, fmin(m->width, m->height) / 40.0);
+    g->fs = m->font_size > 0 ? m->font_size : RENDER_FIGURE_FONT_PT * 96.0 / 72.0; /* 96 dpi */
     double fs = g->fs;
     double left = (m->y_label ? 2.0 * fs : 0.6 * fs) + 3.6 * fs;
     /* gap, bar, tick labels, bar label */

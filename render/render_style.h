@@ -65,7 +65,7 @@ typedef struct RenderStyle {
     int initial_y_count;     ///< entries in initial_y
     double chain_force_max;  ///< F_n drawn at chain_width_max, N (0 = per-frame maximum)
     uint32_t arch_rgb;       ///< arch highlight colour, 0xRRGGBB
-    double font_size;        ///< pixels (0 = height / 48, at least 10)
+    double font_size;        ///< pixels (0 = RENDER_FIGURE_FONT_PT points at dpi)
     int reduced_units;       ///< 1: time stamp in sqrt(d/g), scale bar in d only (no metres)
     /* Publication figures (issue 20). */
     int axes;                         ///< 1: framed x/y axes with ticks, in m (or d if reduced)
@@ -85,6 +85,11 @@ typedef struct RenderStyle {
     /// 0 = not declared.
     int normalised_units;
 } RenderStyle;
+
+/// Default font size of grain figures, movies and heat maps: points at the print size (pixels /
+/// dpi, 96 dpi when none is set): 10 px on a 96-dpi screen figure, 31 px at 300 dpi; never a
+/// fraction of the pixel height, so a tall figure keeps its width for the grains.
+#define RENDER_FIGURE_FONT_PT 7.5
 
 /// RenderStyle.normalised_units
 enum { RENDER_UNITS_NORMALISED = 1, RENDER_UNITS_NORMALISED_G = 2 };

@@ -413,3 +413,6 @@ foreach(mode threads auto_dt rate_bound interrupt)
                    ${PROJECT_SOURCE_DIR} ${CLI_WORK}/sources_${mode})
   set_tests_properties(cli.sources.${mode} PROPERTIES LABELS cli)
 endforeach()
+# sablier check prints a scene's own units (docs/scenes.md#units): d and sqrt(d/g), not m and s
+sablier_cli_test(check_normalised_units "check|scenes/measure/column.scene" 0
+                 OUT "gravity \\(0, -1\\) g\n.*time.end 4 sqrt\\(d/g\\), measure stress \\(profile_y, 1 x 80 nodes, width 2 d, every 0.1 sqrt\\(d/g\\)\\)")

@@ -6,6 +6,7 @@
  * are the same text, summary.json gains the scales, the SI run's has none; a t_star_length is
  * refused in reduced units. units = "normalised" (labels only) writes every output file but
  * summary.json byte for byte as without it, and summary.json names the units. No rendering. */
+#include "render_hooks.h"
 #include "run.h"
 #include "scene.h"
 #include "test.h"
@@ -159,5 +160,97 @@ static int normalised_writes_numbers_as_given(void)
     return 0;
 }
 
+/* The shipped measure and chute scenes are written in d = g = 1 and declare it: one unit table
+ * names their units (scene_unit) and their axes; SI scenes keep m, s and N. */
+static int shipped_scenes_name_their_units(void)
+{
+    const char *paths[] = {"scenes/measure/column.scene", "scenes/chute/chute.scene"};
+    char err[2048], label[64];
+    for (int k = 0; k < 2; ++k) {
+        Scene *scene = scene_load(paths[k], NULL, 0, err, sizeof err);
+        TEST_ASSERT(scene != NULL);
+        TEST_ASSERT(scene->units_normalised);
+        TEST_ASSERT(strcmp(scene_unit(scene, SCENE_LENGTH, 0), "d") == 0);
+        TEST_ASSERT(strcmp(scene_unit(scene, SCENE_TIME, 0), "sqrt(d/g)") == 0);
+        TEST_ASSERT(strcmp(scene_unit(scene, SCENE_FORCE, 0), "m g") == 0);
+        TEST_ASSERT(strcmp(scene_unit(scene, SCENE_STRESS, 0), "m g/d") == 0);
+        TEST_ASSERT(
+            strcmp(scene_axis_label(scene, "y", SCENE_LENGTH, label, sizeof label), "y / d") == 0);
+        TEST_ASSERT(strcmp(scene_axis_label(scene, "t", SCENE_TIME, label, sizeof label),
+                           "t / \xe2\x88\x9a(d/g)") == 0);
+        scene_free(scene);
+    }
+    Scene *si = scene_load("scenes/crater/small.scene", NULL, 0, err, sizeof err);
+    TEST_ASSERT(si != NULL);
+    TEST_ASSERT(strcmp(scene_unit(si, SCENE_FORCE, 0), "N") == 0);
+    TEST_ASSERT(strcmp(scene_axis_label(si, "x", SCENE_LENGTH, label, sizeof label), "x (m)") == 0);
+    scene_free(si);
+    return 0;
+}
+
+/* Every axis and colour-bar label the measures give the renderer, recorded. */
+typedef struct Labels {
+    char text[4096];
+} Labels;
+
+static void keep(Labels *l, const char *label)
+{
+    size_t n = strlen(l->text);
+    if (label)
+        snprintf(l->text + n, sizeof l->text - n, "%s|", label);
+}
+
+static int record_plot(void *context, const AppPlot *plot, const char *path, char *err,
+                       size_t err_size)
+{
+    (void)path, (void)err, (void)err_size;
+    for (int k = 0; k < plot->panel_count; ++k) {
+        keep(context, plot->panels[k].x_label);
+        keep(context, plot->panels[k].y_label);
+    }
+    return 0;
+}
+
+static int record_map(void *context, const Scene *scene, const AppMap *map, const char *path,
+                      char *err, size_t err_size)
+{
+    (void)scene, (void)path, (void)err, (void)err_size;
+    keep(context, map->x_label);
+    keep(context, map->y_label);
+    keep(context, map->bar_label);
+    keep(context, map->arrow_unit);
+    return 0;
+}
+
+/* column.scene's profile and maps: axes in d, the stress in m g/d, speeds in sqrt(g d); no SI
+ * unit anywhere. */
+static int measure_labels_in_scene_units(void)
+{
+    const char *sets[] = {"grains.rain.max_count=40", "stages.rain.time.end=1",
+                          "stages.rest.time.end=1", "stages.rest.measures.0.window=0.5"};
+    char err[2048], dir[256];
+    Scene *scene = scene_load("scenes/measure/column.scene", sets, 4, err, sizeof err);
+    TEST_ASSERT(scene != NULL);
+    snprintf(dir, sizeof dir, "/tmp/sablier_test_units_%ld_labels", (long)getpid());
+    Labels labels = {{0}};
+    AppRender render = {.context = &labels, .plot = record_plot, .map = record_map};
+    AppRunOptions options = app_run_options_default();
+    options.out_dir = dir;
+    options.quiet = 1;
+    options.render = &render;
+    TEST_ASSERT(app_run(scene, &options) == 0);
+    scene_free(scene);
+    TEST_ASSERT(strstr(labels.text, "\\sigma_{yy} / (m g/d)|y / d|") != NULL);
+    TEST_ASSERT(strstr(labels.text, "x / d|y / d|\\phi|") != NULL);
+    TEST_ASSERT(strstr(labels.text, "|\xe2\x88\x9a(gd)|") != NULL);
+    TEST_ASSERT(strstr(labels.text, "(m)") == NULL && strstr(labels.text, "N/m") == NULL &&
+                strstr(labels.text, "m/s") == NULL);
+    char cmd[400];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    TEST_ASSERT(system(cmd) == 0);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(energy_time_in_sqrt_d_over_g), TEST_CASE(t_star_length_refused),
-          TEST_CASE(normalised_writes_numbers_as_given))
+          TEST_CASE(normalised_writes_numbers_as_given), TEST_CASE(shipped_scenes_name_their_units),
+          TEST_CASE(measure_labels_in_scene_units))

@@ -329,7 +329,29 @@ static int color_range(void)
     return 0;
 }
 
+/* The default font is RENDER_FIGURE_FONT_PT points at the print size, not a share of the
+ * pixel height: 10 px on a tall 96-dpi figure (300 x 1200 px), 31.25 px at 300 dpi. */
+static int default_font_in_points(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_init(&f, 4, 4, 0) == 0);
+    fixture_add(&f, 0.1, 0.05, 0.01, 0);
+    RenderStyle s = render_style_default();
+    s.width = 300;
+    s.height = 1200;
+    RenderView v;
+    render_view_fit(&f.frame, &s, &v);
+    TEST_ASSERT(RENDER_FIGURE_FONT_PT == 7.5);
+    TEST_ASSERT(fabs(v.font_size - 7.5 * 96.0 / 72.0) < 1e-12);
+    s.dpi = 300.0;
+    render_view_fit(&f.frame, &s, &v);
+    TEST_ASSERT(fabs(v.font_size - 7.5 * 300.0 / 72.0) < 1e-12);
+    fixture_free(&f);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(grains_fixed), TEST_CASE(grains_force_viridis), TEST_CASE(force_chains),
           TEST_CASE(velocity_arrows), TEST_CASE(arches), TEST_CASE(periodic_seam),
           TEST_CASE(species_and_bands), TEST_CASE(annotations), TEST_CASE(disk_colours_exact),
-          TEST_CASE(chain_selection), TEST_CASE(colormaps), TEST_CASE(color_range))
+          TEST_CASE(chain_selection), TEST_CASE(colormaps), TEST_CASE(color_range),
+          TEST_CASE(default_font_in_points))
