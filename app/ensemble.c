@@ -7,6 +7,7 @@
  * answer line per observable on stdout. */
 #include "ensemble.h"
 
+#include "driver.h"
 #include "experiments.h"
 #include "pool.h"
 #include "provenance.h" /* app_json_string, app_json_number */
@@ -69,16 +70,14 @@ const char app_ensemble_usage[] =
     "the others `interrupted` in members.csv).\n";
 
 typedef struct Options {
+    AppDriverArgs d; /* the common options: scene, --out, --set, --jobs, --quiet, --resume */
     const char *scene_path, *out_dir, *self;
-    const char *sets[APP_MAX_SETS];
-    int set_count;
     int by_steps; /* 1: the values are steps per contact */
     double values[ENS_LEVELS];
     int value_count;
     char keys[ENS_KEYS][ENS_KEY];
     int key_count;
-    long seeds, seed0, jobs;
-    int quiet, resume;
+    long seeds, seed0;
     const AppRender *render;
     char default_out[ENS_PATH];
 } Options;
@@ -161,25 +160,25 @@ static int parse_values(Options *o, const char *name, const char *list, int by_s
     return 0;
 }
 
-/* One option (or the scene) at argv[*i]. 0, or the exit status. */
-static int parse_option(Options *o, int argc, char **argv, int *i)
+static const AppDriverSpec ENSEMBLE_SPEC = {
+    .usage = app_ensemble_usage, .jobs_max = 64, .sets_max = APP_MAX_SETS - 8};
+
+/* The options of `sablier ensemble` alone (app_driver_parse's `own`): 1 taken, 0 not its own,
+ * else the exit status. */
+static int parse_option(void *ctx, int argc, char **argv, int *i)
 {
+    Options *o = ctx;
     const char *value = NULL;
-    int m;
-    if ((m = app_option(argc, argv, i, "--out", &value)) != 0) {
-        o->out_dir = value;
-    } else if ((m = app_option(argc, argv, i, "--set", &value)) != 0) {
-        if (m > 0 && app_collect_set(o->sets, &o->set_count, APP_MAX_SETS - 8, value) < 0)
-            return 2;
-    } else if ((m = app_option(argc, argv, i, "--dt", &value)) != 0) {
+    int m, rc = 0;
+    if ((m = app_option(argc, argv, i, "--dt", &value)) != 0) {
         if (m > 0)
-            return parse_values(o, "--dt", value, 0);
+            rc = parse_values(o, "--dt", value, 0);
     } else if ((m = app_option(argc, argv, i, "--steps-per-contact", &value)) != 0) {
         if (m > 0)
-            return parse_values(o, "--steps-per-contact", value, 1);
+            rc = parse_values(o, "--steps-per-contact", value, 1);
     } else if ((m = app_option(argc, argv, i, "--observe", &value)) != 0) {
         if (m > 0)
-            return parse_keys(o, value);
+            rc = parse_keys(o, value);
     } else if ((m = app_option(argc, argv, i, "--seeds", &value)) != 0) {
         if (m < 0 || app_parse_count(value, 2, 10000, &o->seeds) < 0)
             return usage_error("--seeds needs a count in [2, 10000], got",
@@ -187,29 +186,22 @@ static int parse_option(Options *o, int argc, char **argv, int *i)
     } else if ((m = app_option(argc, argv, i, "--seed0", &value)) != 0) {
         if (m < 0 || app_parse_count(value, 0, 1000000000, &o->seed0) < 0)
             return usage_error("--seed0 needs a seed in [0, 1e9], got", m < 0 ? "nothing" : value);
-    } else if ((m = app_option(argc, argv, i, "--jobs", &value)) != 0) {
-        if (m < 0 || app_parse_count(value, 1, 64, &o->jobs) < 0)
-            return usage_error("--jobs needs a count in [1, 64], got", m < 0 ? "nothing" : value);
-    } else if (strcmp(argv[*i], "--quiet") == 0 || strcmp(argv[*i], "-q") == 0) {
-        o->quiet = 1;
-    } else if (strcmp(argv[*i], "--resume") == 0) {
-        o->resume = 1;
     } else {
-        return app_scene_argument(app_ensemble_usage, argv[*i], &o->scene_path);
+        return 0;
     }
-    return m < 0 ? 2 : 0;
+    return m < 0 ? 2 : rc != 0 ? rc : 1;
 }
 
 static int parse_options(Options *o, int argc, char **argv)
 {
+    app_driver_args_init(&o->d);
     o->seeds = 5;
     o->seed0 = 1;
-    o->jobs = 2;
-    for (int i = 2; i < argc; ++i) {
-        int rc = parse_option(o, argc, argv, &i);
-        if (rc != 0)
-            return rc;
-    }
+    int rc = app_driver_parse(&ENSEMBLE_SPEC, argc, argv, &o->d, parse_option, o);
+    if (rc != 0)
+        return rc;
+    o->scene_path = o->d.scene;
+    o->out_dir = o->d.out;
     if (!o->scene_path)
         return usage_error("missing SCENE", NULL);
     if (o->value_count == 0)
@@ -217,10 +209,7 @@ static int parse_options(Options *o, int argc, char **argv)
     if (o->key_count == 0)
         return usage_error("missing --observe KEY[,KEY...]", NULL);
     if (!o->out_dir) {
-        const char *base =
-            strrchr(o->scene_path, '/') ? strrchr(o->scene_path, '/') + 1 : o->scene_path;
-        snprintf(o->default_out, sizeof o->default_out, "out/ensemble-%.*s",
-                 (int)strcspn(base, "."), base);
+        app_driver_default_out("ensemble", o->scene_path, o->default_out, sizeof o->default_out);
         o->out_dir = o->default_out;
     }
     return 0;
@@ -252,8 +241,8 @@ static int member_sets(const Options *o, const AppExperiment *family, double val
                        const char **sets, char buffers[3][80])
 {
     int n = 0;
-    for (int k = 0; k < o->set_count; ++k)
-        sets[n++] = o->sets[k];
+    for (int k = 0; k < o->d.set_count; ++k)
+        sets[n++] = o->d.sets[k];
     for (int k = 0; family && family->member_sets && family->member_sets[k]; ++k)
         sets[n++] = family->member_sets[k];
     snprintf(buffers[0], 80, "seed=%ld", seed);
@@ -276,7 +265,7 @@ static int member_family(Ensemble *E)
 {
     const Options *o = E->o;
     char err[4096] = "";
-    Scene *scene = scene_load(o->scene_path, o->sets, o->set_count, err, sizeof err);
+    Scene *scene = scene_load(o->scene_path, o->d.sets, o->d.set_count, err, sizeof err);
     if (!scene) {
         fprintf(stderr, "%s\n", err);
         return 2;
@@ -364,7 +353,7 @@ static int member_argv(Ensemble *E, int member)
     const char *head[] = {"sablier", command, o->scene_path, "--out", dir, "--quiet"};
     for (size_t k = 0; k < sizeof head / sizeof head[0]; ++k)
         words[n++] = head[k];
-    const char *threads = app_pool_member_threads((int)o->jobs);
+    const char *threads = app_pool_member_threads((int)o->d.jobs);
     if (strcmp(command, "run") == 0 && threads) { /* side by side: one thread each */
         words[n++] = "--threads";
         words[n++] = threads;
@@ -435,7 +424,7 @@ static void member_done(void *ctx, int k, int status)
         status = 2;
     }
     E->status[k] = status;
-    if (!E->o->quiet) {
+    if (!E->o->d.quiet) {
         char dir[ENS_PATH];
         member_dir(E, k, dir, sizeof dir);
         fprintf(stderr, "sablier: ensemble: %s: %s\n", dir,
@@ -457,18 +446,18 @@ static int run_members(Ensemble *E)
 {
     for (int k = 0; k < E->member_count; ++k)
         E->status[k] = -1;
-    if (!E->o->quiet)
+    if (!E->o->d.quiet)
         fprintf(stderr, "sablier: ensemble: %d members (%d time steps x %ld seeds), %d at a time\n",
-                E->member_count, E->level_count, E->o->seeds, app_pool_width((int)E->o->jobs));
+                E->member_count, E->level_count, E->o->seeds, app_pool_width((int)E->o->d.jobs));
     AppPool pool = {.count = E->member_count,
-                    .jobs = (int)E->o->jobs,
+                    .jobs = (int)E->o->d.jobs,
                     .ctx = E,
                     .start = member_start,
                     .run = member_run,
                     .done = member_done,
                     .signal_status = 1,
                     .folder = member_folder,
-                    .resume = E->o->resume};
+                    .resume = E->o->d.resume};
     int rc = app_pool_run(&pool);
     return rc == 0 || rc > APP_EXIT_SIGNAL ? rc : 2;
 }

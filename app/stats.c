@@ -130,3 +130,40 @@ int app_shift_within_until(const AppShift *shifts, int count)
         ++k;
     return k;
 }
+
+int app_linear_fit(const double *x, const double *y, int n, double *a, double *b, double *a_err)
+{
+    double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+    int m = 0;
+    for (int k = 0; k < n; ++k) {
+        if (!isfinite(y[k]))
+            continue;
+        sx += x[k];
+        sy += y[k];
+        sxx += x[k] * x[k];
+        sxy += x[k] * y[k];
+        ++m;
+    }
+    const double det = m * sxx - sx * sx;
+    *a = NAN;
+    if (m >= 1)
+        *a = sy / m;
+    *b = NAN;
+    if (a_err)
+        *a_err = 0.0;
+    if (m < 2 || !(fabs(det) > 0.0))
+        return -1;
+    *b = (m * sxy - sx * sy) / det;
+    *a = (sy - *b * sx) / m;
+    if (m >= 3 && a_err) {
+        double rss = 0.0;
+        for (int k = 0; k < n; ++k) {
+            if (!isfinite(y[k]))
+                continue;
+            const double r = y[k] - *a - *b * x[k];
+            rss += r * r;
+        }
+        *a_err = sqrt(rss / (m - 2) * sxx / det);
+    }
+    return 0;
+}

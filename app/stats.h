@@ -42,4 +42,11 @@ AppShift app_welch_shift(const AppSample *sample, const AppSample *reference, do
 /// row 1 already moves (or count < 2).
 int app_shift_within_until(const AppShift *shifts, int count);
 
+/// The least-squares line y = a + b x through the points of x[0 .. n-1] whose y is finite (the
+/// others are left out): 0, or -1 with fewer than two such points or all at one x (b is then NaN
+/// and a the mean of the finite y, NaN when there is none). a_err: the standard error of the
+/// intercept, sqrt(s^2 sum x^2 / det) with s^2 the residual variance (0 with fewer than three
+/// points); NULL when not wanted.
+int app_linear_fit(const double *x, const double *y, int n, double *a, double *b, double *a_err);
+
 #endif

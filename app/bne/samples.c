@@ -4,8 +4,8 @@
  * +- standard deviation rise curves, rise times and the large-deviation function of the windowed
  * rise rate (docs/brazil_nut.md). */
 #include "bne.h"
+#include "driver.h"
 #include "pool.h"
-#include "run.h"
 #include "util.h"
 
 #include "sim/sim.h"
@@ -187,35 +187,17 @@ static int read_record(const Samples *S, Record *rec)
     return ok ? 0 : -1;
 }
 
-/* One run: the scene with seed (and the varied key = value), through the stage runner, into
- * rec. Returns the run's exit status. */
 /* The scene of the run at (key = value, seed), with a `bne` group: NULL with a message on
  * stderr when it does not load. */
 static Scene *load_run_scene(const Samples *S, double value, long seed)
 {
     const AppBneSamplesOptions *o = S->o;
-    const char *sets[64];
-    char seed_set[64], vary_set[200], err[2048] = "";
-    int n = 0;
-    for (int k = 0; k < o->set_count; ++k)
-        sets[n++] = o->sets[k];
-    snprintf(seed_set, sizeof seed_set, "seed=%ld", seed);
-    sets[n++] = seed_set;
-    if (o->vary) {
-        snprintf(vary_set, sizeof vary_set, "%s=%.17g", S->key, value);
-        sets[n++] = vary_set;
-    }
-    Scene *scene = scene_load(o->scene_path, sets, n, err, sizeof err);
-    if (!scene) {
-        fprintf(stderr, "%s\n", err);
-        return NULL;
-    }
-    if (!app_bne_of(scene)) {
-        fprintf(stderr, "sablier: bne: %s has no `bne` group\n", o->scene_path);
-        scene_free(scene);
-        return NULL;
-    }
-    return scene;
+    AppDriverSets sets = {.count = 0};
+    app_driver_sets_add(&sets, o->sets, o->set_count);
+    app_driver_sets_printf(&sets, "seed=%ld", seed);
+    if (o->vary)
+        app_driver_sets_printf(&sets, "%s=%.17g", S->key, value);
+    return app_driver_load(o->scene_path, &sets, &app_bne_experiment);
 }
 
 static int run_one(Samples *S, double value, long seed, Record *rec)
@@ -226,12 +208,7 @@ static int run_one(Samples *S, double value, long seed, Record *rec)
     Scene *scene = load_run_scene(S, value, seed);
     if (!scene)
         return 2;
-    AppRunOptions ro = app_run_options_default();
-    ro.out_dir = dir;
-    ro.quiet = 1;
-    ro.render = o->render;
-    ro.render_off = o->render == NULL; /* --movies not given: no "not built" warning */
-    int rc = app_run(scene, &ro);
+    int rc = app_driver_run(scene, dir, o->render); /* render NULL: --movies not given */
     rec->value = value;
     rec->seed = seed;
     if (rc == 0) {
@@ -585,77 +562,68 @@ static const char USAGE_BNE[] =
 /* The command line of `sablier bne`. */
 typedef struct BneArgs {
     AppBneSamplesOptions o;
-    const char *sets[APP_MAX_SETS];
+    AppDriverArgs d; /* the common options */
     char default_out[SCENE_PATH_MAX];
+    long seeds, seed0;
     int movies;
 } BneArgs;
+
+static const AppDriverSpec BNE_SPEC = {.usage = USAGE_BNE, .jobs_max = 64, .vary_max = 1};
+
+/* The options of `sablier bne` alone (app_driver_parse's `own`). */
+static int bne_option(void *ctx, int argc, char **argv, int *i)
+{
+    BneArgs *a = ctx;
+    const char *value;
+    int m;
+    if ((m = app_option(argc, argv, i, "--seeds", &value)) != 0) {
+        if (m < 0 || app_parse_count(value, 1, 10000, &a->seeds) < 0)
+            return app_usage_error(USAGE_BNE, "--seeds needs a count in [1, 10000], got",
+                                   m < 0 ? "nothing" : value);
+    } else if ((m = app_option(argc, argv, i, "--seed0", &value)) != 0) {
+        if (m < 0 || app_parse_count(value, 0, 1000000000, &a->seed0) < 0)
+            return app_usage_error(USAGE_BNE, "--seed0 needs a seed >= 0, got",
+                                   m < 0 ? "nothing" : value);
+    } else if ((m = app_option(argc, argv, i, "--ldf", &value)) != 0) {
+        /* windows longer than a run are empty: 1e6 shaking periods is past any run */
+        static const AppNumberList periods = {.min = 0.0, .strict = 1, .exact = 1};
+        if (m < 0 || app_parse_numbers(value, &periods, &a->o.ldf_periods, 1) != 1 ||
+            a->o.ldf_periods > 1e6)
+            return app_usage_error(USAGE_BNE,
+                                   "--ldf needs a number of periods in [0, 1e6] (0: no LDF), got",
+                                   m < 0 ? "nothing" : value);
+    } else if (strcmp(argv[*i], "--movies") == 0) {
+        a->movies = 1;
+    } else {
+        return 0;
+    }
+    return 1;
+}
 
 /* The command line into *a: 0, or the exit status of a usage error (message on stderr). */
 static int bne_arguments(int argc, char **argv, BneArgs *a)
 {
-    const char *path = NULL, *value, **sets = a->sets, *out = NULL;
-    int set_count = 0, movies = 0;
-    long seeds = 5, seed0 = 1, jobs = 2;
-    AppBneSamplesOptions o;
-    memset(&o, 0, sizeof o);
-    o.ldf_periods = 5.0;
-    for (int i = 2; i < argc; ++i) {
-        int m;
-        if ((m = app_option(argc, argv, &i, "--out", &value)) != 0) {
-            if (m < 0)
-                return 2;
-            out = value;
-        } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
-            if (m < 0 || app_collect_set(sets, &set_count, APP_MAX_SETS, value) < 0)
-                return 2;
-        } else if ((m = app_option(argc, argv, &i, "--vary", &value)) != 0) {
-            if (m < 0)
-                return 2;
-            o.vary = value;
-        } else if ((m = app_option(argc, argv, &i, "--seeds", &value)) != 0) {
-            if (m < 0 || app_parse_count(value, 1, 10000, &seeds) < 0)
-                return app_usage_error(USAGE_BNE, "--seeds needs a count in [1, 10000], got",
-                                       m < 0 ? "nothing" : value);
-        } else if ((m = app_option(argc, argv, &i, "--jobs", &value)) != 0) {
-            if (m < 0 || app_parse_count(value, 1, 64, &jobs) < 0)
-                return app_usage_error(USAGE_BNE, "--jobs needs a count in [1, 64], got",
-                                       m < 0 ? "nothing" : value);
-        } else if ((m = app_option(argc, argv, &i, "--seed0", &value)) != 0) {
-            if (m < 0 || app_parse_count(value, 0, 1000000000, &seed0) < 0)
-                return app_usage_error(USAGE_BNE, "--seed0 needs a seed >= 0, got",
-                                       m < 0 ? "nothing" : value);
-        } else if ((m = app_option(argc, argv, &i, "--ldf", &value)) != 0) {
-            /* windows longer than a run are empty: 1e6 shaking periods is past any run */
-            static const AppNumberList periods = {.min = 0.0, .strict = 1, .exact = 1};
-            if (m < 0 || app_parse_numbers(value, &periods, &o.ldf_periods, 1) != 1 ||
-                o.ldf_periods > 1e6)
-                return app_usage_error(USAGE_BNE,
-                                       "--ldf needs a number of periods in [0, 1e6] (0: no LDF), "
-                                       "got",
-                                       m < 0 ? "nothing" : value);
-        } else if (strcmp(argv[i], "--movies") == 0) {
-            movies = 1;
-        } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
-            o.quiet = 1;
-        } else if (strcmp(argv[i], "--resume") == 0) {
-            o.resume = 1;
-        } else if (app_scene_argument(USAGE_BNE, argv[i], &path) != 0) {
-            return 2;
-        }
-    }
-    if (!path)
+    memset(a, 0, sizeof *a);
+    app_driver_args_init(&a->d);
+    a->seeds = 5;
+    a->seed0 = 1;
+    a->o.ldf_periods = 5.0;
+    int rc = app_driver_parse(&BNE_SPEC, argc, argv, &a->d, bne_option, a);
+    if (rc != 0)
+        return rc;
+    if (!a->d.scene)
         return app_usage_error(USAGE_BNE, "missing SCENE", NULL);
-    const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
-    snprintf(a->default_out, sizeof a->default_out, "out/bne-%.*s", (int)strcspn(base, "."), base);
-    o.scene_path = path;
-    o.out_dir = out ? out : a->default_out;
-    o.sets = a->sets;
-    o.set_count = set_count;
-    o.seeds = (int)seeds;
-    o.seed0 = seed0;
-    o.jobs = (int)jobs;
-    a->o = o;
-    a->movies = movies;
+    app_driver_default_out("bne", a->d.scene, a->default_out, sizeof a->default_out);
+    a->o.scene_path = a->d.scene;
+    a->o.out_dir = a->d.out ? a->d.out : a->default_out;
+    a->o.sets = a->d.sets;
+    a->o.set_count = a->d.set_count;
+    a->o.vary = a->d.vary_count > 0 ? a->d.vary[0] : NULL;
+    a->o.quiet = a->d.quiet;
+    a->o.resume = a->d.resume;
+    a->o.seeds = (int)a->seeds;
+    a->o.seed0 = a->seed0;
+    a->o.jobs = (int)a->d.jobs;
     return 0;
 }
 

@@ -19,7 +19,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 #define MAX_MEMBERS  64
@@ -64,13 +63,6 @@ AppSweepOptions app_sweep_options_default(void)
     memset(&o, 0, sizeof o);
     o.jobs = 2;
     return o;
-}
-
-static double now_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
 /* "0.5 wide" -> "0.5-wide": safe in a folder name. */
@@ -401,7 +393,7 @@ static int member_start(void *ctx, int i)
         not_started(run, m);
         return 1;
     }
-    m->started = now_seconds();
+    m->started = app_now_seconds();
     return 0;
 }
 
@@ -430,7 +422,7 @@ static void member_done(void *ctx, int i, int status)
         not_started(run, m);
         return;
     }
-    m->wall_seconds = m->started > 0.0 ? now_seconds() - m->started : 0.0; /* 0: --resume */
+    m->wall_seconds = m->started > 0.0 ? app_now_seconds() - m->started : 0.0; /* 0: --resume */
     m->status = status;
     if (!run->bed_run && !run->w->o->quiet)
         fprintf(stderr, "sablier: sweep: member %d/%d %s: %s (%.1f s), crater height %.4g m\n",
@@ -726,7 +718,7 @@ int app_sweep(const AppSweepOptions *o)
         fprintf(stderr, "sablier: sweep: cannot create %s: %s\n", w->out_dir, strerror(errno));
         status = 2;
     }
-    double start = now_seconds();
+    double start = app_now_seconds();
     int interrupted = 0, tables = 0; /* interrupted: 128 + the signal that stopped a pool */
     /* the bed: given, or the scene's stages up to the bed stage, run once */
     if (status == 0) {
@@ -802,7 +794,7 @@ int app_sweep(const AppSweepOptions *o)
             status = 2;
         if (!o->quiet)
             fprintf(stderr, "sablier: sweep: %s in %.1f s: %s/sweep.csv\n",
-                    interrupted ? "interrupted" : "done", now_seconds() - start, w->out_dir);
+                    interrupted ? "interrupted" : "done", app_now_seconds() - start, w->out_dir);
     }
     if (interrupted)
         status = interrupted;

@@ -8,6 +8,7 @@
 #include "drivers.h"
 #include "pool.h"
 #include "run.h"
+#include "stats.h"
 #include "util.h"
 
 #include "sim/sim.h"
@@ -722,35 +723,6 @@ double app_gaussian_peak(const double *w, const double *sigma, int n)
     double peak, A, B, C;
     gaussian_fit(w, sigma, n, &peak, &A, &B, &C);
     return peak;
-}
-
-void app_linear_fit(const double *x, const double *y, int n, double *a, double *b, double *a_err)
-{
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    for (int k = 0; k < n; ++k) {
-        sx += x[k];
-        sy += y[k];
-        sxx += x[k] * x[k];
-        sxy += x[k] * y[k];
-    }
-    double det = n * sxx - sx * sx;
-    *a = *b = NAN;
-    *a_err = 0.0;
-    if (n < 2 || !(fabs(det) > 0.0)) {
-        if (n >= 1)
-            *a = sy / n;
-        return;
-    }
-    *b = (n * sxy - sx * sy) / det;
-    *a = (sy - *b * sx) / n;
-    if (n >= 3) {
-        double rss = 0.0;
-        for (int k = 0; k < n; ++k) {
-            double r = y[k] - *a - *b * x[k];
-            rss += r * r;
-        }
-        *a_err = sqrt(rss / (n - 2) * sxx / det);
-    }
 }
 
 typedef struct Cell {

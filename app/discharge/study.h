@@ -25,8 +25,6 @@ extern const char APP_STUDY_USAGE[];
 /// Gaussian fit of sigma(w) through its peak: a parabola fitted to log sigma over the points
 /// above half the maximum (at least three, else the arg-max). Returns the peak position w_t.
 double app_gaussian_peak(const double *w, const double *sigma, int n);
-/// Least-squares line y = a + b x; a_err is the standard error of the intercept (0 if n < 3).
-void app_linear_fit(const double *x, const double *y, int n, double *a, double *b, double *a_err);
 
 /// Species counts on square cells over piles (004 §3.4: q_s and q_d maps on 5 d squares),
 /// summed over samples, so a cell's fraction is a ratio of sums: marked / count.

@@ -2,8 +2,8 @@
 /* sediment/scan.c: the sediment family's multi-run driver, `sablier sediment` (thesis 002 ch. 7):
  * a scene with a `fluid` group run once per Shields number through the stage runner, in parallel
  * processes, then flux.csv, threshold.json (the transport threshold) and flux.png. */
+#include "driver.h"
 #include "pool.h"
-#include "run.h"
 #include "run_value.h"
 #include "sediment.h"
 #include "util.h"
@@ -59,9 +59,9 @@ double app_sediment_threshold(const double *shields, const double *q_star, int c
 #define SCAN_PATH (SCENE_PATH_MAX + 64)
 
 typedef struct Scan {
+    AppDriverArgs a; /* the common options: scene, --out, --set, --jobs, --quiet, --resume */
     const char *scene_path, *out_dir;
-    const char *sets[SCAN_MAX + 1];
-    int set_count, jobs, quiet, render_runs, resume;
+    int render_runs;
     double shields[SCAN_MAX], level;
     int count;
     const AppRender *render;
@@ -75,31 +75,13 @@ static void member_dir(const Scan *sc, int k, char *dir, size_t size)
 /* One member, in a child process: the scene with fluid.shields = Theta_k. */
 static int run_member(const Scan *sc, int k)
 {
-    const char *sets[SCAN_MAX + 2];
-    char shields_set[64], dir[SCAN_PATH], err[2048] = "";
-    for (int j = 0; j < sc->set_count; ++j)
-        sets[j] = sc->sets[j];
-    snprintf(shields_set, sizeof shields_set, "fluid.shields=%.17g", sc->shields[k]);
-    sets[sc->set_count] = shields_set;
-    Scene *scene = scene_load(sc->scene_path, sets, sc->set_count + 1, err, sizeof err);
-    if (!scene) {
-        fprintf(stderr, "%s\n", err);
-        return 2;
-    }
-    if (!app_sediment_of(scene)) {
-        fprintf(stderr, "sablier: sediment: %s has no `fluid` group\n", sc->scene_path);
-        scene_free(scene);
-        return 2;
-    }
+    char dir[SCAN_PATH];
+    AppDriverSets sets = {.count = 0};
+    app_driver_sets_add(&sets, sc->a.sets, sc->a.set_count);
+    app_driver_sets_printf(&sets, "fluid.shields=%.17g", sc->shields[k]);
     member_dir(sc, k, dir, sizeof dir);
-    AppRunOptions ro = app_run_options_default();
-    ro.out_dir = dir;
-    ro.quiet = 1;
-    ro.render = sc->render_runs ? sc->render : NULL;
-    ro.render_off = !sc->render_runs; /* --render not given: no "not built" warning */
-    int rc = app_run(scene, &ro);
-    scene_free(scene);
-    return rc;
+    return app_driver_member(sc->scene_path, &sets, &app_sediment_experiment, dir,
+                             sc->render_runs ? sc->render : NULL);
 }
 
 /* The members' pool: their exit statuses (-1: not run). */
@@ -130,7 +112,7 @@ static void scan_done(void *ctx, int k, int status)
     }
     run->status[k] = status;
     run->failed |= status != 0;
-    if (!run->sc->quiet)
+    if (!run->sc->a.quiet)
         fprintf(stderr, "sablier: sediment: Theta = %g %s\n", run->sc->shields[k],
                 status == 0                      ? "done"
                 : status == APP_POOL_INTERRUPTED ? "interrupted"
@@ -315,95 +297,60 @@ static int write_scan_outputs(const Scan *sc, const int *status)
     return 0;
 }
 
-static int scan_usage(const char *message, const char *arg)
-{
-    fprintf(stderr, "sablier: sediment: %s%s%s\n\n%s", message, arg ? " " : "", arg ? arg : "",
-            APP_SEDIMENT_USAGE);
-    return 2;
-}
+static const AppDriverSpec SCAN_SPEC = {.usage = APP_SEDIMENT_USAGE, .jobs_max = 64};
 
-/* The command line into sc and *list (the --shields text): 0, or the exit status. */
-static int parse_scan_args(int argc, char **argv, Scan *sc, const char **list)
+/* The options of `sablier sediment` alone (app_driver_parse's `own`). */
+static int scan_option(void *ctx, int argc, char **argv, int *i)
 {
-    for (int i = 2; i < argc; ++i) {
-        const char *a = argv[i];
-        int has_value = i + 1 < argc;
-        if (strcmp(a, "--shields") == 0 && has_value) {
-            *list = argv[++i];
-        } else if (strcmp(a, "--jobs") == 0 && has_value) {
-            char *end;
-            long j = strtol(argv[++i], &end, 10);
-            if (*end || j < 1 || j > 64)
-                return scan_usage("--jobs needs a count in [1, 64], got", argv[i]);
-            sc->jobs = (int)j;
-        } else if (strcmp(a, "--level") == 0 && has_value) {
-            char *end;
-            sc->level = strtod(argv[++i], &end);
-            if (*end || !isfinite(sc->level))
-                return scan_usage("--level needs a number, got", argv[i]);
-        } else if (strcmp(a, "--out") == 0 && has_value) {
-            sc->out_dir = argv[++i];
-        } else if (strcmp(a, "--set") == 0 && has_value) {
-            if (sc->set_count == SCAN_MAX)
-                return scan_usage("too many --set options", NULL);
-            sc->sets[sc->set_count++] = argv[++i];
-        } else if (strcmp(a, "--render") == 0) {
-            sc->render_runs = 1;
-        } else if (strcmp(a, "--quiet") == 0 || strcmp(a, "-q") == 0) {
-            sc->quiet = 1;
-        } else if (strcmp(a, "--resume") == 0) {
-            sc->resume = 1;
-        } else if (a[0] == '-' && a[1]) {
-            return scan_usage(has_value ? "unknown option" : "unknown option or missing value", a);
-        } else if (!sc->scene_path) {
-            sc->scene_path = a;
-        } else {
-            return scan_usage("one scene at a time; extra argument", a);
-        }
+    Scan *sc = ctx;
+    const char *value;
+    int m;
+    if ((m = app_option(argc, argv, i, "--shields", &value)) != 0) {
+        if (m < 0)
+            return 2;
+        static const AppNumberList shields_list = {.min = 0.0, .exact = 1};
+        sc->count = app_parse_numbers(value, &shields_list, sc->shields, SCAN_MAX);
+        if (sc->count < 1)
+            return app_usage_error(APP_SEDIMENT_USAGE,
+                                   "--shields needs up to 64 numbers >= 0 separated by commas, got",
+                                   value);
+    } else if ((m = app_option(argc, argv, i, "--level", &value)) != 0) {
+        char *end;
+        if (m < 0)
+            return 2;
+        sc->level = strtod(value, &end);
+        if (*end || !isfinite(sc->level))
+            return app_usage_error(APP_SEDIMENT_USAGE, "--level needs a number, got", value);
+    } else if (strcmp(argv[*i], "--render") == 0) {
+        sc->render_runs = 1;
+    } else {
+        return 0;
     }
-    if (!sc->scene_path)
-        return scan_usage("missing SCENE", NULL);
-    if (!*list)
-        return scan_usage("missing --shields T1,T2,...", NULL);
-    static const AppNumberList shields_list = {.min = 0.0, .exact = 1};
-    sc->count = app_parse_numbers(*list, &shields_list, sc->shields, SCAN_MAX);
-    if (sc->count < 1)
-        return scan_usage("--shields needs up to 64 numbers >= 0 separated by commas, got", *list);
-    return 0;
+    return 1;
 }
 
 /* A Scan with the defaults and the command line: 0, or the exit status of a usage error. */
 static int scan_arguments(int argc, char **argv, Scan *sc)
 {
     memset(sc, 0, sizeof *sc);
-    sc->jobs = 2;
+    app_driver_args_init(&sc->a);
     sc->level = 1e-3;
-    const char *list = NULL;
-    return parse_scan_args(argc, argv, sc, &list);
+    int rc = app_driver_parse(&SCAN_SPEC, argc, argv, &sc->a, scan_option, sc);
+    if (rc != 0)
+        return rc;
+    if (!sc->a.scene)
+        return app_usage_error(APP_SEDIMENT_USAGE, "missing SCENE", NULL);
+    if (sc->count < 1)
+        return app_usage_error(APP_SEDIMENT_USAGE, "missing --shields T1,T2,...", NULL);
+    sc->scene_path = sc->a.scene;
+    sc->out_dir = sc->a.out;
+    return 0;
 }
 
 static int sediment_parse(int argc, char **argv)
 {
     Scan sc;
     return scan_arguments(argc, argv, &sc);
-}
-
-/* The scene checked once before forking: bad input exits 2 with its file:line message. */
-static int check_scene(const Scan *sc)
-{
-    char err[2048] = "";
-    Scene *scene = scene_load(sc->scene_path, sc->sets, sc->set_count, err, sizeof err);
-    if (!scene) {
-        fprintf(stderr, "%s\n", err);
-        return 2;
-    }
-    int has_fluid = app_sediment_of(scene) != NULL;
-    scene_free(scene);
-    if (!has_fluid) {
-        fprintf(stderr, "%s:1: sediment: the scene has no `fluid` group\n", sc->scene_path);
-        return 2;
-    }
-    return 0;
 }
 
 int app_sediment_command(int argc, char **argv, const AppEnv *env)
@@ -414,13 +361,15 @@ int app_sediment_command(int argc, char **argv, const AppEnv *env)
         return rc;
     sc.render = env ? env->render : NULL;
     char default_out[SCAN_PATH];
-    const char *base =
-        strrchr(sc.scene_path, '/') ? strrchr(sc.scene_path, '/') + 1 : sc.scene_path;
-    snprintf(default_out, sizeof default_out, "out/sediment-%.*s", (int)strcspn(base, "."), base);
+    app_driver_default_out("sediment", sc.scene_path, default_out, sizeof default_out);
     if (!sc.out_dir)
         sc.out_dir = default_out;
-    if (check_scene(&sc) != 0)
+    AppDriverSets sets = {.count = 0}; /* checked once before forking: bad input exits 2 */
+    app_driver_sets_add(&sets, sc.a.sets, sc.a.set_count);
+    Scene *scene = app_driver_load(sc.scene_path, &sets, &app_sediment_experiment);
+    if (!scene)
         return 2;
+    scene_free(scene);
     if (app_make_dirs(sc.out_dir) != 0) {
         fprintf(stderr, "sablier: sediment: cannot create %s\n", sc.out_dir);
         return 2;
@@ -429,13 +378,13 @@ int app_sediment_command(int argc, char **argv, const AppEnv *env)
     for (int k = 0; k < sc.count; ++k)
         run.status[k] = -1;
     AppPool pool = {.count = sc.count,
-                    .jobs = sc.jobs,
+                    .jobs = (int)sc.a.jobs,
                     .ctx = &run,
                     .run = scan_run,
                     .done = scan_done,
                     .signal_status = 1,
                     .folder = scan_folder,
-                    .resume = sc.resume};
+                    .resume = sc.a.resume};
     int pool_rc = app_pool_run(&pool);
     if (pool_rc != 0)
         run.failed = 1;

@@ -10,6 +10,7 @@
 #include "checkpoint.h"
 #include "config.h"
 #include "scene.h"
+#include "stats.h"
 #include "util.h"
 
 #include <math.h>
@@ -27,27 +28,6 @@ typedef struct SurfaceState {
     double sum, last;
     long samples;
 } SurfaceState;
-
-int app_surface_fit(const double *x, const double *y, int n, double *slope, double *intercept)
-{
-    double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
-    int m = 0;
-    for (int k = 0; k < n; ++k) {
-        if (!isfinite(y[k]))
-            continue;
-        sx += x[k];
-        sy += y[k];
-        sxx += x[k] * x[k];
-        sxy += x[k] * y[k];
-        ++m;
-    }
-    const double det = m * sxx - sx * sx;
-    if (m < 2 || !(fabs(det) > 0.0))
-        return -1;
-    *slope = (m * sxy - sx * sy) / det;
-    *intercept = (sy - *slope * sx) / m;
-    return 0;
-}
 
 static int surface_parse(const config_setting_t *root, const config_setting_t *group,
                          struct Scene *scene, void **state, char *err, size_t err_size)
@@ -114,7 +94,7 @@ static void surface_sample(void *state, AppContext *c)
         x[k] = s->x0 + (k + 0.5) * w;
         used += isfinite(y[k]) != 0;
     }
-    if (app_surface_fit(x, y, s->bins, &slope, &intercept) != 0)
+    if (app_linear_fit(x, y, s->bins, &intercept, &slope, NULL) != 0)
         return;
     const double t = sim_world_time(c->world), angle = atan(slope) * 180.0 / SIM_PI;
     fprintf(s->csv, "%.10g,%.10g,%.10g,%.10g,%d\n", t, angle, slope, intercept, used);

@@ -7,10 +7,6 @@
 
 #include "experiment.h"
 
-/// A least-squares line y = a + b x through the finite points (NAN heights skipped): 0, or -1
-/// with fewer than two points. Writes the slope b and intercept a.
-int app_surface_fit(const double *x, const double *y, int n, double *slope, double *intercept);
-
 extern const AppExperiment app_surface_experiment;
 
 #endif

@@ -8,6 +8,7 @@
 #include "app/discharge/discharge.h"
 #include "app/discharge/study.h"
 #include "app/scene.h"
+#include "app/stats.h"
 #include "sim/sim.h"
 
 #include <stdlib.h>

@@ -1,0 +1,173 @@
+/* SPDX-License-Identifier: MIT */
+/* driver.c: the skeleton every multi-run command shares (driver.h). */
+#include "driver.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+void app_driver_args_init(AppDriverArgs *a)
+{
+    memset(a, 0, sizeof *a);
+    a->jobs = 2;
+}
+
+static int driver_set(const AppDriverSpec *s, AppDriverArgs *a, int m, const char *value)
+{
+    const int max = s->sets_max > 0 ? s->sets_max : APP_MAX_SETS;
+    if (s->set_error) { /* the command's own message for every bad --set */
+        if (m < 0 || a->set_count >= max) {
+            app_usage_error(s->usage, s->set_error, NULL);
+            return -1;
+        }
+        a->sets[a->set_count++] = value;
+        return 1;
+    }
+    if (m < 0 || app_collect_set(a->sets, &a->set_count, max, value) < 0)
+        return -1;
+    return 1;
+}
+
+static int driver_vary(const AppDriverSpec *s, AppDriverArgs *a, const char *value)
+{
+    if (s->vary_max == 1) {
+        a->vary[0] = value;
+        a->vary_count = 1;
+        return 1;
+    }
+    if (a->vary_count >= s->vary_max || a->vary_count >= APP_DRIVER_VARY_MAX) {
+        app_usage_error(s->usage, "too many --vary options", NULL);
+        return -1;
+    }
+    a->vary[a->vary_count++] = value;
+    return 1;
+}
+
+int app_driver_option(const AppDriverSpec *s, int argc, char **argv, int *i, AppDriverArgs *a)
+{
+    const char *value = NULL;
+    int m;
+    if ((m = app_option(argc, argv, i, "--out", &value)) != 0) {
+        if (m < 0)
+            return -1;
+        a->out = value;
+        return 1;
+    }
+    if ((m = app_option(argc, argv, i, "--set", &value)) != 0)
+        return driver_set(s, a, m, value);
+    if (s->vary_max > 0 && (m = app_option(argc, argv, i, "--vary", &value)) != 0)
+        return m < 0 ? -1 : driver_vary(s, a, value);
+    if ((m = app_option(argc, argv, i, "--jobs", &value)) != 0) {
+        if (m < 0 || app_parse_count(value, 1, s->jobs_max, &a->jobs) < 0) {
+            char message[64];
+            snprintf(message, sizeof message, "--jobs needs a count in [1, %ld], got", s->jobs_max);
+            app_usage_error(s->usage, message, m < 0 ? "nothing" : value);
+            return -1;
+        }
+        return 1;
+    }
+    if (strcmp(argv[*i], "--quiet") == 0 || strcmp(argv[*i], "-q") == 0) {
+        a->quiet = 1;
+        return 1;
+    }
+    if (strcmp(argv[*i], "--resume") == 0) {
+        a->resume = 1;
+        return 1;
+    }
+    return 0;
+}
+
+int app_driver_scene(const AppDriverSpec *s, const char *arg, AppDriverArgs *a)
+{
+    if (arg[0] == '-' && arg[1])
+        return app_usage_error(s->usage, "unknown option", arg);
+    if (a->scene)
+        return app_usage_error(
+            s->usage, s->extra_error ? s->extra_error : "one scene at a time; extra argument", arg);
+    a->scene = arg;
+    return 0;
+}
+
+int app_driver_parse(const AppDriverSpec *s, int argc, char **argv, AppDriverArgs *a,
+                     int (*own)(void *ctx, int argc, char **argv, int *i), void *ctx)
+{
+    for (int i = 2; i < argc; ++i) {
+        int m = app_driver_option(s, argc, argv, &i, a);
+        if (m < 0)
+            return 2;
+        if (m == 0 && own)
+            m = own(ctx, argc, argv, &i);
+        if (m > 1)
+            return m;
+        if (m == 0 && app_driver_scene(s, argv[i], a) != 0)
+            return 2;
+    }
+    return 0;
+}
+
+void app_driver_default_out(const char *prefix, const char *scene_path, char *out, size_t size)
+{
+    const char *base = strrchr(scene_path, '/') ? strrchr(scene_path, '/') + 1 : scene_path;
+    snprintf(out, size, "out/%s-%.*s", prefix, (int)strcspn(base, "."), base);
+}
+
+int app_driver_sets_add(AppDriverSets *s, const char *const *sets, int n)
+{
+    for (int k = 0; n < 0 ? sets && sets[k] : k < n; ++k) {
+        if (s->count >= (int)(sizeof s->sets / sizeof s->sets[0]))
+            return -1;
+        s->sets[s->count++] = sets[k];
+    }
+    return 0;
+}
+
+int app_driver_sets_printf(AppDriverSets *s, const char *format, ...)
+{
+    if (s->text_count >= (int)(sizeof s->text / sizeof s->text[0]))
+        return -1;
+    char *text = s->text[s->text_count++];
+    va_list ap;
+    va_start(ap, format);
+    vsnprintf(text, sizeof s->text[0], format, ap);
+    va_end(ap);
+    const char *one[1] = {text};
+    return app_driver_sets_add(s, one, 1);
+}
+
+Scene *app_driver_load(const char *path, const AppDriverSets *sets, const AppExperiment *family)
+{
+    char err[4096] = "";
+    Scene *scene = scene_load(path, sets->sets, sets->count, err, sizeof err);
+    if (!scene) {
+        fprintf(stderr, "%s\n", err);
+        return NULL;
+    }
+    if (family && !scene_experiment_state(scene, family)) {
+        fprintf(stderr, "%s:1: %s: the scene has no `%s` group\n", path, family->name,
+                family->group);
+        scene_free(scene);
+        return NULL;
+    }
+    return scene;
+}
+
+int app_driver_run(Scene *scene, const char *dir, const AppRender *render)
+{
+    AppRunOptions ro = app_run_options_default();
+    ro.out_dir = dir;
+    ro.quiet = 1;
+    ro.render = render;
+    ro.render_off = render == NULL; /* no movies asked for: no "not built" warning */
+    return app_run(scene, &ro);
+}
+
+int app_driver_member(const char *path, const AppDriverSets *sets, const AppExperiment *family,
+                      const char *dir, const AppRender *render)
+{
+    Scene *scene = app_driver_load(path, sets, family);
+    if (!scene)
+        return 2;
+    int rc = app_driver_run(scene, dir, render);
+    scene_free(scene);
+    return rc;
+}
