@@ -162,6 +162,16 @@ typedef struct Renderer {
     RenderStyle style;
     char path[SCENE_PATH_MAX + 64];
     char message[512];
+
+    /* figure series: what their first figure fixed (series_fix) */
+    struct FigureSeries {
+        char scene[SCENE_NAME_MAX];
+        uint64_t seed;
+        int stage, color_by, field, fixed;
+        double range[2], view[4], arrow_scale;
+    } series[16];
+
+    int series_count;
 } Renderer;
 
 static void hook_provenance(void *context, const char *comment)
@@ -440,6 +450,65 @@ static int side_figure(const SimFrame *frame, const RenderStyle *style, const Re
     return rc;
 }
 
+/* A figure series: the figures of one scene's stage that colour grains by one quantity (and
+ * draw a velocity field or not), e.g. collapse frames at several times, or the discharge's
+ * panels. They share one colour range (render_color_lock: the figure's `range` when it has one,
+ * else the first figure's with headroom), one window (the first figure's when they declare no
+ * `view`) and one arrow length per speed, so their panels compare (docs/figures.md). */
+static void series_fix(Renderer *renderer, const Scene *scene, const SceneFigure *figure,
+                       const SimFrame *frame, RenderStyle *style)
+{
+    if (!renderer || !scene)
+        return;
+    struct FigureSeries *sr = NULL;
+    for (int k = 0; k < renderer->series_count && !sr; ++k) {
+        struct FigureSeries *c = &renderer->series[k];
+        if (strcmp(c->scene, scene->name) == 0 && c->seed == scene->seed &&
+            c->stage == figure->stage && c->color_by == (int)style->color_by &&
+            c->field == style->velocity_field)
+            sr = c;
+    }
+    if (!sr) {
+        if (renderer->series_count == (int)(sizeof renderer->series / sizeof *renderer->series))
+            return; /* more series than slots: each figure on its own */
+        sr = &renderer->series[renderer->series_count++];
+        memset(sr, 0, sizeof *sr);
+        snprintf(sr->scene, sizeof sr->scene, "%s", scene->name);
+        sr->seed = scene->seed;
+        sr->stage = figure->stage;
+        sr->color_by = (int)style->color_by;
+        sr->field = style->velocity_field;
+    }
+    if (sr->fixed) {
+        if (!(style->range_min < style->range_max) && sr->range[0] < sr->range[1]) {
+            style->range_min = sr->range[0];
+            style->range_max = sr->range[1];
+        }
+        render_color_lock(frame, style);
+        if (!(style->view_x1 > style->view_x0)) {
+            style->view_x0 = sr->view[0];
+            style->view_y0 = sr->view[1];
+            style->view_x1 = sr->view[2];
+            style->view_y1 = sr->view[3];
+        }
+        if (!(style->arrow_scale > 0))
+            style->arrow_scale = sr->arrow_scale;
+        return;
+    }
+    if (!render_color_lock(frame, style))
+        return; /* nothing to colour yet: the next figure fixes the series */
+    RenderView v;
+    render_view_fit(frame, style, &v);
+    sr->view[0] = v.center_x - 0.5 * v.plot_w / v.scale;
+    sr->view[1] = v.center_y - 0.5 * v.plot_h / v.scale;
+    sr->view[2] = v.center_x + 0.5 * v.plot_w / v.scale;
+    sr->view[3] = v.center_y + 0.5 * v.plot_h / v.scale;
+    sr->arrow_scale = style->velocity_arrows ? render_style_resolve(frame, style).arrow_scale : 0;
+    sr->range[0] = style->range_min;
+    sr->range[1] = style->range_max;
+    sr->fixed = 1;
+}
+
 static int hook_figure(void *context, const Scene *scene, const SceneFigure *figure,
                        const SimFrame *frame, const AppFigureExtras *extras, const char *path,
                        char *err, size_t err_size)
@@ -463,6 +532,7 @@ static int hook_figure(void *context, const Scene *scene, const SceneFigure *fig
         style.node_y0 = extras->field_y0;
         style.node_cell = extras->field_cell;
     }
+    series_fix(context, scene, figure, frame, &style);
     if (extras && extras->marks) { /* an arch: highlighted, zoomed inset, force chains */
         style.arch_ids = extras->marks;
         style.arch_inset = 1;

@@ -101,6 +101,17 @@ uint32_t render_species_rgb(int species);
 /// Colour range of the style's quantity: the fixed range when range_min < range_max, else
 /// [0, max over the frame's mobile grains] (1 when that is 0).
 void render_color_range(const SimFrame *frame, const RenderStyle *style, double *lo, double *hi);
+/// Fixes a movie's or figure series' colour range for all its frames (docs/figures.md, "One colour
+/// scale per series"): a declared range (range_min < range_max) is kept; else, at the first frame
+/// whose mobile grains have a value above 0, [0, max] widened by a quarter for headroom and rounded
+/// up to a round number (render_axis_nice_range). Sets RENDER_EXTEND_MAX (and RENDER_EXTEND_MIN for
+/// a declared range above 0) so the colour bar shows the saturation on every frame. Returns 1
+/// once the range is fixed (always for quantities without a colour bar), 0 while the frames
+/// seen so far were all 0: call again with the next frame.
+int render_color_lock(const SimFrame *frame, RenderStyle *style);
+/// The colour bar's end triangles for this frame: style->color_extend plus the ends that the
+/// frame's mobile grains leave [lo, hi] by (RENDER_EXTEND_* bits).
+int render_color_extend(const SimFrame *frame, const RenderStyle *style, double lo, double hi);
 /// Copy of a style with its automatic values resolved for this frame (band_height 0 = 5 mean
 /// diameters, chain_width_max 0 = half a mean diameter in pixels, font_size). Drawers call this
 /// once per frame; the per-grain helpers below are then O(1).

@@ -296,6 +296,7 @@ typedef struct DrawScene {
     RenderStyle style; /* resolved */
     RenderView view;
     double lo, hi; /* colour range */
+    int extend;    /* the colour bar's end triangles, RENDER_EXTEND_* bits */
     double chain_cut, chain_fmax;
     int *chains; /* selected contacts, weakest first */
     int chain_count;
@@ -303,6 +304,8 @@ typedef struct DrawScene {
     int has_field;
     double field_arrow_scale;   /* s; auto: the fastest node gets an arrow of 0.9 cell */
     double key_vmax, key_scale; /* the arrow key: fastest arrow, m/s; arrow length per speed, s */
+    double key_ref, key_unit;   /* the key's speed (in key_unit m/s) */
+    double key_len, arrow_cut;  /* the key's length; arrows shorter than arrow_cut go, pixels */
     int *arch_order;            /* arch grains sorted by (arch id, x) */
     int arch_count;
     double period;
@@ -383,6 +386,34 @@ static void draw_scene_free(DrawScene *sc)
     render_field_free(&sc->field);
 }
 
+/* The next round speed above r (1, 2, 5 x 10^k). */
+static double round_above(double r)
+{
+    double decade = pow(10.0, floor(log10(r) + 1e-12)), m = r / decade;
+    return (m < 1.5 ? 2.0 : m < 3.5 ? 5.0 : 10.0) * decade;
+}
+
+/* The reference (key) arrow: a round speed (m/s, or sqrt(g d) in reduced units) at most the
+ * fastest arrow and 6 em long, but at least 5 mm at the figure's print size (style dpi) so that it
+ * reads with its head; the arrows shorter than style arrow_min of it are left out. */
+static void arrow_key_size(DrawScene *sc)
+{
+    const RenderView *v = &sc->view;
+    double fs = v->font_size, px_per_speed = sc->key_scale * v->scale;
+    if (!(sc->key_vmax > 0) || !(px_per_speed > 0))
+        return;
+    int reduced = sc->style.reduced_units && sc->frame->time_scale > 0 && v->mean_diameter > 0;
+    sc->key_unit = reduced ? v->mean_diameter / sc->frame->time_scale : 1.0; /* sqrt(g d) */
+    double ref = render_arrow_reference(fmin(sc->key_vmax, 6 * fs / px_per_speed) / sc->key_unit);
+    double dpi = sc->style.dpi > 0 ? sc->style.dpi : 96.0, shortest = 5.0 / 25.4 * dpi;
+    for (int k = 0; k < 64 && ref > 0 && ref * sc->key_unit * px_per_speed < shortest; ++k)
+        ref = round_above(ref);
+    sc->key_ref = ref;
+    sc->key_len = ref * sc->key_unit * px_per_speed;
+    double fraction = sc->style.arrow_min == 0 ? 0.1 : fmax(0.0, sc->style.arrow_min);
+    sc->arrow_cut = fraction * sc->key_len;
+}
+
 static int draw_scene_init(DrawScene *sc, const SimFrame *frame, const RenderStyle *style)
 {
     memset(sc, 0, sizeof *sc);
@@ -390,6 +421,7 @@ static int draw_scene_init(DrawScene *sc, const SimFrame *frame, const RenderSty
     sc->style = render_style_resolve(frame, style);
     render_view_fit(frame, &sc->style, &sc->view);
     render_color_range(frame, &sc->style, &sc->lo, &sc->hi);
+    sc->extend = render_color_extend(frame, &sc->style, sc->lo, sc->hi);
     sc->period = frame->periodic ? frame->domain_x1 - frame->domain_x0 : 0;
     int n = frame->count > frame->contact_count ? frame->count : frame->contact_count;
     int *tmp = malloc((size_t)(n > 0 ? n : 1) * sizeof *tmp);
@@ -456,6 +488,7 @@ static int draw_scene_init(DrawScene *sc, const SimFrame *frame, const RenderSty
                 sc->key_vmax = fmax(sc->key_vmax, hypot(frame->vx[i], frame->vy[i]));
         sc->key_scale = sc->style.arrow_scale;
     }
+    arrow_key_size(sc);
     /* The drawers return nothing: what they need is allocated here, where failing is reported. */
     size_t arrows = 0;
     if (sc->style.velocity_arrows && frame->vx && frame->vy && sc->style.arrow_scale > 0)
@@ -696,7 +729,7 @@ static void draw_grain_arrows(cairo_t *cr, const DrawScene *sc, const RenderView
             continue;
         double dx = sc->style.arrow_scale * f->vx[i] * v->scale;
         double dy = -sc->style.arrow_scale * f->vy[i] * v->scale;
-        if (hypot(dx, dy) < 1.0)
+        if (hypot(dx, dy) < fmax(1.0, sc->arrow_cut))
             continue;
         double px, py;
         render_view_to_pixel(v, f->x[i], f->y[i], &px, &py);
@@ -723,7 +756,7 @@ static void draw_field(cairo_t *cr, const DrawScene *sc, const RenderView *v)
                 continue;
             double dx = scale * fd->vx[k] * v->scale;
             double dy = -scale * fd->vy[k] * v->scale;
-            if (hypot(dx, dy) < 1.0)
+            if (hypot(dx, dy) < fmax(1.0, sc->arrow_cut))
                 continue;
             double px, py;
             render_view_to_pixel(v, fd->x0 + (i + 0.5) * fd->cell, fd->y0 + (j + 0.5) * fd->cell,
@@ -930,7 +963,12 @@ static void draw_colorbar(cairo_t *cr, const DrawScene *sc)
     }
     double w = round(1.1 * fs);
     double h = round(fmax(2 * fs, v->plot_h - 2.4 * fs));
-    double top = round(v->plot_y + v->plot_h - h);
+    double top = round(v->plot_y + v->plot_h - h), outer = top;
+    /* End triangles (matplotlib's extend = "max"/"min"): the range's end colour beyond it. */
+    double up = sc->extend & RENDER_EXTEND_MAX ? w : 0,
+           down = sc->extend & RENDER_EXTEND_MIN ? w : 0;
+    top += up;
+    h -= up + down;
     uint8_t lut[256][3];
     render_colormap_lut(s->colormap, lut);
     for (int row = 0; row < (int)h; ++row) {
@@ -944,6 +982,20 @@ static void draw_colorbar(cairo_t *cr, const DrawScene *sc)
     cairo_set_line_width(cr, 1);
     cairo_rectangle(cr, x + 0.5, top + 0.5, w - 1, h - 1);
     cairo_stroke(cr);
+    for (int end = 0; end < 2; ++end) {
+        double len = end ? down : up, base = end ? top + h - 0.5 : top + 0.5;
+        if (!(len > 0))
+            continue;
+        const uint8_t *c = lut[end ? 0 : 255];
+        cairo_move_to(cr, x + 0.5, base);
+        cairo_line_to(cr, x + 0.5 * w, end ? base + len : base - len);
+        cairo_line_to(cr, x + w - 0.5, base);
+        cairo_close_path(cr);
+        cairo_set_source_rgb(cr, c[0] / 255.0, c[1] / 255.0, c[2] / 255.0);
+        cairo_fill_preserve(cr);
+        render_set_rgb(cr, text_rgb);
+        cairo_stroke(cr);
+    }
     double ticks[16];
     int n = render_axis_ticks(sc->lo, sc->hi, 0, 5, ticks, 16);
     int e = render_tick_exponent(ticks, n);
@@ -962,7 +1014,7 @@ static void draw_colorbar(cairo_t *cr, const DrawScene *sc)
     if (e != 0) {
         char offset[48];
         render_exponent_text(e, offset, sizeof offset);
-        render_text_draw(cr, x, top - 1.0 * fs, offset, 0, 1);
+        render_text_draw(cr, x, outer - 1.0 * fs, offset, 0, 1);
     }
     /* Rotated label along the bar. */
     cairo_save(cr);
@@ -1136,19 +1188,14 @@ static void draw_scale_bar(cairo_t *cr, const DrawScene *sc)
     render_text_draw(cr, v->plot_x + len + 0.6 * fs, y, text, 0, 0.5);
 }
 
-/* Reference arrow of the velocity field or arrows, right-aligned under the scale bar's row: a round
- * speed (m/s, or sqrt(g d) in reduced units) at the arrows' own scale. */
+/* Reference arrow of the velocity field or arrows, right-aligned under the scale bar's row, at the
+ * arrows' own scale (arrow_key_size). */
 static void draw_arrow_key(cairo_t *cr, const DrawScene *sc)
 {
     const RenderView *v = &sc->view;
-    double fs = v->font_size, px_per_speed = sc->key_scale * v->scale;
-    if (!(sc->key_vmax > 0) || !(px_per_speed > 0))
-        return;
+    double fs = v->font_size, ref = sc->key_ref, len = sc->key_len, x1 = v->plot_x + v->plot_w;
     int reduced = sc->style.reduced_units && sc->frame->time_scale > 0 && v->mean_diameter > 0;
-    double unit = reduced ? v->mean_diameter / sc->frame->time_scale : 1.0; /* sqrt(g d) */
-    const int normalised = sc->style.normalised_units;                      /* speeds as given */
-    double ref = render_arrow_reference(fmin(sc->key_vmax, 6 * fs / px_per_speed) / unit);
-    double len = ref * unit * px_per_speed, x1 = v->plot_x + v->plot_w;
+    const int normalised = sc->style.normalised_units; /* speeds as given */
     double y = key_row_y(sc) + (sc->style.scale_bar ? 1.6 * fs : 0.0);
     if (!(len > 1))
         return;

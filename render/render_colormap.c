@@ -154,13 +154,9 @@ double render_grain_value(const SimFrame *frame, const RenderStyle *style, int i
     }
 }
 
-void render_color_range(const SimFrame *frame, const RenderStyle *style, double *lo, double *hi)
+/* The largest value of the style's quantity over the frame's mobile grains (0 if none). */
+static double mobile_max(const SimFrame *frame, const RenderStyle *style)
 {
-    if (style->range_min < style->range_max) {
-        *lo = style->range_min;
-        *hi = style->range_max;
-        return;
-    }
     double m = 0;
     for (int i = 0; i < frame->count; ++i) {
         if (frame->flags && (frame->flags[i] & SIM_GRAIN_FIXED))
@@ -169,8 +165,62 @@ void render_color_range(const SimFrame *frame, const RenderStyle *style, double 
         if (v > m)
             m = v;
     }
+    return m;
+}
+
+void render_color_range(const SimFrame *frame, const RenderStyle *style, double *lo, double *hi)
+{
+    if (style->range_min < style->range_max) {
+        *lo = style->range_min;
+        *hi = style->range_max;
+        return;
+    }
+    double m = mobile_max(frame, style);
     *lo = 0;
     *hi = m > 0 ? m : 1;
+}
+
+static int continuous(const RenderStyle *style)
+{
+    return style->color_by == RENDER_COLOR_FORCE || style->color_by == RENDER_COLOR_SPEED;
+}
+
+/* One colour scale per movie or figure series: a scale that follows each frame's maximum makes
+ * frames incomparable (the same colour means 1 N in one frame and 6000 N in the next). Frames
+ * come one at a time while the simulation runs, so the range cannot come from a pass over all of
+ * them: it is fixed at the first frame with a non-zero value, with a quarter of headroom for the
+ * growth that follows, and what still exceeds it saturates, as the bar's end triangle says. */
+int render_color_lock(const SimFrame *frame, RenderStyle *style)
+{
+    if (!continuous(style))
+        return 1;
+    if (style->range_min < style->range_max) {
+        style->color_extend |= RENDER_EXTEND_MAX | (style->range_min > 0 ? RENDER_EXTEND_MIN : 0);
+        return 1;
+    }
+    double m = frame ? mobile_max(frame, style) : 0;
+    if (!(m > 0) || !isfinite(m))
+        return 0;
+    double lo = 0, hi = 1.25 * m;
+    render_axis_nice_range(&lo, &hi, 0, 5);
+    style->range_min = 0;
+    style->range_max = hi;
+    style->color_extend |= RENDER_EXTEND_MAX;
+    return 1;
+}
+
+int render_color_extend(const SimFrame *frame, const RenderStyle *style, double lo, double hi)
+{
+    int bits = style->color_extend & (RENDER_EXTEND_MAX | RENDER_EXTEND_MIN);
+    if (!continuous(style) || !(style->range_min < style->range_max))
+        return bits;
+    for (int i = 0; i < frame->count; ++i) {
+        if (frame->flags && (frame->flags[i] & SIM_GRAIN_FIXED))
+            continue;
+        double v = render_grain_value(frame, style, i);
+        bits |= v > hi ? RENDER_EXTEND_MAX : v < lo ? RENDER_EXTEND_MIN : 0;
+    }
+    return bits;
 }
 
 uint32_t render_grain_rgb(const SimFrame *frame, const RenderStyle *style, int i, double lo,

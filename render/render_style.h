@@ -84,6 +84,15 @@ typedef struct RenderStyle {
     /// sqrt(d/g) and speeds in sqrt(g d) (|g| = 1), RENDER_UNITS_NORMALISED writes times bare.
     /// 0 = not declared.
     int normalised_units;
+    /// Ends of the colour bar drawn as triangles (RENDER_EXTEND_* bits), as matplotlib's
+    /// `extend`: values beyond a fixed range saturate at the end colour. A frame whose own values
+    /// leave a fixed range adds that end; 0 = only those. Movies and figure series set
+    /// RENDER_EXTEND_MAX when they fix their range (render_color_lock), so every frame's bar is
+    /// the same.
+    int color_extend;
+    /// Grain and field arrows shorter than this fraction of the reference (key) arrow are not
+    /// drawn, so grains at rest carry no dot (0 = 0.1; negative = draw every arrow).
+    double arrow_min;
 } RenderStyle;
 
 /// Default font size of grain figures, movies and heat maps: points at the print size (pixels /
@@ -93,6 +102,9 @@ typedef struct RenderStyle {
 
 /// RenderStyle.normalised_units
 enum { RENDER_UNITS_NORMALISED = 1, RENDER_UNITS_NORMALISED_G = 2 };
+
+/// RenderStyle.color_extend bits
+enum { RENDER_EXTEND_MAX = 1, RENDER_EXTEND_MIN = 2 };
 
 /// Defaults: 1280x720, sand-coloured outlined disks on white, fit view, colour bar, time stamp
 /// and scale bar on; colour map viridis, chains off.

@@ -50,6 +50,7 @@ typedef struct Slot {
 
 struct RenderMovie {
     RenderStyle style;
+    int range_fixed; /* render_color_lock has fixed the style's colour range */
     RenderDrawer drawer;
     int width, height; ///< pixels
     int quiet;
@@ -563,6 +564,8 @@ int render_movie_frame(RenderMovie *movie, const SimFrame *frame)
     if (failed)
         return -1;
     char message[256];
+    if (!movie->range_fixed) /* one colour range for the whole movie */
+        movie->range_fixed = render_color_lock(frame, &movie->style);
     if (movie->drawer == RENDER_DRAWER_OSMESA) {
         if (render_gl_frame_to(movie->gl, frame, &movie->style, &slot->image, message,
                                sizeof message)) {

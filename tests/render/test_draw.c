@@ -350,8 +350,141 @@ static int default_font_in_points(void)
     return 0;
 }
 
+/* A fixed range that the values exceed saturates: the colour bar gets an end triangle of the
+ * top colour above its top (matplotlib's extend = "max"); a range the values fit has none. */
+static int colorbar_extend(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 10, 6, 0.01, 2) == 0);
+    RenderStyle s = quiet_style(320, 240);
+    s.color_by = RENDER_COLOR_FORCE;
+    s.colorbar = 1;
+    s.range_min = 0;
+    s.range_max = 1e9;
+    TEST_ASSERT(render_color_extend(&f.frame, &s, 0, 1e9) == 0);
+    s.range_max = 0.5; /* the bed's forces go up to about 8 */
+    TEST_ASSERT(render_color_extend(&f.frame, &s, 0, 0.5) == RENDER_EXTEND_MAX);
+    RenderView v;
+    render_view_fit(&f.frame, &s, &v);
+    /* the bar's outer box as draw_colorbar lays it out */
+    double fs = v.font_size, x = round(v.plot_x + v.plot_w + 1.2 * fs), w = round(1.1 * fs);
+    double top = round(v.plot_y + v.plot_h - round(fmax(2 * fs, v.plot_h - 2.4 * fs)));
+    uint32_t yellow = render_colormap_rgb(s.colormap, 1.0);
+    for (int extend = 0; extend < 2; ++extend) {
+        s.range_max = extend ? 0.5 : 1e9;
+        RenderImage image;
+        TEST_ASSERT(render_cairo_draw(&f.frame, &s, &image) == 0);
+        /* the triangle's middle is the top colour, its corner beside the tip is background */
+        uint32_t mid = fixture_pixel(&image, x + 0.5 * w, top + 0.8 * w);
+        uint32_t corner = fixture_pixel(&image, x + 0.2 * w, top + 0.2 * w);
+        if (extend)
+            TEST_ASSERT(mid == yellow && corner == s.background_rgb);
+        else
+            TEST_ASSERT(corner != s.background_rgb);
+        render_image_free(&image);
+    }
+    fixture_free(&f);
+    return 0;
+}
+
+/* One colour scale per series: the range fixed by the first frame with values (a quarter of
+ * headroom, rounded up) stays while the values grow; a declared range is kept. */
+static int color_lock(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 10, 6, 0.01, 2) == 0);
+    RenderStyle s = render_style_default();
+    s.color_by = RENDER_COLOR_FORCE;
+    double top = 0;
+    for (int i = 0; i < f.frame.count; ++i)
+        if (!f.flags[i])
+            top = fmax(top, f.force[i]);
+    const double *force = f.frame.force;
+    f.frame.force = NULL; /* a frame without forces: nothing to scale by yet */
+    TEST_ASSERT(render_color_lock(&f.frame, &s) == 0);
+    TEST_ASSERT(!(s.range_min < s.range_max));
+    f.frame.force = force;
+    TEST_ASSERT(render_color_lock(&f.frame, &s) == 1);
+    double lo = s.range_min, hi = s.range_max;
+    TEST_ASSERT(lo == 0 && hi >= 1.25 * top && hi <= 2.5 * top);
+    TEST_ASSERT(s.color_extend == RENDER_EXTEND_MAX);
+    for (int i = 0; i < f.frame.count; ++i)
+        f.force[i] *= 100;
+    TEST_ASSERT(render_color_lock(&f.frame, &s) == 1);
+    TEST_ASSERT(s.range_min == lo && s.range_max == hi);
+    RenderStyle declared = render_style_default();
+    declared.color_by = RENDER_COLOR_FORCE;
+    declared.range_min = 1;
+    declared.range_max = 3;
+    TEST_ASSERT(render_color_lock(&f.frame, &declared) == 1);
+    TEST_ASSERT(declared.range_min == 1 && declared.range_max == 3);
+    TEST_ASSERT(declared.color_extend == (RENDER_EXTEND_MAX | RENDER_EXTEND_MIN));
+    fixture_free(&f);
+    return 0;
+}
+
+/* Arrows shorter than a tenth of the key are left out: grains that barely move carry no dot. */
+static int arrows_below_key(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 10, 6, 0.01, 4) == 0);
+    RenderStyle s = quiet_style(320, 240);
+    s.velocity_arrows = 1;
+    int fast = -1;
+    for (int i = 0; i < f.frame.count; ++i) {
+        f.vx[i] = f.vy[i] = 0;
+        if (!f.flags[i] && fast < 0)
+            fast = i;
+    }
+    f.vx[fast] = 1.0;
+    RenderImage still, slow;
+    TEST_ASSERT(render_cairo_draw(&f.frame, &s, &still) == 0);
+    for (int i = 0; i < f.frame.count; ++i)
+        if (i != fast && !f.flags[i])
+            f.vx[i] = 0.03; /* 3 % of the fastest: a few pixels, under a tenth of the key */
+    TEST_ASSERT(render_cairo_draw(&f.frame, &s, &slow) == 0);
+    TEST_ASSERT(memcmp(still.pixels, slow.pixels, (size_t)still.stride * still.height) == 0);
+    s.arrow_min = -1; /* every arrow */
+    render_image_free(&slow);
+    TEST_ASSERT(render_cairo_draw(&f.frame, &s, &slow) == 0);
+    TEST_ASSERT(memcmp(still.pixels, slow.pixels, (size_t)still.stride * still.height) != 0);
+    render_image_free(&still);
+    render_image_free(&slow);
+    fixture_free(&f);
+    return 0;
+}
+
+/* The reference arrow is at least 5 mm long at the figure's print size (600 dpi here), where
+ * the 6 em rule alone would give 2.5 mm at most. */
+static int arrow_key_length(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 10, 6, 0.01, 4) == 0);
+    RenderStyle s = quiet_style(320, 240);
+    s.velocity_arrows = 1;
+    s.dpi = 600;
+    s.font_size = 10;
+    RenderImage image;
+    TEST_ASSERT(render_cairo_draw(&f.frame, &s, &image) == 0);
+    RenderView v;
+    render_view_fit(&f.frame, &s, &v);
+    /* the longest dark run in a row under the plot: the key's shaft (text runs are shorter) */
+    int longest = 0;
+    for (int y = (int)ceil(v.plot_y + v.plot_h) + 1; y < image.height; ++y)
+        for (int x = 0, run = 0; x < image.width; ++x) {
+            run = (fixture_pixel(&image, x, y) & 0xff) < 0xa0 ? run + 1 : 0;
+            longest = run > longest ? run : longest;
+        }
+    fprintf(stderr, "arrow key: %d pixels, %.2f mm at 600 dpi\n", longest, longest / 600.0 * 25.4);
+    TEST_ASSERT(longest >= 5.0 / 25.4 * 600 - 1);
+    render_image_free(&image);
+    fixture_free(&f);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(grains_fixed), TEST_CASE(grains_force_viridis), TEST_CASE(force_chains),
           TEST_CASE(velocity_arrows), TEST_CASE(arches), TEST_CASE(periodic_seam),
           TEST_CASE(species_and_bands), TEST_CASE(annotations), TEST_CASE(disk_colours_exact),
           TEST_CASE(chain_selection), TEST_CASE(colormaps), TEST_CASE(color_range),
-          TEST_CASE(default_font_in_points))
+          TEST_CASE(default_font_in_points), TEST_CASE(colorbar_extend), TEST_CASE(color_lock),
+          TEST_CASE(arrows_below_key), TEST_CASE(arrow_key_length))

@@ -8,6 +8,7 @@
 
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <sys/stat.h>
@@ -111,11 +112,38 @@ typedef struct Probe {
     int frames;                ///< decoded
     int sample_count;          ///< frames sampled into sample_yuv
     uint8_t sample_yuv[64][3]; ///< Y, U, V at the image centre of decoded frames 0..63
+    int strip_x0;              ///< > 0: strip_change measured over the columns x >= strip_x0
+    double strip_change;       ///< largest mean |Y - Y of frame 0| over the strip, luma levels
+    uint8_t *strip;            ///< frame 0's luma over the strip (probe_movie's own)
 } Probe;
 
-static int probe_movie(const char *path, Probe *probe)
+/* Mean |Y - Y of frame 0| over the columns x >= strip_x0 (frame 0's luma kept on the first call).
+ */
+static void probe_strip(Probe *probe, const AVFrame *frame)
+{
+    int x0 = probe->strip_x0, w = frame->width - x0, h = frame->height;
+    if (x0 <= 0 || w <= 0)
+        return;
+    if (!probe->strip) {
+        probe->strip = malloc((size_t)w * (size_t)h);
+        for (int y = 0; probe->strip && y < h; ++y)
+            memcpy(probe->strip + (size_t)y * w, frame->data[0] + y * frame->linesize[0] + x0,
+                   (size_t)w);
+        return;
+    }
+    double sum = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            sum += abs(frame->data[0][y * frame->linesize[0] + x0 + x] -
+                       probe->strip[(size_t)y * w + x]);
+    probe->strip_change = fmax(probe->strip_change, sum / ((double)w * h));
+}
+
+/* probe_movie, measuring strip_change over the columns x >= strip_x0 (0: none). */
+static int probe_movie_strip(const char *path, int strip_x0, Probe *probe)
 {
     memset(probe, 0, sizeof *probe);
+    probe->strip_x0 = strip_x0;
     AVFormatContext *format = NULL;
     AVCodecContext *codec = NULL;
     AVPacket *packet = av_packet_alloc();
@@ -168,6 +196,8 @@ static int probe_movie(const char *path, Probe *probe)
                 yuv[1] = frame->data[1][(cy / 2) * frame->linesize[1] + cx / 2];
                 yuv[2] = frame->data[2][(cy / 2) * frame->linesize[2] + cx / 2];
             }
+            if (frame->format == AV_PIX_FMT_YUV420P)
+                probe_strip(probe, frame);
             probe->frames += 1;
             av_frame_unref(frame);
         }
@@ -176,6 +206,8 @@ static int probe_movie(const char *path, Probe *probe)
     }
     ok = 1;
 done:
+    free(probe->strip);
+    probe->strip = NULL;
     avcodec_free_context(&codec);
     avformat_close_input(&format);
     av_packet_free(&packet);
@@ -184,6 +216,11 @@ done:
 }
 
 /* Top-level MP4 boxes in file order: 1 when "moov" comes before "mdat" (+faststart). */
+static int probe_movie(const char *path, Probe *probe)
+{
+    return probe_movie_strip(path, 0, probe);
+}
+
 static int moov_before_mdat(const char *path)
 {
     FILE *file = fopen(path, "rb");
@@ -461,7 +498,53 @@ static int mp4_cairo_drawer(void)
     return 0;
 }
 
+/* One colour scale per movie: frames whose forces grow twentyfold keep the colour bar of the
+ * first (range fixed there with headroom, render_color_lock), with the saturation triangle, in
+ * both drawers: the decoded bar and its labels do not change (only the codec's noise). */
+static int colorbar_strip_change(RenderDrawer drawer, const char *path, double *change)
+{
+    RenderStyle style = small_style(320, 240);
+    style.color_by = RENDER_COLOR_FORCE;
+    style.colorbar = 1;
+    style.font_size = 12;
+    char err[512];
+    RenderMovieDef def = movie_def(path, drawer);
+    RenderMovie *movie = render_movie_open(&def, &style, err, sizeof err);
+    TEST_ASSERT(movie != NULL);
+    Scene scene;
+    for (int k = 0; k < 12; ++k) {
+        scene_init(&scene, 0.0);
+        for (int i = 0; i < 3; ++i)
+            scene.force[i] *= 1.0 + 2.0 * k;
+        TEST_ASSERT(render_movie_frame(movie, &scene.frame) == 0);
+    }
+    TEST_ASSERT(render_movie_close(movie, err, sizeof err) == 0);
+    RenderView view;
+    scene_init(&scene, 0.0);
+    render_view_fit(&scene.frame, &style, &view);
+    Probe p;
+    TEST_ASSERT(probe_movie_strip(path, (int)ceil(view.plot_x + view.plot_w) + 2, &p) == 0);
+    TEST_ASSERT(p.frames == 12);
+    *change = p.strip_change;
+    return 0;
+}
+
+static int mp4_one_colour_scale(void)
+{
+    make_out_dir();
+    double cairo = -1, gl = -1;
+    TEST_ASSERT(
+        colorbar_strip_change(RENDER_DRAWER_CAIRO, OUT_DIR "/mp4_scale_cairo.mp4", &cairo) == 0);
+    fprintf(stderr, "colour bar change over the movie, Cairo: %.3f luma levels\n", cairo);
+    TEST_ASSERT(cairo >= 0 && cairo < 1.0);
+    TEST_ASSERT(colorbar_strip_change(RENDER_DRAWER_OSMESA, OUT_DIR "/mp4_scale_gl.mp4", &gl) == 0);
+    fprintf(stderr, "colour bar change over the movie, OSMesa: %.3f luma levels\n", gl);
+    TEST_ASSERT(gl >= 0 && gl < 1.0);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(mp4_properties), TEST_CASE(mp4_colour_roundtrip),
           TEST_CASE(mp4_odd_size_rejected), TEST_CASE(mp4_bad_settings_rejected),
           TEST_CASE(mp4_temp_then_rename), TEST_CASE(mp4_errors_sticky),
-          TEST_CASE(mp4_mpeg4_encoder), TEST_CASE(mp4_cairo_drawer))
+          TEST_CASE(mp4_mpeg4_encoder), TEST_CASE(mp4_cairo_drawer),
+          TEST_CASE(mp4_one_colour_scale))
