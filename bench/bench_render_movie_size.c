@@ -3,14 +3,17 @@
  * Constrained Baseline) against the current ones (RENDER_MOVIE_PRESET: High profile) at the same
  * quality, on the frames of a real movie.
  *
- *     bench_render_movie_size SOURCE.mp4 [old_crf [max_frames]]   (default 20, 300)
+ *     bench_render_movie_size SOURCE.mp4 [old_crf [max_frames [tune [preset [x264-params]]]]]
+ *
+ * (defaults 20, 300, no tune, RENDER_MOVIE_PRESET, none: the current settings; the last three
+ * try others for the current side)
  *
  * SOURCE is a lossless movie of sablier's own pipeline (output.crf = 0: the yuv420p frames the
  * encoder was given, exactly), e.g. the quick crater collapse:
  *     sablier run scenes/crater/quick.scene --out /tmp/q --set output.crf=0 \
  *         --set output.movie_speed=0.25 --set 'output.movie=["collapse"]'
  * Its frames are encoded with the previous settings at old_crf, then with the current settings
- * at CRF old_crf - 12 .. old_crf in steps of 2; each result is decoded and compared with the source frames
+ * at CRF old_crf - 8 .. old_crf + 4; each result is decoded and compared with the source frames
  * by PSNR (all three planes, one MSE over every sample) and SSIM (luma, 8x8 windows on a 4-pixel
  * grid with the constants of Wang et al. 2004, IEEE Trans. Image Process. 13(4) 600, eq. 13).
  * "Same quality" is the largest CRF whose PSNR and SSIM are both at least the previous
@@ -26,6 +29,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 typedef struct Frames {
     int width, height, count;
@@ -128,9 +132,10 @@ static void frames_free(Frames *f)
 
 /* Encodes the frames with libx264 (preset, CRF, the movies' thread count) into an MP4 at `path`,
  * as render_video.c does. The file's size in bytes, or -1. */
-static const char *tune; /* x264 tune of the current settings (argument 4), NULL = none */
+static const char *tune;   /* x264 tune of the current settings (argument 4), NULL = none */
+static const char *params; /* x264-params of the current settings (argument 6), NULL = none */
 
-static long encode(const Frames *src, const char *preset, int crf, const char *path)
+static long encode(const Frames *src, const char *preset, int current, int crf, const char *path)
 {
     const AVCodec *encoder = avcodec_find_encoder_by_name("libx264");
     AVFormatContext *format = NULL;
@@ -154,8 +159,10 @@ static long encode(const Frames *src, const char *preset, int crf, const char *p
     snprintf(value, sizeof value, "%d", crf);
     av_opt_set(codec->priv_data, "preset", preset, 0);
     av_opt_set(codec->priv_data, "crf", value, 0);
-    if (tune && strcmp(preset, "ultrafast") != 0)
+    if (tune && current)
         av_opt_set(codec->priv_data, "tune", tune, 0);
+    if (params && current)
+        av_opt_set(codec->priv_data, "x264-params", params, 0);
     if (!stream || avcodec_open2(codec, encoder, NULL) < 0 ||
         avcodec_parameters_from_context(stream->codecpar, codec) < 0)
         goto done;
@@ -256,16 +263,16 @@ typedef struct Result {
     double psnr, ssim, cpu_ms; ///< dB, 1, CPU ms per frame (encode only)
 } Result;
 
-static int measure(const Frames *src, const char *preset, int crf, Result *r)
+static int measure(const Frames *src, const char *preset, int current, int crf, Result *r)
 {
-    const char *path = "/tmp/bench_render_movie_size.mp4";
+    char path[128];
+    snprintf(path, sizeof path, "/tmp/bench_render_movie_size_%ld.mp4", (long)getpid());
     double t0 = cpu_seconds();
-    r->bytes = encode(src, preset, crf, path);
+    r->bytes = encode(src, preset, current, crf, path);
     r->cpu_ms = 1e3 * (cpu_seconds() - t0) / src->count;
     Frames got;
     int rc = r->bytes < 0 ? -1 : decode(path, src->count + 5, &got);
     if (rc != 0 || got.count != src->count) {
-        fprintf(stderr, "bytes %ld rc %d count %d\n", r->bytes, rc, rc ? -1 : got.count);
         fprintf(stderr, "encoding with %s at CRF %d failed\n", preset, crf);
         return -1;
     }
@@ -284,8 +291,9 @@ int main(int argc, char **argv)
         return 2;
     }
     int old_crf = argc > 2 ? atoi(argv[2]) : 20, max = argc > 3 ? atoi(argv[3]) : 300;
-    tune = argc > 4 ? argv[4] : RENDER_MOVIE_TUNE;
+    tune = argc > 4 && argv[4][0] ? argv[4] : NULL;
     const char *preset = argc > 5 ? argv[5] : RENDER_MOVIE_PRESET;
+    params = argc > 6 ? argv[6] : NULL;
     av_log_set_level(AV_LOG_WARNING);
     Frames src;
     if (max < 1 || decode(argv[1], max, &src) != 0 || src.count == 0) {
@@ -296,10 +304,10 @@ int main(int argc, char **argv)
            src.height, RENDER_MOVIE_THREADS);
     Result old, now, best = {0};
     int best_crf = -1;
-    if (measure(&src, "ultrafast", old_crf, &old) != 0)
+    if (measure(&src, "ultrafast", 0, old_crf, &old) != 0)
         return 1;
-    for (int crf = old_crf - 12; crf <= old_crf; crf += 2) {
-        if (measure(&src, preset, crf, &now) != 0)
+    for (int crf = old_crf - 8; crf <= old_crf + 4; ++crf) {
+        if (measure(&src, preset, 1, crf, &now) != 0)
             return 1;
         if (now.psnr >= old.psnr && now.ssim >= old.ssim) {
             best = now;
@@ -307,12 +315,11 @@ int main(int argc, char **argv)
         }
     }
     if (best_crf < 0)
-        printf("no CRF of %s reaches the quality of ultrafast CRF %d\n", preset,
-               old_crf);
+        printf("no CRF of %s reaches the quality of ultrafast CRF %d\n", preset, old_crf);
     else
         printf("same quality: %s CRF %d is %.3f x the bytes of ultrafast CRF %d (%ld / %ld)\n",
-               preset, best_crf, (double)best.bytes / (double)old.bytes, old_crf,
-               best.bytes, old.bytes);
+               preset, best_crf, (double)best.bytes / (double)old.bytes, old_crf, best.bytes,
+               old.bytes);
     frames_free(&src);
     return 0;
 }

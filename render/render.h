@@ -286,8 +286,6 @@ typedef enum RenderDrawer {
 
 /// libx264 preset of movies: the fastest giving H.264 High profile (render_video.c).
 #define RENDER_MOVIE_PRESET  "superfast"
-/// libx264 tune of movies (render_video.c; bench_render_movie_size measures it).
-#define RENDER_MOVIE_TUNE    "psnr"
 /// Encoder threads of every movie, fixed so that a movie's bytes do not depend on the machine.
 #define RENDER_MOVIE_THREADS 4
 /// The highest movie frame rate the encoder takes, frames/s.
