@@ -351,9 +351,11 @@ RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *sty
     if (!encoder && !def->encoder) {
         encoder = avcodec_find_encoder(AV_CODEC_ID_MPEG4);
         if (encoder)
-            fprintf(stderr,
-                    "warning: %s: libavcodec has no libx264; encoding MPEG-4 part 2 instead\n",
-                    movie->path);
+            fprintf(
+                stderr,
+                "warning: %s: libavcodec has no libx264 encoder; encoding MPEG-4 part 2 instead "
+                "(larger files; a libavcodec built with libx264 gives H.264 High profile)\n",
+                movie->path);
     }
     if (!encoder) {
         fail(movie, "%s: libavcodec has no encoder named %s", movie->path, name);
