@@ -577,13 +577,17 @@ static void progress(Run *run, int k, double elapsed, double duration, double ra
     if (!run->progress_tty)
         return;
     double left = duration > elapsed && rate > 0.0 ? (duration - elapsed) / rate : 0.0;
+    double encode = 0.0;
     const AppRender *render = run->options->render;
     if (stage->movie && render && render->movie_encode_left) { /* encoding runs alongside */
-        long to_come = (long)fmax(0.0, (duration - elapsed) * run->scene->output.frame_rate);
-        left = fmax(left, render->movie_encode_left(render->context, to_come));
+        long to_come = (long)fmax(0.0, (duration - elapsed) / scene_frame_interval(run->scene, k));
+        encode = render->movie_encode_left(render->context, to_come);
+        left = fmax(left, encode);
     }
     fprintf(stderr, "\r\033[Ksablier: %s  t = %.3f / %.3f s  %.3g steps/s  ETA %.0f s", stage->name,
             elapsed, duration, rate / sim_world_time_step(run->world), left);
+    if (encode > 0.0) /* the movie encoder's share: what it still owes */
+        fprintf(stderr, " (movie encoding %.0f s)", encode);
     fflush(stderr);
 }
 
@@ -694,7 +698,7 @@ static int stage_clock(Run *run, int k, StageClock *clock)
         .dt = dt,
         .total = (long)llround(stage->duration / dt), /* <= SCENE_MAX_STEPS (scene_load) */
         .every_energy = cadence_steps(out->energy_every / dt),
-        .every_frame = cadence_steps(1.0 / (out->frame_rate * dt)),
+        .every_frame = cadence_steps(scene_frame_interval(scene, k) / dt),
         .every_trace = cadence_steps(out->trace_every / dt),
         .movie = stage->movie && render && render->movie_open,
         .every_dump = app_dump_every_steps(&out->dump[k], dt),

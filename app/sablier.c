@@ -394,18 +394,17 @@ static int command_check(int argc, char **argv)
         if (s->remove_count)
             printf(", remove %d ids", s->remove_count);
         print_stage_forcing(scene, k);
-        printf("%s\n", s->movie ? ", movie" : "");
+        if (s->movie) /* the pace: frame interval and speed (docs/scenes.md#output) */
+            printf(", movie: a frame every %g%s, %g%s simulated per s of video",
+                   scene_frame_interval(scene, k), u[2],
+                   scene_frame_interval(scene, k) * scene->output.fps, u[2]);
+        printf("\n");
         print_timing(scene, k);
         app_dump_describe(&scene->output.dump[k], s->duration, s->time_step, stdout);
     }
     const SceneOutput *o = &scene->output;
-    char per[128]; /* frames per simulated second, or per the scene's unit of time */
-    if (strcmp(u[2], " s") == 0 || !u[2][0])
-        snprintf(per, sizeof per, "%s", u[2][0] ? "simulated second" : "time unit");
-    else
-        snprintf(per, sizeof per, "%s of simulated time", u[2] + 1);
-    printf("output   energy every %g%s, %g frames per %s, %d figures, %d traced grains\n",
-           o->energy_every, u[2], o->frame_rate, per, o->figure_count, o->trace_count);
+    printf("output   energy every %g%s, %d figures, %d traced grains\n", o->energy_every, u[2],
+           o->figure_count, o->trace_count);
     for (int k = 0; k < o->figure_count; ++k)
         if (o->figures[k].at_end == 2)
             printf("figure %s.%s: stage %s, at %g%s after its start\n", o->figures[k].name,

@@ -132,6 +132,8 @@ typedef struct SceneDrag {
 typedef struct SceneOutput {
     double frame_rate;         ///< movie frames per simulated second, 1/s
     double fps;                ///< video frames per second of movie, 1/s
+    double movie_speed;        ///< simulated s per s of video (0: frame_rate or movie_duration)
+    double movie_duration;     ///< s of video per stage of time.end (0: unset)
     int crf;                   ///< libx264 quality
     int drawer;                ///< 0 cairo, 1 osmesa (RenderDrawer order)
     double energy_every;       ///< s of simulated time between energy.csv rows
@@ -268,5 +270,8 @@ const char *scene_axis_label(const Scene *scene, const char *name, SceneQuantity
 
 /// "libconfig 1.5.0"
 const char *scene_libconfig_version(void);
+/// Simulated time between stage k's movie frames, s: movie_speed / fps, else time.end /
+/// (movie_duration fps), else 1 / frame_rate (docs/scenes.md#output).
+double scene_frame_interval(const Scene *scene, int k);
 
 #endif

@@ -454,11 +454,66 @@ static int parse_trace(Loader *L, const config_setting_t *output)
     return 0;
 }
 
+/* frame_rate, movie_speed and movie_duration each set the simulated time between movie frames:
+ * at most one of them (refused at the later one in the file). Then every stage's interval at
+ * least its time step (a frame per step at the most), when the step is known now. */
+static int check_movie_pace(Loader *L, const config_setting_t *output)
+{
+    static const char *const keys[] = {"frame_rate", "movie_speed", "movie_duration"};
+    const config_setting_t *first = NULL, *later = NULL; /* in file order */
+    for (int k = 0; k < 3; ++k) {
+        const config_setting_t *s = app_config_member(output, keys[k]);
+        if (!s)
+            continue;
+        if (!first || config_setting_source_line(s) < config_setting_source_line(first)) {
+            later = later ? later : first;
+            first = s;
+        } else if (!later || config_setting_source_line(s) > config_setting_source_line(later)) {
+            later = s;
+        }
+    }
+    if (later)
+        return app_config_fail(&L->p, later,
+                               "`%s` contradicts `%s` (line %u): each sets the simulated time "
+                               "between movie frames (frame_rate = fps / movie_speed, movie_speed "
+                               "= time.end / movie_duration); give one",
+                               config_setting_name(later), config_setting_name(first),
+                               config_setting_source_line(first));
+    const SceneOutput *out = &L->scene->output;
+    const config_setting_t *pace = app_config_member(output, "movie_speed");
+    if (!pace)
+        pace = app_config_member(output, "movie_duration");
+    for (int k = 0; pace && k < L->scene->stage_count; ++k) {
+        const SceneStage *stage = &L->scene->stages[k];
+        double dt = stage->time_step, every = scene_frame_interval(L->scene, k);
+        if (stage->duration > 0.0 && dt > 0.0 && every < dt)
+            return app_config_fail(
+                &L->p, pace,
+                "`%s` asks a frame every %g s in stage %s, less than its time step dt = %g s "
+                "(at fps = %g the slowest movie_speed is %g)",
+                config_setting_name(pace), every, stage->name, dt, out->fps, out->fps * dt);
+    }
+    return 0;
+}
+
+double scene_frame_interval(const Scene *scene, int k)
+{
+    const SceneOutput *out = &scene->output;
+    if (out->movie_speed > 0.0)
+        return out->movie_speed / out->fps;
+    double end = k >= 0 && k < scene->stage_count ? scene->stages[k].duration : 0.0;
+    if (out->movie_duration > 0.0 && end > 0.0)
+        return end / (out->movie_duration * out->fps);
+    return 1.0 / out->frame_rate;
+}
+
 int loader_parse_output(Loader *L, const config_setting_t *root)
 {
     static const char *const keys[] = {"frame_rate",
                                        "fps",
                                        "crf",
+                                       "movie_speed",
+                                       "movie_duration",
                                        "movie",
                                        "drawer",
                                        "energy_every",
@@ -495,6 +550,12 @@ int loader_parse_output(Loader *L, const config_setting_t *root)
         app_config_number(&L->p, output, "fps", &out->fps) < 0 ||
         app_config_positive(&L->p, output, "fps", out->fps) < 0 ||
         app_config_int(&L->p, output, "crf", &crf) < 0 ||
+        app_config_number(&L->p, output, "movie_speed", &out->movie_speed) < 0 ||
+        (app_config_member(output, "movie_speed") &&
+         app_config_positive(&L->p, output, "movie_speed", out->movie_speed) < 0) ||
+        app_config_number(&L->p, output, "movie_duration", &out->movie_duration) < 0 ||
+        (app_config_member(output, "movie_duration") &&
+         app_config_positive(&L->p, output, "movie_duration", out->movie_duration) < 0) ||
         app_config_choice(&L->p, output, "drawer", drawers, &out->drawer) < 0 ||
         app_config_choice(&L->p, output, "movie_view", movie_views, &out->movie_view) < 0 ||
         app_config_number(&L->p, output, "energy_every", &out->energy_every) < 0 ||
@@ -520,8 +581,8 @@ int loader_parse_output(Loader *L, const config_setting_t *root)
                                out->fps);
     if (out->trace_every < 0.0)
         out->trace_every = out->energy_every;
-    if (parse_movie(L, output) < 0 || parse_trace(L, output) < 0 ||
-        app_dump_parse(&L->p, root, scene) < 0)
+    if (check_movie_pace(L, output) < 0 || parse_movie(L, output) < 0 ||
+        parse_trace(L, output) < 0 || app_dump_parse(&L->p, root, scene) < 0)
         return -1;
     return parse_figures(L, output);
 }

@@ -294,6 +294,10 @@ typedef enum RenderDrawer {
     RENDER_DRAWER_OSMESA = 1,
 } RenderDrawer;
 
+/// libx264 preset of movies: the fastest giving H.264 High profile (render_video.c).
+#define RENDER_MOVIE_PRESET  "superfast"
+/// Encoder threads of every movie, fixed so that a movie's bytes do not depend on the machine.
+#define RENDER_MOVIE_THREADS 4
 /// The highest movie frame rate the encoder takes, frames/s.
 #define RENDER_VIDEO_MAX_FPS 1000.0
 
@@ -306,7 +310,7 @@ typedef struct RenderMovieDef {
     RenderMeta meta;
     /* Added by the movie side (render_video.c); zero keeps the default. */
     long frames_expected; ///< frames the run will give, for the progress ETA (0 = unknown)
-    const char *preset;   ///< libx264 preset, NULL = "ultrafast"
+    const char *preset;   ///< libx264 preset, NULL = RENDER_MOVIE_PRESET
     const char *encoder;  ///< libavcodec encoder; NULL = "libx264" ("mpeg4" + warning if absent)
 } RenderMovieDef;
 

@@ -36,11 +36,11 @@
  * enough to bound memory (8 MiB drawn + 3 MiB converted each at 1080p). */
 enum { QUEUE_SLOTS = 3 };
 
-/* Default libx264 preset: the one that keeps the whole pipeline (OSMesa draw + overlay +
- * conversion + x264) above 25 frames/s at 1080p on 2 cores (bench/README.md: ultrafast about 62
- * CPU ms per frame, superfast 79, veryfast 89); files are about 1.4x superfast's at the same
- * CRF. RenderMovieDef.preset picks another. */
-#define DEFAULT_PRESET "ultrafast"
+/* Default libx264 preset: the fastest one that gives H.264 High profile (ultrafast turns off
+ * CABAC, B-frames and the 8x8 transform: Constrained Baseline). bench/README.md ("Movie size")
+ * compares it with ultrafast at the same PSNR and SSIM (bench_render_movie_size);
+ * RenderMovieDef.preset picks another. */
+#define DEFAULT_PRESET RENDER_MOVIE_PRESET
 
 /* One queue entry: the drawn image (drawer's format) and its yuv420p conversion. */
 typedef struct Slot {
@@ -352,9 +352,11 @@ RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *sty
     if (!encoder && !def->encoder) {
         encoder = avcodec_find_encoder(AV_CODEC_ID_MPEG4);
         if (encoder)
-            fprintf(stderr,
-                    "warning: %s: libavcodec has no libx264; encoding MPEG-4 part 2 instead\n",
-                    movie->path);
+            fprintf(
+                stderr,
+                "warning: %s: libavcodec has no libx264 encoder; encoding MPEG-4 part 2 instead "
+                "(larger files; a libavcodec built with libx264 gives H.264 High profile)\n",
+                movie->path);
     }
     if (!encoder) {
         fail(movie, "%s: libavcodec has no encoder named %s", movie->path, name);
@@ -385,7 +387,9 @@ RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *sty
     codec->time_base = av_inv_q(rate);
     codec->gop_size = (int)ceil(2.0 * fps); /* a key frame every 2 s keeps movies seekable */
     codec->sample_aspect_ratio = (AVRational){1, 1};
-    codec->thread_count = 0; /* encoder's own choice (x264: 1.5 threads per core) */
+    /* A fixed thread count: x264's output depends on it (deterministic for a given count), so
+     * the same scene gives the same bytes on any machine; its own choice follows the cores. */
+    codec->thread_count = RENDER_MOVIE_THREADS;
     tag_bt709(&codec->colorspace, &codec->color_primaries, &codec->color_trc, &codec->color_range);
     if (movie->format->oformat->flags & AVFMT_GLOBALHEADER)
         codec->flags |= AV_CODEC_FLAG_GLOBAL_HEADER; /* MP4 keeps SPS/PPS in avcC */

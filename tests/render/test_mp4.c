@@ -461,6 +461,104 @@ static int mp4_errors_sticky(void)
     return 0;
 }
 
+/* The H.264 profile_idc of a movie: byte 1 of its avcC box (ISO/IEC 14496-15 5.2.4.1: version,
+ * AVCProfileIndication, ...), which libavformat gives as the stream's extradata. -1 if none. */
+static int avc_profile(const char *path)
+{
+    AVFormatContext *format = NULL;
+    int profile = -1;
+    if (avformat_open_input(&format, path, NULL, NULL) < 0)
+        return -1;
+    if (avformat_find_stream_info(format, NULL) >= 0 && format->nb_streams == 1) {
+        const AVCodecParameters *par = format->streams[0]->codecpar;
+        if (par->extradata_size >= 4 && par->extradata[0] == 1)
+            profile = par->extradata[1];
+    }
+    avformat_close_input(&format);
+    return profile;
+}
+
+static long file_size(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 ? (long)st.st_size : -1;
+}
+
+/* The default settings give H.264 High profile (profile_idc 100), with both drawers. */
+static int mp4_high_profile(void)
+{
+    make_out_dir();
+    for (int drawer = 0; drawer < 2; ++drawer) {
+        const char *path = drawer ? OUT_DIR "/mp4_high_cairo.mp4" : OUT_DIR "/mp4_high.mp4";
+        RenderStyle style = small_style(320, 240);
+        RenderMovieDef def = movie_def(path, drawer ? RENDER_DRAWER_CAIRO : RENDER_DRAWER_OSMESA);
+        def.crf = 0; /* the default quality */
+        TEST_ASSERT(write_movie(&def, &style, 30) == 0);
+        TEST_ASSERT(avc_profile(path) == 100);
+        TEST_ASSERT(moov_before_mdat(path));
+    }
+    return 0;
+}
+
+/* A higher CRF gives a smaller file: 14, 20, 26, 32 strictly decreasing. */
+static int mp4_crf_size(void)
+{
+    make_out_dir();
+    static const int crfs[] = {14, 20, 26, 32};
+    long previous = -1;
+    for (int k = 0; k < 4; ++k) {
+        char path[128];
+        snprintf(path, sizeof path, OUT_DIR "/mp4_crf_%d.mp4", crfs[k]);
+        RenderStyle style = small_style(320, 240);
+        style.force_chains = 1;
+        RenderMovieDef def = movie_def(path, RENDER_DRAWER_CAIRO);
+        def.crf = crfs[k];
+        TEST_ASSERT(write_movie(&def, &style, 30) == 0);
+        long size = file_size(path);
+        TEST_ASSERT(size > 0);
+        if (previous > 0)
+            TEST_ASSERT(size < previous);
+        previous = size;
+    }
+    return 0;
+}
+
+/* The same frames give the same bytes, and the encoder runs RENDER_MOVIE_THREADS threads
+ * whatever the machine's cores (x264 writes its settings in the stream: "threads=N"), so the
+ * bytes do not depend on the machine either. */
+static int mp4_same_bytes(void)
+{
+    make_out_dir();
+    const char *paths[2] = {OUT_DIR "/mp4_same_a.mp4", OUT_DIR "/mp4_same_b.mp4"};
+    for (int k = 0; k < 2; ++k) {
+        RenderStyle style = small_style(320, 240);
+        RenderMovieDef def = movie_def(paths[k], RENDER_DRAWER_CAIRO);
+        TEST_ASSERT(write_movie(&def, &style, 40) == 0);
+    }
+    long size = file_size(paths[0]);
+    TEST_ASSERT(size > 0 && size == file_size(paths[1]));
+    char *bytes[2];
+    for (int k = 0; k < 2; ++k) {
+        FILE *f = fopen(paths[k], "rb");
+        TEST_ASSERT(f != NULL);
+        bytes[k] = malloc((size_t)size + 1);
+        TEST_ASSERT(bytes[k] && fread(bytes[k], 1, (size_t)size, f) == (size_t)size);
+        bytes[k][size] = '\0';
+        fclose(f);
+    }
+    TEST_ASSERT(memcmp(bytes[0], bytes[1], (size_t)size) == 0);
+    char want[32];
+    snprintf(want, sizeof want, " threads=%d ", RENDER_MOVIE_THREADS);
+    const char *sei = NULL;
+    for (long i = 0; i + 8 < size && !sei; ++i) /* x264's SEI text, inside mdat */
+        if (memcmp(bytes[0] + i, "options:", 8) == 0)
+            sei = bytes[0] + i;
+    TEST_ASSERT(sei != NULL && strstr(sei, want) != NULL);
+    free(bytes[0]);
+    free(bytes[1]);
+    return 0;
+}
+
 /* The encoder used when libx264 is absent still gives a playable, tagged MP4. */
 static int mp4_mpeg4_encoder(void)
 {
@@ -546,5 +644,5 @@ static int mp4_one_colour_scale(void)
 TEST_MAIN(TEST_CASE(mp4_properties), TEST_CASE(mp4_colour_roundtrip),
           TEST_CASE(mp4_odd_size_rejected), TEST_CASE(mp4_bad_settings_rejected),
           TEST_CASE(mp4_temp_then_rename), TEST_CASE(mp4_errors_sticky),
-          TEST_CASE(mp4_mpeg4_encoder), TEST_CASE(mp4_cairo_drawer),
-          TEST_CASE(mp4_one_colour_scale))
+          TEST_CASE(mp4_mpeg4_encoder), TEST_CASE(mp4_cairo_drawer), TEST_CASE(mp4_high_profile),
+          TEST_CASE(mp4_crf_size), TEST_CASE(mp4_same_bytes), TEST_CASE(mp4_one_colour_scale))
