@@ -3,55 +3,70 @@
 # scripts/gallery.sh: remakes every thesis figure of docs/gallery.md into OUT, one PNG per figure
 # named after the thesis and its figure number (000_fig7.12a_collapse.png, ...).
 #
-#   scripts/gallery.sh [--reduced] [--sablier PATH] OUT
+#   scripts/gallery.sh [--reduced] [--pdf] [--sablier PATH] OUT
 #
 # --reduced: small images and shorter runs (the ctest `gallery` and its references in
 # tests/gallery/reference/); without it, the scenes' own sizes and durations (`make gallery`).
+# --pdf: the figures as PDF where sablier writes one (plots through render.plot_format, frame
+# figures through their format), named as the PNGs with .pdf; the figure lint reads them
+# (tests/lint/figures.sh).
 # The runs' own output folders go to OUT/.runs/ (hidden, so `sablier diff` on OUT compares the
 # gallery only). Exit status: 0, or that of the first failing run.
 set -euo pipefail
 
 reduced=0
+pdf=0
 sablier=""
 out=""
 while [ $# -gt 0 ]; do
   case "$1" in
   --reduced) reduced=1 ;;
+  --pdf) pdf=1 ;;
   --sablier) sablier=${2:?--sablier needs a path}; shift ;;
-  -h | --help) sed -n '3,11p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  -h | --help) sed -n '3,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
   -*) echo "gallery.sh: unknown option $1" >&2; exit 2 ;;
   *) out=$1 ;;
   esac
   shift
 done
-[ -n "$out" ] || { echo "usage: scripts/gallery.sh [--reduced] [--sablier PATH] OUT" >&2; exit 2; }
+[ -n "$out" ] || { echo "usage: scripts/gallery.sh [--reduced] [--pdf] [--sablier PATH] OUT" >&2; exit 2; }
 out=$(realpath -m "$out")
 [ -z "$sablier" ] || sablier=$(realpath "$sablier")
 cd "$(dirname "$0")/.." # the scenes' paths are relative to the repository root
 [ -n "$sablier" ] || sablier=$PWD/build/sablier
 [ -x "$sablier" ] || { echo "gallery.sh: no sablier at $sablier (build it first)" >&2; exit 2; }
+plots=() # --pdf: every plot also as PDF
+[ $pdf = 0 ] || plots=(--set 'render.plot_format="pdf"')
 runs=$out/.runs # hidden: `sablier diff` on OUT skips it
 rm -rf "$runs"
 mkdir -p "$runs"
 
-# figure RUN FILE NAME: the run's FILE becomes OUT/NAME
+# figure RUN FILE NAME: the run's FILE becomes OUT/NAME (with --pdf, FILE.pdf becomes NAME.pdf,
+# when the run wrote one)
 figure() {
-  cp "$runs/$1/$2" "$out/$3.tmp" && mv "$out/$3.tmp" "$out/$3"
+  local from=$runs/$1/$2 to=$out/$3
+  if [ $pdf = 1 ]; then
+    from=${from%.png}.pdf to=${to%.png}.pdf
+    [ -e "$from" ] || return 0
+  fi
+  cp "$from" "$to.tmp" && mv "$to.tmp" "$to"
 }
 
-# sizes W H: --set of the figures 0..N-1 of a scene's output.figures to W x H when reduced
+# sizes N W H: --set of the figures 0..N-1 of a scene's output.figures to W x H when reduced,
+# and to PDF with --pdf
 sizes() {
   local n=$1 w=$2 h=$3
-  [ $reduced = 1 ] || return 0
   for ((k = 0; k < n; ++k)); do
-    printf -- '--set\noutput.figures.%d.width=%d\n--set\noutput.figures.%d.height=%d\n' "$k" "$w" "$k" "$h"
+    [ $reduced = 0 ] ||
+      printf -- '--set\noutput.figures.%d.width=%d\n--set\noutput.figures.%d.height=%d\n' "$k" "$w" "$k" "$h"
+    [ $pdf = 0 ] || printf -- '--set\noutput.figures.%d.format="pdf"\n' "$k"
   done
 }
 
 # 000: crater collapse, the quick bed (1500 grains)
 crater() {
   mapfile -t extra < <(sizes 8 240 160)
-  "$sablier" run scenes/crater/quick.scene --out "$runs/crater" --quiet \
+  "$sablier" run scenes/crater/quick.scene --out "$runs/crater" --quiet "${plots[@]}" \
     --set stages.deposit.movie=false --set stages.collapse.movie=false "${extra[@]}"
   figure crater energy_panels.png 000_fig6.15_energy.png
   figure crater settled.png 000_fig6.22_settled_bed.png
@@ -70,17 +85,17 @@ bne() {
   local seeds=3
   [ $reduced = 0 ] || seeds=1
   "$sablier" bne scenes/brazil_nut/small.scene --seeds $seeds --vary bne.gamma=1.5,3 \
-    --out "$runs/bne_gamma" --quiet
+    --out "$runs/bne_gamma" --quiet "${plots[@]}"
   figure bne_gamma rise.png 002_fig22_rise_gamma.png
   "$sablier" bne scenes/brazil_nut/small_density.scene --seeds $seeds \
     --vary species.intruder.density=0.1061032954,0.318309886183791,0.9549296586 \
-    --out "$runs/bne_density" --quiet
+    --out "$runs/bne_density" --quiet "${plots[@]}"
   figure bne_density rise.png 002_figs23-24_rise_density.png
   "$sablier" bne scenes/brazil_nut/small.scene --seeds $seeds --vary species.wall.mu=0,0.5 \
-    --out "$runs/bne_walls" --quiet
+    --out "$runs/bne_walls" --quiet "${plots[@]}"
   figure bne_walls rise.png 002_fig25_rise_smooth_walls.png
   "$sablier" bne scenes/brazil_nut/small_frictionless.scene --seeds $seeds \
-    --out "$runs/bne_frictionless" --quiet
+    --out "$runs/bne_frictionless" --quiet "${plots[@]}"
   figure bne_frictionless rise.png 002_fig26_rise_frictionless.png
 }
 
@@ -90,7 +105,7 @@ sediment() {
   [ $reduced = 0 ] || extra=(--set stages.settle.time.end=5 --set stages.flow.time.end=5
     --set output.figures.0.width=480 --set output.figures.0.height=200)
   "$sablier" run scenes/sediment/viscous.scene --out "$runs/sediment" --quiet \
-    --set stages.flow.movie=false "${extra[@]}"
+    --set stages.flow.movie=false "${extra[@]}" "${plots[@]}"
   figure sediment bed.png 002_sediment_profiles.png
 }
 
@@ -99,7 +114,7 @@ discharge() {
   local extra=()
   [ $reduced = 0 ] || extra=(--set render.width=480 --set render.height=270)
   "$sablier" discharge scenes/discharge/rolling_fixed.scene --width 2.2 --figures \
-    --out "$runs/discharge" --quiet "${extra[@]}"
+    --out "$runs/discharge" --quiet "${extra[@]}" "${plots[@]}"
   figure discharge pile.png 004_fig2.12a_pile.png
   figure discharge w2.2.png 004_fig2.12b_discharged.png
 }
@@ -111,4 +126,4 @@ bne
 sediment
 discharge
 wait $lane || { cat "$runs/crater.log" >&2; exit 1; }
-echo "gallery: $(find "$out" -maxdepth 1 -name '*.png' | wc -l) figures in $out"
+echo "gallery: $(find "$out" -maxdepth 1 -name "*.png" -o -maxdepth 1 -name "*.pdf" | wc -l) figures in $out"

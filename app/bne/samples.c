@@ -85,9 +85,9 @@ typedef struct Record {
 } Record;
 
 /* One panel of curves, as every `sablier bne` plot (legend where it hides the fewest data). */
-static int bne_plot(const AppRender *render, const char *path, const char *title,
-                    const char *x_label, const char *y_label, const AppPlotSeries *series,
-                    int count, char *err, size_t err_size)
+static int bne_plot(const AppRender *render, const SceneStyle *print, const char *path,
+                    const char *title, const char *x_label, const char *y_label,
+                    const AppPlotSeries *series, int count, char *err, size_t err_size)
 {
     AppPlotPanel panel = {.x_label = x_label,
                           .y_label = y_label,
@@ -101,7 +101,8 @@ static int bne_plot(const AppRender *render, const char *path, const char *title
                     .cols = 1,
                     .panel_count = 1,
                     .panels = &panel,
-                    .scene = "bne"};
+                    .scene = "bne",
+                    .print = print};
     return render->plot(render->context, &plot, path, err, err_size);
 }
 
@@ -444,10 +445,8 @@ static int write_curves(const Samples *S, Curves *C)
 
 /* The rise chart's axes, in the scene's units when it declares units = "normalised" (SI scenes,
  * and a scene that no longer loads, keep the unit-less names). */
-static void axis_labels(const char *scene_path, char x_label[64], char y_label[64])
+static void axis_labels(const Scene *scene, char x_label[64], char y_label[64])
 {
-    char err[512];
-    Scene *scene = scene_load(scene_path, NULL, 0, err, sizeof err);
     if (scene && scene->style.normalised_units) {
         scene_axis_label(scene, "time since shaking starts", SCENE_TIME, x_label, 64);
         scene_axis_label(scene, "intruder height rise", SCENE_LENGTH, y_label, 64);
@@ -455,7 +454,6 @@ static void axis_labels(const char *scene_path, char x_label[64], char y_label[6
         snprintf(x_label, 64, "time since shaking starts");
         snprintf(y_label, 64, "intruder height rise");
     }
-    scene_free(scene);
 }
 
 /* rise.png, and ldf.png when ldf.csv was written (with_ldf). */
@@ -465,18 +463,22 @@ static void write_plots(const Samples *S, const Curves *C, int with_ldf)
     if (!o->plot || !o->plot->plot || C->count == 0)
         return;
     char path[BNE_PATH], err[512] = "", x_label[64], y_label[64];
-    axis_labels(o->scene_path, x_label, y_label);
+    /* the scene with the command's --set: its print keys (render.plot_format, size, style) */
+    Scene *scene = scene_load(o->scene_path, o->sets, o->set_count, err, sizeof err);
+    const SceneStyle *print = scene ? &scene->style : NULL;
+    axis_labels(scene, x_label, y_label);
     snprintf(path, sizeof path, "%s/rise.png", o->out_dir);
-    if (bne_plot(o->plot, path, "Intruder rise (mean +- std over seeds)", x_label, y_label, C->rise,
-                 C->count, err, sizeof err) != 0)
+    if (bne_plot(o->plot, print, path, "Intruder rise (mean +- std over seeds)", x_label, y_label,
+                 C->rise, C->count, err, sizeof err) != 0)
         fprintf(stderr, "sablier: bne: %s: %s\n", path, err);
     if (with_ldf) {
         snprintf(path, sizeof path, "%s/ldf.png", o->out_dir);
-        if (bne_plot(o->plot, path, "Large-deviation function of the rise rate",
+        if (bne_plot(o->plot, print, path, "Large-deviation function of the rise rate",
                      "windowed rise rate v", "I(v) = -ln(P(v)/P_max) / tau", C->ldf, C->count, err,
                      sizeof err) != 0)
             fprintf(stderr, "sablier: bne: %s: %s\n", path, err);
     }
+    scene_free(scene);
 }
 
 /* The options' checks and the output folder: 0, or the exit status. */
