@@ -775,7 +775,8 @@ static void write_figure(const Ensemble *E)
                     .cols = cols,
                     .panel_count = o->key_count,
                     .panels = F->panels,
-                    .scene = o->scene_path};
+                    .scene = o->scene_path,
+                    .data_beside = 1}; /* ensemble.csv */
     static const char *const names[] = {"ensemble.png", "ensemble.pdf"};
     for (int k = 0; k < 2; ++k) {
         char path[ENS_PATH + 16], err[512] = "";

@@ -548,6 +548,32 @@ static void frame_velocity(const AppContext *c, const Measure *m, double t, doub
     *vy = speed * mo->direction_y;
 }
 
+/* A per-mass mean (v_x, v_y, T = sum m v / sum m) is undefined in a bin without grains (the
+ * coarse-grained density rho is 0 there): those values become NaN in m->last, so the CSV says
+ * "nan" and the plots lift their pen there instead of drawing 0 (docs/measures.md#empty-bins). */
+static int empty_bins(Measure *m)
+{
+    int nodes = sim_coarse_nodes(m->cg), masked = 0;
+    for (int f = 0; f < m->field_count; ++f)
+        masked |=
+            m->fields[f] == SIM_CG_VX || m->fields[f] == SIM_CG_VY || m->fields[f] == SIM_CG_T;
+    if (!masked)
+        return 0;
+    double *rho = malloc((size_t)nodes * sizeof *rho);
+    if (!rho)
+        return -1;
+    sim_coarse_field(m->cg, SIM_CG_RHO, rho);
+    for (int f = 0; f < m->field_count; ++f) {
+        if (m->fields[f] != SIM_CG_VX && m->fields[f] != SIM_CG_VY && m->fields[f] != SIM_CG_T)
+            continue;
+        for (int k = 0; k < nodes; ++k)
+            if (!(rho[k] > 0.0))
+                m->last[(size_t)f * nodes + k] = (double)NAN;
+    }
+    free(rho);
+    return 0;
+}
+
 /* One CSV row per node (and a .vti for a grid) of the sums so far, then cleared. */
 static int write_fields(Measure *m, const AppContext *c)
 {
@@ -557,6 +583,8 @@ static int write_fields(Measure *m, const AppContext *c)
     double t = m->t_sum / samples;
     for (int f = 0; f < m->field_count; ++f)
         sim_coarse_field(m->cg, (SimCoarseField)m->fields[f], m->last + (size_t)f * nodes);
+    if (empty_bins(m) != 0)
+        return -1;
     m->have_last = 1;
     for (int k = 0; k < nodes; ++k) {
         double x, y;
@@ -816,25 +844,6 @@ static void field_label(const AppContext *c, const char *name, SimCoarseField fi
         snprintf(buf, size, "%s (%s)", field_markup(name), unit);
 }
 
-/* A per-mass mean (v_x, v_y, T) of a profile is undefined where no grain is: when the measure
- * also samples phi or rho, those bins become NaN in `out` (the plot lifts its pen there instead
- * of drawing 0). Returns the values to plot. */
-static const double *empty_bins(const Measure *m, SimCoarseField field, const double *values,
-                                double *out)
-{
-    if (field != SIM_CG_VX && field != SIM_CG_VY && field != SIM_CG_T)
-        return values;
-    int nodes = m->nx * m->ny;
-    for (int q = 0; q < m->field_count; ++q)
-        if (m->fields[q] == SIM_CG_PHI || m->fields[q] == SIM_CG_RHO) {
-            const double *density = m->last + (size_t)q * nodes;
-            for (int k = 0; k < nodes; ++k)
-                out[k] = density[k] > 0.0 ? values[k] : (double)NAN;
-            return out;
-        }
-    return values;
-}
-
 static int draw_arrows(const Measure *m, const AppContext *c)
 {
     int nodes = m->nx * m->ny;
@@ -888,7 +897,7 @@ static int draw_figure(const Measure *m, const AppContext *c, int figure)
                  ? c->render->map(c->render->context, c->scene, &map, path, err, sizeof err)
                  : 0;
     } else {
-        double *pos = malloc(2 * (size_t)nodes * sizeof *pos);
+        double *pos = malloc((size_t)nodes * sizeof *pos);
         if (!pos)
             return -1;
         for (int k = 0; k < nodes; ++k) {
@@ -897,11 +906,10 @@ static int draw_figure(const Measure *m, const AppContext *c, int figure)
             pos[k] = m->kind == KIND_PROFILE_Y ? y : x;
         }
         int along_y = m->kind == KIND_PROFILE_Y;
-        const double *shown = empty_bins(m, field, values, pos + nodes);
         AppPlotSeries s = {.label = NULL,
                            .count = nodes,
-                           .x = along_y ? shown : pos,
-                           .y = along_y ? pos : shown,
+                           .x = along_y ? values : pos,
+                           .y = along_y ? pos : values,
                            .line = 1,
                            .rgb = APP_RGB_AUTO};
         AppPlotPanel panel = {.x_label = along_y ? label : axes.x,

@@ -571,6 +571,61 @@ static uint32_t rgb_of(long rgb)
                                      : (uint32_t)rgb;
 }
 
+/* A CSV field: the text between double quotes, a quote doubled (RFC 4180). */
+static void csv_text(FILE *f, const char *text)
+{
+    fputc('"', f);
+    for (const char *c = text ? text : ""; *c; ++c) {
+        if (*c == '"')
+            fputc('"', f);
+        fputc(*c, f);
+    }
+    fputc('"', f);
+}
+
+/* A plot's data beside it (docs/figures.md#plot-data): PATH with .csv for its extension, one row
+ * per point, `panel,series,label,x,y,y_err` (from 1; missing values and error bars empty), after
+ * comment lines that name each panel's axes with their units, as the plot labels them. */
+static int plot_data_write(const AppPlot *plot, const char *path)
+{
+    size_t len = strlen(path);
+    char *csv = malloc(len + 5);
+    if (!csv)
+        return -1;
+    memcpy(csv, path, len + 1);
+    char *dot = strrchr(csv, '.');
+    strcpy(dot && !strchr(dot, '/') ? dot : csv + len, ".csv");
+    const char *base = strrchr(path, '/');
+    FILE *f = app_tmp_open(csv, NULL);
+    if (f) {
+        fprintf(f, "# sablier plot data: %s (docs/figures.md#plot-data)\n", base ? base + 1 : path);
+        for (int p = 0; p < plot->panel_count; ++p) {
+            const AppPlotPanel *in = &plot->panels[p];
+            fprintf(f, "# panel %d: x = %s; y = %s\n", p + 1, in->x_label ? in->x_label : "",
+                    in->y_label ? in->y_label : "");
+        }
+        fputs("panel,series,label,x,y,y_err\n", f);
+        for (int p = 0; p < plot->panel_count; ++p)
+            for (int k = 0; k < plot->panels[p].series_count; ++k) {
+                const AppPlotSeries *s = &plot->panels[p].series[k];
+                for (int i = 0; i < s->count; ++i) {
+                    fprintf(f, "%d,%d,", p + 1, k + 1);
+                    csv_text(f, s->label);
+                    const double v[3] = {s->x[i], s->y[i], s->y_err ? s->y_err[i] : (double)NAN};
+                    for (int q = 0; q < 3; ++q) {
+                        fputc(',', f);
+                        if (isfinite(v[q]))
+                            fprintf(f, "%.9g", v[q]);
+                    }
+                    fputc('\n', f);
+                }
+            }
+    }
+    int rc = f ? app_tmp_commit(&f, csv) : -1;
+    free(csv);
+    return rc;
+}
+
 static int hook_plot(void *context, const AppPlot *plot, const char *path, char *err,
                      size_t err_size)
 {
@@ -627,6 +682,10 @@ static int hook_plot(void *context, const AppPlot *plot, const char *path, char 
     int rc = render_plot_write(&r, &meta, path, err, err_size) == 0 ? 0 : -1;
     if (rc == 0)
         app_output_note(path);
+    if (rc == 0 && !plot->data_beside && plot_data_write(plot, path) != 0) {
+        snprintf(err, err_size, "cannot write the data of %s", path);
+        rc = -1;
+    }
     /* render.plot_format = "pdf" or "svg": the same plot beside the PNG in that format */
     static const char *const extensions[] = {"png", "pdf", "svg"};
     size_t len = strlen(path);

@@ -83,6 +83,10 @@ typedef struct AppPlot {
     const char *scene; ///< PNG metadata (NULL = "")
     uint64_t seed;
     const struct SceneStyle *print; ///< print keys (size, dpi, font_size, style); NULL = none
+    /// 0: the renderer writes the plot's data beside it (the path with .csv,
+    /// docs/figures.md#plot-data); 1: the caller writes that file itself (its own columns, with
+    /// units in its header).
+    int data_beside;
 } AppPlot;
 
 /// A heat map on square cells: values row-major, index j * nx + i, row 0 at the bottom; NaN =

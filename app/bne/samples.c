@@ -102,7 +102,8 @@ static int bne_plot(const AppRender *render, const SceneStyle *print, const char
                     .panel_count = 1,
                     .panels = &panel,
                     .scene = "bne",
-                    .print = print};
+                    .print = print,
+                    .data_beside = 1}; /* rise.csv, ldf.csv */
     return render->plot(render->context, &plot, path, err, err_size);
 }
 
@@ -112,9 +113,10 @@ typedef struct Samples {
     char key[128];
     double values[64];
     int value_count;
-    Record *records; /* by run: values outer, seeds inner */
-    int *status;     /* each run's exit status (-1: not run) */
-    int done;        /* the runs before the first that failed: those reduced */
+    Record *records;    /* by run: values outer, seeds inner */
+    int *status;        /* each run's exit status (-1: not run) */
+    int done;           /* the runs before the first that failed: those reduced */
+    double bed_density; /* species 0's density (the bed's grains), for density ratios */
 } Samples;
 
 /* The curves of the reduction, and the arrays they point to (freed at the end). */
@@ -354,11 +356,51 @@ static void ldf_curve(const Samples *S, int v, int first, FILE *ldf, Curves *C)
     }
 }
 
+/* A ratio as a small fraction when it is one within 1e-6 ("1/3", "3"), else %g. */
+static void ratio_text(double r, char *buf, size_t size)
+{
+    for (int q = 1; q <= 10; ++q) {
+        double p = round(r * q);
+        if (p >= 1.0 && fabs(r * q - p) <= 1e-6 * p) {
+            if (q == 1)
+                snprintf(buf, size, "%.0f", p);
+            else
+                snprintf(buf, size, "%.0f/%d", p, q);
+            return;
+        }
+    }
+    snprintf(buf, size, "%g", r);
+}
+
+/* A curve's legend (markup, docs/figures.md#markup): the varied quantity by its name, not its
+ * key, and the number of runs it averages: "\Gamma = 1.5 (n = 3)", "\rho_{intruder}/\rho = 1/3
+ * (n = 3)" (the density over the bed's, species 0), "\mu_{wall} = 0.5 (n = 3)"; "n = 3"
+ * without --vary; any other key as it is. */
+static void value_label(const Samples *S, double value, int n, char *buf, size_t size)
+{
+    if (!S->o->vary) {
+        snprintf(buf, size, "n = %d", n);
+        return;
+    }
+    const char *key = S->key, *dot = strrchr(key, '.');
+    char species[64] = "", ratio[32];
+    if (strncmp(key, "species.", 8) == 0 && dot && dot > key + 8)
+        snprintf(species, sizeof species, "%.*s", (int)(dot - key - 8), key + 8);
+    if (strcmp(key, "bne.gamma") == 0)
+        snprintf(buf, size, "\\Gamma = %g (n = %d)", value, n);
+    else if (species[0] && strcmp(dot, ".density") == 0 && S->bed_density > 0.0) {
+        ratio_text(value / S->bed_density, ratio, sizeof ratio);
+        snprintf(buf, size, "\\rho_{%s}/\\rho = %s (n = %d)", species, ratio, n);
+    } else if (species[0] && strcmp(dot, ".mu") == 0)
+        snprintf(buf, size, "\\mu_{%s} = %g (n = %d)", species, value, n);
+    else
+        snprintf(buf, size, "%s = %g (n = %d)", key, value, n);
+}
+
 /* The runs of values[v]: mean +- std of the rise h - h0 against time (rise.csv rows and curve
  * C->rise[C->count]) and their LDF (when ldf is open); nothing when there is no run. */
 static void value_curves(const Samples *S, int v, FILE *rise, FILE *ldf, Curves *C)
 {
-    const AppBneSamplesOptions *o = S->o;
     const Record *records = S->records;
     double value = S->values[v];
     int first = -1, n = 0, len = 0;
@@ -391,8 +433,7 @@ static void value_curves(const Samples *S, int v, FILE *rise, FILE *ldf, Curves 
             fprintf(rise, "%.9g,%.9g,%.9g,%.9g,%d\n", value, records[first].t[j], mean[j], sd[j],
                     n);
     }
-    snprintf(C->labels[C->count], sizeof C->labels[0], "%s%s%g (%d)", o->vary ? S->key : "samples",
-             o->vary ? " = " : "", o->vary ? value : (double)n, n);
+    value_label(S, value, n, C->labels[C->count], sizeof C->labels[0]);
     /* the plot shows about 15 error bars per curve, staggered between curves (every sample's
      * spread is in rise.csv) */
     double *bar = malloc((size_t)len * sizeof *bar);
@@ -403,7 +444,9 @@ static void value_curves(const Samples *S, int v, FILE *rise, FILE *ldf, Curves 
                                         .count = len,
                                         .x = records[first].t,
                                         .y = mean,
-                                        .y_err = bar ? bar : sd,
+                                        .y_err = n < 2 ? NULL
+                                                 : bar ? bar
+                                                       : sd,
                                         .line = 1,
                                         .rgb = APP_RGB_AUTO};
     C->store[C->stored++] = mean;
@@ -504,6 +547,12 @@ static int samples_setup(Samples *S)
         if (!scene)
             return 2;
         scene_free(scene);
+    }
+    char err[512];
+    Scene *base = scene_load(o->scene_path, NULL, 0, err, sizeof err);
+    if (base) {
+        S->bed_density = base->def.materials[0].density;
+        scene_free(base);
     }
     if (app_make_dirs(o->out_dir) != 0) {
         fprintf(stderr, "sablier: bne: cannot create %s\n", o->out_dir);

@@ -634,6 +634,7 @@ typedef struct StudyPlot {
     int y_log;
     int series_count;
     const AppPlotSeries *series;
+    int data_beside; /* 1: the study writes the plot's .csv itself (AppPlot.data_beside) */
 } StudyPlot;
 
 static int study_plot(const AppRender *render, const Scene *scene, const StudyPlot *p,
@@ -652,7 +653,8 @@ static int study_plot(const AppRender *render, const Scene *scene, const StudyPl
                     .panels = &panel,
                     .scene = scene->name,
                     .seed = scene->seed,
-                    .print = &scene->style};
+                    .print = &scene->style,
+                    .data_beside = p->data_beside};
     return render->plot(render->context, &plot, path, err, err_size);
 }
 
@@ -1225,7 +1227,7 @@ static int plot_heights(const Reduction *R)
         series[ns++] =
             SERIES(labels[l], width_count, widths, R->h_mean + o, R->h_err + o, 1, 0, 1 + l % 4, 0);
     }
-    StudyPlot plot = {"<h> after discharge (004 fig. 2.13)", "w / d", "<h> / d", 0, ns, series};
+    StudyPlot plot = {"<h> after discharge (004 fig. 2.13)", "w / d", "<h> / d", 0, ns, series, 0};
     status |= reduction_plot(R, &plot, "h_mean.png");
     ns = 0;
     for (int l = 0; l < R->length_count; ++l) {
@@ -1242,7 +1244,7 @@ static int plot_heights(const Reduction *R)
         }
     }
     plot = (StudyPlot){
-        "sigma_h and Gaussian fits (004 fig. 2.14)", "w / d", "sigma_h / d", 0, ns, series};
+        "sigma_h and Gaussian fits (004 fig. 2.14)", "w / d", "sigma_h / d", 0, ns, series, 0};
     status |= reduction_plot(R, &plot, "sigma_h.png");
     return status;
 }
@@ -1263,7 +1265,7 @@ static int plot_fits(const Reduction *R)
     series[1] = SERIES("linear fit", 2, line_x, line_y, NULL, 1, 1, 0, 0);
     snprintf(title, sizeof title, "w_t against 1/L: w_c = %.3g +- %.2g d (004 fig. 2.15)", R->wc,
              R->wc_err);
-    StudyPlot plot = {title, "1/L (1/d)", "w_t / d", 0, isfinite(R->wc) ? 2 : 1, series};
+    StudyPlot plot = {title, "1/L (1/d)", "w_t / d", 0, isfinite(R->wc) ? 2 : 1, series, 0};
     status |= reduction_plot(R, &plot, "wt.png");
     for (int l = 0; l < R->length_count && ns + 2 <= 2 * MAX_LENGTHS; ++l) {
         snprintf(labels[l], sizeof labels[l], "L = %g d", R->lengths[l]);
@@ -1278,7 +1280,8 @@ static int plot_fits(const Reduction *R)
                        "q",
                        0,
                        ns,
-                       series};
+                       series,
+                       0};
     status |= reduction_plot(R, &plot, "composition.png");
     return status;
 }
@@ -1316,7 +1319,7 @@ static int plot_fs(const Reduction *R, int l)
         off += (size_t)samples;
     }
     snprintf(title, sizeof title, "F(s), L = %g d (004 fig. 2.16)", R->lengths[l]);
-    StudyPlot plot = {title, "s (grains)", "F(s) = P(size >= s)", 1, ns, series};
+    StudyPlot plot = {title, "s (grains)", "F(s) = P(size >= s)", 1, ns, series, 1};
     snprintf(path, sizeof path, "%s/L%g/Fs.png", R->dir, R->lengths[l]);
     if (ns > 0)
         status = study_plot(R->render, R->scene, &plot, path, R->err, R->err_size);

@@ -279,7 +279,8 @@ static void plot_flux(const Scan *sc, const ScanResult *r)
                     .cols = 1,
                     .panel_count = 1,
                     .panels = &panel,
-                    .scene = "sediment"};
+                    .scene = "sediment",
+                    .data_beside = 1}; /* flux.csv */
     char path[SCAN_PATH], err[512] = "";
     snprintf(path, sizeof path, "%s/flux.png", sc->out_dir);
     if (sc->render->plot(sc->render->context, &plot, path, err, sizeof err) != 0)

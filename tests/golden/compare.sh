@@ -7,6 +7,8 @@
 #   (flatten.awk);
 # - every PNG through `SABLIER diff GOLDEN NEW --threshold 0 --shift 0` when RENDER is ON;
 #   with RENDER OFF the PNGs are neither compared nor required;
+# - a plot's data beside it (a CSV beginning "# sablier plot data", docs/figures.md#plot-data)
+#   byte for byte, like its plot only when RENDER is ON;
 # - every *.state checkpoint byte for byte against GOLDEN_DIR/states.sha256;
 # - a recorded file missing from the new output, or a new file of these kinds that is not in
 #   the golden set, fails. Movies (.mp4), logs (.txt) are not compared; a leftover .tmp fails.
@@ -20,7 +22,10 @@ trap 'rm -rf "$tmp"' EXIT
 failures=0
 fail() { echo "golden: FAIL: $*" >&2; failures=$((failures + 1)); }
 
-kind_of() {
+kind_of() { # kind_of REL DIR
+  case $1 in
+    *.csv) if [ "$(head -c 19 "$2/$1" 2>/dev/null)" = "# sablier plot data" ]; then echo plotcsv; return; fi ;;
+  esac
   case $1 in
     *.png) echo png ;;
     *.json) echo json ;;
@@ -39,10 +44,10 @@ list "$new" >"$tmp/new.list"
 
 # files of the new output that the golden set lacks
 while IFS= read -r rel; do
-  kind=$(kind_of "$rel")
+  kind=$(kind_of "$rel" "$new")
   case $kind in
     tmp) fail "$new/$rel: an output left under its temporary name" ;;
-    png) [ $render = 1 ] && ! grep -qxF "$rel" "$tmp/golden.list" &&
+    png | plotcsv) [ $render = 1 ] && ! grep -qxF "$rel" "$tmp/golden.list" &&
            fail "$rel: new output file, not in the golden set $golden" ;;
     csv | json | headerless)
       grep -qxF "$rel" "$tmp/golden.list" || fail "$rel: new output file, not in the golden set $golden" ;;
@@ -50,8 +55,15 @@ while IFS= read -r rel; do
 done <"$tmp/new.list"
 
 while IFS= read -r rel; do
-  kind=$(kind_of "$rel")
+  kind=$(kind_of "$rel" "$golden")
   g=$golden/$rel n=$new/$rel
+  if [ $kind = plotcsv ]; then
+    [ $render = 1 ] || continue
+    if [ ! -f "$n" ]; then fail "$rel: missing from the new output $new"; continue; fi
+    compared=$((compared + 1))
+    cmp -s "$g" "$n" || fail "$rel differs from $g (diff $g $n)"
+    continue
+  fi
   if [ $kind = png ]; then
     [ $render = 1 ] || continue
     if [ ! -f "$n" ]; then fail "$rel: missing from the new output $new"; continue; fi
