@@ -7,14 +7,18 @@ JOBS ?= $(shell nproc)
 setup:
 	@bash scripts/setup.sh
 
+# the program and its libraries; `make test` adds the tests, examples and benchmarks to the same
+# build folder (SABLIER_BUILD_TESTS), reusing what `make build` compiled
 build: setup
-	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release >/dev/null
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DSABLIER_BUILD_TESTS=OFF >/dev/null
 	@cmake --build $(BUILD) -j $(JOBS)
 
 demo: build
 	$(BUILD)/sablier run scenes/crater/quick.scene --out out/crater
 
-test: build
+test: setup
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DSABLIER_BUILD_TESTS=ON >/dev/null
+	@cmake --build $(BUILD) -j $(JOBS)
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -LE bench
 
 # every thesis figure of docs/gallery.md, full size, into out/gallery/

@@ -50,7 +50,7 @@ done
 load() { cut -d' ' -f1 /proc/loadavg; }
 
 echo "== build ($build_dir, Release)"
-cmake -S "$root" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake -S "$root" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DSABLIER_BUILD_TESTS=ON >/dev/null
 targets=()
 [ $benches = 1 ] && targets+=(bench_accuracy bench_effects bench_render_accuracy_plot)
 [ $ensemble = 1 ] && targets+=(sablier)

@@ -56,7 +56,7 @@ warmup=$((steps / 4))
 load() { cut -d' ' -f1 /proc/loadavg; }
 
 echo "== build ($build_dir, Release)"
-cmake -S "$root" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake -S "$root" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DSABLIER_BUILD_TESTS=ON >/dev/null
 cmake --build "$build_dir" -j2 --target bench_sim >/dev/null
 bench=$build_dir/bench/bench_sim
 

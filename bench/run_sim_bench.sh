@@ -54,7 +54,7 @@ fi
 load() { cut -d' ' -f1 /proc/loadavg; }
 
 echo "== build ($build_dir, Release)"
-cmake -S "$root" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake -S "$root" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DSABLIER_BUILD_TESTS=ON >/dev/null
 cmake --build "$build_dir" -j2 --target bench_sim >/dev/null
 
 work=$(mktemp -d /tmp/sablier-bench.XXXXXX)

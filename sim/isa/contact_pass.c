@@ -3,7 +3,8 @@
  * laws, so that no per-contact `if` tests a disabled effect (the `key` argument is a compile-time
  * constant in every instantiation and the branches fold away). This file is compiled once per
  * instruction set (sim/CMakeLists.txt: SSE2, AVX2, AVX-512; its external names carry the set's
- * suffix, SIM_ISA_SYMBOL) and sim/isa.c picks one copy at run time (docs/dev/isa.md).
+ * suffix, SIM_ISA_SYMBOL), with half of the keys, and again as contact_pass_upper.c with the other
+ * half; sim/isa.c picks one copy at run time (docs/dev/isa.md).
  *
  * Conventions (000 eqs. 3.1-3.5): n points from i to j, s = (n_y, -n_x),
  * v_s = (v_j - v_i).s + omega_i r_i + omega_j r_j. The force on i is -F_n n + F_t s, on j the
@@ -692,13 +693,17 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
 /* clang-format off */
 #define KEYS_LOW(X, h)  X(h, 0) X(h, 1) X(h, 2) X(h, 4) X(h, 5) X(h, 6)
 #define KEYS_ROLL(X, h) X(h, 4) X(h, 5) X(h, 6)
-#define KEYS_ALL(X)                                                                     \
+/* Two halves of 54 keys, compiled as two translation units per instruction set (this file, and
+ * contact_pass_upper.c for KEYS_UPPER) so that a two-core build compiles them at the same time. */
+#define KEYS_LOWER(X)                                                                   \
     KEYS_LOW(X, 0) KEYS_LOW(X, 1) KEYS_LOW(X, 2) KEYS_LOW(X, 3) KEYS_LOW(X, 4)         \
-    KEYS_LOW(X, 5) KEYS_LOW(X, 6) KEYS_LOW(X, 7) KEYS_ROLL(X, 8) KEYS_ROLL(X, 9)       \
+    KEYS_LOW(X, 5) KEYS_LOW(X, 6) KEYS_LOW(X, 7) KEYS_ROLL(X, 8) KEYS_ROLL(X, 9)
+#define KEYS_UPPER(X)                                                                   \
     KEYS_ROLL(X, 10) KEYS_ROLL(X, 11) KEYS_ROLL(X, 12) KEYS_ROLL(X, 13)                \
     KEYS_ROLL(X, 14) KEYS_ROLL(X, 15)                                                  \
     KEYS_LOW(X, 16) KEYS_LOW(X, 17) KEYS_LOW(X, 20) KEYS_LOW(X, 21)                    \
     KEYS_ROLL(X, 24) KEYS_ROLL(X, 25) KEYS_ROLL(X, 28) KEYS_ROLL(X, 29)
+#define KEYS_ALL(X) KEYS_LOWER(X) KEYS_UPPER(X)
 /* clang-format on */
 
 /* The passes of one key: KEY is an expression of `world` (every function's parameter), a constant
@@ -755,6 +760,40 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
         wall_pass(world, (KEY));                                                                   \
     }
 
+#define GRAIN_ENTRY(h, l)     [(h)*8 + (l)] = grain_pass_##h##_##l,
+#define WALL_ENTRY(h, l)      [(h)*8 + (l)] = wall_pass_##h##_##l,
+#define FUSED_ENTRY(h, l)     [(h)*8 + (l)] = fused_pass_##h##_##l,
+#define DEFINE_KEY_PASS(h, l) DEFINE_PASS(h##_##l, (unsigned)((h)*8 + (l)))
+
+/* The upper half's passes (contact_pass_upper.c), NULL for a key of the lower half. */
+StageFn *SIM_ISA_SYMBOL(sim_contact_pass_upper)(unsigned key);
+StageFn *SIM_ISA_SYMBOL(sim_wall_pass_upper)(unsigned key);
+FusedFn *SIM_ISA_SYMBOL(sim_fused_pass_upper)(unsigned key);
+
+#if defined(SIM_CONTACT_UPPER)
+#if defined(SIM_ISA_KEY_AT_RUN_TIME)
+#error "contact_pass_upper.c is not built with SIM_ISA_KEY_AT_RUN_TIME (sim/CMakeLists.txt)"
+#endif
+KEYS_UPPER(DEFINE_KEY_PASS)
+static StageFn *const grain_passes[KEY_COUNT] = {KEYS_UPPER(GRAIN_ENTRY)};
+static StageFn *const wall_passes[KEY_COUNT] = {KEYS_UPPER(WALL_ENTRY)};
+static FusedFn *const fused_passes[KEY_COUNT] = {KEYS_UPPER(FUSED_ENTRY)};
+
+StageFn *SIM_ISA_SYMBOL(sim_contact_pass_upper)(unsigned key)
+{
+    return grain_passes[key];
+}
+
+StageFn *SIM_ISA_SYMBOL(sim_wall_pass_upper)(unsigned key)
+{
+    return wall_passes[key];
+}
+
+FusedFn *SIM_ISA_SYMBOL(sim_fused_pass_upper)(unsigned key)
+{
+    return fused_passes[key];
+}
+#else
 #if defined(SIM_ISA_KEY_AT_RUN_TIME)
 /* Sanitized and fuzz builds (sim/CMakeLists.txt): one copy of each pass, its key read at run time
  * from the world (sim_contact_key at create) instead of one folded copy per key. The source and
@@ -762,31 +801,39 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
  * reordered), so the bits are too (the golden and determinism tests run in those builds), and
  * the sanitizers see every line; what goes is the compile time of 2 x 108 instrumented copies. */
 DEFINE_PASS(any, world->contact_key)
-#define GRAIN_ENTRY(h, l) [(h)*8 + (l)] = grain_pass_any,
-#define WALL_ENTRY(h, l)  [(h)*8 + (l)] = wall_pass_any,
-#define FUSED_ENTRY(h, l) [(h)*8 + (l)] = fused_pass_any,
+#define ANY_GRAIN(h, l)  [(h)*8 + (l)] = grain_pass_any,
+#define ANY_WALL(h, l)   [(h)*8 + (l)] = wall_pass_any,
+#define ANY_FUSED(h, l)  [(h)*8 + (l)] = fused_pass_any,
+static StageFn *const grain_passes[KEY_COUNT] = {KEYS_ALL(ANY_GRAIN)};
+static StageFn *const wall_passes[KEY_COUNT] = {KEYS_ALL(ANY_WALL)};
+static FusedFn *const fused_passes[KEY_COUNT] = {KEYS_ALL(ANY_FUSED)};
+#define UPPER(kind, key) NULL
 #else
-#define DEFINE_KEY_PASS(h, l) DEFINE_PASS(h##_##l, (unsigned)((h)*8 + (l)))
-KEYS_ALL(DEFINE_KEY_PASS)
-#define GRAIN_ENTRY(h, l)     [(h)*8 + (l)] = grain_pass_##h##_##l,
-#define WALL_ENTRY(h, l)      [(h)*8 + (l)] = wall_pass_##h##_##l,
-#define FUSED_ENTRY(h, l)     [(h)*8 + (l)] = fused_pass_##h##_##l,
+KEYS_LOWER(DEFINE_KEY_PASS)
+static StageFn *const grain_passes[KEY_COUNT] = {KEYS_LOWER(GRAIN_ENTRY)};
+static StageFn *const wall_passes[KEY_COUNT] = {KEYS_LOWER(WALL_ENTRY)};
+static FusedFn *const fused_passes[KEY_COUNT] = {KEYS_LOWER(FUSED_ENTRY)};
+#define UPPER(kind, key) SIM_ISA_SYMBOL(sim_##kind##_pass_upper)(key)
 #endif
-static StageFn *const grain_passes[KEY_COUNT] = {KEYS_ALL(GRAIN_ENTRY)};
-static StageFn *const wall_passes[KEY_COUNT] = {KEYS_ALL(WALL_ENTRY)};
-static FusedFn *const fused_passes[KEY_COUNT] = {KEYS_ALL(FUSED_ENTRY)};
 
 StageFn *SIM_ISA_SYMBOL(sim_contact_pass_select)(unsigned key)
 {
-    return key < KEY_COUNT ? grain_passes[key] : NULL;
+    if (key >= KEY_COUNT)
+        return NULL;
+    return grain_passes[key] ? grain_passes[key] : UPPER(contact, key);
 }
 
 StageFn *SIM_ISA_SYMBOL(sim_wall_pass_select)(unsigned key)
 {
-    return key < KEY_COUNT ? wall_passes[key] : NULL;
+    if (key >= KEY_COUNT)
+        return NULL;
+    return wall_passes[key] ? wall_passes[key] : UPPER(wall, key);
 }
 
 FusedFn *SIM_ISA_SYMBOL(sim_fused_pass_select)(unsigned key)
 {
-    return key < KEY_COUNT ? fused_passes[key] : NULL;
+    if (key >= KEY_COUNT)
+        return NULL;
+    return fused_passes[key] ? fused_passes[key] : UPPER(fused, key);
 }
+#endif
