@@ -25,7 +25,7 @@ width=$(od -An -t u1 -j 16 -N 4 "$plot.png" | awk '{print $1 * 16777216 + $2 * 6
 [ "$width" = 1004 ] || fail "stress_syy.png is $width px wide, expected 1004 (8.5 cm at 300 dpi)"
 # the plot's data beside it (docs/figures.md#plot-data): its axes with units, one row per point
 [ -s "$plot.csv" ] || fail "no stress_syy.csv beside stress_syy.png"
-sed -n 2p "$plot.csv" | grep -qF '# panel 1: x = \sigma_{yy} (N/m); y = y (m)' ||
+sed -n 2p "$plot.csv" | grep -qF '# panel 1: x = \sigma_{yy} / (m g/d); y = y / d' ||
   fail "stress_syy.csv does not name the axes with units: $(sed -n 2p "$plot.csv")"
 [ "$(sed -n 3p "$plot.csv")" = "panel,series,label,x,y,y_err" ] || fail "stress_syy.csv columns"
 rows=$(grep -c '^1,1,' "$plot.csv")
