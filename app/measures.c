@@ -783,22 +783,27 @@ static void figure_labels(const AppContext *c, FigureLabels *l)
     l->axes[1] = l->y;
 }
 
-/* A field's unit in the scene's units (scene_unit; SI as sim_coarse_field_unit lists them). */
-static const char *field_unit(const Scene *scene, SimCoarseField field, int figure)
+/* The quantity of a field (scene_unit; SI as sim_coarse_field_unit lists them). */
+static SceneQuantity field_quantity(SimCoarseField field)
 {
-    SceneQuantity q = SCENE_STRESS; /* stresses and pressure */
     if (field == SIM_CG_PHI || field == SIM_CG_Z || field == SIM_CG_FXX || field == SIM_CG_FXY ||
         field == SIM_CG_FYY)
-        q = SCENE_DIMENSIONLESS;
-    else if (field == SIM_CG_RHO)
-        q = SCENE_AREAL_DENSITY;
-    else if (field == SIM_CG_JX || field == SIM_CG_JY)
-        q = SCENE_MOMENTUM_DENSITY;
-    else if (field == SIM_CG_VX || field == SIM_CG_VY)
-        q = SCENE_SPEED;
-    else if (field == SIM_CG_T)
-        q = SCENE_SPEED_SQUARED;
-    return scene_unit(scene, q, figure);
+        return SCENE_DIMENSIONLESS;
+    if (field == SIM_CG_RHO)
+        return SCENE_AREAL_DENSITY;
+    if (field == SIM_CG_JX || field == SIM_CG_JY)
+        return SCENE_MOMENTUM_DENSITY;
+    if (field == SIM_CG_VX || field == SIM_CG_VY)
+        return SCENE_SPEED;
+    if (field == SIM_CG_T)
+        return SCENE_SPEED_SQUARED;
+    return SCENE_STRESS; /* stresses and pressure */
+}
+
+/* A field's unit in the scene's units (scene_unit). */
+static const char *field_unit(const Scene *scene, SimCoarseField field, int figure)
+{
+    return scene_unit(scene, field_quantity(field), figure);
 }
 
 /* A field's name as plot markup (docs/figures.md#markup): phi as \phi, syy as \sigma_{yy}. */
@@ -835,13 +840,7 @@ static const char *field_markup(const char *name)
 static void field_label(const AppContext *c, const char *name, SimCoarseField field, char *buf,
                         size_t size)
 {
-    const char *unit = field_unit(c->scene, field, 1);
-    if (!unit[0])
-        snprintf(buf, size, "%s", field_markup(name));
-    else if (c->scene->style.normalised_units)
-        snprintf(buf, size, "%s / (%s)", field_markup(name), unit);
-    else
-        snprintf(buf, size, "%s (%s)", field_markup(name), unit);
+    scene_axis_label(c->scene, field_markup(name), field_quantity(field), buf, size);
 }
 
 static int draw_arrows(const Measure *m, const AppContext *c)

@@ -263,7 +263,8 @@ const char *scene_unit_after(const Scene *scene, SceneQuantity quantity, char *b
 
 /// The label of an axis `name` of `quantity` in the scene's units (scene_unit): "x (m)", "t (s)",
 /// "u (m/s)" in SI (and in reduced units, where the families' own files stay SI); with units =
-/// "normalised" "x / d", "t / √(d/g)", "σ / (m g/d)", the name bare where the unit is "".
+/// "normalised" "x / d", "t / √(d/g)", "σ / (m g/d)", the name bare where the unit is "";
+/// a dimensionless quantity is "φ (1)" in every system (docs/figures.md#figure-lint).
 /// scene NULL: SI. Returns buf.
 const char *scene_axis_label(const Scene *scene, const char *name, SceneQuantity quantity,
                              char *buf, size_t size);

@@ -52,7 +52,9 @@ const char *scene_axis_label(const Scene *scene, const char *name, SceneQuantity
                              char *buf, size_t size)
 {
     const char *unit = scene_unit(scene, quantity, 1);
-    if (!unit[0])
+    if (quantity == SCENE_DIMENSIONLESS)
+        snprintf(buf, size, "%s (1)", name); /* a pure number: "φ (1)" in every system */
+    else if (!unit[0])
         snprintf(buf, size, "%s", name);
     else if (system_of(scene) == UNITS_SI)
         snprintf(buf, size, "%s (%s)", name, unit);

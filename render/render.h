@@ -217,6 +217,8 @@ typedef struct RenderPlot {
 
 /// Default plot font size, points at the plot's print size (width / dpi).
 #define RENDER_PLOT_FONT_PT 9.0
+/// Smallest text of a plot, points at print size (sub- and superscripts are not set smaller).
+#define RENDER_TEXT_MIN_PT  6.0
 
 /// What a text box of a plot holds (render_plot_layout).
 typedef enum RenderPlotText {

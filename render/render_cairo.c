@@ -938,6 +938,13 @@ static void draw_legend(cairo_t *cr, const DrawScene *sc, double x, const char *
     }
 }
 
+/* At most five tick intervals on a colour bar `h` pixels long, and at least two em between
+ * ticks, so that their labels (1.16 em tall) keep a gap on a short bar (a single-column frame). */
+static int colorbar_intervals(double h, double fs)
+{
+    return (int)fmax(1.0, fmin(5.0, floor(h / (2.0 * fs))));
+}
+
 /* Continuous colour bar right of the plot: ticks at round values, one "x10^e" offset above
  * the bar when the values need it, the quantity and its unit along the bar. */
 static void draw_colorbar(cairo_t *cr, const DrawScene *sc)
@@ -997,7 +1004,7 @@ static void draw_colorbar(cairo_t *cr, const DrawScene *sc)
         cairo_stroke(cr);
     }
     double ticks[16];
-    int n = render_axis_ticks(sc->lo, sc->hi, 0, 5, ticks, 16);
+    int n = render_axis_ticks(sc->lo, sc->hi, 0, colorbar_intervals(h, fs), ticks, 16);
     int e = render_tick_exponent(ticks, n);
     double factor = pow(10, -e);
     double step = (n > 1 ? ticks[1] - ticks[0] : sc->hi - sc->lo) * factor;

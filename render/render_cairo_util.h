@@ -51,6 +51,11 @@ void render_markup_measure(cairo_t *cr, const char *text, double size, double *w
 void render_markup_draw(cairo_t *cr, double x, double y, const char *text, double size,
                         double halign, double valign, double box[4]);
 
+/// Sets the smallest font size of a script (pixels) for markup on this context: scripts are 0.7
+/// of their base size, but not below `size` (nor above their base). The plots set
+/// RENDER_TEXT_MIN_PT at their print size, so that a subscript of a small legend stays readable.
+void render_markup_min_script(cairo_t *cr, double size);
+
 typedef void (*RenderDrawFn)(cairo_t *cr, void *context);
 
 /// Draws with `draw` (in pixel units) into path: .png through libpng with text chunks

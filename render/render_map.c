@@ -140,6 +140,7 @@ static void draw_map(cairo_t *cr, void *context)
     const RenderMap *m = context;
     Layout g;
     layout(m, &g);
+    render_markup_min_script(cr, RENDER_TEXT_MIN_PT * 96.0 / 72.0); /* maps are 96 dpi */
     uint8_t lut[256][3];
     render_colormap_lut(m->colormap, lut);
     cairo_set_source_rgb(cr, 1, 1, 1);

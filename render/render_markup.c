@@ -6,6 +6,7 @@
 
 #include <ctype.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 enum { MAX_RUNS = 48, RUN_BYTES = 64 };
@@ -19,8 +20,11 @@ typedef struct Markup {
     Run run[MAX_RUNS];
     int n, open;
     double x, width, above, below;
+    double min_script; /* render_markup_min_script, pixels (0 = none) */
     cairo_t *cr;
 } Markup;
+
+static const cairo_user_data_key_t min_script_key;
 
 static const char *const symbols[][2] = {
     {"alpha", "\xce\xb1"},      {"beta", "\xce\xb2"},     {"gamma", "\xce\xb3"},
@@ -127,6 +131,7 @@ static void script(Markup *m, const char **s, double size, double dy, int depth)
     char c = **s;
     ++*s;
     double small = depth < 2 ? 0.7 * size : size;
+    small = fmin(size, fmax(small, m->min_script)); /* readable at print size */
     double shift = dy + (c == '^' ? -0.42 * size : 0.22 * size);
     if (**s == '{') {
         ++*s;
@@ -179,11 +184,23 @@ static void layout(cairo_t *cr, const char *text, double size, Markup *m)
 {
     memset(m, 0, sizeof *m);
     m->cr = cr;
+    const double *min = cairo_get_user_data(cr, &min_script_key);
+    m->min_script = min ? *min : 0.0;
     cairo_save(cr);
     const char *s = text ? text : "";
     group(m, &s, size, 0.0, 0, 0);
     flush(m);
     cairo_restore(cr);
+}
+
+void render_markup_min_script(cairo_t *cr, double size)
+{
+    double *min = malloc(sizeof *min);
+    if (!min)
+        return; /* scripts stay at 0.7 of their base */
+    *min = size;
+    if (cairo_set_user_data(cr, &min_script_key, min, free) != CAIRO_STATUS_SUCCESS)
+        free(min);
 }
 
 void render_markup_measure(cairo_t *cr, const char *text, double size, double *width, double *above,

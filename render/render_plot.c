@@ -155,6 +155,12 @@ static double plot_font(const RenderPlot *p)
     return RENDER_PLOT_FONT_PT * (p->dpi > 0 ? p->dpi : 96.0) / 72.0;
 }
 
+/* No script below RENDER_TEXT_MIN_PT at the plot's print size (a legend's t_0 at 0.8 em). */
+static void plot_min_script(cairo_t *cr, const RenderPlot *p)
+{
+    render_markup_min_script(cr, RENDER_TEXT_MIN_PT * (p->dpi > 0 ? p->dpi : 96.0) / 72.0);
+}
+
 static int valid(double v, int log)
 {
     return isfinite(v) && (!log || v > 0);
@@ -451,6 +457,7 @@ static int panel_layout(cairo_t *cr, const RenderPlot *p, int index, Panel *g)
         return -1;
     const RenderPanel *pn = &p->panels[index];
     double fs = plot_font(p), edge = 0.2 * fs;
+    plot_min_script(cr, p);
     double top = figure_top(cr, p, fs);
     g->cw = (p->width - 2 * edge) / cols;
     g->ch = (p->height - top - 2 * edge) / rows;
@@ -958,6 +965,7 @@ static void draw_plot(cairo_t *cr, void *context)
     const PlotDraw *d = context;
     const RenderPlot *p = d->plot;
     cairo_set_antialias(cr, CAIRO_ANTIALIAS_GOOD);
+    plot_min_script(cr, p);
     cairo_set_source_rgb(cr, 1, 1, 1);
     cairo_paint(cr);
     int rows = p->rows > 0 ? p->rows : 1, cols = p->cols > 0 ? p->cols : 1;

@@ -119,6 +119,11 @@ int app_bne_ldf(const double *const *t, const double *const *height, const int *
                 double tau, int bins, double v_min, double v_max, double *centre,
                 double *probability, double *rate_function);
 
+/// The axes of the rise chart (x: time since shaking starts, y: intruder height rise) and of
+/// the LDF's x axis (the windowed rise rate, a speed), in the scene's units (scene_axis_label);
+/// bare names when scene is NULL (a scene that no longer loads: its units are unknown).
+void app_bne_axis_labels(const Scene *scene, char time[64], char rise[64], char rate[64]);
+
 typedef struct AppBneSamplesOptions {
     const char *scene_path;
     const char *out_dir;

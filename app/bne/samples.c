@@ -486,16 +486,16 @@ static int write_curves(const Samples *S, Curves *C)
     return 1;
 }
 
-/* The rise chart's axes, in the scene's units when it declares units = "normalised" (SI scenes,
- * and a scene that no longer loads, keep the unit-less names). */
-static void axis_labels(const Scene *scene, char x_label[64], char y_label[64])
+void app_bne_axis_labels(const Scene *scene, char time[64], char rise[64], char rate[64])
 {
-    if (scene && scene->style.normalised_units) {
-        scene_axis_label(scene, "time since shaking starts", SCENE_TIME, x_label, 64);
-        scene_axis_label(scene, "intruder height rise", SCENE_LENGTH, y_label, 64);
+    if (scene) {
+        scene_axis_label(scene, "time since shaking starts", SCENE_TIME, time, 64);
+        scene_axis_label(scene, "intruder height rise", SCENE_LENGTH, rise, 64);
+        scene_axis_label(scene, "windowed rise rate v", SCENE_SPEED, rate, 64);
     } else {
-        snprintf(x_label, 64, "time since shaking starts");
-        snprintf(y_label, 64, "intruder height rise");
+        snprintf(time, 64, "time since shaking starts");
+        snprintf(rise, 64, "intruder height rise");
+        snprintf(rate, 64, "windowed rise rate v");
     }
 }
 
@@ -505,20 +505,19 @@ static void write_plots(const Samples *S, const Curves *C, int with_ldf)
     const AppBneSamplesOptions *o = S->o;
     if (!o->plot || !o->plot->plot || C->count == 0)
         return;
-    char path[BNE_PATH], err[512] = "", x_label[64], y_label[64];
+    char path[BNE_PATH], err[512] = "", x_label[64], y_label[64], v_label[64];
     /* the scene with the command's --set: its print keys (render.plot_format, size, style) */
     Scene *scene = scene_load(o->scene_path, o->sets, o->set_count, err, sizeof err);
     const SceneStyle *print = scene ? &scene->style : NULL;
-    axis_labels(scene, x_label, y_label);
+    app_bne_axis_labels(scene, x_label, y_label, v_label);
     snprintf(path, sizeof path, "%s/rise.png", o->out_dir);
     if (bne_plot(o->plot, print, path, "Intruder rise (mean +- std over seeds)", x_label, y_label,
                  C->rise, C->count, err, sizeof err) != 0)
         fprintf(stderr, "sablier: bne: %s: %s\n", path, err);
     if (with_ldf) {
         snprintf(path, sizeof path, "%s/ldf.png", o->out_dir);
-        if (bne_plot(o->plot, print, path, "Large-deviation function of the rise rate",
-                     "windowed rise rate v", "I(v) = -ln(P(v)/P_max) / tau", C->ldf, C->count, err,
-                     sizeof err) != 0)
+        if (bne_plot(o->plot, print, path, "Large-deviation function of the rise rate", v_label,
+                     "I(v) = -ln(P(v)/P_max) / tau", C->ldf, C->count, err, sizeof err) != 0)
             fprintf(stderr, "sablier: bne: %s: %s\n", path, err);
     }
     scene_free(scene);

@@ -230,5 +230,29 @@ static int rise_time_and_ldf(void)
     return 0;
 }
 
+/* The rise chart's and the LDF's axes carry the scene's units: the rise rate is a speed,
+ * sqrt(g d) in a normalised scene, m/s in an SI one (the figure lint wants a unit on every axis).
+ */
+static int axis_units(void)
+{
+    char err[2048], time[64], rise[64], rate[64];
+    Scene *scene = scene_load(SMALL, NULL, 0, err, sizeof err);
+    TEST_ASSERT(scene != NULL);
+    app_bne_axis_labels(scene, time, rise, rate);
+    TEST_ASSERT(strcmp(time, "time since shaking starts / \xe2\x88\x9a(d/g)") == 0);
+    TEST_ASSERT(strcmp(rise, "intruder height rise / d") == 0);
+    TEST_ASSERT(strcmp(rate, "windowed rise rate v / \xe2\x88\x9a(gd)") == 0);
+    scene_free(scene);
+    const char *si[] = {"units=\"SI\""};
+    scene = scene_load(SMALL, si, 1, err, sizeof err);
+    TEST_ASSERT(scene != NULL);
+    app_bne_axis_labels(scene, time, rise, rate);
+    TEST_ASSERT(strcmp(rate, "windowed rise rate v (m/s)") == 0);
+    scene_free(scene);
+    app_bne_axis_labels(NULL, time, rise, rate); /* units unknown: bare */
+    TEST_ASSERT(strcmp(rate, "windowed rise rate v") == 0);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(box_motion_and_no_tunnelling), TEST_CASE(no_rise_below_one),
-          TEST_CASE(periodic_seam), TEST_CASE(rise_time_and_ldf))
+          TEST_CASE(periodic_seam), TEST_CASE(rise_time_and_ldf), TEST_CASE(axis_units))

@@ -178,12 +178,17 @@ static int shipped_scenes_name_their_units(void)
             strcmp(scene_axis_label(scene, "y", SCENE_LENGTH, label, sizeof label), "y / d") == 0);
         TEST_ASSERT(strcmp(scene_axis_label(scene, "t", SCENE_TIME, label, sizeof label),
                            "t / \xe2\x88\x9a(d/g)") == 0);
+        TEST_ASSERT(
+            strcmp(scene_axis_label(scene, "\\phi", SCENE_DIMENSIONLESS, label, sizeof label),
+                   "\\phi (1)") == 0); /* a pure number says so: "(1)" */
         scene_free(scene);
     }
     Scene *si = scene_load("scenes/crater/small.scene", NULL, 0, err, sizeof err);
     TEST_ASSERT(si != NULL);
     TEST_ASSERT(strcmp(scene_unit(si, SCENE_FORCE, 0), "N") == 0);
     TEST_ASSERT(strcmp(scene_axis_label(si, "x", SCENE_LENGTH, label, sizeof label), "x (m)") == 0);
+    TEST_ASSERT(
+        strcmp(scene_axis_label(si, "Z", SCENE_DIMENSIONLESS, label, sizeof label), "Z (1)") == 0);
     scene_free(si);
     return 0;
 }
@@ -241,7 +246,7 @@ static int measure_labels_in_scene_units(void)
     TEST_ASSERT(app_run(scene, &options) == 0);
     scene_free(scene);
     TEST_ASSERT(strstr(labels.text, "\\sigma_{yy} / (m g/d)|y / d|") != NULL);
-    TEST_ASSERT(strstr(labels.text, "x / d|y / d|\\phi|") != NULL);
+    TEST_ASSERT(strstr(labels.text, "x / d|y / d|\\phi (1)|") != NULL); /* dimensionless */
     TEST_ASSERT(strstr(labels.text, "|\xe2\x88\x9a(gd)|") != NULL);
     TEST_ASSERT(strstr(labels.text, "(m)") == NULL && strstr(labels.text, "N/m") == NULL &&
                 strstr(labels.text, "m/s") == NULL);

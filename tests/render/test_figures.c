@@ -116,6 +116,41 @@ static int colorbar_exponent(void)
     return rc;
 }
 
+/* A short colour bar (a 240 x 160 px frame, its font at 7.5 pt) has fewer ticks, at least two
+ * em apart, so that their labels do not run into each other (the figure lint's overlap). */
+static int colorbar_short_ticks(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 10, 5, 0.01, 24) == 0);
+    RenderStyle s = figure_style(240, 160);
+    s.color_by = RENDER_COLOR_FORCE;
+    s.range_min = 0;
+    s.range_max = 8000;
+    RenderImage image;
+    TEST_ASSERT(render_cairo_draw(&f.frame, &s, &image) == 0);
+    RenderView v;
+    render_view_fit(&f.frame, &s, &v);
+    double fs = v.font_size;
+    /* the tick marks: dark pixels in the column just right of the bar */
+    int x = (int)(round(v.plot_x + v.plot_w + 1.2 * fs) + round(1.1 * fs) + 0.2 * fs);
+    int marks = 0, last = -1000, closest = 1000, dark = 0;
+    for (int y = (int)v.plot_y; y < image.height; ++y) /* the time stamp is above */ {
+        uint32_t p = fixture_pixel(&image, x, y);
+        int now = ((p >> 16 & 255) + (p >> 8 & 255) + (p & 255)) < 600; /* antialiased */
+        if (now && !dark) {
+            ++marks;
+            closest = y - last < closest ? y - last : closest;
+            last = y;
+        }
+        dark = now;
+    }
+    render_image_free(&image);
+    fixture_free(&f);
+    TEST_ASSERT(marks >= 2);
+    TEST_ASSERT(closest >= 1.3 * fs); /* labels 1.16 em tall keep a gap */
+    return 0;
+}
+
 /* A field given on its nodes (a vortex on 10 x 5 nodes, one masked) drawn on the nodes, coloured
  * by speed, with its reference arrow in m/s under the plot. */
 static int node_field_key(void)
@@ -214,4 +249,5 @@ static int print_size(void)
 }
 
 TEST_MAIN(TEST_CASE(axes_metres), TEST_CASE(axes_reduced), TEST_CASE(margins_leave_plot_clear),
-          TEST_CASE(colorbar_exponent), TEST_CASE(node_field_key), TEST_CASE(print_size))
+          TEST_CASE(colorbar_exponent), TEST_CASE(colorbar_short_ticks), TEST_CASE(node_field_key),
+          TEST_CASE(print_size))

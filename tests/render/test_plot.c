@@ -583,7 +583,58 @@ static int print_size(void)
     return 0;
 }
 
+/* Scripts are 0.7 of their base but never below 6 pt at print size: a legend's "t_0" at a
+ * 7.2 pt font (9.6 px at 96 dpi) has its "0" at 6 pt (8 px), not 5 pt (the figure lint's
+ * smallest text). */
+static int script_floor(void)
+{
+    cairo_surface_t *surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, 1, 1);
+    cairo_t *cr = cairo_create(surface);
+    double fs = 9.6, floor_px = RENDER_TEXT_MIN_PT * 96.0 / 72.0, w, a, b;
+    render_text_font(cr, fs, 0);
+    double t = render_text_width(cr, "t");
+    render_text_font(cr, floor_px, 0);
+    double zero = render_text_width(cr, "0");
+    render_text_font(cr, 0.7 * fs, 0);
+    double small = render_text_width(cr, "0");
+    render_text_font(cr, fs, 0);
+    render_markup_measure(cr, "t_0", fs, &w, &a, &b);
+    TEST_NEAR(w, t + small, 1e-9); /* no floor set: 0.7 em */
+    render_markup_min_script(cr, floor_px);
+    render_markup_measure(cr, "t_0", fs, &w, &a, &b);
+    TEST_NEAR(w, t + zero, 1e-9);
+    render_markup_measure(cr, "t_0", 0.5 * floor_px, &w, &a, &b); /* never above its base */
+    render_text_font(cr, 0.5 * floor_px, 0);
+    TEST_NEAR(w, render_text_width(cr, "t0"), 1e-9);
+    cairo_destroy(cr);
+    cairo_surface_destroy(surface);
+    /* the plots set the floor: the legend of "t_0" is wider than that of "t" by a 6 pt "0" */
+    double x[3] = {0, 1, 2}, y[3] = {0, 1, 4}, width[2] = {0, 0};
+    const char *labels[2] = {"t", "t_0"};
+    int found = 0;
+    for (int k = 0; k < 2; ++k) {
+        RenderSeries s = {
+            .count = 3, .x = x, .y = y, .rgb = RENDER_RGB_AUTO, .line = 1, .label = labels[k]};
+        RenderPanel pn = {.series_count = 1,
+                          .series = &s,
+                          .x = {.label = "x (m)"},
+                          .y = {.label = "y (m)"},
+                          .legend = RENDER_LEGEND_OUTSIDE};
+        RenderPlot plot = {.width = 480, .height = 320, .panels = &pn, .dpi = 96, .font_size = fs};
+        RenderPlotBox boxes[32];
+        int n = layout_clean(&plot, boxes, 32);
+        for (int j = 0; j < n; ++j)
+            if (boxes[j].kind == RENDER_TEXT_LEGEND) {
+                width[k] = boxes[j].x1 - boxes[j].x0;
+                ++found;
+            }
+    }
+    TEST_NEAR(width[1] - width[0], zero, 1e-6);
+    TEST_ASSERT(found == 2);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(nice_ticks), TEST_CASE(tick_labels), TEST_CASE(energy_panels),
           TEST_CASE(plot_files), TEST_CASE(layout_energy), TEST_CASE(layout_sediment),
           TEST_CASE(nan_gap), TEST_CASE(legend_best), TEST_CASE(declared_domain), TEST_CASE(markup),
-          TEST_CASE(print_size))
+          TEST_CASE(print_size), TEST_CASE(script_floor))
