@@ -2,11 +2,15 @@
 /* driver.c: the skeleton every multi-run command shares (driver.h). */
 #include "driver.h"
 
+#include <errno.h>
+#include <fcntl.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
-void app_driver_args_init(AppDriverArgs *a)
+/* Empty arguments: no scene, no --out, no sets, --jobs 2. */
+static void driver_args_init(AppDriverArgs *a)
 {
     memset(a, 0, sizeof *a);
     a->jobs = 2;
@@ -43,7 +47,9 @@ static int driver_vary(const AppDriverSpec *s, AppDriverArgs *a, const char *val
     return 1;
 }
 
-int app_driver_option(const AppDriverSpec *s, int argc, char **argv, int *i, AppDriverArgs *a)
+/* The common option at argv[*i] into *a (*i moves past its value): 1 when it was one, 0 when
+ * argv[*i] is not a common option, -1 on a usage error (message and usage on stderr). */
+static int driver_option(const AppDriverSpec *s, int argc, char **argv, int *i, AppDriverArgs *a)
 {
     const char *value = NULL;
     int m;
@@ -66,7 +72,7 @@ int app_driver_option(const AppDriverSpec *s, int argc, char **argv, int *i, App
         }
         return 1;
     }
-    if (strcmp(argv[*i], "--quiet") == 0 || strcmp(argv[*i], "-q") == 0) {
+    if (!s->no_quiet && (strcmp(argv[*i], "--quiet") == 0 || strcmp(argv[*i], "-q") == 0)) {
         a->quiet = 1;
         return 1;
     }
@@ -77,32 +83,30 @@ int app_driver_option(const AppDriverSpec *s, int argc, char **argv, int *i, App
     return 0;
 }
 
-int app_driver_scene(const AppDriverSpec *s, const char *arg, AppDriverArgs *a)
+/* A word no option took: the scene (once), or an unknown option. 0, or 2 after a usage error. */
+static int driver_scene(const AppDriverSpec *s, const char *arg, AppDriverArgs *a)
 {
-    if (arg[0] == '-' && arg[1])
-        return app_usage_error(s->usage, "unknown option", arg);
-    if (a->scene)
-        return app_usage_error(
-            s->usage, s->extra_error ? s->extra_error : "one scene at a time; extra argument", arg);
-    a->scene = arg;
-    return 0;
+    if (s->extra_error && a->scene && !(arg[0] == '-' && arg[1]))
+        return app_usage_error(s->usage, s->extra_error, arg);
+    return app_scene_argument(s->usage, arg, &a->scene);
 }
 
 int app_driver_parse(const AppDriverSpec *s, int argc, char **argv, AppDriverArgs *a,
                      int (*own)(void *ctx, int argc, char **argv, int *i), void *ctx)
 {
+    driver_args_init(a);
     for (int i = 2; i < argc; ++i) {
-        int m = app_driver_option(s, argc, argv, &i, a);
+        int m = driver_option(s, argc, argv, &i, a);
         if (m < 0)
             return 2;
         if (m == 0 && own)
             m = own(ctx, argc, argv, &i);
         if (m > 1)
             return m;
-        if (m == 0 && app_driver_scene(s, argv[i], a) != 0)
+        if (m == 0 && driver_scene(s, argv[i], a) != 0)
             return 2;
     }
-    return 0;
+    return a->scene ? 0 : app_usage_error(s->usage, s->missing, NULL);
 }
 
 void app_driver_default_out(const char *prefix, const char *scene_path, char *out, size_t size)
@@ -170,4 +174,79 @@ int app_driver_member(const char *path, const AppDriverSets *sets, const AppExpe
     int rc = app_driver_run(scene, dir, render);
     scene_free(scene);
     return rc;
+}
+
+static int driver_pool_run(void *ctx, int k)
+{
+    const AppDriverPool *p = ctx;
+    return p->run(p->ctx, k);
+}
+
+static int driver_pool_start(void *ctx, int k)
+{
+    const AppDriverPool *p = ctx;
+    return p->start(p->ctx, k);
+}
+
+static int driver_pool_folder(void *ctx, int k, char *dir, size_t size)
+{
+    const AppDriverPool *p = ctx;
+    return p->folder(p->ctx, k, dir, size);
+}
+
+static void driver_pool_done(void *ctx, int k, int status)
+{
+    AppDriverPool *p = ctx;
+    if (status == APP_POOL_NOT_STARTED && p->not_started) {
+        fprintf(stderr, "sablier: %s: %s: %s\n", p->command, p->not_started, strerror(errno));
+        p->failed = 1;
+        if (p->status)
+            p->status[k] = 2;
+        return;
+    }
+    const int forked = status != APP_POOL_NOT_STARTED;
+    if (p->ended)
+        status = p->ended(p->ctx, k, status);
+    if (p->status)
+        p->status[k] = status;
+    p->failed |= status != 0;
+    if (!forked) /* `ended` said why */
+        return;
+    p->finished += status != APP_POOL_INTERRUPTED;
+    char line[1024] = "";
+    if (!p->quiet && p->progress)
+        p->progress(p->ctx, k, status, line, sizeof line);
+    if (line[0])
+        fprintf(stderr, "sablier: %s: %s\n", p->command, line);
+}
+
+int app_driver_pool_run(AppDriverPool *p)
+{
+    for (int k = 0; p->status && k < p->count; ++k)
+        p->status[k] = -1;
+    p->finished = 0;
+    p->failed = 0;
+    p->start_at = app_now_seconds();
+    AppPool pool = {.count = p->count,
+                    .jobs = (int)p->jobs,
+                    .ctx = p,
+                    .start = p->start ? driver_pool_start : NULL,
+                    .run = driver_pool_run,
+                    .done = driver_pool_done,
+                    .signal_status = p->signal_status,
+                    .folder = p->folder ? driver_pool_folder : NULL,
+                    .resume = p->resume};
+    return app_pool_run(&pool);
+}
+
+void app_driver_log_to(const char *dir)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/log.txt", dir);
+    int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+        dup2(fd, STDOUT_FILENO);
+        dup2(fd, STDERR_FILENO);
+        close(fd);
+    }
 }

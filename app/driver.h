@@ -10,6 +10,7 @@
 #define APP_DRIVER_H
 
 #include "experiment.h"
+#include "pool.h"
 #include "run.h"
 #include "scene.h"
 #include "util.h"
@@ -29,6 +30,8 @@ typedef struct AppDriverSpec {
     int vary_max;
     const char *set_error;   ///< the message of a bad --set (NULL: app_collect_set's own)
     const char *extra_error; ///< a second scene (NULL: "one scene at a time; extra argument")
+    int no_quiet;            ///< 1: --quiet and -q are not options of the command
+    const char *missing;     ///< the message when no scene is given ("missing SCENE")
 } AppDriverSpec;
 
 /// The common options of a command line.
@@ -44,20 +47,11 @@ typedef struct AppDriverArgs {
     int resume; ///< --resume
 } AppDriverArgs;
 
-/// Empty arguments: no scene, no --out, no sets, --jobs 2.
-void app_driver_args_init(AppDriverArgs *a);
-
-/// The common option at argv[*i] into *a (*i moves past its value): 1 when it was one, 0 when
-/// argv[*i] is not a common option (the command's own, or the scene: app_driver_scene), -1 on a
-/// usage error (message and usage on stderr; the command exits 2).
-int app_driver_option(const AppDriverSpec *s, int argc, char **argv, int *i, AppDriverArgs *a);
-
-/// A word no option took: the scene (once), or an unknown option. 0, or 2 after a usage error.
-int app_driver_scene(const AppDriverSpec *s, const char *arg, AppDriverArgs *a);
-
-/// Every argument from argv[2] on: the common ones into *a, each other one handed to `own`
-/// (ctx, argc, argv, &i: 1 when it took argv[*i], 0 when it is not its own, else the exit status
-/// of a usage error). 0, or the exit status of a usage error.
+/// Every argument from argv[2] on: the common ones into *a (emptied first: no scene, no --out,
+/// no sets, --jobs 2),
+/// each other one handed to `own` (ctx, argc, argv, &i: 1 when it took argv[*i], 0 when it is not
+/// its own, else the exit status of a usage error); then a usage error when no scene was given.
+/// 0, or the exit status of a usage error.
 int app_driver_parse(const AppDriverSpec *s, int argc, char **argv, AppDriverArgs *a,
                      int (*own)(void *ctx, int argc, char **argv, int *i), void *ctx);
 
@@ -93,5 +87,44 @@ int app_driver_run(Scene *scene, const char *dir, const AppRender *render);
 /// its exit status, 2 when it does not load.
 int app_driver_member(const char *path, const AppDriverSets *sets, const AppExperiment *family,
                       const char *dir, const AppRender *render);
+
+/// A command's members through the process pool (pool.h). The driver keeps their statuses, says
+/// when a fork failed and prints the command's progress line as each member ends.
+typedef struct AppDriverPool {
+    const char *command; ///< the messages' prefix: "sablier: COMMAND: ..."
+    /// The message of a failed fork, followed by the reason ("cannot start a member"); NULL:
+    /// `ended` is called with APP_POOL_NOT_STARTED and reports it.
+    const char *not_started;
+    int count;         ///< members 0 .. count-1
+    long jobs;         ///< at most this many at a time (--jobs)
+    int resume;        ///< --resume: skip the members whose folder holds a completed run
+    int signal_status; ///< the status of a member a signal ended
+    int quiet;         ///< --quiet: no progress lines
+    void *ctx;         ///< handed to every hook
+    /// Member k's status as it ends (NULL: none kept): -1 until then (app_driver_pool_run sets
+    /// them), 2 when its fork failed.
+    int *status;
+    int (*start)(void *ctx, int k); ///< optional: pool.h's start
+    int (*run)(void *ctx, int k);   ///< pool.h's run: the member, in its child
+    /// Optional: member k's folder (pool.h's folder; --resume); 0, or -1 when it has none.
+    int (*folder)(void *ctx, int k, char *dir, size_t size);
+    /// Optional: member k ended with `status`; returns the status it keeps (a member whose results
+    /// cannot be read: 2).
+    int (*ended)(void *ctx, int k, int status);
+    /// Optional: the progress line of member k that ended with `status`, without the prefix and
+    /// the newline, into line[size] (left empty: no line).
+    void (*progress)(void *ctx, int k, int status, char *line, size_t size);
+    int finished;    ///< members that ended, not counting those interrupted (for an ETA)
+    int failed;      ///< 1 once a member ended otherwise than with 0, or its fork failed
+    double start_at; ///< app_now_seconds() when the pool started
+} AppDriverPool;
+
+/// Runs the members: app_pool_run's status (0, -1 when a fork or a wait failed, 128 + the
+/// signal that stopped it).
+int app_driver_pool_run(AppDriverPool *p);
+
+/// In a member's child: its stdout and stderr into DIR/log.txt (left as they are when the file
+/// cannot be opened).
+void app_driver_log_to(const char *dir);
 
 #endif

@@ -20,7 +20,6 @@
 #include "sim/sim.h"
 
 #include <errno.h>
-#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -28,7 +27,6 @@
 #include <sys/resource.h>
 #include <sys/types.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #define ENS_LEVELS 32   /* time steps */
 #define ENS_KEYS   8    /* observables (one plot panel each) */
@@ -160,8 +158,10 @@ static int parse_values(Options *o, const char *name, const char *list, int by_s
     return 0;
 }
 
-static const AppDriverSpec ENSEMBLE_SPEC = {
-    .usage = app_ensemble_usage, .jobs_max = 64, .sets_max = APP_MAX_SETS - 8};
+static const AppDriverSpec ENSEMBLE_SPEC = {.usage = app_ensemble_usage,
+                                            .jobs_max = 64,
+                                            .sets_max = APP_MAX_SETS - 8,
+                                            .missing = "missing SCENE"};
 
 /* The options of `sablier ensemble` alone (app_driver_parse's `own`): 1 taken, 0 not its own,
  * else the exit status. */
@@ -194,7 +194,6 @@ static int parse_option(void *ctx, int argc, char **argv, int *i)
 
 static int parse_options(Options *o, int argc, char **argv)
 {
-    app_driver_args_init(&o->d);
     o->seeds = 5;
     o->seed0 = 1;
     int rc = app_driver_parse(&ENSEMBLE_SPEC, argc, argv, &o->d, parse_option, o);
@@ -202,8 +201,6 @@ static int parse_options(Options *o, int argc, char **argv)
         return rc;
     o->scene_path = o->d.scene;
     o->out_dir = o->d.out;
-    if (!o->scene_path)
-        return usage_error("missing SCENE", NULL);
     if (o->value_count == 0)
         return usage_error("missing --dt LIST or --steps-per-contact LIST", NULL);
     if (o->key_count == 0)
@@ -393,13 +390,7 @@ static int member_run(void *ctx, int k)
     Ensemble *E = ctx;
     char dir[ENS_PATH], path[ENS_PATH + 32];
     member_dir(E, k, dir, sizeof dir);
-    snprintf(path, sizeof path, "%s/log.txt", dir);
-    int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd >= 0) {
-        dup2(fd, STDOUT_FILENO);
-        dup2(fd, STDERR_FILENO);
-        close(fd);
-    }
+    app_driver_log_to(dir);
     struct rusage usage;
     int status = app_pool_exec_wait(E->o->self, E->argv, &usage);
     if (status < 0) {
@@ -416,23 +407,15 @@ static int member_run(void *ctx, int k)
     return status;
 }
 
-static void member_done(void *ctx, int k, int status)
+static void member_progress(void *ctx, int k, int status, char *line, size_t size)
 {
-    Ensemble *E = ctx;
-    if (status == APP_POOL_NOT_STARTED) {
-        fprintf(stderr, "sablier: ensemble: cannot start a member: %s\n", strerror(errno));
-        status = 2;
-    }
-    E->status[k] = status;
-    if (!E->o->d.quiet) {
-        char dir[ENS_PATH];
-        member_dir(E, k, dir, sizeof dir);
-        fprintf(stderr, "sablier: ensemble: %s: %s\n", dir,
-                status == 0                      ? "ok"
-                : status == 1                    ? "unstable"
-                : status == APP_POOL_INTERRUPTED ? "interrupted"
-                                                 : "failed (see its log.txt)");
-    }
+    char dir[ENS_PATH];
+    member_dir(ctx, k, dir, sizeof dir);
+    snprintf(line, size, "%s: %s", dir,
+             status == 0                      ? "ok"
+             : status == 1                    ? "unstable"
+             : status == APP_POOL_INTERRUPTED ? "interrupted"
+                                              : "failed (see its log.txt)");
 }
 
 static int member_folder(void *ctx, int k, char *dir, size_t size)
@@ -444,21 +427,23 @@ static int member_folder(void *ctx, int k, char *dir, size_t size)
 /* The members through the pool: 0, 2 when a fork failed, or 128 + the signal that stopped it. */
 static int run_members(Ensemble *E)
 {
-    for (int k = 0; k < E->member_count; ++k)
-        E->status[k] = -1;
     if (!E->o->d.quiet)
         fprintf(stderr, "sablier: ensemble: %d members (%d time steps x %ld seeds), %d at a time\n",
                 E->member_count, E->level_count, E->o->seeds, app_pool_width((int)E->o->d.jobs));
-    AppPool pool = {.count = E->member_count,
-                    .jobs = (int)E->o->d.jobs,
-                    .ctx = E,
-                    .start = member_start,
-                    .run = member_run,
-                    .done = member_done,
-                    .signal_status = 1,
-                    .folder = member_folder,
-                    .resume = E->o->d.resume};
-    int rc = app_pool_run(&pool);
+    AppDriverPool pool = {.command = "ensemble",
+                          .not_started = "cannot start a member",
+                          .count = E->member_count,
+                          .jobs = E->o->d.jobs,
+                          .resume = E->o->d.resume,
+                          .signal_status = 1,
+                          .quiet = E->o->d.quiet,
+                          .ctx = E,
+                          .status = E->status,
+                          .start = member_start,
+                          .run = member_run,
+                          .folder = member_folder,
+                          .progress = member_progress};
+    int rc = app_driver_pool_run(&pool);
     return rc == 0 || rc > APP_EXIT_SIGNAL ? rc : 2;
 }
 

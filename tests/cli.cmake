@@ -308,6 +308,26 @@ sablier_cli_test(study_widths_empty_item
 sablier_cli_test(study_widths_too_small
                  "study|${CLI_DISCHARGE}|--widths|0.5,2|--out|${CLI_WORK}/study_widths_too_small" 2
                  ERR "study: --widths 0.5: an orifice width must be in")
+# sweep and study parse through the multi-run driver (app/driver.h): their usage errors unchanged,
+# and what one command does not take (study: --quiet, --vary) still refused
+sablier_cli_test(study_no_scene "study" 2 ERR "missing SCENE\n\nusage: sablier study")
+sablier_cli_test(study_quiet "study|${CLI_DISCHARGE}|--quiet" 2 ERR "unknown option --quiet")
+sablier_cli_test(study_vary "study|${CLI_DISCHARGE}|--vary|seed=1,2" 2 ERR "unknown option --vary")
+sablier_cli_test(study_jobs "study|${CLI_DISCHARGE}|--jobs|257" 2
+                 ERR "--jobs needs a count in \\[1, 256\\], got 257")
+sablier_cli_test(study_samples "study|${CLI_DISCHARGE}|--samples|0" 2
+                 ERR "--samples needs a count in \\[1, 1e6\\], got 0")
+sablier_cli_test(study_bad_set "study|${CLI_DISCHARGE}|--set" 2 ERR "sablier: bad --set\n\nusage")
+sablier_cli_test(study_two_scenes "study|${CLI_DISCHARGE}|${CLI_DISCHARGE}" 2
+                 ERR "one scene at a time; extra argument")
+sablier_cli_test(sweep_no_scene "sweep" 2 ERR "missing FILE.sweep or SCENE\n\nusage: sablier sweep")
+sablier_cli_test(sweep_two "sweep|a.sweep|b.sweep" 2 ERR "one sweep at a time; extra argument b.sweep")
+sablier_cli_test(sweep_jobs "sweep|a.sweep|--jobs|65" 2
+                 ERR "--jobs needs a count in \\[1, 64\\], got 65")
+sablier_cli_test(sweep_vary_nine
+                 "sweep|${CLI_QUICK}|--vary|a=1|--vary|a=1|--vary|a=1|--vary|a=1|--vary|a=1|--vary|a=1|--vary|a=1|--vary|a=1|--vary|a=1"
+                 2 ERR "too many --vary options")
+sablier_cli_test(sweep_unknown "sweep|a.sweep|--frob" 2 ERR "unknown option --frob")
 sablier_cli_test(set_array_empty_element "check|${CLI_TINY}|--set|effects=[friction,,rolling_resistance]"
                  2 ERR "--set effects: an empty element in \\[a, b, ...\\]")
 sablier_cli_test(diff_threshold_over "diff|a.png|b.png|--threshold|300" 2

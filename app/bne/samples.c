@@ -10,7 +10,6 @@
 
 #include "sim/sim.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -247,19 +246,14 @@ static int sample_start(void *ctx, int k)
     return 0;
 }
 
-static void sample_done(void *ctx, int k, int status)
+/* A run that ended: its record read back (status 2 when it cannot be). */
+static int sample_ended(void *ctx, int k, int status)
 {
     Samples *S = ctx;
     Record *rec = &S->records[k];
     rec->value = S->values[k / S->o->seeds];
     rec->seed = S->o->seed0 + k % S->o->seeds;
-    if (status == APP_POOL_NOT_STARTED) {
-        fprintf(stderr, "sablier: bne: cannot start a run: %s\n", strerror(errno));
-        status = 2;
-    } else if (status == 0 && read_record(S, rec) != 0) {
-        status = 2;
-    }
-    S->status[k] = status;
+    return status == 0 && read_record(S, rec) != 0 ? 2 : status;
 }
 
 static int sample_folder(void *ctx, int k, char *dir, size_t size)
@@ -274,18 +268,19 @@ static int sample_folder(void *ctx, int k, char *dir, size_t size)
 static int run_samples(Samples *S)
 {
     int total = S->value_count * S->o->seeds;
-    for (int k = 0; k < total; ++k)
-        S->status[k] = -1;
-    AppPool pool = {.count = total,
-                    .jobs = S->o->jobs,
-                    .ctx = S,
-                    .start = sample_start,
-                    .run = sample_run,
-                    .done = sample_done,
-                    .signal_status = 1,
-                    .folder = sample_folder,
-                    .resume = S->o->resume};
-    int pool_rc = app_pool_run(&pool);
+    AppDriverPool pool = {.command = "bne",
+                          .not_started = "cannot start a run",
+                          .count = total,
+                          .jobs = S->o->jobs,
+                          .resume = S->o->resume,
+                          .signal_status = 1,
+                          .ctx = S,
+                          .status = S->status,
+                          .start = sample_start,
+                          .run = sample_run,
+                          .folder = sample_folder,
+                          .ended = sample_ended};
+    int pool_rc = app_driver_pool_run(&pool);
     int rc = pool_rc > APP_EXIT_SIGNAL ? pool_rc : pool_rc != 0 ? 2 : 0;
     for (S->done = 0; S->done < total && S->status[S->done] == 0; ++S->done)
         ;
@@ -618,7 +613,8 @@ typedef struct BneArgs {
     int movies;
 } BneArgs;
 
-static const AppDriverSpec BNE_SPEC = {.usage = USAGE_BNE, .jobs_max = 64, .vary_max = 1};
+static const AppDriverSpec BNE_SPEC = {
+    .usage = USAGE_BNE, .jobs_max = 64, .vary_max = 1, .missing = "missing SCENE"};
 
 /* The options of `sablier bne` alone (app_driver_parse's `own`). */
 static int bne_option(void *ctx, int argc, char **argv, int *i)
@@ -654,15 +650,12 @@ static int bne_option(void *ctx, int argc, char **argv, int *i)
 static int bne_arguments(int argc, char **argv, BneArgs *a)
 {
     memset(a, 0, sizeof *a);
-    app_driver_args_init(&a->d);
     a->seeds = 5;
     a->seed0 = 1;
     a->o.ldf_periods = 5.0;
     int rc = app_driver_parse(&BNE_SPEC, argc, argv, &a->d, bne_option, a);
     if (rc != 0)
         return rc;
-    if (!a->d.scene)
-        return app_usage_error(USAGE_BNE, "missing SCENE", NULL);
     app_driver_default_out("bne", a->d.scene, a->default_out, sizeof a->default_out);
     a->o.scene_path = a->d.scene;
     a->o.out_dir = a->d.out ? a->d.out : a->default_out;

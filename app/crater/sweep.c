@@ -4,6 +4,7 @@
 #include "sweep.h"
 
 #include "config.h"
+#include "driver.h"
 #include "pool.h"
 #include "run.h"
 #include "scene.h"
@@ -12,7 +13,6 @@
 #include "sim/sim.h"
 
 #include <errno.h>
-#include <fcntl.h>
 #include <libconfig.h>
 #include <limits.h>
 #include <math.h>
@@ -401,37 +401,37 @@ static int member_start(void *ctx, int i)
 static int member_exec(void *ctx, int i)
 {
     const SweepRun *run = ctx;
-    char log[SWEEP_PATH + 16];
-    snprintf(log, sizeof log, "%s/log.txt", run->members[i].dir);
-    int fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd >= 0) {
-        dup2(fd, STDOUT_FILENO);
-        dup2(fd, STDERR_FILENO);
-        close(fd);
-    }
+    app_driver_log_to(run->members[i].dir);
     execv(run->w->o->self, run->argv);
     fprintf(stderr, "sablier: sweep: cannot run %s: %s\n", run->w->o->self, strerror(errno));
     return 2;
 }
 
-static void member_done(void *ctx, int i, int status)
+/* Member i ended (or its fork failed): its status and wall time. */
+static int member_ended(void *ctx, int i, int status)
 {
     SweepRun *run = ctx;
     Member *m = &run->members[i];
     if (status == APP_POOL_NOT_STARTED) {
         not_started(run, m);
-        return;
+        return m->status;
     }
     m->wall_seconds = m->started > 0.0 ? app_now_seconds() - m->started : 0.0; /* 0: --resume */
     m->status = status;
-    if (!run->bed_run && !run->w->o->quiet)
-        fprintf(stderr, "sablier: sweep: member %d/%d %s: %s (%.1f s), crater height %.4g m\n",
-                i + 1, run->w->member_count, m->label,
-                m->status == 0                      ? "ok"
-                : m->status == 1                    ? "unstable"
-                : m->status == APP_POOL_INTERRUPTED ? "interrupted"
-                                                    : "error",
-                m->wall_seconds, app_observable(m->dir, "crater_height_m"));
+    return status;
+}
+
+static void member_progress(void *ctx, int i, int status, char *line, size_t size)
+{
+    const SweepRun *run = ctx;
+    const Member *m = &run->members[i];
+    snprintf(line, size, "member %d/%d %s: %s (%.1f s), crater height %.4g m", i + 1,
+             run->w->member_count, m->label,
+             status == 0                      ? "ok"
+             : status == 1                    ? "unstable"
+             : status == APP_POOL_INTERRUPTED ? "interrupted"
+                                              : "error",
+             m->wall_seconds, app_observable(m->dir, "crater_height_m"));
 }
 
 static int member_folder(void *ctx, int i, char *dir, size_t size)
@@ -446,16 +446,19 @@ static int member_folder(void *ctx, int i, char *dir, size_t size)
 static int run_members(Sweep *w, Member *members, int count, int bed_run)
 {
     SweepRun run = {.w = w, .members = members, .bed_run = bed_run};
-    AppPool pool = {.count = count,
-                    .jobs = w->o->jobs,
-                    .ctx = &run,
-                    .start = member_start,
-                    .run = member_exec,
-                    .done = member_done,
-                    .signal_status = 2,
-                    .folder = member_folder,
-                    .resume = w->o->resume};
-    int rc = app_pool_run(&pool);
+    AppDriverPool pool = {.command = "sweep",
+                          .count = count,
+                          .jobs = w->o->jobs,
+                          .resume = w->o->resume,
+                          .signal_status = 2,
+                          .quiet = w->o->quiet,
+                          .ctx = &run,
+                          .start = member_start,
+                          .run = member_exec,
+                          .folder = member_folder,
+                          .ended = member_ended,
+                          .progress = bed_run ? NULL : member_progress};
+    int rc = app_driver_pool_run(&pool);
     if (run.argv[0])
         free_argv(run.argv);
     return rc > APP_EXIT_SIGNAL ? rc : 0;
@@ -689,14 +692,10 @@ static int setup(Sweep *w)
         return 2;
     if (o->out_dir) {
         snprintf(w->out_dir, sizeof w->out_dir, "%s", o->out_dir);
+    } else if (o->definition) {
+        app_driver_default_out("sweep", o->definition, w->out_dir, sizeof w->out_dir);
     } else {
-        const char *base = o->definition ? strrchr(o->definition, '/') : NULL;
-        base = base ? base + 1 : o->definition;
-        if (base)
-            snprintf(w->out_dir, sizeof w->out_dir, "out/sweep-%.*s", (int)strcspn(base, "."),
-                     base);
-        else
-            snprintf(w->out_dir, sizeof w->out_dir, "out/%s-sweep", w->name);
+        snprintf(w->out_dir, sizeof w->out_dir, "out/%s-sweep", w->name);
     }
     return check_members(w);
 }
@@ -827,73 +826,54 @@ static const char USAGE_SWEEP[] =
     "SIGINT or SIGTERM stops the members (each saves its state), writes sweep.csv with status\n"
     "`interrupted` for the members not finished, and exits 130 or 143.\n";
 
-/* The command line of `sablier sweep`. */
+static const AppDriverSpec SWEEP_SPEC = {.usage = USAGE_SWEEP,
+                                         .jobs_max = 64,
+                                         .vary_max = 8,
+                                         .extra_error = "one sweep at a time; extra argument",
+                                         .missing = "missing FILE.sweep or SCENE"};
+
+/* The command line of `sablier sweep`: the common options (driver.h) and its own. */
 typedef struct SweepArgs {
     AppSweepOptions o;
-    const char *sets[APP_MAX_SETS], *vary[8];
+    AppDriverArgs d;
 } SweepArgs;
+
+/* The options of `sablier sweep` alone (app_driver_parse's `own`). */
+static int sweep_option(void *ctx, int argc, char **argv, int *i)
+{
+    AppSweepOptions *o = ctx;
+    const char *value;
+    int m;
+    if ((m = app_option(argc, argv, i, "--from", &value)) != 0)
+        o->from = value;
+    else if ((m = app_option(argc, argv, i, "--bed-stage", &value)) != 0)
+        o->bed_stage = value;
+    else if (strcmp(argv[*i], "--dry-run") == 0)
+        o->dry_run = m = 1;
+    return m < 0 ? 2 : m;
+}
 
 /* The command line into *a: 0, or the exit status of a usage error (message on stderr). */
 static int sweep_arguments(int argc, char **argv, SweepArgs *a)
 {
-    const char *path = NULL, *value, **sets = a->sets, **vary = a->vary;
-    int set_count = 0, vary_count = 0;
-    long jobs = 2;
-    AppSweepOptions o = app_sweep_options_default();
-    for (int i = 2; i < argc; ++i) {
-        int m;
-        if ((m = app_option(argc, argv, &i, "--out", &value)) != 0) {
-            if (m < 0)
-                return 2;
-            o.out_dir = value;
-        } else if ((m = app_option(argc, argv, &i, "--from", &value)) != 0) {
-            if (m < 0)
-                return 2;
-            o.from = value;
-        } else if ((m = app_option(argc, argv, &i, "--bed-stage", &value)) != 0) {
-            if (m < 0)
-                return 2;
-            o.bed_stage = value;
-        } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
-            if (m < 0 || app_collect_set(sets, &set_count, APP_MAX_SETS, value) < 0)
-                return 2;
-        } else if ((m = app_option(argc, argv, &i, "--vary", &value)) != 0) {
-            if (m < 0)
-                return 2;
-            if (vary_count >= 8)
-                return app_usage_error(USAGE_SWEEP, "too many --vary options", NULL);
-            vary[vary_count++] = value;
-        } else if ((m = app_option(argc, argv, &i, "--jobs", &value)) != 0) {
-            if (m < 0 || app_parse_count(value, 1, 64, &jobs) < 0)
-                return app_usage_error(USAGE_SWEEP, "--jobs needs a count in [1, 64], got",
-                                       m < 0 ? "nothing" : value);
-        } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
-            o.quiet = 1;
-        } else if (strcmp(argv[i], "--dry-run") == 0) {
-            o.dry_run = 1;
-        } else if (strcmp(argv[i], "--resume") == 0) {
-            o.resume = 1;
-        } else if (argv[i][0] == '-' && argv[i][1]) {
-            return app_usage_error(USAGE_SWEEP, "unknown option", argv[i]);
-        } else if (!path) {
-            path = argv[i];
-        } else {
-            return app_usage_error(USAGE_SWEEP, "one sweep at a time; extra argument", argv[i]);
-        }
-    }
-    if (!path)
-        return app_usage_error(USAGE_SWEEP, "missing FILE.sweep or SCENE", NULL);
+    a->o = app_sweep_options_default();
+    int rc = app_driver_parse(&SWEEP_SPEC, argc, argv, &a->d, sweep_option, &a->o);
+    if (rc != 0)
+        return rc;
+    const char *path = a->d.scene;
     size_t n = strlen(path);
     if (n > 6 && strcmp(path + n - 6, ".sweep") == 0)
-        o.definition = path;
+        a->o.definition = path;
     else
-        o.scene_path = path;
-    o.jobs = (int)jobs;
-    o.sets = a->sets;
-    o.set_count = set_count;
-    o.vary = a->vary;
-    o.vary_count = vary_count;
-    a->o = o;
+        a->o.scene_path = path;
+    a->o.out_dir = a->d.out;
+    a->o.quiet = a->d.quiet;
+    a->o.resume = a->d.resume;
+    a->o.jobs = (int)a->d.jobs;
+    a->o.sets = a->d.sets;
+    a->o.set_count = a->d.set_count;
+    a->o.vary = a->d.vary;
+    a->o.vary_count = a->d.vary_count;
     return 0;
 }
 

@@ -5,6 +5,7 @@
  * width (004 §3.1: "the same samples are discharged at every w"). */
 #include "study.h"
 
+#include "driver.h"
 #include "drivers.h"
 #include "pool.h"
 #include "run.h"
@@ -49,8 +50,6 @@ const char APP_STUDY_USAGE[] =
     "  --resume        accepted for every driver alike: a study always resumes\n"
     "SIGINT or SIGTERM stops the samples (each width done is kept), writes the tables of what\n"
     "finished and exits 130 or 143.\n";
-
-/* "--name VALUE" or "--name=VALUE"; 1 matched, 0 not, -1 missing value. */
 
 /* ---------------------------------------------------------------- species maps (004 §3.4) */
 
@@ -526,13 +525,12 @@ typedef struct Task {
     int length, sample;
 } Task;
 
-/* The samples' pool: the tasks still to run and the progress lines. */
+/* The samples' pool: the tasks still to run. */
 typedef struct StudyRun {
     const Study *st;
     Scene **scenes;
     const Task *tasks;
-    int count, finished, failed;
-    double start;
+    const AppDriverPool *pool; /* its count, finished members and start, for the ETA */
 } StudyRun;
 
 static int study_run_task(void *ctx, int index)
@@ -542,26 +540,20 @@ static int study_run_task(void *ctx, int index)
     return run_sample(run->scenes[t.length], run->st, run->st->lengths[t.length], t.sample);
 }
 
-static void study_task_done(void *ctx, int index, int status)
+static void study_progress(void *ctx, int index, int status, char *line, size_t size)
 {
-    StudyRun *run = ctx;
-    if (status == APP_POOL_NOT_STARTED) {
-        run->failed = 1;
-        fprintf(stderr, "sablier: study: fork failed: %s\n", strerror(errno));
-        return;
-    }
+    const StudyRun *run = ctx;
     Task t = run->tasks[index];
+    double L = run->st->lengths[t.length];
     if (status == APP_POOL_INTERRUPTED) {
-        fprintf(stderr, "sablier: study: L = %g sample %d interrupted\n",
-                run->st->lengths[t.length], t.sample);
+        snprintf(line, size, "L = %g sample %d interrupted", L, t.sample);
         return;
     }
-    int ok = status == 0, finished = ++run->finished;
-    run->failed |= !ok;
-    double elapsed = app_now_seconds() - run->start;
-    fprintf(stderr, "sablier: study: L = %g sample %d %s (%d/%d, %.0f s, ETA %.0f s)\n",
-            run->st->lengths[t.length], t.sample, ok ? "done" : "FAILED", finished, run->count,
-            elapsed, elapsed / finished * (run->count - finished));
+    int finished = run->pool->finished, count = run->pool->count;
+    double elapsed = app_now_seconds() - run->pool->start_at;
+    snprintf(line, size, "L = %g sample %d %s (%d/%d, %.0f s, ETA %.0f s)", L, t.sample,
+             status == 0 ? "done" : "FAILED", finished, count, elapsed,
+             elapsed / finished * (count - finished));
 }
 
 /* The samples not finished yet, samples outer (every L advances together): their count, or -1
@@ -600,18 +592,19 @@ static int run_study(const Study *st, Scene **scenes)
     }
     fprintf(stderr, "sablier: study: %d of %d samples to run (%d jobs)\n", n, total,
             app_pool_width(st->jobs));
-    StudyRun run = {st, scenes, tasks, n, 0, 0, app_now_seconds()};
-    AppPool pool = {.count = n,
-                    .jobs = st->jobs,
-                    .ctx = &run,
-                    .run = study_run_task,
-                    .done = study_task_done,
-                    .signal_status = 1};
-    int rc = app_pool_run(&pool);
-    if (rc != 0)
-        run.failed = 1;
+    StudyRun run = {st, scenes, tasks, NULL};
+    AppDriverPool pool = {.command = "study",
+                          .not_started = "fork failed",
+                          .count = n,
+                          .jobs = st->jobs,
+                          .signal_status = 1,
+                          .ctx = &run,
+                          .run = study_run_task,
+                          .progress = study_progress};
+    run.pool = &pool;
+    int rc = app_driver_pool_run(&pool);
     free(tasks);
-    return rc > APP_EXIT_SIGNAL ? rc : run.failed ? 1 : 0;
+    return rc > APP_EXIT_SIGNAL ? rc : rc != 0 || pool.failed ? 1 : 0;
 }
 
 /* ---------------------------------------------------------------- reduction */
@@ -1382,11 +1375,20 @@ int app_study_reduce(const Scene *scene, const char *dir, const double *lengths,
 
 /* ---------------------------------------------------------------- sablier study */
 
-/* The command line of `sablier study` (the lists and counts go into its Study). */
+/* The command line of `sablier study`: the common options (driver.h; --resume is accepted and
+ * changes nothing, a study always resumes) and its own (the lists and counts go into its Study). */
 typedef struct StudyArgs {
-    const char *scene_path, *out, *sets[APP_MAX_SETS];
-    int set_count, reduce_only;
+    AppDriverArgs d;
+    const char *lengths_text, *widths_text;
+    long samples;
+    int reduce_only;
 } StudyArgs;
+
+static const AppDriverSpec STUDY_SPEC = {.usage = APP_STUDY_USAGE,
+                                         .jobs_max = 256,
+                                         .set_error = "bad --set",
+                                         .no_quiet = 1,
+                                         .missing = "missing SCENE"};
 
 /* --L and --widths into st: 0, or the exit status of a bad list. */
 static int parse_lists(Study *st, const char *lengths_text, const char *widths_text)
@@ -1408,51 +1410,38 @@ static int parse_lists(Study *st, const char *lengths_text, const char *widths_t
     return 0;
 }
 
+/* The options of `sablier study` alone (app_driver_parse's `own`). */
+static int study_option(void *ctx, int argc, char **argv, int *i)
+{
+    StudyArgs *a = ctx;
+    const char *value;
+    int m;
+    if ((m = app_option(argc, argv, i, "--L", &value)) != 0) {
+        a->lengths_text = value;
+    } else if ((m = app_option(argc, argv, i, "--widths", &value)) != 0) {
+        a->widths_text = value;
+    } else if ((m = app_option(argc, argv, i, "--samples", &value)) != 0) {
+        if (m < 0 || app_parse_count(value, 1, 1000000, &a->samples) < 0)
+            return app_usage_error(APP_STUDY_USAGE, "--samples needs a count in [1, 1e6], got",
+                                   m < 0 ? "nothing" : value);
+    } else if (strcmp(argv[*i], "--reduce-only") == 0) {
+        a->reduce_only = m = 1;
+    }
+    return m < 0 ? 2 : m;
+}
+
 /* 0, or the exit status of a bad command line (message on stderr). */
 static int parse_study_args(int argc, char **argv, StudyArgs *a, Study *st)
 {
-    const char *value, *lengths_text = NULL, *widths_text = "1.0:7.0:0.2";
-    long samples = 10, jobs = 2;
-    for (int i = 2; i < argc; ++i) {
-        int m;
-        char *end;
-        if ((m = app_option(argc, argv, &i, "--out", &value)) != 0) {
-            if (m < 0)
-                return 2;
-            a->out = value;
-        } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
-            if (m < 0 || a->set_count >= APP_MAX_SETS)
-                return app_usage_error(APP_STUDY_USAGE, "bad --set", NULL);
-            a->sets[a->set_count++] = value;
-        } else if ((m = app_option(argc, argv, &i, "--L", &value)) != 0) {
-            if (m < 0)
-                return 2;
-            lengths_text = value;
-        } else if ((m = app_option(argc, argv, &i, "--widths", &value)) != 0) {
-            if (m < 0)
-                return 2;
-            widths_text = value;
-        } else if ((m = app_option(argc, argv, &i, "--samples", &value)) != 0) {
-            if (m < 0 || (samples = strtol(value, &end, 10)) < 1 || *end || samples > 1000000)
-                return app_usage_error(APP_STUDY_USAGE, "--samples needs a count in [1, 1e6], got",
-                                       m < 0 ? "nothing" : value);
-        } else if ((m = app_option(argc, argv, &i, "--jobs", &value)) != 0) {
-            if (m < 0 || (jobs = strtol(value, &end, 10)) < 1 || *end || jobs > 256)
-                return app_usage_error(APP_STUDY_USAGE, "--jobs needs a count in [1, 256], got",
-                                       m < 0 ? "nothing" : value);
-        } else if (strcmp(argv[i], "--reduce-only") == 0) {
-            a->reduce_only = 1;
-        } else if (strcmp(argv[i], "--resume") == 0) {
-            /* a study always resumes: its finished samples are never run again */
-        } else if (app_scene_argument(APP_STUDY_USAGE, argv[i], &a->scene_path) != 0) {
-            return 2;
-        }
-    }
-    if (!a->scene_path)
-        return app_usage_error(APP_STUDY_USAGE, "missing SCENE", NULL);
-    st->samples = (int)samples;
-    st->jobs = (int)jobs;
-    return parse_lists(st, lengths_text, widths_text);
+    memset(a, 0, sizeof *a);
+    a->widths_text = "1.0:7.0:0.2";
+    a->samples = 10;
+    int rc = app_driver_parse(&STUDY_SPEC, argc, argv, &a->d, study_option, a);
+    if (rc != 0)
+        return rc;
+    st->samples = (int)a->samples;
+    st->jobs = (int)a->d.jobs;
+    return parse_lists(st, a->lengths_text, a->widths_text);
 }
 
 int app_study_parse(int argc, char **argv)
@@ -1460,7 +1449,6 @@ int app_study_parse(int argc, char **argv)
     Study st;
     memset(&st, 0, sizeof st);
     StudyArgs args;
-    memset(&args, 0, sizeof args);
     return parse_study_args(argc, argv, &args, &st);
 }
 
@@ -1470,12 +1458,11 @@ int app_study_command(int argc, char **argv, const AppEnv *env)
     Study st;
     memset(&st, 0, sizeof st);
     StudyArgs args;
-    memset(&args, 0, sizeof args);
     int rc = parse_study_args(argc, argv, &args, &st);
     if (rc != 0)
         return rc;
-    const char *scene_path = args.scene_path, *out = args.out, *const *sets = args.sets;
-    int set_count = args.set_count, reduce_only = args.reduce_only;
+    const char *scene_path = args.d.scene, *out = args.d.out, *const *sets = args.d.sets;
+    int set_count = args.d.set_count, reduce_only = args.reduce_only;
     char err[4096] = "";
     Scene *scenes[MAX_LENGTHS] = {NULL};
     Scene *base = app_discharge_load_scene(scene_path, sets, set_count, 0.0, err, sizeof err);

@@ -10,7 +10,6 @@
 
 #include "sim/sim.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -84,39 +83,24 @@ static int run_member(const Scan *sc, int k)
                              sc->render_runs ? sc->render : NULL);
 }
 
-/* The members' pool: their exit statuses (-1: not run). */
-typedef struct ScanRun {
-    const Scan *sc;
-    int status[SCAN_MAX];
-    int failed;
-} ScanRun;
-
 static int scan_folder(void *ctx, int k, char *dir, size_t size)
 {
-    member_dir(((ScanRun *)ctx)->sc, k, dir, size);
+    member_dir(ctx, k, dir, size);
     return 0;
 }
 
 static int scan_run(void *ctx, int k)
 {
-    return run_member(((ScanRun *)ctx)->sc, k);
+    return run_member(ctx, k);
 }
 
-static void scan_done(void *ctx, int k, int status)
+static void scan_progress(void *ctx, int k, int status, char *line, size_t size)
 {
-    ScanRun *run = ctx;
-    if (status == APP_POOL_NOT_STARTED) {
-        run->failed = 1;
-        fprintf(stderr, "sablier: sediment: fork failed: %s\n", strerror(errno));
-        return;
-    }
-    run->status[k] = status;
-    run->failed |= status != 0;
-    if (!run->sc->a.quiet)
-        fprintf(stderr, "sablier: sediment: Theta = %g %s\n", run->sc->shields[k],
-                status == 0                      ? "done"
-                : status == APP_POOL_INTERRUPTED ? "interrupted"
-                                                 : "FAILED");
+    const Scan *sc = ctx;
+    snprintf(line, size, "Theta = %g %s", sc->shields[k],
+             status == 0                      ? "done"
+             : status == APP_POOL_INTERRUPTED ? "interrupted"
+                                              : "FAILED");
 }
 
 /* Member `key` of a member's sediment.json (app_json_path_number; NAN for null or absent). */
@@ -298,7 +282,8 @@ static int write_scan_outputs(const Scan *sc, const int *status)
     return 0;
 }
 
-static const AppDriverSpec SCAN_SPEC = {.usage = APP_SEDIMENT_USAGE, .jobs_max = 64};
+static const AppDriverSpec SCAN_SPEC = {
+    .usage = APP_SEDIMENT_USAGE, .jobs_max = 64, .missing = "missing SCENE"};
 
 /* The options of `sablier sediment` alone (app_driver_parse's `own`). */
 static int scan_option(void *ctx, int argc, char **argv, int *i)
@@ -334,13 +319,10 @@ static int scan_option(void *ctx, int argc, char **argv, int *i)
 static int scan_arguments(int argc, char **argv, Scan *sc)
 {
     memset(sc, 0, sizeof *sc);
-    app_driver_args_init(&sc->a);
     sc->level = 1e-3;
     int rc = app_driver_parse(&SCAN_SPEC, argc, argv, &sc->a, scan_option, sc);
     if (rc != 0)
         return rc;
-    if (!sc->a.scene)
-        return app_usage_error(APP_SEDIMENT_USAGE, "missing SCENE", NULL);
     if (sc->count < 1)
         return app_usage_error(APP_SEDIMENT_USAGE, "missing --shields T1,T2,...", NULL);
     sc->scene_path = sc->a.scene;
@@ -375,22 +357,22 @@ int app_sediment_command(int argc, char **argv, const AppEnv *env)
         fprintf(stderr, "sablier: sediment: cannot create %s\n", sc.out_dir);
         return 2;
     }
-    ScanRun run = {&sc, {0}, 0};
-    for (int k = 0; k < sc.count; ++k)
-        run.status[k] = -1;
-    AppPool pool = {.count = sc.count,
-                    .jobs = (int)sc.a.jobs,
-                    .ctx = &run,
-                    .run = scan_run,
-                    .done = scan_done,
-                    .signal_status = 1,
-                    .folder = scan_folder,
-                    .resume = sc.a.resume};
-    int pool_rc = app_pool_run(&pool);
-    if (pool_rc != 0)
-        run.failed = 1;
-    rc = write_scan_outputs(&sc, run.status); /* interrupted: the finished members */
-    return pool_rc > APP_EXIT_SIGNAL ? pool_rc : run.failed ? 1 : rc;
+    int status[SCAN_MAX];
+    AppDriverPool pool = {.command = "sediment",
+                          .not_started = "fork failed",
+                          .count = sc.count,
+                          .jobs = sc.a.jobs,
+                          .resume = sc.a.resume,
+                          .signal_status = 1,
+                          .quiet = sc.a.quiet,
+                          .ctx = &sc,
+                          .status = status,
+                          .run = scan_run,
+                          .folder = scan_folder,
+                          .progress = scan_progress};
+    int pool_rc = app_driver_pool_run(&pool);
+    rc = write_scan_outputs(&sc, status); /* interrupted: the finished members */
+    return pool_rc > APP_EXIT_SIGNAL ? pool_rc : pool_rc != 0 || pool.failed ? 1 : rc;
 }
 
 const AppCommand app_sediment_commands[] = {
