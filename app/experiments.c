@@ -22,7 +22,8 @@
     APP_FAMILY(bne)                                                                                \
     APP_FAMILY(sediment)                                                                           \
     APP_FAMILY(surface)                                                                            \
-    APP_FAMILY(measures) /* not a family: the core's measures layer (app/measures.h), last */
+    APP_FAMILY(measures)   /* not a family: the core's measures layer (app/measures.h) */          \
+    APP_FAMILY(wall_loads) /* not a family: the forces on walls (app/wall_loads.c), last */
 
 #define APP_FAMILY(name) extern const AppExperiment app_##name##_experiment;
 APP_FAMILIES

@@ -276,6 +276,21 @@ static void print_timing(const Scene *scene, int k)
     printf("  contact time     %g%s (shortest pair)\n", t.contact_time_min, s);
     printf("  stability limit  %g%s\n", t.stability_limit, s);
     printf("  steps per contact %.1f\n", t.steps_per_contact);
+    for (int w = 0; def.wall_bodies && w < def.wall_count; ++w) {
+        const SimWallBody *b = &def.wall_bodies[w];
+        if (!b->active)
+            continue;
+        if (!b->servo) {
+            printf("  wall %d           free body, mass %g, axis (%g, %g)\n", w, b->mass, b->axis_x,
+                   b->axis_y);
+            continue;
+        }
+        const double tau = sim_wall_servo_time(&def, w);
+        printf("  wall %d servo     target %s %g, time scale tau %g%s, dt / tau %.3g (refused "
+               "above 1; the gain's bound: tau = dt at gain %g)\n",
+               w, b->servo == 1 ? "stress" : "force", b->target, tau, s, t.time_step / tau,
+               b->gain * tau / t.time_step);
+    }
 }
 
 /* `sablier check`'s command line. */

@@ -171,6 +171,7 @@ typedef struct Scene {
     SimGrainBuffer grains; ///< the scene's own grains (first stage)
     int fixed_count;       ///< fixed grains among them
     SimWall *walls;
+    SimWallBody *wall_bodies; ///< one per wall when a wall responds (a mass or a servo), else NULL
     char motion_names[SIM_MAX_MOTIONS][SCENE_NAME_MAX];
     char species_names[SIM_MAX_SPECIES][SCENE_NAME_MAX];
     SceneDrag drag;

@@ -696,8 +696,9 @@ static int parse_arc(Loader *L, const config_setting_t *g, const char *what, Sim
 
 int loader_parse_walls(Loader *L, const config_setting_t *root)
 {
-    static const char *const keys[] = {"from", "to",      "center", "radius", "angles",
-                                       "side", "species", "motion", NULL};
+    static const char *const keys[] = {"from",  "to",      "center", "radius", "angles",
+                                       "side",  "species", "motion", "mass",   "axis",
+                                       "force", "gravity", "servo",  NULL};
     const config_setting_t *list;
     if (app_config_list(&L->p, root, "walls", &list) <= 0)
         return L->p.failed ? -1 : 0;
@@ -722,7 +723,8 @@ int loader_parse_walls(Loader *L, const config_setting_t *root)
             return app_config_fail(&L->p, g,
                                    "%s: `angles` and `side` are for arcs (center, radius)", what);
         if ((arc ? parse_arc(L, g, what, w) : parse_segment(L, g, what, w)) < 0 ||
-            loader_get_species(L, g, &w->species) < 0 || get_motion(L, g, &w->motion) < 0)
+            loader_get_species(L, g, &w->species) < 0 || get_motion(L, g, &w->motion) < 0 ||
+            loader_parse_wall_body(L, g, what, k) < 0)
             return -1;
         snprintf(field, sizeof field, "walls[%d]", k);
         loader_where_add(L, field, g);

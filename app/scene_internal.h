@@ -80,6 +80,9 @@ int loader_get_species(Loader *L, const config_setting_t *g, int *out);
 int loader_parse_motions(Loader *L, const config_setting_t *root);
 int loader_parse_grains(Loader *L, const config_setting_t *root);
 int loader_parse_walls(Loader *L, const config_setting_t *root);
+/* walls.N's mass, axis, force, gravity and servo into scene->wall_bodies[k] (scene_walls.c):
+ * 0, or -1 with the message. */
+int loader_parse_wall_body(Loader *L, const config_setting_t *g, const char *what, int k);
 int loader_parse_sinks(Loader *L, const config_setting_t *root);
 
 /* sources.c */

@@ -770,6 +770,7 @@ void scene_free(Scene *scene)
         free(scene->stages[k].remove_ids);
     sim_grain_buffer_free(&scene->grains);
     free(scene->walls);
+    free(scene->wall_bodies);
     free(scene->resolved);
     free(scene->sources);
     for (int f = 0; app_experiments[f]; ++f)

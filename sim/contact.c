@@ -62,15 +62,15 @@ static void visit_one(SimWorld *world, unsigned key, int i, int j, int wall, dou
         if (k_r > 0.0)
             energy += 0.5 * m_r * m_r / k_r;
     }
-    (void)nx;
-    (void)ny;
     SimContact c = {.i = i,
                     .j = wall >= 0 ? -1 - wall : j,
                     .normal_force = f_n,
                     .tangential_force = f_t,
                     .overlap = overlap,
                     .x = cx,
-                    .y = cy};
+                    .y = cy,
+                    .nx = nx,
+                    .ny = ny};
     (void)world;
     visit(context, &c, energy);
 }

@@ -165,7 +165,15 @@ struct SimWorld {
     /* Motion schedules by world time (sim_world_set_motion): motion m runs on the clock
      * t - motion_on[m] and holds its pose from motion_off[m] on. */
     double motion_on[SIM_MAX_MOTIONS], motion_off[SIM_MAX_MOTIONS];
-    double wall_shift;   /* largest wall displacement since the last build, m */
+    double wall_shift; /* largest wall displacement since the last build, m */
+    /* What the grains do to each wall in the last wall pass (4 per wall: fx, fy, the sum of the
+     * normal forces, the torque about the wall's centre; wall_touch: contacts), and the walls
+     * that respond (sim.h SimWallBody; wall_body.c): their offset along the axis (m) and speed
+     * (m/s). bodies is NULL when none responds. */
+    double *wall_load;
+    int *wall_touch;
+    SimWallBody *bodies;
+    double *body_s, *body_u;
     int pending_removal; /* grains flagged SIM_GRAIN_REMOVED wait for the next build */
     int drop_history;    /* the list refers to a state that was replaced: carry nothing over */
     int exact_restored;  /* loaded with a state's exact-continuation section (resume.c) */
@@ -268,6 +276,21 @@ static inline void sim_world_out_of_memory(SimWorld *world, const char *what)
 /* Moves the walls and fixed grains that have a motion to their poses at world time t (their
  * velocities with them) and records how far walls moved since the last build (wall_shift). */
 void sim_motion_move(SimWorld *world, double t);
+/* wall_body.c */
+/* Moves the responding walls one step on from the wall loads of the last force evaluation
+ * (symplectic Euler; servo walls at the gain law's speed). */
+void sim_wall_bodies_step(SimWorld *world);
+/* Places the responding walls at their offsets (after create or a state load). */
+void sim_wall_bodies_place(SimWorld *world);
+/* NULL when the responding walls of def are valid at time step dt, else what is wrong, with the
+ * wall's index in *wall. */
+const char *sim_wall_bodies_problem(const SimWorldDef *def, double dt, int *wall, char *buf,
+                                    size_t size);
+/* The responding walls' footer of a state file (offsets and speeds): written when a wall
+ * responds (0, -1 on a write error); read from the file's end into the world, which keeps its
+ * walls at rest when the file has none. */
+int sim_wall_bodies_write(FILE *f, const SimWorld *world);
+void sim_wall_bodies_read(SimWorld *world, FILE *f);
 /* Records the walls' positions at a neighbour build (the reference of wall_shift). */
 void sim_motion_mark_build(SimWorld *world);
 /* Largest speed a motion of the definition gives a point within `size` of its centre, m/s. */

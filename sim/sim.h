@@ -216,6 +216,45 @@ typedef struct SimWall {
     double angle0, angle1;     ///< arc span, rad
 } SimWall;
 
+/// A wall that responds to the grains (a piston, a servo-controlled wall): it translates as one
+/// rigid body along the unit direction `axis`, which points from the wall into the grains it
+/// holds. Its normal load N is the force of the grains on it against the axis, -F.axis, and its
+/// normal stress N / length (force per length in 2D). Without a servo it is a free body of
+/// `mass`: m du/dt = F.axis + force.axis (+ m g.axis with `gravity`). With a servo its speed
+/// along the axis is set each step by the gain law of Yade's TriaxialStressController and of
+/// PFC's servo-controlled walls (Itasca, PFC2D manual, "servo-control"):
+///     u = gain (target - measured), |u| <= max_speed,
+/// measured = N / length (servo_stress) or N (servo_force); the wall moves into the grains
+/// while they push less than the target. Stability (sim_wall_servo_time): a wall touching
+/// grains of diameter >= d with contact stiffness k_n stiffens by about k_n / d per length, so
+/// the error shrinks by a factor 1 - dt / tau each step with tau = d / (gain k_n) (stress;
+/// d / (gain k_n length) for a force); dt > tau overshoots and dt > 2 tau diverges, so a gain
+/// with dt > tau is refused.
+typedef struct SimWallBody {
+    int active;              ///< 0: the wall is still or follows its motion (the rest unused)
+    double axis_x, axis_y;   ///< unit direction of its motion, into the grains
+    double mass;             ///< kg (free body; unused with a servo)
+    double force_x, force_y; ///< applied force, N (its part along the axis acts)
+    int gravity;             ///< 1: the world's gravity acts on the mass
+    int servo;               ///< 0 none, 1 target stress, 2 target force
+    double target;           ///< N/m (stress) or N (force)
+    double gain;             ///< servo gain, m/s per N/m (stress) or per N (force)
+    double max_speed;        ///< servo speed cap, m/s
+} SimWallBody;
+
+/// What the grains do to a wall in the last force evaluation, and where it is.
+typedef struct SimWallLoad {
+    double fx, fy;     ///< total force of the grains on the wall, N
+    double normal;     ///< sum of the contacts' normal forces (>= 0 pushing), N
+    double tangential; ///< segments: F along (x0, y0) -> (x1, y1); arcs: torque / radius, N
+    double torque;     ///< about the wall's centre (segment midpoint, arc centre), N m
+    double length;     ///< segment length or arc length, m
+    double x, y;       ///< the wall's centre now, m
+    double offset;     ///< responding walls: displacement along the axis, m (else 0)
+    double speed;      ///< responding walls: speed along the axis, m/s (else 0)
+    int contacts;      ///< grains touching it
+} SimWallLoad;
+
 /// Contact distance from a grain of `radius` at (x, y) to the wall: the distance to a segment;
 /// for an arc the distance to the circle on the touched side (negative for a centre pushed past
 /// a one-sided arc, HUGE_VAL on its far side), m. Overlap = radius - distance.
@@ -293,6 +332,7 @@ typedef struct SimWorldDef {
     SimGrainSet grains;
     int wall_count;
     const SimWall *walls;
+    const SimWallBody *wall_bodies; ///< wall_count entries, or NULL: no wall responds
     int motion_count;
     SimMotion motions[SIM_MAX_MOTIONS]; ///< refused when a motion's speed bound times dt exceeds
                                         ///< half the smallest mobile radius (wall-speed limit)
@@ -312,6 +352,9 @@ typedef struct SimWorldDef {
 
 /// Defaults: every field physically valid (no grains).
 SimWorldDef sim_world_def_default(void);
+/// The servo's time scale tau of wall `wall` (SimWallBody), s: INFINITY without a servo or
+/// without mobile grains. A time step above tau is refused (sim_world_def_validate).
+double sim_wall_servo_time(const SimWorldDef *def, int wall);
 SimMaterial sim_material_default(void);
 
 /* ---------------------------------------------------------------- status and errors */
@@ -418,6 +461,7 @@ typedef struct SimContact {
     double tangential_force; ///< F_t along s, N
     double overlap;          ///< xi, m
     double x, y;             ///< contact point, m
+    double nx, ny;           ///< unit normal n from grain i towards j (or the wall)
 } SimContact;
 
 /// Transient read-only view of the state: valid until the next call that changes the world.
@@ -680,6 +724,9 @@ int sim_world_remove_ids(SimWorld *world, const uint32_t *ids, int count);
 SimStatus sim_world_add_grains(SimWorld *world, const SimGrainSet *grains, SimError *error);
 /// Set every velocity and angular velocity to zero.
 void sim_world_freeze(SimWorld *world);
+/// What the grains do to wall `wall` in the last force evaluation (SimWallLoad); -1 when out of
+/// range.
+int sim_world_wall_load(const SimWorld *world, int wall, SimWallLoad *load);
 /// Changes gravity from now on (a stage's own `gravity`), m/s^2.
 void sim_world_set_gravity(SimWorld *world, double gravity_x, double gravity_y);
 /// Schedules motion `motion` by world time: it runs on its own clock tau = t - on from t = on

@@ -264,6 +264,7 @@ SimStatus sim_world_save(SimWorld *w, const char *path, SimError *error)
     free(records);
     free(walls);
     ok = ok && sim_exact_write(f, w) == 0;
+    ok = ok && sim_wall_bodies_write(f, w) == 0;
     if (fclose(f) != 0)
         ok = 0;
     if (!ok) {
@@ -510,6 +511,20 @@ static SimStatus exact_section(SimWorld *world, const char *path, const SimGrain
     return SIM_OK;
 }
 
+/* The responding walls' offsets and speeds from the file's footer (wall_body.c); a world that
+ * did not continue exactly evaluates its forces again with the walls where they were saved. */
+static SimStatus body_footer(SimWorld *world, const char *path, SimError *error)
+{
+    FILE *f = state_open(path, error);
+    if (!f)
+        return SIM_ERROR_IO;
+    sim_wall_bodies_read(world, f);
+    fclose(f);
+    if (!world->exact_restored)
+        sim_world_rebuild_now(world);
+    return SIM_OK;
+}
+
 SimWorld *sim_world_load(const char *path, const SimWorldDef *def, SimError *error)
 {
     SimGrainSet grains;
@@ -522,11 +537,17 @@ SimWorld *sim_world_load(const char *path, const SimWorldDef *def, SimError *err
     d.grains = grains;
     d.walls = walls;
     d.wall_count = wall_count;
+    if (wall_count != def->wall_count) /* the state's walls are not the definition's */
+        d.wall_bodies = NULL;
     d.start_time = h.time;
     /* Restored grains: exempt from the start-overlap bound (sim_world_create_restored). */
     SimWorld *world = sim_world_create_restored(&d, error);
     if (world && magic_version(h.magic) == 2 &&
         exact_section(world, path, &grains, &h, error) != SIM_OK) {
+        sim_world_destroy(world);
+        world = NULL;
+    }
+    if (world && world->bodies && body_footer(world, path, error) != SIM_OK) {
         sim_world_destroy(world);
         world = NULL;
     }

@@ -509,6 +509,14 @@ static SimStatus validate_def(const SimWorldDef *def, int restored, SimError *er
     SimTiming t = timing_of(def);
     if ((s = validate_motion_speed(def, t.time_step, error)) != SIM_OK)
         return s;
+    char why[320];
+    int body_wall = -1;
+    const char *body = sim_wall_bodies_problem(def, t.time_step, &body_wall, why, sizeof why);
+    if (body) {
+        char f[64];
+        snprintf(f, sizeof f, "walls[%d]", body_wall);
+        return fail(error, SIM_ERROR_INVALID, f, "wall %d: %s", body_wall, body);
+    }
     if (def->grains.count > 0 && isfinite(t.contact_time_min)) {
         CHECK(t.time_step <= t.stability_limit, "time_step",
               "time step %g s exceeds the stability limit %g s of %s for the stiffest, lightest "
@@ -885,8 +893,20 @@ static SimWorld *create(const SimWorldDef *def, int restored, SimError *error)
     w->wall_ref_dx = calloc(nw, sizeof(double));
     w->wall_ref_dy = calloc(nw, sizeof(double));
     w->walls_ref = calloc(nw, sizeof *w->walls_ref);
+    w->wall_load = calloc(4 * nw, sizeof(double));
+    w->wall_touch = calloc(nw, sizeof(int));
+    if (def->wall_bodies && def->wall_count > 0) {
+        w->bodies = malloc(nw * sizeof *w->bodies);
+        w->body_s = calloc(nw, sizeof(double));
+        w->body_u = calloc(nw, sizeof(double));
+        if (w->bodies)
+            memcpy(w->bodies, def->wall_bodies, nw * sizeof *w->bodies);
+    }
+    w->def.wall_bodies = w->bodies;
     if (!w->walls_base || !w->walls || !w->wall_vx || !w->wall_vy || !w->wall_omega ||
-        !w->wall_ox || !w->wall_oy || !w->wall_ref_dx || !w->wall_ref_dy || !w->walls_ref) {
+        !w->wall_ox || !w->wall_oy || !w->wall_ref_dx || !w->wall_ref_dy || !w->walls_ref ||
+        !w->wall_load || !w->wall_touch ||
+        (def->wall_bodies && def->wall_count > 0 && (!w->bodies || !w->body_s || !w->body_u))) {
         sim_world_destroy(w);
         fail(error, SIM_ERROR_MEMORY, "", "out of memory creating the world");
         return NULL;
@@ -957,6 +977,11 @@ void sim_world_destroy(SimWorld *w)
     free(w->wall_ref_dx);
     free(w->wall_ref_dy);
     free(w->walls_ref);
+    free(w->wall_load);
+    free(w->wall_touch);
+    free(w->bodies);
+    free(w->body_s);
+    free(w->body_u);
     free(w->good.data);
     free(w->good.ints);
     free(w->good.flags);
@@ -1463,6 +1488,8 @@ SimStatus sim_world_step(SimWorld *w, long steps, SimError *error)
          * due: the closing kick can wait for the next step's opening loop. */
         w->defer_kick = s + 1 < steps && w->step + 1 < w->guard_next;
         w->integrate(w);
+        if (w->bodies)
+            sim_wall_bodies_step(w);
         ++w->step;
         w->time = w->def.start_time + (double)w->step * w->dt;
         if (w->out_of_memory)

@@ -211,6 +211,12 @@ add_test(NAME cli.cadence_huge
          COMMAND bash ${CLI_DIR}/cadence.sh $<TARGET_FILE:sablier> ${CLI_TINY} ${CLI_WORK}/cadence)
 set_tests_properties(cli.cadence_huge PROPERTIES LABELS cli)
 # a measure's windows at exact multiples of its cadence with a step that divides nothing, and a
+# a servo wall from a scene: its time scale in `check`, walls.csv and the steady mean
+# (tests/cli/servo_lid.sh)
+add_test(NAME cli.servo_lid
+         COMMAND bash ${CLI_DIR}/servo_lid.sh $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/servo_lid.scene ${CLI_WORK}/servo_lid)
+set_tests_properties(cli.servo_lid PROPERTIES LABELS cli)
 # window that ends with its stage written at its end (tests/cli/measure_window.sh)
 add_test(NAME cli.measure_window
          COMMAND bash ${CLI_DIR}/measure_window.sh $<TARGET_FILE:sablier>

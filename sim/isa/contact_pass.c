@@ -623,12 +623,35 @@ KERNEL void reduce_range(SimWorld *world, const unsigned key, const int g0, cons
     }
 }
 
+/* The force (fx, fy) of a grain on wall w at the point (qx, qy), with its normal part f_n, added
+ * to the wall's load (sim.h SimWallLoad): in the wall list's order, serial, so the same bits for
+ * any thread count. */
+static inline void wall_load_add(SimWorld *world, int w, double fx, double fy, double f_n,
+                                 double qx, double qy)
+{
+    const SimWall *wall = &world->walls[w];
+    const int arc = wall->shape == SIM_WALL_ARC;
+    const double cx = arc ? wall->center_x : 0.5 * (wall->x0 + wall->x1);
+    const double cy = arc ? wall->center_y : 0.5 * (wall->y0 + wall->y1);
+    double *load = &world->wall_load[4 * w];
+    load[0] += fx;
+    load[1] += fy;
+    load[2] += f_n;
+    load[3] += (qx - cx) * fy - (qy - cy) * fx;
+    world->wall_touch[w] += 1;
+}
+
 /* Grain-wall contacts: the wall acts as a partner of infinite mass, zero radius, no spin. */
 KERNEL void wall_pass(SimWorld *world, const unsigned key)
 {
     const WallList *wl = &world->wl;
     const double dt = world->contact_dt;
     const unsigned law = key & KEY_TANGENTIAL;
+    for (int w = 0; w < world->wall_count; ++w) {
+        world->wall_load[4 * w] = world->wall_load[4 * w + 1] = 0.0;
+        world->wall_load[4 * w + 2] = world->wall_load[4 * w + 3] = 0.0;
+        world->wall_touch[w] = 0;
+    }
     for (int k = 0; k < wl->count; ++k) {
         const int i = wl->grain[k], w = wl->wall[k];
         const double ri = world->radius[i];
@@ -657,6 +680,8 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
         if ((key & KEY_EVENT) && !touching) { /* within half a step of touching: normal only */
             world->fx[i] -= f_n * nx;
             world->fy[i] -= f_n * ny;
+            wall_load_add(world, w, f_n * nx, f_n * ny, f_n, world->x[i] + d * nx,
+                          world->y[i] + d * ny);
             continue;
         }
         double fxk = -f_n * nx, fyk = -f_n * ny;
@@ -684,6 +709,7 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
         }
         world->fx[i] += fxk;
         world->fy[i] += fyk;
+        wall_load_add(world, w, -fxk, -fyk, f_n, world->x[i] + d * nx, world->y[i] + d * ny);
     }
 }
 

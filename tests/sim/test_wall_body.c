@@ -1,0 +1,254 @@
+/* SPDX-License-Identifier: MIT */
+/* test_wall_body.c: walls that respond to the grains (sim.h SimWallBody): a servo lid holding its
+ * target stress, a free piston at the static balance of its weight, the servo's stability rule,
+ * the wall load (SimWallLoad) against the sum of the contact forces, and the same bits for any
+ * thread count and across a save and load. */
+#include "sim_test_util.h"
+#include "test.h"
+
+#include <stdlib.h>
+
+/* A box 2 m wide (base, two sides) with a lid (wall 3) at y = 1.9 m over 150 grains rained from
+ * y = 0.06 m, gravity on, damped linear contacts, dt = 1e-4 s. `body` makes the lid respond. */
+typedef struct Box {
+    SimWall walls[4];
+    SimWallBody bodies[4];
+    SimGrainBuffer grains;
+    SimWorldDef def;
+} Box;
+
+static void box_def(Box *box, const SimWallBody *lid)
+{
+    static const SimWall walls[4] = {
+        {.x0 = 0.0, .y0 = 0.0, .x1 = 2.0, .y1 = 0.0, .species = 0, .motion = -1},
+        {.x0 = 0.0, .y0 = 0.0, .x1 = 0.0, .y1 = 3.0, .species = 0, .motion = -1},
+        {.x0 = 2.0, .y0 = 0.0, .x1 = 2.0, .y1 = 3.0, .species = 0, .motion = -1},
+        {.x0 = 0.0, .y0 = 1.9, .x1 = 2.0, .y1 = 1.9, .species = 0, .motion = -1}};
+    memcpy(box->walls, walls, sizeof walls);
+    memset(box->bodies, 0, sizeof box->bodies);
+    box->bodies[3] = *lid;
+    tu_rain_150(&box->grains, 7, 0.06);
+    box->def = tu_def(1000.0, 1e5, 1e-4);
+    box->def.gravity_y = -G0;
+    box->def.materials[0].normal_damping = 200.0; /* damping ratio about 0.16 */
+    box->def.wall_count = 4;
+    box->def.walls = box->walls;
+    box->def.wall_bodies = box->bodies;
+}
+
+static SimWorld *box_world(Box *box, const SimWallBody *lid)
+{
+    box_def(box, lid);
+    return tu_create(&box->def, &box->grains);
+}
+
+/* The servo lid of the tests: 2000 N/m pressed down (axis -y), gain 1e-3 (m/s)/(N/m): the
+ * servo's time scale d / (gain k_n) = 0.092 / (1e-3 1e5) s, about nine time steps. */
+static SimWallBody servo_lid(double gain)
+{
+    return (SimWallBody){.active = 1,
+                         .axis_x = 0.0,
+                         .axis_y = -1.0,
+                         .servo = 1,
+                         .target = 2000.0,
+                         .gain = gain,
+                         .max_speed = 0.5};
+}
+
+/* The lid's load averaged over `samples` samples `every` steps apart. */
+static int mean_load(SimWorld *w, int samples, long every, SimWallLoad *mean)
+{
+    memset(mean, 0, sizeof *mean);
+    for (int s = 0; s < samples; ++s) {
+        if (tu_step(w, every) != 0)
+            return -1;
+        SimWallLoad l;
+        sim_world_wall_load(w, 3, &l);
+        mean->fx += l.fx / samples;
+        mean->fy += l.fy / samples;
+        mean->normal += l.normal / samples;
+        mean->offset += l.offset / samples;
+        mean->length = l.length;
+    }
+    return 0;
+}
+
+/* The lid comes down on the pile and holds 2000 N/m within 1 % over a 1 s window. */
+static int servo_holds_target_stress(void)
+{
+    SimWallBody lid = servo_lid(1e-3);
+    Box box;
+    SimWorld *w = box_world(&box, &lid);
+    TEST_ASSERT(w);
+    TEST_ASSERT(tu_step(w, 40000) == 0); /* the lid travels about 1 m at 0.5 m/s, then holds */
+    SimWallLoad mean;
+    TEST_ASSERT(mean_load(w, 1000, 10, &mean) == 0);
+    const double stress = mean.fy / mean.length; /* the grains push it up: -F.axis = F_y */
+    printf("servo lid: stress %.9g N/m (target 2000), normal/length %.9g, offset %.4g m\n", stress,
+           mean.normal / mean.length, mean.offset);
+    TEST_ASSERT(mean.offset > 0.5); /* it came down (along its axis -y) onto the pile */
+    TEST_NEAR(stress, 2000.0, 20.0);
+    TEST_NEAR(mean.normal / mean.length, 2000.0, 20.0);
+    sim_world_destroy(w);
+    sim_grain_buffer_free(&box.grains);
+    return 0;
+}
+
+/* A gain with dt = 5 tau (the error multiplied by -4 each step) is refused at create, naming the
+ * wall; the servo's time scale is d_min / (gain k_n). */
+static int servo_unstable_gain_refused(void)
+{
+    SimWallBody lid = servo_lid(5e-2);
+    Box box;
+    box_def(&box, &lid);
+    box.def.grains = sim_grain_buffer_view(&box.grains);
+    double d_min = HUGE_VAL;
+    for (int i = 0; i < box.grains.count; ++i)
+        d_min = fmin(d_min, 2.0 * box.grains.radius[i]);
+    TEST_NEAR(sim_wall_servo_time(&box.def, 3), d_min / (5e-2 * 1e5), 1e-15);
+    TEST_ASSERT(isinf(sim_wall_servo_time(&box.def, 0)));
+    SimError err;
+    SimWorld *w = sim_world_create(&box.def, &err);
+    TEST_ASSERT(!w);
+    TEST_ASSERT(err.status == SIM_ERROR_INVALID);
+    TEST_ASSERT(strcmp(err.field, "walls[3]") == 0);
+    TEST_ASSERT(strstr(err.message, "unstable") != NULL);
+    sim_grain_buffer_free(&box.grains);
+    return 0;
+}
+
+/* A free piston of 50 kg dropped on the pile: at rest its load is its weight, F_y = m g
+ * (averaged over 2 s, within 1 %). */
+static int piston_reaches_static_balance(void)
+{
+    SimWallBody lid = {.active = 1, .axis_x = 0.0, .axis_y = -1.0, .mass = 50.0, .gravity = 1};
+    Box box;
+    box_def(&box, &lid);
+    /* damping ratio about 0.8 between grains: the piston stops rattling on the bed */
+    box.def.materials[0].normal_damping = 1000.0;
+    SimWorld *w = tu_create(&box.def, &box.grains);
+    TEST_ASSERT(w);
+    TEST_ASSERT(tu_step(w, 50000) == 0);
+    SimWallLoad mean;
+    TEST_ASSERT(mean_load(w, 2000, 10, &mean) == 0);
+    printf("piston: F_y %.6g N, m g %.6g N, offset %.4g m\n", mean.fy, 50.0 * G0, mean.offset);
+    TEST_ASSERT(mean.offset > 0.5);
+    TEST_NEAR(mean.fy, 50.0 * G0, 0.01 * 50.0 * G0);
+    TEST_NEAR(mean.fx, 0.0, 0.01 * 50.0 * G0);
+    sim_world_destroy(w);
+    sim_grain_buffer_free(&box.grains);
+    return 0;
+}
+
+/* Sums of the wall contacts of a frame per wall: force on the wall f_n n - f_t s
+ * (s = (n_y, -n_x)), its normal part, its torque about the wall's centre. */
+static void contact_sums(SimWorld *w, double f[4][4])
+{
+    SimFrame frame;
+    sim_world_frame(w, &frame);
+    memset(f, 0, 16 * sizeof(double));
+    for (int k = 0; k < frame.contact_count; ++k) {
+        const SimContact *c = &frame.contacts[k];
+        if (c->j >= 0)
+            continue;
+        const int wall = -1 - c->j;
+        SimWallLoad l;
+        sim_world_wall_load(w, wall, &l);
+        const double fx = c->normal_force * c->nx - c->tangential_force * c->ny;
+        const double fy = c->normal_force * c->ny + c->tangential_force * c->nx;
+        f[wall][0] += fx;
+        f[wall][1] += fy;
+        f[wall][2] += c->normal_force;
+        f[wall][3] += (c->x - l.x) * fy - (c->y - l.y) * fx;
+    }
+}
+
+/* Undamped, frictionless walls: the load of each wall is the sum of its contacts' forces. */
+static int wall_load_is_contact_sum(void)
+{
+    SimWallBody none = {0};
+    Box box;
+    box_def(&box, &none);
+    box.def.materials[0].normal_damping = 0.0;
+    box.def.materials[0].normal_stiffness = 1e6; /* undamped landing: overlaps below 0.2 d */
+    box.def.wall_bodies = NULL;
+    SimWorld *w = tu_create(&box.def, &box.grains);
+    TEST_ASSERT(w);
+    int touched = 0;
+    for (int round = 0; round < 80; ++round) {
+        TEST_ASSERT(tu_step(w, 100) == 0);
+        double sums[4][4];
+        contact_sums(w, sums);
+        for (int k = 0; k < 4; ++k) {
+            SimWallLoad l;
+            TEST_ASSERT(sim_world_wall_load(w, k, &l) == 0);
+            const double scale = 1e-12 * (fabs(l.normal) + 1.0);
+            TEST_NEAR(l.fx, sums[k][0], scale);
+            TEST_NEAR(l.fy, sums[k][1], scale);
+            TEST_NEAR(l.normal, sums[k][2], scale);
+            TEST_NEAR(l.torque, sums[k][3], scale * 2.0);
+            touched += l.contacts > 0;
+        }
+    }
+    printf("walls touched in %d of 320 samples\n", touched);
+    TEST_ASSERT(touched >= 40);
+    sim_world_destroy(w);
+    sim_grain_buffer_free(&box.grains);
+    return 0;
+}
+
+/* The servo lid on 1 and 2 threads, and a run saved and loaded half-way: the same bits (the
+ * whole state, the lid's offset and speed included, compared as saved files). */
+static int servo_same_bits_threads_and_resume(void)
+{
+    SimWallBody lid = servo_lid(1e-3);
+    Box box[3];
+    SimWorld *w[3];
+    for (int k = 0; k < 2; ++k) {
+        w[k] = box_world(&box[k], &lid);
+        TEST_ASSERT(w[k]);
+        sim_world_set_threads(w[k], k + 1);
+        TEST_ASSERT(tu_step(w[k], 6000) == 0);
+    }
+    char saved[32], a[32], b[32], c[32];
+    TEST_ASSERT(test_tmp_file(saved) == 0 && test_tmp_file(a) == 0 && test_tmp_file(b) == 0 &&
+                test_tmp_file(c) == 0);
+    SimError err;
+    TEST_ASSERT(sim_world_save(w[0], saved, &err) == SIM_OK);
+    box_def(&box[2], &lid);
+    w[2] = sim_world_load(saved, &box[2].def, &err);
+    TEST_ASSERT(w[2]);
+    TEST_ASSERT(sim_world_restore_contacts(w[2], saved, &err) == SIM_OK);
+    for (int k = 0; k < 3; ++k)
+        TEST_ASSERT(tu_step(w[k], 4000) == 0);
+    SimWallLoad l0, l1;
+    sim_world_wall_load(w[0], 3, &l0);
+    sim_world_wall_load(w[1], 3, &l1);
+    TEST_ASSERT(l0.offset > 0.1 && l0.offset == l1.offset && l0.speed == l1.speed);
+    TEST_ASSERT(sim_world_save(w[0], a, &err) == SIM_OK &&
+                sim_world_save(w[1], b, &err) == SIM_OK && sim_world_save(w[2], c, &err) == SIM_OK);
+    FILE *f[3] = {fopen(a, "rb"), fopen(b, "rb"), fopen(c, "rb")};
+    int same = f[0] && f[1] && f[2];
+    while (same) {
+        int x = fgetc(f[0]), y = fgetc(f[1]), z = fgetc(f[2]);
+        same = x == y && x == z;
+        if (x == EOF)
+            break;
+    }
+    for (int k = 0; k < 3; ++k) {
+        if (f[k])
+            fclose(f[k]);
+        sim_world_destroy(w[k]);
+        sim_grain_buffer_free(&box[k].grains);
+    }
+    remove(saved);
+    remove(a);
+    remove(b);
+    remove(c);
+    TEST_ASSERT(same);
+    return 0;
+}
+
+TEST_MAIN(TEST_CASE(servo_holds_target_stress), TEST_CASE(servo_unstable_gain_refused),
+          TEST_CASE(piston_reaches_static_balance), TEST_CASE(wall_load_is_contact_sum),
+          TEST_CASE(servo_same_bits_threads_and_resume))
