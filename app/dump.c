@@ -11,6 +11,7 @@
 #include "run.h"
 #include "scene.h"
 #include "util.h"
+#include "vtk_xml.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -22,14 +23,14 @@
 /* A path under the output folder (at most SCENE_PATH_MAX): DIR/<stage>/<stage>_contacts_N.vtp */
 #define DUMP_PATH (SCENE_PATH_MAX + 3 * SCENE_NAME_MAX + 32)
 
-static const char *const FIELD_NAMES[] = {"id",      "type",   "x",     "y",      "vx",   "vy",
-                                          "omega",   "radius", "fx",    "fy",     "mass", "angle",
-                                          "species", "fixed",  "force", "torque", NULL};
+static const char *const FIELD_NAMES[] = {
+    "id", "type", "x",     "y",       "vx",    "vy",    "omega",  "radius",  "fx",
+    "fy", "mass", "angle", "species", "fixed", "force", "torque", "element", NULL};
 
 /* LAMMPS column names of each field: y, vy and fy carry the 2D slab's zero z component. */
-static const char *const LAMMPS_NAMES[] = {"id",      "type",   "x",     "y z",   "vx",   "vy vz",
-                                           "omegaz",  "radius", "fx",    "fy fz", "mass", "angle",
-                                           "species", "fixed",  "force", "tqz"};
+static const char *const LAMMPS_NAMES[] = {"id",      "type",   "x",     "y z",   "vx",     "vy vz",
+                                           "omegaz",  "radius", "fx",    "fy fz", "mass",   "angle",
+                                           "species", "fixed",  "force", "tqz",   "element"};
 
 static const char *const FORMAT_NAMES[] = {"lammps", "vtk", NULL};
 
@@ -44,11 +45,16 @@ static AppDumpSpec spec_default(void)
 {
     AppDumpSpec s;
     memset(&s, 0, sizeof s);
+    static const unsigned char fields[APP_DUMP_DEFAULT_FIELDS] = {
+        APP_DUMP_ID, APP_DUMP_TYPE, APP_DUMP_X,     APP_DUMP_Y,
+        APP_DUMP_VX, APP_DUMP_VY,   APP_DUMP_OMEGA, APP_DUMP_RADIUS,
+        APP_DUMP_FX, APP_DUMP_FY,   APP_DUMP_FIXED, APP_DUMP_ELEMENT};
     s.formats = APP_DUMP_LAMMPS;
     s.field_count = APP_DUMP_DEFAULT_FIELDS;
-    for (int k = 0; k < APP_DUMP_DEFAULT_FIELDS; ++k)
-        s.fields[k] = (unsigned char)k; /* id type x y vx vy omega radius fx fy */
+    memcpy(s.fields, fields, sizeof fields);
     s.contacts = 1;
+    s.walls = 1;
+    s.binary = -1;
     s.max_frames = APP_DUMP_MAX_FRAMES;
     return s;
 }
@@ -98,7 +104,9 @@ static int names_list(AppConfig *p, const config_setting_t *g, const char *key, 
 static int apply_group(AppConfig *p, const config_setting_t *g, AppDumpSpec *spec,
                        const config_setting_t **every_at)
 {
-    static const char *const keys[] = {"format", "every", "fields", "contacts", "max_frames", NULL};
+    static const char *const keys[] = {"format", "every",      "fields",       "contacts",
+                                       "walls",  "max_frames", "vtk_encoding", NULL};
+    static const char *const encodings[] = {"ascii", "binary", "auto", NULL};
     unsigned char formats[APP_DUMP_FIELD_COUNT];
     int n = 0, found;
     long long max_frames = spec->max_frames;
@@ -122,8 +130,19 @@ static int apply_group(AppConfig *p, const config_setting_t *g, AppDumpSpec *spe
     }
     if (names_list(p, g, "fields", "field", FIELD_NAMES, spec->fields, &spec->field_count) < 0 ||
         app_config_bool(p, g, "contacts", &spec->contacts) < 0 ||
+        app_config_bool(p, g, "walls", &spec->walls) < 0 ||
         app_config_int(p, g, "max_frames", &max_frames) < 0)
         return -1;
+    const char *encoding = NULL;
+    if (app_config_string(p, g, "vtk_encoding", &encoding) < 0)
+        return -1;
+    int e = encoding ? name_index(encodings, encoding) : 3;
+    if (e < 0)
+        return app_config_fail(p, app_config_member(g, "vtk_encoding"),
+                               "unknown `vtk_encoding` `%s` (expected: ascii, binary, auto)",
+                               encoding);
+    if (e < 3)
+        spec->binary = e == 2 ? -1 : e;
     if (max_frames < 1 || max_frames > 1000000000LL)
         return app_config_fail(p, app_config_member(g, "max_frames"),
                                "`max_frames` must be in [1, 1e9]");
@@ -237,6 +256,7 @@ static int field_value(const SimFrame *f, const SimWorldDef *def, int field, int
         *n = f->species[i] + 1;
         return 1;
     case APP_DUMP_SPECIES:
+    case APP_DUMP_ELEMENT:
         *n = f->species[i];
         return 1;
     case APP_DUMP_FIXED:
@@ -321,16 +341,30 @@ static void frame_box(const SimFrame *f, double lo[3], double hi[3])
     hi[2] = -lo[2];
 }
 
-int app_dump_lammps_frame(FILE *out, const SimFrame *f, const unsigned char *fields, int count,
-                          const SimWorldDef *def)
+/* The header of a LAMMPS dump frame up to its BOX BOUNDS (`what`: ATOMS or ENTRIES). */
+static void lammps_header(FILE *out, const SimFrame *f, const char *what, long count)
 {
     double lo[3], hi[3];
     frame_box(f, lo, hi);
     fprintf(out,
-            "ITEM: TIME\n%.17g\nITEM: TIMESTEP\n%ld\nITEM: NUMBER OF ATOMS\n%d\n"
-            "ITEM: BOX BOUNDS %s ff pp\n%.17g %.17g\n%.17g %.17g\n%.17g %.17g\nITEM: ATOMS",
-            f->time, f->step, f->count, f->periodic ? "pp" : "ff", lo[0], hi[0], lo[1], hi[1],
+            "ITEM: UNITS\nsi\nITEM: TIME\n%.17g\nITEM: TIMESTEP\n%ld\nITEM: NUMBER OF %s\n%ld\n"
+            "ITEM: BOX BOUNDS %s ff pp\n%.17g %.17g\n%.17g %.17g\n%.17g %.17g\n",
+            f->time, f->step, what, count, f->periodic ? "pp" : "ff", lo[0], hi[0], lo[1], hi[1],
             lo[2], hi[2]);
+}
+
+/* A species name as one word of a dump row (blanks as '_'). */
+static void put_word(FILE *out, const char *name)
+{
+    for (const char *c = name; *c; ++c)
+        fputc(*c == ' ' || *c == '\t' || *c == '\n' ? '_' : *c, out);
+}
+
+int app_dump_lammps_frame(FILE *out, const SimFrame *f, const unsigned char *fields, int count,
+                          const SimWorldDef *def, const char *const *species)
+{
+    lammps_header(out, f, "ATOMS", f->count);
+    fputs("ITEM: ATOMS", out);
     for (int k = 0; k < count; ++k)
         fprintf(out, " %s", LAMMPS_NAMES[fields[k]]);
     fputc('\n', out);
@@ -339,10 +373,14 @@ int app_dump_lammps_frame(FILE *out, const SimFrame *f, const unsigned char *fie
             double v = 0.0;
             long long n = 0;
             const char *gap = k ? " " : "";
-            if (field_value(f, def, fields[k], i, 1, &v, &n))
+            if (fields[k] == APP_DUMP_ELEMENT && species) {
+                fputs(gap, out);
+                put_word(out, species[f->species[i]]);
+            } else if (field_value(f, def, fields[k], i, 1, &v, &n)) {
                 fprintf(out, "%s%lld", gap, n);
-            else
+            } else {
                 fprintf(out, "%s%.17g", gap, v);
+            }
             if (fields[k] == APP_DUMP_Y || fields[k] == APP_DUMP_VY || fields[k] == APP_DUMP_FY)
                 fputs(" 0", out); /* z, vz, fz of the slab */
         }
@@ -351,97 +389,198 @@ int app_dump_lammps_frame(FILE *out, const SimFrame *f, const unsigned char *fie
     return ferror(out) ? -1 : 0;
 }
 
-static void vtk_open(FILE *out, int points, int verts, int lines)
+int app_dump_lammps_contacts(FILE *out, const SimFrame *f)
 {
-    fprintf(out,
-            "<?xml version=\"1.0\"?>\n"
-            "<VTKFile type=\"PolyData\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-            "<PolyData>\n<Piece NumberOfPoints=\"%d\" NumberOfVerts=\"%d\" NumberOfLines=\"%d\" "
-            "NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n",
-            points, verts, lines);
+    long pairs = 0;
+    for (int c = 0; c < f->contact_count; ++c)
+        pairs += f->contacts[c].j >= 0; /* a wall is no atom: no bond */
+    lammps_header(out, f, "ENTRIES", pairs);
+    fputs("ITEM: ENTRIES index id1 id2 fn ft\n", out);
+    long index = 0;
+    for (int c = 0; c < f->contact_count; ++c) {
+        const SimContact *k = &f->contacts[c];
+        if (k->j >= 0)
+            fprintf(out, "%ld %lld %lld %.17g %.17g\n", ++index, (long long)f->id[k->i] + 1,
+                    (long long)f->id[k->j] + 1, k->normal_force, k->tangential_force);
+    }
+    return ferror(out) ? -1 : 0;
 }
 
-static int vtk_close(FILE **out, const char *path)
+/* binary -1 (auto): raw above APP_VTK_BINARY_POINTS points. */
+static int encoding(int binary, int points)
 {
-    fputs("</Piece>\n</PolyData>\n</VTKFile>\n", *out);
-    if (ferror(*out)) {
-        app_tmp_discard(out, path);
-        return -1;
-    }
-    return app_tmp_commit(out, path);
+    return binary < 0 ? points > APP_VTK_BINARY_POINTS : binary;
 }
 
 /* Cells of `count` single points (verts) or point pairs (lines): connectivity and offsets. */
-static void vtk_cells(FILE *out, const char *what, const int *pairs, int count, int size)
+static int vtk_cells(AppVtk *v, const char *what, const int *pairs, int count, int size)
 {
-    fprintf(out, "<%s>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n", what);
-    for (int c = 0; c < count; ++c)
-        if (size == 1)
-            fprintf(out, "%d\n", c);
-        else
-            fprintf(out, "%d %d\n", pairs[2 * c], pairs[2 * c + 1]);
-    fputs("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n", out);
-    for (int c = 0; c < count; ++c)
-        fprintf(out, "%d\n", (c + 1) * size);
-    fprintf(out, "</DataArray>\n</%s>\n", what);
+    size_t n = (size_t)(count > 0 ? count : 1);
+    int64_t *connectivity = malloc(n * (size_t)size * sizeof *connectivity),
+            *offsets = malloc(n * sizeof *offsets);
+    if (!connectivity || !offsets) {
+        free(connectivity);
+        free(offsets);
+        return -1;
+    }
+    for (int c = 0; c < count; ++c) {
+        for (int k = 0; k < size; ++k)
+            connectivity[c * size + k] = size == 1 ? c : pairs[2 * c + k];
+        offsets[c] = (int64_t)(c + 1) * size;
+    }
+    fprintf(v->out, "<%s>\n", what);
+    app_vtk_int64(v, "connectivity", 1, (size_t)count * (size_t)size, connectivity);
+    app_vtk_int64(v, "offsets", 1, (size_t)count, offsets);
+    fprintf(v->out, "</%s>\n", what);
+    free(connectivity);
+    free(offsets);
+    return 0;
 }
 
-static void vtk_points(FILE *out, const double *x, const double *y, int n, const double *x2,
-                       const double *y2, int n2)
+/* The points (x, y, 0) of n grains then n2 extra points. */
+static int vtk_points(AppVtk *v, const double *x, const double *y, int n, const double *x2,
+                      const double *y2, int n2)
 {
-    fputs("<Points>\n<DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" "
-          "format=\"ascii\">\n",
-          out);
-    for (int i = 0; i < n; ++i)
-        fprintf(out, "%.17g %.17g 0\n", x[i], y[i]);
-    for (int i = 0; i < n2; ++i)
-        fprintf(out, "%.17g %.17g 0\n", x2[i], y2[i]);
-    fputs("</DataArray>\n</Points>\n", out);
+    size_t total = (size_t)n + (size_t)n2;
+    double *p = malloc((total > 0 ? total : 1) * 3 * sizeof *p);
+    if (!p)
+        return -1;
+    for (size_t i = 0; i < total; ++i) {
+        int extra = i >= (size_t)n;
+        p[3 * i] = extra ? x2[i - (size_t)n] : x[i];
+        p[3 * i + 1] = extra ? y2[i - (size_t)n] : y[i];
+        p[3 * i + 2] = 0.0;
+    }
+    fputs("<Points>\n", v->out);
+    app_vtk_doubles(v, "Points", 3, total, p);
+    fputs("</Points>\n", v->out);
+    free(p);
+    return 0;
+}
+
+/* Opens a PolyData piece. */
+static int vtp_begin(AppVtk *v, const char *path, int binary, double time, int points, int verts,
+                     int lines)
+{
+    if (app_vtk_begin(v, path, "PolyData", "", encoding(binary, points), time) != 0)
+        return -1;
+    fprintf(v->out,
+            "<Piece NumberOfPoints=\"%d\" NumberOfVerts=\"%d\" NumberOfLines=\"%d\" "
+            "NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n",
+            points, verts, lines);
+    return 0;
+}
+
+/* One point-data array of a grain field (integers as Int64). */
+static int vtp_field(AppVtk *v, const SimFrame *f, const SimWorldDef *def, int field)
+{
+    size_t n = (size_t)(f->count > 0 ? f->count : 1);
+    double *d = malloc(n * sizeof *d);
+    int64_t *l = malloc(n * sizeof *l);
+    int integer = field == APP_DUMP_ID || field == APP_DUMP_TYPE || field == APP_DUMP_SPECIES ||
+                  field == APP_DUMP_FIXED;
+    if (!d || !l) {
+        free(d);
+        free(l);
+        return -1;
+    }
+    for (int i = 0; i < f->count; ++i) {
+        long long m = 0;
+        field_value(f, def, field, i, 0, &d[i], &m);
+        l[i] = (int64_t)m;
+    }
+    if (integer)
+        app_vtk_int64(v, FIELD_NAMES[field], 1, (size_t)f->count, l);
+    else
+        app_vtk_doubles(v, FIELD_NAMES[field], 1, (size_t)f->count, d);
+    free(d);
+    free(l);
+    return 0;
 }
 
 int app_dump_vtp_grains(const char *path, const SimFrame *f, const unsigned char *fields, int count,
-                        const SimWorldDef *def)
+                        const SimWorldDef *def, int binary)
 {
-    FILE *out = app_tmp_open(path, NULL);
-    if (!out)
+    AppVtk v;
+    if (vtp_begin(&v, path, binary, f->time, f->count, f->count, 0) != 0)
         return -1;
     int has[APP_DUMP_FIELD_COUNT] = {0};
     for (int k = 0; k < count; ++k)
         has[fields[k]] = 1;
     int velocity = has[APP_DUMP_VX] && has[APP_DUMP_VY];
-    vtk_open(out, f->count, f->count, 0);
-    fprintf(out, "<PointData%s%s>\n", has[APP_DUMP_RADIUS] ? " Scalars=\"radius\"" : "",
+    fprintf(v.out, "<PointData%s%s>\n", has[APP_DUMP_RADIUS] ? " Scalars=\"radius\"" : "",
             velocity ? " Vectors=\"velocity\"" : "");
-    for (int k = 0; k < count; ++k) {
-        if (fields[k] == APP_DUMP_X || fields[k] == APP_DUMP_Y)
-            continue; /* the points */
-        double v = 0.0;
-        long long n = 0;
-        int integer = f->count > 0 && field_value(f, def, fields[k], 0, 0, &v, &n);
-        if (f->count == 0) /* the type of an empty array still names the field's kind */
-            integer = fields[k] == APP_DUMP_ID || fields[k] == APP_DUMP_TYPE ||
-                      fields[k] == APP_DUMP_SPECIES || fields[k] == APP_DUMP_FIXED;
-        fprintf(out, "<DataArray type=\"%s\" Name=\"%s\" format=\"ascii\">\n",
-                integer ? "Int64" : "Float64", FIELD_NAMES[fields[k]]);
-        for (int i = 0; i < f->count; ++i)
-            if (field_value(f, def, fields[k], i, 0, &v, &n))
-                fprintf(out, "%lld\n", n);
-            else
-                fprintf(out, "%.17g\n", v);
-        fputs("</DataArray>\n", out);
+    for (int k = 0; k < count; ++k)
+        if (fields[k] != APP_DUMP_X && fields[k] != APP_DUMP_Y && fields[k] != APP_DUMP_ELEMENT &&
+            vtp_field(&v, f, def, fields[k]) != 0)
+            v.failed = 1; /* x, y: the points; element: LAMMPS only */
+    if (velocity) {       /* vx, vy, 0 for glyphs */
+        double *u = malloc((size_t)(f->count > 0 ? f->count : 1) * 3 * sizeof *u);
+        for (int i = 0; u && i < f->count; ++i) {
+            u[3 * i] = f->vx[i];
+            u[3 * i + 1] = f->vy[i];
+            u[3 * i + 2] = 0.0;
+        }
+        if (u)
+            app_vtk_doubles(&v, "velocity", 3, (size_t)f->count, u);
+        v.failed |= !u;
+        free(u);
     }
-    if (velocity) { /* vx, vy, 0 for glyphs */
-        fputs("<DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" "
-              "format=\"ascii\">\n",
-              out);
-        for (int i = 0; i < f->count; ++i)
-            fprintf(out, "%.17g %.17g 0\n", f->vx[i], f->vy[i]);
-        fputs("</DataArray>\n", out);
+    fputs("</PointData>\n", v.out);
+    if (vtk_points(&v, f->x, f->y, f->count, NULL, NULL, 0) != 0 ||
+        vtk_cells(&v, "Verts", NULL, f->count, 1) != 0)
+        v.failed = 1;
+    fputs("</Piece>\n", v.out);
+    return app_vtk_end(&v, path);
+}
+
+/* Segments of an arc wall's polyline. */
+#define WALL_ARC_SEGMENTS 32
+
+int app_dump_vtp_walls(const char *path, const SimFrame *f, int binary)
+{
+    int points = 0;
+    for (int w = 0; w < f->wall_count; ++w)
+        points += f->walls[w].shape == SIM_WALL_ARC ? WALL_ARC_SEGMENTS + 1 : 2;
+    size_t n = (size_t)(points > 0 ? points : 1), walls = (size_t)(f->wall_count + 1);
+    double *x = malloc(n * sizeof *x), *y = malloc(n * sizeof *y);
+    int64_t *connectivity = malloc(n * sizeof *connectivity),
+            *offsets = malloc(walls * sizeof *offsets), *index = malloc(walls * sizeof *index),
+            *species = malloc(walls * sizeof *species);
+    AppVtk v;
+    int rc = -1;
+    if (x && y && connectivity && offsets && index && species &&
+        vtp_begin(&v, path, binary, f->time, points, 0, f->wall_count) == 0) {
+        int k = 0;
+        for (int w = 0; w < f->wall_count; ++w) { /* sim_wall_point: along the wall, s in [0, 1] */
+            int segments = f->walls[w].shape == SIM_WALL_ARC ? WALL_ARC_SEGMENTS : 1;
+            for (int s = 0; s <= segments; ++s, ++k) {
+                sim_wall_point(&f->walls[w], (double)s / segments, &x[k], &y[k]);
+                connectivity[k] = k;
+            }
+            offsets[w] = k;
+            index[w] = w;
+            species[w] = f->walls[w].species;
+        }
+        fputs("<CellData Scalars=\"wall\">\n", v.out);
+        app_vtk_int64(&v, "wall", 1, (size_t)f->wall_count, index);
+        app_vtk_int64(&v, "species", 1, (size_t)f->wall_count, species);
+        fputs("</CellData>\n", v.out);
+        if (vtk_points(&v, x, y, points, NULL, NULL, 0) != 0)
+            v.failed = 1;
+        fputs("<Lines>\n", v.out);
+        app_vtk_int64(&v, "connectivity", 1, (size_t)points, connectivity);
+        app_vtk_int64(&v, "offsets", 1, (size_t)f->wall_count, offsets);
+        fputs("</Lines>\n</Piece>\n", v.out);
+        rc = app_vtk_end(&v, path);
     }
-    fputs("</PointData>\n", out);
-    vtk_points(out, f->x, f->y, f->count, NULL, NULL, 0);
-    vtk_cells(out, "Verts", NULL, f->count, 1);
-    return vtk_close(&out, path);
+    free(x);
+    free(y);
+    free(connectivity);
+    free(offsets);
+    free(index);
+    free(species);
+    return rc;
 }
 
 /* The line cells of a frame's contacts: centre to centre, centre to the contact point for a wall,
@@ -495,29 +634,32 @@ static int contact_lines(const SimFrame *f, ContactLines *l)
     return 0;
 }
 
-int app_dump_vtp_contacts(const char *path, const SimFrame *f)
+int app_dump_vtp_contacts(const char *path, const SimFrame *f, int binary)
 {
     ContactLines l;
     memset(&l, 0, sizeof l);
-    FILE *out = NULL;
+    AppVtk v;
     int rc = -1;
-    if (contact_lines(f, &l) == 0 && (out = app_tmp_open(path, NULL)) != NULL) {
-        vtk_open(out, f->count + l.extra, 0, l.count);
-        fputs("<CellData Scalars=\"normal_force\">\n", out);
+    double *force = NULL;
+    if (contact_lines(f, &l) == 0 &&
+        (force = malloc((size_t)(l.count > 0 ? l.count : 1) * sizeof *force)) != NULL &&
+        vtp_begin(&v, path, binary, f->time, f->count + l.extra, 0, l.count) == 0) {
+        fputs("<CellData Scalars=\"normal_force\">\n", v.out);
         for (int a = 0; a < 2; ++a) { /* F_n (positive: repulsive) and |F_t|, N */
-            fprintf(out, "<DataArray type=\"Float64\" Name=\"%s\" format=\"ascii\">\n",
-                    a ? "tangential_force" : "normal_force");
             for (int c = 0; c < l.count; ++c) {
                 const SimContact *k = &f->contacts[l.contact[c]];
-                fprintf(out, "%.17g\n", a ? fabs(k->tangential_force) : k->normal_force);
+                force[c] = a ? fabs(k->tangential_force) : k->normal_force;
             }
-            fputs("</DataArray>\n", out);
+            app_vtk_doubles(&v, a ? "tangential_force" : "normal_force", 1, (size_t)l.count, force);
         }
-        fputs("</CellData>\n", out);
-        vtk_points(out, f->x, f->y, f->count, l.ex, l.ey, l.extra);
-        vtk_cells(out, "Lines", l.pairs, l.count, 2);
-        rc = vtk_close(&out, path);
+        fputs("</CellData>\n", v.out);
+        if (vtk_points(&v, f->x, f->y, f->count, l.ex, l.ey, l.extra) != 0 ||
+            vtk_cells(&v, "Lines", l.pairs, l.count, 2) != 0)
+            v.failed = 1;
+        fputs("</Piece>\n", v.out);
+        rc = app_vtk_end(&v, path);
     }
+    free(force);
     free(l.pairs);
     free(l.contact);
     free(l.ex);
@@ -527,19 +669,32 @@ int app_dump_vtp_contacts(const char *path, const SimFrame *f)
 
 /* ---------------------------------------------------------------- a stage's writer */
 
+/* The VTK series of a stage: the suffix of its files and its block in the run's .pvd. */
+static const char *const SERIES[] = {"", "_contacts", "_walls"};
+#define SERIES_COUNT 3
+
 struct AppDump {
     AppDumpSpec spec;
-    const SimWorldDef *def; /* masses */
+    const struct Scene *scene; /* masses, species names, the stages before (run.all.pvd) */
+    int stage_index;
+    const char *species[SIM_MAX_SPECIES];
     char stage[SCENE_NAME_MAX];
     char dir[SCENE_PATH_MAX];
-    char lammps_path[DUMP_PATH];
-    FILE *lammps;
-    double *times; /* s, of each frame */
+    char lammps_path[DUMP_PATH], bonds_path[DUMP_PATH];
+    FILE *lammps, *bonds; /* atoms; contacts as `dump local` entries */
+    double *times;        /* s, of each frame */
     int frames, capacity;
     long last_step;
     int failed;
     char message[DUMP_PATH + SCENE_NAME_MAX + 64];
 };
+
+/* Series s of the stage is written (grains always; contacts, walls as declared). */
+static int series_on(const AppDump *d, int s)
+{
+    return (d->spec.formats & APP_DUMP_VTK) &&
+           (s == 0 || (s == 1 && d->spec.contacts) || (s == 2 && d->spec.walls));
+}
 
 /* DIR/<stage>/<stage><series>_NNNNN.vtp, or with folder = 0 the name the .pvd lists. */
 static void vtp_path(const AppDump *d, char *out, size_t size, const char *series, int frame,
@@ -569,7 +724,10 @@ int app_dump_open(AppDump **dump, const struct Scene *scene, int stage, const ch
         return -1;
     }
     d->spec = *spec;
-    d->def = &scene->def;
+    d->scene = scene;
+    d->stage_index = stage;
+    for (int k = 0; k < SIM_MAX_SPECIES; ++k)
+        d->species[k] = scene->species_names[k];
     d->last_step = -1;
     if (strlen(out_dir) >= sizeof d->dir) {
         snprintf(err, err_size, "dump: output folder name too long");
@@ -581,13 +739,18 @@ int app_dump_open(AppDump **dump, const struct Scene *scene, int stage, const ch
     char folder[DUMP_PATH];
     snprintf(folder, sizeof folder, "%s/%s", out_dir, d->stage);
     snprintf(d->lammps_path, sizeof d->lammps_path, "%s/%s.lammpstrj", out_dir, d->stage);
+    snprintf(d->bonds_path, sizeof d->bonds_path, "%s/%s.bonds.lammpstrj", out_dir, d->stage);
     const char *bad = NULL;
+    int lammps = (spec->formats & APP_DUMP_LAMMPS) != 0;
     if ((spec->formats & APP_DUMP_VTK) && app_make_dirs(folder) != 0)
         bad = folder;
-    else if ((spec->formats & APP_DUMP_LAMMPS) && !(d->lammps = app_tmp_open(d->lammps_path, NULL)))
+    else if (lammps && !(d->lammps = app_tmp_open(d->lammps_path, NULL)))
         bad = d->lammps_path;
+    else if (lammps && spec->contacts && !(d->bonds = app_tmp_open(d->bonds_path, NULL)))
+        bad = d->bonds_path;
     if (bad) {
         snprintf(err, err_size, "dump of stage %s: cannot write %s", d->stage, bad);
+        app_tmp_discard(&d->lammps, d->lammps_path);
         free(d);
         return -1;
     }
@@ -610,15 +773,21 @@ void app_dump_frame(AppDump *d, const SimFrame *f)
         d->capacity = capacity;
     }
     const AppDumpSpec *s = &d->spec;
-    if (d->lammps && app_dump_lammps_frame(d->lammps, f, s->fields, s->field_count, d->def) != 0)
+    const SimWorldDef *def = &d->scene->def;
+    if (d->lammps &&
+        app_dump_lammps_frame(d->lammps, f, s->fields, s->field_count, def, d->species) != 0)
         fail(d, "cannot write", d->lammps_path);
+    if (d->bonds && app_dump_lammps_contacts(d->bonds, f) != 0)
+        fail(d, "cannot write", d->bonds_path);
     char path[DUMP_PATH];
-    if (s->formats & APP_DUMP_VTK) {
-        vtp_path(d, path, sizeof path, "", d->frames, 1);
-        if (app_dump_vtp_grains(path, f, s->fields, s->field_count, d->def) != 0)
-            fail(d, "cannot write", path);
-        vtp_path(d, path, sizeof path, "_contacts", d->frames, 1);
-        if (s->contacts && app_dump_vtp_contacts(path, f) != 0)
+    for (int k = 0; k < SERIES_COUNT; ++k) {
+        if (!series_on(d, k))
+            continue;
+        vtp_path(d, path, sizeof path, SERIES[k], d->frames, 1);
+        int rc = k == 0   ? app_dump_vtp_grains(path, f, s->fields, s->field_count, def, s->binary)
+                 : k == 1 ? app_dump_vtp_contacts(path, f, s->binary)
+                          : app_dump_vtp_walls(path, f, s->binary);
+        if (rc != 0)
             fail(d, "cannot write", path);
     }
     d->times[d->frames++] = f->time;
@@ -632,6 +801,8 @@ void app_dump_checkpoint(const AppDump *d, FILE *out)
     app_checkpoint_put(out, "times", d->times, d->frames);
     if (d->lammps)
         app_checkpoint_file(out, d->lammps_path, d->lammps);
+    if (d->bonds)
+        app_checkpoint_file(out, d->bonds_path, d->bonds);
 }
 
 int app_dump_resume(AppDump *d, const char *record, char *err, size_t err_size)
@@ -643,12 +814,16 @@ int app_dump_resume(AppDump *d, const char *record, char *err, size_t err_size)
     double *times = bad ? NULL : malloc((size_t)(frames > 0 ? frames : 1) * sizeof *times);
     if (!bad && (!times || app_checkpoint_take(record, "times", times, frames) != 0))
         bad = 1;
-    if (!bad && (d->spec.formats & APP_DUMP_LAMMPS) &&
-        app_checkpoint_reopen(record, d->lammps_path, &d->lammps) != 0) {
+    const char *reopen = NULL;
+    if (!bad && d->lammps && app_checkpoint_reopen(record, d->lammps_path, &d->lammps) != 0)
+        reopen = d->lammps_path;
+    else if (!bad && d->bonds && app_checkpoint_reopen(record, d->bonds_path, &d->bonds) != 0)
+        reopen = d->bonds_path;
+    if (reopen) {
         snprintf(err, err_size,
                  "--resume: dump of stage %s: %s.tmp: %s (not as long as the "
                  "checkpoint records)",
-                 d->stage, d->lammps_path, strerror(errno));
+                 d->stage, reopen, strerror(errno));
         free(times);
         return -1;
     }
@@ -663,43 +838,80 @@ int app_dump_resume(AppDump *d, const char *record, char *err, size_t err_size)
     d->frames = d->capacity = frames;
     d->last_step = (long)counts[1];
     for (int k = frames; d->spec.formats & APP_DUMP_VTK; ++k) { /* frames after the checkpoint */
-        char path[DUMP_PATH];
-        vtp_path(d, path, sizeof path, "", k, 1);
-        int gone = remove(path) != 0;
-        vtp_path(d, path, sizeof path, "_contacts", k, 1);
-        if ((remove(path) != 0) && gone)
+        int gone = 1;
+        for (int s = 0; s < SERIES_COUNT; ++s) {
+            char path[DUMP_PATH];
+            vtp_path(d, path, sizeof path, SERIES[s], k, 1);
+            gone &= remove(path) != 0;
+        }
+        if (gone)
             break;
     }
     return 0;
 }
 
 /* DIR/<stage><series>.pvd: the frames' files and times (ParaView's time series). */
-static int write_pvd(AppDump *d, const char *series)
+static int write_pvd(AppDump *d, int series)
 {
     char path[DUMP_PATH], name[DUMP_PATH];
-    snprintf(path, sizeof path, "%s/%s%s.pvd", d->dir, d->stage, series);
-    FILE *out = app_tmp_open(path, "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" "
-                                   "version=\"0.1\" byte_order=\"LittleEndian\">\n<Collection>");
+    snprintf(path, sizeof path, "%s/%s%s.pvd", d->dir, d->stage, SERIES[series]);
+    FILE *out = app_pvd_open(path);
     if (!out) {
         fail(d, "cannot write", path);
         return -1;
     }
     for (int k = 0; k < d->frames; ++k) {
-        vtp_path(d, name, sizeof name, series, k, 0);
-        fprintf(out, "<DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"%s\"/>\n",
-                d->times[k], name);
+        vtp_path(d, name, sizeof name, SERIES[series], k, 0);
+        app_pvd_entry(out, d->times[k], 0, name);
     }
-    fputs("</Collection>\n</VTKFile>\n", out);
-    if (ferror(out)) {
-        app_tmp_discard(&out, path);
-        fail(d, "cannot write", path);
-        return -1;
-    }
-    if (app_tmp_commit(&out, path) != 0) {
+    if (app_pvd_commit(&out, path) != 0) {
         fail(d, "cannot write", path);
         return -1;
     }
     return 0;
+}
+
+/* Copies the data sets of DIR/<stage><series>.pvd into the run's index as block `part`; a data
+ * set at the time of the run's last one of that block replaces nothing (a stage's first frame is
+ * the end state of the stage before it, listed there). */
+static void merge_pvd(FILE *out, const char *dir, const char *stage, int part, double *last)
+{
+    char path[DUMP_PATH], line[DUMP_PATH + 128];
+    snprintf(path, sizeof path, "%s/%s%s.pvd", dir, stage, SERIES[part]);
+    FILE *in = fopen(path, "r");
+    while (in && fgets(line, sizeof line, in)) {
+        const char *t = strstr(line, "timestep=\""), *f = strstr(line, "file=\"");
+        const char *end = f ? strchr(f + 6, '"') : NULL;
+        if (!t || !end)
+            continue;
+        double time = strtod(t + 10, NULL);
+        if (time <= *last)
+            continue;
+        char file[DUMP_PATH];
+        snprintf(file, sizeof file, "%.*s", (int)(end - f - 6), f + 6);
+        app_pvd_entry(out, time, part, file);
+        *last = time;
+    }
+    if (in)
+        fclose(in);
+}
+
+/* DIR/run.all.pvd: every stage's series so far, grains as block 0, contacts 1, walls 2 (a stage
+ * name has no dot: no stage's files can take this name). */
+static int write_run_pvd(AppDump *d)
+{
+    char path[DUMP_PATH];
+    snprintf(path, sizeof path, "%s/run.all.pvd", d->dir);
+    FILE *out = app_pvd_open(path);
+    if (!out)
+        return -1;
+    for (int s = 0; s < SERIES_COUNT; ++s) {
+        double last = -INFINITY;
+        for (int k = 0; k <= d->stage_index; ++k)
+            if (d->scene->output.dump[k].formats & APP_DUMP_VTK)
+                merge_pvd(out, d->dir, d->scene->stages[k].name, s, &last);
+    }
+    return app_pvd_commit(&out, path);
 }
 
 int app_dump_close(AppDump **dump, SimWorld *world, int ok, char *err, size_t err_size)
@@ -715,10 +927,15 @@ int app_dump_close(AppDump **dump, SimWorld *world, int ok, char *err, size_t er
     }
     if (ok && !d->failed && app_tmp_commit(&d->lammps, d->lammps_path) != 0)
         fail(d, "cannot write", d->lammps_path);
-    if (ok && !d->failed && (d->spec.formats & APP_DUMP_VTK) && write_pvd(d, "") == 0 &&
-        d->spec.contacts)
-        write_pvd(d, "_contacts");
+    if (ok && !d->failed && app_tmp_commit(&d->bonds, d->bonds_path) != 0)
+        fail(d, "cannot write", d->bonds_path);
+    for (int s = 0; s < SERIES_COUNT; ++s)
+        if (ok && !d->failed && series_on(d, s))
+            write_pvd(d, s);
+    if (ok && !d->failed && (d->spec.formats & APP_DUMP_VTK) && write_run_pvd(d) != 0)
+        fail(d, "cannot write", "run.all.pvd");
     app_tmp_discard(&d->lammps, d->lammps_path); /* a failed stage leaves no half dump */
+    app_tmp_discard(&d->bonds, d->bonds_path);
     int rc = ok && d->failed ? -1 : 0;
     if (rc)
         snprintf(err, err_size, "%s", d->message);

@@ -52,11 +52,12 @@ typedef enum AppDumpField {
     APP_DUMP_FIXED,   ///< 1 for a fixed grain
     APP_DUMP_FORCE,   ///< sum of contact-force magnitudes, N
     APP_DUMP_TORQUE,  ///< N m (LAMMPS tqz)
+    APP_DUMP_ELEMENT, ///< species name (LAMMPS `element`, OVITO's type names; not in VTK)
     APP_DUMP_FIELD_COUNT
 } AppDumpField;
 
-/// The fields when `fields` is not given: id type x y vx vy omega radius fx fy.
-#define APP_DUMP_DEFAULT_FIELDS 10
+/// The fields when `fields` is not given: id type x y vx vy omega radius fx fy fixed element.
+#define APP_DUMP_DEFAULT_FIELDS 12
 
 /// Default bound on the frames of one stage's dump.
 #define APP_DUMP_MAX_FRAMES 10000
@@ -67,7 +68,9 @@ typedef struct AppDumpSpec {
     double every;     ///< simulated time between frames, s
     int field_count;
     unsigned char fields[APP_DUMP_FIELD_COUNT]; ///< AppDumpField, in column order
-    int contacts;                               ///< 1: the VTK contact series too
+    int contacts;                               ///< 1: the contact series too (VTK, LAMMPS local)
+    int walls;                                  ///< 1: the VTK wall series too
+    int binary;                                 ///< VTK encoding: 0 ascii, 1 raw appended, -1 auto
     long max_frames;                            ///< frames allowed per stage
 } AppDumpSpec;
 
@@ -115,15 +118,23 @@ int app_dump_resume(AppDump *dump, const char *record, char *err, size_t err_siz
 
 /* ---------------------------------------------------------------- one frame, any caller */
 
-/// Appends one LAMMPS dump frame (ITEM: TIME, TIMESTEP, NUMBER OF ATOMS, BOX BOUNDS, ATOMS). def
-/// gives the masses (NULL: field mass not allowed). 0, or -1 on a write error.
+/// Appends one LAMMPS dump frame (ITEM: UNITS, TIME, TIMESTEP, NUMBER OF ATOMS, BOX BOUNDS,
+/// ATOMS). def gives the masses (NULL: field mass not allowed), species[k] the name of species k
+/// (field element; NULL: the species index). 0, or -1 on a write error.
 int app_dump_lammps_frame(FILE *out, const SimFrame *frame, const unsigned char *fields, int count,
-                          const SimWorldDef *def);
+                          const SimWorldDef *def, const char *const *species);
+/// Appends the grain-grain contacts of a frame as a LAMMPS `dump local` frame (ITEM: NUMBER OF
+/// ENTRIES, ENTRIES index id1 id2 fn ft; ids as in the atom dump), which OVITO loads as bonds.
+int app_dump_lammps_contacts(FILE *out, const SimFrame *frame);
+/// Writes the walls of a frame as VTK PolyData polylines (arcs as 32 segments) through path.tmp.
+int app_dump_vtp_walls(const char *path, const SimFrame *frame, int binary);
 /// Writes one VTK PolyData file of the grains through path.tmp. 0, or -1.
+/// binary: 1 raw appended data, 0 ASCII, -1 raw above APP_VTK_BINARY_POINTS (vtk_xml.h) points.
+/// Every file carries the frame's time as the field data `TimeValue` (s).
 int app_dump_vtp_grains(const char *path, const SimFrame *frame, const unsigned char *fields,
-                        int count, const SimWorldDef *def);
+                        int count, const SimWorldDef *def, int binary);
 /// Writes the contact network of a frame as VTK PolyData lines through path.tmp. 0, or -1.
-int app_dump_vtp_contacts(const char *path, const SimFrame *frame);
+int app_dump_vtp_contacts(const char *path, const SimFrame *frame, int binary);
 
 /* ---------------------------------------------------------------- checkpoints (dump_export.c) */
 

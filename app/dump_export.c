@@ -122,7 +122,7 @@ static int write_lammps(const char *path, const SimFrame *f)
     if (!out)
         return -1;
     int count = (int)sizeof EXPORT_FIELDS;
-    if (app_dump_lammps_frame(out, f, EXPORT_FIELDS, count, NULL) != 0) {
+    if (app_dump_lammps_frame(out, f, EXPORT_FIELDS, count, NULL, NULL) != 0) {
         app_tmp_discard(&out, path);
         return -1;
     }
@@ -225,7 +225,7 @@ int app_dump_export(int argc, char **argv)
         errno = 0;
         int rc = format == 0   ? write_lammps(out, &frame)
                  : format == 1 ? app_dump_vtp_grains(out, &frame, EXPORT_FIELDS,
-                                                     (int)sizeof EXPORT_FIELDS, NULL)
+                                                     (int)sizeof EXPORT_FIELDS, NULL, -1)
                                : write_csv(out, &frame);
         if (rc != 0) {
             int full = app_failed_for_space(NULL), reason = full ? ENOSPC : errno;

@@ -10,6 +10,7 @@
 #include "run.h"
 #include "scene_internal.h"
 #include "util.h"
+#include "vtk_xml.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -602,29 +603,23 @@ static int write_fields(Measure *m, const AppContext *c)
     m->t_sum = 0.0;
     if (m->kind != KIND_GRID)
         return 0;
-    /* VTK XML ImageData, ASCII: point data on the nodes (ParaView, VTK's XML reader). */
-    char path[MEASURE_PATH + SCENE_NAME_MAX + 16];
+    /* VTK XML ImageData: point data on the nodes (ParaView, VTK's XML reader), the sample time
+     * as TimeValue; raw binary above APP_VTK_BINARY_POINTS nodes as the dumps */
+    char path[MEASURE_PATH + SCENE_NAME_MAX + 16], attributes[256];
     snprintf(path, sizeof path, "%s/%s/%s_%05d.vti", c->out_dir, m->name, m->name, m->vti_count++);
-    FILE *out = app_tmp_open(path, "<?xml version=\"1.0\"?>");
-    if (!out)
+    snprintf(attributes, sizeof attributes,
+             "WholeExtent=\"0 %d 0 %d 0 0\" Origin=\"%.17g %.17g 0\" Spacing=\"%.17g %.17g 1\"",
+             m->nx - 1, m->ny - 1, m->region[0] + 0.5 * m->bin, m->region[1] + 0.5 * m->bin, m->bin,
+             m->bin);
+    AppVtk v;
+    if (app_vtk_begin(&v, path, "ImageData", attributes, nodes > APP_VTK_BINARY_POINTS, t) != 0)
         return -1;
-    fprintf(out,
-            "<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
-            "<ImageData WholeExtent=\"0 %d 0 %d 0 0\" Origin=\"%.9g %.9g 0\" "
-            "Spacing=\"%.9g %.9g 1\">\n<FieldData><DataArray type=\"Float64\" Name=\"TIME\" "
-            "NumberOfTuples=\"1\" format=\"ascii\">%.9g</DataArray></FieldData>\n"
-            "<Piece Extent=\"0 %d 0 %d 0 0\">\n<PointData>\n",
-            m->nx - 1, m->ny - 1, m->region[0] + 0.5 * m->bin, m->region[1] + 0.5 * m->bin, m->bin,
-            m->bin, t, m->nx - 1, m->ny - 1);
-    for (int f = 0; f < m->field_count; ++f) {
-        fprintf(out, "<DataArray type=\"Float64\" Name=\"%s\" format=\"ascii\">\n",
-                sim_coarse_field_name((SimCoarseField)m->fields[f]));
-        for (int k = 0; k < nodes; ++k)
-            fprintf(out, "%.9g%c", m->last[(size_t)f * nodes + k], k % 8 == 7 ? '\n' : ' ');
-        fprintf(out, "\n</DataArray>\n");
-    }
-    fprintf(out, "</PointData>\n</Piece>\n</ImageData>\n</VTKFile>\n");
-    return app_tmp_commit(&out, path);
+    fprintf(v.out, "<Piece Extent=\"0 %d 0 %d 0 0\">\n<PointData>\n", m->nx - 1, m->ny - 1);
+    for (int f = 0; f < m->field_count; ++f)
+        app_vtk_doubles(&v, sim_coarse_field_name((SimCoarseField)m->fields[f]), 1, (size_t)nodes,
+                        m->last + (size_t)f * nodes);
+    fputs("</PointData>\n</Piece>\n", v.out);
+    return app_vtk_end(&v, path);
 }
 
 static int frame_masses(AppMeasures *ms, SimWorld *world, SimFrame *frame)
@@ -961,16 +956,42 @@ static int measures_stage_end(void *state, AppContext *c)
     return 0;
 }
 
+/* DIR/<measure>.pvd: the grid's .vti files with the times they hold (read back from each file,
+ * so a resumed run lists the files of both its parts). 0, or -1. */
+static int write_vti_pvd(const Measure *m, const AppContext *c)
+{
+    char path[MEASURE_PATH + SCENE_NAME_MAX + 16], file[MEASURE_PATH + SCENE_NAME_MAX + 16];
+    snprintf(path, sizeof path, "%s/%s.pvd", c->out_dir, m->name);
+    FILE *out = app_pvd_open(path);
+    if (!out)
+        return -1;
+    for (int k = 0; k < m->vti_count; ++k) {
+        snprintf(file, sizeof file, "%s/%s/%s_%05d.vti", c->out_dir, m->name, m->name, k);
+        double t = app_vtk_time_value(file);
+        snprintf(file, sizeof file, "%s/%s_%05d.vti", m->name, m->name, k);
+        if (t == t) /* a file that is gone (NAN) is not listed */
+            app_pvd_entry(out, t, 0, file);
+    }
+    return app_pvd_commit(&out, path);
+}
+
 static int measures_end(void *state, AppContext *c, int ok)
 {
     (void)ok;
     AppMeasures *ms = state;
     int rc = 0;
-    for (int k = 0; k < ms->count; ++k)
-        if (app_tmp_commit(&ms->m[k].csv, ms->m[k].path) != 0 && rc == 0) {
-            snprintf(c->err, c->err_size, "cannot write %s", ms->m[k].path);
+    for (int k = 0; k < ms->count; ++k) {
+        const char *bad = NULL;
+        if (app_tmp_commit(&ms->m[k].csv, ms->m[k].path) != 0)
+            bad = ms->m[k].path;
+        else if (ms->m[k].kind == KIND_GRID && ms->m[k].vti_count > 0 &&
+                 write_vti_pvd(&ms->m[k], c) != 0)
+            bad = "a measure's .pvd";
+        if (bad && rc == 0) {
+            snprintf(c->err, c->err_size, "cannot write %s", bad);
             rc = -1;
         }
+    }
     return rc;
 }
 

@@ -64,7 +64,8 @@ typedef struct Run {
     SimError error;
     int render_warned;
     int progress_tty;
-    int cpus;            /* app_cpu_count(), for APP_THREADS_AUTO */
+    double progress_every, last_progress; /* wall s between progress lines (0: none); the last */
+    int cpus;                             /* app_cpu_count(), for APP_THREADS_AUTO */
     int threads_asked;   /* the count last given to the world (sim_world_set_threads) */
     int threads_most;    /* the most threads the step ran on: summary.json's "threads" */
     AppContext context;  /* what the experiment families' hooks see */
@@ -89,6 +90,7 @@ AppRunOptions app_run_options_default(void)
     AppRunOptions o;
     memset(&o, 0, sizeof o);
     o.threads = 1;
+    o.progress_every = APP_PROGRESS_EVERY;
     o.sablier_version = "unknown";
     return o;
 }
@@ -574,7 +576,7 @@ static void progress(Run *run, int k, double elapsed, double duration, double ra
                 r->at_start ? ", grains removed at start" : "");
         return;
     }
-    if (!run->progress_tty)
+    if (!(run->progress_every > 0.0))
         return;
     double left = duration > elapsed && rate > 0.0 ? (duration - elapsed) / rate : 0.0;
     double encode = 0.0;
@@ -584,10 +586,19 @@ static void progress(Run *run, int k, double elapsed, double duration, double ra
         encode = render->movie_encode_left(render->context, to_come);
         left = fmax(left, encode);
     }
-    fprintf(stderr, "\r\033[Ksablier: %s  t = %.3f / %.3f s  %.3g steps/s  ETA %.0f s", stage->name,
-            elapsed, duration, rate / sim_world_time_step(run->world), left);
+    if (run->progress_tty)
+        fprintf(stderr, "\r\033[Ksablier: %s  t = %.3f / %.3f s  %.3g steps/s  ETA %.0f s",
+                stage->name, elapsed, duration, rate / sim_world_time_step(run->world), left);
+    else /* a log: one whole line each time, the stage's number and the rate in both units */
+        fprintf(stderr,
+                "sablier: progress: stage %s (%d/%d)  t = %.4g / %.4g s  %.3g steps/s, %.3g s "
+                "simulated per s  ETA %.0f s",
+                stage->name, k + 1, run->scene->stage_count, elapsed, duration,
+                rate / sim_world_time_step(run->world), rate, left);
     if (encode > 0.0) /* the movie encoder's share: what it still owes */
         fprintf(stderr, " (movie encoding %.0f s)", encode);
+    if (!run->progress_tty)
+        fputc('\n', stderr);
     fflush(stderr);
 }
 
@@ -1074,7 +1085,7 @@ static int stage_loop(Run *run, int k, StageClock *clock, long done, int resumed
     const SceneStage *stage = &run->scene->stages[k];
     StageReport *report = &run->stages[k];
     int status = 0;
-    double last_progress = app_now_seconds(), step_wall = 0.0;
+    double step_wall = 0.0;
     for (;; resumed = 0) {
         if (!resumed && ((status = outputs_due(run, k, clock, done)) != 0 || done >= clock->total))
             break;
@@ -1109,10 +1120,10 @@ static int stage_loop(Run *run, int k, StageClock *clock, long done, int resumed
             status = s == SIM_ERROR_UNSTABLE ? 1 : 2;
             break;
         }
-        if (t1 - last_progress > 0.25) {
+        if (run->progress_every > 0.0 && t1 - run->last_progress >= run->progress_every) {
             progress(run, k, (double)done * clock->dt, stage->duration,
                      (double)done * clock->dt / step_wall, 0);
-            last_progress = t1;
+            run->last_progress = t1;
         }
     }
     run->step_seconds += step_wall;
@@ -1472,7 +1483,9 @@ int app_run(const Scene *scene, const AppRunOptions *options)
                                 .err = run->message,
                                 .err_size = sizeof run->message};
     run->progress_tty = !options->quiet && isatty(STDERR_FILENO);
+    run->progress_every = options->quiet ? 0.0 : run->progress_tty ? 0.25 : options->progress_every;
     double wall_start = app_now_seconds();
+    run->last_progress = wall_start;
     time_t started = time(NULL);
     run->started = (long long)started;
     run->resume_stage = -1;

@@ -22,6 +22,10 @@
 typedef struct AppRunOptions {
     const char *out_dir; ///< created if missing
     int quiet;           ///< 1: one line per stage only
+    /// Wall seconds between progress lines when stderr is no terminal (a batch job's log): one
+    /// line each with the stage, the simulated time, the rate and the ETA; 0: none. Default
+    /// APP_PROGRESS_EVERY; a terminal gets one line rewritten in place instead; quiet: neither.
+    double progress_every;
     /// Threads of the physics step (the same results for any count): N, or APP_THREADS_AUTO
     /// (0): every CPU this process may use, as many as the world's size pays for
     /// (app_step_threads), re-chosen as grains come and go. Default 1 (the multi-run drivers run
@@ -38,6 +42,9 @@ typedef struct AppRunOptions {
 } AppRunOptions;
 
 AppRunOptions app_run_options_default(void);
+
+/// Default of AppRunOptions.progress_every, s.
+#define APP_PROGRESS_EVERY 60.0
 
 #define APP_THREADS_AUTO      0
 /// Mobile grains per thread of APP_THREADS_AUTO: two threads on 1500 grains already took 0.77

@@ -70,7 +70,7 @@ static void print_usage(FILE *out)
 
 static const char USAGE_RUN[] =
     "usage: sablier run SCENE [--out DIR] [--set KEY=VALUE]... [--threads N|auto] [--quiet]\n"
-    "                   [--force] [--resume]\n"
+    "                   [--progress-every SECONDS] [--force] [--resume]\n"
     "\n"
     "  --out DIR          output folder (default out/<scene name>/)\n"
     "  --set KEY=VALUE    override a scene key by its dotted path, e.g. time.dt=2e-5,\n"
@@ -79,6 +79,10 @@ static const char USAGE_RUN[] =
     "                     the default: every CPU this process may use, one per 1000 mobile\n"
     "                     grains (re-chosen as grains come and go)\n"
     "  --quiet            one line per stage, no progress\n"
+    "  --progress-every SECONDS\n"
+    "                     when stderr is no terminal (a batch job's log): one progress line\n"
+    "                     every SECONDS of wall time with the stage, the simulated time, the\n"
+    "                     rate and the ETA (default 60; 0: none)\n"
     "  --force            run into a folder that holds another run's outputs without a\n"
     "                     manifest.txt (a previous sablier run's own files are replaced anyway)\n"
     "  --resume           continue the run in DIR from its newest checkpoint (DIR/checkpoint.txt:\n"
@@ -160,13 +164,14 @@ typedef struct RunArgs {
     const char *scene_path, *out, *sets[MAX_SETS];
     int set_count, quiet, force, resume;
     long threads;
+    double progress_every;
 } RunArgs;
 
 /* The command line into *a: 0, or the exit status of a usage error (message on stderr). */
 static int run_arguments(int argc, char **argv, RunArgs *a)
 {
     const char *value;
-    *a = (RunArgs){.threads = APP_THREADS_AUTO};
+    *a = (RunArgs){.threads = APP_THREADS_AUTO, .progress_every = APP_PROGRESS_EVERY};
     for (int i = 2; i < argc; ++i) {
         int m;
         if ((m = app_option(argc, argv, &i, "--out", &value)) != 0) {
@@ -182,6 +187,11 @@ static int run_arguments(int argc, char **argv, RunArgs *a)
             else if (m < 0 || app_parse_count(value, 1, 1024, &a->threads) < 0)
                 return app_usage_error(USAGE_RUN,
                                        "--threads needs a count in [1, 1024] or auto, got",
+                                       m < 0 ? "nothing" : value);
+        } else if ((m = app_option(argc, argv, &i, "--progress-every", &value)) != 0) {
+            const AppNumberList how = {.min = 0.0, .strict = 1, .exact = 1};
+            if (m < 0 || app_parse_numbers(value, &how, &a->progress_every, 1) != 1)
+                return app_usage_error(USAGE_RUN, "--progress-every needs seconds >= 0, got",
                                        m < 0 ? "nothing" : value);
         } else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) {
             a->quiet = 1;
@@ -223,6 +233,7 @@ static int command_run(int argc, char **argv)
     AppRunOptions options = app_run_options_default();
     options.out_dir = a.out ? a.out : default_out;
     options.quiet = a.quiet;
+    options.progress_every = a.progress_every;
     options.threads = (int)a.threads;
     options.sablier_version = SABLIER_VERSION;
     options.render_versions = render_versions();

@@ -80,11 +80,11 @@ static int per_sample(const Scene *scene, double settle, int samples)
         double a = cpu_s();
         sim_world_frame(w, &f);
         double b = cpu_s();
-        app_dump_lammps_frame(out, &f, fields, n, &scene->def);
+        app_dump_lammps_frame(out, &f, fields, n, &scene->def, NULL);
         double c = cpu_s();
-        app_dump_vtp_grains(vtp, &f, fields, n, &scene->def);
+        app_dump_vtp_grains(vtp, &f, fields, n, &scene->def, 0);
         double d = cpu_s();
-        app_dump_vtp_contacts(contacts, &f);
+        app_dump_vtp_contacts(contacts, &f, 0);
         double e2 = cpu_s();
         s[0].seconds += b - a;
         s[1].seconds += c - b;

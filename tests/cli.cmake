@@ -32,6 +32,8 @@ sablier_cli_test(unknown_command "frobnicate" 2 ERR "unknown command `frobnicate
 sablier_cli_test(unknown_option "check|${CLI_TINY}|--frob" 2 ERR "unknown option --frob")
 sablier_cli_test(run_no_scene "run" 2 ERR "missing SCENE")
 sablier_cli_test(run_bad_threads "run|${CLI_TINY}|--threads|0" 2 ERR "--threads")
+sablier_cli_test(run_bad_progress_every "run|${CLI_TINY}|--progress-every|-1" 2
+                 ERR "--progress-every needs seconds >= 0, got -1")
 sablier_cli_test(missing_scene_file "check|no_such.scene" 2 ERR "no_such.scene: cannot read")
 
 # --set overrides, visible in `check`
@@ -63,6 +65,18 @@ sablier_cli_test(stage_movie_off
                  0 OUT "stage deposit: [^\n]*, movie[^\n]*\n.*stage collapse: [^\n]*0.5 s[)]\n")
 sablier_cli_test(stage_movie_listed "check|${PROJECT_SOURCE_DIR}/scenes/crater/quick.scene" 0
                  OUT "stage collapse: [^\n]*, movie[^\n]*\n")
+
+# progress without a terminal (ctest's pipe: a batch job's log): one whole line per
+# --progress-every seconds of wall time with the stage, simulated time, rate and ETA; none with
+# --quiet, none in a run shorter than the default minute
+set(progress_run "run|${CLI_TINY}|--set|time.end=40")
+sablier_cli_test(run_progress_batch "${progress_run}|--out|${CLI_WORK}/progress|--progress-every|0.02" 0
+                 ERR "(^|\n)sablier: progress: stage run [(]1/1[)]  t = [0-9.e+-]+ / 40 s  [0-9.e+-]+ steps/s, [0-9.e+-]+ s simulated per s  ETA [0-9]+ s\n(sablier: progress: [^\n]*\n)*sablier: stage run: 40 s simulated"
+                 NOT_ERR "\r")
+sablier_cli_test(run_progress_quiet "${progress_run}|--out|${CLI_WORK}/progress_quiet|--progress-every|0.02|--quiet" 0
+                 ERR "sablier: stage run: 40 s simulated" NOT_ERR "progress:")
+sablier_cli_test(run_progress_default "${progress_run}|--out|${CLI_WORK}/progress_default" 0
+                 ERR "sablier: stage run: 40 s simulated" NOT_ERR "progress:")
 
 # a driver that runs its members without rendering on purpose does not warn "not built"
 sablier_cli_test(sediment_no_render_warning

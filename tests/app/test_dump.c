@@ -9,6 +9,7 @@
 #include "app/dump.h"
 #include "app/run.h"
 #include "app/scene.h"
+#include "app/vtk_xml.h"
 #include "sim/sim.h"
 
 #include <stdint.h>
@@ -77,18 +78,21 @@ static int lammps_frame_round_trip(void)
     TEST_ASSERT(f.contact_count > 10 && f.count > 100);
     unsigned char fields[APP_DUMP_FIELD_COUNT];
     for (int k = 0; k < APP_DUMP_FIELD_COUNT; ++k)
-        fields[k] = (unsigned char)k;
+        fields[k] = (unsigned char)k; /* element last, left out: a name, not a number */
     char path[32];
     TEST_ASSERT(test_tmp_file(path) == 0);
     FILE *out = fopen(path, "w");
     TEST_ASSERT(out);
-    TEST_ASSERT(app_dump_lammps_frame(out, &f, fields, APP_DUMP_FIELD_COUNT, &scene->def) == 0);
+    TEST_ASSERT(
+        app_dump_lammps_frame(out, &f, fields, APP_DUMP_FIELD_COUNT - 1, &scene->def, NULL) == 0);
     fclose(out);
     FILE *in = fopen(path, "r");
     char line[4096];
     long step = -1;
     int atoms = -1;
     double t = -1.0, lo[3], hi[3];
+    TEST_ASSERT(fgets(line, sizeof line, in) && strcmp(line, "ITEM: UNITS\n") == 0);
+    TEST_ASSERT(fgets(line, sizeof line, in) && strcmp(line, "si\n") == 0);
     TEST_ASSERT(fgets(line, sizeof line, in) && strcmp(line, "ITEM: TIME\n") == 0);
     TEST_ASSERT(fscanf(in, "%lf\n", &t) == 1 && t == f.time);
     TEST_ASSERT(fgets(line, sizeof line, in) && strcmp(line, "ITEM: TIMESTEP\n") == 0);
@@ -153,7 +157,7 @@ static int lammps_periodic_box(void)
     TEST_ASSERT(test_tmp_file(path) == 0);
     FILE *out = fopen(path, "w");
     const unsigned char fields[] = {APP_DUMP_ID, APP_DUMP_X, APP_DUMP_Y};
-    TEST_ASSERT(app_dump_lammps_frame(out, &f, fields, 3, NULL) == 0);
+    TEST_ASSERT(app_dump_lammps_frame(out, &f, fields, 3, NULL, NULL) == 0);
     fclose(out);
     char *text = test_read_file(path, NULL);
     TEST_ASSERT(text);
@@ -180,7 +184,7 @@ static int vtk_grains_file(void)
                                     APP_DUMP_FX, APP_DUMP_FY};
     char path[32];
     TEST_ASSERT(test_tmp_file(path) == 0);
-    TEST_ASSERT(app_dump_vtp_grains(path, &f, fields, (int)sizeof fields, &scene->def) == 0);
+    TEST_ASSERT(app_dump_vtp_grains(path, &f, fields, (int)sizeof fields, &scene->def, 0) == 0);
     char *text = test_read_file(path, NULL);
     TEST_ASSERT(text);
     char expect[128];
@@ -189,9 +193,10 @@ static int vtk_grains_file(void)
     TEST_ASSERT(strstr(text, "<VTKFile type=\"PolyData\""));
     TEST_ASSERT(strstr(text, expect));
     TEST_ASSERT(strstr(text, "<PointData Scalars=\"radius\" Vectors=\"velocity\">"));
-    /* 8 fields + velocity + Points + connectivity + offsets */
-    TEST_ASSERT(count_of(text, "<DataArray ") == 12);
-    TEST_ASSERT(count_of(text, "</DataArray>") == 12);
+    /* TimeValue + 8 fields + velocity + Points + connectivity + offsets */
+    TEST_ASSERT(count_of(text, "<DataArray ") == 13);
+    TEST_ASSERT(count_of(text, "</DataArray>") == 13);
+    TEST_ASSERT(app_vtk_time_value(path) == f.time);
     TEST_ASSERT(strstr(text, "</VTKFile>\n"));
     double *v = malloc(3 * (size_t)f.count * sizeof *v + 8);
     TEST_ASSERT(vtk_array(text, "radius", v, f.count + 1) == f.count);
@@ -223,7 +228,7 @@ static int vtk_contacts_file(void)
     sim_world_frame(w, &f);
     char path[32];
     TEST_ASSERT(test_tmp_file(path) == 0);
-    TEST_ASSERT(app_dump_vtp_contacts(path, &f) == 0);
+    TEST_ASSERT(app_dump_vtp_contacts(path, &f, 0) == 0);
     char *text = test_read_file(path, NULL);
     TEST_ASSERT(text);
     char expect[160];
@@ -275,7 +280,7 @@ static int vtk_contacts_seam_and_wall(void)
     TEST_ASSERT(f.contact_count == 2);
     char path[32];
     TEST_ASSERT(test_tmp_file(path) == 0);
-    TEST_ASSERT(app_dump_vtp_contacts(path, &f) == 0);
+    TEST_ASSERT(app_dump_vtp_contacts(path, &f, 0) == 0);
     char *text = test_read_file(path, NULL);
     TEST_ASSERT(text);
     /* 3 grains + 2 images + 1 wall contact point; 2 + 1 lines */
@@ -301,6 +306,59 @@ static int vtk_contacts_seam_and_wall(void)
     free(text);
     remove(path);
     sim_world_destroy(w);
+    return 0;
+}
+
+/* The walls' .vtp: a polyline per wall (a segment: 2 points, an arc: 33 along its span), the
+ * wall index and species as cell data, the frame's time as TimeValue; raw appended when asked,
+ * its blocks the same bytes as the ASCII numbers. */
+static int vtk_walls_file(void)
+{
+    SimWall walls[2] = {{.x0 = 0.0, .y0 = 0.0, .x1 = 2.0, .y1 = 0.5, .motion = -1},
+                        {.shape = SIM_WALL_ARC,
+                         .species = 0,
+                         .motion = -1,
+                         .center_x = 1.0,
+                         .center_y = 1.0,
+                         .radius = 0.5,
+                         .angle0 = 0.0,
+                         .angle1 = 3.0}};
+    SimFrame f;
+    memset(&f, 0, sizeof f);
+    f.time = 0.25;
+    f.walls = walls;
+    f.wall_count = 2;
+    char path[32];
+    TEST_ASSERT(test_tmp_file(path) == 0);
+    TEST_ASSERT(app_dump_vtp_walls(path, &f, 0) == 0);
+    char *text = test_read_file(path, NULL);
+    TEST_ASSERT(text &&
+                strstr(text, "NumberOfPoints=\"35\" NumberOfVerts=\"0\" NumberOfLines=\"2\""));
+    double v[3 * 35 + 1], end[2];
+    TEST_ASSERT(vtk_array(text, "offsets", v, 3) == 2 && v[0] == 2.0 && v[1] == 35.0);
+    TEST_ASSERT(vtk_array(text, "Points", v, 3 * 35 + 1) == 3 * 35);
+    TEST_ASSERT(v[3] == 2.0 && v[4] == 0.5); /* the segment's end */
+    sim_wall_point(&walls[1], 1.0, &end[0], &end[1]);
+    TEST_ASSERT(v[3 * 34] == end[0] && v[3 * 34 + 1] == end[1]); /* the arc's end */
+    TEST_ASSERT(app_vtk_time_value(path) == 0.25);
+    free(text);
+    TEST_ASSERT(app_dump_vtp_walls(path, &f, 1) == 0); /* binary */
+    text = test_read_file(path, NULL);
+    TEST_ASSERT(text && strstr(text, "format=\"appended\"") &&
+                !strstr(text, "format=\"ascii\">\n"));
+    const char *data = strstr(text, "<AppendedData encoding=\"raw\">\n_");
+    const char *points = strstr(text, "Name=\"Points\"");
+    TEST_ASSERT(data && points);
+    long offset = strtol(strstr(points, "offset=\"") + 8, NULL, 10);
+    const char *block = data + strlen("<AppendedData encoding=\"raw\">\n_") + offset;
+    uint64_t bytes;
+    memcpy(&bytes, block, sizeof bytes);
+    TEST_ASSERT(bytes == 3 * 35 * sizeof(double));
+    double raw[3 * 35];
+    memcpy(raw, block + sizeof bytes, sizeof raw);
+    TEST_ASSERT(memcmp(raw, v, sizeof raw) == 0); /* the same doubles as the ASCII file */
+    free(text);
+    remove(path);
     return 0;
 }
 
@@ -370,7 +428,10 @@ static int run_writes_dumps(void)
                            "fall/fall_00004.vtp",
                            "fall/fall_contacts_00004.vtp",
                            "pile.pvd",
-                           "pile/pile_00002.vtp"};
+                           "pile/pile_00002.vtp",
+                           "fall.bonds.lammpstrj",
+                           "fall_walls.pvd",
+                           "run.all.pvd"};
     for (size_t k = 0; k < sizeof files / sizeof files[0]; ++k)
         TEST_ASSERT(exists(dir, files[k]));
     const char *absent[] = {"fall.lammpstrj.tmp", "fall/fall_00005.vtp", "pile.lammpstrj",
@@ -391,14 +452,20 @@ static int run_writes_dumps(void)
     snprintf(path, sizeof path, "%s/fall.state", dir);
     TEST_ASSERT(sim_state_load(path, &g, &walls, &wall_count, &t, &e) == SIM_OK);
     const char *last = strstr(text, "ITEM: TIMESTEP\n16000\n");
-    last = strstr(last, "fz\n") + 3;
+    last = strstr(last, "fz fixed element\n") + 17; /* the default fields */
+    int fixed = 0;
     for (int i = 0; i < g.count; ++i) {
         char *end;
         double id = strtod(last, &end), type = strtod(end, &end), x = strtod(end, &end),
                y = strtod(end, &end);
         TEST_ASSERT(id == (double)g.id[i] + 1.0 && type == 1.0 && x == g.x[i] && y == g.y[i]);
-        last = strchr(end, '\n') + 1;
+        const char *line_end = strchr(end, '\n'), *flag = line_end - strlen(" 1 acrylic");
+        TEST_ASSERT(strncmp(flag + 2, " acrylic", 8) == 0);
+        TEST_ASSERT(flag[1] == ((g.flags[i] & SIM_GRAIN_FIXED) ? '1' : '0'));
+        fixed += flag[1] == '1';
+        last = line_end + 1;
     }
+    TEST_ASSERT(fixed > 0 && strncmp(text, "ITEM: UNITS\nsi\n", 15) == 0);
     sim_grain_set_free(&g);
     free(walls);
     free(text);
@@ -407,6 +474,14 @@ static int run_writes_dumps(void)
     TEST_ASSERT(text && count_of(text, "<DataSet ") == 3);
     TEST_ASSERT(strstr(text, "timestep=\"0.80000000000000004\" group=\"\" part=\"0\" "
                              "file=\"pile/pile_00000.vtp\""));
+    free(text);
+    /* the run's index: fall's 5 frames, then pile's 2 after its first (fall's end state) */
+    snprintf(path, sizeof path, "%s/run.all.pvd", dir);
+    text = test_read_file(path, NULL);
+    TEST_ASSERT(text && count_of(text, "part=\"0\" file=\"fall/fall_") == 5);
+    TEST_ASSERT(count_of(text, "part=\"0\" file=\"pile/pile_") == 2);
+    TEST_ASSERT(count_of(text, "part=\"1\" file=\"pile/pile_contacts_") == 2);
+    TEST_ASSERT(count_of(text, "part=\"2\" file=\"fall/fall_walls_") == 5);
     free(text);
     char command[300];
     snprintf(command, sizeof command, "rm -rf '%s'", dir);
@@ -432,5 +507,6 @@ static int failed_run_leaves_no_dump(void)
 
 TEST_MAIN(TEST_CASE(lammps_frame_round_trip), TEST_CASE(lammps_periodic_box),
           TEST_CASE(vtk_grains_file), TEST_CASE(vtk_contacts_file),
-          TEST_CASE(vtk_contacts_seam_and_wall), TEST_CASE(scene_dump_keys),
-          TEST_CASE(run_writes_dumps), TEST_CASE(failed_run_leaves_no_dump))
+          TEST_CASE(vtk_contacts_seam_and_wall), TEST_CASE(vtk_walls_file),
+          TEST_CASE(scene_dump_keys), TEST_CASE(run_writes_dumps),
+          TEST_CASE(failed_run_leaves_no_dump))

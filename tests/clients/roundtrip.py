@@ -28,7 +28,10 @@ def read_lammps(path):
     frames, lines = [], open(path).read().split("\n")
     k = 0
     while k < len(lines) and lines[k]:
-        frame = {"time": None}
+        frame = {"time": None, "units": None}
+        if lines[k] == "ITEM: UNITS":
+            frame["units"] = lines[k + 1]
+            k += 2
         if lines[k] == "ITEM: TIME":
             frame["time"] = lines[k + 1]
             k += 2
@@ -56,7 +59,28 @@ def by_id(columns, rows, names):
 
 
 def stage_files(work, suffix):
-    return sorted(f[: -len(suffix)] for f in os.listdir(work) if f.endswith(suffix))
+    """The stages with a file DIR/<stage>SUFFIX (stage names have no dot)."""
+    return sorted(f[: -len(suffix)] for f in os.listdir(work)
+                  if f.endswith(suffix) and "." not in f[: -len(suffix)])
+
+
+def read_bonds(path):
+    """The frames of a LAMMPS `dump local` file: dicts of time, step, columns, rows (text)."""
+    frames, lines = [], open(path).read().split("\n")
+    k = 0
+    while k < len(lines) and lines[k]:
+        if lines[k : k + 5 : 2] != ["ITEM: UNITS", "ITEM: TIME", "ITEM: TIMESTEP"]:
+            fail("%s: bad local frame header at line %d" % (path, k + 1))
+        if lines[k + 6] != "ITEM: NUMBER OF ENTRIES" or not lines[k + 8].startswith("ITEM: BOX"):
+            fail("%s: no NUMBER OF ENTRIES / BOX BOUNDS at line %d" % (path, k + 7))
+        count = int(lines[k + 7])
+        if not lines[k + 12].startswith("ITEM: ENTRIES "):
+            fail("%s: no ITEM: ENTRIES at line %d" % (path, k + 13))
+        frames.append({"time": lines[k + 3], "step": int(lines[k + 5]),
+                       "columns": lines[k + 12].split()[2:],
+                       "rows": [lines[k + 13 + i].split() for i in range(count)]})
+        k += 13 + count
+    return frames
 
 
 def case_run(sablier, scene, work):
@@ -117,7 +141,26 @@ def case_lammps(work):
                          ident, theirs.get(ident), values))
             os.remove(out)
             frames_read += 1
-    print("LAMMPS read_dump: %d frames, every atom, values to the bit" % frames_read)
+            # the default fields: fixed (base grains are not mobile) and the species names
+            if frame["units"] != "si" or frame["columns"][-2:] != ["fixed", "element"]:
+                fail("%s: units %s, columns %s" % (dump, frame["units"], frame["columns"]))
+            if {r[-1] for r in frame["rows"]} != {"acrylic"} or \
+                    {r[-2] for r in frame["rows"]} != {"0", "1"}:
+                fail("%s step %d: element or fixed columns wrong" % (dump, frame["step"]))
+        bonds = read_bonds(os.path.join(work, stage + ".bonds.lammpstrj"))
+        atoms = read_lammps(dump)
+        if [b["step"] for b in bonds] != [a["step"] for a in atoms]:
+            fail("%s: bond frames at other steps than the atoms" % stage)
+        for b, a in zip(bonds, atoms):  # OVITO's bonds: both ends are atoms of that frame
+            ids = {r[0] for r in a["rows"]}
+            if b["columns"] != ["index", "id1", "id2", "fn", "ft"]:
+                fail("%s step %d: bond columns %s" % (stage, b["step"], b["columns"]))
+            if any(r[1] not in ids or r[2] not in ids for r in b["rows"]):
+                fail("%s step %d: a bond to an atom not in the frame" % (stage, b["step"]))
+        if not bonds[-1]["rows"]:
+            fail("%s: no bonds in the last frame of a settled pile" % stage)
+    print("LAMMPS read_dump: %d frames, every atom, values to the bit; bond dumps consistent"
+          % frames_read)
 
 
 def pvd_files(work, pvd):
@@ -127,6 +170,12 @@ def pvd_files(work, pvd):
     return [(float(d.get("timestep")), d.get("file")) for d in root.iter("DataSet")]
 
 
+def time_value(data):
+    """The TimeValue field data of a data set read by VTK (None without it)."""
+    array = data.GetFieldData().GetArray("TimeValue")
+    return array.GetValue(0) if array is not None else None
+
+
 def case_vtk(work):
     try:
         import vtk
@@ -134,10 +183,12 @@ def case_vtk(work):
         print("SKIP: %s cannot import vtk (Debian package python3-vtk9)" % sys.executable)
         sys.exit(SKIP)
     grains = {}  # the grain count of each stage, from its first .vtp
-    files = 0
+    files = binary = 0
+    at_time = {}  # time: [(file, {id: point})] of the grain files
     for name in stage_files(work, ".pvd"):
-        contacts = name.endswith("_contacts")
-        stage = name[: -len("_contacts")] if contacts else name
+        series_name = next((s for s in ("_contacts", "_walls") if name.endswith(s)), "")
+        stage = name[: len(name) - len(series_name)]
+        contacts = series_name == "_contacts"
         series = pvd_files(work, name + ".pvd")
         if not series:
             fail(name + ".pvd lists no files")
@@ -148,11 +199,17 @@ def case_vtk(work):
             path = os.path.join(work, rel)
             if not os.path.exists(path):
                 fail("%s.pvd lists %s, which does not exist" % (name, rel))
+            binary += b'encoding="raw"' in open(path, "rb").read()
             reader = vtk.vtkXMLPolyDataReader()
             reader.SetFileName(path)
             reader.Update()
             data = reader.GetOutput()
-            if contacts:
+            if time_value(data) != t:
+                fail("%s: TimeValue %s, the .pvd's timestep %r" % (rel, time_value(data), t))
+            if series_name == "_walls":
+                if data.GetNumberOfLines() != data.GetCellData().GetArray("wall").GetNumberOfTuples():
+                    fail("%s: wall lines and wall indices differ" % rel)
+            elif contacts:
                 cells = data.GetCellData()
                 arrays = [cells.GetArrayName(i) for i in range(cells.GetNumberOfArrays())]
                 if arrays != ["normal_force", "tangential_force"]:
@@ -168,6 +225,8 @@ def case_vtk(work):
                     fail("%s: %d points, %d verts" % (rel, count, data.GetNumberOfVerts()))
                 grains.setdefault(stage, count)
                 points = data.GetPointData()
+                at_time.setdefault(t, []).append((rel, {int(points.GetArray("id").GetValue(i)):
+                                                        data.GetPoint(i) for i in range(count)}))
                 arrays = [points.GetArrayName(i) for i in range(points.GetNumberOfArrays())]
                 if "radius" not in arrays or "id" not in arrays:
                     fail("%s: arrays %s lack radius or id" % (rel, arrays))
@@ -184,10 +243,40 @@ def case_vtk(work):
                     theirs = sorted(int(r[0]) for r in frame[0]["rows"])
                     if ids != theirs:
                         fail("%s: ids differ from the LAMMPS frame" % rel)
+                    x = {int(r[0]): float(r[2]) for r in frame[0]["rows"]}
+                    for i in range(count):  # the points to the bit, ASCII or binary
+                        if data.GetPoint(i)[0] != x[int(points.GetArray("id").GetValue(i)) + 1]:
+                            fail("%s: point %d differs from the LAMMPS frame" % (rel, i))
             files += 1
-    if not any(n.endswith("_contacts") for n in stage_files(work, ".pvd")):
-        fail("no contact series")
-    print("VTK vtkXMLPolyDataReader: %d files of %d stages read" % (files, len(grains)))
+    for series_name in ("_contacts", "_walls"):
+        if not any(n.endswith(series_name) for n in stage_files(work, ".pvd")):
+            fail("no %s series" % series_name[1:])
+    if not binary:
+        fail("no binary (raw appended) VTK file among the dumps")
+    # a stage's first frame is the end state of the stage before: ASCII and binary agree to the bit
+    shared = [v for v in at_time.values() if len(v) > 1]
+    if not shared:
+        fail("no two grain files at the same time (ASCII against binary)")
+    for files_at in shared:
+        if any(points != files_at[0][1] for _, points in files_at[1:]):
+            fail("%s differ at the same time" % [rel for rel, _ in files_at])
+    # the run's index (VTK 9 has no .pvd reader, ParaView's vtkPVDReader parses it like this):
+    # every data set it lists opens, at the times of the stages' series
+    run = pvd_files(work, "run.all.pvd")
+    steps = sorted({t for t, _ in run})
+    for t, rel in run:
+        reader = vtk.vtkXMLPolyDataReader()
+        reader.SetFileName(os.path.join(work, rel))
+        reader.Update()
+        if time_value(reader.GetOutput()) != t:
+            fail("run.all.pvd: %s is not at %r" % (rel, t))
+    stage_steps = sorted({t for name in stage_files(work, ".pvd")
+                          if not name.endswith(("_contacts", "_walls"))
+                          for t, _ in pvd_files(work, name + ".pvd")})
+    if steps != stage_steps:
+        fail("run.all.pvd: times %s, the stages' %s" % (steps, stage_steps))
+    print("VTK vtkXMLPolyDataReader: %d files of %d stages read (%d binary), TimeValue = timestep;"
+          " run.all.pvd: %d time steps" % (files, len(grains), binary, len(steps)))
 
 
 def case_export(sablier, work):
