@@ -7,7 +7,9 @@
                       that starts with a top folder of the repository (app/run.c, sim/sim.h,
                       scenes/crater/, docs/scenes.md), a relative Markdown link of a doc, and
                       the name a C file gives itself at the top of its opening comment
-                      ("/* run.c: ..."), which must be its own
+                      ("/* run.c: ..."), which must be its own, and a file named bare
+                      (run.c, sim.h, quick.scene), which must be a file of the repository
+                      somewhere or, for a header, a system header
     words.py refs     no comment or doc cites an issue or pull-request number ("issue 38",
                       "#38") or notes kept outside the repository (../shared/notes)
     words.py fixture  both rules on tests/lint/fixtures/words/, a small tree with one defect of
@@ -28,12 +30,19 @@ SKIP_DIRS = {".git", "out", "node_modules", "__pycache__"}
 CODE_EXT = {".c", ".h", ".cpp", ".cc", ".py", ".sh", ".cmake"}
 ROOT = REPO
 PATH_RE = None
+BASENAMES = set()
+BARE_RE = re.compile(r"(?<![\w/.\-*~$@<])([A-Za-z_][\w\-]*\.(?:c|h|md|sh|py|scene))(?![\w/])")
 
 
 def set_root(root):
     """Reads the tree at root: its top folders start the paths the lint checks."""
     global ROOT, PATH_RE
     ROOT = root
+    BASENAMES.clear()
+    for dirpath, dirnames, filenames in os.walk(ROOT):
+        dirnames[:] = [d for d in dirnames if d not in SKIP_DIRS and not d.startswith(".")
+                       and not (dirpath == ROOT and d.startswith("build"))]
+        BASENAMES.update(filenames)
     top = sorted(
         d for d in os.listdir(ROOT)
         if os.path.isdir(os.path.join(ROOT, d)) and not d.startswith(".") and d not in SKIP_DIRS
@@ -103,6 +112,15 @@ def exists(name):
     return os.path.exists(os.path.join(ROOT, name))
 
 
+def bare_exists(name):
+    """A file of that name anywhere in the tree, or a system header."""
+    if name in BASENAMES:
+        return True
+    return name.endswith(".h") and (os.path.exists(os.path.join("/usr/include", name)) or any(
+        os.path.exists(os.path.join("/usr/include", d, name)) for d in os.listdir("/usr/include")
+        if os.path.isdir(os.path.join("/usr/include", d))))
+
+
 def check_paths(rel, text, allow, out):
     for n, line in comments(rel, text):
         for m in PATH_RE.finditer(line):
@@ -116,6 +134,12 @@ def check_paths(rel, text, allow, out):
             if PLACEHOLDER_RE.search(name):
                 continue  # tests/golden/CASE, app/F/, run-runN.csv
             out.append("%s:%d: names %s, which does not exist" % (rel, n, name))
+        for m in BARE_RE.finditer(line):
+            name = m.group(1)
+            if line[max(0, m.start() - 2):m.start()] == "](":
+                continue  # a Markdown link's target, checked below
+            if not (allowed(name, allow) or bare_exists(name) or PLACEHOLDER_RE.search(name)):
+                out.append("%s:%d: names %s, which is no file of the repository" % (rel, n, name))
         if rel.endswith(".md"):
             for m in LINK_RE.finditer(line):
                 target = m.group(1)
@@ -128,7 +152,7 @@ def check_paths(rel, text, allow, out):
     if rel.endswith((".c", ".h", ".cpp")):
         m = SELF_RE.match(text)
         if m and m.group(1) != os.path.basename(rel):
-            out.append("%s:1: opens as %s" % (rel, m.group(1)))
+            out.append("%s:%d: opens as %s" % (rel, text.count("\n", 0, m.start(1)) + 1, m.group(1)))
 
 
 def check_refs(rel, text, out):
