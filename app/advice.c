@@ -10,7 +10,7 @@
 #include <string.h>
 
 /* |e - e_n| <= c / n^p: bench/bench_accuracy.c, table "convergence law" of
- * bench/results/accuracy-summary.md (`build/bench/bench_accuracy --crater-every 2`, issue 21). */
+ * bench/results/accuracy-summary.md (`build/bench/bench_accuracy --crater-every 2`). */
 typedef struct Law {
     SimIntegrator integrator;
     SimOnset onset;

@@ -13,6 +13,24 @@
 
 /* the scene loader refuses exactly the frame rates the encoder refuses */
 _Static_assert((long)SCENE_MAX_FPS == (long)RENDER_VIDEO_MAX_FPS, "SCENE_MAX_FPS");
+/* scene.h and render_hooks.h mirror three render enums value for value; the casts below rely on it
+ */
+_Static_assert(SCENE_COLOR_FIXED == (int)RENDER_COLOR_FIXED &&
+                   SCENE_COLOR_FORCE == (int)RENDER_COLOR_FORCE &&
+                   SCENE_COLOR_SPEED == (int)RENDER_COLOR_SPEED &&
+                   SCENE_COLOR_SPECIES == (int)RENDER_COLOR_SPECIES &&
+                   SCENE_COLOR_HEIGHT == (int)RENDER_COLOR_HEIGHT,
+               "SceneColorBy mirrors RenderColorBy");
+_Static_assert(SCENE_CMAP_VIRIDIS == (int)RENDER_CMAP_VIRIDIS &&
+                   SCENE_CMAP_YELLOW_RED == (int)RENDER_CMAP_YELLOW_RED &&
+                   SCENE_CMAP_GREYS == (int)RENDER_CMAP_GREYS,
+               "SceneColormap mirrors RenderColormap");
+_Static_assert(APP_MARKER_NONE == (int)RENDER_MARKER_NONE &&
+                   APP_MARKER_CIRCLE == (int)RENDER_MARKER_CIRCLE &&
+                   APP_MARKER_SQUARE == (int)RENDER_MARKER_SQUARE &&
+                   APP_MARKER_TRIANGLE == (int)RENDER_MARKER_TRIANGLE &&
+                   APP_MARKER_CROSS == (int)RENDER_MARKER_CROSS,
+               "AppMarker mirrors RenderMarker");
 
 /* Journal column presets (docs/figures.md#print-sizes): width x height, cm. */
 static const double preset_cm[][2] = {{8.5, 6.4}, {17.8, 8.9}};

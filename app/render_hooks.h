@@ -22,7 +22,7 @@ struct Scene;
 struct SceneStyle;
 struct SceneFigure;
 
-/// Marker shapes; same order as RenderMarker.
+/// Marker shapes; the values of RenderMarker (render_glue.c asserts it).
 typedef enum AppMarker {
     APP_MARKER_NONE = 0,
     APP_MARKER_CIRCLE = 1,

@@ -74,7 +74,7 @@ typedef struct Run {
     int motion_running[SIM_MAX_MOTIONS];
     double motion_on[SIM_MAX_MOTIONS], motion_off[SIM_MAX_MOTIONS];
     AppSources *sources; /* insertion sources, NULL without */
-    /* Checkpoints (docs/resume.md): the wall clock of the last one; with --resume, the point
+    /* Checkpoints (docs/cli.md): the wall clock of the last one; with --resume, the point
      * the run continues from (stage, steps done in it, state file) and the original start. */
     double checkpoint_wall;
     int resume_stage;
@@ -788,7 +788,7 @@ static int settled(Run *run, const SceneStage *stage, const StageClock *clock, l
 
 /* ---------------------------------------------------------------- checkpoints and resume */
 
-#define CHECKPOINT_NAME "checkpoint.txt" /* the newest checkpoint's record (docs/resume.md) */
+#define CHECKPOINT_NAME "checkpoint.txt" /* the newest checkpoint's record (docs/cli.md) */
 
 /* 1 when a periodic checkpoint is due at step `done` (simulated or wall-clock cadence). */
 static int checkpoint_due(Run *run, const StageClock *clock, long done)

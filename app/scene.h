@@ -29,7 +29,7 @@
 /// number, which every reader holds exactly only up to 2^53.
 #define SCENE_SEED_MAX    9007199254740991ll
 
-/// Colour-by choices; same order as RenderColorBy (render_style.h).
+/// Colour-by choices; the values of RenderColorBy (render_style.h; render_glue.c asserts it).
 typedef enum SceneColorBy {
     SCENE_COLOR_FIXED = 0,
     SCENE_COLOR_FORCE = 1,
@@ -38,7 +38,7 @@ typedef enum SceneColorBy {
     SCENE_COLOR_HEIGHT = 4,
 } SceneColorBy;
 
-/// Colour maps; same order as RenderColormap.
+/// Colour maps; the values of RenderColormap (render_glue.c asserts it).
 typedef enum SceneColormap {
     SCENE_CMAP_VIRIDIS = 0,
     SCENE_CMAP_YELLOW_RED = 1,

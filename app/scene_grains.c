@@ -637,7 +637,7 @@ int loader_parse_grains(Loader *L, const config_setting_t *root)
     scene->fixed_count = 0;
     for (int i = 0; i < scene->grains.count; ++i)
         scene->fixed_count += (scene->grains.flags[i] & SIM_GRAIN_FIXED) != 0;
-    /* a `discharge` scene rains its grains during the run (app/discharge.c) */
+    /* a `discharge` scene rains its grains during the run (app/discharge/discharge.c) */
     if (scene->grains.count == scene->fixed_count && !app_config_member(root, "discharge") &&
         !app_config_member(root, "sources")) /* or its sources feed it (app/sources.c) */
         return app_config_fail(&L->p, grains, "the scene has no mobile grains");

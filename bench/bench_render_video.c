@@ -12,8 +12,7 @@
  * per simulated second); the table then gives each pipeline's CPU per frame as a share of it
  * (target: at most 0.2). A fourth argument `draw` runs the OSMesa drawing stages alone (quick
  * A/B runs of the drawer). */
-#include "render/render.h"
-#include "render/render_gl.h"
+#include "render/internal.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* bench_stream: what the velocity-Verlet drift's memory stream costs per grain on this machine, by
- * size and by layout, outside the simulation (issue 17, docs/dev/scaling.md, "the large piles'
+ * size and by layout, outside the simulation (docs/dev/scaling.md, "the large piles'
  * cost against LAMMPS and the drift's stream alone"). A model of the drift, not the drift: the same
  * arrays read and written per grain (the opening kick with the deferred closing kick, rotation on:
  * 13 read, 12 written, 3 of those write-only) and the same arithmetic, one loop over N grains for

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* render.h: sablier's renderer, the public API of render/. Reads sim's frame view (sim/sim.h),
  * never the other way. Figures through Cairo (PNG via libpng, PDF, SVG); movie frames through
- * OSMesa or Cairo; MP4 through libavcodec; an image diff for CI.
+ * OSMesa or Cairo; MP4 through libavcodec; an image diff for CI. Installed: it declares what
+ * programs outside render/ call; the helpers the back ends share are in render/internal.h.
  *
  *     RenderStyle style = render_style_default();
  *     style.color_by = RENDER_COLOR_FORCE;
@@ -33,12 +34,6 @@ typedef struct RenderMeta {
 
 /// Draws one frame into a new BGRA image with Cairo (caller frees with render_image_free).
 int render_cairo_draw(const SimFrame *frame, const RenderStyle *style, RenderImage *out);
-/// Draws the annotations of render_cairo_draw (velocity field and arrows, arch highlights and
-/// inset, time stamp, scale bar, colour bar, title: whatever the style asks for) over an image
-/// that already holds the grain layer of the same frame and style (e.g. an OSMesa frame), with
-/// the same layout (render_view_fit). The image is opaque, style->width x style->height, BGRA
-/// (premultiplied) or RGBA, and keeps its format. 0 on success, -1 on bad input or failure.
-int render_cairo_overlay(const SimFrame *frame, const RenderStyle *style, RenderImage *inout);
 /// Writes a figure of one frame; format from the extension: .png (libpng, with text chunks),
 /// .pdf, .svg. Written to a temporary name, renamed when complete. 0 on success, else -1 and a
 /// message in err.
@@ -63,8 +58,8 @@ int render_figure_read(const char *path, double dpi, RenderImage *out, char *err
 /// build with poppler-glib and librsvg), else 0.
 int render_figure_readable(const char *path);
 
-/* ---- drawing helpers shared by the Cairo and OSMesa drawers (render_cairo.c, render_colormap.c),
- * so both agree on layout and colours ---- */
+/* ---- a frame's layout (render_layout.c, followed by the Cairo and OSMesa drawers) and colour
+ * range (render_colormap.c) ---- */
 
 /// Where the world lands on the canvas. Pixel coordinates have their origin at the top-left
 /// corner, y down; world y is up.
@@ -82,25 +77,6 @@ void render_view_fit(const SimFrame *frame, const RenderStyle *style, RenderView
 /// The image height at which the style's window, at style->width, fills the width exactly
 /// with the style's margins (for movies sized to their view).
 int render_fit_height(const SimFrame *frame, const RenderStyle *style);
-/// World (m) to pixel coordinates.
-void render_view_to_pixel(const RenderView *view, double x, double y, double *px, double *py);
-/// The time stamp's text (style->time_stamp): "t = 0.1200 s    t* = 3.46" (t* with the frame's
-/// time_scale), or with style->reduced_units "t = 3.46 √(d/g)" (UTF-8). Returns buf.
-const char *render_time_label(const SimFrame *frame, const RenderStyle *style, char *buf,
-                              size_t size);
-/// The scale bar's text for a bar of `diameters` mean diameters of d metres: "5 d   (d = 2 mm)",
-/// or with style->reduced_units "5 d". Returns buf.
-const char *render_scale_label(double diameters, double d, const RenderStyle *style, char *buf,
-                               size_t size);
-/// 256-entry colour table of a map (the single source of colours: drawers look up, never compute).
-void render_colormap_lut(RenderColormap map, uint8_t lut[256][3]);
-/// Colour of t in [0, 1] (clamped; NaN = 0) as 0xRRGGBB: LUT entry round(255 t).
-uint32_t render_colormap_rgb(RenderColormap map, double t);
-/// Categorical colour of a species (colour-blind-safe palette, cycles after 8), 0xRRGGBB.
-uint32_t render_species_rgb(int species);
-/// Colour range of the style's quantity: the fixed range when range_min < range_max, else
-/// [0, max over the frame's mobile grains] (1 when that is 0).
-void render_color_range(const SimFrame *frame, const RenderStyle *style, double *lo, double *hi);
 /// Fixes a movie's or figure series' colour range for all its frames (docs/figures.md, "One colour
 /// scale per series"): a declared range (range_min < range_max) is kept; else, at the first frame
 /// whose mobile grains have a value above 0, [0, max] widened by a quarter for headroom and rounded
@@ -109,48 +85,10 @@ void render_color_range(const SimFrame *frame, const RenderStyle *style, double 
 /// once the range is fixed (always for quantities without a colour bar), 0 while the frames
 /// seen so far were all 0: call again with the next frame.
 int render_color_lock(const SimFrame *frame, RenderStyle *style);
-/// The colour bar's end triangles for this frame: style->color_extend plus the ends that the
-/// frame's mobile grains leave [lo, hi] by (RENDER_EXTEND_* bits).
-int render_color_extend(const SimFrame *frame, const RenderStyle *style, double lo, double hi);
 /// Copy of a style with its automatic values resolved for this frame (band_height 0 = 5 mean
 /// diameters, chain_width_max 0 = half a mean diameter in pixels, font_size). Drawers call this
 /// once per frame; the per-grain helpers below are then O(1).
 RenderStyle render_style_resolve(const SimFrame *frame, const RenderStyle *style);
-/// The style's quantity for grain i (force N, speed m/s, species, height band index).
-double render_grain_value(const SimFrame *frame, const RenderStyle *style, int i);
-/// Fill colour of grain i, 0xRRGGBB (fixed grains get style->fixed_rgb).
-uint32_t render_grain_rgb(const SimFrame *frame, const RenderStyle *style, int i, double lo,
-                          double hi);
-/// Force-chain selection: returns the normal force above which a contact is drawn
-/// (chain_threshold * mean F_n over contacts with F_n > 0) and sets *f_max to the force drawn at
-/// full width (style->chain_force_max, or the frame's largest F_n).
-double render_chain_cut(const SimFrame *frame, const RenderStyle *style, double *f_max);
-
-/* ---- coarse-grained velocity field (render_field.c) ---- */
-
-typedef struct RenderFieldDef {
-    double x0, y0, x1, y1; ///< region, m; nodes at cell centres, x0 + (i + 1/2) cell
-    double cell;           ///< node spacing, m
-    double width;          ///< kernel cutoff radius, m
-    RenderKernel kernel;
-    int mass_power; ///< grain mass taken proportional to r^mass_power (2 disk, 3 sphere)
-} RenderFieldDef;
-
-/// Fields on a node grid, row-major, index j * nx + i, node (i, j) at (x0 + (i + 1/2) cell,
-/// y0 + (j + 1/2) cell).
-typedef struct RenderField {
-    int nx, ny;
-    double x0, y0, cell; ///< m
-    double *vx, *vy; ///< momentum-weighted mean velocity sum m v W / sum m W, m/s (0 where empty)
-    double *packing; ///< solid fraction sum pi r^2 W (kernel normalised over the plane)
-} RenderField;
-
-/// Coarse-grained velocity (MercuryCG: V = j / rho, j = sum m_i v_i W, rho = sum m_i W) over
-/// mobile grains; periodic frames wrap in x. 0 on success, -1 on bad definition or no memory.
-int render_velocity_field(const SimFrame *frame, const RenderFieldDef *def, RenderField *out);
-void render_field_free(RenderField *field);
-/// Kernel value W(r) for a cutoff radius `width`, normalised so its integral over the plane is 1.
-double render_kernel(RenderKernel kernel, double r, double width);
 
 /* ---- plots (render_plot.c): line and scatter plots in multi-panel layouts ---- */
 
@@ -220,28 +158,6 @@ typedef struct RenderPlot {
 /// Smallest text of a plot, points at print size (sub- and superscripts are not set smaller).
 #define RENDER_TEXT_MIN_PT  6.0
 
-/// What a text box of a plot holds (render_plot_layout).
-typedef enum RenderPlotText {
-    RENDER_TEXT_TITLE = 0,       ///< the figure's title
-    RENDER_TEXT_PANEL_TITLE = 1, ///< a panel's title ("(a) kinetic")
-    RENDER_TEXT_X_TICK = 2,
-    RENDER_TEXT_Y_TICK = 3,
-    RENDER_TEXT_X_LABEL = 4,
-    RENDER_TEXT_Y_LABEL = 5,
-    RENDER_TEXT_X_OFFSET = 6, ///< the axis' common factor "x10^-3"
-    RENDER_TEXT_Y_OFFSET = 7,
-    RENDER_TEXT_LEGEND = 8, ///< the legend's frame (all its entries)
-} RenderPlotText;
-
-/// A text box the layout placed: pixels, y down, x0 < x1, y0 < y1 (ink of the glyphs, advance
-/// width); `text` is the string drawn (tick labels, offsets; "" for others).
-typedef struct RenderPlotBox {
-    double x0, y0, x1, y1;
-    RenderPlotText kind;
-    int panel; ///< -1 for the figure title
-    char text[40];
-} RenderPlotBox;
-
 /// Draws a plot into a new BGRA image (white background). 0, or -1 with a message in err.
 int render_plot_draw(const RenderPlot *plot, RenderImage *out, char *err, size_t err_size);
 /// Writes a plot: .png (libpng, text chunks), .pdf or .svg; temporary name then rename.
@@ -250,18 +166,6 @@ int render_plot_write(const RenderPlot *plot, const RenderMeta *meta, const char
 /// Pixel position of data point (x, y) in a panel, as drawn. 0, or -1 if outside the axes'
 /// domain (e.g. x <= 0 on a log axis).
 int render_plot_map(const RenderPlot *plot, int panel, double x, double y, double *px, double *py);
-/// The layout's record of the text it placed (tick labels, axis labels, offsets, titles, legend
-/// frames), as drawn by render_plot_draw: writes at most `capacity` boxes, returns how many there
-/// are (or -1 on a bad plot). Nothing overlaps, and all lies inside the canvas.
-int render_plot_layout(const RenderPlot *plot, RenderPlotBox *boxes, int capacity);
-/// A panel's axis limits as drawn: lim = {x_lo, x_hi, y_lo, y_hi}. 0, or -1 on a bad plot or panel.
-int render_plot_limits(const RenderPlot *plot, int panel, double lim[4]);
-/// Nice axis ticks (1, 2, 2.5, 5 x 10^k steps; decades on a log axis) covering [lo, hi] with at
-/// most about `target` intervals; writes at most `capacity` values inside [lo, hi], returns how
-/// many.
-int render_axis_ticks(double lo, double hi, int log, int target, double *ticks, int capacity);
-/// Widens [*lo, *hi] outward to tick multiples (linear) or whole decades (log).
-void render_axis_nice_range(double *lo, double *hi, int log, int target);
 
 /* ---- heat maps on square cells (render_map.c; 004 fig. 3.4) ---- */
 
@@ -286,8 +190,6 @@ typedef struct RenderMap {
 /// render_colormap_rgb of its value in the range. 0, or -1 with a message in err.
 int render_map_write(const RenderMap *map, const RenderMeta *meta, const char *path, char *err,
                      size_t err_size);
-/// Pixel position of data point (x, y) in the map as drawn. 0, or -1 on a bad map.
-int render_map_pixel(const RenderMap *map, double x, double y, double *px, double *py);
 
 /* ---- movies (owned by render_video.c; drawer OSMesa or Cairo) ---- */
 
@@ -322,13 +224,13 @@ typedef struct RenderMovie RenderMovie;
 RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *style, char *err,
                                size_t err_size);
 /// Draws and encodes one frame (OSMesa: the grain layer by GL, the style's annotations by
-/// render_cairo_overlay). Errors are sticky: returned again by render_movie_close.
+/// Cairo over it). Errors are sticky: returned again by render_movie_close.
 int render_movie_frame(RenderMovie *movie, const SimFrame *frame);
 /// Flushes the encoder, writes the trailer, renames the temporary file. 0 on success.
 int render_movie_close(RenderMovie *movie, char *err, size_t err_size);
 /// Encoding time still owed, s: the frames queued, `frames_to_come` more and the ~1 s of frames
 /// the encoder holds until the flush at close, at the mean encoding time per frame so far (0
-/// before the first frame is encoded). Progress ETAs add it (issue 20 part 5).
+/// before the first frame is encoded). Progress ETAs add it.
 double render_movie_encode_left(RenderMovie *movie, long frames_to_come);
 /// A SimFrameSink that feeds render_movie_frame.
 SimFrameSink render_movie_sink(RenderMovie *movie);
@@ -357,14 +259,6 @@ RenderDiffOptions render_diff_options_default(void);
 /// diff_path when not NULL.
 int render_diff_files(const char *a, const char *b, const RenderDiffOptions *options,
                       const char *diff_path, RenderDiffResult *result, char *err, size_t err_size);
-
-/// One JSON line (no newline) describing a comparison, e.g. {"verdict":"differ",
-/// "differing_pixels":22,...}. Returns the length snprintf would write.
-int render_diff_result_json(const RenderDiffResult *result, char *buf, size_t size);
-/// Compares two images in memory (any formats, same size required); same metric as
-/// render_diff_files. diff (optional) receives a new RGBA image.
-int render_diff_images(const RenderImage *a, const RenderImage *b, const RenderDiffOptions *options,
-                       RenderImage *diff, RenderDiffResult *result, char *err, size_t err_size);
 
 /// Versions of the linked libraries, e.g. "cairo 1.16.0, libpng 1.6.39, libavcodec 59.37.100".
 const char *render_library_versions(void);

@@ -5,7 +5,7 @@
 #ifndef RENDER_CAIRO_UTIL_H
 #define RENDER_CAIRO_UTIL_H
 
-#include "render/render.h"
+#include "render/internal.h"
 
 #include <cairo.h>
 #include <stddef.h>

@@ -2,7 +2,7 @@
 /* render_colormap.c: colour maps as 256-entry tables built from knots, and the per-grain colour
  * rules shared by the Cairo and OSMesa drawers. Both drawers look colours up here and never
  * recompute a map, so their grains agree to the byte (anchors-render 1.8). */
-#include "render/render.h"
+#include "render/internal.h"
 
 #include <math.h>
 

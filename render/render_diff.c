@@ -3,8 +3,7 @@
  * than a threshold AND a shift of up to shift_tolerance pixels does not explain it, in both
  * directions (VTK's AllowShift idea, anchors-render 3.2): renderer noise and sub-pixel moves give
  * 0, a missing force-chain segment does not. RMS is reported but never decides. */
-#include "render/render.h"
-#include "render/render_file.h"
+#include "render/internal.h"
 
 #include <math.h>
 #include <stdarg.h>

@@ -3,7 +3,7 @@
  * coarse-graining implementation (sim/coarse.c: V = j / rho with rho = sum m_i W and j = sum m_i
  * v_i W; Goldhirsch 2010, Weinhart et al. 2012) with the plain kernel values on the nodes. The
  * solid fraction sum pi r_i^2 W comes with it and masks empty nodes. */
-#include "render/render.h"
+#include "render/internal.h"
 
 #include <math.h>
 #include <stdlib.h>

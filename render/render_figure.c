@@ -3,8 +3,7 @@
  * and library versions. */
 #include "render_cairo_util.h"
 
-#include "render/render.h"
-#include "render/render_file.h"
+#include "render/internal.h"
 
 #include <cairo-pdf.h>
 #include <cairo-svg.h>

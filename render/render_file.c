@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* render_file.c: the temporary-name-then-rename tail shared by the PNG and PDF/SVG writers, a
  * file name's format and the error message of every writer and reader. */
-#include "render/render_file.h"
 
+#include "render/internal.h"
 #include "sim/sim.h"
 
 #include <ctype.h>

@@ -18,19 +18,17 @@
  * sizes, so both agree within the image-diff tolerance: background; clipped to the plot
  * rectangle: disks in frame order (fill by RenderStyle.color_by through the shared colour
  * functions, fixed grains in fixed_rgb, dark outline ring), orientation ticks, walls, force
- * chains weakest first (width and colour by F_n); periodic copies across the seam. Layout,
- * colours and chain selection come from render.h's shared helpers; colours reach GL as the same
- * 8-bit values Cairo uses. The annotations (velocity arrows and field, arch highlights and inset,
- * colour bar, time stamp, scale bar, title) are Cairo's, drawn on the GL image by
- * render_cairo_overlay.
+ * chains weakest first (width and colour by F_n); periodic copies across the seam. Layout
+ * (render_layout.c), colours and chain selection come from internal.h's shared helpers; colours
+ * reach GL as the same 8-bit values Cairo uses. The annotations (velocity arrows and field, arch
+ * highlights and inset, colour bar, time stamp, scale bar, title) are Cairo's, drawn on the GL
+ * image by render_cairo_overlay.
  *
  * The GL context is the one struct GlContext below (create, make current, release, destroy);
  * GL entry points come through its proc-address function and each band draws into a framebuffer
  * object read back with glReadPixels, so an EGL surfaceless back end (eglGetProcAddress,
  * eglMakeCurrent without a surface) replaces OSMesa here alone. */
-#include "render/render_gl.h"
-
-#include "render/render.h"
+#include "render/internal.h"
 
 #include <GL/osmesa.h>
 #include <math.h>
@@ -950,11 +948,6 @@ static void set_rgba(uint8_t rgba[4], uint32_t rgb)
     rgba[3] = 255;
 }
 
-static int is_fixed(const SimFrame *frame, int i)
-{
-    return frame->flags && (frame->flags[i] & SIM_GRAIN_FIXED);
-}
-
 /* Cairo's outline ring width for a disk of r pixels (0 = no outline). */
 static double outline_width(double r)
 {
@@ -997,7 +990,7 @@ static void add_disk(Band *b, int *n, const Layout *l, const SimFrame *frame, in
     d->x = (float)px;
     d->y = (float)py;
     d->radius = (float)radius;
-    d->outline = (l->style.outline || is_fixed(frame, i)) && radius >= 1.5
+    d->outline = (l->style.outline || render_grain_fixed(frame, i)) && radius >= 1.5
                      ? (float)outline_width(radius)
                      : 0.0f;
     set_rgba(d->rgba, rgb);

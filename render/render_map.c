@@ -5,7 +5,7 @@
  * the pixel at a cell's centre is exactly the colour-map entry of its value. */
 #include "render_cairo_util.h"
 
-#include "render/render.h"
+#include "render/internal.h"
 
 #include <math.h>
 #include <stdint.h>

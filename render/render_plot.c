@@ -6,7 +6,7 @@
  * render_plot_layout), drawn with Cairo, written as PNG, PDF or SVG like frame figures. */
 #include "render_cairo_util.h"
 
-#include "render/render.h"
+#include "render/internal.h"
 
 #include <math.h>
 #include <stdarg.h>

@@ -3,8 +3,7 @@
  * and reading PNGs back for the image diff. */
 #include "render_cairo_util.h"
 
-#include "render/render.h"
-#include "render/render_file.h"
+#include "render/internal.h"
 #include "sim/sim.h"
 
 #include <errno.h>

@@ -4,9 +4,8 @@
  * that `sablier diff` compares what a reader sees, not bytes that also hold metadata. Without
  * poppler-glib or librsvg at build time those formats are not readable (render_figure_read says
  * so and the caller compares bytes). */
-#include "render/render.h"
+#include "render/internal.h"
 #include "render/render_cairo_util.h"
-#include "render/render_file.h"
 
 #include <cairo.h>
 #include <math.h>

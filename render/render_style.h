@@ -67,7 +67,7 @@ typedef struct RenderStyle {
     uint32_t arch_rgb;       ///< arch highlight colour, 0xRRGGBB
     double font_size;        ///< pixels (0 = RENDER_FIGURE_FONT_PT points at dpi)
     int reduced_units;       ///< 1: time stamp in sqrt(d/g), scale bar in d only (no metres)
-    /* Publication figures (issue 20). */
+    /* Publication figures. */
     int axes;                         ///< 1: framed x/y axes with ticks, in m (or d if reduced)
     const char *const *species_names; ///< legend names by species index; NULL/"" = "species N"
     int species_name_count;           ///< entries in species_names

@@ -12,8 +12,7 @@
  * render_movie_close returns it. Colour handling: the drawers give full-range sRGB; the stream is
  * BT.709 limited range and tagged so (anchors-render 2c: sws defaults to BT.601, which a decoder
  * honouring a BT.709 tag shows off by up to 12 levels). */
-#include "render/render.h"
-#include "render/render_gl.h"
+#include "render/internal.h"
 #include "sim/sim.h"
 
 #include <errno.h>

@@ -117,7 +117,7 @@ add_test(NAME cli.bne_phase_field
                  -P ${CLI_DIR}/bne_phase_field.cmake)
 set_tests_properties(cli.bne_phase_field PROPERTIES LABELS cli
                      ENVIRONMENT "LSAN_OPTIONS=suppressions=${CLI_DIR}/lsan.supp")
-# print sizes of figures: style presets, size + dpi, pixels; PNG pHYs, PDF page (issue 20 part 4)
+# print sizes of figures: style presets, size + dpi, pixels; PNG pHYs, PDF page
 if(SABLIER_WITH_RENDER)
   add_test(NAME cli.print_figures
            COMMAND ${CMAKE_COMMAND} -DSABLIER=$<TARGET_FILE:sablier>
@@ -126,7 +126,7 @@ if(SABLIER_WITH_RENDER)
   set_tests_properties(cli.print_figures PROPERTIES LABELS cli
                        ENVIRONMENT "LSAN_OPTIONS=suppressions=${CLI_DIR}/lsan.supp")
   # two identical runs: the same PNG, PDF and SVG bytes, no absolute path in any output, the date
-  # only from SOURCE_DATE_EPOCH (issue 38 part 4)
+  # only from SOURCE_DATE_EPOCH
   add_test(NAME cli.reproducible
            COMMAND bash ${CLI_DIR}/reproducible.sh $<TARGET_FILE:sablier>
                    ${CLI_DIR}/reproducible.scene ${CLI_WORK}/reproducible)
@@ -145,13 +145,13 @@ if(NOT SABLIER_WITH_RENDER)
   sablier_cli_test(render_not_built "render|a.state|-o|a.png" 2 ERR "rendering is not built")
 endif()
 
-# plots at print size, in a second format, byte-identical (issue 38 part 1)
+# plots at print size, in a second format, byte-identical
 add_test(NAME cli.plot_format
          COMMAND bash ${CLI_DIR}/plot_format.sh $<TARGET_FILE:sablier>
                  ${PROJECT_SOURCE_DIR}/scenes/measure/column.scene ${CLI_WORK}/plot_format)
 set_tests_properties(cli.plot_format PROPERTIES LABELS cli)
 
-# SIGINT/SIGTERM, stale outputs, foreign folders and provenance (issue 18 parts 1 and 3)
+# SIGINT/SIGTERM, stale outputs, foreign folders and provenance
 add_test(NAME cli.interrupt
          COMMAND bash ${CLI_DIR}/interrupt.sh $<TARGET_FILE:sablier>
                  ${PROJECT_SOURCE_DIR}/scenes/crater/quick.scene ${CLI_TINY} ${CLI_WORK}/interrupt)
@@ -167,12 +167,12 @@ add_test(NAME cli.late_checks
          COMMAND bash ${CLI_DIR}/late_checks.sh $<TARGET_FILE:sablier> ${CLI_TINY}
                  ${PROJECT_SOURCE_DIR}/scenes/brazil_nut/small.scene ${CLI_WORK}/late_checks)
 set_tests_properties(cli.late_checks PROPERTIES LABELS cli TIMEOUT 120)
-# every input file refused unless regular, before it is read: a FIFO never blocks (issue 42)
+# every input file refused unless regular, before it is read: a FIFO never blocks
 add_test(NAME cli.input_fifo
          COMMAND bash ${CLI_DIR}/input_fifo.sh $<TARGET_FILE:sablier> ${CLI_WORK}/input_fifo)
 set_tests_properties(cli.input_fifo PROPERTIES LABELS cli)
 # outputs: regular files through a temporary name, never a link or a device; a full disk
-# exits 3 (issue 42). The shim stands in for a full disk without mounting one.
+# exits 3. The shim stands in for a full disk without mounting one.
 add_library(full_disk_shim MODULE ${CLI_DIR}/full_disk_shim.c)
 target_link_libraries(full_disk_shim PRIVATE ${CMAKE_DL_LIBS})
 add_test(NAME cli.output_files
@@ -180,7 +180,7 @@ add_test(NAME cli.output_files
                  $<TARGET_FILE:full_disk_shim> ${CLI_WORK}/output_files)
 set_tests_properties(cli.output_files PROPERTIES LABELS cli)
 # the output folder is a sandbox: the manifest lists what the run wrote; its cleanup follows no
-# link and removes only regular files inside the folder (issue 42)
+# link and removes only regular files inside the folder
 add_test(NAME cli.manifest_sandbox
          COMMAND bash ${CLI_DIR}/manifest_sandbox.sh $<TARGET_FILE:sablier> ${CLI_TINY}
                  ${CLI_WORK}/manifest_sandbox)
@@ -246,7 +246,7 @@ add_test(NAME cli.check_target_error
          COMMAND bash ${CLI_DIR}/target_error.sh $<TARGET_FILE:sablier> ${CLI_TINY})
 set_tests_properties(cli.check_target_error PROPERTIES LABELS cli)
 
-# --set paths are strict: no empty part, no unclosed or stray bracket (issue 18 part 4)
+# --set paths are strict: no empty part, no unclosed or stray bracket
 sablier_cli_test(set_leading_dot "check|${CLI_TINY}|--set|.time.dt=1e-5" 2
                  ERR "--set .time.dt: empty part in the key")
 sablier_cli_test(set_double_dot "check|${CLI_TINY}|--set|time..dt=1e-5" 2
@@ -284,7 +284,7 @@ add_test(NAME cli.measures_vtk
          WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
 set_tests_properties(cli.measures_vtk PROPERTIES LABELS cli SKIP_REGULAR_EXPRESSION "skipped")
 # `sablier diff` on two folders: identical, changed, missing, extra, bad input, --update
-# (issue 20 part 7, docs/ci.md)
+# (docs/ci.md)
 add_test(NAME cli.diff_folders
          COMMAND ${CMAKE_COMMAND} -DSABLIER=$<TARGET_FILE:sablier>
                  -DREF=${PROJECT_SOURCE_DIR}/tests/render/reference
@@ -305,7 +305,7 @@ add_test(NAME cli.render_bad_state
          COMMAND bash ${CLI_DIR}/render_bad_state.sh $<TARGET_FILE:sablier> ${CLI_TINY}
                  ${CLI_WORK}/render_bad_state)
 set_tests_properties(cli.render_bad_state PROPERTIES LABELS cli)
-# bad command-line values refused before anything runs or is written (issue 42): an --ldf of
+# bad command-line values refused before anything runs or is written: an --ldf of
 # inf (a heap overflow in app_bne_ldf), an orifice of width 0 ("jammed" through no orifice), an
 # empty list item (was dropped), a base of 1e13 grains (exit 1, an empty message), a threshold
 # above 255 (was run as 255); a --max-pixels of 2^31 - 1 is a count (was refused)
@@ -357,7 +357,7 @@ if(SABLIER_WITH_RENDER)
   sablier_cli_test(diff_max_pixels_large "diff|${CLI_PNG}|${CLI_PNG}|--max-pixels|2147483647" 0
                    OUT "\"max_pixels\": 2147483647")
 endif()
-# a dig beside every grain and wall is refused at load (issue 18 part 4)
+# a dig beside every grain and wall is refused at load
 sablier_cli_test(dig_outside "check|scenes/crater/quick.scene|--set|stages.dig.dig.center_x=1e308"
                  2 ERR "dig: the cavity .* lies outside the scene's grains and walls")
 # `sablier ensemble` (docs/accuracy.md#ensemble-accuracy): end to end on a free fall with a known
@@ -425,8 +425,8 @@ sablier_cli_test(ensemble_capped_steps
 sablier_cli_test(ensemble_stage_dt
                  "ensemble|${PROJECT_SOURCE_DIR}/scenes/crater/small.scene|--dt|2e-5,4e-5|--observe|crater.crater_height|--set|stages.collapse.time.dt=1e-5"
                  2 ERR "stage `collapse` sets its own time.dt")
-# hard cases of the drum, source, intruder, shear and chute features at the CLI (issue 21 part 4;
-# docs/physics.md#hard-cases; the sim-level ones are tests/stability/test_hard_cases.c)
+# hard cases of the drum, source, intruder, shear and chute features at the CLI
+# (docs/physics.md#hard-cases; the sim-level ones are tests/stability/test_hard_cases.c)
 foreach(mode insert_dense chute_unbounded resume_threads)
   add_test(NAME cli.hard.${mode}
            COMMAND bash ${CLI_DIR}/hard_cases.sh $<TARGET_FILE:sablier> ${mode} ${CLI_DIR}
@@ -444,7 +444,7 @@ sablier_cli_test(hard.chute_rough_unbounded
                  "run|${PROJECT_SOURCE_DIR}/scenes/chute/chute.scene|--quiet|--out|${CLI_WORK}/hard_chute_rough|--set|species.0.mu=0|--set|species.1.mu=0|--set|stages.flow.gravity=[0.8660254,-0.5]|--set|stages.flow.time.end=400"
                  1 ERR "stage flow: simulation failed at step [0-9]+ [(]t = [0-9.]+ s[)].*the flow accelerates without bound.*or stop earlier [(]dt = ")
 set_tests_properties(cli.hard.chute_rough_unbounded PROPERTIES LABELS "cli;slow")
-# insertion sources (issue 42): the same bytes on 1, 2, 3 and 8 threads, the automatic time step
+# insertion sources: the same bytes on 1, 2, 3 and 8 threads, the automatic time step
 # of a scene fed by sources alone, a rate bounded by what the region holds per step, and the
 # insertion stopped by a signal
 foreach(mode threads auto_dt rate_bound interrupt)

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* observe.c: crater observables (000 §5.4) and plot descriptions read back from a run's CSV
+/* crater.c: crater observables (000 §5.4) and plot descriptions read back from a run's CSV
  * files. The profile is the thesis's free surface: per x-bin about one mean diameter wide, the
  * highest top of a grain centred in it (notes §5.4 [D]). The crater height is measured as the
  * depth of the crater below the settled free surface (docs/physics.md, "crater height"). */

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* observe.h: crater observables of a run (thesis 000 §5.4, Ch. 7): the free-surface profile over
+/* crater.h: crater observables of a run (thesis 000 §5.4, Ch. 7): the free-surface profile over
  * time (profile.csv), the crater height (crater.csv), the settled bed's structure (coordination,
  * packing fraction, hexatic order) and a key/value summary (observables.csv); plus plain plot
  * descriptions (AppChart) built from those CSV files, which app/sablier.c draws with render/.

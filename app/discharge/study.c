@@ -1,8 +1,7 @@
 /* SPDX-License-Identifier: MIT */
-/* study.c: `sablier discharge` (one pile, a few widths, figures and movies) and `sablier study`
- * (thesis 004 statistics: independent samples over L and w, run in parallel processes,
- * resumable, reduced to tables, fits and plots). The same pile of a sample is discharged at every
- * width (004 §3.1: "the same samples are discharged at every w"). */
+/* study.c: `sablier study` (thesis 004 statistics: independent samples over L and w, run in
+ * parallel processes, resumable, reduced to tables, fits and plots). The same pile of a sample is
+ * discharged at every width (004 §3.1: "the same samples are discharged at every w"). */
 #include "study.h"
 
 #include "driver.h"

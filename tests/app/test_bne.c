@@ -222,7 +222,7 @@ static int rise_time_and_ldf(void)
     TEST_NEAR(p[2], 1.0, 1e-12); /* bin [1, 1.5) */
     TEST_NEAR(rf[2], 0.0, 0.0);
     TEST_ASSERT(isnan(rf[0]));
-    /* issue 42: tau = inf never advanced a window and wrote past the rate array (a heap
+    /* tau = inf once never advanced a window and wrote past the rate array (a heap
      * overflow); a tau below the samples' spacing gives one window per sample pair */
     TEST_ASSERT(app_bne_ldf(ts, hs, counts, 1, INFINITY, 4, 0.0, 2.0, c, p, rf) == 0);
     TEST_ASSERT(app_bne_ldf(ts, hs, counts, 1, NAN, 4, 0.0, 2.0, c, p, rf) == 0);

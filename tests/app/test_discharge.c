@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* test_discharge.c: thesis 004 open piles (app/discharge.c, app/study.c) at reduced sizes
+/* test_discharge.c: thesis 004 open piles (app/discharge/) at reduced sizes
  * (L = 10 d), without rendering: scene keys and derived units, the equilibrium detector on a
  * static pocket and on a settled pile, orifice widths, grain conservation, jamming at w = 1 d
  * against a wide orifice, <h> against w on a reduced study, arch marks, and the fits. */

@@ -95,7 +95,7 @@ static int grains_file_formats_and_errors(void)
     return 0;
 }
 
-/* Files refused at their line (issue 42): a column given twice, `fixed` other than 0/1, an id
+/* Files refused at their line: a column given twice, `fixed` other than 0/1, an id
  * beyond 2^31 - 1 (99999999999 was wrapped to 1215752191), an id given twice, and a LAMMPS dump
  * whose atom count is not a count or is smaller than its rows (was "no mobile grains"). */
 static int grains_file_refused(void)

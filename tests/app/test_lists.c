@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* test_lists.c: the one comma-list reader of the drivers (app_list_item, app_parse_numbers,
  * app_parse_key_values): an empty item (",,", a leading or trailing comma) is malformed in every
- * list (issue 42: `study --widths 1,,2` dropped it); then the rules the commands differ in: bne's
+ * list (`study --widths 1,,2` once dropped it); then the rules the commands differ in: bne's
  * --vary (the first max read), sediment's --shields (>= 0, more than max malformed) and the
  * discharge study's --widths / --L lists (out-of-range values malformed). */
 #include "test.h"

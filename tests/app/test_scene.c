@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* test_scene.c: the scene loader (app/scene.c) and stage runner (app/run.c), without render. */
+/* test_scene.c: the scene loader (app/scene_load.c) and runner (app/run.c), without render. */
 #include "test.h"
 
 #include "app/crater/crater.h"

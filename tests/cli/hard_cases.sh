@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# cli.hard.* (issue 21 part 4; docs/physics.md, "Hard cases"): the CLI-level hard cases.
+# cli.hard.* (docs/physics.md, "Hard cases"): the CLI-level hard cases.
 #   insert_dense     a source whose region lies inside a settled bed: the run ends well (exit 0),
 #                    every grain it cannot place without overlap is skipped and counted
 #                    (inserted + skipped = rate t), none inserted into an overlap that explodes

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# cli.input_fifo (issue 42): every input file is opened through one helper (sim_open_input) that
+# cli.input_fifo: every input file is opened through one helper (sim_open_input) that
 # refuses anything but a regular file before reading, so a FIFO given as a state (render, export),
 # an image (diff), a grains file or a stage's checkpoint (`load`) exits 2 at once with "not a
 # regular file" instead of blocking on the pipe. `timeout` turns a regression into a failure.

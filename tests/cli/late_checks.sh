@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# cli.late_checks (issue 42): what a later stage needs is checked at load, by `check` and before
+# cli.late_checks: what a later stage needs is checked at load, by `check` and before
 # `run` or a driver writes anything:
 #   species    a stage `load` state whose grain has a species the scene lacks: was accepted by
 #              check and failed in run after energy.csv and summary.json were written

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# cli.manifest_sandbox (issue 42): the output folder is a sandbox. manifest.txt lists only what
+# cli.manifest_sandbox: the output folder is a sandbox. manifest.txt lists only what
 # the run itself wrote (a user's file, or the scene, modified during or after the run's start is
 # not listed), so the next run into the folder never deletes them, even with `--out .`; and the
 # cleanup of a previous run's files follows no link out of the folder and removes nothing but

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# cli.output_files (issue 42): outputs are only ever regular files written through a temporary
+# cli.output_files: outputs are only ever regular files written through a temporary
 # name. `export` and `render` refuse an -o target that is a symbolic link or a device (exit 2,
 # before anything runs: the link and the device left as they were); a link left at a run's
 # PATH.tmp is replaced, never written through; a full disk (the shim full_disk_shim.so makes the

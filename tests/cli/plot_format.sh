@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# cli.plot_format (issue 38 part 1): a measure scene's plots at print size: one column wide
+# cli.plot_format: a measure scene's plots at print size: one column wide
 # (8.5 cm at 300 dpi: 1004 px, a 240.96 pt PDF page), also as PDF with render.plot_format, at
 # the scene's render.size and dpi when given,
 # each with its data in a CSV beside it (panel axes and units in the header),

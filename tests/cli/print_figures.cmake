@@ -41,7 +41,7 @@ file(STRINGS ${WORK}/out/single.pdf box REGEX "MediaBox")
 if(NOT box MATCHES "MediaBox \\[ 0 0 504\\.[0-9]+ 252\\.[0-9]+ \\]")
   message(FATAL_ERROR "single.pdf: ${box} (expected 17.8 x 8.9 cm: 2102 x 1051 pixels at 300 dpi = 504.5 x 252.2 pt)")
 endif()
-# Movies follow the material (issue 20 part 5): by default a stage's movie frames the mobile
+# Movies follow the material: by default a stage's movie frames the mobile
 # grains of its first frame and takes the height that fits them at its width (the one falling
 # grain: a square window, so more than the style's 240 with the time stamp above);
 # movie_view = "container" keeps the style's size; a stage's own `view` frames that window.

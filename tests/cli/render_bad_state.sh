@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# cli.render_bad_state (issue 18 part 4): `sablier render STATE` without --scene refuses a state
+# cli.render_bad_state: `sablier render STATE` without --scene refuses a state
 # with a NaN position or a radius <= 0 (exit 2, the grain named, by the state loader every reader
 # shares), writing no figure.
 set -u

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# cli.reproducible (issue 38 part 4, docs/figures.md "Reproducible files"): the same scene run
+# cli.reproducible (docs/figures.md "Reproducible files"): the same scene run
 # twice, into two folders at different absolute paths and from two working directories, gives
 # PNG, PDF and SVG figures with the same bytes (`sablier diff` says identical), and no output
 # file holds either folder's absolute path, the working directory or the scene's folder.

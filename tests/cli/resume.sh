@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# cli.resume (issue 18 part 2, docs/cli.md#periodic-checkpoints-and---resume): a run continued
+# cli.resume (docs/cli.md#periodic-checkpoints-and---resume): a run continued
 # with --resume from its newest periodic checkpoint, or from an interruption, writes every .state
 # and CSV byte for byte as the uninterrupted run; a stage that loads the previous stage's .state
 # ends in the same bytes as the run that continued in memory; --resume without a checkpoint,

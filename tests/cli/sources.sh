@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# cli.sources.* (issue 42): insertion sources at the CLI.
+# cli.sources.*: insertion sources at the CLI.
 #   threads    the hopper (shortened, still inserting) and sources_heavy.scene (fed by sources
 #              alone) on 1, 2, 3 and 8 threads: every .state and .csv byte for byte as one
 #              thread's (grains added mid-run once wrote past the threaded contact pass's buffers)

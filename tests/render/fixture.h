@@ -6,7 +6,7 @@
 #ifndef RENDER_FIXTURE_H
 #define RENDER_FIXTURE_H
 
-#include "render/render.h"
+#include "render/internal.h"
 
 #include <math.h>
 #include <stdio.h>

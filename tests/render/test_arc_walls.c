@@ -5,7 +5,7 @@
 #include "fixture.h"
 #include "test.h"
 
-#include "render/render_gl.h"
+#include "render/internal.h"
 
 typedef int DrawFn(const SimFrame *frame, const RenderStyle *style, RenderImage *out);
 

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Image diff: what it must catch (a recoloured grain, a missing force-chain segment) and what it
  * must forgive (a one-pixel shift of the whole drawing), and bad input; PDF and SVG figures
- * compared by their drawn pixels, not by their bytes (issue 38 part 4). */
+ * compared by their drawn pixels, not by their bytes. */
 #include "fixture.h"
 #include "test.h"
 

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* Publication grain figures (issue 20): framed axes in metres and in mean diameters, annotations
+/* Publication grain figures: framed axes in metres and in mean diameters, annotations
  * in reserved margins (never over the plot), colour-bar ticks with a x10^e offset, a node field
  * with its reference arrow, and print sizes (dpi in the PNG's pHYs chunk, PDF page in points,
  * fonts embedded). Reference images through our own diff (fixture_check_reference). */

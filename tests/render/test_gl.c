@@ -5,8 +5,7 @@
  * image from one band as from two (the drawer's two drawing threads). */
 #include "test.h"
 
-#include "render/render.h"
-#include "render/render_gl.h"
+#include "render/internal.h"
 
 #include <stdio.h>
 #include <stdlib.h>

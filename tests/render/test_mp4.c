@@ -4,7 +4,7 @@
  * errors, the mpeg4 encoder, both drawers. Outputs under out/render-tests/. */
 #include "test.h"
 
-#include "render/render.h"
+#include "render/internal.h"
 
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>

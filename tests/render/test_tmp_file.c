@@ -4,8 +4,8 @@
  * does not touch what stands at PATH. */
 #include "test.h"
 
+#include "render/internal.h"
 #include "render/render_cairo_util.h"
-#include "render/render_file.h"
 
 #include <stdio.h>
 #include <stdlib.h>

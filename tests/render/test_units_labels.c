@@ -4,7 +4,7 @@
  * the scale bar counts mean diameters without metres. */
 #include "test.h"
 
-#include "render/render.h"
+#include "render/internal.h"
 
 #include <string.h>
 

@@ -156,7 +156,7 @@ static int restore_contact_history(void)
     return 0;
 }
 
-/* A saved state always loads (issue 17): a deep pile of soft grains settles with overlaps above
+/* A saved state always loads: a deep pile of soft grains settles with overlaps above
  * the start-overlap bound max_initial_overlap (0.1 d), which is for new grains only. The engine's
  * own checkpoint of it reloads (sim_world_load), while the same grains given as a user grain list
  * are still refused; and the reloaded world continues to the bit like the run that was never

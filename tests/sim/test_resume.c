@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* Exact resume (issue 18 part 2, docs/state-format.md version 2): a world loaded from a state
+/* Exact resume (docs/state-format.md version 2): a world loaded from a state
  * continues bit for bit as the saved world does. A pile rains onto a floor between walls (the
  * lists rebuild, the automatic skin moves, contacts gain history); saved mid-fall, the saved
  * world and the loaded one step on, and their checkpoints then are the same bytes. */

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* Hard cases for the drum, source, intruder, shear and chute features (issue 21 part 4;
- * docs/physics.md, "Hard cases"): each runs stably within named bounds or is refused (or stopped)
+/* Hard cases for the drum, source, intruder, shear and chute features
+ * (docs/physics.md, "Hard cases"): each runs stably within named bounds or is refused (or stopped)
  * with a message naming the reason. Units: d = 1 m, g = 1 m/s^2, disk masses (m ~ 1 kg). */
 #include "stab_util.h"
 #include "test.h"
