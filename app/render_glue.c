@@ -509,6 +509,20 @@ static void series_fix(Renderer *renderer, const Scene *scene, const SceneFigure
     sr->fixed = 1;
 }
 
+/* render.plot_format = 1 (pdf) or 2 (svg) beside a PNG at `path`: 1 and that file's path in
+ * `other` (4096 bytes), else 0 (another format, not a PNG, a path too long). */
+static int beside_path(const char *path, int format, char other[4096])
+{
+    static const char *const extensions[] = {"png", "pdf", "svg"};
+    size_t len = strlen(path);
+    if (!(format >= 1 && format <= 2) || len <= 4 || len >= 4096 ||
+        strcmp(path + len - 4, ".png") != 0)
+        return 0;
+    memcpy(other, path, len - 3);
+    memcpy(other + len - 3, extensions[format], 4);
+    return 1;
+}
+
 static int hook_figure(void *context, const Scene *scene, const SceneFigure *figure,
                        const SimFrame *frame, const AppFigureExtras *extras, const char *path,
                        char *err, size_t err_size)
@@ -539,12 +553,20 @@ static int hook_figure(void *context, const Scene *scene, const SceneFigure *fig
         style.force_chains = 1;
     }
     size_t len = strlen(path);
-    int rc =
-        extras && extras->side_panel_count > 0 && len > 4 && strcmp(path + len - 4, ".png") == 0
-            ? side_figure(frame, &style, &meta, extras, path, err, err_size)
-            : render_figure_write(frame, &style, &meta, path, err, err_size);
+    int side =
+        extras && extras->side_panel_count > 0 && len > 4 && strcmp(path + len - 4, ".png") == 0;
+    int rc = side ? side_figure(frame, &style, &meta, extras, path, err, err_size)
+                  : render_figure_write(frame, &style, &meta, path, err, err_size);
     if (rc == 0)
         app_output_note(path);
+    /* render.plot_format = "pdf" or "svg": a PNG figure also in that format beside it (the
+     * side panels' composite is PNG only) */
+    char other[4096];
+    if (rc == 0 && !side && beside_path(path, figure->style.plot_format, other)) {
+        rc = render_figure_write(frame, &style, &meta, other, err, err_size);
+        if (rc == 0)
+            app_output_note(other);
+    }
     return rc == 0 ? 0 : -1;
 }
 
@@ -687,22 +709,11 @@ static int hook_plot(void *context, const AppPlot *plot, const char *path, char 
         rc = -1;
     }
     /* render.plot_format = "pdf" or "svg": the same plot beside the PNG in that format */
-    static const char *const extensions[] = {"png", "pdf", "svg"};
-    size_t len = strlen(path);
-    int format = plot->print ? plot->print->plot_format : -1;
-    if (rc == 0 && format >= 1 && format <= 2 && len > 4 && strcmp(path + len - 4, ".png") == 0) {
-        char *other = malloc(len + 1);
-        if (!other) {
-            snprintf(err, err_size, "out of memory");
-            rc = -1;
-        } else {
-            memcpy(other, path, len - 3);
-            memcpy(other + len - 3, extensions[format], 4);
-            rc = render_plot_write(&r, &meta, other, err, err_size) == 0 ? 0 : -1;
-            if (rc == 0)
-                app_output_note(other);
-            free(other);
-        }
+    char other[4096];
+    if (rc == 0 && beside_path(path, plot->print ? plot->print->plot_format : -1, other)) {
+        rc = render_plot_write(&r, &meta, other, err, err_size) == 0 ? 0 : -1;
+        if (rc == 0)
+            app_output_note(other);
     }
     free(series);
     return rc;
