@@ -363,12 +363,20 @@ static int side_by_side(const RenderImage *bed, const RenderImage *plot, int shi
  * the grains (render_cairo_draw) and the plot (render_plot_draw) side by side, the plot's y axis
  * the grain view's y range, its height adjusted until the two scales match to a pixel. Each
  * series is clipped to that range (a gap where it leaves it); an x range left unset runs from 0
- * to 1.05 max |x|. Text at the grain figure's font size. */
-static int side_figure(const SimFrame *frame, const RenderStyle *style, const RenderMeta *meta,
-                       const AppFigureExtras *extras, const char *path, char *err, size_t err_size)
+ * to 1.05 max |x|. Text at the grain figure's font size. `print`: the figure has a print size
+ * (`size` or `style`), which the whole is to fill: the grains take two thirds of its width and
+ * the panels the rest; else the grains take the figure's width and the panels half as much more
+ * (at least 360 pixels). */
+static int side_figure(const SimFrame *frame, const RenderStyle *figure_style, int print,
+                       const RenderMeta *meta, const AppFigureExtras *extras, const char *path,
+                       char *err, size_t err_size)
 {
     enum { MAX_PANELS = 4, MAX_SERIES = 4 };
 
+    RenderStyle grains = *figure_style;
+    if (print && figure_style->width > 0)
+        grains.width = figure_style->width * 2 / 3;
+    const RenderStyle *style = &grains;
     RenderView view;
     render_view_fit(frame, style, &view);
     double y_top = view.center_y + 0.5 * view.plot_h / view.scale;
@@ -427,14 +435,16 @@ static int side_figure(const SimFrame *frame, const RenderStyle *style, const Re
         panels[k].series = series[k];
     }
     RenderImage bed = {0}, plot = {0}, out = {0};
-    RenderPlot r = {.width = style->width > 0 ? style->width / 2 : 600,
+    RenderPlot r = {.width = print && figure_style->width > 0 ? figure_style->width - style->width
+                             : style->width > 0               ? style->width / 2
+                                                              : 600,
                     .height = style->height,
                     .rows = 1,
                     .cols = panel_count,
                     .panels = panels,
                     .font_size = render_style_resolve(frame, style).font_size,
                     .dpi = style->dpi};
-    if (r.width < 360)
+    if (r.width < 360 && !print)
         r.width = 360;
     int rc = render_cairo_draw(frame, style, &bed) == 0 ? 0 : -1;
     if (rc != 0)
@@ -527,6 +537,31 @@ static void series_fix(Renderer *renderer, const Scene *scene, const SceneFigure
     sr->fixed = 1;
 }
 
+/* render.plot_format = 1 (pdf) or 2 (svg) beside a PNG at `path`: 1 and that file's path in
+ * `other` (4096 bytes), else 0 (another format, not a PNG, a path too long). */
+static int beside_path(const char *path, int format, char other[4096])
+{
+    static const char *const extensions[] = {"png", "pdf", "svg"};
+    size_t len = strlen(path);
+    if (!(format >= 1 && format <= 2) || len <= 4 || len >= 4096 ||
+        strcmp(path + len - 4, ".png") != 0)
+        return 0;
+    memcpy(other, path, len - 3);
+    memcpy(other + len - 3, extensions[format], 4);
+    return 1;
+}
+
+/* 1 when a figure of the scene named `name` is written in `format` ("pdf"): its own file wins
+ * over a PNG figure's copy beside (render.plot_format) */
+static int figure_written_as(const Scene *scene, const char *name, const char *format)
+{
+    for (int k = 0; k < scene->output.figure_count; ++k)
+        if (strcmp(scene->output.figures[k].name, name) == 0 &&
+            strcmp(scene->output.figures[k].format, format) == 0)
+            return 1;
+    return 0;
+}
+
 static int hook_figure(void *context, const Scene *scene, const SceneFigure *figure,
                        const SimFrame *frame, const AppFigureExtras *extras, const char *path,
                        char *err, size_t err_size)
@@ -557,12 +592,23 @@ static int hook_figure(void *context, const Scene *scene, const SceneFigure *fig
         style.force_chains = 1;
     }
     size_t len = strlen(path);
-    int rc =
-        extras && extras->side_panel_count > 0 && len > 4 && strcmp(path + len - 4, ".png") == 0
-            ? side_figure(frame, &style, &meta, extras, path, err, err_size)
-            : render_figure_write(frame, &style, &meta, path, err, err_size);
+    int side =
+        extras && extras->side_panel_count > 0 && len > 4 && strcmp(path + len - 4, ".png") == 0;
+    int print =
+        !isnan(figure->style.size_w) || (figure->style.preset >= 0 && figure->style.preset <= 1);
+    int rc = side ? side_figure(frame, &style, print, &meta, extras, path, err, err_size)
+                  : render_figure_write(frame, &style, &meta, path, err, err_size);
     if (rc == 0)
         app_output_note(path);
+    /* render.plot_format = "pdf" or "svg": a PNG figure also in that format beside it (the
+     * side panels' composite is PNG only) */
+    char other[4096];
+    if (rc == 0 && !side && beside_path(path, figure->style.plot_format, other) &&
+        !figure_written_as(scene, figure->name, other + strlen(other) - 3)) {
+        rc = render_figure_write(frame, &style, &meta, other, err, err_size);
+        if (rc == 0)
+            app_output_note(other);
+    }
     return rc == 0 ? 0 : -1;
 }
 
@@ -705,22 +751,11 @@ static int hook_plot(void *context, const AppPlot *plot, const char *path, char 
         rc = -1;
     }
     /* render.plot_format = "pdf" or "svg": the same plot beside the PNG in that format */
-    static const char *const extensions[] = {"png", "pdf", "svg"};
-    size_t len = strlen(path);
-    int format = plot->print ? plot->print->plot_format : -1;
-    if (rc == 0 && format >= 1 && format <= 2 && len > 4 && strcmp(path + len - 4, ".png") == 0) {
-        char *other = malloc(len + 1);
-        if (!other) {
-            snprintf(err, err_size, "out of memory");
-            rc = -1;
-        } else {
-            memcpy(other, path, len - 3);
-            memcpy(other + len - 3, extensions[format], 4);
-            rc = render_plot_write(&r, &meta, other, err, err_size) == 0 ? 0 : -1;
-            if (rc == 0)
-                app_output_note(other);
-            free(other);
-        }
+    char other[4096];
+    if (rc == 0 && beside_path(path, plot->print ? plot->print->plot_format : -1, other)) {
+        rc = render_plot_write(&r, &meta, other, err, err_size) == 0 ? 0 : -1;
+        if (rc == 0)
+            app_output_note(other);
     }
     free(series);
     return rc;

@@ -1,15 +1,19 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# scripts/gallery.sh: remakes every thesis figure of docs/gallery.md into OUT, one PNG per figure
-# named after the thesis and its figure number (000_fig7.12a_collapse.png, ...).
+# scripts/gallery.sh: remakes every thesis figure of docs/gallery.md into OUT at a journal's
+# column size, as PNG and PDF, named after the thesis and its figure number
+# (000_fig7.12a_collapse.png and .pdf, ...).
 #
 #   scripts/gallery.sh [--reduced] [--pdf] [--sablier PATH] OUT
 #
-# --reduced: small images and shorter runs (the ctest `gallery` and its references in
-# tests/gallery/reference/); without it, the scenes' own sizes and durations (`make gallery`).
-# --pdf: the figures as PDF where sablier writes one (plots through render.plot_format, frame
-# figures through their format), named as the PNGs with .pdf; the figure lint reads them
-# (tests/lint/figures.sh).
+# Every grain figure is `style = "single_column"` (8.5 x 6.4 cm) or `"double_column"` (17.8 x
+# 8.9 cm; the sediment bed with its profiles 17.8 x 6 cm), 8 pt text; every plot is one column
+# wide (two for 2x2 panels) at its family's shape (docs/figures.md#plots). Full size: 300 dpi,
+# each figure as PNG and PDF (`make gallery`).
+# --reduced: the same print sizes at 100 dpi, shorter runs and one seed per Brazil-nut curve, PNG
+# only (the ctest `gallery` and its references in tests/gallery/reference/).
+# --pdf: the PDFs too when reduced (every figure and plot through render.plot_format = "pdf",
+# beside its PNG); the figure lint reads them (tests/lint/figures.sh).
 # The runs' own output folders go to OUT/.runs/ (hidden, so `sablier diff` on OUT compares the
 # gallery only). Exit status: 0, or that of the first failing run.
 set -euo pipefail
@@ -23,7 +27,7 @@ while [ $# -gt 0 ]; do
   --reduced) reduced=1 ;;
   --pdf) pdf=1 ;;
   --sablier) sablier=${2:?--sablier needs a path}; shift ;;
-  -h | --help) sed -n '3,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  -h | --help) sed -n '3,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
   -*) echo "gallery.sh: unknown option $1" >&2; exit 2 ;;
   *) out=$1 ;;
   esac
@@ -35,38 +39,40 @@ out=$(realpath -m "$out")
 cd "$(dirname "$0")/.." # the scenes' paths are relative to the repository root
 [ -n "$sablier" ] || sablier=$PWD/build/sablier
 [ -x "$sablier" ] || { echo "gallery.sh: no sablier at $sablier (build it first)" >&2; exit 2; }
-plots=() # --pdf: every plot also as PDF
-[ $pdf = 0 ] || plots=(--set 'render.plot_format="pdf"')
+[ $reduced = 1 ] || pdf=1 # full size: PNG and PDF
+# print keys of every run: the dpi (figures and plots), and with PDFs every PNG also as PDF
+dpi=300
+[ $reduced = 0 ] || dpi=100
+plots=(--set "render.dpi=$dpi")
+[ $pdf = 0 ] || plots+=(--set 'render.plot_format="pdf"')
 runs=$out/.runs # hidden: `sablier diff` on OUT skips it
 rm -rf "$runs"
 mkdir -p "$runs"
 
-# figure RUN FILE NAME: the run's FILE becomes OUT/NAME (with --pdf, FILE.pdf becomes NAME.pdf,
-# when the run wrote one)
+# figure RUN FILE NAME: the run's FILE (a PNG) becomes OUT/NAME, and with PDFs, FILE.pdf becomes
+# NAME.pdf when the run wrote one
 figure() {
   local from=$runs/$1/$2 to=$out/$3
-  if [ $pdf = 1 ]; then
-    from=${from%.png}.pdf to=${to%.png}.pdf
-    [ -e "$from" ] || return 0
-  fi
+  cp "$from" "$to.tmp" && mv "$to.tmp" "$to"
+  from=${from%.png}.pdf to=${to%.png}.pdf
+  [ $pdf = 1 ] && [ -e "$from" ] || return 0
   cp "$from" "$to.tmp" && mv "$to.tmp" "$to"
 }
 
-# sizes N W H: --set of the figures 0..N-1 of a scene's output.figures to W x H when reduced,
-# and to PDF with --pdf
-sizes() {
-  local n=$1 w=$2 h=$3
-  for ((k = 0; k < n; ++k)); do
-    [ $reduced = 0 ] ||
-      printf -- '--set\noutput.figures.%d.width=%d\n--set\noutput.figures.%d.height=%d\n' "$k" "$w" "$k" "$h"
-    [ $pdf = 0 ] || printf -- '--set\noutput.figures.%d.format="pdf"\n' "$k"
+# columns STYLE K...: --set of the scene's output.figures K... to a column preset
+columns() {
+  local style=$1 k
+  shift
+  for k in "$@"; do
+    printf -- '--set\noutput.figures.%d.style="%s"\n' "$k" "$style"
   done
 }
 
-# 000: crater collapse, the quick bed (1500 grains)
+# 000: crater collapse, the quick bed (1500 grains); the energy panels of the deposit (fig. 6.15)
 crater() {
-  mapfile -t extra < <(sizes 8 240 160)
+  mapfile -t extra < <(columns single_column 0 1 2 3 4 5 6 7)
   "$sablier" run scenes/crater/quick.scene --out "$runs/crater" --quiet "${plots[@]}" \
+    --set 'output.energy_stage="deposit"' \
     --set stages.deposit.movie=false --set stages.collapse.movie=false "${extra[@]}"
   figure crater energy_panels.png 000_fig6.15_energy.png
   figure crater settled.png 000_fig6.22_settled_bed.png
@@ -101,9 +107,9 @@ bne() {
 
 # 002 ch. 6-7: bed-load transport, the bed with its fluid and grain profiles
 sediment() {
-  local extra=()
-  [ $reduced = 0 ] || extra=(--set stages.settle.time.end=5 --set stages.flow.time.end=5
-    --set output.figures.0.width=480 --set output.figures.0.height=200)
+  # double-column wide, 6 cm high: the bed (40 d x 16 d) and its two profile panels fill it
+  local extra=(--set 'output.figures.0.size=[17.8, 6.0]' --set output.figures.0.font_size=8)
+  [ $reduced = 0 ] || extra+=(--set stages.settle.time.end=5 --set stages.flow.time.end=5)
   "$sablier" run scenes/sediment/viscous.scene --out "$runs/sediment" --quiet \
     --set stages.flow.movie=false "${extra[@]}" "${plots[@]}"
   figure sediment bed.png 002_sediment_profiles.png
@@ -111,10 +117,8 @@ sediment() {
 
 # 004: an open pile (L = 25 d, rolling resistance) and its discharge through w = 2.2 d
 discharge() {
-  local extra=()
-  [ $reduced = 0 ] || extra=(--set render.width=480 --set render.height=270)
   "$sablier" discharge scenes/discharge/rolling_fixed.scene --width 2.2 --figures \
-    --out "$runs/discharge" --quiet "${extra[@]}" "${plots[@]}"
+    --out "$runs/discharge" --quiet --set 'render.style="double_column"' "${plots[@]}"
   figure discharge pile.png 004_fig2.12a_pile.png
   figure discharge w2.2.png 004_fig2.12b_discharged.png
 }

@@ -360,6 +360,13 @@ endif()
 # a dig beside every grain and wall is refused at load
 sablier_cli_test(dig_outside "check|scenes/crater/quick.scene|--set|stages.dig.dig.center_x=1e308"
                  2 ERR "dig: the cavity .* lies outside the scene's grains and walls")
+# output.energy_stage names a stage that runs for some time, else it is refused at load
+sablier_cli_test(energy_stage_unknown
+                 "check|scenes/crater/quick.scene|--set|output.energy_stage=\"rain\"" 2
+                 ERR "output.energy_stage: `energy_stage`: no stage named `rain`")
+sablier_cli_test(energy_stage_timeless
+                 "check|scenes/crater/quick.scene|--set|output.energy_stage=\"dig\"" 2
+                 ERR "`energy_stage`: stage `dig` runs no time")
 # `sablier ensemble` (docs/accuracy.md#ensemble-accuracy): end to end on a free fall with a known
 # shift (tests/cli/ensemble.sh), and its usage errors (exit 2, nothing run)
 add_test(NAME cli.ensemble

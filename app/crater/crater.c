@@ -532,22 +532,36 @@ static int read_csv(const char *path, int width, int tag_column, Columns *out)
     return rc;
 }
 
-int app_chart_energy_run(AppChart *plot, const char *run_dir, const char *label)
+int app_chart_energy_run(AppChart *plot, const char *run_dir, const char *label, const char *stage)
 {
     char path[OBS_PATH + 32];
     snprintf(path, sizeof path, "%s/energy.csv", run_dir);
     double t0 = app_observable(run_dir, "stage_start_s");
     double ts = app_observable(run_dir, "time_scale_s");
     double es = app_observable(run_dir, "energy_scale_J");
+    double mobile = app_observable(run_dir, "mobile_grains");
     Columns c;
     /* t,t_star,e_kin,e_pot,e_rot,e_el,e_total,grains,contacts,stage */
-    if (!isfinite(t0) || !(ts > 0.0) || !(es > 0.0) || read_csv(path, 9, 9, &c) != 0)
+    if (!isfinite(t0) || !(ts > 0.0) || !(es > 0.0) || !(mobile > 0.0) ||
+        read_csv(path, 9, 9, &c) != 0)
         return -1;
     if (c.count == 0) {
         columns_free(&c);
         return -1;
     }
     const char *last = c.tag[c.count - 1];
+    int earlier = stage && strcmp(stage, last) != 0;
+    if (earlier) { /* an earlier stage: t0 is its first row's time */
+        int r = 0;
+        while (r < c.count && strcmp(c.tag[r], stage) != 0)
+            ++r;
+        if (r == c.count) {
+            columns_free(&c);
+            return -1;
+        }
+        last = c.tag[r];
+        t0 = c.v[(size_t)r * 9];
+    }
     double *x = malloc((size_t)c.count * sizeof *x), *y[4];
     for (int k = 0; k < 4; ++k)
         y[k] = malloc((size_t)c.count * sizeof *y[k]);
@@ -559,11 +573,15 @@ int app_chart_energy_run(AppChart *plot, const char *run_dir, const char *label)
             continue;
         if (isnan(pot0))
             pot0 = v[3];
+        /* an earlier stage's E* per grain of its own (000 eq. 6.6: N m g D with N = the row's
+         * mobile grains, m the mean mass at the last stage's start): a deposit has more grains
+         * than the collapse that follows its dig */
+        double e = earlier ? es * v[7] / mobile : es;
         x[n] = (v[0] - t0) / ts;
-        y[0][n] = v[2] / es;
-        y[1][n] = (v[3] - pot0) / es;
-        y[2][n] = v[4] / es;
-        y[3][n] = v[5] / es;
+        y[0][n] = v[2] / e;
+        y[1][n] = (v[3] - pot0) / e;
+        y[2][n] = v[4] / e;
+        y[3][n] = v[5] / e;
         ++n;
     }
     static const char *const titles[4] = {"(a) kinetic", "(b) potential - start", "(c) rotational",
@@ -712,18 +730,24 @@ int app_chart_write(const AppChart *chart, const AppRender *render, const char *
     return render->plot(render->context, &plot, path, err, err_size);
 }
 
-int app_crater_plots(const Scene *scene, const char *out_dir, const AppRender *render, char *err,
-                     size_t err_size)
+int app_crater_plots(const Scene *scene, int energy_stage, const char *out_dir,
+                     const AppRender *render, char *err, size_t err_size)
 {
     if (!render || !render->plot)
         return 0;
     char path[OBS_PATH + 32], title[160];
     AppChart plot;
-    snprintf(title, sizeof title, "%s: dimensionless energies of the last stage", scene->name);
+    const char *stage = energy_stage >= 0 && energy_stage < scene->stage_count
+                            ? scene->stages[energy_stage].name
+                            : NULL;
+    if (stage)
+        snprintf(title, sizeof title, "%s: dimensionless energies of stage %s", scene->name, stage);
+    else
+        snprintf(title, sizeof title, "%s: dimensionless energies of the last stage", scene->name);
     app_chart_init(&plot, 2, 2, title);
     plot.print = &scene->style;
     int rc = 0;
-    if (app_chart_energy_run(&plot, out_dir, scene->name) == 0) {
+    if (app_chart_energy_run(&plot, out_dir, scene->name, stage) == 0) {
         snprintf(path, sizeof path, "%s/energy_panels.png", out_dir);
         rc = app_chart_write(&plot, render, path, err, err_size);
     }

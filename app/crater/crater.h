@@ -129,9 +129,10 @@ int app_chart_add(AppChart *plot, int panel, const char *label, const double *x,
                   int count, int line, int marker);
 
 /// Adds the 2x2 dimensionless energy curves of a run folder (E* = E / (N m g D) against
-/// t* = (t - t0) / sqrt(D/g) over the last stage; potential relative to its start; 000 eqs.
-/// 6.1-6.6) to a plot made with app_chart_init(plot, 2, 2, ...). 0, or -1 when unreadable.
-int app_chart_energy_run(AppChart *plot, const char *run_dir, const char *label);
+/// t* = (t - t0) / sqrt(D/g) over the stage named `stage`, NULL = the last; potential relative
+/// to its start; 000 eqs. 6.1-6.6) to a plot made with app_chart_init(plot, 2, 2, ...). 0, or -1
+/// when unreadable or the stage wrote no energy rows.
+int app_chart_energy_run(AppChart *plot, const char *run_dir, const char *label, const char *stage);
 /// Adds profiles of a run folder's last stage: `curves` evenly spaced times (curves = 1: the
 /// final profile only, labelled `label`). 0, or -1 when unreadable.
 int app_chart_profiles_run(AppChart *plot, int panel, const char *run_dir, int curves,
@@ -140,10 +141,11 @@ int app_chart_profiles_run(AppChart *plot, int panel, const char *run_dir, int c
 /// Reads one value of a run folder's observables.csv; NAN when absent.
 double app_observable(const char *run_dir, const char *key);
 
-/// The figures of a crater run: energy_panels.png (E* against t*) and profiles.png (profile
+/// The figures of a crater run: energy_panels.png (E* against t* over stage `energy_stage`, -1 =
+/// the last: 000 fig. 6.15 for a deposit, 7.1 for a collapse) and profiles.png (profile
 /// evolution, fig. 7.30), from the run folder's CSV files. 0, or -1 with a message.
-int app_crater_plots(const Scene *scene, const char *out_dir, const AppRender *render, char *err,
-                     size_t err_size);
+int app_crater_plots(const Scene *scene, int energy_stage, const char *out_dir,
+                     const AppRender *render, char *err, size_t err_size);
 
 /// Free-surface height near x: highest top (y + r) of mobile grains with |x_i - x| <= half_width,
 /// m. Returns 0 and sets *top, or -1 when no mobile grain is in the band.

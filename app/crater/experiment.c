@@ -19,6 +19,7 @@ struct AppCraterState {
     AppCraterDig dig[SCENE_MAX_STAGES];
     double profile_every; /* s between free-surface profiles (0 = stage ends only) */
     double profile_bin;   /* m, 0 = the mean diameter */
+    int energy_stage;     /* the stage energy_panels.png draws, -1 = the last */
     AppObserver *observer;
     long every_profile; /* steps, in the current stage; > stage steps: off */
     long done;          /* steps of the current stage, as last seen */
@@ -100,6 +101,27 @@ static int dig_within(AppConfig *p, const config_setting_t *stage, const Scene *
                            left, right, x0, x1);
 }
 
+/* energy_stage = "NAME": the stage whose energies energy_panels.png draws (000 fig. 6.15 shows
+ * the deposit, figs. 7.1-7.8 the collapse); a stage that runs for some time */
+static int parse_energy_stage(AppConfig *p, const config_setting_t *output, const Scene *scene,
+                              int *stage)
+{
+    const char *name = NULL;
+    *stage = -1;
+    if (app_config_string(p, output, "energy_stage", &name) < 0)
+        return -1;
+    if (!name)
+        return 0;
+    const config_setting_t *at = config_setting_get_member(output, "energy_stage");
+    *stage = scene_stage_index(scene, name);
+    if (*stage < 0)
+        return app_config_fail(p, at, "`energy_stage`: no stage named `%s`", name);
+    if (!(scene->stages[*stage].duration > 0.0))
+        return app_config_fail(p, at, "`energy_stage`: stage `%s` runs no time (time.end = 0)",
+                               name);
+    return 0;
+}
+
 static int crater_parse(const config_setting_t *root, const config_setting_t *group, Scene *scene,
                         void **state, char *err, size_t err_size)
 {
@@ -107,11 +129,14 @@ static int crater_parse(const config_setting_t *root, const config_setting_t *gr
     AppConfig p = {.path = scene->path, .err = err, .err_size = err_size, .group = NULL};
     AppCraterState c;
     memset(&c, 0, sizeof c);
+    c.energy_stage = -1;
     const config_setting_t *output = config_setting_get_member(root, "output");
     if (output && (app_config_number(&p, output, "profile_every", &c.profile_every) < 0 ||
                    app_config_non_negative(&p, output, "profile_every", c.profile_every) < 0 ||
                    app_config_number(&p, output, "profile_bin", &c.profile_bin) < 0 ||
                    app_config_non_negative(&p, output, "profile_bin", c.profile_bin) < 0))
+        return -1;
+    if (output && parse_energy_stage(&p, output, scene, &c.energy_stage) < 0)
         return -1;
     /* a bin far below a grain measures nothing but memory (profile_bin = 1e-12 took 7.5 GB) */
     double r_min = INFINITY;
@@ -289,11 +314,12 @@ static int crater_figures(const void *state, const AppContext *ctx)
     const AppCraterState *c = state;
     if (!(c->profile_every > 0.0))
         return 0;
-    return app_crater_plots(ctx->scene, ctx->out_dir, ctx->render, ctx->err, ctx->err_size);
+    return app_crater_plots(ctx->scene, c->energy_stage, ctx->out_dir, ctx->render, ctx->err,
+                            ctx->err_size);
 }
 
 static const char *const STAGE_KEYS[] = {"dig", NULL};
-static const char *const OUTPUT_KEYS[] = {"profile_every", "profile_bin", NULL};
+static const char *const OUTPUT_KEYS[] = {"profile_every", "profile_bin", "energy_stage", NULL};
 
 static const char *const OUTPUTS[] = {"profile.csv", "crater.csv", "observables.csv", NULL};
 const AppExperiment app_crater_experiment = {

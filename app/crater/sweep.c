@@ -524,7 +524,7 @@ static int write_plots(const Sweep *w)
     snprintf(title, sizeof title, "%s: dimensionless energies (000 figs. 7.1-7.8, 7.20)", w->name);
     app_chart_init(&plot, 2, 2, title);
     for (int i = 0; i < w->member_count; ++i)
-        app_chart_energy_run(&plot, w->members[i].dir, w->members[i].label);
+        app_chart_energy_run(&plot, w->members[i].dir, w->members[i].label, NULL);
     snprintf(path, sizeof path, "%s/energy_panels.png", w->out_dir);
     if (plot.panels[0].series_count > 0 &&
         app_chart_write(&plot, w->o->render, path, err, sizeof err) != 0)

@@ -303,9 +303,23 @@ static int run_writes_observables(void)
     TEST_ASSERT(app_observable(dir, "removed") > 10);
     AppChart chart;
     app_chart_init(&chart, 2, 2, "test");
-    TEST_ASSERT(app_chart_energy_run(&chart, dir, "small") == 0);
+    TEST_ASSERT(app_chart_energy_run(&chart, dir, "small", NULL) == 0);
     TEST_ASSERT(chart.panels[0].series_count == 1 && chart.panels[0].series[0].count > 50);
     TEST_ASSERT(chart.panels[1].series[0].y[0] == 0.0); /* potential relative to the start */
+    double collapse_t0 = chart.panels[0].series[0].x[0];
+    app_chart_free(&chart);
+    /* the deposit's energies (000 fig. 6.15): from t* = 0 at rest, the grains falling gain
+     * kinetic energy (E*_kin up to a peak well above the collapse's start) and lose potential */
+    app_chart_init(&chart, 2, 2, "test");
+    TEST_ASSERT(app_chart_energy_run(&chart, dir, "small", "deposit") == 0);
+    const AppChartSeries *kin = &chart.panels[0].series[0], *pot = &chart.panels[1].series[0];
+    TEST_ASSERT(kin->count > 50 && kin->x[0] == 0.0 && collapse_t0 == 0.0);
+    double peak = 0.0;
+    for (int i = 0; i < kin->count; ++i)
+        peak = fmax(peak, kin->y[i]);
+    TEST_ASSERT(kin->y[0] == 0.0 && peak > 1e-3);
+    TEST_ASSERT(pot->y[pot->count - 1] < -1e-2); /* the bed ends lower than the lattice */
+    TEST_ASSERT(app_chart_energy_run(&chart, dir, "small", "nowhere") == -1);
     app_chart_free(&chart);
     app_chart_init(&chart, 1, 1, "test");
     TEST_ASSERT(app_chart_profiles_run(&chart, 0, dir, 4, NULL) == 0);

@@ -41,6 +41,28 @@ file(STRINGS ${WORK}/out/single.pdf box REGEX "MediaBox")
 if(NOT box MATCHES "MediaBox \\[ 0 0 504\\.[0-9]+ 252\\.[0-9]+ \\]")
   message(FATAL_ERROR "single.pdf: ${box} (expected 17.8 x 8.9 cm: 2102 x 1051 pixels at 300 dpi = 504.5 x 252.2 pt)")
 endif()
+# render.plot_format = "pdf": every PNG figure also as a PDF beside it at its print size (sized:
+# 3 x 2 in = 216 x 144 pt), but a figure written as PDF under that name keeps its own (single)
+file(REMOVE_RECURSE ${WORK}/beside)
+execute_process(COMMAND ${SABLIER} run ${SCENE} --out ${WORK}/beside --quiet
+                        --set "render.plot_format=\"pdf\""
+                RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "run (plot_format): exit ${rc}\n${err}")
+endif()
+foreach(name sized bare single)
+  if(NOT EXISTS ${WORK}/beside/${name}.png OR NOT EXISTS ${WORK}/beside/${name}.pdf)
+    message(FATAL_ERROR "plot_format = pdf: no ${name}.png and ${name}.pdf beside it")
+  endif()
+endforeach()
+file(STRINGS ${WORK}/beside/sized.pdf box REGEX "MediaBox")
+if(NOT box MATCHES "MediaBox \\[ 0 0 216 144 \\]")
+  message(FATAL_ERROR "sized.pdf beside sized.png: ${box} (expected 3 x 2 in = 216 x 144 pt)")
+endif()
+file(STRINGS ${WORK}/beside/single.pdf box REGEX "MediaBox")
+if(NOT box MATCHES "MediaBox \\[ 0 0 504\\.[0-9]+ 252\\.[0-9]+ \\]")
+  message(FATAL_ERROR "single.pdf: ${box} (the double-column PDF figure, not the PNG's copy)")
+endif()
 # Movies follow the material: by default a stage's movie frames the mobile
 # grains of its first frame and takes the height that fits them at its width (the one falling
 # grain: a square window, so more than the style's 240 with the time stamp above);
