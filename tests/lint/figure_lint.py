@@ -138,6 +138,11 @@ def tick_groups(words, vertical):
     for g in cols:  # a column aligned on both edges is found twice, or in parts
         if not any({id(w) for w in g} <= {id(w) for w in u} for u in unique):
             unique.append(g)
+    # a label in a column is a y tick or a colour bar's: the lowest tick of a y axis and of a
+    # colour bar beside it share a baseline and would otherwise read as an x axis' row
+    in_cols = {id(w) for g in unique for w in g}
+    rows = [r for r in ([w for w in run if id(w) not in in_cols] for run in rows)
+            if len(r) > 1 and evenly(r, lambda w: w.x0)]
     return rows, unique
 
 
