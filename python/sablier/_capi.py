@@ -77,6 +77,13 @@ class SimBodyForce(Structure):
     _fields_ = [("apply", BODY_FORCE_FN), ("context", c_void_p)]
 
 
+class SimWallBody(Structure):
+    _fields_ = [("active", c_int), ("axis_x", c_double), ("axis_y", c_double),
+                ("mass", c_double), ("force_x", c_double), ("force_y", c_double),
+                ("gravity", c_int), ("servo", c_int), ("target", c_double), ("gain", c_double),
+                ("max_speed", c_double)]
+
+
 class SimWorldDef(Structure):
     _fields_ = [("effects", c_uint), ("contact", SimContactModel), ("mass_model", c_int),
                 ("species_count", c_int), ("materials", SimMaterial * SIM_MAX_SPECIES),
@@ -84,8 +91,8 @@ class SimWorldDef(Structure):
                 ("time_step", c_double), ("steps_per_contact", c_double),
                 ("max_dt_fraction", c_double), ("skin", c_double), ("domain_x0", c_double),
                 ("domain_x1", c_double), ("grains", SimGrainSet), ("wall_count", c_int),
-                ("walls", POINTER(SimWall)), ("motion_count", c_int),
-                ("motions", SimMotion * SIM_MAX_MOTIONS), ("sink_count", c_int),
+                ("walls", POINTER(SimWall)), ("wall_bodies", POINTER(SimWallBody)),
+                ("motion_count", c_int), ("motions", SimMotion * SIM_MAX_MOTIONS), ("sink_count", c_int),
                 ("sinks", SimSink * SIM_MAX_SINKS), ("body_force", SimBodyForce),
                 ("guard_max_overlap", c_double), ("guard_max_speed", c_double),
                 ("guard_every", c_int), ("max_initial_overlap", c_double),
@@ -106,7 +113,7 @@ class SimTiming(Structure):
 class SimContact(Structure):
     _fields_ = [("i", c_int), ("j", c_int), ("normal_force", c_double),
                 ("tangential_force", c_double), ("overlap", c_double), ("x", c_double),
-                ("y", c_double)]
+                ("y", c_double), ("nx", c_double), ("ny", c_double)]
 
 
 class SimFrame(Structure):
@@ -201,6 +208,7 @@ class Scene(Structure):
     _fields_ = [("path", c_char * SCENE_PATH_MAX), ("name", c_char * SCENE_NAME_MAX),
                 ("seed", c_uint64), ("def", SimWorldDef), ("grains", SimGrainBuffer),
                 ("fixed_count", c_int), ("walls", POINTER(SimWall)),
+                ("wall_bodies", POINTER(SimWallBody)),
                 ("motion_names", (c_char * SCENE_NAME_MAX) * SIM_MAX_MOTIONS),
                 ("species_names", (c_char * SCENE_NAME_MAX) * SIM_MAX_SPECIES),
                 ("drag", SceneDrag), ("stage_count", c_int),
@@ -211,7 +219,8 @@ class Scene(Structure):
 STRUCTS = {
     "SimMaterial": ("sim/sim.h", SimMaterial), "SimContactModel": ("sim/sim.h", SimContactModel),
     "SimGrainSet": ("sim/sim.h", SimGrainSet), "SimMotion": ("sim/sim.h", SimMotion),
-    "SimWall": ("sim/sim.h", SimWall), "SimSink": ("sim/sim.h", SimSink),
+    "SimWall": ("sim/sim.h", SimWall), "SimWallBody": ("sim/sim.h", SimWallBody),
+    "SimSink": ("sim/sim.h", SimSink),
     "SimBodyForceView": ("sim/sim.h", SimBodyForceView),
     "SimBodyForce": ("sim/sim.h", SimBodyForce), "SimWorldDef": ("sim/sim.h", SimWorldDef),
     "SimError": ("sim/sim.h", SimError), "SimTiming": ("sim/sim.h", SimTiming),
