@@ -3,18 +3,19 @@
 """Janssen's law from scenes/silo/janssen.scene: the base load against the fill height.
 
     /usr/bin/python3 scripts/experiments/janssen.py [--sablier build/sablier]
-        [--counts 100,200,300,400,500,600] [--seeds 3] [--jobs 2] [--out out/janssen-study]
+        [--counts 100,200,300,400,500,600] [--seeds 2] [--jobs 2] [--out out/janssen-study]
 
 Runs the scene once per grain count (`sources.feed.count`) and seed, into OUT/nN-sS/, reads
 each member's steady wall loads (summary.json's walls.mean over output.walls.window): the base
-load F_b = -fy of wall 0, the weight W = -(sum of every wall's fy), and its fill height h (the
-final state's grains: the mean over five columns of the highest grain top). Janssen (1895) in a
-slot of width D between two walls with friction mobilised up to mu_w and a stress ratio K =
+load F_b = -fy of wall 0 and the weight W = -(sum of every wall's fy). The fill height is
+h = W / (rho_b g D), rho_b g D the median over the members of W over the surface height (the
+mean over five columns of the final state's highest grain top). Janssen (1895) in a slot of
+width D between two walls with friction mobilised up to mu_w and a stress ratio K =
 sigma_xx / sigma_yy: d sigma_yy / dz = rho_b g - 2 K mu_w sigma_yy / D, so
 
     F_b = D sigma_yy(h) = (W / h) lambda (1 - exp(-h / lambda)),   lambda = D / (2 K mu_w),
 
-one parameter lambda (W / h = rho_b g D taken from each member). lambda is fitted by least
+one parameter lambda. lambda is fitted by least
 squares on F_b / W (a scan in log lambda, refined); K mu_w = D / (2 lambda). Writes
 OUT/janssen.csv (plot data: h, W, F_b, the fit) and prints the numbers."""
 import argparse
@@ -25,7 +26,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from members import export_csv, run_members  # noqa: E402
+from members import export_csv, run_members, top_surface  # noqa: E402
 from walls_table import read_summary, write_curve  # noqa: E402
 
 REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
@@ -33,17 +34,6 @@ SCENE = os.path.join(REPO, "scenes", "silo", "janssen.scene")
 WIDTH = 1.0  # D: the scene's base from x = 0 to 1
 FEED_RATE = 100.0  # grains/s: the scene's sources.feed.rate
 SETTLE = 5.0  # s after the last grain: its fall (about 3.5 s at the drag's terminal speed) and rest
-
-
-def fill_height(grains, columns=5):
-    """Mean over `columns` equal columns of [0, D] of the highest grain top y + r."""
-    edges = np.linspace(0.0, WIDTH, columns + 1)
-    tops = []
-    for a, b in zip(edges[:-1], edges[1:]):
-        pick = (grains["x"] >= a) & (grains["x"] < b)
-        if pick.any():
-            tops.append((grains["y"][pick] + grains["r"][pick]).max())
-    return float(np.mean(tops))
 
 
 def janssen_fraction(h, lam):
@@ -90,15 +80,19 @@ def main():
     members = [(os.path.join(a.out, "n%d-s%d" % (n, s)), member_sets(n, s) + a.set)
                for n in counts for s in range(1, a.seeds + 1)]
     run_members(a.sablier, SCENE, members, a.jobs)
-    h, weight, base = [], [], []
+    surface, weight, base = [], [], []
     for out, _ in members:
         fy = [m["fy"] for m in read_summary(out)["walls"]["mean"]]
         grains = export_csv(a.sablier, os.path.join(out, "fill.state"),
                             os.path.join(out, "fill.csv"))
-        h.append(fill_height(grains))
+        surface.append(top_surface(grains, 0.0, WIDTH, 5))
         weight.append(-sum(fy))
         base.append(-fy[0])
-    h, weight, base = np.array(h), np.array(weight), np.array(base)
+    surface, weight, base = np.array(surface), np.array(weight), np.array(base)
+    # the fill height from the weight: one grain standing proud of a low fill's surface shifts
+    # its highest tops, not its weight
+    line_weight = float(np.median(weight / surface))  # rho_b g D, N/m
+    h = weight / line_weight
     lam = fit_lambda(h, base / weight)
     fit = weight * janssen_fraction(h, lam)
     order = np.argsort(h)
@@ -111,8 +105,8 @@ def main():
               (h[k], h[k] / WIDTH, weight[k], base[k], base[k] / weight[k], fit[k] / weight[k]))
     print("Janssen fit: lambda %.2f m (%.2f D), K mu_w %.4f, rms of F_base/W %.3f" %
           (lam, lam / WIDTH, WIDTH / (2.0 * lam), rms))
-    print("saturation load rho_b g D lambda ~ %.0f N (mean W/h %.0f N/m)" %
-          (float(np.mean(weight / h)) * lam, float(np.mean(weight / h))))
+    print("saturation load rho_b g D lambda %.0f N (rho_b g D = median W / surface height %.0f N/m)"
+          % (line_weight * lam, line_weight))
 
 
 if __name__ == "__main__":

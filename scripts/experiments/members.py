@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: MIT
-"""Runs `sablier run` members for the analyses of docs/experiments.md (janssen.py, mu_of_i.py):
-each member a scene with its --set overrides into its own folder, `jobs` at a time; a folder
-that already holds a finished run (its summary.json) is kept, so an interrupted study goes on."""
+"""Runs `sablier run` members for the analyses of docs/experiments.md (janssen.py, mu_of_i.py,
+impact.py): each member a scene with its --set overrides into its own folder, `jobs` at a time;
+a folder that already holds a finished run (its summary.json) is kept, so an interrupted study
+goes on. Reads a member's final grains back (`sablier export`) and their free surface."""
 import os
 import subprocess
 import time
@@ -36,3 +37,15 @@ def export_csv(sablier, state, csv_path):
     subprocess.run([sablier, "export", state, "-o", csv_path, "--format", "csv"], check=True,
                    stdout=subprocess.DEVNULL)
     return np.genfromtxt(csv_path, delimiter=",", names=True)
+
+
+def top_surface(grains, x0, x1, columns):
+    """Mean over `columns` equal columns of [x0, x1] of the highest grain top y + r (m)."""
+    import numpy as np
+    edges = np.linspace(x0, x1, columns + 1)
+    tops = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        pick = (grains["x"] >= a) & (grains["x"] < b)
+        if pick.any():
+            tops.append((grains["y"][pick] + grains["r"][pick]).max())
+    return float(np.mean(tops))
