@@ -231,9 +231,10 @@ add_test(NAME cli.servo_lid
          COMMAND bash ${CLI_DIR}/servo_lid.sh $<TARGET_FILE:sablier>
                  ${CLI_DIR}/servo_lid.scene ${CLI_WORK}/servo_lid)
 set_tests_properties(cli.servo_lid PROPERTIES LABELS cli)
-# the controlled-boundary scenes of docs/experiments.md (biaxial compression, Janssen silo,
-# plane shear) load and a shortened run of each shows its physics (tests/cli/lab_scenes.sh)
-foreach(case biaxial janssen plane_shear)
+# the scenes of docs/experiments.md for controlled boundaries (biaxial compression, Janssen silo,
+# plane shear, impact) load and a shortened run of each shows its physics
+# (tests/cli/lab_scenes.sh)
+foreach(case biaxial janssen plane_shear impact)
   add_test(NAME cli.lab_scenes.${case}
            COMMAND bash ${CLI_DIR}/lab_scenes.sh $<TARGET_FILE:sablier> ${PROJECT_SOURCE_DIR}
                    ${CLI_WORK}/lab_scenes_${case} ${case})

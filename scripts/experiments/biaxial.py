@@ -11,9 +11,9 @@ sigma_1 = N_top / W and sigma_3 = N_right / H are principal stresses (force per 
 the mobilised friction angle phi follows from Mohr's circle, sin phi = (sigma_1 - sigma_3) /
 (sigma_1 + sigma_3) (the deviatoric stress ratio q/p with q = (s1 - s3)/2, p = (s1 + s3)/2), and
 the axial strain is eps = 1 - H / H0 from the stage's first row. Rows are averaged in strain bins
-(`--bin`); the peak is the largest bin, the critical state the mean over `--critical` (strain
-range) of the bins' means, with their standard error. Writes OUT_DIR/stress_strain.csv (plot data) and prints the
-numbers."""
+(`--bin`); the peak is the largest bin below the critical window, the critical state the mean
+over `--critical` (a strain range) of the bins' means, with their standard error. Writes
+OUT_DIR/stress_strain.csv (plot data) and prints the numbers."""
 import argparse
 import math
 import os
@@ -67,7 +67,10 @@ def main():
     write_curve(os.path.join(a.out, "stress_strain.csv"), "biaxial stress-strain curve",
                 ["eps_axial [1]", "sin_phi [1]", "eps_vol [1]", "sigma_3 [N/m]"],
                 [centre, mean, vol, side])
-    k = int(np.argmax(mean))
+    before = np.flatnonzero(centre < c0)  # the peak comes before the critical state
+    if before.size == 0:
+        raise SystemExit("no strain bin below the critical window")
+    k = int(before[np.argmax(mean[before])])
     crit = mean[(centre >= c0) & (centre <= c1)]
     if crit.size < 2:
         raise SystemExit("the run reaches axial strain %.3f, short of the critical window" %

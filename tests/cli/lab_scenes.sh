@@ -11,6 +11,8 @@
 #   plane_shear  scenes/shear/plane_shear.scene at 1 m/s: the lid holds P = 2000 N/m within 4 %
 #                (time mean; the servo lags the dilating layer), mu = F_x / N lies in [0.2, 0.6]
 #                and the layer is sheared (the bulk moves faster near the base than the lid)
+#   impact       scenes/impact/impact.scene as shipped (a drop of about 1.5 m): the source puts
+#                the projectile in, and it ends at rest with its bottom below the bed's surface
 set -u
 sablier=$1 repo=$2 work=$3 case=$4
 fail() { echo "cli.lab_scenes.$case: $*" >&2; exit 1; }
@@ -28,14 +30,38 @@ plane_shear)
   scene=$repo/scenes/shear/plane_shear.scene
   sets=(--set 'motions.slide.velocity=[1.0,0.0]' --set stages.shear.time.end=6.0
         --set 'output.walls.window=[11.0,14.0]') ;;
+impact)
+  scene=$repo/scenes/impact/impact.scene
+  sets=() ;;
 *) fail "unknown case" ;;
 esac
 "$sablier" check "$scene" >"$work/check.log" 2>&1 || fail "check failed: $(cat "$work/check.log")"
-"$sablier" run "$scene" --out "$work/run" --quiet --threads 1 "${sets[@]}" >"$work/run.log" 2>&1 ||
-  fail "run failed: $(cat "$work/run.log")"
+"$sablier" run "$scene" --out "$work/run" --quiet --threads 1 ${sets[@]+"${sets[@]}"} \
+  >"$work/run.log" 2>&1 || fail "run failed: $(cat "$work/run.log")"
+if [ "$case" = impact ]; then
+  for stage in settle impact; do
+    "$sablier" export "$work/run/$stage.state" -o "$work/run/$stage.csv" --format csv \
+      >/dev/null 2>&1 || fail "export $stage.state failed"
+  done
+fi
 python3 - "$work/run" "$case" <<'PY' || fail "the physics is off (above)"
 import csv, json, math, os, sys
 run, case = sys.argv[1], sys.argv[2]
+if case == "impact":
+    def grains(stage):
+        return [{k: float(v) for k, v in r.items()}
+                for r in csv.DictReader(open(os.path.join(run, stage + ".csv")))]
+    bed, end = grains("settle"), grains("impact")
+    surface = max(g["y"] + g["r"] for g in bed if abs(g["x"] - 1.5) < 0.5)
+    projectile = max(end, key=lambda g: g["r"])
+    speed = math.hypot(projectile["vx"], projectile["vy"])
+    print("impact: %d grains then %d, projectile r %.2f, bottom %.3f m, surface %.3f m, "
+          "speed %.4f m/s" % (len(bed), len(end), projectile["r"], projectile["y"] -
+                              projectile["r"], surface, speed))
+    assert len(end) == len(bed) + 1 and projectile["r"] == 0.15, projectile
+    assert projectile["y"] - projectile["r"] < surface, (projectile, surface)
+    assert speed < 0.05, speed
+    sys.exit(0)
 rows = list(csv.DictReader(open(os.path.join(run, "walls.csv"))))
 walls = {}
 for r in rows:
