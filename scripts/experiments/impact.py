@@ -21,6 +21,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from members import export_csv, run_members, top_surface  # noqa: E402
+from walls_table import write_curve  # noqa: E402
 
 REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 SCENE = os.path.join(REPO, "scenes", "impact", "impact.scene")
@@ -61,20 +62,14 @@ def main():
         depth.append(surface - (grains["y"][k] - grains["r"][k]))
     h, depth = np.array(heights), np.array(depth)
     coef = float(np.sum(depth * h ** (1 / 3)) / np.sum(h ** (2 / 3)))  # least squares a
-    write_curve_rows(os.path.join(a.out, "impact.csv"), h, depth, coef * h ** (1 / 3))
+    write_curve(os.path.join(a.out, "impact.csv"), "impact depth against drop height",
+                ["H [m]", "depth [m]", "fit [m]"], [h, depth, coef * h ** (1 / 3)])
     print("bed surface %.3f m" % surface)
     for hh, dd in zip(h, depth):
         print("drop height %5.2f m (%5.1f d)  depth %6.3f m (%5.2f d)  total drop %.3f m" %
               (hh, hh / 0.1, dd, dd / 0.1, hh + dd))
     print("fit depth = a H^(1/3): a = %.3f m^(2/3), rms %.3f m" %
           (coef, math.sqrt(float(np.mean((depth - coef * h ** (1 / 3)) ** 2)))))
-
-
-def write_curve_rows(path, h, depth, fit):
-    """OUT/impact.csv: drop height, depth and the fit (plot data)."""
-    from walls_table import write_curve
-    write_curve(path, "impact depth against drop height", ["H [m]", "depth [m]", "fit [m]"],
-                [h, depth, fit])
 
 
 if __name__ == "__main__":

@@ -7,6 +7,8 @@ import os
 import subprocess
 import time
 
+import numpy as np
+
 
 def run_members(sablier, scene, members, jobs=2):
     """members: a list of (out_dir, [KEY=VALUE, ...]). Raises SystemExit on a failed member."""
@@ -33,7 +35,6 @@ def run_members(sablier, scene, members, jobs=2):
 
 def export_csv(sablier, state, csv_path):
     """The grains of a checkpoint as CSV (`sablier export --format csv`), read back with numpy."""
-    import numpy as np
     subprocess.run([sablier, "export", state, "-o", csv_path, "--format", "csv"], check=True,
                    stdout=subprocess.DEVNULL)
     return np.genfromtxt(csv_path, delimiter=",", names=True)
@@ -41,7 +42,6 @@ def export_csv(sablier, state, csv_path):
 
 def top_surface(grains, x0, x1, columns):
     """Mean over `columns` equal columns of [x0, x1] of the highest grain top y + r (m)."""
-    import numpy as np
     edges = np.linspace(x0, x1, columns + 1)
     tops = []
     for a, b in zip(edges[:-1], edges[1:]):
