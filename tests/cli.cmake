@@ -231,6 +231,20 @@ add_test(NAME cli.servo_lid
          COMMAND bash ${CLI_DIR}/servo_lid.sh $<TARGET_FILE:sablier>
                  ${CLI_DIR}/servo_lid.scene ${CLI_WORK}/servo_lid)
 set_tests_properties(cli.servo_lid PROPERTIES LABELS cli)
+# the scenes of docs/experiments.md for controlled boundaries (biaxial compression, Janssen silo,
+# plane shear, impact) load and a shortened run of each shows its physics
+# (tests/cli/lab_scenes.sh)
+foreach(case biaxial janssen plane_shear impact)
+  add_test(NAME cli.lab_scenes.${case}
+           COMMAND bash ${CLI_DIR}/lab_scenes.sh $<TARGET_FILE:sablier> ${PROJECT_SOURCE_DIR}
+                   ${CLI_WORK}/lab_scenes_${case} ${case})
+  set_tests_properties(cli.lab_scenes.${case} PROPERTIES LABELS cli)
+endforeach()
+# their analyses (scripts/experiments/) on small studies (tests/cli/lab_scripts.sh); 77: no numpy
+add_test(NAME cli.lab_scripts
+         COMMAND bash ${CLI_DIR}/lab_scripts.sh $<TARGET_FILE:sablier> ${PROJECT_SOURCE_DIR}
+                 ${CLI_WORK}/lab_scripts)
+set_tests_properties(cli.lab_scripts PROPERTIES LABELS cli SKIP_RETURN_CODE 77 TIMEOUT 300)
 # window that ends with its stage written at its end (tests/cli/measure_window.sh)
 add_test(NAME cli.measure_window
          COMMAND bash ${CLI_DIR}/measure_window.sh $<TARGET_FILE:sablier>
