@@ -297,10 +297,25 @@ static void print_timing(const Scene *scene, int k)
             continue;
         }
         const double tau = sim_wall_servo_time(&def, w);
+        double row;
+        const double per_contact = sim_wall_servo_damping(&def, w, &row);
         printf("  wall %d servo     target %s %g, time scale tau %g%s, dt / tau %.3g (refused "
-               "above 1; the gain's bound: tau = dt at gain %g)\n",
+               "above 1; the gain's bound: tau = dt at gain %g), damping feedback %.3g per "
+               "contact\n",
                w, b->servo == 1 ? "stress" : "force", b->target, tau, s, t.time_step / tau,
-               b->gain * tau / t.time_step);
+               b->gain * tau / t.time_step, per_contact);
+        if (per_contact * row >= 1.0) {
+            char field[32];
+            snprintf(field, sizeof field, "walls[%d]", w);
+            fprintf(
+                stderr,
+                "%s: warning: wall %d's servo flips its speed every step once %.0f grains touch "
+                "it (damping feedback %.3g per contact; a row of the smallest grains along it "
+                "makes %.0f): its walls.csv rows then catch one phase; a gain below %g keeps a "
+                "full row stable\n",
+                scene_where_field(scene, k, field), w, ceil(1.0 / per_contact), per_contact, row,
+                b->gain / (per_contact * row));
+        }
     }
 }
 

@@ -229,7 +229,8 @@ typedef struct SimWall {
 /// grains of diameter >= d with contact stiffness k_n stiffens by about k_n / d per length, so
 /// the error shrinks by a factor 1 - dt / tau each step with tau = d / (gain k_n) (stress;
 /// d / (gain k_n length) for a force); dt > tau overshoots and dt > 2 tau diverges, so a gain
-/// with dt > tau is refused.
+/// with dt > tau is refused. The contacts' damping feeds the wall speed back too
+/// (sim_wall_servo_damping): a gain at which one contact's dashpot flips the speed is refused.
 typedef struct SimWallBody {
     int active;              ///< 0: the wall is still or follows its motion (the rest unused)
     double axis_x, axis_y;   ///< unit direction of its motion, into the grains
@@ -355,6 +356,13 @@ SimWorldDef sim_world_def_default(void);
 /// The servo's time scale tau of wall `wall` (SimWallBody), s: INFINITY without a servo or
 /// without mobile grains. A time step above tau is refused (sim_world_def_validate).
 double sim_wall_servo_time(const SimWorldDef *def, int wall);
+/// The servo's damping feedback of wall `wall` per contact (dimensionless): how much a wall speed
+/// set at one step changes the next through one contact's normal dashpot, gain gamma_n / length
+/// (stress; gain gamma_n for a force); 0 without a servo. With n contacts the factor is n times
+/// this, and at 1 or more the wall's speed flips sign every step: a factor >= 1 for one contact
+/// is refused, and `sablier check` warns when a row of the smallest grains along the wall
+/// (*row contacts) would reach 1.
+double sim_wall_servo_damping(const SimWorldDef *def, int wall, double *row);
 SimMaterial sim_material_default(void);
 
 /* ---------------------------------------------------------------- status and errors */

@@ -56,6 +56,43 @@ double sim_wall_servo_time(const SimWorldDef *def, int wall)
     return isfinite(d) && per_speed > 0.0 ? 1.0 / (b->gain * per_speed) : (double)INFINITY;
 }
 
+/* The servo's damping feedback: the wall speed u set at one step enters every contact's normal
+ * dashpot at the next (000 eq. 3.4: F_n = k_n xi + gamma_n dxi/dt), so one contact moves the
+ * measured load by about gamma_n u and the next speed by gain gamma_n u (stress: divided by the
+ * length). With n_c contacts the factor is n_c times that; at 1 or more the speed flips sign
+ * every step and grows to max_speed while the stiffness rule still holds. gamma_n of the
+ * heaviest mobile grain against the wall (sim_damping_gamma; Hertz: at an overlap of 1 % of
+ * d_min, as wall_stiffness). *row: the contacts of a row of the smallest grains along it. */
+double sim_wall_servo_damping(const SimWorldDef *def, int wall, double *row)
+{
+    *row = 0.0;
+    if (!def->wall_bodies || wall < 0 || wall >= def->wall_count)
+        return 0.0;
+    const SimWallBody *b = &def->wall_bodies[wall];
+    if (!b->active || !b->servo)
+        return 0.0;
+    const SimGrainSet *g = &def->grains;
+    const int ws = def->walls[wall].species;
+    double gamma = 0.0, d = INFINITY;
+    for (int i = 0; i < g->count; ++i) {
+        if (g->flags && (g->flags[i] & SIM_GRAIN_FIXED))
+            continue;
+        const int s = g->species ? g->species[i] : 0;
+        d = fmin(d, 2.0 * g->radius[i]);
+        const double k =
+            0.5 * (def->materials[s].normal_stiffness + def->materials[ws].normal_stiffness);
+        const double m = sim_grain_mass(def->mass_model, def->materials[s].density, g->radius[i]);
+        gamma = fmax(gamma, sim_damping_gamma(def->materials, s, ws, k, m));
+    }
+    if (!isfinite(d))
+        return 0.0;
+    if (def->contact.normal == SIM_NORMAL_HERTZ)
+        gamma *= sqrt(0.01 * d);
+    const double length = wall_length(&def->walls[wall]);
+    *row = floor(length / d) + 1.0;
+    return b->gain * gamma / (b->servo == 2 ? 1.0 : length);
+}
+
 /* The problem of one responding wall k, written into buf; NULL when it is sound. */
 static const char *body_problem(const SimWorldDef *def, int k, double dt, double r_min, char *buf,
                                 size_t size)
@@ -90,6 +127,17 @@ static const char *body_problem(const SimWorldDef *def, int k, double dt, double
                  "d_min / (gain k_n%s) = %g s is below the time step %g s, so each step "
                  "overshoots the target (diverging from dt > 2 tau); the gain must be below %g",
                  b->gain, b->servo == 2 ? " length" : "", tau, dt, b->gain * tau / dt);
+        return buf;
+    }
+    double row;
+    const double feedback = sim_wall_servo_damping(def, k, &row);
+    if (feedback >= 1.0) {
+        snprintf(buf, size,
+                 "its servo gain %g makes the wall unstable through the contacts' damping: a speed "
+                 "set at one step changes the next step's measured load, through one contact's "
+                 "dashpot, by gain gamma_n%s = %.3g times itself (1 or more: the speed flips sign "
+                 "every step); the gain must be below %g",
+                 b->gain, b->servo == 2 ? "" : " / length", feedback, b->gain / feedback);
         return buf;
     }
     return NULL;

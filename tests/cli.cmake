@@ -231,6 +231,12 @@ add_test(NAME cli.servo_lid
          COMMAND bash ${CLI_DIR}/servo_lid.sh $<TARGET_FILE:sablier>
                  ${CLI_DIR}/servo_lid.scene ${CLI_WORK}/servo_lid)
 set_tests_properties(cli.servo_lid PROPERTIES LABELS cli)
+# the servo's damping bound: a lid whose full row of grains would flip its speed is warned about
+# at its file:line, with the gain that keeps a row stable (tests/scenes_bad/servo_damping_gain.scene:
+# one contact already flips it, refused)
+add_test(NAME cli.servo_damping_warning COMMAND $<TARGET_FILE:sablier> check ${CLI_DIR}/servo_lid.scene)
+set_tests_properties(cli.servo_damping_warning PROPERTIES LABELS cli PASS_REGULAR_EXPRESSION
+  "servo_lid.scene:15: warning: wall 3's servo flips its speed every step once 10 grains touch it[^\n]*gain below 0.000454545")
 # the scenes of docs/experiments.md for controlled boundaries (biaxial compression, Janssen silo,
 # plane shear, impact) load and a shortened run of each shows its physics
 # (tests/cli/lab_scenes.sh)
