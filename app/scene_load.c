@@ -341,7 +341,8 @@ static int check_family_groups(Loader *L, const config_setting_t *root)
 {
     for (int f = 0; app_experiments[f]; ++f) {
         const AppExperiment *e = app_experiments[f];
-        const config_setting_t *old = e->group_alias ? app_config_member(root, e->group_alias) : 0;
+        const config_setting_t *old =
+            e->group_alias ? app_config_member(root, e->group_alias) : NULL;
         if (old && e->group && app_config_member(root, e->group))
             return app_config_fail(&L->p, old, "`%s` is an older name of `%s`: keep one",
                                    e->group_alias, e->group);
