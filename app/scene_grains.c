@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* scene_grains.c: the scene's species and motions, its grains (grains.list, rain, box, rows,
  * columns: stable ids follow that order), walls and sinks (docs/scenes.md). */
+#include "experiments.h"
 #include "grains_file.h"
 #include "scene_internal.h"
 
@@ -637,9 +638,13 @@ int loader_parse_grains(Loader *L, const config_setting_t *root)
     scene->fixed_count = 0;
     for (int i = 0; i < scene->grains.count; ++i)
         scene->fixed_count += (scene->grains.flags[i] & SIM_GRAIN_FIXED) != 0;
-    /* a `discharge` scene rains its grains during the run (app/discharge/discharge.c) */
-    if (scene->grains.count == scene->fixed_count && !app_config_member(root, "discharge") &&
-        !app_config_member(root, "sources")) /* or its sources feed it (app/sources.c) */
+    /* a family may make the grains during the run (app/experiment.h, grains_from_run), or the
+     * scene's sources feed it (app/sources.c) */
+    int from_run = app_config_member(root, "sources") != NULL;
+    for (int f = 0; app_experiments[f] && !from_run; ++f)
+        from_run = app_experiments[f]->grains_from_run &&
+                   app_experiment_group(app_experiments[f], root) != NULL;
+    if (scene->grains.count == scene->fixed_count && !from_run)
         return app_config_fail(&L->p, grains, "the scene has no mobile grains");
     return 0;
 }

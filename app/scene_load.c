@@ -336,25 +336,68 @@ static int parse_drag(Loader *L, const config_setting_t *root)
     return 0;
 }
 
-/* The groups an effect needs: periodic (periodic_x), drag or a family's fluid (fluid_drag). */
+/* A family's group given under both of its names (app/experiment.h, group_alias). */
+static int check_family_groups(Loader *L, const config_setting_t *root)
+{
+    for (int f = 0; app_experiments[f]; ++f) {
+        const AppExperiment *e = app_experiments[f];
+        const config_setting_t *old =
+            e->group_alias ? app_config_member(root, e->group_alias) : NULL;
+        if (old && e->group && app_config_member(root, e->group))
+            return app_config_fail(&L->p, old, "`%s` is an older name of `%s`: keep one",
+                                   e->group_alias, e->group);
+    }
+    return 0;
+}
+
+/* The family group in `root` that stands for `effect` (app/experiment.h, effects), or NULL; with
+ * `named`, the first family that has such a group, for messages. */
+static const config_setting_t *family_effect_group(const config_setting_t *root, unsigned effect,
+                                                   const AppExperiment **named)
+{
+    *named = NULL;
+    for (int f = 0; app_experiments[f]; ++f) {
+        const AppExperiment *e = app_experiments[f];
+        if (!(e->effects & effect))
+            continue;
+        if (!*named)
+            *named = e;
+        const config_setting_t *g = app_experiment_group(e, root);
+        if (g)
+            return g;
+    }
+    return NULL;
+}
+
+/* The groups an effect needs: periodic (periodic_x), drag or a family's group that stands for it
+ * (fluid_drag). */
 static int parse_effect_groups(Loader *L, const config_setting_t *root)
 {
-    if (loader_gate(L, root, "periodic", SIM_EFFECT_PERIODIC_X) < 0 ||
-        loader_gate(L, root, "drag", SIM_EFFECT_FLUID_DRAG) < 0 ||
-        loader_gate(L, root, "fluid", SIM_EFFECT_FLUID_DRAG) < 0)
+    if (check_family_groups(L, root) < 0 ||
+        loader_gate(L, root, "periodic", SIM_EFFECT_PERIODIC_X) < 0 ||
+        loader_gate(L, root, "drag", SIM_EFFECT_FLUID_DRAG) < 0)
         return -1;
+    for (int f = 0; app_experiments[f]; ++f) {
+        const config_setting_t *g = app_experiment_group(app_experiments[f], root);
+        unsigned effects = app_experiments[f]->effects;
+        for (unsigned bit = 1; g && bit && bit <= effects; bit <<= 1)
+            if ((effects & bit) && loader_gate(L, root, config_setting_name(g), bit) < 0)
+                return -1;
+    }
     if ((L->effects & SIM_EFFECT_PERIODIC_X) && !app_config_member(root, "periodic"))
         return app_config_fail(
             &L->p, L->effects_setting,
             "effect periodic_x needs a group `periodic = { x0 = ...; x1 = ...; }`");
-    if ((L->effects & SIM_EFFECT_FLUID_DRAG) && !app_config_member(root, "drag") &&
-        !app_config_member(root, "fluid"))
-        return app_config_fail(&L->p, L->effects_setting,
-                               "effect fluid_drag needs a group `drag = { model = ...; ... }` or a "
-                               "fluid column `fluid = { ... }`");
-    if (app_config_member(root, "drag") && app_config_member(root, "fluid"))
-        return app_config_fail(&L->p, app_config_member(root, "fluid"),
-                               "`fluid` and `drag` both drag the grains: keep one");
+    const AppExperiment *family = NULL;
+    const config_setting_t *fluid = family_effect_group(root, SIM_EFFECT_FLUID_DRAG, &family);
+    if ((L->effects & SIM_EFFECT_FLUID_DRAG) && !app_config_member(root, "drag") && !fluid)
+        return app_config_fail(
+            &L->p, L->effects_setting,
+            "effect fluid_drag needs a group `drag = { model = ...; ... }`%s%s%s",
+            family ? " or `" : "", family ? family->group : "", family ? " = { ... }`" : "");
+    if (app_config_member(root, "drag") && fluid)
+        return app_config_fail(&L->p, fluid, "`%s` and `drag` both drag the grains: keep one",
+                               config_setting_name(fluid));
     return parse_periodic(L, root) < 0 || parse_drag(L, root) < 0 ? -1 : 0;
 }
 
@@ -661,8 +704,8 @@ static int parse_scene(Loader *L, const config_setting_t *root)
     normalised_labels(scene);
     for (int f = 0; app_experiments[f]; ++f) { /* each family parses its own keys */
         const AppExperiment *e = app_experiments[f];
-        if (e->parse && e->parse(root, e->group ? app_config_member(root, e->group) : NULL, scene,
-                                 &scene->experiments[f], L->p.err, L->p.err_size) != 0)
+        if (e->parse && e->parse(root, app_experiment_group(e, root), scene, &scene->experiments[f],
+                                 L->p.err, L->p.err_size) != 0)
             return -1;
         /* the family's own files, which no figure or measure may overwrite */
         for (int k = 0; scene->experiments[f] && e->outputs && e->outputs[k]; ++k)

@@ -160,6 +160,10 @@ add_test(NAME cli.sweep_inputs
          COMMAND bash ${CLI_DIR}/sweep_inputs.sh $<TARGET_FILE:sablier>
                  ${PROJECT_SOURCE_DIR}/scenes/crater/small.scene ${CLI_WORK}/sweep_inputs)
 set_tests_properties(cli.sweep_inputs PROPERTIES LABELS cli)
+add_test(NAME cli.sediment_alias
+         COMMAND bash ${CLI_DIR}/sediment_alias.sh $<TARGET_FILE:sablier>
+                 ${PROJECT_SOURCE_DIR}/scenes/sediment/viscous.scene ${CLI_WORK}/sediment_alias)
+set_tests_properties(cli.sediment_alias PROPERTIES LABELS cli)
 add_test(NAME cli.include_fifo
          COMMAND bash ${CLI_DIR}/include_fifo.sh $<TARGET_FILE:sablier> ${CLI_WORK}/include_fifo)
 set_tests_properties(cli.include_fifo PROPERTIES LABELS cli)

@@ -104,7 +104,7 @@ typedef struct DischargeRun {
 } DischargeRun;
 
 /* The deposition summary's line on stderr, and its summary.json members. */
-static void deposition_summary(DischargeRun *d, const AppDeposit *dep)
+static void deposition_summary(DischargeRun *d, const AppDischargeDeposit *dep)
 {
     const DischargeArgs *a = d->a;
     const Scene *scene = d->scene;
@@ -135,16 +135,16 @@ static int deposit_pile(DischargeRun *d)
     const Scene *scene = d->scene;
     char path[PATH + 64], err[4096] = "";
     int status = 0;
-    AppFrames frames;
+    AppDischargeFrames frames;
     snprintf(path, sizeof path, "%s/deposition.mp4", d->dir);
     if (app_discharge_movie_start(&d->movie, scene, path, &frames, d->frame_time, d->geo.dt) != 0)
         status = 2;
     snprintf(path, sizeof path, "%s/deposition.csv", d->dir);
     FILE *trace = app_tmp_open(path, "t,row,released,pile,mobile");
-    AppDeposit dep;
+    AppDischargeDeposit dep;
     SimWorld *world = status ? NULL
-                             : app_deposit(scene, a->seed_given ? a->seed : scene->seed, &frames,
-                                           trace, &dep, err, sizeof err);
+                             : app_discharge_deposit(scene, a->seed_given ? a->seed : scene->seed,
+                                                     &frames, trace, &dep, err, sizeof err);
     if (app_discharge_movie_finish(&d->movie) != 0)
         status = 2;
     if (app_tmp_commit(&trace, path) != 0)
@@ -204,7 +204,7 @@ static int discharge_width(DischargeRun *d, int k, int *stop)
     double w = d->a->widths[k];
     char wname[32], path[PATH + 64], err[4096] = "";
     app_discharge_width_name(w, wname, sizeof wname);
-    AppFrames frames;
+    AppDischargeFrames frames;
     snprintf(path, sizeof path, "%s/%s.mp4", d->dir, wname);
     *stop = 1;
     if (app_discharge_movie_start(&d->movie, d->scene, path, &frames, d->frame_time, d->geo.dt) !=
