@@ -1477,7 +1477,7 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     run->resume_stage = -1;
     run->checkpoint_wall = wall_start;
     app_threads_init(&run->threads, options->threads, options->threads_switch_every,
-                     app_cpu_count(), options->grains_per_thread);
+                     app_cpu_count(), options->grains_per_thread, options->threads_block_seconds);
     if (prepare_folder(run) != 0) {
         free(run->resume_record);
         free(run);

@@ -32,16 +32,17 @@ typedef struct AppRunOptions {
     /// this process may use (app/thread_tuner.h). Default 1 (the multi-run drivers run members
     /// side by side); `sablier run` defaults to APP_THREADS_AUTO.
     int threads;
-    int grains_per_thread; ///< APP_THREADS_AUTO: mobile grains a thread of its first count; 0:
+    int grains_per_thread; ///< APP_THREADS_AUTO: mobile grains a thread of its first try; 0:
                            ///< default
     /// A testing aid: > 0 cycles the count through 1, 2, 3 and 4 threads every this many steps,
     /// whatever `threads` says (the results must be one thread's, to the bit).
     long threads_switch_every;
-    const AppRender *render;     ///< NULL: figures and movies skipped with one warning
-    int render_off;              ///< 1: the caller chose no rendering (NULL render, no warning)
-    const char *sablier_version; ///< for summary.json
-    const char *render_versions; ///< render_library_versions(), or NULL
-    AppProvenance provenance;    ///< the command line and --set overrides, for summary.json
+    double threads_block_seconds; ///< APP_THREADS_AUTO's measured blocks; 0: the default
+    const AppRender *render;      ///< NULL: figures and movies skipped with one warning
+    int render_off;               ///< 1: the caller chose no rendering (NULL render, no warning)
+    const char *sablier_version;  ///< for summary.json
+    const char *render_versions;  ///< render_library_versions(), or NULL
+    AppProvenance provenance;     ///< the command line and --set overrides, for summary.json
     int force;  ///< 1: run into a folder that holds outputs of an unknown run (no manifest.txt)
     int resume; ///< 1: continue from the newest checkpoint in out_dir (DIR/checkpoint.txt)
 } AppRunOptions;

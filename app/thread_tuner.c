@@ -42,27 +42,30 @@ static void tuner_log(AppThreadTuner *t, long step, double rate, const char *why
         t->log[t->logged++] = (AppThreadChoice){step, t->current, rate, why};
 }
 
-/* The counts it may try for `mobile` grains, and its first count. */
+/* The counts it may try for `mobile` grains (1 .. hi), and the first one to try: the count the
+ * size of the world suggests (app_step_threads). */
 static void tuner_range(AppThreadTuner *t, int mobile)
 {
     const int per = t->grains_per_thread > 0 ? t->grains_per_thread : APP_GRAINS_PER_THREAD;
     const int sparse = per / APP_TUNER_DENSITY > 0 ? per / APP_TUNER_DENSITY : 1;
     t->hi = app_step_threads(mobile, t->cpus, sparse);
-    t->best = app_step_threads(mobile, t->cpus, per);
+    t->guess = app_step_threads(mobile, t->cpus, per);
     t->mobile_ref = mobile > 1 ? mobile : 1;
-    t->best_rate = 0.0;
     t->interval = 1;
-    t->countdown = 1;                    /* one block on it, then a try */
-    t->direction = t->best > 1 ? -1 : 1; /* fewer threads first: the safer side under load */
+    t->countdown = 1;
 }
 
+/* It starts on one thread, the count that can never be much slower than the others, and tries
+ * the suggested count after one block: a try that runs at less than half the rate ends early
+ * (app_threads_done), so a machine where more threads are much slower costs little. */
 void app_thread_tuner_init(AppThreadTuner *t, int cpus, int grains_per_thread, int mobile)
 {
     memset(t, 0, sizeof *t);
     t->cpus = cpus > 1 ? cpus : 1;
     t->grains_per_thread = grains_per_thread;
     tuner_range(t, mobile);
-    t->current = t->best;
+    t->best = t->current = 1;
+    t->direction = 1;
     tuner_log(t, 0, 0.0, "start");
 }
 
@@ -93,10 +96,11 @@ static void set_current(AppThreadTuner *t, int n, long step, double rate, const 
     tuner_log(t, step, rate, why);
 }
 
-/* Tries the neighbour of `best` now, if the range has one. */
+/* Tries the suggested count, or else a neighbour of `best`, now, if the range has another. */
 static void try_neighbour(AppThreadTuner *t, long step, double rate, const char *why)
 {
-    const int n = tuner_neighbour(t);
+    const int n = t->guess > 1 && t->guess != t->best ? t->guess : tuner_neighbour(t);
+    t->guess = 0;
     if (n != t->best) {
         ++t->probes;
         set_current(t, n, step, rate, why);
@@ -124,15 +128,15 @@ int app_thread_tuner_next(AppThreadTuner *t, long step, int mobile, double parti
                           double seconds)
 {
     const double rate = seconds > 0.0 ? particle_steps / seconds : 0.0;
-    t->seconds[t->current < APP_TUNER_COUNTS ? t->current : APP_TUNER_COUNTS] += seconds;
-    if (grains_changed(t, mobile)) { /* another world: its first count, then tries */
+    if (grains_changed(t, mobile)) { /* another world: tries from the count it has */
+        const int measured = t->current == t->best;
         tuner_range(t, mobile);
-        if (t->best != t->current) {
+        t->best = t->best < t->hi ? t->best : t->hi;
+        t->best_rate = measured ? rate : 0.0;
+        if (t->best != t->current) /* a try cut short, or more threads than the grains allow */
             set_current(t, t->best, step, rate, "grains");
-        } else { /* the first count is the one just measured: try its neighbour at once */
-            t->best_rate = rate;
+        else
             try_neighbour(t, step, rate, "grains");
-        }
         return t->current;
     }
     if (t->current != t->best) {
@@ -154,7 +158,7 @@ int app_thread_tuner_next(AppThreadTuner *t, long step, int mobile, double parti
 /* ---------------------------------------------------------------- the run's threads */
 
 void app_threads_init(AppThreads *t, int threads, long switch_every, int cpus,
-                      int grains_per_thread)
+                      int grains_per_thread, double block_seconds)
 {
     memset(t, 0, sizeof *t);
     t->mode = switch_every > 0 ? APP_THREADS_SWITCH
@@ -164,6 +168,7 @@ void app_threads_init(AppThreads *t, int threads, long switch_every, int cpus,
     t->switch_every = switch_every;
     t->cpus = cpus > 1 ? cpus : 1;
     t->grains_per_thread = grains_per_thread;
+    t->block_length = block_seconds > 0.0 ? block_seconds : APP_TUNER_BLOCK_SECONDS;
 }
 
 /* The testing aid's cycle: 1, 2, 3, 4 threads, every switch_every steps of the run. */
@@ -199,27 +204,45 @@ long app_threads_chunk(const AppThreads *t, long steps)
         const long left = t->switch_every - t->stepped % t->switch_every;
         return steps < left ? steps : left;
     }
-    if (t->mode != APP_THREADS_TUNED || t->tuner.hi <= 1 || t->seconds_per_step <= 0.0)
+    if (t->mode != APP_THREADS_TUNED || t->tuner.hi <= 1)
         return steps;
-    /* a few chunks a block, so that a block ends close to its length */
-    const double fit = APP_TUNER_BLOCK_SECONDS / 4.0 / t->seconds_per_step;
-    const long most = fit < 10.0 ? 10 : fit > (double)steps ? steps : (long)fit;
+    /* A count not timed yet (the start, a try) begins with a few steps: on a loaded machine one
+     * count can be 20 times slower than another, and a whole chunk of it would cost seconds. */
+    if (t->seconds_per_step <= 0.0 || t->timed_count != t->tuner.current)
+        return steps < APP_TUNER_FIRST_STEPS ? steps : APP_TUNER_FIRST_STEPS;
+    /* then a few chunks a block, so that a block ends close to its length */
+    const double fit = t->block_length / 4.0 / t->seconds_per_step;
+    const long most = fit < APP_TUNER_FIRST_STEPS ? APP_TUNER_FIRST_STEPS
+                      : fit > (double)steps       ? steps
+                                                  : (long)fit;
     return steps < most ? steps : most;
+}
+
+/* The block ends: a full one, or a try already at less than half the rate of the count it is
+ * compared with after a quarter of one (no need to lose more time on it). */
+static int block_over(const AppThreads *t)
+{
+    if (t->block_seconds >= t->block_length)
+        return 1;
+    const AppThreadTuner *u = &t->tuner;
+    return u->current != u->best && t->block_seconds >= t->block_length / 4.0 &&
+           t->block_ps < 0.5 * u->best_rate * t->block_seconds;
 }
 
 void app_threads_done(AppThreads *t, long steps, int mobile, double seconds)
 {
+    const int c = t->tuner.current;
+    t->seconds[c < APP_TUNER_COUNTS ? c : APP_TUNER_COUNTS] += seconds;
     t->stepped += steps;
-    if (steps > 0)
+    if (steps > 0) {
         t->seconds_per_step = seconds / (double)steps;
-    if (t->mode != APP_THREADS_TUNED) {
-        const int c = t->tuner.current;
-        t->tuner.seconds[c < APP_TUNER_COUNTS ? c : APP_TUNER_COUNTS] += seconds;
-        return;
+        t->timed_count = c;
     }
+    if (t->mode != APP_THREADS_TUNED)
+        return;
     t->block_seconds += seconds;
     t->block_ps += (double)mobile * (double)steps;
-    if (t->block_seconds < APP_TUNER_BLOCK_SECONDS)
+    if (!block_over(t))
         return;
     app_thread_tuner_next(&t->tuner, t->stepped, mobile, t->block_ps, t->block_seconds);
     t->block_seconds = t->block_ps = 0.0;
@@ -245,10 +268,10 @@ size_t app_threads_json(const AppThreads *t, char *out, size_t size)
     if (n < size)
         n += (size_t)snprintf(out + n, size - n, "], \"seconds_on\": [");
     for (int c = 1, first = 1; c <= APP_TUNER_COUNTS && n < size; ++c) {
-        if (u->seconds[c] <= 0.0)
+        if (t->seconds[c] <= 0.0)
             continue;
         char s[40];
-        app_json_number(s, sizeof s, u->seconds[c]);
+        app_json_number(s, sizeof s, t->seconds[c]);
         n += (size_t)snprintf(out + n, size - n, "%s[%d, %s]", first ? "" : ", ", c, s);
         first = 0;
     }

@@ -16,7 +16,7 @@
  * record that summary.json's "thread_choices" prints.
  *
  *     AppThreads t;
- *     app_threads_init(&t, options.threads, options.threads_switch_every, app_cpu_count(), 0);
+ *     app_threads_init(&t, options.threads, options.threads_switch_every, app_cpu_count(), 0, 0);
  *     for (...) {
  *         sim_world_set_threads(world, app_threads_want(&t, mobile));
  *         long steps = app_threads_chunk(&t, wanted_steps);
@@ -33,16 +33,16 @@
 /// at least 1.
 int app_cpu_count(void);
 
-/// The first count APP_THREADS_AUTO gives a world of `mobile` grains on `cpus` CPUs: one per
+/// The count APP_THREADS_AUTO tries first on a world of `mobile` grains on `cpus` CPUs: one per
 /// `grains_per_thread` grains (0: APP_GRAINS_PER_THREAD), at least 1, at most `cpus`.
 int app_step_threads(int mobile, int cpus, int grains_per_thread);
 
 #define APP_THREADS_AUTO        0
-/// Mobile grains per thread of APP_THREADS_AUTO's first count: two threads on 1500 grains
+/// Mobile grains per thread of the count APP_THREADS_AUTO tries first: two threads on 1500 grains
 /// already took 0.77 of one thread's time with the fused pass in parts; 1000 per thread keeps a
 /// margin (docs/dev/scaling.md, "Threads by default").
 #define APP_GRAINS_PER_THREAD   1000
-/// The tuner tries counts up to this many times the first count's (down to 250 grains a
+/// The tuner tries counts up to this many times that one (down to 250 grains a
 /// thread with the default): below that a pass's hand-over costs more than its work.
 #define APP_TUNER_DENSITY       4
 /// Wall seconds of step time per measured block: long enough that a block's rate is not the
@@ -56,6 +56,8 @@ int app_step_threads(int mobile, int cpus, int grains_per_thread);
 #define APP_TUNER_GRAIN_FACTOR  1.5
 /// The most blocks between two tries (the back-off stops doubling there): 8 s of steps.
 #define APP_TUNER_MAX_INTERVAL  32
+/// Steps of the first chunk on a count not timed yet (at the start, at a try).
+#define APP_TUNER_FIRST_STEPS   20
 /// Choices kept for summary.json (the first ones; the totals count every one).
 #define APP_TUNER_LOG           48
 /// Counts whose step seconds are kept apart (summary.json's "seconds_on"); more: the last slot.
@@ -72,8 +74,9 @@ typedef struct AppThreadChoice {
 } AppThreadChoice;
 
 typedef struct AppThreadTuner {
-    int cpus, grains_per_thread; ///< the affinity mask's CPUs; the first count's grains a thread
+    int cpus, grains_per_thread; ///< the affinity mask's CPUs; grains a thread of the first try
     int hi;                      ///< the counts it may choose: 1 .. hi
+    int guess;                   ///< the count to try first (0: tried)
     int best;                    ///< the fastest count known now
     int current;                 ///< the count of the next block (best, or one being tried)
     int direction;               ///< of the next try: +1 or -1
@@ -83,10 +86,10 @@ typedef struct AppThreadTuner {
     long probes, changes;        ///< tries so far; changes of the count so far
     int logged;
     AppThreadChoice log[APP_TUNER_LOG];
-    double seconds[APP_TUNER_COUNTS + 1]; ///< step seconds on each count (index = count)
 } AppThreadTuner;
 
-/// Starts on app_step_threads(mobile, cpus, grains_per_thread) (a step of 0: "start").
+/// Starts on one thread (a step of 0: "start"); the first try is app_step_threads(mobile, cpus,
+/// grains_per_thread).
 void app_thread_tuner_init(AppThreadTuner *t, int cpus, int grains_per_thread, int mobile);
 
 /// A block of `particle_steps` (mobile grains x steps) that took `seconds` on t->current
@@ -105,16 +108,20 @@ typedef struct AppThreads {
     AppThreadsMode mode;
     int fixed, cpus, grains_per_thread, started;
     long switch_every;
-    long stepped;                   ///< steps run so far
-    double block_seconds, block_ps; ///< the block being measured
-    double seconds_per_step;        ///< of the last chunk (0: none yet)
-    AppThreadTuner tuner;           ///< also the record of a fixed or switching run
+    long stepped;                         ///< steps run so far
+    double block_length;                  ///< wall seconds of a block (APP_TUNER_BLOCK_SECONDS)
+    double block_seconds, block_ps;       ///< the block being measured
+    double seconds_per_step;              ///< of the last chunk (0: none yet)
+    int timed_count;                      ///< the count of that chunk
+    double seconds[APP_TUNER_COUNTS + 1]; ///< step seconds on each count (index = count)
+    AppThreadTuner tuner;                 ///< also the record of a fixed or switching run
 } AppThreads;
 
 /// `threads`: N, or APP_THREADS_AUTO; `switch_every` > 0: the count cycles through 1, 2, 3, 4
-/// every `switch_every` steps whatever `threads` says; `grains_per_thread`: 0 for the default.
+/// every `switch_every` steps whatever `threads` says; `grains_per_thread`, `block_seconds`: 0
+/// for the defaults (APP_GRAINS_PER_THREAD, APP_TUNER_BLOCK_SECONDS).
 void app_threads_init(AppThreads *t, int threads, long switch_every, int cpus,
-                      int grains_per_thread);
+                      int grains_per_thread, double block_seconds);
 /// The count for the next chunk of a world with `mobile` grains.
 int app_threads_want(AppThreads *t, int mobile);
 /// The steps of the next chunk, at most `steps`: shorter where a switch or a block is due.

@@ -26,9 +26,10 @@ static void run_dir(char *out, size_t size, int threads)
     snprintf(out, size, "/tmp/sablier_test_threads_%ld_%d", (long)getpid(), threads);
 }
 
-/* The small crater on `threads` (APP_THREADS_AUTO: 0) with `per` grains per thread, switching
- * the count every `every` steps when > 0, into run_dir(dir_key). */
-static int run_full(int threads, int per, long every, int dir_key)
+/* The small crater on `threads` (APP_THREADS_AUTO: 0) with `per` grains per thread and auto's
+ * blocks of `block` s (0: the default), switching the count every `every` steps when > 0, into
+ * run_dir(dir_key). */
+static int run_full(int threads, int per, double block, long every, int dir_key)
 {
     const char *sets[] = {"stages.deposit.time.end=0.6", "stages.collapse.time.end=0.3"};
     char err[2048], dir[256];
@@ -44,19 +45,15 @@ static int run_full(int threads, int per, long every, int dir_key)
     options.threads = threads;
     options.grains_per_thread = per;
     options.threads_switch_every = every;
+    options.threads_block_seconds = block;
     int status = app_run(scene, &options);
     scene_free(scene);
     return status;
 }
 
-static int run_with(int threads, int per)
-{
-    return run_full(threads, per, 0, threads);
-}
-
 static int run_on(int threads)
 {
-    return run_with(threads, 0);
+    return run_full(threads, 0, 0.0, 0, threads);
 }
 
 /* 1 when DIR_A/NAME and DIR_B/NAME hold the same bytes. */
@@ -160,7 +157,7 @@ static int switching_threads_same_bytes(void)
     app_test_remove_dir(one);
     app_test_remove_dir(switched);
     TEST_ASSERT(run_on(1) == 0);
-    TEST_ASSERT(run_full(1, 0, 37, 99) == 0);
+    TEST_ASSERT(run_full(1, 0, 0.0, 37, 99) == 0);
     int found = 0, compared = 0;
     const int differ = differing_outputs(one, switched, NULL, 0, &found, &compared);
     const long most = summary_int(switched, "threads"), changes = summary_int(switched, "changes");
@@ -199,10 +196,11 @@ static int auto_count(void)
     return 0;
 }
 
-/* APP_THREADS_AUTO starts on one thread per 50 grains here (so that the small bed starts on
- * every CPU), tries other counts as it measures them and again when the dig removes grains:
- * whatever it chose, every output but summary.json is the one-thread run's, byte for byte, and
- * summary.json reports the most threads the step ran on and the choices. */
+/* APP_THREADS_AUTO with blocks of 1 ms (hundreds of them in this short run) and one thread per
+ * 50 grains suggested (every CPU for the small bed): it starts on one thread, tries the others
+ * as it measures them, and again when the dig removes grains; whatever it chose, every output
+ * but summary.json is the one-thread run's, byte for byte, and summary.json reports the most
+ * threads the step ran on and the tries. */
 static int auto_follows_the_grains(void)
 {
     char one[256], autod[256];
@@ -211,7 +209,7 @@ static int auto_follows_the_grains(void)
     app_test_remove_dir(one);
     app_test_remove_dir(autod);
     TEST_ASSERT(run_on(1) == 0);
-    TEST_ASSERT(run_with(APP_THREADS_AUTO, 50) == 0);
+    TEST_ASSERT(run_full(APP_THREADS_AUTO, 50, 1e-3, 0, APP_THREADS_AUTO) == 0);
     int found = 0, compared = 0;
     const int mismatched = differing_outputs(one, autod, NULL, 0, &found, &compared);
     const long most = summary_int(autod, "threads"), mobile = summary_int(one, "mobile_grains");
@@ -225,7 +223,7 @@ static int auto_follows_the_grains(void)
     /* the bed's grains (before the dig) are more than the collapse's */
     TEST_ASSERT(mobile > 100 && most >= app_step_threads((int)mobile, app_cpu_count(), 50));
     TEST_ASSERT(most <= app_cpu_count() && (app_cpu_count() < 2 || most >= 2));
-    TEST_ASSERT(probes >= 0); /* the record is there */
+    TEST_ASSERT(app_cpu_count() < 2 || probes >= 2);
     return 0;
 }
 
