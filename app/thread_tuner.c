@@ -218,15 +218,19 @@ long app_threads_chunk(const AppThreads *t, long steps)
     return steps < most ? steps : most;
 }
 
-/* The block ends: a full one, or a try already at less than half the rate of the count it is
- * compared with after a quarter of one (no need to lose more time on it). */
+/* The block ends: a full one; or a try already at less than a quarter of the rate of the count
+ * it is compared with, or at less than half after a quarter of a block (no need to lose more
+ * time on it: on a loaded machine a count can be 20 times slower than another). */
 static int block_over(const AppThreads *t)
 {
     if (t->block_seconds >= t->block_length)
         return 1;
     const AppThreadTuner *u = &t->tuner;
-    return u->current != u->best && t->block_seconds >= t->block_length / 4.0 &&
-           t->block_ps < 0.5 * u->best_rate * t->block_seconds;
+    if (u->current == u->best || !(t->block_seconds > 0.0))
+        return 0;
+    const double rate = t->block_ps / t->block_seconds;
+    return rate < 0.25 * u->best_rate ||
+           (t->block_seconds >= t->block_length / 4.0 && rate < 0.5 * u->best_rate);
 }
 
 void app_threads_done(AppThreads *t, long steps, int mobile, double seconds)

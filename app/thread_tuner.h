@@ -2,12 +2,14 @@
 /* thread_tuner.h: the threads of `sablier run`'s physics step (docs/cli.md, "Threads").
  *
  * --threads auto measures the run's own throughput (mobile grains x steps per second of step
- * time) over blocks of steps and keeps the count that steps fastest now: it tries a neighbouring
- * count from time to time, less and less often while the count it has keeps winning (the blocks
- * between two tries double up to APP_TUNER_MAX_INTERVAL), and at once when the number of grains
- * changes by more than APP_TUNER_GRAIN_FACTOR or a block runs much slower than the one before it
- * (another process took a core). The results are the same bits on any count (README.md,
- * Determinism), so the count may change at any step.
+ * time) over blocks of steps and keeps the count that steps fastest now. It starts on one thread,
+ * tries the count the world's size suggests (app_step_threads) after the first block, and then
+ * a neighbouring count from time to time, less and less often while the count it has keeps
+ * winning (the blocks between two tries double up to APP_TUNER_MAX_INTERVAL), and at once when
+ * the number of grains changes by more than APP_TUNER_GRAIN_FACTOR or a block runs much slower
+ * than the one before it (another process took a core); a try much slower than the count it has
+ * ends early. The counts stay within the CPUs of the affinity mask (app_cpu_count). The results
+ * are the same bits on any count (README.md, Determinism), so the count may change at any step.
  *
  * The decision (AppThreadTuner) is pure: it is fed each block's steps and seconds and answers the
  * count of the next block, with no clock and no world, so that tests drive it with made-up rates.
@@ -57,7 +59,7 @@ int app_step_threads(int mobile, int cpus, int grains_per_thread);
 /// The most blocks between two tries (the back-off stops doubling there): 8 s of steps.
 #define APP_TUNER_MAX_INTERVAL  32
 /// Steps of the first chunk on a count not timed yet (at the start, at a try).
-#define APP_TUNER_FIRST_STEPS   20
+#define APP_TUNER_FIRST_STEPS   5
 /// Choices kept for summary.json (the first ones; the totals count every one).
 #define APP_TUNER_LOG           48
 /// Counts whose step seconds are kept apart (summary.json's "seconds_on"); more: the last slot.

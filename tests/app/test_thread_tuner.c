@@ -211,11 +211,18 @@ static int run_modes(void)
     app_threads_done(&t, 2400, 7000, 0.24); /* the block: 70e6 particle-steps/s on 1 */
     TEST_ASSERT(t.tuner.current == 2);      /* the try of the suggested count */
     TEST_ASSERT(app_threads_chunk(&t, 2000) == APP_TUNER_FIRST_STEPS);
-    /* the try at 1/10 of that: over after a quarter of a block, not a whole one */
-    app_threads_done(&t, 20, 7000, 0.02);
+    /* the try at 1/3 of that: over after a quarter of a block, not a whole one */
+    app_threads_done(&t, 20, 7000, 0.006);
     TEST_ASSERT(t.tuner.current == 2);
-    app_threads_done(&t, 50, 7000, 0.05);
+    app_threads_done(&t, 200, 7000, 0.06);
     TEST_ASSERT(t.tuner.current == 1 && t.tuner.best == 1);
+    /* a try at 1/10: over after its first chunk */
+    app_threads_init(&t, APP_THREADS_AUTO, 0, 2, 0, 0);
+    app_threads_want(&t, 7000);
+    app_threads_done(&t, 2500, 7000, 0.25);
+    TEST_ASSERT(t.tuner.current == 2);
+    app_threads_done(&t, APP_TUNER_FIRST_STEPS, 7000, APP_TUNER_FIRST_STEPS * 1e-3);
+    TEST_ASSERT(t.tuner.current == 1);
     return 0;
 }
 
