@@ -3,7 +3,7 @@
  * in chunks that end on output times (energy rows, movie frames, trace rows, settle test), and
  * save a checkpoint. Every output is written under path.tmp and renamed when complete, so an
  * interrupted run never leaves a truncated file under a final name. */
-#define _GNU_SOURCE /* sched_getaffinity, CPU_COUNT */
+#define _GNU_SOURCE /* struct sigaction */
 #include "run.h"
 
 #include "checkpoint.h"
@@ -16,7 +16,6 @@
 
 #include <errno.h>
 #include <math.h>
-#include <sched.h>
 #include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -65,7 +64,7 @@ typedef struct Run {
     int render_warned;
     int progress_tty;
     double progress_every, last_progress; /* wall s between progress lines (0: none); the last */
-    int cpus;                             /* app_cpu_count(), for APP_THREADS_AUTO */
+    AppThreads threads;  /* fixed, tuned (APP_THREADS_AUTO) or switched: thread_tuner.h */
     int threads_asked;   /* the count last given to the world (sim_world_set_threads) */
     int threads_most;    /* the most threads the step ran on: summary.json's "threads" */
     AppContext context;  /* what the experiment families' hooks see */
@@ -95,32 +94,12 @@ AppRunOptions app_run_options_default(void)
     return o;
 }
 
-int app_cpu_count(void)
-{
-    cpu_set_t set;
-    CPU_ZERO(&set);
-    if (sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0)
-        return CPU_COUNT(&set);
-    const long online = sysconf(_SC_NPROCESSORS_ONLN);
-    return online > 0 ? (int)(online < 1024 ? online : 1024) : 1;
-}
-
-int app_step_threads(int mobile, int cpus, int grains_per_thread)
-{
-    const int per = grains_per_thread > 0 ? grains_per_thread : APP_GRAINS_PER_THREAD;
-    int n = mobile / per;
-    n = n < cpus ? n : cpus;
-    return n > 1 ? n : 1;
-}
-
-/* The step's threads for the world as it is now (AppRunOptions.threads): set when the count
- * changes, or at once for a new world (`fresh`); the results do not depend on it. */
+/* The step's threads for the world as it is now (AppRunOptions.threads, app/thread_tuner.h):
+ * set when the count changes, or at once for a new world (`fresh`); the results do not depend on
+ * it. */
 static void apply_threads(Run *run, int fresh)
 {
-    const AppRunOptions *o = run->options;
-    const int want = o->threads > 0 ? o->threads
-                                    : app_step_threads(sim_world_mobile_count(run->world),
-                                                       run->cpus, o->grains_per_thread);
+    const int want = app_threads_want(&run->threads, sim_world_mobile_count(run->world));
     if (fresh || want != run->threads_asked)
         sim_world_set_threads(run->world, want);
     run->threads_asked = want;
@@ -172,7 +151,7 @@ static size_t run_sinks_json(char *out, size_t size, const Run *run)
 static int write_summary(const Run *run, double wall_seconds)
 {
     const Scene *scene = run->scene;
-    size_t size = 16384 + 512 * SCENE_MAX_STAGES;
+    size_t size = 24576 + 512 * SCENE_MAX_STAGES;
     char *text = malloc(size);
     if (!text)
         return -1;
@@ -262,6 +241,11 @@ static int write_summary(const Run *run, double wall_seconds)
     if (n < size) /* last: the fields above keep their lines whatever the command line */
         n += app_provenance_json(&run->options->provenance, scene->sha256, RESOLVED_NAME, text + n,
                                  size - n);
+    if (n < size && n > 0 && text[n - 1] == '\n') { /* after it: they differ between runs too */
+        n += (size_t)snprintf(text + n - 1, size - n + 1, ",\n") - 1;
+        n += app_threads_json(&run->threads, text + n, size - n);
+        n += (size_t)snprintf(text + n, n < size ? size - n : 0, "\n");
+    }
     if (n < size)
         n += (size_t)snprintf(text + n, size - n, "}\n");
     char path[PATH_SIZE];
@@ -1107,11 +1091,13 @@ static int stage_loop(Run *run, int k, StageClock *clock, long done, int resumed
         long next = next_due(run, k, clock, done);
         if (next - done > SIGNAL_CHECK_STEPS)
             next = done + SIGNAL_CHECK_STEPS;
-        apply_threads(run, 0); /* grains come and go: APP_THREADS_AUTO follows them */
+        apply_threads(run, 0); /* APP_THREADS_AUTO follows the rates and the grains */
+        next = done + app_threads_chunk(&run->threads, next - done);
         double t0 = app_now_seconds();
         SimStatus s = sim_world_step(run->world, next - done, &run->error);
         double t1 = app_now_seconds();
         step_wall += t1 - t0;
+        app_threads_done(&run->threads, next - done, sim_world_mobile_count(run->world), t1 - t0);
         run->particle_steps += (double)sim_world_mobile_count(run->world) * (double)(next - done);
         report->steps += next - done;
         done = next;
@@ -1490,7 +1476,8 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     run->started = (long long)started;
     run->resume_stage = -1;
     run->checkpoint_wall = wall_start;
-    run->cpus = app_cpu_count();
+    app_threads_init(&run->threads, options->threads, options->threads_switch_every,
+                     app_cpu_count(), options->grains_per_thread, options->threads_block_seconds);
     if (prepare_folder(run) != 0) {
         free(run->resume_record);
         free(run);

@@ -71,13 +71,19 @@ static void print_usage(FILE *out)
 static const char USAGE_RUN[] =
     "usage: sablier run SCENE [--out DIR] [--set KEY=VALUE]... [--threads N|auto] [--quiet]\n"
     "                   [--progress-every SECONDS] [--force] [--resume]\n"
+    "                   [--threads-switch-every STEPS]\n"
     "\n"
     "  --out DIR          output folder (default out/<scene name>/)\n"
     "  --set KEY=VALUE    override a scene key by its dotted path, e.g. time.dt=2e-5,\n"
     "                     species.0.k_n=1e6, stages.collapse.time.end=2 (see docs/scenes.md)\n"
     "  --threads N|auto   threads for the physics step (results do not depend on N); auto,\n"
-    "                     the default: every CPU this process may use, one per 1000 mobile\n"
-    "                     grains (re-chosen as grains come and go)\n"
+    "                     the default: the count that steps fastest now, measured while the\n"
+    "                     run goes on (neighbouring counts tried from time to time, and again\n"
+    "                     when the grains change or the steps slow down), within the CPUs this\n"
+    "                     process may use; N: always N\n"
+    "  --threads-switch-every STEPS\n"
+    "                     a testing aid: cycle through 1, 2, 3 and 4 threads every STEPS steps\n"
+    "                     (the outputs stay one thread's, to the bit)\n"
     "  --quiet            one line per stage, no progress\n"
     "  --progress-every SECONDS\n"
     "                     when stderr is no terminal (a batch job's log): one progress line\n"
@@ -163,7 +169,7 @@ static const char *render_versions(void)
 typedef struct RunArgs {
     const char *scene_path, *out, *sets[MAX_SETS];
     int set_count, quiet, force, resume;
-    long threads;
+    long threads, switch_every;
     double progress_every;
 } RunArgs;
 
@@ -187,6 +193,11 @@ static int run_arguments(int argc, char **argv, RunArgs *a)
             else if (m < 0 || app_parse_count(value, 1, 1024, &a->threads) < 0)
                 return app_usage_error(USAGE_RUN,
                                        "--threads needs a count in [1, 1024] or auto, got",
+                                       m < 0 ? "nothing" : value);
+        } else if ((m = app_option(argc, argv, &i, "--threads-switch-every", &value)) != 0) {
+            if (m < 0 || app_parse_count(value, 1, 1000000000L, &a->switch_every) < 0)
+                return app_usage_error(USAGE_RUN,
+                                       "--threads-switch-every needs a step count >= 1, got",
                                        m < 0 ? "nothing" : value);
         } else if ((m = app_option(argc, argv, &i, "--progress-every", &value)) != 0) {
             const AppNumberList how = {.min = 0.0, .strict = 1, .exact = 1};
@@ -235,6 +246,7 @@ static int command_run(int argc, char **argv)
     options.quiet = a.quiet;
     options.progress_every = a.progress_every;
     options.threads = (int)a.threads;
+    options.threads_switch_every = a.switch_every;
     options.sablier_version = SABLIER_VERSION;
     options.render_versions = render_versions();
     options.force = a.force;
