@@ -231,6 +231,14 @@ add_test(NAME cli.servo_lid
          COMMAND bash ${CLI_DIR}/servo_lid.sh $<TARGET_FILE:sablier>
                  ${CLI_DIR}/servo_lid.scene ${CLI_WORK}/servo_lid)
 set_tests_properties(cli.servo_lid PROPERTIES LABELS cli)
+# the servo lid's run lost after a checkpoint, and interrupted, then resumed: every output (the
+# .state with the lid's offset and speed, walls.csv, summary.json's wall means) byte for byte as
+# the uninterrupted run's (tests/cli/resume.sh --outputs)
+add_test(NAME cli.resume_servo
+         COMMAND bash ${CLI_DIR}/resume.sh --outputs $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/servo_lid.scene ${CLI_WORK}/resume_servo --set stages.press.time.end=1.5
+                 --set output.walls.window=[1.0,1.5] --set output.checkpoint_every=0.7)
+set_tests_properties(cli.resume_servo PROPERTIES LABELS cli)
 # window that ends with its stage written at its end (tests/cli/measure_window.sh)
 add_test(NAME cli.measure_window
          COMMAND bash ${CLI_DIR}/measure_window.sh $<TARGET_FILE:sablier>
