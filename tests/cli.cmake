@@ -239,6 +239,12 @@ add_test(NAME cli.resume_servo
                  ${CLI_DIR}/servo_lid.scene ${CLI_WORK}/resume_servo --set stages.press.time.end=1.5
                  --set output.walls.window=[1.0,1.5] --set output.checkpoint_every=0.7)
 set_tests_properties(cli.resume_servo PROPERTIES LABELS cli)
+# walls.png (and walls.pdf) of output.walls, its axes labelled with their units
+# (tests/cli/walls_figure.sh, the figure lint tests/lint/figure_lint.py)
+add_test(NAME cli.walls_figure
+         COMMAND bash ${CLI_DIR}/walls_figure.sh $<TARGET_FILE:sablier> ${CLI_DIR}/servo_lid.scene
+                 ${PROJECT_SOURCE_DIR}/tests/lint/figure_lint.py ${CLI_WORK}/walls_figure)
+set_tests_properties(cli.walls_figure PROPERTIES LABELS cli)
 # grains a stage adds: their ids, traced by name, their free fall, any thread count, and each
 # refusal at its file:line (tests/cli/add_grains.sh); resumed after a checkpoint of the stage that
 # added them: the same bytes (tests/cli/resume.sh --outputs)
