@@ -60,6 +60,20 @@ class SimWall(Structure):
                 ("angle0", c_double), ("angle1", c_double)]
 
 
+class SimWallBody(Structure):
+    _fields_ = [("active", c_int), ("axis_x", c_double), ("axis_y", c_double),
+                ("mass", c_double), ("force_x", c_double), ("force_y", c_double),
+                ("gravity", c_int), ("servo", c_int), ("target", c_double), ("gain", c_double),
+                ("max_speed", c_double)]
+
+
+class SimWallLoad(Structure):
+    _fields_ = [("fx", c_double), ("fy", c_double), ("normal", c_double),
+                ("tangential", c_double), ("torque", c_double), ("length", c_double),
+                ("x", c_double), ("y", c_double), ("offset", c_double), ("speed", c_double),
+                ("contacts", c_int)]
+
+
 class SimSink(Structure):
     _fields_ = [("shape", c_int), ("level", c_double), ("x0", c_double), ("y0", c_double),
                 ("x1", c_double), ("y1", c_double)]
@@ -84,7 +98,8 @@ class SimWorldDef(Structure):
                 ("time_step", c_double), ("steps_per_contact", c_double),
                 ("max_dt_fraction", c_double), ("skin", c_double), ("domain_x0", c_double),
                 ("domain_x1", c_double), ("grains", SimGrainSet), ("wall_count", c_int),
-                ("walls", POINTER(SimWall)), ("motion_count", c_int),
+                ("walls", POINTER(SimWall)), ("wall_bodies", POINTER(SimWallBody)),
+                ("motion_count", c_int),
                 ("motions", SimMotion * SIM_MAX_MOTIONS), ("sink_count", c_int),
                 ("sinks", SimSink * SIM_MAX_SINKS), ("body_force", SimBodyForce),
                 ("guard_max_overlap", c_double), ("guard_max_speed", c_double),
@@ -106,7 +121,7 @@ class SimTiming(Structure):
 class SimContact(Structure):
     _fields_ = [("i", c_int), ("j", c_int), ("normal_force", c_double),
                 ("tangential_force", c_double), ("overlap", c_double), ("x", c_double),
-                ("y", c_double)]
+                ("y", c_double), ("nx", c_double), ("ny", c_double)]
 
 
 class SimFrame(Structure):
@@ -193,7 +208,8 @@ class SceneStage(Structure):
                 ("settle_after", c_double), ("remove_count", c_int), ("remove_ids", _pu32),
                 ("movie", c_int), ("skip", c_int), ("gravity_x", c_double),
                 ("gravity_y", c_double), ("effects", c_uint), ("motions", c_uint),
-                ("declares_motions", c_int), ("movie_view", c_double * 4)]
+                ("declares_motions", c_int), ("movie_view", c_double * 4),
+                ("add_count", c_int), ("adds", c_void_p)]
 
 
 class Scene(Structure):
@@ -201,6 +217,7 @@ class Scene(Structure):
     _fields_ = [("path", c_char * SCENE_PATH_MAX), ("name", c_char * SCENE_NAME_MAX),
                 ("seed", c_uint64), ("def", SimWorldDef), ("grains", SimGrainBuffer),
                 ("fixed_count", c_int), ("walls", POINTER(SimWall)),
+                ("wall_bodies", POINTER(SimWallBody)),
                 ("motion_names", (c_char * SCENE_NAME_MAX) * SIM_MAX_MOTIONS),
                 ("species_names", (c_char * SCENE_NAME_MAX) * SIM_MAX_SPECIES),
                 ("drag", SceneDrag), ("stage_count", c_int),
@@ -212,6 +229,7 @@ STRUCTS = {
     "SimMaterial": ("sim/sim.h", SimMaterial), "SimContactModel": ("sim/sim.h", SimContactModel),
     "SimGrainSet": ("sim/sim.h", SimGrainSet), "SimMotion": ("sim/sim.h", SimMotion),
     "SimWall": ("sim/sim.h", SimWall), "SimSink": ("sim/sim.h", SimSink),
+    "SimWallBody": ("sim/sim.h", SimWallBody), "SimWallLoad": ("sim/sim.h", SimWallLoad),
     "SimBodyForceView": ("sim/sim.h", SimBodyForceView),
     "SimBodyForce": ("sim/sim.h", SimBodyForce), "SimWorldDef": ("sim/sim.h", SimWorldDef),
     "SimError": ("sim/sim.h", SimError), "SimTiming": ("sim/sim.h", SimTiming),
@@ -269,6 +287,7 @@ _SIM_FUNCTIONS = {
     "sim_world_remove_ids": (c_int, [_P_WORLD, _pu32, c_int]),
     "sim_world_add_grains": (c_int, [_P_WORLD, POINTER(SimGrainSet), _P_ERR]),
     "sim_world_freeze": (None, [_P_WORLD]),
+    "sim_world_wall_load": (c_int, [_P_WORLD, c_int, POINTER(SimWallLoad)]),
     "sim_world_save": (c_int, [_P_WORLD, c_char_p, _P_ERR]),
     "sim_world_restore_contacts": (c_int, [_P_WORLD, c_char_p, _P_ERR]),
     "sim_world_load": (_P_WORLD, [c_char_p, POINTER(SimWorldDef), _P_ERR]),
