@@ -536,6 +536,9 @@ static int stage_edit(Run *run, int k)
             return -1;
         report->removed += sim_world_remove_ids(run->world, stage->remove_ids, stage->remove_count);
     }
+    /* the stage's listed grains, placed after its removals (app/stage_adds.c) */
+    if (scene_stage_add(run->scene, k, run->world, run->message, sizeof run->message) != 0)
+        return -1;
     report->at_start = report->removed;
     for (int s = 0; s < SIM_MAX_SINKS; ++s) /* the sinks' counters as the stage starts */
         report->sinks[s] = sim_world_removed_count(run->world, s);

@@ -437,6 +437,11 @@ static int command_check(int argc, char **argv)
                    scene_frame_interval(scene, k), u[2],
                    scene_frame_interval(scene, k) * scene->output.fps, u[2]);
         printf("\n");
+        for (int j = 0; j < s->add_count; ++j) /* names and ids for trace, dumps, remove_ids */
+            printf("  add grain %u%s%s%s at (%g, %g), radius %g, species %s\n", s->adds[j].id,
+                   s->adds[j].name[0] ? " `" : "", s->adds[j].name, s->adds[j].name[0] ? "`" : "",
+                   s->adds[j].x, s->adds[j].y, s->adds[j].radius,
+                   scene->species_names[s->adds[j].species]);
         print_timing(scene, k);
         app_dump_describe(&scene->output.dump[k], s->duration, s->time_step, stdout);
     }

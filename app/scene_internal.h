@@ -97,6 +97,14 @@ int loader_parse_stages(Loader *L, const config_setting_t *root);
  * sources, no stage loading a file before). 0, or -1 with file:line. */
 int loader_check_remove_ids(Loader *L, const config_setting_t *root);
 
+/* stage_adds.c */
+/// Stage k's `add` list (g: its group). 0, or -1.
+int loader_parse_adds(Loader *L, const config_setting_t *g, int k);
+/// The added grains' ids (SceneAdd.id, Scene.added_id_end), their names unique, and their overlaps
+/// where the world is known at load (the first stage built from the scene; among each stage's
+/// own). Once the grains, walls and stages are read. 0, or -1.
+int loader_assign_add_ids(Loader *L);
+
 /* scene_output.c */
 int loader_parse_output(Loader *L, const config_setting_t *root);
 

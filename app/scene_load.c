@@ -734,12 +734,20 @@ static int finish_output(Loader *L)
         scene->output.t_star_length = L->box_height;
     }
     scene->def.length_scale = scene->output.t_star_length; /* frames' t* agree with CSV */
-    for (int k = 0; k < scene->output.trace_count; ++k)
-        if (scene->output.trace_ids[k] >= (uint32_t)scene->grains.count &&
-            scene->stages[0].load == SCENE_LOAD_SCENE)
+    /* an id the run may hold: the scene's own, an added grain's, or one a source inserts (from
+       the first id above both) */
+    const uint32_t inserted =
+        scene->added_id_end > 0 ? scene->added_id_end : (uint32_t)scene->grains.count;
+    for (int k = 0; k < scene->output.trace_count; ++k) {
+        uint32_t id = scene->output.trace_ids[k];
+        if (id >= (uint32_t)scene->grains.count && scene->stages[0].load == SCENE_LOAD_SCENE &&
+            !scene_added_grain(scene, NULL, id) && !(scene->source_count > 0 && id >= inserted))
             return app_config_fail(&L->p, config_lookup(&L->config, "output.trace"),
-                                   "`trace` id %u is not a grain of the scene (ids 0 to %d)",
-                                   scene->output.trace_ids[k], scene->grains.count - 1);
+                                   "`trace` id %u is not a grain of the scene (ids 0 to %d), of a "
+                                   "stage's `add`%s",
+                                   id, scene->grains.count - 1,
+                                   scene->source_count > 0 ? " or of a source" : " (no source)");
+    }
     return loader_check_views(L);
 }
 
@@ -811,6 +819,8 @@ void scene_free(Scene *scene)
         return;
     for (int k = 0; k < SCENE_MAX_STAGES; ++k)
         free(scene->stages[k].remove_ids);
+    for (int k = 0; k < SCENE_MAX_STAGES; ++k)
+        free(scene->stages[k].adds);
     sim_grain_buffer_free(&scene->grains);
     free(scene->walls);
     free(scene->wall_bodies);

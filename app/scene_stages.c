@@ -221,7 +221,7 @@ static int parse_stage(Loader *L, const config_setting_t *g, int k, const config
 {
     static const char *const keys[] = {"name",  "load", "time",    "settle",  "remove_ids",
                                        "movie", "skip", "gravity", "effects", "motions",
-                                       "dump",  "view", NULL};
+                                       "dump",  "view", "add",     NULL};
     Scene *scene = L->scene;
     SceneStage *stage = &scene->stages[k];
     char what[96];
@@ -244,7 +244,7 @@ static int parse_stage(Loader *L, const config_setting_t *g, int k, const config
                                    "stage name `%s` is used twice", name);
     if (parse_times(L, g, k, time) < 0 || parse_load(L, g, k) < 0 ||
         parse_settle(L, g, stage) < 0 || parse_remove_ids(L, g, stage) < 0 ||
-        parse_forcing(L, g, k) < 0)
+        parse_forcing(L, g, k) < 0 || loader_parse_adds(L, g, k) < 0)
         return -1;
     stage->movie = -1; /* unset: output.movie decides */
     if (app_config_bool(&L->p, g, "movie", &stage->movie) < 0 ||
@@ -279,7 +279,7 @@ int loader_parse_stages(Loader *L, const config_setting_t *root)
     for (int k = 0; k < count; ++k)
         if (parse_stage(L, config_setting_get_elem(list, (unsigned)k), k, time) < 0)
             return -1;
-    return 0;
+    return loader_assign_add_ids(L);
 }
 
 /* 1 when the scene's own grains hold `id`. */
@@ -289,6 +289,16 @@ static int scene_has_id(const Scene *scene, uint32_t id)
     for (int i = 0; i < b->count; ++i)
         if ((b->id ? b->id[i] : (uint32_t)i) == id)
             return 1;
+    return 0;
+}
+
+/* 1 when a stage before stage k adds the grain `id`. */
+static int added_before(const Scene *scene, int k, uint32_t id)
+{
+    for (int m = 0; m < k; ++m)
+        for (int j = 0; j < scene->stages[m].add_count; ++j)
+            if (scene->stages[m].adds[j].id == id)
+                return 1;
     return 0;
 }
 
@@ -304,11 +314,15 @@ int loader_check_remove_ids(Loader *L, const config_setting_t *root)
             return 0; /* from here on the grains come from a state file */
         const config_setting_t *ids =
             config_setting_get_member(config_setting_get_elem(list, (unsigned)k), "remove_ids");
-        for (int j = 0; j < stage->remove_count; ++j)
-            if (!scene_has_id(scene, stage->remove_ids[j]))
+        for (int j = 0; j < stage->remove_count; ++j) {
+            if (!scene_has_id(scene, stage->remove_ids[j]) &&
+                !added_before(scene, k, stage->remove_ids[j]))
                 return app_config_fail(
                     &L->p, ids ? config_setting_get_elem(ids, (unsigned)j) : NULL,
-                    "`remove_ids`: no grain of the scene has id %u", stage->remove_ids[j]);
+                    "`remove_ids`: no grain of the scene or of an earlier stage's `add` has id "
+                    "%u",
+                    stage->remove_ids[j]);
+        }
     }
     return 0;
 }

@@ -249,6 +249,32 @@ add_test(NAME cli.lab_scripts
          COMMAND bash ${CLI_DIR}/lab_scripts.sh $<TARGET_FILE:sablier> ${PROJECT_SOURCE_DIR}
                  ${CLI_WORK}/lab_scripts)
 set_tests_properties(cli.lab_scripts PROPERTIES LABELS cli SKIP_RETURN_CODE 77 TIMEOUT 300)
+# the servo lid's run lost after a checkpoint, and interrupted, then resumed: every output (the
+# .state with the lid's offset and speed, walls.csv, summary.json's wall means) byte for byte as
+# the uninterrupted run's (tests/cli/resume.sh --outputs)
+add_test(NAME cli.resume_servo
+         COMMAND bash ${CLI_DIR}/resume.sh --outputs $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/servo_lid.scene ${CLI_WORK}/resume_servo --set stages.press.time.end=1.5
+                 --set output.walls.window=[1.0,1.5] --set output.checkpoint_every=0.7)
+set_tests_properties(cli.resume_servo PROPERTIES LABELS cli)
+# walls.png (and walls.pdf) of output.walls, its axes labelled with their units
+# (tests/cli/walls_figure.sh, the figure lint tests/lint/figure_lint.py)
+add_test(NAME cli.walls_figure
+         COMMAND bash ${CLI_DIR}/walls_figure.sh $<TARGET_FILE:sablier> ${CLI_DIR}/servo_lid.scene
+                 ${PROJECT_SOURCE_DIR}/tests/lint/figure_lint.py ${CLI_WORK}/walls_figure)
+set_tests_properties(cli.walls_figure PROPERTIES LABELS cli)
+# grains a stage adds: their ids, traced by name, their free fall, any thread count, and each
+# refusal at its file:line (tests/cli/add_grains.sh); resumed after a checkpoint of the stage that
+# added them: the same bytes (tests/cli/resume.sh --outputs)
+add_test(NAME cli.add_grains
+         COMMAND bash ${CLI_DIR}/add_grains.sh $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/add_grains.scene ${CLI_WORK}/add_grains)
+set_tests_properties(cli.add_grains PROPERTIES LABELS cli)
+add_test(NAME cli.resume_add_grains
+         COMMAND bash ${CLI_DIR}/resume.sh --outputs $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/add_grains.scene ${CLI_WORK}/resume_add_grains
+                 --set output.checkpoint_every=0.2)
+set_tests_properties(cli.resume_add_grains PROPERTIES LABELS cli)
 # window that ends with its stage written at its end (tests/cli/measure_window.sh)
 add_test(NAME cli.measure_window
          COMMAND bash ${CLI_DIR}/measure_window.sh $<TARGET_FILE:sablier>

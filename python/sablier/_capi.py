@@ -60,6 +60,20 @@ class SimWall(Structure):
                 ("angle0", c_double), ("angle1", c_double)]
 
 
+class SimWallBody(Structure):
+    _fields_ = [("active", c_int), ("axis_x", c_double), ("axis_y", c_double),
+                ("mass", c_double), ("force_x", c_double), ("force_y", c_double),
+                ("gravity", c_int), ("servo", c_int), ("target", c_double), ("gain", c_double),
+                ("max_speed", c_double)]
+
+
+class SimWallLoad(Structure):
+    _fields_ = [("fx", c_double), ("fy", c_double), ("normal", c_double),
+                ("tangential", c_double), ("torque", c_double), ("length", c_double),
+                ("x", c_double), ("y", c_double), ("offset", c_double), ("speed", c_double),
+                ("contacts", c_int)]
+
+
 class SimSink(Structure):
     _fields_ = [("shape", c_int), ("level", c_double), ("x0", c_double), ("y0", c_double),
                 ("x1", c_double), ("y1", c_double)]
@@ -92,7 +106,8 @@ class SimWorldDef(Structure):
                 ("max_dt_fraction", c_double), ("skin", c_double), ("domain_x0", c_double),
                 ("domain_x1", c_double), ("grains", SimGrainSet), ("wall_count", c_int),
                 ("walls", POINTER(SimWall)), ("wall_bodies", POINTER(SimWallBody)),
-                ("motion_count", c_int), ("motions", SimMotion * SIM_MAX_MOTIONS), ("sink_count", c_int),
+                ("motion_count", c_int),
+                ("motions", SimMotion * SIM_MAX_MOTIONS), ("sink_count", c_int),
                 ("sinks", SimSink * SIM_MAX_SINKS), ("body_force", SimBodyForce),
                 ("guard_max_overlap", c_double), ("guard_max_speed", c_double),
                 ("guard_every", c_int), ("max_initial_overlap", c_double),
@@ -200,7 +215,8 @@ class SceneStage(Structure):
                 ("settle_after", c_double), ("remove_count", c_int), ("remove_ids", _pu32),
                 ("movie", c_int), ("skip", c_int), ("gravity_x", c_double),
                 ("gravity_y", c_double), ("effects", c_uint), ("motions", c_uint),
-                ("declares_motions", c_int), ("movie_view", c_double * 4)]
+                ("declares_motions", c_int), ("movie_view", c_double * 4),
+                ("add_count", c_int), ("adds", c_void_p)]
 
 
 class Scene(Structure):
@@ -219,8 +235,8 @@ class Scene(Structure):
 STRUCTS = {
     "SimMaterial": ("sim/sim.h", SimMaterial), "SimContactModel": ("sim/sim.h", SimContactModel),
     "SimGrainSet": ("sim/sim.h", SimGrainSet), "SimMotion": ("sim/sim.h", SimMotion),
-    "SimWall": ("sim/sim.h", SimWall), "SimWallBody": ("sim/sim.h", SimWallBody),
-    "SimSink": ("sim/sim.h", SimSink),
+    "SimWall": ("sim/sim.h", SimWall), "SimSink": ("sim/sim.h", SimSink),
+    "SimWallBody": ("sim/sim.h", SimWallBody), "SimWallLoad": ("sim/sim.h", SimWallLoad),
     "SimBodyForceView": ("sim/sim.h", SimBodyForceView),
     "SimBodyForce": ("sim/sim.h", SimBodyForce), "SimWorldDef": ("sim/sim.h", SimWorldDef),
     "SimError": ("sim/sim.h", SimError), "SimTiming": ("sim/sim.h", SimTiming),
@@ -278,6 +294,7 @@ _SIM_FUNCTIONS = {
     "sim_world_remove_ids": (c_int, [_P_WORLD, _pu32, c_int]),
     "sim_world_add_grains": (c_int, [_P_WORLD, POINTER(SimGrainSet), _P_ERR]),
     "sim_world_freeze": (None, [_P_WORLD]),
+    "sim_world_wall_load": (c_int, [_P_WORLD, c_int, POINTER(SimWallLoad)]),
     "sim_world_save": (c_int, [_P_WORLD, c_char_p, _P_ERR]),
     "sim_world_restore_contacts": (c_int, [_P_WORLD, c_char_p, _P_ERR]),
     "sim_world_load": (_P_WORLD, [c_char_p, POINTER(SimWorldDef), _P_ERR]),
