@@ -26,6 +26,16 @@ sablier_cli_test(help "--help" 0 OUT "usage: sablier COMMAND")
 foreach(command run check diff render export)
   sablier_cli_test(help_${command} "${command}|--help" 0 OUT "usage: sablier ${command}")
 endforeach()
+# docs/cli.md and the man page against every command's --help (tests/cli/cli_docs.py): each
+# command's option table names exactly the options its --help names, the man page names them all,
+# and --help, the man page and docs/cli.md give one list of exit statuses, per command too
+find_program(SABLIER_PYTHON3 python3)
+if(SABLIER_PYTHON3)
+  add_test(NAME cli.docs_match_help
+           COMMAND ${SABLIER_PYTHON3} ${CLI_DIR}/cli_docs.py $<TARGET_FILE:sablier>
+                   ${PROJECT_SOURCE_DIR}/docs/cli.md ${PROJECT_SOURCE_DIR}/docs/sablier.1)
+  set_tests_properties(cli.docs_match_help PROPERTIES LABELS cli)
+endif()
 sablier_cli_test(version "--version" 0 OUT "sablier [0-9]+\\.[0-9]+\\.[0-9]+\nsim [0-9.]+\nlibconfig 1\\.[0-9.]+\nrender: ")
 sablier_cli_test(no_command "" 2 ERR "usage: sablier")
 sablier_cli_test(unknown_command "frobnicate" 2 ERR "unknown command `frobnicate`")
