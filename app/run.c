@@ -148,6 +148,27 @@ static size_t run_sinks_json(char *out, size_t size, const Run *run)
     return n;
 }
 
+/* summary.json's "units" member of a scene in its own units: the unit of each quantity that its
+ * files hold, from the unit table (scene_unit); "scene" for the scene's own, unnamed unit (a time
+ * when |g| is not 1). The number of bytes written, as snprintf. */
+static size_t normalised_units_json(const Scene *scene, char *text, size_t size)
+{
+    static const struct {
+        const char *key;
+        SceneQuantity quantity;
+    } row[] = {{"length", SCENE_LENGTH}, {"time", SCENE_TIME},   {"mass", SCENE_MASS},
+               {"speed", SCENE_SPEED},   {"force", SCENE_FORCE}, {"energy", SCENE_ENERGY},
+               {"stress", SCENE_STRESS}};
+
+    size_t n = (size_t)snprintf(text, size, "  \"units\": {\"system\": \"normalised\"");
+    for (size_t k = 0; k < sizeof row / sizeof row[0] && n < size; ++k) {
+        const char *unit = scene_unit(scene, row[k].quantity, 0);
+        n += (size_t)snprintf(text + n, size - n, ", \"%s\": \"%s\"", row[k].key,
+                              unit[0] ? unit : "scene");
+    }
+    return n + (size_t)snprintf(text + n, n < size ? size - n : 0, "},\n");
+}
+
 static int write_summary(const Run *run, double wall_seconds)
 {
     const Scene *scene = run->scene;
@@ -184,12 +205,13 @@ static int write_summary(const Run *run, double wall_seconds)
     size_t n = (size_t)snprintf(
         text, size,
         "{\n  \"scene\": %s,\n  \"scene_file\": %s,\n  \"seed\": %llu,\n  \"grains\": %d,\n"
-        "  \"mobile_grains\": %d,\n  \"steps\": %ld,\n  \"simulated_seconds\": %s,\n"
+        "  \"mobile_grains\": %d,\n  \"steps\": %ld,\n  \"%s\": %s,\n"
         "  \"wall_seconds\": %s,\n  \"particle_steps_per_second\": %s,\n"
         "  \"contacts_mean\": %s,\n  \"status\": \"%s\",\n  \"message\": %s,\n"
         "  \"effects\": %s,\n  \"threads\": %d,\n",
-        name, file, (unsigned long long)scene->seed, grains, mobile, run->steps, n1, n2, n3, n4,
-        status, message, effects_json,
+        name, file, (unsigned long long)scene->seed, grains, mobile, run->steps,
+        scene->units_normalised ? "simulated_time" : "simulated_seconds", n1, n2, n3, n4, status,
+        message, effects_json,
         run->threads_most > 0 ? run->threads_most
                               : (run->options->threads > 0 ? run->options->threads : 1));
     n += run_sinks_json(text + n, size - n, run);
@@ -203,13 +225,8 @@ static int write_summary(const Run *run, double wall_seconds)
                               "\"mass_kg\": %s, \"time_s\": %s},\n",
                               d, m, t);
     }
-    if (run->scene->units_normalised && n < size) {
-        const char *time = scene_unit(run->scene, SCENE_TIME, 0); /* "": the scene's own */
-        n += (size_t)snprintf(text + n, size - n,
-                              "  \"units\": {\"system\": \"normalised\", \"length\": \"%s\", "
-                              "\"time\": \"%s\"},\n",
-                              scene_unit(run->scene, SCENE_LENGTH, 0), time[0] ? time : "scene");
-    }
+    if (run->scene->units_normalised && n < size)
+        n += normalised_units_json(run->scene, text + n, size - n);
     char sources[2048];
     app_sources_json(run->sources, sources, sizeof sources);
     n += (size_t)snprintf(text + n, n < size ? size - n : 0, "%s%s  \"stages\": [", sources,

@@ -84,7 +84,7 @@ static const char USAGE_RUN[] =
     "  --threads-switch-every STEPS\n"
     "                     a testing aid: cycle through 1, 2, 3 and 4 threads every STEPS steps\n"
     "                     (the outputs stay one thread's, to the bit)\n"
-    "  --quiet            one line per stage, no progress\n"
+    "  --quiet, -q        one line per stage, no progress\n"
     "  --progress-every SECONDS\n"
     "                     when stderr is no terminal (a batch job's log): one progress line\n"
     "                     every SECONDS of wall time with the stage, the simulated time, the\n"
@@ -96,8 +96,10 @@ static const char USAGE_RUN[] =
     "                     --set values; the outputs come out as an uninterrupted run's\n"
     "\n"
     "SIGINT or SIGTERM stops the run after the current step: the running stage's state goes to\n"
-    "DIR/STAGE.interrupted.state, every output is committed, summary.json says \"interrupted\";\n"
-    "exit status 130 (SIGINT) or 143 (SIGTERM).\n";
+    "DIR/STAGE.interrupted.state, every output is committed, summary.json says \"interrupted\".\n"
+    "\n"
+    "exit status: 0 the run ended, 1 unstable (the last good state saved), 2 bad input (nothing\n"
+    "written) or an output that cannot be written, 3 disk full, 130/143 SIGINT/SIGTERM\n";
 
 static const char USAGE_CHECK[] =
     "usage: sablier check SCENE [--set KEY=VALUE]... [--target-error E]\n"
@@ -107,7 +109,9 @@ static const char USAGE_CHECK[] =
     "  --target-error E   also print, for the stiffest pair and its damping, the steps per\n"
     "                     contact and dt that reach |e - e_n| <= E (measured convergence of the\n"
     "                     integrator and contact.onset) and the CPU time per simulated second\n"
-    "                     that implies (an estimate)\n";
+    "                     that implies (an estimate)\n"
+    "\n"
+    "exit status: 0 the scene is good, 2 bad input (check writes nothing, ever)\n";
 
 static const char USAGE_DIFF[] =
     "usage: sablier diff A.png B.png [--out DIFF.png] [--threshold N] [--shift N]\n"
@@ -125,22 +129,33 @@ static const char USAGE_DIFF[] =
     "                     remove the missing ones (exit 0)\n"
     "Two images: prints one JSON line. Two folders: pairs their figures (.png, and .pdf and .svg\n"
     "drawn at 150 dpi, by the image diff) by relative path and prints one line per changed,\n"
-    "missing or extra figure. Exit 0 match, 1 differ, 2 bad input.\n";
+    "missing or extra figure.\n"
+    "\n"
+    "exit status: 0 match (--update: the baseline was updated), 1 differ, 2 bad input, an\n"
+    "unreadable figure or a report or copy that cannot be written\n";
 
 static const char USAGE_RENDER[] =
     "usage: sablier render STATE -o FIG.png|pdf|svg [options]\n"
     "\n"
+    "  -o, --out FIG        the figure; its extension gives the format (png, pdf, svg)\n"
     "  --scene SCENE        materials and style from a scene (needed for contact forces)\n"
-    "  --set KEY=VALUE      override a key of that scene\n"
+    "  --set KEY=VALUE      override a key of that scene (needs --scene)\n"
     "  --color-by NAME      fixed, force, speed, species, height\n"
     "  --colormap NAME      viridis, yellow_red, greys\n"
     "  --force-chains       draw contact force chains (needs --scene)\n"
+    "  --no-force-chains    do not, whatever the scene's style says\n"
     "  --chain-threshold X  draw contacts above X times the mean normal force\n"
     "  --velocity-field     draw the coarse-grained velocity field\n"
     "  --velocity-arrows    draw per-grain velocity arrows\n"
-    "  --width N --height N size in pixels\n"
-    "  --colorbar --time-stamp --scale-bar   annotations\n"
-    "  --title TEXT\n";
+    "  --width N            width in pixels, 16-16384\n"
+    "  --height N           height in pixels, 16-16384\n"
+    "  --colorbar           the colour bar\n"
+    "  --time-stamp         the state's time above the plot\n"
+    "  --scale-bar          a bar of a few grain diameters\n"
+    "  --title TEXT         a title above the plot\n"
+    "\n"
+    "exit status: 0 the figure was written, 2 bad input or a state that does not fit --scene,\n"
+    "3 disk full\n";
 
 /* ---------------------------------------------------------------- argument helpers */
 

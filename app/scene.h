@@ -286,6 +286,9 @@ typedef enum SceneQuantity {
 /// (""). `figure` 1: figure text ("√(d/g)", "m/d²"), 0: ASCII for terminals, CSV and JSON.
 /// "" for no unit. scene NULL: SI.
 const char *scene_unit(const Scene *scene, SceneQuantity quantity, int figure);
+/// scene_unit for a style (its normalised_units), for what holds a style but no scene: a
+/// figure's or a movie's colour bar. style NULL: SI.
+const char *scene_style_unit(const SceneStyle *style, SceneQuantity quantity, int figure);
 
 /// The ASCII unit of `quantity` after a number, with its space: " m", " sqrt(d/g)", or "" where
 /// the unit is "" (scene_unit). Returns buf.

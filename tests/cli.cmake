@@ -26,6 +26,31 @@ sablier_cli_test(help "--help" 0 OUT "usage: sablier COMMAND")
 foreach(command run check diff render export)
   sablier_cli_test(help_${command} "${command}|--help" 0 OUT "usage: sablier ${command}")
 endforeach()
+# docs/cli.md and the man page against every command's --help (tests/cli/cli_docs.py): each
+# command's option table names exactly the options its --help names, the man page names them all,
+# and --help, the man page and docs/cli.md give one list of exit statuses, per command too
+find_program(SABLIER_PYTHON3 python3)
+if(SABLIER_PYTHON3)
+  add_test(NAME cli.docs_match_help
+           COMMAND ${SABLIER_PYTHON3} ${CLI_DIR}/cli_docs.py $<TARGET_FILE:sablier>
+                   ${PROJECT_SOURCE_DIR}/docs/cli.md ${PROJECT_SOURCE_DIR}/docs/sablier.1)
+  set_tests_properties(cli.docs_match_help PROPERTIES LABELS cli)
+endif()
+# the scenes written in d = g = 1 (column, chute) name their own units in summary.json, the CSV
+# headers and the figures' time stamps and colour bars, never SI (tests/cli/units_outputs.sh)
+if(SABLIER_WITH_RENDER)
+  find_program(SABLIER_PDFTOTEXT pdftotext)
+  foreach(kind summary csv figures)
+    if(kind STREQUAL "figures" AND NOT SABLIER_PDFTOTEXT)
+      continue()
+    endif()
+    add_test(NAME cli.units_outputs_${kind}
+             COMMAND bash ${CLI_DIR}/units_outputs.sh $<TARGET_FILE:sablier>
+                     ${CLI_WORK}/units_outputs_${kind} ${kind}
+             WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+    set_tests_properties(cli.units_outputs_${kind} PROPERTIES LABELS cli)
+  endforeach()
+endif()
 sablier_cli_test(version "--version" 0 OUT "sablier [0-9]+\\.[0-9]+\\.[0-9]+\nsim [0-9.]+\nlibconfig 1\\.[0-9.]+\nrender: ")
 sablier_cli_test(no_command "" 2 ERR "usage: sablier")
 sablier_cli_test(unknown_command "frobnicate" 2 ERR "unknown command `frobnicate`")
@@ -65,6 +90,10 @@ sablier_cli_test(stage_movie_off
                  0 OUT "stage deposit: [^\n]*, movie[^\n]*\n.*stage collapse: [^\n]*0.5 s[)]\n")
 sablier_cli_test(stage_movie_listed "check|${PROJECT_SOURCE_DIR}/scenes/crater/quick.scene" 0
                  OUT "stage collapse: [^\n]*, movie[^\n]*\n")
+# the README demo's collapse plays at a documented speed (docs/figures.md#movies): a quarter of
+# real time, so the ~1 s collapse is a ~4 s clip
+sablier_cli_test(quick_movie_speed "check|${PROJECT_SOURCE_DIR}/scenes/crater/quick.scene" 0
+                 OUT "stage collapse: [^\n]*movie: a frame every 0.01 s, 0.25 s simulated per s of video\n")
 
 # progress without a terminal (ctest's pipe: a batch job's log): one whole line per
 # --progress-every seconds of wall time with the stage, simulated time, rate and ETA; none with

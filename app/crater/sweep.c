@@ -821,10 +821,14 @@ static const char USAGE_SWEEP[] =
     "  --out DIR          output folder (default out/sweep-<file name> or out/<scene>-sweep)\n"
     "  --dry-run          print the member commands, run nothing\n"
     "  --resume           skip the bed and the members whose folder holds a completed run\n"
-    "  --quiet            no per-member lines\n"
+    "  --quiet, -q        no per-member lines\n"
     "\n"
     "SIGINT or SIGTERM stops the members (each saves its state), writes sweep.csv with status\n"
-    "`interrupted` for the members not finished, and exits 130 or 143.\n";
+    "`interrupted` for the members not finished, and exits 130 or 143.\n"
+    "\n"
+    "exit status: 0 every member succeeded, 1 a member went unstable, 2 bad input (nothing\n"
+    "runs), a member that failed otherwise or a table that cannot be written, 130/143\n"
+    "SIGINT/SIGTERM\n";
 
 static const AppDriverSpec SWEEP_SPEC = {.usage = USAGE_SWEEP,
                                          .jobs_max = 64,

@@ -25,8 +25,12 @@ const char APP_DISCHARGE_USAGE[] =
     "  --seed N       deposition seed (default the scene's seed)\n"
     "  --figures      pile.png and w<W>.png (species colours, arch highlighted with an inset)\n"
     "  --movie        deposition.mp4 and w<W>.mp4\n"
+    "  --quiet, -q    no summary line per deposition and per width\n"
     "Writes pile.state, deposition.csv, discharge.csv (s, h, arch, composition) and\n"
-    "w<W>.state.\n";
+    "w<W>.state.\n"
+    "\n"
+    "exit status: 0 every width was discharged, 1 a discharge went unstable, 2 bad input or an\n"
+    "output that cannot be written (SIGINT and SIGTERM are not caught: they end it at once)\n";
 
 /* ---------------------------------------------------------------- sablier discharge */
 

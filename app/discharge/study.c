@@ -48,7 +48,10 @@ const char APP_STUDY_USAGE[] =
     "  --reduce-only   only rebuild tables and plots from finished runs\n"
     "  --resume        accepted for every driver alike: a study always resumes\n"
     "SIGINT or SIGTERM stops the samples (each width done is kept), writes the tables of what\n"
-    "finished and exits 130 or 143.\n";
+    "finished and exits 130 or 143.\n"
+    "\n"
+    "exit status: 0 every sample succeeded, 1 a sample failed, 2 bad input (nothing runs) or a\n"
+    "table that cannot be written, 130/143 SIGINT/SIGTERM\n";
 
 /* ---------------------------------------------------------------- species maps (004 §3.4) */
 

@@ -78,7 +78,7 @@ double app_sediment_threshold(const double *shields, const double *q_star, int c
 
 #define APP_SEDIMENT_USAGE                                                                         \
     "usage: sablier sediment SCENE --shields T1,T2,... [--jobs J] [--level Q] [--out DIR]\n"       \
-    "                        [--set KEY=VALUE]... [--render] [--resume] [--quiet]\n"               \
+    "                        [--set KEY=VALUE]... [--render] [--resume] [--quiet|-q]\n"            \
     "Shields scan (thesis 002 ch. 7): runs a scene with a `sediment` group once per Shields\n"     \
     "number (--set sediment.shields=T) into DIR/shields=T/, J at a time (default 2), then\n"       \
     "writes DIR/flux.csv (q_sat, q*_sat, T_sat per value), DIR/threshold.json and DIR/flux.png\n"  \
@@ -87,7 +87,10 @@ double app_sediment_threshold(const double *shields, const double *q_star, int c
     "  --render    each member's own figures and movies (default: none)\n"                         \
     "  --resume    skip the members whose folder holds a completed run\n"                          \
     "SIGINT or SIGTERM stops the members, writes flux.csv (status `interrupted` for those not\n"   \
-    "finished) and exits 130 or 143.\n"
+    "finished) and exits 130 or 143.\n"                                                            \
+    "\n"                                                                                           \
+    "exit status: 0 every member succeeded, 1 a member failed, 2 bad input (nothing runs) or a\n"  \
+    "table that cannot be written, 130/143 SIGINT/SIGTERM\n"
 
 /// `sablier sediment`: parses argv (argv[1] is "sediment"), runs the scan; returns the exit status.
 int app_sediment_command(int argc, char **argv, const AppEnv *env);
