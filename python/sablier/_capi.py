@@ -29,7 +29,8 @@ class SimMaterial(Structure):
                 ("normal_damping", c_double), ("restitution", c_double),
                 ("critical_fraction", c_double), ("friction", c_double),
                 ("tangential_damping", c_double), ("tangential_stiffness", c_double),
-                ("rolling_friction", c_double), ("rolling_stiffness", c_double)]
+                ("rolling_friction", c_double), ("rolling_stiffness", c_double),
+                ("spring_damping", c_double)]
 
 
 class SimContactModel(Structure):
