@@ -486,17 +486,17 @@ sablier_cli_test(friction_regularised "check|${PROJECT_SOURCE_DIR}/scenes/valida
 sablier_cli_test(friction_spring "check|${PROJECT_SOURCE_DIR}/scenes/hopper/hopper.scene" 0
                  OUT "friction spring [^\n]*static friction")
 # --unset KEY: removes a key (and a law's dependents), in order with --set; run and check
-set(COLUMN ${PROJECT_SOURCE_DIR}/scenes/measure/column.scene)
+set(HOPPER ${PROJECT_SOURCE_DIR}/scenes/hopper/hopper.scene)
 sablier_cli_test(unset_law_dependents
-                 "check|${COLUMN}|--unset|contact.tangential|--set|species.0.gamma_s=5|--set|species.1.gamma_s=5"
-                 0 OUT "friction regularised")
+                 "check|${HOPPER}|--unset|contact.tangential|--set|species.0.gamma_s=5" 0
+                 OUT "friction regularised")
 sablier_cli_test(unset_then_set_law
-                 "check|${COLUMN}|--unset|species.0.k_t|--unset|species.1.k_t|--set|contact.tangential=regularised|--set|species.0.gamma_s=5|--set|species.1.gamma_s=5"
+                 "check|${HOPPER}|--unset|species.0.k_t|--set|contact.tangential=regularised|--set|species.0.gamma_s=5"
                  0 OUT "friction regularised")
-sablier_cli_test(unset_needed "check|${COLUMN}|--set|contact.tangential=regularised|--set|species.0.gamma_s=5|--set|species.1.gamma_s=5"
-                 2 ERR "column.scene:[0-9]+: `k_t` is used only by contact.tangential = \"spring\"")
-sablier_cli_test(unset_required_key "check|${COLUMN}|--unset|species.0.k_t" 2
-                 ERR "column.scene:[0-9]+: missing required key `k_t` in species 0")
+sablier_cli_test(unset_needed "check|${HOPPER}|--set|contact.tangential=regularised|--set|species.0.gamma_s=5"
+                 2 ERR "hopper.scene:12: `k_t` is used only by contact.tangential = \"spring\"")
+sablier_cli_test(unset_required_key "check|${HOPPER}|--unset|species.0.k_t" 2
+                 ERR "hopper.scene:12: missing required key `k_t` in species 0")
 sablier_cli_test(unset_unknown "check|${CLI_TINY}|--unset|nope.key" 2
                  ERR "--unset nope.key: no such key in the scene")
 sablier_cli_test(unset_unknown_run "run|${CLI_TINY}|--unset|species.0.mu" 2

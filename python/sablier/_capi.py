@@ -191,10 +191,12 @@ class SceneStage(Structure):
     _fields_ = [("name", c_char * SCENE_NAME_MAX), ("load", c_int),
                 ("load_path", c_char * SCENE_PATH_MAX), ("time_step", c_double),
                 ("duration", c_double), ("settle_kinetic", c_double),
-                ("settle_after", c_double), ("remove_count", c_int), ("remove_ids", _pu32),
+                ("settle_after", c_double), ("settle_per_grain", c_double),
+                ("settle_hold", c_double), ("remove_count", c_int), ("remove_ids", _pu32),
                 ("movie", c_int), ("skip", c_int), ("gravity_x", c_double),
                 ("gravity_y", c_double), ("effects", c_uint), ("motions", c_uint),
-                ("declares_motions", c_int), ("movie_view", c_double * 4)]
+                ("restart_motions", c_uint), ("declares_motions", c_int),
+                ("movie_view", c_double * 4)]
 
 
 class Scene(Structure):

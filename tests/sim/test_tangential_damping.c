@@ -3,8 +3,9 @@
  * damped oscillator m x'' = -k_t x - gamma_t x', whose peaks decay by exp(-gamma_t T_d / 2m) per
  * damped period T_d = 2 pi / sqrt(k_t/m - (gamma_t/2m)^2); a sliding one stays on the Coulomb
  * cap with the spring kept at (cap - gamma_t v_s) / k_t; gamma_t = 0 is the undamped spring. */
-#include "sim/contact_scalar.h"
 #include "test.h"
+
+#include "sim/contact_scalar.h"
 
 #define MASS 0.01 /* kg */
 #define K_T  1e4  /* N/m */
