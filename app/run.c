@@ -1501,6 +1501,7 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     }
     run->scene = scene;
     run->options = options;
+    run->settle_since = -1.0; /* a checkpoint from before `hold`: no window under way */
     run->context = (AppContext){.scene = scene,
                                 .out_dir = options->out_dir,
                                 .render = options->render,
