@@ -359,7 +359,7 @@ static int member_argv(Ensemble *E, int member)
         words[n++] = threads;
     }
     for (int k = 0; k < set_count; ++k) {
-        words[n++] = "--set";
+        words[n++] = app_set_option_name(sets[k]);
         words[n++] = sets[k];
     }
     for (int k = 0; k < n; ++k) {

@@ -72,6 +72,7 @@ typedef struct Run {
     /* The motions' clocks by world time (sim_world_set_motion), from the stages' `motions`. */
     int motion_running[SIM_MAX_MOTIONS];
     double motion_on[SIM_MAX_MOTIONS], motion_off[SIM_MAX_MOTIONS];
+    double settle_since; /* the stage time since which the settle test holds; < 0: it does not */
     AppSources *sources; /* insertion sources, NULL without */
     /* Checkpoints (docs/cli.md): the wall clock of the last one; with --resume, the point
      * the run continues from (stage, steps done in it, state file) and the original start. */
@@ -481,8 +482,10 @@ static int stage_world(Run *run, int k)
 }
 
 /* The stage's gravity and motions (docs/scenes.md, stages): a motion the stage enables starts
- * its clock now (at t = 0 when it runs from the first stage); one it stops holds its pose. The
- * schedules are set again on every stage's world, fresh or continued. */
+ * its clock now (at t = 0 when it runs from the first stage), or, stopped in an earlier stage,
+ * continues it from where it stopped (its pose is continuous); `restart_motions` starts it from
+ * 0 again. One it stops holds its pose. The schedules are set again on every stage's world,
+ * fresh or continued. */
 static void stage_forcing(Run *run, int k)
 {
     const SceneStage *stage = &run->scene->stages[k];
@@ -492,8 +495,13 @@ static void stage_forcing(Run *run, int k)
     const double now = sim_world_time(run->world);
     for (int m = 0; m < run->scene->def.motion_count; ++m) {
         const int enabled = (stage->motions >> m) & 1u;
-        if (enabled && !run->motion_running[m]) {
-            run->motion_on[m] = now;
+        const int restart = (stage->restart_motions >> m) & 1u;
+        if (enabled && (restart || !run->motion_running[m])) {
+            /* the clock it held when it stopped (never started, or restarted: 0) */
+            const double held = !restart && isfinite(run->motion_on[m])
+                                    ? run->motion_off[m] - run->motion_on[m]
+                                    : 0.0;
+            run->motion_on[m] = now - held;
             run->motion_off[m] = (double)INFINITY;
         } else if (!enabled && run->motion_running[m]) {
             run->motion_off[m] = now;
@@ -779,15 +787,27 @@ static long next_due(const Run *run, int k, const StageClock *clock, long done)
     return family_next_step(run, done, next);
 }
 
-/* 1 when the stage's settle test passes at step `done`. */
+/* 1 when the stage's settle test passes at step `done`: E_kin + E_rot (per mobile grain with
+ * kinetic_per_grain_below) below the level at this energy row and at every row of the last
+ * `hold` seconds (run->settle_since: the first of them). */
 static int settled(Run *run, const SceneStage *stage, const StageClock *clock, long done)
 {
     double elapsed = (double)done * clock->dt;
-    if (!(stage->settle_kinetic > 0.0) || done % clock->every_energy != 0 || done == 0 ||
+    const int total = stage->settle_kinetic > 0.0;
+    const double level = total ? stage->settle_kinetic : stage->settle_per_grain;
+    if (!(level > 0.0) || done % clock->every_energy != 0 || done == 0 ||
         elapsed < stage->settle_after - 0.5 * clock->dt)
         return 0;
     SimEnergy e = sim_world_energy(run->world);
-    return e.kinetic + e.rotational < stage->settle_kinetic;
+    const int mobile = sim_world_mobile_count(run->world);
+    const double kinetic = e.kinetic + e.rotational;
+    if (!(total ? kinetic < level : kinetic < level * (mobile > 0 ? mobile : 1))) {
+        run->settle_since = -1.0;
+        return 0;
+    }
+    if (run->settle_since < 0.0)
+        run->settle_since = elapsed;
+    return elapsed - run->settle_since >= stage->settle_hold - 0.5 * clock->dt;
 }
 
 /* ---------------------------------------------------------------- checkpoints and resume */
@@ -817,11 +837,12 @@ static size_t checkpoint_record(const Run *run, int k, long done, const char *st
     size_t n = (size_t)snprintf(
         text, size,
         "sablier-checkpoint 1\nscene_sha256 %s\nstarted %lld\nstage %d\ndone %ld\nstate %s\n"
-        "energy_bytes %ld\ntrace_bytes %ld\nscales %a %a %a %a\ntotals %ld %a %a %a %a %ld\n",
+        "energy_bytes %ld\ntrace_bytes %ld\nscales %a %a %a %a\ntotals %ld %a %a %a %a %ld\n"
+        "settle %a\n",
         run->scene->sha256, run->started, k, done, state, app_checkpoint_bytes(run->energy),
         app_checkpoint_bytes(run->trace), run->time_scale, run->unit_length, run->unit_mass,
         run->unit_time, steps, run->simulated, run->particle_steps, run->step_seconds,
-        run->contacts_sum, run->contacts_samples);
+        run->contacts_sum, run->contacts_samples, run->settle_since);
     for (int m = 0; m < SIM_MAX_MOTIONS && n < size; ++m)
         n += (size_t)snprintf(text + n, size - n, "motion %d %d %a %a\n", m, run->motion_running[m],
                               run->motion_on[m], run->motion_off[m]);
@@ -952,6 +973,8 @@ static int resume_line(Run *run, const char *line, char *sha, int *seen)
     if (sscanf(line, "totals %ld %la %la %la %la %ld", &run->steps, &run->simulated,
                &run->particle_steps, &run->step_seconds, &run->contacts_sum,
                &run->contacts_samples) == 6)
+        return 0;
+    if (sscanf(line, "settle %la", &run->settle_since) == 1)
         return 0;
     if (sscanf(line, "motion %d %d %la %la", &m, &running, &on, &off) == 4) {
         if (m < 0 || m >= SIM_MAX_MOTIONS)
@@ -1276,6 +1299,8 @@ static int run_stage(Run *run, int k)
     StageClock clock;
     memset(&clock, 0, sizeof clock);
     const int resumed = k == run->resume_stage && run->resume_state[0];
+    if (!resumed)
+        run->settle_since = -1.0;
     int status = resumed ? stage_resume(run, k, &clock) : stage_start(run, k, &clock);
     if (status != 0) {
         app_dump_close(&clock.dump, NULL, 0, NULL, 0); /* no half dump */
@@ -1482,6 +1507,7 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     }
     run->scene = scene;
     run->options = options;
+    run->settle_since = -1.0; /* a checkpoint from before `hold`: no window under way */
     run->context = (AppContext){.scene = scene,
                                 .out_dir = options->out_dir,
                                 .render = options->render,

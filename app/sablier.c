@@ -69,13 +69,15 @@ static void print_usage(FILE *out)
 }
 
 static const char USAGE_RUN[] =
-    "usage: sablier run SCENE [--out DIR] [--set KEY=VALUE]... [--threads N|auto] [--quiet]\n"
-    "                   [--progress-every SECONDS] [--force] [--resume]\n"
-    "                   [--threads-switch-every STEPS]\n"
+    "usage: sablier run SCENE [--out DIR] [--set KEY=VALUE]... [--unset KEY]...\n"
+    "                   [--threads N|auto] [--quiet] [--progress-every SECONDS] [--force]\n"
+    "                   [--resume] [--threads-switch-every STEPS]\n"
     "\n"
     "  --out DIR          output folder (default out/<scene name>/)\n"
     "  --set KEY=VALUE    override a scene key by its dotted path, e.g. time.dt=2e-5,\n"
     "                     species.0.k_n=1e6, stages.collapse.time.end=2 (see docs/scenes.md)\n"
+    "  --unset KEY        remove a scene key (and the keys only it allows: --unset\n"
+    "                     contact.tangential also removes k_t, gamma_t), in order with --set\n"
     "  --threads N|auto   threads for the physics step (results do not depend on N); auto,\n"
     "                     the default: the count that steps fastest now, measured while the\n"
     "                     run goes on (neighbouring counts tried from time to time, and again\n"
@@ -102,10 +104,11 @@ static const char USAGE_RUN[] =
     "written) or an output that cannot be written, 3 disk full, 130/143 SIGINT/SIGTERM\n";
 
 static const char USAGE_CHECK[] =
-    "usage: sablier check SCENE [--set KEY=VALUE]... [--target-error E]\n"
+    "usage: sablier check SCENE [--set KEY=VALUE]... [--unset KEY]... [--target-error E]\n"
     "\n"
     "Validates the scene (keys, types, values, overlaps, time step) and prints its stages,\n"
-    "effects, grains, time step, contact time and steps per contact without running it.\n"
+    "effects, grains, friction law (static friction or not), time step, contact time and steps\n"
+    "per contact without running it. Warnings (stderr, file:line): motions that move nothing.\n"
     "  --target-error E   also print, for the stiffest pair and its damping, the steps per\n"
     "                     contact and dt that reach |e - e_n| <= E (measured convergence of the\n"
     "                     integrator and contact.onset) and the CPU time per simulated second\n"
@@ -140,6 +143,7 @@ static const char USAGE_RENDER[] =
     "  -o, --out FIG        the figure; its extension gives the format (png, pdf, svg)\n"
     "  --scene SCENE        materials and style from a scene (needed for contact forces)\n"
     "  --set KEY=VALUE      override a key of that scene (needs --scene)\n"
+    "  --unset KEY          remove a key of that scene (needs --scene)\n"
     "  --color-by NAME      fixed, force, speed, species, height\n"
     "  --colormap NAME      viridis, yellow_red, greys\n"
     "  --force-chains       draw contact force chains (needs --scene)\n"
@@ -199,8 +203,8 @@ static int run_arguments(int argc, char **argv, RunArgs *a)
             if (m < 0)
                 return 2;
             a->out = value;
-        } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
-            if (m < 0 || app_collect_set(a->sets, &a->set_count, MAX_SETS, value) < 0)
+        } else if ((m = app_set_option(argc, argv, &i, a->sets, &a->set_count, MAX_SETS)) != 0) {
+            if (m < 0)
                 return 2;
         } else if ((m = app_option(argc, argv, &i, "--threads", &value)) != 0) {
             if (m > 0 && strcmp(value, "auto") == 0)
@@ -353,15 +357,11 @@ static int check_arguments(int argc, char **argv, CheckArgs *a)
                                        m < 0 ? "" : value);
             continue;
         }
-        m = app_option(argc, argv, &i, "--set", &value);
+        m = app_set_option(argc, argv, &i, a->sets, &a->set_count, MAX_SETS);
         if (m < 0)
             return 2;
-        if (m > 0) {
-            if (app_collect_set(a->sets, &a->set_count, MAX_SETS, value) < 0)
-                return 2;
-        } else if (app_scene_argument(USAGE_CHECK, argv[i], &a->scene_path) != 0) {
+        if (m == 0 && app_scene_argument(USAGE_CHECK, argv[i], &a->scene_path) != 0)
             return 2;
-        }
     }
     if (!a->scene_path)
         return app_usage_error(USAGE_CHECK, "missing SCENE", NULL);
@@ -415,6 +415,8 @@ static int command_check(int argc, char **argv)
         printf(")");
     }
     printf("\n");
+    scene_describe_friction(scene, stdout);
+    scene_warn(scene, stderr);
     if (scene->def.skin > 0.0)
         printf("lists    Verlet skin %g%s (fixed)\n", scene->def.skin, u[1]);
     else
@@ -747,8 +749,8 @@ static int render_args(int argc, char **argv, RenderArgs *a)
             if (m < 0)
                 return 2;
             a->scene_path = value;
-        } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
-            if (m < 0 || app_collect_set(a->sets, &a->set_count, MAX_SETS, value) < 0)
+        } else if ((m = app_set_option(argc, argv, &i, a->sets, &a->set_count, MAX_SETS)) != 0) {
+            if (m < 0)
                 return 2;
         } else if ((m = app_option(argc, argv, &i, "--color-by", &value)) != 0) {
             if (m < 0 || (a->over.color_by = name_index(value, color_names)) < 0)

@@ -19,6 +19,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #define SCENE_MAX_STAGES  8
 #define SCENE_MAX_FIGURES 16
@@ -109,6 +110,8 @@ typedef struct SceneStage {
     double duration;                ///< time.end: simulated time of the stage, s (the cap)
     double settle_kinetic;          ///< stop once E_kin + E_rot < this, J; 0 = off
     double settle_after;            ///< the settle test starts this long into the stage, s
+    double settle_per_grain;        ///< stop once (E_kin + E_rot) / mobile grains < this, J
+    double settle_hold;             ///< ... at every energy row for this long, s (0: one row)
     int remove_count;
     uint32_t *remove_ids; ///< stable ids removed at the stage start
     int movie;            ///< 1: write <stage>.mp4
@@ -118,6 +121,7 @@ typedef struct SceneStage {
     double gravity_x, gravity_y; ///< m/s^2
     unsigned effects;            ///< SimEffect bits in force (a subset of the scene's)
     unsigned motions;            ///< bit m: motion m is enabled in this stage
+    unsigned restart_motions;    ///< bit m: motion m's clock restarts at the stage start
     int declares_motions;        ///< 1: some stage of the scene has a `motions` list
     double movie_view[4];        ///< the stage movie's window [x0, y0, x1, y1], m; x1 <= x0: none
     int add_count;
@@ -250,6 +254,13 @@ const SceneAdd *scene_added_grain(const Scene *scene, const char *name, uint32_t
 /// message" in err) when one overlaps a wall, a grain of the world or another added grain, or
 /// when its id is in use (a state loaded by `load`). 0 when placed.
 int scene_stage_add(const Scene *scene, int k, SimWorld *world, char *err, size_t err_size);
+
+/// One line on `out` naming the scene's tangential law and whether it has static friction.
+void scene_describe_friction(const Scene *scene, FILE *out);
+
+/// Warnings "file:line: warning: ..." on `out` for motions that move nothing and stages that
+/// enable one (app/scene_advise.c); returns their count.
+int scene_warn(const Scene *scene, FILE *out);
 
 /// Index of a stage by name, -1 when absent.
 int scene_stage_index(const Scene *scene, const char *name);

@@ -13,8 +13,8 @@
 /* ---------------------------------------------------------------- species, motions */
 
 static const char *const SPECIES_KEYS[] = {
-    "name", "density", "k_n", "gamma_n", "restitution", "critical_fraction",
-    "mu",   "gamma_s", "k_t", "mu_r",    "k_r",         NULL};
+    "name", "density", "k_n",  "gamma_n", "restitution", "critical_fraction", "mu", "gamma_s",
+    "k_t",  "gamma_t", "mu_r", "k_r",     NULL};
 
 /* SimMaterial fields -> the species keys that set them, for mapping SimError fields to lines. */
 static void where_species(Loader *L, const config_setting_t *g, int k)
@@ -28,6 +28,7 @@ static void where_species(Loader *L, const config_setting_t *g, int k)
         {"friction", "mu"},
         {"tangential_damping", "gamma_s"},
         {"tangential_stiffness", "k_t"},
+        {"spring_damping", "gamma_t"},
         {"rolling_friction", "mu_r"},
         {"rolling_stiffness", "k_r"},
     };
@@ -90,9 +91,16 @@ static int parse_friction(Loader *L, const config_setting_t *g, const char *what
     if (law != SIM_TANGENTIAL_REGULARISED && app_config_member(g, "gamma_s"))
         return app_config_fail(&L->p, app_config_member(g, "gamma_s"),
                                "`gamma_s` is used only by contact.tangential = \"regularised\"");
-    if (law != SIM_TANGENTIAL_SPRING && app_config_member(g, "k_t"))
-        return app_config_fail(&L->p, app_config_member(g, "k_t"),
-                               "`k_t` is used only by contact.tangential = \"spring\"");
+    if (law == SIM_TANGENTIAL_SPRING &&
+        (app_config_number(&L->p, g, "gamma_t", &m->spring_damping) < 0 ||
+         app_config_non_negative(&L->p, g, "gamma_t", m->spring_damping) < 0))
+        return -1;
+    static const char *const spring_keys[] = {"k_t", "gamma_t"};
+    for (int j = 0; j < 2; ++j)
+        if (law != SIM_TANGENTIAL_SPRING && app_config_member(g, spring_keys[j]))
+            return app_config_fail(&L->p, app_config_member(g, spring_keys[j]),
+                                   "`%s` is used only by contact.tangential = \"spring\"",
+                                   spring_keys[j]);
     return 0;
 }
 
@@ -116,7 +124,7 @@ static int parse_rolling(Loader *L, const config_setting_t *g, const char *what,
 /* Species k: the group g -> materials[k] and species_names[k]. */
 static int parse_one_species(Loader *L, const config_setting_t *g, int k)
 {
-    static const char *const friction_keys[] = {"mu", "gamma_s", "k_t"};
+    static const char *const friction_keys[] = {"mu", "gamma_s", "k_t", "gamma_t"};
     static const char *const rolling_keys[] = {"mu_r", "k_r"};
     Scene *scene = L->scene;
     SimMaterial *m = &scene->def.materials[k];
@@ -139,7 +147,7 @@ static int parse_one_species(Loader *L, const config_setting_t *g, int k)
         app_config_positive(&L->p, g, "k_n", m->normal_stiffness) < 0 ||
         parse_damping(L, g, what, m) < 0)
         return -1;
-    for (int j = 0; j < 3; ++j)
+    for (int j = 0; j < 4; ++j)
         if (loader_gate(L, g, friction_keys[j], SIM_EFFECT_FRICTION) < 0)
             return -1;
     for (int j = 0; j < 2; ++j)
@@ -351,6 +359,7 @@ int loader_parse_motions(Loader *L, const config_setting_t *root)
         if (parse_motion_kind(L, g, what, k, m) < 0 || parse_schedule(L, g, m) < 0)
             return -1;
         snprintf(L->scene->motion_names[k], SCENE_NAME_MAX, "%s", name);
+        app_config_where(&L->p, g, L->scene->where->motion[k], WHERE_MAX);
         snprintf(field, sizeof field, "motions[%d]", k);
         loader_where_add(L, field, g);
         L->scene->def.motion_count = k + 1;

@@ -33,6 +33,8 @@ struct SceneWhere {
     int grain_capacity;
     char stage_dt[SCENE_MAX_STAGES][WHERE_MAX];
     char stage_load[SCENE_MAX_STAGES][WHERE_MAX];
+    char stage_motions[SCENE_MAX_STAGES][WHERE_MAX]; /* its `motions` list ("": none) */
+    char motion[SIM_MAX_MOTIONS][WHERE_MAX];         /* motions.NAME */
     char fallback[WHERE_MAX];
 };
 
@@ -47,6 +49,7 @@ typedef struct Loader {
     double box_height;        ///< grains.box y1 - y0, m: default D of t*
     char *set_keys[64];       ///< copies of --set keys, pointed to by setting hooks
     int set_count;
+    int unsetting; ///< 1 while an --unset is applied (its messages)
 } Loader;
 
 /* scene_keys.c */

@@ -536,3 +536,44 @@ endforeach()
 # sablier check prints a scene's own units (docs/scenes.md#units): d and sqrt(d/g), not m and s
 sablier_cli_test(check_normalised_units "check|scenes/measure/column.scene" 0
                  OUT "gravity \\(0, -1\\) g\n.*time.end 4 sqrt\\(d/g\\), measure stress \\(profile_y, 1 x 80 nodes, width 2 d, every 0.1 sqrt\\(d/g\\)\\)")
+# protocols that chain (docs/scenes.md, stages): a motion keeps its clock across stages and
+# `restart_motions` restarts it (tests/cli/motion_clock.sh); a settle test over a window of time
+# (tests/cli/settle_window.sh)
+add_test(NAME cli.motion_clock
+         COMMAND bash ${CLI_DIR}/motion_clock.sh $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/motion_clock.scene ${CLI_WORK}/motion_clock)
+add_test(NAME cli.settle_window
+         COMMAND bash ${CLI_DIR}/settle_window.sh $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/settle_window.scene ${CLI_WORK}/settle_window)
+set_tests_properties(cli.motion_clock cli.settle_window PROPERTIES LABELS cli)
+# `check` warns about motions that move nothing, with their lines, and still exits 0
+set(MOTION_WARN ${CLI_DIR}/motion_warn.scene)
+sablier_cli_test(motion_warn_unused "check|${MOTION_WARN}" 0
+                 ERR "motion_warn.scene:16: warning: motion `spare` moves nothing")
+sablier_cli_test(motion_warn_part "check|${MOTION_WARN}" 0
+                 ERR "motion_warn.scene:24: warning: stage `shear` enables motion `shear`, which moves nothing: what it moves follows motion `both`")
+sablier_cli_test(motion_warn_none "check|${CLI_DIR}/motion_clock.scene" 0 NOT_ERR "warning")
+# `check` names the tangential law and whether it has static friction
+sablier_cli_test(friction_regularised "check|${PROJECT_SOURCE_DIR}/scenes/validation/oblique_drop.scene" 0
+                 OUT "friction regularised Coulomb[^\n]*no static friction")
+sablier_cli_test(friction_spring "check|${PROJECT_SOURCE_DIR}/scenes/hopper/hopper.scene" 0
+                 OUT "friction spring [^\n]*static friction")
+# --unset KEY: removes a key (and a law's dependents), in order with --set; run and check
+set(HOPPER ${PROJECT_SOURCE_DIR}/scenes/hopper/hopper.scene)
+sablier_cli_test(unset_law_dependents
+                 "check|${HOPPER}|--unset|contact.tangential|--set|species.0.gamma_s=5" 0
+                 OUT "friction regularised")
+sablier_cli_test(unset_then_set_law
+                 "check|${HOPPER}|--unset|species.0.k_t|--set|contact.tangential=regularised|--set|species.0.gamma_s=5"
+                 0 OUT "friction regularised")
+sablier_cli_test(unset_needed "check|${HOPPER}|--set|contact.tangential=regularised|--set|species.0.gamma_s=5"
+                 2 ERR "hopper.scene:12: `k_t` is used only by contact.tangential = \"spring\"")
+sablier_cli_test(unset_required_key "check|${HOPPER}|--unset|species.0.k_t" 2
+                 ERR "hopper.scene:12: missing required key `k_t` in species 0")
+sablier_cli_test(unset_unknown "check|${CLI_TINY}|--unset|nope.key" 2
+                 ERR "--unset nope.key: no such key in the scene")
+sablier_cli_test(unset_unknown_run "run|${CLI_TINY}|--unset|species.0.mu" 2
+                 ERR "--unset species.0.mu: no such key in the scene")
+sablier_cli_test(unset_with_value "check|${CLI_TINY}|--unset|time.dt=1" 2
+                 ERR "--unset time.dt=1: expected a KEY alone")
+sablier_cli_test(unset_group "check|${CLI_TINY}|--unset|output" 0 OUT "energy every")

@@ -350,7 +350,7 @@ static int member_argv(const Sweep *w, const Member *m, int bed_run, char **argv
         sets[count++] = buffers[b++];
     }
     for (int k = 0; k < count && n + 3 <= capacity; ++k) {
-        argv[n++] = format("--set", "");
+        argv[n++] = format(app_set_option_name(sets[k]), "");
         argv[n++] = format(sets[k], "");
     }
     argv[n] = NULL;

@@ -57,10 +57,10 @@ static int parse_args(int argc, char **argv, DischargeArgs *a)
             if (m < 0)
                 return 2;
             a->pile = value;
-        } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
-            if (m < 0 || a->set_count >= APP_MAX_SETS)
+        } else if ((m = app_set_option(argc, argv, &i, a->sets, &a->set_count, APP_MAX_SETS)) !=
+                   0) {
+            if (m < 0)
                 return app_usage_error(APP_DISCHARGE_USAGE, "bad --set", NULL);
-            a->sets[a->set_count++] = value;
         } else if ((m = app_option(argc, argv, &i, "--width", &value)) != 0) {
             double w;
             if (m < 0 || app_discharge_parse_real(value, &w) != 0 || !(w >= 0.0) ||

@@ -29,7 +29,8 @@ class SimMaterial(Structure):
                 ("normal_damping", c_double), ("restitution", c_double),
                 ("critical_fraction", c_double), ("friction", c_double),
                 ("tangential_damping", c_double), ("tangential_stiffness", c_double),
-                ("rolling_friction", c_double), ("rolling_stiffness", c_double)]
+                ("rolling_friction", c_double), ("rolling_stiffness", c_double),
+                ("spring_damping", c_double)]
 
 
 class SimContactModel(Structure):
@@ -212,11 +213,12 @@ class SceneStage(Structure):
     _fields_ = [("name", c_char * SCENE_NAME_MAX), ("load", c_int),
                 ("load_path", c_char * SCENE_PATH_MAX), ("time_step", c_double),
                 ("duration", c_double), ("settle_kinetic", c_double),
-                ("settle_after", c_double), ("remove_count", c_int), ("remove_ids", _pu32),
+                ("settle_after", c_double), ("settle_per_grain", c_double),
+                ("settle_hold", c_double), ("remove_count", c_int), ("remove_ids", _pu32),
                 ("movie", c_int), ("skip", c_int), ("gravity_x", c_double),
                 ("gravity_y", c_double), ("effects", c_uint), ("motions", c_uint),
-                ("declares_motions", c_int), ("movie_view", c_double * 4),
-                ("add_count", c_int), ("adds", c_void_p)]
+                ("restart_motions", c_uint), ("declares_motions", c_int),
+                ("movie_view", c_double * 4), ("add_count", c_int), ("adds", c_void_p)]
 
 
 class Scene(Structure):
