@@ -16,20 +16,15 @@ static void driver_args_init(AppDriverArgs *a)
     a->jobs = 2;
 }
 
-static int driver_set(const AppDriverSpec *s, AppDriverArgs *a, int m, const char *value)
+/* --set or --unset at argv[*i]: 1, 0 when neither, -1 after a message (with the command's own
+ * usage message when it has one). */
+static int driver_set(const AppDriverSpec *s, AppDriverArgs *a, int argc, char **argv, int *i)
 {
     const int max = s->sets_max > 0 ? s->sets_max : APP_MAX_SETS;
-    if (s->set_error) { /* the command's own message for every bad --set */
-        if (m < 0 || a->set_count >= max) {
-            app_usage_error(s->usage, s->set_error, NULL);
-            return -1;
-        }
-        a->sets[a->set_count++] = value;
-        return 1;
-    }
-    if (m < 0 || app_collect_set(a->sets, &a->set_count, max, value) < 0)
-        return -1;
-    return 1;
+    const int m = app_set_option(argc, argv, i, a->sets, &a->set_count, max);
+    if (m < 0 && s->set_error)
+        app_usage_error(s->usage, s->set_error, NULL);
+    return m;
 }
 
 static int driver_vary(const AppDriverSpec *s, AppDriverArgs *a, const char *value)
@@ -59,8 +54,8 @@ static int driver_option(const AppDriverSpec *s, int argc, char **argv, int *i, 
         a->out = value;
         return 1;
     }
-    if ((m = app_option(argc, argv, i, "--set", &value)) != 0)
-        return driver_set(s, a, m, value);
+    if ((m = driver_set(s, a, argc, argv, i)) != 0)
+        return m;
     if (s->vary_max > 0 && (m = app_option(argc, argv, i, "--vary", &value)) != 0)
         return m < 0 ? -1 : driver_vary(s, a, value);
     if ((m = app_option(argc, argv, i, "--jobs", &value)) != 0) {

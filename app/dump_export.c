@@ -22,7 +22,10 @@ const char app_dump_export_usage[] =
     "  --format csv       CSV with the header id,x,y,r,species,fixed,vx,vy,omega,angle\n"
     "  -o, --out FILE     output file (written through FILE.tmp); without --format the format\n"
     "                     comes from its extension: .lammpstrj or .dump, .vtp, .csv\n"
-    "Numbers have 17 significant digits (they read back to the same bits).\n";
+    "Numbers have 17 significant digits (they read back to the same bits).\n"
+    "\n"
+    "exit status: 0 the file was written, 2 bad input or a file that cannot be read or written,\n"
+    "3 disk full\n";
 
 /* The columns a checkpoint has, in the LAMMPS and VTK exports. */
 static const unsigned char EXPORT_FIELDS[] = {

@@ -59,13 +59,16 @@ const char app_ensemble_usage[] =
     "  --set KEY=VALUE           override for every member\n"
     "  --out DIR                 default out/ensemble-<scene name>\n"
     "  --resume                  skip the members whose folder holds a completed run\n"
+    "  --quiet, -q               no per-member lines\n"
     "Writes DIR/members.csv (every member's values and CPU s), DIR/ensemble.csv and\n"
     "DIR/ensemble.json (per observable and dt: n, mean, std, 95 % CI, shift against the\n"
     "reference with its Welch CI, mean CPU s per member), DIR/ensemble.png and .pdf; members'\n"
-    "outputs in DIR/dt=X/seed-S/ (log.txt). Exit 0; 1 when a member went unstable; 2 on bad\n"
-    "input (nothing runs) or when a member failed otherwise or an observable is missing; 130 or\n"
-    "143 after SIGINT or SIGTERM (the members stopped, the tables of the finished ones written,\n"
-    "the others `interrupted` in members.csv).\n";
+    "outputs in DIR/dt=X/seed-S/ (log.txt).\n"
+    "\n"
+    "exit status: 0 every member succeeded, 1 a member went unstable, 2 bad input (nothing\n"
+    "runs), a member that failed otherwise or an observable that is missing, 130/143\n"
+    "SIGINT/SIGTERM (the members stopped, the tables of the finished ones written, the others\n"
+    "`interrupted` in members.csv)\n";
 
 typedef struct Options {
     AppDriverArgs d; /* the common options: scene, --out, --set, --jobs, --quiet, --resume */
@@ -356,7 +359,7 @@ static int member_argv(Ensemble *E, int member)
         words[n++] = threads;
     }
     for (int k = 0; k < set_count; ++k) {
-        words[n++] = "--set";
+        words[n++] = app_set_option_name(sets[k]);
         words[n++] = sets[k];
     }
     for (int k = 0; k < n; ++k) {

@@ -94,6 +94,16 @@ typedef struct AppCommand {
 typedef struct AppExperiment {
     const char *name;  ///< family name, also its folder: "crater"
     const char *group; ///< top-level scene key that declares it ("bne"), or NULL
+    /// An older name of `group` the loader still accepts (documented in docs/scenes.md), or NULL.
+    /// A scene gives one of the two; the family's messages name the one it gave.
+    const char *group_alias;
+    /// Effects the family's group stands for (SIM_EFFECT_*): the group needs them declared in
+    /// `effects`, as a core group does (`drag` needs fluid_drag), and an effect that needs a core
+    /// group (fluid_drag: `drag`) is content with the family's group instead.
+    unsigned effects;
+    /// 1: a scene with the family's group makes its mobile grains during the run, so its
+    /// `grains` may hold fixed grains only (the loader refuses such a scene otherwise).
+    int grains_from_run;
     /// Keys the family owns inside each stage group and inside `output` (NULL-ended lists, or
     /// NULL); the loader accepts them and leaves them to parse.
     const char *const *stage_keys;

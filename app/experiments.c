@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* experiments.c: the registry, the only place that lists the experiment families.
+/* experiments.c: the registry, the only place that lists the experiment families, and the core
+ * layers that plug into the runner through the same hook table (docs/dev/architecture.md).
  *
  * How to add an experiment (docs/dev/architecture.md has a worked example):
  *  1. make a folder app/<family>/ with <family>.h and a file that defines
@@ -12,25 +13,33 @@
  * docs/<family>.md. */
 #include "experiments.h"
 
+#include "config.h"
+
 #include <string.h>
 
-/* One line per family. The order is the order of `sablier --help`'s family commands and of the
- * runner's hook calls. */
+/* One line per family (a folder app/<family>/). The order is the order of `sablier --help`'s
+ * family commands and of the runner's hook calls. */
 #define APP_FAMILIES                                                                               \
     APP_FAMILY(crater)                                                                             \
     APP_FAMILY(discharge)                                                                          \
     APP_FAMILY(bne)                                                                                \
     APP_FAMILY(sediment)                                                                           \
-    APP_FAMILY(surface)                                                                            \
-    APP_FAMILY(measures)   /* not a family: the core's measures layer (app/measures.h) */          \
-    APP_FAMILY(wall_loads) /* not a family: the forces on walls (app/wall_loads.c), last */
+    APP_FAMILY(surface)
+
+/* The core layers on the hook table, called after every family: coarse-grained measures
+ * (app/measures.h), then the forces on walls (app/wall_loads.c). They are app core, not families:
+ * any scene may use them and families may read them. */
+#define APP_CORE_LAYERS                                                                            \
+    APP_FAMILY(measures)                                                                           \
+    APP_FAMILY(wall_loads)
 
 #define APP_FAMILY(name) extern const AppExperiment app_##name##_experiment;
 APP_FAMILIES
+APP_CORE_LAYERS
 #undef APP_FAMILY
 
 #define APP_FAMILY(name) &app_##name##_experiment,
-const AppExperiment *const app_experiments[] = {APP_FAMILIES NULL};
+const AppExperiment *const app_experiments[] = {APP_FAMILIES APP_CORE_LAYERS NULL};
 #undef APP_FAMILY
 
 int app_experiment_count(void)
@@ -56,4 +65,13 @@ const AppCommand *app_experiment_command(const char *name)
             if (strcmp(app_experiments[k]->commands[c].name, name) == 0)
                 return &app_experiments[k]->commands[c];
     return NULL;
+}
+
+const config_setting_t *app_experiment_group(const AppExperiment *family,
+                                             const config_setting_t *root)
+{
+    const config_setting_t *g = family->group ? app_config_member(root, family->group) : NULL;
+    if (!g && family->group_alias)
+        g = app_config_member(root, family->group_alias);
+    return g;
 }

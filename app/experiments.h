@@ -21,4 +21,9 @@ int app_experiment_index(const AppExperiment *family);
 /// The command `name` of any family, or NULL.
 const AppCommand *app_experiment_command(const char *name);
 
+/// The family's top-level group in the scene `root`: `group`, else `group_alias`; NULL when the
+/// scene has neither (or the family has no group).
+const config_setting_t *app_experiment_group(const AppExperiment *family,
+                                             const config_setting_t *root);
+
 #endif

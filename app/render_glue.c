@@ -154,18 +154,15 @@ RenderStyle app_render_style(const SceneStyle *s)
     r.axes = s->axes > 0;
     r.field_color = s->field_color > 0;
     print_size(s, &r);
-    /* colour-bar label and unit follow the quantity */
-    static const char *const labels[][2] = {
-        {"", ""}, {"contact force", "N"}, {"speed", "m/s"}, {"species", ""}, {"height", "m"}};
+    /* colour-bar label and unit follow the quantity, the unit in the scene's units (scene
+     * units table: N, m/s, m in SI; m g, sqrt(g d), d in a normalised scene with g = 1) */
+    static const char *const labels[] = {"", "contact force", "speed", "species", "height"};
+    static const SceneQuantity quantity[] = {SCENE_DIMENSIONLESS, SCENE_FORCE, SCENE_SPEED,
+                                             SCENE_DIMENSIONLESS, SCENE_LENGTH};
     if (r.color_by >= RENDER_COLOR_FIXED && r.color_by <= RENDER_COLOR_HEIGHT) {
-        r.colorbar_label = labels[r.color_by][0];
-        r.colorbar_unit = labels[r.color_by][1];
+        r.colorbar_label = labels[r.color_by];
+        r.colorbar_unit = scene_style_unit(s, quantity[r.color_by], 1);
     }
-    if (r.normalised_units && r.color_by == RENDER_COLOR_HEIGHT)
-        r.colorbar_unit = "d"; /* a scene in its own units: the heights as given */
-    else if (r.normalised_units && r.color_by == RENDER_COLOR_SPEED)
-        r.colorbar_unit = r.normalised_units == RENDER_UNITS_NORMALISED_G ? "\xe2\x88\x9a(gd)"
-                                                                          : "d per time unit";
     return r;
 }
 

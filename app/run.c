@@ -3,7 +3,7 @@
  * in chunks that end on output times (energy rows, movie frames, trace rows, settle test), and
  * save a checkpoint. Every output is written under path.tmp and renamed when complete, so an
  * interrupted run never leaves a truncated file under a final name. */
-#define _GNU_SOURCE /* sched_getaffinity, CPU_COUNT */
+#define _GNU_SOURCE /* struct sigaction */
 #include "run.h"
 
 #include "checkpoint.h"
@@ -16,7 +16,6 @@
 
 #include <errno.h>
 #include <math.h>
-#include <sched.h>
 #include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -65,7 +64,7 @@ typedef struct Run {
     int render_warned;
     int progress_tty;
     double progress_every, last_progress; /* wall s between progress lines (0: none); the last */
-    int cpus;                             /* app_cpu_count(), for APP_THREADS_AUTO */
+    AppThreads threads;  /* fixed, tuned (APP_THREADS_AUTO) or switched: thread_tuner.h */
     int threads_asked;   /* the count last given to the world (sim_world_set_threads) */
     int threads_most;    /* the most threads the step ran on: summary.json's "threads" */
     AppContext context;  /* what the experiment families' hooks see */
@@ -73,6 +72,7 @@ typedef struct Run {
     /* The motions' clocks by world time (sim_world_set_motion), from the stages' `motions`. */
     int motion_running[SIM_MAX_MOTIONS];
     double motion_on[SIM_MAX_MOTIONS], motion_off[SIM_MAX_MOTIONS];
+    double settle_since; /* the stage time since which the settle test holds; < 0: it does not */
     AppSources *sources; /* insertion sources, NULL without */
     /* Checkpoints (docs/cli.md): the wall clock of the last one; with --resume, the point
      * the run continues from (stage, steps done in it, state file) and the original start. */
@@ -95,32 +95,12 @@ AppRunOptions app_run_options_default(void)
     return o;
 }
 
-int app_cpu_count(void)
-{
-    cpu_set_t set;
-    CPU_ZERO(&set);
-    if (sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0)
-        return CPU_COUNT(&set);
-    const long online = sysconf(_SC_NPROCESSORS_ONLN);
-    return online > 0 ? (int)(online < 1024 ? online : 1024) : 1;
-}
-
-int app_step_threads(int mobile, int cpus, int grains_per_thread)
-{
-    const int per = grains_per_thread > 0 ? grains_per_thread : APP_GRAINS_PER_THREAD;
-    int n = mobile / per;
-    n = n < cpus ? n : cpus;
-    return n > 1 ? n : 1;
-}
-
-/* The step's threads for the world as it is now (AppRunOptions.threads): set when the count
- * changes, or at once for a new world (`fresh`); the results do not depend on it. */
+/* The step's threads for the world as it is now (AppRunOptions.threads, app/thread_tuner.h):
+ * set when the count changes, or at once for a new world (`fresh`); the results do not depend on
+ * it. */
 static void apply_threads(Run *run, int fresh)
 {
-    const AppRunOptions *o = run->options;
-    const int want = o->threads > 0 ? o->threads
-                                    : app_step_threads(sim_world_mobile_count(run->world),
-                                                       run->cpus, o->grains_per_thread);
+    const int want = app_threads_want(&run->threads, sim_world_mobile_count(run->world));
     if (fresh || want != run->threads_asked)
         sim_world_set_threads(run->world, want);
     run->threads_asked = want;
@@ -169,10 +149,31 @@ static size_t run_sinks_json(char *out, size_t size, const Run *run)
     return n;
 }
 
+/* summary.json's "units" member of a scene in its own units: the unit of each quantity that its
+ * files hold, from the unit table (scene_unit); "scene" for the scene's own, unnamed unit (a time
+ * when |g| is not 1). The number of bytes written, as snprintf. */
+static size_t normalised_units_json(const Scene *scene, char *text, size_t size)
+{
+    static const struct {
+        const char *key;
+        SceneQuantity quantity;
+    } row[] = {{"length", SCENE_LENGTH}, {"time", SCENE_TIME},   {"mass", SCENE_MASS},
+               {"speed", SCENE_SPEED},   {"force", SCENE_FORCE}, {"energy", SCENE_ENERGY},
+               {"stress", SCENE_STRESS}};
+
+    size_t n = (size_t)snprintf(text, size, "  \"units\": {\"system\": \"normalised\"");
+    for (size_t k = 0; k < sizeof row / sizeof row[0] && n < size; ++k) {
+        const char *unit = scene_unit(scene, row[k].quantity, 0);
+        n += (size_t)snprintf(text + n, size - n, ", \"%s\": \"%s\"", row[k].key,
+                              unit[0] ? unit : "scene");
+    }
+    return n + (size_t)snprintf(text + n, n < size ? size - n : 0, "},\n");
+}
+
 static int write_summary(const Run *run, double wall_seconds)
 {
     const Scene *scene = run->scene;
-    size_t size = 16384 + 512 * SCENE_MAX_STAGES;
+    size_t size = 24576 + 512 * SCENE_MAX_STAGES;
     char *text = malloc(size);
     if (!text)
         return -1;
@@ -205,12 +206,13 @@ static int write_summary(const Run *run, double wall_seconds)
     size_t n = (size_t)snprintf(
         text, size,
         "{\n  \"scene\": %s,\n  \"scene_file\": %s,\n  \"seed\": %llu,\n  \"grains\": %d,\n"
-        "  \"mobile_grains\": %d,\n  \"steps\": %ld,\n  \"simulated_seconds\": %s,\n"
+        "  \"mobile_grains\": %d,\n  \"steps\": %ld,\n  \"%s\": %s,\n"
         "  \"wall_seconds\": %s,\n  \"particle_steps_per_second\": %s,\n"
         "  \"contacts_mean\": %s,\n  \"status\": \"%s\",\n  \"message\": %s,\n"
         "  \"effects\": %s,\n  \"threads\": %d,\n",
-        name, file, (unsigned long long)scene->seed, grains, mobile, run->steps, n1, n2, n3, n4,
-        status, message, effects_json,
+        name, file, (unsigned long long)scene->seed, grains, mobile, run->steps,
+        scene->units_normalised ? "simulated_time" : "simulated_seconds", n1, n2, n3, n4, status,
+        message, effects_json,
         run->threads_most > 0 ? run->threads_most
                               : (run->options->threads > 0 ? run->options->threads : 1));
     n += run_sinks_json(text + n, size - n, run);
@@ -224,13 +226,8 @@ static int write_summary(const Run *run, double wall_seconds)
                               "\"mass_kg\": %s, \"time_s\": %s},\n",
                               d, m, t);
     }
-    if (run->scene->units_normalised && n < size) {
-        const char *time = scene_unit(run->scene, SCENE_TIME, 0); /* "": the scene's own */
-        n += (size_t)snprintf(text + n, size - n,
-                              "  \"units\": {\"system\": \"normalised\", \"length\": \"%s\", "
-                              "\"time\": \"%s\"},\n",
-                              scene_unit(run->scene, SCENE_LENGTH, 0), time[0] ? time : "scene");
-    }
+    if (run->scene->units_normalised && n < size)
+        n += normalised_units_json(run->scene, text + n, size - n);
     char sources[2048];
     app_sources_json(run->sources, sources, sizeof sources);
     n += (size_t)snprintf(text + n, n < size ? size - n : 0, "%s%s  \"stages\": [", sources,
@@ -262,6 +259,11 @@ static int write_summary(const Run *run, double wall_seconds)
     if (n < size) /* last: the fields above keep their lines whatever the command line */
         n += app_provenance_json(&run->options->provenance, scene->sha256, RESOLVED_NAME, text + n,
                                  size - n);
+    if (n < size && n > 0 && text[n - 1] == '\n') { /* after it: they differ between runs too */
+        n += (size_t)snprintf(text + n - 1, size - n + 1, ",\n") - 1;
+        n += app_threads_json(&run->threads, text + n, size - n);
+        n += (size_t)snprintf(text + n, n < size ? size - n : 0, "\n");
+    }
     if (n < size)
         n += (size_t)snprintf(text + n, size - n, "}\n");
     char path[PATH_SIZE];
@@ -480,8 +482,10 @@ static int stage_world(Run *run, int k)
 }
 
 /* The stage's gravity and motions (docs/scenes.md, stages): a motion the stage enables starts
- * its clock now (at t = 0 when it runs from the first stage); one it stops holds its pose. The
- * schedules are set again on every stage's world, fresh or continued. */
+ * its clock now (at t = 0 when it runs from the first stage), or, stopped in an earlier stage,
+ * continues it from where it stopped (its pose is continuous); `restart_motions` starts it from
+ * 0 again. One it stops holds its pose. The schedules are set again on every stage's world,
+ * fresh or continued. */
 static void stage_forcing(Run *run, int k)
 {
     const SceneStage *stage = &run->scene->stages[k];
@@ -491,8 +495,13 @@ static void stage_forcing(Run *run, int k)
     const double now = sim_world_time(run->world);
     for (int m = 0; m < run->scene->def.motion_count; ++m) {
         const int enabled = (stage->motions >> m) & 1u;
-        if (enabled && !run->motion_running[m]) {
-            run->motion_on[m] = now;
+        const int restart = (stage->restart_motions >> m) & 1u;
+        if (enabled && (restart || !run->motion_running[m])) {
+            /* the clock it held when it stopped (never started, or restarted: 0) */
+            const double held = !restart && isfinite(run->motion_on[m])
+                                    ? run->motion_off[m] - run->motion_on[m]
+                                    : 0.0;
+            run->motion_on[m] = now - held;
             run->motion_off[m] = (double)INFINITY;
         } else if (!enabled && run->motion_running[m]) {
             run->motion_off[m] = now;
@@ -552,6 +561,9 @@ static int stage_edit(Run *run, int k)
             return -1;
         report->removed += sim_world_remove_ids(run->world, stage->remove_ids, stage->remove_count);
     }
+    /* the stage's listed grains, placed after its removals (app/stage_adds.c) */
+    if (scene_stage_add(run->scene, k, run->world, run->message, sizeof run->message) != 0)
+        return -1;
     report->at_start = report->removed;
     for (int s = 0; s < SIM_MAX_SINKS; ++s) /* the sinks' counters as the stage starts */
         report->sinks[s] = sim_world_removed_count(run->world, s);
@@ -775,15 +787,27 @@ static long next_due(const Run *run, int k, const StageClock *clock, long done)
     return family_next_step(run, done, next);
 }
 
-/* 1 when the stage's settle test passes at step `done`. */
+/* 1 when the stage's settle test passes at step `done`: E_kin + E_rot (per mobile grain with
+ * kinetic_per_grain_below) below the level at this energy row and at every row of the last
+ * `hold` seconds (run->settle_since: the first of them). */
 static int settled(Run *run, const SceneStage *stage, const StageClock *clock, long done)
 {
     double elapsed = (double)done * clock->dt;
-    if (!(stage->settle_kinetic > 0.0) || done % clock->every_energy != 0 || done == 0 ||
+    const int total = stage->settle_kinetic > 0.0;
+    const double level = total ? stage->settle_kinetic : stage->settle_per_grain;
+    if (!(level > 0.0) || done % clock->every_energy != 0 || done == 0 ||
         elapsed < stage->settle_after - 0.5 * clock->dt)
         return 0;
     SimEnergy e = sim_world_energy(run->world);
-    return e.kinetic + e.rotational < stage->settle_kinetic;
+    const int mobile = sim_world_mobile_count(run->world);
+    const double kinetic = e.kinetic + e.rotational;
+    if (!(total ? kinetic < level : kinetic < level * (mobile > 0 ? mobile : 1))) {
+        run->settle_since = -1.0;
+        return 0;
+    }
+    if (run->settle_since < 0.0)
+        run->settle_since = elapsed;
+    return elapsed - run->settle_since >= stage->settle_hold - 0.5 * clock->dt;
 }
 
 /* ---------------------------------------------------------------- checkpoints and resume */
@@ -813,11 +837,12 @@ static size_t checkpoint_record(const Run *run, int k, long done, const char *st
     size_t n = (size_t)snprintf(
         text, size,
         "sablier-checkpoint 1\nscene_sha256 %s\nstarted %lld\nstage %d\ndone %ld\nstate %s\n"
-        "energy_bytes %ld\ntrace_bytes %ld\nscales %a %a %a %a\ntotals %ld %a %a %a %a %ld\n",
+        "energy_bytes %ld\ntrace_bytes %ld\nscales %a %a %a %a\ntotals %ld %a %a %a %a %ld\n"
+        "settle %a\n",
         run->scene->sha256, run->started, k, done, state, app_checkpoint_bytes(run->energy),
         app_checkpoint_bytes(run->trace), run->time_scale, run->unit_length, run->unit_mass,
         run->unit_time, steps, run->simulated, run->particle_steps, run->step_seconds,
-        run->contacts_sum, run->contacts_samples);
+        run->contacts_sum, run->contacts_samples, run->settle_since);
     for (int m = 0; m < SIM_MAX_MOTIONS && n < size; ++m)
         n += (size_t)snprintf(text + n, size - n, "motion %d %d %a %a\n", m, run->motion_running[m],
                               run->motion_on[m], run->motion_off[m]);
@@ -948,6 +973,8 @@ static int resume_line(Run *run, const char *line, char *sha, int *seen)
     if (sscanf(line, "totals %ld %la %la %la %la %ld", &run->steps, &run->simulated,
                &run->particle_steps, &run->step_seconds, &run->contacts_sum,
                &run->contacts_samples) == 6)
+        return 0;
+    if (sscanf(line, "settle %la", &run->settle_since) == 1)
         return 0;
     if (sscanf(line, "motion %d %d %la %la", &m, &running, &on, &off) == 4) {
         if (m < 0 || m >= SIM_MAX_MOTIONS)
@@ -1107,11 +1134,13 @@ static int stage_loop(Run *run, int k, StageClock *clock, long done, int resumed
         long next = next_due(run, k, clock, done);
         if (next - done > SIGNAL_CHECK_STEPS)
             next = done + SIGNAL_CHECK_STEPS;
-        apply_threads(run, 0); /* grains come and go: APP_THREADS_AUTO follows them */
+        apply_threads(run, 0); /* APP_THREADS_AUTO follows the rates and the grains */
+        next = done + app_threads_chunk(&run->threads, next - done);
         double t0 = app_now_seconds();
         SimStatus s = sim_world_step(run->world, next - done, &run->error);
         double t1 = app_now_seconds();
         step_wall += t1 - t0;
+        app_threads_done(&run->threads, next - done, sim_world_mobile_count(run->world), t1 - t0);
         run->particle_steps += (double)sim_world_mobile_count(run->world) * (double)(next - done);
         report->steps += next - done;
         done = next;
@@ -1270,6 +1299,8 @@ static int run_stage(Run *run, int k)
     StageClock clock;
     memset(&clock, 0, sizeof clock);
     const int resumed = k == run->resume_stage && run->resume_state[0];
+    if (!resumed)
+        run->settle_since = -1.0;
     int status = resumed ? stage_resume(run, k, &clock) : stage_start(run, k, &clock);
     if (status != 0) {
         app_dump_close(&clock.dump, NULL, 0, NULL, 0); /* no half dump */
@@ -1476,6 +1507,7 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     }
     run->scene = scene;
     run->options = options;
+    run->settle_since = -1.0; /* a checkpoint from before `hold`: no window under way */
     run->context = (AppContext){.scene = scene,
                                 .out_dir = options->out_dir,
                                 .render = options->render,
@@ -1490,7 +1522,8 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     run->started = (long long)started;
     run->resume_stage = -1;
     run->checkpoint_wall = wall_start;
-    run->cpus = app_cpu_count();
+    app_threads_init(&run->threads, options->threads, options->threads_switch_every,
+                     app_cpu_count(), options->grains_per_thread, options->threads_block_seconds);
     if (prepare_folder(run) != 0) {
         free(run->resume_record);
         free(run);

@@ -14,6 +14,7 @@
 #include "provenance.h"
 #include "render_hooks.h"
 #include "scene.h"
+#include "thread_tuner.h"
 
 #include "sim/sim.h"
 
@@ -27,16 +28,21 @@ typedef struct AppRunOptions {
     /// APP_PROGRESS_EVERY; a terminal gets one line rewritten in place instead; quiet: neither.
     double progress_every;
     /// Threads of the physics step (the same results for any count): N, or APP_THREADS_AUTO
-    /// (0): every CPU this process may use, as many as the world's size pays for
-    /// (app_step_threads), re-chosen as grains come and go. Default 1 (the multi-run drivers run
-    /// members side by side); `sablier run` defaults to APP_THREADS_AUTO.
+    /// (0): the count that steps fastest now, measured while the run goes on, within the CPUs
+    /// this process may use (app/thread_tuner.h). Default 1 (the multi-run drivers run members
+    /// side by side); `sablier run` defaults to APP_THREADS_AUTO.
     int threads;
-    int grains_per_thread;       ///< APP_THREADS_AUTO: mobile grains per thread; 0: the default
-    const AppRender *render;     ///< NULL: figures and movies skipped with one warning
-    int render_off;              ///< 1: the caller chose no rendering (NULL render, no warning)
-    const char *sablier_version; ///< for summary.json
-    const char *render_versions; ///< render_library_versions(), or NULL
-    AppProvenance provenance;    ///< the command line and --set overrides, for summary.json
+    int grains_per_thread; ///< APP_THREADS_AUTO: mobile grains a thread of its first try; 0:
+                           ///< default
+    /// A testing aid: > 0 cycles the count through 1, 2, 3 and 4 threads every this many steps,
+    /// whatever `threads` says (the results must be one thread's, to the bit).
+    long threads_switch_every;
+    double threads_block_seconds; ///< APP_THREADS_AUTO's measured blocks; 0: the default
+    const AppRender *render;      ///< NULL: figures and movies skipped with one warning
+    int render_off;               ///< 1: the caller chose no rendering (NULL render, no warning)
+    const char *sablier_version;  ///< for summary.json
+    const char *render_versions;  ///< render_library_versions(), or NULL
+    AppProvenance provenance;     ///< the command line and --set overrides, for summary.json
     int force;  ///< 1: run into a folder that holds outputs of an unknown run (no manifest.txt)
     int resume; ///< 1: continue from the newest checkpoint in out_dir (DIR/checkpoint.txt)
 } AppRunOptions;
@@ -46,19 +52,7 @@ AppRunOptions app_run_options_default(void);
 /// Default of AppRunOptions.progress_every, s.
 #define APP_PROGRESS_EVERY 60.0
 
-#define APP_THREADS_AUTO      0
-/// Mobile grains per thread of APP_THREADS_AUTO: two threads on 1500 grains already took 0.77
-/// of one thread's time with the fused pass in parts; 1000 per thread keeps a margin
-/// (docs/dev/scaling.md, "Threads by default").
-#define APP_GRAINS_PER_THREAD 1000
-
-/// The CPUs this process may run on (its affinity mask: taskset, a Slurm or cgroup CPU set),
-/// at least 1.
-int app_cpu_count(void);
-
-/// The threads APP_THREADS_AUTO gives a world of `mobile` grains on `cpus` CPUs: one per
-/// `grains_per_thread` grains (0: APP_GRAINS_PER_THREAD), at least 1, at most `cpus`.
-int app_step_threads(int mobile, int cpus, int grains_per_thread);
+/* APP_THREADS_AUTO, app_cpu_count and app_step_threads: thread_tuner.h */
 
 /// Exit statuses of app_run besides 0 (ok), 1 (simulation failed) and 2 (bad input, I/O):
 /// 128 + the signal for a run interrupted by SIGINT (130) or SIGTERM (143), which finishes its

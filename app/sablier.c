@@ -69,16 +69,24 @@ static void print_usage(FILE *out)
 }
 
 static const char USAGE_RUN[] =
-    "usage: sablier run SCENE [--out DIR] [--set KEY=VALUE]... [--threads N|auto] [--quiet]\n"
-    "                   [--progress-every SECONDS] [--force] [--resume]\n"
+    "usage: sablier run SCENE [--out DIR] [--set KEY=VALUE]... [--unset KEY]...\n"
+    "                   [--threads N|auto] [--quiet] [--progress-every SECONDS] [--force]\n"
+    "                   [--resume] [--threads-switch-every STEPS]\n"
     "\n"
     "  --out DIR          output folder (default out/<scene name>/)\n"
     "  --set KEY=VALUE    override a scene key by its dotted path, e.g. time.dt=2e-5,\n"
     "                     species.0.k_n=1e6, stages.collapse.time.end=2 (see docs/scenes.md)\n"
+    "  --unset KEY        remove a scene key (and the keys only it allows: --unset\n"
+    "                     contact.tangential also removes k_t, gamma_t), in order with --set\n"
     "  --threads N|auto   threads for the physics step (results do not depend on N); auto,\n"
-    "                     the default: every CPU this process may use, one per 1000 mobile\n"
-    "                     grains (re-chosen as grains come and go)\n"
-    "  --quiet            one line per stage, no progress\n"
+    "                     the default: the count that steps fastest now, measured while the\n"
+    "                     run goes on (neighbouring counts tried from time to time, and again\n"
+    "                     when the grains change or the steps slow down), within the CPUs this\n"
+    "                     process may use; N: always N\n"
+    "  --threads-switch-every STEPS\n"
+    "                     a testing aid: cycle through 1, 2, 3 and 4 threads every STEPS steps\n"
+    "                     (the outputs stay one thread's, to the bit)\n"
+    "  --quiet, -q        one line per stage, no progress\n"
     "  --progress-every SECONDS\n"
     "                     when stderr is no terminal (a batch job's log): one progress line\n"
     "                     every SECONDS of wall time with the stage, the simulated time, the\n"
@@ -90,18 +98,23 @@ static const char USAGE_RUN[] =
     "                     --set values; the outputs come out as an uninterrupted run's\n"
     "\n"
     "SIGINT or SIGTERM stops the run after the current step: the running stage's state goes to\n"
-    "DIR/STAGE.interrupted.state, every output is committed, summary.json says \"interrupted\";\n"
-    "exit status 130 (SIGINT) or 143 (SIGTERM).\n";
+    "DIR/STAGE.interrupted.state, every output is committed, summary.json says \"interrupted\".\n"
+    "\n"
+    "exit status: 0 the run ended, 1 unstable (the last good state saved), 2 bad input (nothing\n"
+    "written) or an output that cannot be written, 3 disk full, 130/143 SIGINT/SIGTERM\n";
 
 static const char USAGE_CHECK[] =
-    "usage: sablier check SCENE [--set KEY=VALUE]... [--target-error E]\n"
+    "usage: sablier check SCENE [--set KEY=VALUE]... [--unset KEY]... [--target-error E]\n"
     "\n"
     "Validates the scene (keys, types, values, overlaps, time step) and prints its stages,\n"
-    "effects, grains, time step, contact time and steps per contact without running it.\n"
+    "effects, grains, friction law (static friction or not), time step, contact time and steps\n"
+    "per contact without running it. Warnings (stderr, file:line): motions that move nothing.\n"
     "  --target-error E   also print, for the stiffest pair and its damping, the steps per\n"
     "                     contact and dt that reach |e - e_n| <= E (measured convergence of the\n"
     "                     integrator and contact.onset) and the CPU time per simulated second\n"
-    "                     that implies (an estimate)\n";
+    "                     that implies (an estimate)\n"
+    "\n"
+    "exit status: 0 the scene is good, 2 bad input (check writes nothing, ever)\n";
 
 static const char USAGE_DIFF[] =
     "usage: sablier diff A.png B.png [--out DIFF.png] [--threshold N] [--shift N]\n"
@@ -119,22 +132,34 @@ static const char USAGE_DIFF[] =
     "                     remove the missing ones (exit 0)\n"
     "Two images: prints one JSON line. Two folders: pairs their figures (.png, and .pdf and .svg\n"
     "drawn at 150 dpi, by the image diff) by relative path and prints one line per changed,\n"
-    "missing or extra figure. Exit 0 match, 1 differ, 2 bad input.\n";
+    "missing or extra figure.\n"
+    "\n"
+    "exit status: 0 match (--update: the baseline was updated), 1 differ, 2 bad input, an\n"
+    "unreadable figure or a report or copy that cannot be written\n";
 
 static const char USAGE_RENDER[] =
     "usage: sablier render STATE -o FIG.png|pdf|svg [options]\n"
     "\n"
+    "  -o, --out FIG        the figure; its extension gives the format (png, pdf, svg)\n"
     "  --scene SCENE        materials and style from a scene (needed for contact forces)\n"
-    "  --set KEY=VALUE      override a key of that scene\n"
+    "  --set KEY=VALUE      override a key of that scene (needs --scene)\n"
+    "  --unset KEY          remove a key of that scene (needs --scene)\n"
     "  --color-by NAME      fixed, force, speed, species, height\n"
     "  --colormap NAME      viridis, yellow_red, greys\n"
     "  --force-chains       draw contact force chains (needs --scene)\n"
+    "  --no-force-chains    do not, whatever the scene's style says\n"
     "  --chain-threshold X  draw contacts above X times the mean normal force\n"
     "  --velocity-field     draw the coarse-grained velocity field\n"
     "  --velocity-arrows    draw per-grain velocity arrows\n"
-    "  --width N --height N size in pixels\n"
-    "  --colorbar --time-stamp --scale-bar   annotations\n"
-    "  --title TEXT\n";
+    "  --width N            width in pixels, 16-16384\n"
+    "  --height N           height in pixels, 16-16384\n"
+    "  --colorbar           the colour bar\n"
+    "  --time-stamp         the state's time above the plot\n"
+    "  --scale-bar          a bar of a few grain diameters\n"
+    "  --title TEXT         a title above the plot\n"
+    "\n"
+    "exit status: 0 the figure was written, 2 bad input or a state that does not fit --scene,\n"
+    "3 disk full\n";
 
 /* ---------------------------------------------------------------- argument helpers */
 
@@ -163,7 +188,7 @@ static const char *render_versions(void)
 typedef struct RunArgs {
     const char *scene_path, *out, *sets[MAX_SETS];
     int set_count, quiet, force, resume;
-    long threads;
+    long threads, switch_every;
     double progress_every;
 } RunArgs;
 
@@ -178,8 +203,8 @@ static int run_arguments(int argc, char **argv, RunArgs *a)
             if (m < 0)
                 return 2;
             a->out = value;
-        } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
-            if (m < 0 || app_collect_set(a->sets, &a->set_count, MAX_SETS, value) < 0)
+        } else if ((m = app_set_option(argc, argv, &i, a->sets, &a->set_count, MAX_SETS)) != 0) {
+            if (m < 0)
                 return 2;
         } else if ((m = app_option(argc, argv, &i, "--threads", &value)) != 0) {
             if (m > 0 && strcmp(value, "auto") == 0)
@@ -187,6 +212,11 @@ static int run_arguments(int argc, char **argv, RunArgs *a)
             else if (m < 0 || app_parse_count(value, 1, 1024, &a->threads) < 0)
                 return app_usage_error(USAGE_RUN,
                                        "--threads needs a count in [1, 1024] or auto, got",
+                                       m < 0 ? "nothing" : value);
+        } else if ((m = app_option(argc, argv, &i, "--threads-switch-every", &value)) != 0) {
+            if (m < 0 || app_parse_count(value, 1, 1000000000L, &a->switch_every) < 0)
+                return app_usage_error(USAGE_RUN,
+                                       "--threads-switch-every needs a step count >= 1, got",
                                        m < 0 ? "nothing" : value);
         } else if ((m = app_option(argc, argv, &i, "--progress-every", &value)) != 0) {
             const AppNumberList how = {.min = 0.0, .strict = 1, .exact = 1};
@@ -235,6 +265,7 @@ static int command_run(int argc, char **argv)
     options.quiet = a.quiet;
     options.progress_every = a.progress_every;
     options.threads = (int)a.threads;
+    options.threads_switch_every = a.switch_every;
     options.sablier_version = SABLIER_VERSION;
     options.render_versions = render_versions();
     options.force = a.force;
@@ -341,15 +372,11 @@ static int check_arguments(int argc, char **argv, CheckArgs *a)
                                        m < 0 ? "" : value);
             continue;
         }
-        m = app_option(argc, argv, &i, "--set", &value);
+        m = app_set_option(argc, argv, &i, a->sets, &a->set_count, MAX_SETS);
         if (m < 0)
             return 2;
-        if (m > 0) {
-            if (app_collect_set(a->sets, &a->set_count, MAX_SETS, value) < 0)
-                return 2;
-        } else if (app_scene_argument(USAGE_CHECK, argv[i], &a->scene_path) != 0) {
+        if (m == 0 && app_scene_argument(USAGE_CHECK, argv[i], &a->scene_path) != 0)
             return 2;
-        }
     }
     if (!a->scene_path)
         return app_usage_error(USAGE_CHECK, "missing SCENE", NULL);
@@ -403,6 +430,8 @@ static int command_check(int argc, char **argv)
         printf(")");
     }
     printf("\n");
+    scene_describe_friction(scene, stdout);
+    scene_warn(scene, stderr);
     if (scene->def.skin > 0.0)
         printf("lists    Verlet skin %g%s (fixed)\n", scene->def.skin, u[1]);
     else
@@ -440,6 +469,11 @@ static int command_check(int argc, char **argv)
                    scene_frame_interval(scene, k), u[2],
                    scene_frame_interval(scene, k) * scene->output.fps, u[2]);
         printf("\n");
+        for (int j = 0; j < s->add_count; ++j) /* names and ids for trace, dumps, remove_ids */
+            printf("  add grain %u%s%s%s at (%g, %g), radius %g, species %s\n", s->adds[j].id,
+                   s->adds[j].name[0] ? " `" : "", s->adds[j].name, s->adds[j].name[0] ? "`" : "",
+                   s->adds[j].x, s->adds[j].y, s->adds[j].radius,
+                   scene->species_names[s->adds[j].species]);
         print_timing(scene, k);
         app_dump_describe(&scene->output.dump[k], s->duration, s->time_step, stdout);
     }
@@ -730,8 +764,8 @@ static int render_args(int argc, char **argv, RenderArgs *a)
             if (m < 0)
                 return 2;
             a->scene_path = value;
-        } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
-            if (m < 0 || app_collect_set(a->sets, &a->set_count, MAX_SETS, value) < 0)
+        } else if ((m = app_set_option(argc, argv, &i, a->sets, &a->set_count, MAX_SETS)) != 0) {
+            if (m < 0)
                 return 2;
         } else if ((m = app_option(argc, argv, &i, "--color-by", &value)) != 0) {
             if (m < 0 || (a->over.color_by = name_index(value, color_names)) < 0)

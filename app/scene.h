@@ -19,6 +19,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #define SCENE_MAX_STAGES  8
 #define SCENE_MAX_FIGURES 16
@@ -79,6 +80,21 @@ typedef struct SceneStyle {
     int plot_format;       ///< plots also written as: -1 unset (PNG only), 0 png, 1 pdf, 2 svg
 } SceneStyle;
 
+/// The most grains one stage's `add` may list.
+#define SCENE_MAX_ADDS 10000
+
+/// A grain a stage places at its start (`add`, docs/scenes.md#grains-added-by-a-stage; app/
+/// stage_adds.c). Its id is fixed at load: the added grains of every stage, in stage order and
+/// list order, take the ids after the largest id of the scene's own grains.
+typedef struct SceneAdd {
+    char name[SCENE_NAME_MAX];       ///< "" when unnamed; unique in the scene
+    double x, y, vx, vy, omega;      ///< m, m/s, rad/s
+    double radius;                   ///< m
+    int species;                     ///< material index
+    uint32_t id;                     ///< its stable id
+    char where[SCENE_PATH_MAX + 32]; ///< "file:line" of its entry
+} SceneAdd;
+
 /// How a stage gets its grains.
 typedef enum SceneLoad {
     SCENE_LOAD_SCENE = 0,    ///< build from the scene's `grains` (first stage default)
@@ -94,6 +110,8 @@ typedef struct SceneStage {
     double duration;                ///< time.end: simulated time of the stage, s (the cap)
     double settle_kinetic;          ///< stop once E_kin + E_rot < this, J; 0 = off
     double settle_after;            ///< the settle test starts this long into the stage, s
+    double settle_per_grain;        ///< stop once (E_kin + E_rot) / mobile grains < this, J
+    double settle_hold;             ///< ... at every energy row for this long, s (0: one row)
     int remove_count;
     uint32_t *remove_ids; ///< stable ids removed at the stage start
     int movie;            ///< 1: write <stage>.mp4
@@ -103,8 +121,11 @@ typedef struct SceneStage {
     double gravity_x, gravity_y; ///< m/s^2
     unsigned effects;            ///< SimEffect bits in force (a subset of the scene's)
     unsigned motions;            ///< bit m: motion m is enabled in this stage
+    unsigned restart_motions;    ///< bit m: motion m's clock restarts at the stage start
     int declares_motions;        ///< 1: some stage of the scene has a `motions` list
     double movie_view[4];        ///< the stage movie's window [x0, y0, x1, y1], m; x1 <= x0: none
+    int add_count;
+    SceneAdd *adds; ///< grains placed at the stage start, after its removals
 } SceneStage;
 
 typedef struct SceneFigure {
@@ -199,6 +220,9 @@ typedef struct Scene {
     struct SceneSource *sources; ///< insertion sources (app/sources.h), malloc'd
     /// time.target_error: |e - e_n| the time step was chosen for (app/advice.h); 0 = not used
     double target_error;
+    /// One above the largest id of the grains the stages add (a source's grains take ids from
+    /// here up); 0 when no stage adds grains.
+    uint32_t added_id_end;
 } Scene;
 
 /// Loads, overrides and checks a scene. `sets` are "KEY=VALUE" strings. Returns NULL with
@@ -221,6 +245,22 @@ const char *scene_where_field(const Scene *scene, int stage, const char *field);
 /// The scene's parsed state of experiment `family` (NULL when the scene does not use it); each
 /// family reads its own through this (app_bne_of, app_crater_of, ...).
 void *scene_experiment_state(const Scene *scene, const AppExperiment *family);
+
+/// The grain a stage adds (SceneAdd) named `name`, or with id `id` when name is NULL; NULL when
+/// no stage adds it.
+const SceneAdd *scene_added_grain(const Scene *scene, const char *name, uint32_t id);
+
+/// Places stage k's added grains into the world at the stage start: refused (-1 with "file:line:
+/// message" in err) when one overlaps a wall, a grain of the world or another added grain, or
+/// when its id is in use (a state loaded by `load`). 0 when placed.
+int scene_stage_add(const Scene *scene, int k, SimWorld *world, char *err, size_t err_size);
+
+/// One line on `out` naming the scene's tangential law and whether it has static friction.
+void scene_describe_friction(const Scene *scene, FILE *out);
+
+/// Warnings "file:line: warning: ..." on `out` for motions that move nothing and stages that
+/// enable one (app/scene_advise.c); returns their count.
+int scene_warn(const Scene *scene, FILE *out);
 
 /// Index of a stage by name, -1 when absent.
 int scene_stage_index(const Scene *scene, const char *name);
@@ -257,6 +297,9 @@ typedef enum SceneQuantity {
 /// (""). `figure` 1: figure text ("√(d/g)", "m/d²"), 0: ASCII for terminals, CSV and JSON.
 /// "" for no unit. scene NULL: SI.
 const char *scene_unit(const Scene *scene, SceneQuantity quantity, int figure);
+/// scene_unit for a style (its normalised_units), for what holds a style but no scene: a
+/// figure's or a movie's colour bar. style NULL: SI.
+const char *scene_style_unit(const SceneStyle *style, SceneQuantity quantity, int figure);
 
 /// The ASCII unit of `quantity` after a number, with its space: " m", " sqrt(d/g)", or "" where
 /// the unit is "" (scene_unit). Returns buf.

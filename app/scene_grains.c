@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* scene_grains.c: the scene's species and motions, its grains (grains.list, rain, box, rows,
  * columns: stable ids follow that order), walls and sinks (docs/scenes.md). */
+#include "experiments.h"
 #include "grains_file.h"
 #include "scene_internal.h"
 
@@ -12,8 +13,8 @@
 /* ---------------------------------------------------------------- species, motions */
 
 static const char *const SPECIES_KEYS[] = {
-    "name", "density", "k_n", "gamma_n", "restitution", "critical_fraction",
-    "mu",   "gamma_s", "k_t", "mu_r",    "k_r",         NULL};
+    "name", "density", "k_n",  "gamma_n", "restitution", "critical_fraction", "mu", "gamma_s",
+    "k_t",  "gamma_t", "mu_r", "k_r",     NULL};
 
 /* SimMaterial fields -> the species keys that set them, for mapping SimError fields to lines. */
 static void where_species(Loader *L, const config_setting_t *g, int k)
@@ -27,6 +28,7 @@ static void where_species(Loader *L, const config_setting_t *g, int k)
         {"friction", "mu"},
         {"tangential_damping", "gamma_s"},
         {"tangential_stiffness", "k_t"},
+        {"spring_damping", "gamma_t"},
         {"rolling_friction", "mu_r"},
         {"rolling_stiffness", "k_r"},
     };
@@ -89,9 +91,16 @@ static int parse_friction(Loader *L, const config_setting_t *g, const char *what
     if (law != SIM_TANGENTIAL_REGULARISED && app_config_member(g, "gamma_s"))
         return app_config_fail(&L->p, app_config_member(g, "gamma_s"),
                                "`gamma_s` is used only by contact.tangential = \"regularised\"");
-    if (law != SIM_TANGENTIAL_SPRING && app_config_member(g, "k_t"))
-        return app_config_fail(&L->p, app_config_member(g, "k_t"),
-                               "`k_t` is used only by contact.tangential = \"spring\"");
+    if (law == SIM_TANGENTIAL_SPRING &&
+        (app_config_number(&L->p, g, "gamma_t", &m->spring_damping) < 0 ||
+         app_config_non_negative(&L->p, g, "gamma_t", m->spring_damping) < 0))
+        return -1;
+    static const char *const spring_keys[] = {"k_t", "gamma_t"};
+    for (int j = 0; j < 2; ++j)
+        if (law != SIM_TANGENTIAL_SPRING && app_config_member(g, spring_keys[j]))
+            return app_config_fail(&L->p, app_config_member(g, spring_keys[j]),
+                                   "`%s` is used only by contact.tangential = \"spring\"",
+                                   spring_keys[j]);
     return 0;
 }
 
@@ -115,7 +124,7 @@ static int parse_rolling(Loader *L, const config_setting_t *g, const char *what,
 /* Species k: the group g -> materials[k] and species_names[k]. */
 static int parse_one_species(Loader *L, const config_setting_t *g, int k)
 {
-    static const char *const friction_keys[] = {"mu", "gamma_s", "k_t"};
+    static const char *const friction_keys[] = {"mu", "gamma_s", "k_t", "gamma_t"};
     static const char *const rolling_keys[] = {"mu_r", "k_r"};
     Scene *scene = L->scene;
     SimMaterial *m = &scene->def.materials[k];
@@ -138,7 +147,7 @@ static int parse_one_species(Loader *L, const config_setting_t *g, int k)
         app_config_positive(&L->p, g, "k_n", m->normal_stiffness) < 0 ||
         parse_damping(L, g, what, m) < 0)
         return -1;
-    for (int j = 0; j < 3; ++j)
+    for (int j = 0; j < 4; ++j)
         if (loader_gate(L, g, friction_keys[j], SIM_EFFECT_FRICTION) < 0)
             return -1;
     for (int j = 0; j < 2; ++j)
@@ -350,6 +359,7 @@ int loader_parse_motions(Loader *L, const config_setting_t *root)
         if (parse_motion_kind(L, g, what, k, m) < 0 || parse_schedule(L, g, m) < 0)
             return -1;
         snprintf(L->scene->motion_names[k], SCENE_NAME_MAX, "%s", name);
+        app_config_where(&L->p, g, L->scene->where->motion[k], WHERE_MAX);
         snprintf(field, sizeof field, "motions[%d]", k);
         loader_where_add(L, field, g);
         L->scene->def.motion_count = k + 1;
@@ -637,9 +647,13 @@ int loader_parse_grains(Loader *L, const config_setting_t *root)
     scene->fixed_count = 0;
     for (int i = 0; i < scene->grains.count; ++i)
         scene->fixed_count += (scene->grains.flags[i] & SIM_GRAIN_FIXED) != 0;
-    /* a `discharge` scene rains its grains during the run (app/discharge/discharge.c) */
-    if (scene->grains.count == scene->fixed_count && !app_config_member(root, "discharge") &&
-        !app_config_member(root, "sources")) /* or its sources feed it (app/sources.c) */
+    /* a family may make the grains during the run (app/experiment.h, grains_from_run), or the
+     * scene's sources feed it (app/sources.c) */
+    int from_run = app_config_member(root, "sources") != NULL;
+    for (int f = 0; app_experiments[f] && !from_run; ++f)
+        from_run = app_experiments[f]->grains_from_run &&
+                   app_experiment_group(app_experiments[f], root) != NULL;
+    if (scene->grains.count == scene->fixed_count && !from_run)
         return app_config_fail(&L->p, grains, "the scene has no mobile grains");
     return 0;
 }

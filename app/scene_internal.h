@@ -33,6 +33,8 @@ struct SceneWhere {
     int grain_capacity;
     char stage_dt[SCENE_MAX_STAGES][WHERE_MAX];
     char stage_load[SCENE_MAX_STAGES][WHERE_MAX];
+    char stage_motions[SCENE_MAX_STAGES][WHERE_MAX]; /* its `motions` list ("": none) */
+    char motion[SIM_MAX_MOTIONS][WHERE_MAX];         /* motions.NAME */
     char fallback[WHERE_MAX];
 };
 
@@ -47,6 +49,7 @@ typedef struct Loader {
     double box_height;        ///< grains.box y1 - y0, m: default D of t*
     char *set_keys[64];       ///< copies of --set keys, pointed to by setting hooks
     int set_count;
+    int unsetting; ///< 1 while an --unset is applied (its messages)
 } Loader;
 
 /* scene_keys.c */
@@ -96,6 +99,14 @@ int loader_parse_stages(Loader *L, const config_setting_t *root);
 /* Every `remove_ids` id names a grain of the scene (while the grains are the scene's own: no
  * sources, no stage loading a file before). 0, or -1 with file:line. */
 int loader_check_remove_ids(Loader *L, const config_setting_t *root);
+
+/* stage_adds.c */
+/// Stage k's `add` list (g: its group). 0, or -1.
+int loader_parse_adds(Loader *L, const config_setting_t *g, int k);
+/// The added grains' ids (SceneAdd.id, Scene.added_id_end), their names unique, and their overlaps
+/// where the world is known at load (the first stage built from the scene; among each stage's
+/// own). Once the grains, walls and stages are read. 0, or -1.
+int loader_assign_add_ids(Loader *L);
 
 /* scene_output.c */
 int loader_parse_output(Loader *L, const config_setting_t *root);

@@ -41,6 +41,8 @@ const char *const *loader_family_keys(int which)
         const char *const *list = which == 1 ? e->stage_keys : which == 2 ? e->output_keys : NULL;
         if (which == 0 && e->group && n < 4 * APP_EXPERIMENT_MAX)
             keys[0][n++] = e->group;
+        if (which == 0 && e->group_alias && n < 4 * APP_EXPERIMENT_MAX)
+            keys[0][n++] = e->group_alias;
         for (int k = 0; list && list[k] && n < 4 * APP_EXPERIMENT_MAX; ++k)
             keys[which][n++] = list[k];
     }

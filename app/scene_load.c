@@ -336,25 +336,68 @@ static int parse_drag(Loader *L, const config_setting_t *root)
     return 0;
 }
 
-/* The groups an effect needs: periodic (periodic_x), drag or a family's fluid (fluid_drag). */
+/* A family's group given under both of its names (app/experiment.h, group_alias). */
+static int check_family_groups(Loader *L, const config_setting_t *root)
+{
+    for (int f = 0; app_experiments[f]; ++f) {
+        const AppExperiment *e = app_experiments[f];
+        const config_setting_t *old =
+            e->group_alias ? app_config_member(root, e->group_alias) : NULL;
+        if (old && e->group && app_config_member(root, e->group))
+            return app_config_fail(&L->p, old, "`%s` is an older name of `%s`: keep one",
+                                   e->group_alias, e->group);
+    }
+    return 0;
+}
+
+/* The family group in `root` that stands for `effect` (app/experiment.h, effects), or NULL; with
+ * `named`, the first family that has such a group, for messages. */
+static const config_setting_t *family_effect_group(const config_setting_t *root, unsigned effect,
+                                                   const AppExperiment **named)
+{
+    *named = NULL;
+    for (int f = 0; app_experiments[f]; ++f) {
+        const AppExperiment *e = app_experiments[f];
+        if (!(e->effects & effect))
+            continue;
+        if (!*named)
+            *named = e;
+        const config_setting_t *g = app_experiment_group(e, root);
+        if (g)
+            return g;
+    }
+    return NULL;
+}
+
+/* The groups an effect needs: periodic (periodic_x), drag or a family's group that stands for it
+ * (fluid_drag). */
 static int parse_effect_groups(Loader *L, const config_setting_t *root)
 {
-    if (loader_gate(L, root, "periodic", SIM_EFFECT_PERIODIC_X) < 0 ||
-        loader_gate(L, root, "drag", SIM_EFFECT_FLUID_DRAG) < 0 ||
-        loader_gate(L, root, "fluid", SIM_EFFECT_FLUID_DRAG) < 0)
+    if (check_family_groups(L, root) < 0 ||
+        loader_gate(L, root, "periodic", SIM_EFFECT_PERIODIC_X) < 0 ||
+        loader_gate(L, root, "drag", SIM_EFFECT_FLUID_DRAG) < 0)
         return -1;
+    for (int f = 0; app_experiments[f]; ++f) {
+        const config_setting_t *g = app_experiment_group(app_experiments[f], root);
+        unsigned effects = app_experiments[f]->effects;
+        for (unsigned bit = 1; g && bit && bit <= effects; bit <<= 1)
+            if ((effects & bit) && loader_gate(L, root, config_setting_name(g), bit) < 0)
+                return -1;
+    }
     if ((L->effects & SIM_EFFECT_PERIODIC_X) && !app_config_member(root, "periodic"))
         return app_config_fail(
             &L->p, L->effects_setting,
             "effect periodic_x needs a group `periodic = { x0 = ...; x1 = ...; }`");
-    if ((L->effects & SIM_EFFECT_FLUID_DRAG) && !app_config_member(root, "drag") &&
-        !app_config_member(root, "fluid"))
-        return app_config_fail(&L->p, L->effects_setting,
-                               "effect fluid_drag needs a group `drag = { model = ...; ... }` or a "
-                               "fluid column `fluid = { ... }`");
-    if (app_config_member(root, "drag") && app_config_member(root, "fluid"))
-        return app_config_fail(&L->p, app_config_member(root, "fluid"),
-                               "`fluid` and `drag` both drag the grains: keep one");
+    const AppExperiment *family = NULL;
+    const config_setting_t *fluid = family_effect_group(root, SIM_EFFECT_FLUID_DRAG, &family);
+    if ((L->effects & SIM_EFFECT_FLUID_DRAG) && !app_config_member(root, "drag") && !fluid)
+        return app_config_fail(
+            &L->p, L->effects_setting,
+            "effect fluid_drag needs a group `drag = { model = ...; ... }`%s%s%s",
+            family ? " or `" : "", family ? family->group : "", family ? " = { ... }`" : "");
+    if (app_config_member(root, "drag") && fluid)
+        return app_config_fail(&L->p, fluid, "`%s` and `drag` both drag the grains: keep one",
+                               config_setting_name(fluid));
     return parse_periodic(L, root) < 0 || parse_drag(L, root) < 0 ? -1 : 0;
 }
 
@@ -661,8 +704,8 @@ static int parse_scene(Loader *L, const config_setting_t *root)
     normalised_labels(scene);
     for (int f = 0; app_experiments[f]; ++f) { /* each family parses its own keys */
         const AppExperiment *e = app_experiments[f];
-        if (e->parse && e->parse(root, e->group ? app_config_member(root, e->group) : NULL, scene,
-                                 &scene->experiments[f], L->p.err, L->p.err_size) != 0)
+        if (e->parse && e->parse(root, app_experiment_group(e, root), scene, &scene->experiments[f],
+                                 L->p.err, L->p.err_size) != 0)
             return -1;
         /* the family's own files, which no figure or measure may overwrite */
         for (int k = 0; scene->experiments[f] && e->outputs && e->outputs[k]; ++k)
@@ -691,12 +734,20 @@ static int finish_output(Loader *L)
         scene->output.t_star_length = L->box_height;
     }
     scene->def.length_scale = scene->output.t_star_length; /* frames' t* agree with CSV */
-    for (int k = 0; k < scene->output.trace_count; ++k)
-        if (scene->output.trace_ids[k] >= (uint32_t)scene->grains.count &&
-            scene->stages[0].load == SCENE_LOAD_SCENE)
+    /* an id the run may hold: the scene's own, an added grain's, or one a source inserts (from
+       the first id above both) */
+    const uint32_t inserted =
+        scene->added_id_end > 0 ? scene->added_id_end : (uint32_t)scene->grains.count;
+    for (int k = 0; k < scene->output.trace_count; ++k) {
+        uint32_t id = scene->output.trace_ids[k];
+        if (id >= (uint32_t)scene->grains.count && scene->stages[0].load == SCENE_LOAD_SCENE &&
+            !scene_added_grain(scene, NULL, id) && !(scene->source_count > 0 && id >= inserted))
             return app_config_fail(&L->p, config_lookup(&L->config, "output.trace"),
-                                   "`trace` id %u is not a grain of the scene (ids 0 to %d)",
-                                   scene->output.trace_ids[k], scene->grains.count - 1);
+                                   "`trace` id %u is not a grain of the scene (ids 0 to %d), of a "
+                                   "stage's `add`%s",
+                                   id, scene->grains.count - 1,
+                                   scene->source_count > 0 ? " or of a source" : " (no source)");
+    }
     return loader_check_views(L);
 }
 
@@ -768,6 +819,8 @@ void scene_free(Scene *scene)
         return;
     for (int k = 0; k < SCENE_MAX_STAGES; ++k)
         free(scene->stages[k].remove_ids);
+    for (int k = 0; k < SCENE_MAX_STAGES; ++k)
+        free(scene->stages[k].adds);
     sim_grain_buffer_free(&scene->grains);
     free(scene->walls);
     free(scene->wall_bodies);

@@ -433,21 +433,36 @@ static int parse_movie(Loader *L, const config_setting_t *output)
     return 0;
 }
 
-/* trace = [id, ...]: grains whose paths go to trace.csv */
+/* trace = [id or name, ...]: grains whose paths go to trace.csv; a name is that of a grain a
+ * stage adds (its id fixed at load, app/stage_adds.c). An array holds one type, so a list
+ * ( 3, "projectile" ) mixes ids and names. */
 static int parse_trace(Loader *L, const config_setting_t *output)
 {
     SceneOutput *out = &L->scene->output;
     const config_setting_t *trace = app_config_member(output, "trace");
     if (!trace)
         return 0;
-    int n = config_setting_type(trace) == CONFIG_TYPE_ARRAY ? config_setting_length(trace) : -1;
+    int type = config_setting_type(trace);
+    int n =
+        type == CONFIG_TYPE_ARRAY || type == CONFIG_TYPE_LIST ? config_setting_length(trace) : -1;
     if (n < 0 || n > SCENE_MAX_TRACE)
-        return app_config_fail(&L->p, trace, "`trace` must be an array of at most %d grain ids",
+        return app_config_fail(&L->p, trace,
+                               "`trace` must be an array of at most %d grain ids or names",
                                SCENE_MAX_TRACE);
     for (int j = 0; j < n; ++j) {
         const config_setting_t *e = config_setting_get_elem(trace, (unsigned)j);
+        if (config_setting_type(e) == CONFIG_TYPE_STRING) {
+            const SceneAdd *a = scene_added_grain(L->scene, config_setting_get_string(e), 0);
+            if (!a)
+                return app_config_fail(&L->p, e, "`trace`: no stage adds a grain named `%s`",
+                                       config_setting_get_string(e));
+            out->trace_ids[j] = a->id;
+            continue;
+        }
         if (config_setting_type(e) != CONFIG_TYPE_INT || config_setting_get_int(e) < 0)
-            return app_config_fail(&L->p, e, "`trace` must list grain ids (integers >= 0)");
+            return app_config_fail(&L->p, e,
+                                   "`trace` must list grain ids (integers >= 0) or the names of "
+                                   "added grains");
         out->trace_ids[j] = (uint32_t)config_setting_get_int(e);
     }
     out->trace_count = n;

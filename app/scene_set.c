@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
-/* scene_set.c: `--set KEY=VALUE` overrides (docs/cli.md), written into the libconfig tree before
- * the scene is parsed. A setting an override touched carries the key as its hook, so that every
- * later message about it reads "--set KEY: message" instead of a file line. */
+/* scene_set.c: `--set KEY=VALUE` overrides and `--unset KEY` removals (docs/cli.md), applied to
+ * the libconfig tree in command-line order before the scene is parsed. A setting an override
+ * touched carries the key as its hook, so that every later message about it reads "--set KEY:
+ * message" instead of a file line. */
 #include "scene_internal.h"
 #include "util.h"
 
@@ -17,7 +18,7 @@ __attribute__((format(printf, 3, 4))) static int set_fail(Loader *L, const char 
                                                           const char *format, ...)
 {
     char where[WHERE_MAX], message[600];
-    snprintf(where, sizeof where, "--set %s", key);
+    snprintf(where, sizeof where, "%s %s", L->unsetting ? "--unset" : "--set", key);
     va_list args;
     va_start(args, format);
     vsnprintf(message, sizeof message, format, args);
@@ -206,6 +207,7 @@ static const char *key_syntax(const char *key)
     return part == 0 ? "empty part in the key (two dots, or a dot at an end)" : NULL;
 }
 
+/* The setting KEY names; a missing key is added (--set) unless value is NULL (--unset). */
 static config_setting_t *walk(Loader *L, char *key, const char *value)
 {
     const char *bad = key_syntax(key);
@@ -236,7 +238,9 @@ static config_setting_t *walk(Loader *L, char *key, const char *value)
     while (s && part) {
         char *next = strtok_r(NULL, ".", &save);
         config_setting_t *c = child(s, part);
-        if (!c && config_setting_type(s) != CONFIG_TYPE_GROUP) {
+        if (!c && !value) {
+            set_fail(L, key, "no such key in the scene (`%s` is missing)", part);
+        } else if (!c && config_setting_type(s) != CONFIG_TYPE_GROUP) {
             set_fail(L, key, "no such element");
         } else if (!c) {
             int type = next ? CONFIG_TYPE_GROUP : infer_type(value);
@@ -281,6 +285,45 @@ static int assign(Loader *L, config_setting_t *s, char *key, char *value)
     return set_scalar(L, s, key, value);
 }
 
+/* The keys that only one contact law accepts, removed with the law's key (its dependents). */
+static void remove_law_keys(Loader *L, const char *law)
+{
+    static const char *const tangential[] = {"k_t", "gamma_t", NULL}, *const rolling[] = {"k_r",
+                                                                                          NULL};
+    const char *const *keys = strcmp(law, "tangential") == 0 ? tangential
+                              : strcmp(law, "rolling") == 0  ? rolling
+                                                             : NULL;
+    config_setting_t *species = config_lookup(&L->config, "species");
+    for (int k = 0; keys && species && k < config_setting_length(species); ++k) {
+        config_setting_t *g = config_setting_get_elem(species, (unsigned)k);
+        for (int j = 0; config_setting_type(g) == CONFIG_TYPE_GROUP && keys[j]; ++j)
+            if (config_setting_get_member(g, keys[j]))
+                config_setting_remove(g, keys[j]);
+    }
+}
+
+/* --unset KEY: the setting removed with what it holds; contact.tangential and contact.rolling
+ * also take the species keys only their law accepts (k_t and gamma_t; k_r). */
+static int unset(Loader *L, char *key)
+{
+    config_setting_t *s = walk(L, key, NULL);
+    if (!s)
+        return -1;
+    config_setting_t *parent = config_setting_parent(s);
+    if (!parent)
+        return set_fail(L, key, "cannot remove the whole scene");
+    char name[128];
+    snprintf(name, sizeof name, "%s", config_setting_name(s) ? config_setting_name(s) : "");
+    const config_setting_t *grand = config_setting_parent(parent);
+    const int law = grand && config_setting_is_root(grand) &&
+                    strcmp(config_setting_name(parent), "contact") == 0;
+    if (!config_setting_remove_elem(parent, (unsigned)config_setting_index(s)))
+        return set_fail(L, key, "cannot remove it");
+    if (law)
+        remove_law_keys(L, name);
+    return 0;
+}
+
 int loader_apply_set(Loader *L, const char *assignment)
 {
     const char *eq = strchr(assignment, '=');
@@ -298,7 +341,10 @@ int loader_apply_set(Loader *L, const char *assignment)
     key[key_length] = '\0';
     L->set_keys[L->set_count++] = key; /* setting hooks point to it until scene_load returns */
     int rc = -1;
-    if (!eq || key_length == 0)
+    L->unsetting = !eq;
+    if (!eq) /* an --unset: the key alone (app_set_option) */
+        rc = unset(L, key);
+    else if (key_length == 0)
         set_fail(L, assignment, "expected KEY=VALUE");
     else {
         config_setting_t *s = walk(L, key, value);

@@ -93,20 +93,33 @@ static int parse_load(Loader *L, const config_setting_t *g, int k)
     return 0;
 }
 
-/* settle = { kinetic_below (J); after (s); }: 000 §4.1 stop when E_kin + E_rot < tol */
+/* settle = { kinetic_below (J) | kinetic_per_grain_below (J); after (s); hold (s); }: 000 §4.1
+ * stop when E_kin + E_rot < tol; with `hold`, when it stays below at every energy row for that
+ * long (a window, not one sample: an oscillating column passes through troughs). */
 static int parse_settle(Loader *L, const config_setting_t *g, SceneStage *stage)
 {
-    static const char *const settle_keys[] = {"kinetic_below", "after", NULL};
+    static const char *const settle_keys[] = {"kinetic_below", "kinetic_per_grain_below", "after",
+                                              "hold", NULL};
     const config_setting_t *settle;
     stage->settle_after = 0.2;
     if (app_config_group(&L->p, g, "settle", &settle) < 0 ||
         app_config_keys(&L->p, settle, "settle", settle_keys, NULL) < 0)
         return -1;
-    if (settle && (app_config_need_number(&L->p, settle, "kinetic_below", "settle",
-                                          &stage->settle_kinetic) < 0 ||
-                   app_config_positive(&L->p, settle, "kinetic_below", stage->settle_kinetic) < 0 ||
-                   app_config_number(&L->p, settle, "after", &stage->settle_after) < 0 ||
-                   app_config_non_negative(&L->p, settle, "after", stage->settle_after) < 0))
+    if (!settle)
+        return 0;
+    const int total = app_config_member(settle, "kinetic_below") != NULL;
+    if (total == (app_config_member(settle, "kinetic_per_grain_below") != NULL))
+        return app_config_fail(&L->p, settle,
+                               "settle: give one of `kinetic_below` (J, all grains) or "
+                               "`kinetic_per_grain_below` (J per mobile grain)");
+    const char *level = total ? "kinetic_below" : "kinetic_per_grain_below";
+    double *value = total ? &stage->settle_kinetic : &stage->settle_per_grain;
+    if (app_config_number(&L->p, settle, level, value) < 0 ||
+        app_config_positive(&L->p, settle, level, *value) < 0 ||
+        app_config_number(&L->p, settle, "after", &stage->settle_after) < 0 ||
+        app_config_non_negative(&L->p, settle, "after", stage->settle_after) < 0 ||
+        app_config_number(&L->p, settle, "hold", &stage->settle_hold) < 0 ||
+        app_config_non_negative(&L->p, settle, "hold", stage->settle_hold) < 0)
         return -1;
     return 0;
 }
@@ -165,15 +178,16 @@ static int parse_stage_effects(Loader *L, const config_setting_t *g, SceneStage 
     return 0;
 }
 
-/* `motions = ["shake"]`: the motions enabled in the stage (the others are stopped). */
-static int parse_stage_motions(Loader *L, const config_setting_t *g, SceneStage *stage)
+/* The motions named by the list `key` of stage g as bits into *mask: 1 when listed, 0 when
+ * absent, -1 after an error. */
+static int motion_list(Loader *L, const config_setting_t *g, const char *key, unsigned *mask)
 {
-    const config_setting_t *s = app_config_member(g, "motions");
+    const config_setting_t *s = app_config_member(g, key);
     if (!s)
         return 0;
     if (!config_setting_is_aggregate(s))
-        return app_config_fail(&L->p, s, "`motions` must list motion names, e.g. [\"shake\"]");
-    if (loader_gate(L, g, "motions", SIM_EFFECT_VIBRATION) < 0)
+        return app_config_fail(&L->p, s, "`%s` must list motion names, e.g. [\"shake\"]", key);
+    if (loader_gate(L, g, key, SIM_EFFECT_VIBRATION) < 0)
         return -1;
     unsigned motions = 0;
     for (int k = 0; k < config_setting_length(s); ++k) {
@@ -183,12 +197,35 @@ static int parse_stage_motions(Loader *L, const config_setting_t *g, SceneStage 
             if (strcmp(L->scene->motion_names[m], name) == 0)
                 found = m;
         if (found < 0)
-            return app_config_fail(&L->p, s, "`motions`: no motion named `%s` in `motions`",
+            return app_config_fail(&L->p, s, "`%s`: no motion named `%s` in `motions`", key,
                                    name ? name : "(not a string)");
         motions |= 1u << found;
     }
-    stage->motions = motions;
+    *mask = motions;
     return 1;
+}
+
+/* `motions = ["shake"]`: the motions enabled in the stage (the others are stopped);
+ * `restart_motions = ["press"]`: those among them whose clock starts again from 0 (the others
+ * keep theirs across stages). */
+static int parse_stage_motions(Loader *L, const config_setting_t *g, int k)
+{
+    SceneStage *stage = &L->scene->stages[k];
+    int listed = motion_list(L, g, "motions", &stage->motions);
+    int restarts = listed < 0 ? -1 : motion_list(L, g, "restart_motions", &stage->restart_motions);
+    if (restarts < 0)
+        return -1;
+    const unsigned idle = stage->restart_motions & ~stage->motions;
+    for (int m = 0; idle && m < L->scene->def.motion_count; ++m)
+        if ((idle >> m) & 1u)
+            return app_config_fail(&L->p, app_config_member(g, "restart_motions"),
+                                   "`restart_motions`: motion `%s` is not enabled in stage `%s` "
+                                   "(list it in its `motions`)",
+                                   L->scene->motion_names[m], stage->name);
+    if (listed || restarts) /* the line of the list, for `sablier check`'s warnings */
+        app_config_where(&L->p, app_config_member(g, listed ? "motions" : "restart_motions"),
+                         L->scene->where->stage_motions[k], WHERE_MAX);
+    return listed || restarts;
 }
 
 /* The stage's forcing: its own keys on top of the previous stage's (the scene's). */
@@ -207,7 +244,7 @@ static int parse_forcing(Loader *L, const config_setting_t *g, int k)
         return -1;
     stage->gravity_x = gravity[0];
     stage->gravity_y = gravity[1];
-    int listed = parse_stage_motions(L, g, stage);
+    int listed = parse_stage_motions(L, g, k);
     if (listed < 0)
         return -1;
     if (listed)
@@ -219,9 +256,9 @@ static int parse_forcing(Loader *L, const config_setting_t *g, int k)
 /* Stage k from group g (NULL: the single stage of a scene without `stages`). */
 static int parse_stage(Loader *L, const config_setting_t *g, int k, const config_setting_t *time)
 {
-    static const char *const keys[] = {"name",  "load", "time",    "settle",  "remove_ids",
-                                       "movie", "skip", "gravity", "effects", "motions",
-                                       "dump",  "view", NULL};
+    static const char *const keys[] = {"name",    "load", "time",    "settle",  "remove_ids",
+                                       "movie",   "skip", "gravity", "effects", "restart_motions",
+                                       "motions", "dump", "view",    "add",     NULL};
     Scene *scene = L->scene;
     SceneStage *stage = &scene->stages[k];
     char what[96];
@@ -244,7 +281,7 @@ static int parse_stage(Loader *L, const config_setting_t *g, int k, const config
                                    "stage name `%s` is used twice", name);
     if (parse_times(L, g, k, time) < 0 || parse_load(L, g, k) < 0 ||
         parse_settle(L, g, stage) < 0 || parse_remove_ids(L, g, stage) < 0 ||
-        parse_forcing(L, g, k) < 0)
+        parse_forcing(L, g, k) < 0 || loader_parse_adds(L, g, k) < 0)
         return -1;
     stage->movie = -1; /* unset: output.movie decides */
     if (app_config_bool(&L->p, g, "movie", &stage->movie) < 0 ||
@@ -279,7 +316,7 @@ int loader_parse_stages(Loader *L, const config_setting_t *root)
     for (int k = 0; k < count; ++k)
         if (parse_stage(L, config_setting_get_elem(list, (unsigned)k), k, time) < 0)
             return -1;
-    return 0;
+    return loader_assign_add_ids(L);
 }
 
 /* 1 when the scene's own grains hold `id`. */
@@ -289,6 +326,16 @@ static int scene_has_id(const Scene *scene, uint32_t id)
     for (int i = 0; i < b->count; ++i)
         if ((b->id ? b->id[i] : (uint32_t)i) == id)
             return 1;
+    return 0;
+}
+
+/* 1 when a stage before stage k adds the grain `id`. */
+static int added_before(const Scene *scene, int k, uint32_t id)
+{
+    for (int m = 0; m < k; ++m)
+        for (int j = 0; j < scene->stages[m].add_count; ++j)
+            if (scene->stages[m].adds[j].id == id)
+                return 1;
     return 0;
 }
 
@@ -304,11 +351,15 @@ int loader_check_remove_ids(Loader *L, const config_setting_t *root)
             return 0; /* from here on the grains come from a state file */
         const config_setting_t *ids =
             config_setting_get_member(config_setting_get_elem(list, (unsigned)k), "remove_ids");
-        for (int j = 0; j < stage->remove_count; ++j)
-            if (!scene_has_id(scene, stage->remove_ids[j]))
+        for (int j = 0; j < stage->remove_count; ++j) {
+            if (!scene_has_id(scene, stage->remove_ids[j]) &&
+                !added_before(scene, k, stage->remove_ids[j]))
                 return app_config_fail(
                     &L->p, ids ? config_setting_get_elem(ids, (unsigned)j) : NULL,
-                    "`remove_ids`: no grain of the scene has id %u", stage->remove_ids[j]);
+                    "`remove_ids`: no grain of the scene or of an earlier stage's `add` has id "
+                    "%u",
+                    stage->remove_ids[j]);
+        }
     }
     return 0;
 }

@@ -34,18 +34,28 @@ static const char *const names[SCENE_QUANTITY_COUNT][UNITS_COUNT][2] = {
     [SCENE_DIMENSIONLESS] = {{"", NULL}, {"", NULL}, {"", NULL}},
 };
 
+static int system_of_style(const SceneStyle *style)
+{
+    const int own = style ? style->normalised_units : 0;
+    return own == SCENE_UNITS_NORMALISED_G ? UNITS_OWN_G : own ? UNITS_OWN : UNITS_SI;
+}
+
 static int system_of(const Scene *scene)
 {
-    const int own = scene ? scene->style.normalised_units : 0;
-    return own == SCENE_UNITS_NORMALISED_G ? UNITS_OWN_G : own ? UNITS_OWN : UNITS_SI;
+    return system_of_style(scene ? &scene->style : NULL);
+}
+
+const char *scene_style_unit(const SceneStyle *style, SceneQuantity quantity, int figure)
+{
+    if ((int)quantity < 0 || quantity >= SCENE_QUANTITY_COUNT)
+        return "";
+    const char *const *name = names[quantity][system_of_style(style)];
+    return figure && name[1] ? name[1] : name[0];
 }
 
 const char *scene_unit(const Scene *scene, SceneQuantity quantity, int figure)
 {
-    if ((int)quantity < 0 || quantity >= SCENE_QUANTITY_COUNT)
-        return "";
-    const char *const *name = names[quantity][system_of(scene)];
-    return figure && name[1] ? name[1] : name[0];
+    return scene_style_unit(scene ? &scene->style : NULL, quantity, figure);
 }
 
 const char *scene_axis_label(const Scene *scene, const char *name, SceneQuantity quantity,

@@ -535,7 +535,15 @@ int app_sources_insert(AppSources *a, SimWorld *world, long done, double dt, cha
     }
     if (batch.count > 0) {
         SimGrainSet set = sim_grain_buffer_view(&batch);
-        set.id = NULL; /* fresh ids above every id in use */
+        set.id = NULL;                    /* fresh ids above every id in use */
+        if (a->scene->added_id_end > 0) { /* and above the grains the stages add */
+            uint32_t next = a->scene->added_id_end;
+            for (int i = 0; i < f.count; ++i)
+                next = f.id[i] >= next ? f.id[i] + 1 : next;
+            for (int i = 0; i < batch.count; ++i)
+                batch.id[i] = next++;
+            set.id = batch.id;
+        }
         SimError error;
         if (sim_world_add_grains(world, &set, &error) != SIM_OK) {
             snprintf(err, err_size, "source insertion: %s: %s", error.field, error.message);

@@ -190,14 +190,34 @@ double app_now_seconds(void)
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-int app_collect_set(const char **sets, int *count, int max, const char *value)
+int app_set_option(int argc, char **argv, int *i, const char **sets, int *count, int max)
 {
+    const char *value;
+    int m = app_option(argc, argv, i, "--set", &value), unset = 0;
+    if (m == 0)
+        unset = (m = app_option(argc, argv, i, "--unset", &value)) != 0;
+    if (m <= 0)
+        return m;
+    if (!unset && !strchr(value, '=')) {
+        fprintf(stderr, "sablier: --set %s: expected KEY=VALUE (--unset KEY removes a key)\n",
+                value);
+        return -1;
+    }
+    if (unset && (!*value || strchr(value, '='))) {
+        fprintf(stderr, "sablier: --unset %s: expected a KEY alone, without `=`\n", value);
+        return -1;
+    }
     if (*count >= max) {
-        fprintf(stderr, "sablier: at most %d --set options\n", max);
+        fprintf(stderr, "sablier: at most %d --set and --unset options\n", max);
         return -1;
     }
     sets[(*count)++] = value;
-    return 0;
+    return 1;
+}
+
+const char *app_set_option_name(const char *entry)
+{
+    return strchr(entry, '=') ? "--set" : "--unset";
 }
 
 int app_parse_count(const char *text, long min, long max, long *out)

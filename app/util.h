@@ -39,8 +39,14 @@ int app_series_grow(double **t, double **v, int *capacity, int initial);
 /// At most this many --set options on one command line.
 #define APP_MAX_SETS 64
 
-/// Appends a --set value to sets[*count] (capacity max); -1 with a message on stderr when full.
-int app_collect_set(const char **sets, int *count, int max, const char *value);
+/// `--set KEY=VALUE` or `--unset KEY` at argv[*i] (*i moves past its value), appended to
+/// sets[*count] (capacity max) in command-line order: an --unset's entry is its KEY alone (no
+/// `=`; scene_load removes it). 1 when taken, 0 when argv[*i] is neither, -1 after a message
+/// on stderr (no value, --set without `=`, --unset with one, the list full).
+int app_set_option(int argc, char **argv, int *i, const char **sets, int *count, int max);
+
+/// The option that gives a sets[] entry on a command line: "--set", or "--unset" for a KEY alone.
+const char *app_set_option_name(const char *entry);
 
 /// A decimal integer in [min, max]: 0 and *out, or -1.
 int app_parse_count(const char *text, long min, long max, long *out);

@@ -50,7 +50,8 @@ static int wall_loads_parse(const config_setting_t *root, const config_setting_t
                                "`window` = [t0, t1] needs 0 <= t0 < t1 (simulated time)");
     if (scene->def.wall_count == 0)
         return app_config_fail(&p, g, "`output.walls`: the scene has no walls");
-    if (scene_claim_output(scene, &p, g, "output.walls", "walls.csv") < 0)
+    if (scene_claim_output(scene, &p, g, "output.walls", "walls.csv") < 0 ||
+        scene_claim_output(scene, &p, g, "output.walls", "walls.png") < 0)
         return -1;
     WallLoads *w = calloc(1, sizeof *w);
     if (w)
@@ -175,6 +176,93 @@ static void wall_loads_summary_json(const void *state, char *out, size_t size)
         snprintf(out + n, size - n, "]},\n");
 }
 
+/* Each wall's stress (t, sigma) read back from walls.csv (the whole run, a resumed one too):
+ * column 0 the time, 2 the wall, 8 the stress. 0, or -1. */
+typedef struct WallSeries {
+    int count, capacity;
+    double *t, *stress;
+} WallSeries;
+
+static int read_series(const WallLoads *w, WallSeries *series)
+{
+    FILE *f = sim_open_input(w->path, NULL);
+    if (!f)
+        return -1;
+    char line[1024];
+    int rc = fgets(line, sizeof line, f) ? 0 : -1; /* the header */
+    while (rc == 0 && fgets(line, sizeof line, f)) {
+        double v[9];
+        char *p = line;
+        int n = 0;
+        for (; n < 9 && p; ++n, p = strchr(p, ',') ? strchr(p, ',') + 1 : NULL)
+            v[n] = n == 1 ? 0.0 : strtod(p, NULL); /* column 1: the stage's name */
+        int k = n == 9 ? (int)v[2] : -1;
+        if (k < 0 || k >= w->wall_count)
+            continue;
+        WallSeries *s = &series[k];
+        if (s->count == s->capacity && app_series_grow(&s->t, &s->stress, &s->capacity, 256) != 0)
+            rc = -1;
+        else {
+            s->t[s->count] = v[0];
+            s->stress[s->count++] = v[8];
+        }
+    }
+    fclose(f);
+    return rc;
+}
+
+/* walls.png (and render.plot_format's copy): each wall's normal stress against time, in the
+ * scene's units; walls.csv is its data. */
+static int wall_loads_figures(const void *state, const AppContext *c)
+{
+    const WallLoads *w = state;
+    if (!c->render || !c->render->plot)
+        return 0;
+    WallSeries *series = calloc((size_t)w->wall_count, sizeof *series);
+    AppPlotSeries *plotted = calloc((size_t)w->wall_count, sizeof *plotted);
+    char(*labels)[32] = calloc((size_t)w->wall_count, sizeof *labels);
+    int rc = series && plotted && labels ? read_series(w, series) : -1;
+    for (int k = 0; rc == 0 && k < w->wall_count; ++k) {
+        snprintf(labels[k], sizeof labels[k], "wall %d", k);
+        plotted[k] = (AppPlotSeries){.label = labels[k],
+                                     .count = series[k].count,
+                                     .x = series[k].t,
+                                     .y = series[k].stress,
+                                     .line = 1,
+                                     .rgb = APP_RGB_AUTO};
+    }
+    char x_label[64], y_label[64], title[SCENE_NAME_MAX + 48], path[sizeof w->path], err[512] = "";
+    AppPlotPanel panel = {
+        .x_label = scene_axis_label(w->scene, "t", SCENE_TIME, x_label, sizeof x_label),
+        .y_label = scene_axis_label(w->scene, "\\sigma_n", SCENE_STRESS, y_label, sizeof y_label),
+        .legend = w->wall_count > 1 ? APP_LEGEND_AUTO : APP_LEGEND_NONE,
+        .series_count = w->wall_count,
+        .series = plotted};
+    snprintf(title, sizeof title, "%s: normal stress on the walls", w->scene->name);
+    AppPlot plot = {.title = title,
+                    .width = 1000,
+                    .height = 600,
+                    .panel_count = 1,
+                    .panels = &panel,
+                    .scene = w->scene->name,
+                    .seed = w->scene->seed,
+                    .print = &w->scene->style,
+                    .data_beside = 1}; /* walls.csv */
+    snprintf(path, sizeof path, "%s/walls.png", c->out_dir);
+    if (rc != 0)
+        snprintf(c->err, c->err_size, "walls.png: cannot read %s", w->path);
+    else if ((rc = c->render->plot(c->render->context, &plot, path, err, sizeof err)) != 0)
+        snprintf(c->err, c->err_size, "figure %s: %s", path, err);
+    for (int k = 0; series && k < w->wall_count; ++k) {
+        free(series[k].t);
+        free(series[k].stress);
+    }
+    free(series);
+    free(plotted);
+    free(labels);
+    return rc;
+}
+
 static const char *const output_keys[] = {"walls", NULL};
 
 const AppExperiment app_wall_loads_experiment = {
@@ -188,4 +276,5 @@ const AppExperiment app_wall_loads_experiment = {
     .checkpoint = wall_loads_checkpoint,
     .resume = wall_loads_resume,
     .summary_json = wall_loads_summary_json,
+    .figures = wall_loads_figures,
 };

@@ -39,19 +39,19 @@ int main(int argc, char **argv)
         return 2;
     }
     double t0 = now();
-    AppChart *chart = malloc(sizeof *chart);
+    AppCraterChart *chart = malloc(sizeof *chart);
     int rc = chart ? 0 : 1;
     for (int k = 0; k < repeats && rc == 0; ++k) {
         /* read and drawn each time, as a plotting script does */
-        app_chart_init(chart, 1, 1, "free-surface profiles");
+        app_crater_chart_init(chart, 1, 1, "free-surface profiles");
         chart->print = &scene->style;
         snprintf(path, sizeof path, "%s/profiles.png", argv[2]);
-        if (app_chart_profiles_run(chart, 0, argv[1], 8, NULL) != 0 ||
-            app_chart_write(chart, app_render_glue(), path, err, sizeof err) != 0) {
+        if (app_crater_chart_profiles_run(chart, 0, argv[1], 8, NULL) != 0 ||
+            app_crater_chart_write(chart, app_render_glue(), path, err, sizeof err) != 0) {
             fprintf(stderr, "bench_app_plot_profile: %s\n", err[0] ? err : "no profile.csv");
             rc = 1;
         }
-        app_chart_free(chart);
+        app_crater_chart_free(chart);
     }
     double t = (now() - t0) / repeats;
     if (rc == 0)

@@ -49,7 +49,9 @@ static void visit_one(SimWorld *world, unsigned key, int i, int j, int wall, dou
         double scratch = 0.0;
         f_t = tangential_force_d(key, p->k_t, p->mu, p->gamma_s, v_s, f_n, f_el, 0.0, &scratch);
     } else if (law == SIM_TANGENTIAL_SPRING) {
-        f_t = p->k_t * xi_t;
+        f_t = p->k_t * xi_t; /* with its dashpot (Luding 2008): + gamma_t v_s */
+        if (p->gamma_t != 0.0)
+            f_t += p->gamma_t * v_s;
     }
     if (key & KEY_HERTZ)
         energy = 0.4 * p->k_n * overlap * overlap * sqrt(overlap);

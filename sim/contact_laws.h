@@ -47,21 +47,27 @@ KERNEL LAW_T LAW(normal_force)(const unsigned key, LAW_T k_n, LAW_T gamma_n, LAW
     return f;
 }
 
-/* Tangential force along s. Regularised Coulomb: 000 eq. 3.28. Spring: 004 eqs. 1.12-1.13 with
- * the cap on the elastic normal force, xi_t kept at the cap while sliding. Written without
- * data-dependent branches: sticking and sliding contacts mix at random. */
-KERNEL LAW_T LAW(tangential_force)(const unsigned key, LAW_T k_t, LAW_T mu, LAW_T gamma_s,
+/* Tangential force along s. Regularised Coulomb: 000 eq. 3.28 (`damping` is gamma_s). Spring:
+ * 004 eqs. 1.12-1.13 with the cap on the elastic normal force, xi_t kept at the cap while
+ * sliding, and the tangential dashpot of Luding 2008 (Granular Matter 10, 235, section 2.2,
+ * "tangential contact model"; `damping` is gamma_t): the trial force k_t xi_t + gamma_t v_s is
+ * tested against mu F_el and, when it slips, the spring is kept at (cap - gamma_t v_s) / k_t so
+ * that the force stays on the cap. gamma_t = 0 selects the undamped spring's expressions (same
+ * bits). Written without data-dependent branches: sticking and sliding contacts mix at random. */
+KERNEL LAW_T LAW(tangential_force)(const unsigned key, LAW_T k_t, LAW_T mu, LAW_T damping,
                                    LAW_T v_s, LAW_T f_n, LAW_T f_el, double dt, LAW_T *xi_t)
 {
     const unsigned law = key & KEY_TANGENTIAL;
     if (law == SIM_TANGENTIAL_REGULARISED)
-        return LAW(copysign)(LAW(min)(gamma_s * LAW(abs)(v_s), mu * LAW(abs)(f_n)), v_s);
+        return LAW(copysign)(LAW(min)(damping * LAW(abs)(v_s), mu * LAW(abs)(f_n)), v_s);
     if (law == SIM_TANGENTIAL_SPRING) {
         LAW_T stretch = *xi_t + v_s * dt;
-        LAW_T f = k_t * stretch;
+        LAW_T spring = k_t * stretch;
+        LAW_T f = LAW(sel)(damping != 0.0, spring + damping * v_s, spring);
         LAW_T cap = mu * f_el;
         LAW_T capped = LAW(copysign)(LAW(min)(LAW(abs)(f), cap), f);
-        *xi_t = LAW(sel)(capped != f, capped / k_t, stretch); /* slip: spring kept at the cap */
+        LAW_T kept = LAW(sel)(damping != 0.0, capped - damping * v_s, capped);
+        *xi_t = LAW(sel)(capped != f, kept / k_t, stretch); /* slip: spring kept at the cap */
         return capped;
     }
     (void)v_s;

@@ -19,6 +19,7 @@ typedef struct PairParams {
     double k_t;     /* N/m */
     double mu_r;    /* m (fixed rolling law) */
     double k_r;     /* N m/rad (fixed rolling law) */
+    double gamma_t; /* kg/s, the spring law's tangential dashpot */
 } PairParams;
 
 /* A pass of the step (contact pass, wall pass, integrator), chosen once at create from the

@@ -102,6 +102,8 @@ typedef struct SimMaterial {
     double tangential_stiffness; ///< k_t, N/m, Cundall-Strack spring
     double rolling_friction;     ///< mu_r, m: cap |M_r| <= mu_r k_n xi (004 eq. 4.1; FIXED law)
     double rolling_stiffness;    ///< k_r, N m/rad (004 eq. 4.2; FIXED law)
+    double spring_damping;       ///< gamma_t, kg/s, the spring law's tangential dashpot (Luding
+                                 ///< 2008); 0: none
 } SimMaterial;
 
 /// Contact model: one law per category, the same for all pairs.

@@ -76,6 +76,7 @@ SimMaterial sim_material_default(void)
         .tangential_stiffness = 5.25e5,
         .rolling_friction = 0.0,
         .rolling_stiffness = 0.0,
+        .spring_damping = 0.0,
     };
 }
 
@@ -155,6 +156,7 @@ static void fill_pairs(PairParams *pairs, const SimWorldDef *def)
                 .k_t = 0.5 * (p->tangential_stiffness + q->tangential_stiffness),
                 .mu_r = harmonic(p->rolling_friction, q->rolling_friction),
                 .k_r = 0.5 * (p->rolling_stiffness + q->rolling_stiffness),
+                .gamma_t = 0.5 * (p->spring_damping + q->spring_damping),
             };
         }
 }
@@ -293,6 +295,8 @@ static SimStatus validate_materials(const SimWorldDef *def, SimError *error)
               "friction coefficient mu must be >= 0 (got %g)", m->friction);
         CHECK(m->tangential_damping >= 0.0, FIELD("tangential_damping"),
               "tangential damping gamma_s must be >= 0 (got %g)", m->tangential_damping);
+        CHECK(m->spring_damping >= 0.0 && isfinite(m->spring_damping), FIELD("spring_damping"),
+              "tangential damping gamma_t must be >= 0 (got %g)", m->spring_damping);
         if ((def->effects & SIM_EFFECT_FRICTION) &&
             def->contact.tangential == SIM_TANGENTIAL_SPRING)
             CHECK(m->tangential_stiffness > 0.0, FIELD("tangential_stiffness"),

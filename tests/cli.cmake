@@ -26,6 +26,31 @@ sablier_cli_test(help "--help" 0 OUT "usage: sablier COMMAND")
 foreach(command run check diff render export)
   sablier_cli_test(help_${command} "${command}|--help" 0 OUT "usage: sablier ${command}")
 endforeach()
+# docs/cli.md and the man page against every command's --help (tests/cli/cli_docs.py): each
+# command's option table names exactly the options its --help names, the man page names them all,
+# and --help, the man page and docs/cli.md give one list of exit statuses, per command too
+find_program(SABLIER_PYTHON3 python3)
+if(SABLIER_PYTHON3)
+  add_test(NAME cli.docs_match_help
+           COMMAND ${SABLIER_PYTHON3} ${CLI_DIR}/cli_docs.py $<TARGET_FILE:sablier>
+                   ${PROJECT_SOURCE_DIR}/docs/cli.md ${PROJECT_SOURCE_DIR}/docs/sablier.1)
+  set_tests_properties(cli.docs_match_help PROPERTIES LABELS cli)
+endif()
+# the scenes written in d = g = 1 (column, chute) name their own units in summary.json, the CSV
+# headers and the figures' time stamps and colour bars, never SI (tests/cli/units_outputs.sh)
+if(SABLIER_WITH_RENDER)
+  find_program(SABLIER_PDFTOTEXT pdftotext)
+  foreach(kind summary csv figures)
+    if(kind STREQUAL "figures" AND NOT SABLIER_PDFTOTEXT)
+      continue()
+    endif()
+    add_test(NAME cli.units_outputs_${kind}
+             COMMAND bash ${CLI_DIR}/units_outputs.sh $<TARGET_FILE:sablier>
+                     ${CLI_WORK}/units_outputs_${kind} ${kind}
+             WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+    set_tests_properties(cli.units_outputs_${kind} PROPERTIES LABELS cli)
+  endforeach()
+endif()
 sablier_cli_test(version "--version" 0 OUT "sablier [0-9]+\\.[0-9]+\\.[0-9]+\nsim [0-9.]+\nlibconfig 1\\.[0-9.]+\nrender: ")
 sablier_cli_test(no_command "" 2 ERR "usage: sablier")
 sablier_cli_test(unknown_command "frobnicate" 2 ERR "unknown command `frobnicate`")
@@ -65,6 +90,10 @@ sablier_cli_test(stage_movie_off
                  0 OUT "stage deposit: [^\n]*, movie[^\n]*\n.*stage collapse: [^\n]*0.5 s[)]\n")
 sablier_cli_test(stage_movie_listed "check|${PROJECT_SOURCE_DIR}/scenes/crater/quick.scene" 0
                  OUT "stage collapse: [^\n]*, movie[^\n]*\n")
+# the README demo's collapse plays at a documented speed (docs/figures.md#movies): a quarter of
+# real time, so the ~1 s collapse is a ~4 s clip
+sablier_cli_test(quick_movie_speed "check|${PROJECT_SOURCE_DIR}/scenes/crater/quick.scene" 0
+                 OUT "stage collapse: [^\n]*movie: a frame every 0.01 s, 0.25 s simulated per s of video\n")
 
 # progress without a terminal (ctest's pipe: a batch job's log): one whole line per
 # --progress-every seconds of wall time with the stage, simulated time, rate and ETA; none with
@@ -160,6 +189,10 @@ add_test(NAME cli.sweep_inputs
          COMMAND bash ${CLI_DIR}/sweep_inputs.sh $<TARGET_FILE:sablier>
                  ${PROJECT_SOURCE_DIR}/scenes/crater/small.scene ${CLI_WORK}/sweep_inputs)
 set_tests_properties(cli.sweep_inputs PROPERTIES LABELS cli)
+add_test(NAME cli.sediment_alias
+         COMMAND bash ${CLI_DIR}/sediment_alias.sh $<TARGET_FILE:sablier>
+                 ${PROJECT_SOURCE_DIR}/scenes/sediment/viscous.scene ${CLI_WORK}/sediment_alias)
+set_tests_properties(cli.sediment_alias PROPERTIES LABELS cli)
 add_test(NAME cli.include_fifo
          COMMAND bash ${CLI_DIR}/include_fifo.sh $<TARGET_FILE:sablier> ${CLI_WORK}/include_fifo)
 set_tests_properties(cli.include_fifo PROPERTIES LABELS cli)
@@ -251,6 +284,32 @@ add_test(NAME cli.lab_scripts
          COMMAND bash ${CLI_DIR}/lab_scripts.sh $<TARGET_FILE:sablier> ${PROJECT_SOURCE_DIR}
                  ${CLI_WORK}/lab_scripts)
 set_tests_properties(cli.lab_scripts PROPERTIES LABELS cli SKIP_RETURN_CODE 77 TIMEOUT 300)
+# the servo lid's run lost after a checkpoint, and interrupted, then resumed: every output (the
+# .state with the lid's offset and speed, walls.csv, summary.json's wall means) byte for byte as
+# the uninterrupted run's (tests/cli/resume.sh --outputs)
+add_test(NAME cli.resume_servo
+         COMMAND bash ${CLI_DIR}/resume.sh --outputs $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/servo_lid.scene ${CLI_WORK}/resume_servo --set stages.press.time.end=1.5
+                 --set output.walls.window=[1.0,1.5] --set output.checkpoint_every=0.7)
+set_tests_properties(cli.resume_servo PROPERTIES LABELS cli)
+# walls.png (and walls.pdf) of output.walls, its axes labelled with their units
+# (tests/cli/walls_figure.sh, the figure lint tests/lint/figure_lint.py)
+add_test(NAME cli.walls_figure
+         COMMAND bash ${CLI_DIR}/walls_figure.sh $<TARGET_FILE:sablier> ${CLI_DIR}/servo_lid.scene
+                 ${PROJECT_SOURCE_DIR}/tests/lint/figure_lint.py ${CLI_WORK}/walls_figure)
+set_tests_properties(cli.walls_figure PROPERTIES LABELS cli)
+# grains a stage adds: their ids, traced by name, their free fall, any thread count, and each
+# refusal at its file:line (tests/cli/add_grains.sh); resumed after a checkpoint of the stage that
+# added them: the same bytes (tests/cli/resume.sh --outputs)
+add_test(NAME cli.add_grains
+         COMMAND bash ${CLI_DIR}/add_grains.sh $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/add_grains.scene ${CLI_WORK}/add_grains)
+set_tests_properties(cli.add_grains PROPERTIES LABELS cli)
+add_test(NAME cli.resume_add_grains
+         COMMAND bash ${CLI_DIR}/resume.sh --outputs $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/add_grains.scene ${CLI_WORK}/resume_add_grains
+                 --set output.checkpoint_every=0.2)
+set_tests_properties(cli.resume_add_grains PROPERTIES LABELS cli)
 # window that ends with its stage written at its end (tests/cli/measure_window.sh)
 add_test(NAME cli.measure_window
          COMMAND bash ${CLI_DIR}/measure_window.sh $<TARGET_FILE:sablier>
@@ -483,3 +542,44 @@ endforeach()
 # sablier check prints a scene's own units (docs/scenes.md#units): d and sqrt(d/g), not m and s
 sablier_cli_test(check_normalised_units "check|scenes/measure/column.scene" 0
                  OUT "gravity \\(0, -1\\) g\n.*time.end 4 sqrt\\(d/g\\), measure stress \\(profile_y, 1 x 80 nodes, width 2 d, every 0.1 sqrt\\(d/g\\)\\)")
+# protocols that chain (docs/scenes.md, stages): a motion keeps its clock across stages and
+# `restart_motions` restarts it (tests/cli/motion_clock.sh); a settle test over a window of time
+# (tests/cli/settle_window.sh)
+add_test(NAME cli.motion_clock
+         COMMAND bash ${CLI_DIR}/motion_clock.sh $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/motion_clock.scene ${CLI_WORK}/motion_clock)
+add_test(NAME cli.settle_window
+         COMMAND bash ${CLI_DIR}/settle_window.sh $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/settle_window.scene ${CLI_WORK}/settle_window)
+set_tests_properties(cli.motion_clock cli.settle_window PROPERTIES LABELS cli)
+# `check` warns about motions that move nothing, with their lines, and still exits 0
+set(MOTION_WARN ${CLI_DIR}/motion_warn.scene)
+sablier_cli_test(motion_warn_unused "check|${MOTION_WARN}" 0
+                 ERR "motion_warn.scene:16: warning: motion `spare` moves nothing")
+sablier_cli_test(motion_warn_part "check|${MOTION_WARN}" 0
+                 ERR "motion_warn.scene:24: warning: stage `shear` enables motion `shear`, which moves nothing: what it moves follows motion `both`")
+sablier_cli_test(motion_warn_none "check|${CLI_DIR}/motion_clock.scene" 0 NOT_ERR "warning")
+# `check` names the tangential law and whether it has static friction
+sablier_cli_test(friction_regularised "check|${PROJECT_SOURCE_DIR}/scenes/validation/oblique_drop.scene" 0
+                 OUT "friction regularised Coulomb[^\n]*no static friction")
+sablier_cli_test(friction_spring "check|${PROJECT_SOURCE_DIR}/scenes/hopper/hopper.scene" 0
+                 OUT "friction spring [^\n]*static friction")
+# --unset KEY: removes a key (and a law's dependents), in order with --set; run and check
+set(HOPPER ${PROJECT_SOURCE_DIR}/scenes/hopper/hopper.scene)
+sablier_cli_test(unset_law_dependents
+                 "check|${HOPPER}|--unset|contact.tangential|--set|species.0.gamma_s=5" 0
+                 OUT "friction regularised")
+sablier_cli_test(unset_then_set_law
+                 "check|${HOPPER}|--unset|species.0.k_t|--set|contact.tangential=regularised|--set|species.0.gamma_s=5"
+                 0 OUT "friction regularised")
+sablier_cli_test(unset_needed "check|${HOPPER}|--set|contact.tangential=regularised|--set|species.0.gamma_s=5"
+                 2 ERR "hopper.scene:12: `k_t` is used only by contact.tangential = \"spring\"")
+sablier_cli_test(unset_required_key "check|${HOPPER}|--unset|species.0.k_t" 2
+                 ERR "hopper.scene:12: missing required key `k_t` in species 0")
+sablier_cli_test(unset_unknown "check|${CLI_TINY}|--unset|nope.key" 2
+                 ERR "--unset nope.key: no such key in the scene")
+sablier_cli_test(unset_unknown_run "run|${CLI_TINY}|--unset|species.0.mu" 2
+                 ERR "--unset species.0.mu: no such key in the scene")
+sablier_cli_test(unset_with_value "check|${CLI_TINY}|--unset|time.dt=1" 2
+                 ERR "--unset time.dt=1: expected a KEY alone")
+sablier_cli_test(unset_group "check|${CLI_TINY}|--unset|output" 0 OUT "energy every")

@@ -595,14 +595,17 @@ int app_bne_samples(const AppBneSamplesOptions *o)
 static const char USAGE_BNE[] =
     "usage: sablier bne SCENE [--seeds N] [--seed0 S] [--vary KEY=v1,v2,...] [--ldf PERIODS]\n"
     "                   [--jobs N] [--out DIR] [--set KEY=VALUE]... [--movies] [--resume]\n"
-    "                   [--quiet]\n"
+    "                   [--quiet|-q]\n"
     "Runs a scene with a `bne` group for N seeds (default 5) and each value of KEY; writes\n"
     "DIR/samples.csv (rise time and rate per run), rise.csv and rise.png (mean +- std of the\n"
     "intruder's rise against time), ldf.csv and ldf.png (large-deviation function of the rise\n"
     "rate over windows of PERIODS shaking periods, default 5; docs/brazil_nut.md). Each run's own\n"
     "outputs go to DIR/KEY=value/seed-S/ (movies and figures only with --movies). The runs are\n"
     "separate processes, --jobs N at a time (default 2; results do not depend on N). SIGINT or\n"
-    "SIGTERM stops the runs, writes the tables of those finished and exits 130 or 143.\n";
+    "SIGTERM stops the runs, writes the tables of those finished and exits 130 or 143.\n"
+    "\n"
+    "exit status: 0 every run succeeded, 1 a run failed, 2 bad input (nothing runs) or a table\n"
+    "that cannot be written, 130/143 SIGINT/SIGTERM\n";
 
 /* The command line of `sablier bne`. */
 typedef struct BneArgs {

@@ -1,12 +1,21 @@
 /* SPDX-License-Identifier: MIT */
-/* crater.c: crater observables (000 §5.4) and plot descriptions read back from a run's CSV
- * files. The profile is the thesis's free surface: per x-bin about one mean diameter wide, the
- * highest top of a grain centred in it (notes §5.4 [D]). The crater height is measured as the
- * depth of the crater below the settled free surface (docs/physics.md, "crater height"). */
+/* crater.c: the crater-collapse family (thesis 000) behind app/experiment.h, and its observables.
+ * The family owns the stages' `dig` keys (a cavity dug at the stage start, 000 §4.1 stage 2) and
+ * `output.profile_every` / `output.profile_bin` (free-surface profiles), runs the observer during
+ * a run and draws the energy and profile figures after it; `sablier sweep` (sweep.c) is its
+ * driver. Its hook table, app_crater_experiment, closes this file.
+ *
+ * Observables (000 §5.4): the profile is the thesis's free surface: per x-bin about one mean
+ * diameter wide, the highest top of a grain centred in it (notes §5.4 [D]). The crater height is
+ * measured as the depth of the crater below the settled free surface (docs/physics.md, "crater
+ * height"). */
 #include "crater.h"
 
 #include "checkpoint.h"
+#include "config.h"
+#include "experiments.h"
 #include "run_value.h"
+#include "sweep.h"
 #include "util.h"
 
 #include "sim/sim.h"
@@ -52,7 +61,7 @@ static void container_interior(const SimFrame *f, double *x0, double *x1, double
     *x1 = isfinite(right) ? right : mx1;
 }
 
-int app_profile_measure(SimWorld *world, double bin_width, AppProfile *p)
+int app_crater_profile_measure(SimWorld *world, double bin_width, AppCraterProfile *p)
 {
     memset(p, 0, sizeof *p);
     SimFrame frame;
@@ -73,7 +82,7 @@ int app_profile_measure(SimWorld *world, double bin_width, AppProfile *p)
     p->x = malloc((size_t)p->bins * sizeof *p->x);
     p->y = malloc((size_t)p->bins * sizeof *p->y);
     if (!p->x || !p->y) {
-        app_profile_free(p);
+        app_crater_profile_free(p);
         return -1;
     }
     sim_world_surface_profile(world, p->x0, p->x1, p->bins, p->y);
@@ -85,7 +94,7 @@ int app_profile_measure(SimWorld *world, double bin_width, AppProfile *p)
     return 0;
 }
 
-void app_profile_free(AppProfile *p)
+void app_crater_profile_free(AppCraterProfile *p)
 {
     free(p->x);
     free(p->y);
@@ -93,7 +102,7 @@ void app_profile_free(AppProfile *p)
     p->bins = 0;
 }
 
-double app_profile_level(const AppProfile *p, int margin)
+double app_crater_profile_level(const AppCraterProfile *p, int margin)
 {
     if (2 * margin >= p->bins)
         margin = 0;
@@ -103,7 +112,7 @@ double app_profile_level(const AppProfile *p, int margin)
     return p->bins > 2 * margin ? sum / (p->bins - 2 * margin) : (double)NAN;
 }
 
-AppCrater app_crater_measure(const AppProfile *p, double x0, double x1, double level)
+AppCrater app_crater_measure(const AppCraterProfile *p, double x0, double x1, double level)
 {
     AppCrater c = {(double)NAN, (double)NAN, (double)NAN};
     double centre = 0.5 * (x0 + x1), nearest = INFINITY;
@@ -128,14 +137,14 @@ AppCrater app_crater_measure(const AppProfile *p, double x0, double x1, double l
     return c;
 }
 
-AppBed app_bed_measure(SimWorld *world, const AppProfile *p)
+AppCraterBed app_crater_bed_measure(SimWorld *world, const AppCraterProfile *p)
 {
-    AppBed bed;
+    AppCraterBed bed;
     double diameter, mass;
     sim_world_means(world, &diameter, &mass);
     bed.coordination = sim_world_coordination(world);
     bed.hexatic_order = sim_world_hexatic_order(world);
-    bed.level = app_profile_level(p, 2);
+    bed.level = app_crater_profile_level(p, 2);
     double lowest = INFINITY;
     for (int b = 0; b < p->bins; ++b)
         lowest = fmin(lowest, p->y[b]);
@@ -152,14 +161,14 @@ AppBed app_bed_measure(SimWorld *world, const AppProfile *p)
 
 /* ---------------------------------------------------------------- observer */
 
-struct AppObserver {
+struct AppCraterObserver {
     const Scene *scene;
     double profile_bin; /* m, 0 = the mean diameter */
     char out_dir[OBS_PATH];
     FILE *profile, *crater_csv;
     char profile_path[OBS_PATH], crater_path[OBS_PATH];
     int bed_measured;
-    AppBed bed;
+    AppCraterBed bed;
     int mobile_before_dig, removed;
     int have_cavity;
     double cavity_x0, cavity_x1; /* m */
@@ -172,10 +181,10 @@ struct AppObserver {
     int mobile;
 };
 
-AppObserver *app_observer_open(const Scene *scene, double profile_bin, const char *out_dir,
-                               char *err, size_t err_size)
+AppCraterObserver *app_crater_observer_open(const Scene *scene, double profile_bin,
+                                            const char *out_dir, char *err, size_t err_size)
 {
-    AppObserver *o = calloc(1, sizeof *o);
+    AppCraterObserver *o = calloc(1, sizeof *o);
     if (!o) {
         snprintf(err, err_size, "out of memory");
         return NULL;
@@ -200,27 +209,27 @@ AppObserver *app_observer_open(const Scene *scene, double profile_bin, const cha
     return o;
 }
 
-void app_observer_before_dig(AppObserver *o, SimWorld *world, double x0, double x1)
+void app_crater_observer_before_dig(AppCraterObserver *o, SimWorld *world, double x0, double x1)
 {
     if (!o)
         return;
-    AppProfile p;
-    if (app_profile_measure(world, o->profile_bin, &p) != 0)
+    AppCraterProfile p;
+    if (app_crater_profile_measure(world, o->profile_bin, &p) != 0)
         return;
     if (!o->bed_measured) {
-        o->bed = app_bed_measure(world, &p);
+        o->bed = app_crater_bed_measure(world, &p);
         o->bed_measured = 1;
     } else {
-        o->bed.level = app_profile_level(&p, 2);
+        o->bed.level = app_crater_profile_level(&p, 2);
     }
-    app_profile_free(&p);
+    app_crater_profile_free(&p);
     o->mobile_before_dig = sim_world_mobile_count(world);
     o->have_cavity = 1;
     o->cavity_x0 = x0;
     o->cavity_x1 = x1;
 }
 
-void app_observer_stage_start(AppObserver *o, SimWorld *world, int stage)
+void app_crater_observer_stage_start(AppCraterObserver *o, SimWorld *world, int stage)
 {
     (void)stage;
     if (!o)
@@ -240,12 +249,13 @@ void app_observer_stage_start(AppObserver *o, SimWorld *world, int stage)
     o->energy_scale = o->mobile * o->mass * g * length; /* N m g D (000 eq. 6.6, per particle) */
 }
 
-void app_observer_sample(AppObserver *o, SimWorld *world, int stage, double stage_start)
+void app_crater_observer_sample(AppCraterObserver *o, SimWorld *world, int stage,
+                                double stage_start)
 {
     if (!o)
         return;
-    AppProfile p;
-    if (app_profile_measure(world, o->profile_bin, &p) != 0)
+    AppCraterProfile p;
+    if (app_crater_profile_measure(world, o->profile_bin, &p) != 0)
         return;
     double t = sim_world_time(world);
     const char *name = o->scene->stages[stage].name;
@@ -257,7 +267,7 @@ void app_observer_sample(AppObserver *o, SimWorld *world, int stage, double stag
         fprintf(o->crater_csv, "%.9g,%.9g,%s,%.6g,%.6g,%.6g,%.6g\n", t, t - stage_start, name,
                 o->crater.surface_min, o->crater.x_min, o->crater.height, o->bed.level);
     }
-    app_profile_free(&p);
+    app_crater_profile_free(&p);
 }
 
 /* The observer's measures in the order of its checkpoint lines `observer` (doubles) and
@@ -265,7 +275,7 @@ void app_observer_sample(AppObserver *o, SimWorld *world, int stage, double stag
 #define OBSERVER_DOUBLES 18
 #define OBSERVER_COUNTS  6
 
-static void observer_numbers(AppObserver *o, double *v, double *n, int load)
+static void observer_numbers(AppCraterObserver *o, double *v, double *n, int load)
 {
     double *d[OBSERVER_DOUBLES] = {&o->bed.coordination,   &o->bed.packing_fraction,
                                    &o->bed.hexatic_order,  &o->bed.level,
@@ -290,10 +300,10 @@ static void observer_numbers(AppObserver *o, double *v, double *n, int load)
             n[k] = (double)*c[k];
 }
 
-void app_observer_checkpoint(const AppObserver *o, FILE *out)
+void app_crater_observer_checkpoint(const AppCraterObserver *o, FILE *out)
 {
     double v[OBSERVER_DOUBLES], n[OBSERVER_COUNTS];
-    AppObserver copy = *o; /* read only */
+    AppCraterObserver copy = *o; /* read only */
     observer_numbers(&copy, v, n, 0);
     app_checkpoint_put(out, "observer", v, OBSERVER_DOUBLES);
     app_checkpoint_put(out, "observer_counts", n, OBSERVER_COUNTS);
@@ -301,7 +311,7 @@ void app_observer_checkpoint(const AppObserver *o, FILE *out)
     app_checkpoint_file(out, o->crater_path, o->crater_csv);
 }
 
-int app_observer_resume(AppObserver *o, const char *record, char *err, size_t err_size)
+int app_crater_observer_resume(AppCraterObserver *o, const char *record, char *err, size_t err_size)
 {
     double v[OBSERVER_DOUBLES], n[OBSERVER_COUNTS];
     if (app_checkpoint_take(record, "observer", v, OBSERVER_DOUBLES) != 0 ||
@@ -328,7 +338,7 @@ static void number(char *out, size_t size, double v)
         snprintf(out, size, "null");
 }
 
-void app_observer_json(const AppObserver *o, char *out, size_t size)
+void app_crater_observer_json(const AppCraterObserver *o, char *out, size_t size)
 {
     out[0] = '\0';
     if (!o || !o->bed_measured)
@@ -353,7 +363,7 @@ void app_observer_json(const AppObserver *o, char *out, size_t size)
              a, b, c, o->cavity_x0, o->cavity_x1, o->removed);
 }
 
-int app_observer_close(AppObserver *o, SimWorld *world, char *err, size_t err_size)
+int app_crater_observer_close(AppCraterObserver *o, SimWorld *world, char *err, size_t err_size)
 {
     if (!o)
         return 0;
@@ -413,7 +423,7 @@ int app_observer_close(AppObserver *o, SimWorld *world, char *err, size_t err_si
 
 /* ---------------------------------------------------------------- plots */
 
-void app_chart_init(AppChart *plot, int rows, int cols, const char *title)
+void app_crater_chart_init(AppCraterChart *plot, int rows, int cols, const char *title)
 {
     memset(plot, 0, sizeof *plot);
     plot->rows = rows;
@@ -423,9 +433,9 @@ void app_chart_init(AppChart *plot, int rows, int cols, const char *title)
     snprintf(plot->title, sizeof plot->title, "%s", title ? title : "");
 }
 
-void app_chart_free(AppChart *plot)
+void app_crater_chart_free(AppCraterChart *plot)
 {
-    for (int p = 0; p < APP_CHART_MAX_PANELS; ++p)
+    for (int p = 0; p < APP_CRATER_CHART_MAX_PANELS; ++p)
         for (int s = 0; s < plot->panels[p].series_count; ++s) {
             free(plot->panels[p].series[s].x);
             free(plot->panels[p].series[s].y);
@@ -433,14 +443,14 @@ void app_chart_free(AppChart *plot)
     memset(plot, 0, sizeof *plot);
 }
 
-int app_chart_add(AppChart *plot, int panel, const char *label, const double *x, const double *y,
-                  int count, int line, int marker)
+int app_crater_chart_add(AppCraterChart *plot, int panel, const char *label, const double *x,
+                         const double *y, int count, int line, int marker)
 {
-    AppChartPanel *p = &plot->panels[panel];
-    if (panel < 0 || panel >= APP_CHART_MAX_PANELS || p->series_count >= APP_CHART_MAX_SERIES ||
-        count < 0)
+    AppCraterChartPanel *p = &plot->panels[panel];
+    if (panel < 0 || panel >= APP_CRATER_CHART_MAX_PANELS ||
+        p->series_count >= APP_CRATER_CHART_MAX_SERIES || count < 0)
         return -1;
-    AppChartSeries *s = &p->series[p->series_count];
+    AppCraterChartSeries *s = &p->series[p->series_count];
     size_t n = (size_t)(count > 0 ? count : 1);
     s->x = malloc(n * sizeof *s->x);
     s->y = malloc(n * sizeof *s->y);
@@ -460,7 +470,7 @@ int app_chart_add(AppChart *plot, int panel, const char *label, const double *x,
     return 0;
 }
 
-double app_observable(const char *run_dir, const char *key)
+double app_crater_observable(const char *run_dir, const char *key)
 {
     char name[128], err[256];
     double value = NAN;
@@ -532,14 +542,15 @@ static int read_csv(const char *path, int width, int tag_column, Columns *out)
     return rc;
 }
 
-int app_chart_energy_run(AppChart *plot, const char *run_dir, const char *label, const char *stage)
+int app_crater_chart_energy_run(AppCraterChart *plot, const char *run_dir, const char *label,
+                                const char *stage)
 {
     char path[OBS_PATH + 32];
     snprintf(path, sizeof path, "%s/energy.csv", run_dir);
-    double t0 = app_observable(run_dir, "stage_start_s");
-    double ts = app_observable(run_dir, "time_scale_s");
-    double es = app_observable(run_dir, "energy_scale_J");
-    double mobile = app_observable(run_dir, "mobile_grains");
+    double t0 = app_crater_observable(run_dir, "stage_start_s");
+    double ts = app_crater_observable(run_dir, "time_scale_s");
+    double es = app_crater_observable(run_dir, "energy_scale_J");
+    double mobile = app_crater_observable(run_dir, "mobile_grains");
     Columns c;
     /* t,t_star,e_kin,e_pot,e_rot,e_el,e_total,grains,contacts,stage */
     if (!isfinite(t0) || !(ts > 0.0) || !(es > 0.0) || !(mobile > 0.0) ||
@@ -589,11 +600,11 @@ int app_chart_energy_run(AppChart *plot, const char *run_dir, const char *label,
     static const char *const ylabels[4] = {"E^*_{kin}", "E^*_{pot} \xe2\x88\x92 E^*_{pot}(0)",
                                            "E^*_{rot}", "E^*_{el}"};
     for (int k = 0; rc == 0 && k < 4; ++k) {
-        AppChartPanel *p = &plot->panels[k];
+        AppCraterChartPanel *p = &plot->panels[k];
         snprintf(p->title, sizeof p->title, "%s", titles[k]);
         snprintf(p->x_label, sizeof p->x_label, "t^* = (t \xe2\x88\x92 t_0) / \\sqrt{D/g}");
         snprintf(p->y_label, sizeof p->y_label, "%s", ylabels[k]);
-        rc = app_chart_add(plot, k, label, x, y[k], n, 1, 0);
+        rc = app_crater_chart_add(plot, k, label, x, y[k], n, 1, 0);
     }
     free(x);
     for (int k = 0; k < 4; ++k)
@@ -602,8 +613,8 @@ int app_chart_energy_run(AppChart *plot, const char *run_dir, const char *label,
     return rc;
 }
 
-int app_chart_profiles_run(AppChart *plot, int panel, const char *run_dir, int curves,
-                           const char *label)
+int app_crater_chart_profiles_run(AppCraterChart *plot, int panel, const char *run_dir, int curves,
+                                  const char *label)
 {
     char path[OBS_PATH + 32];
     snprintf(path, sizeof path, "%s/profile.csv", run_dir);
@@ -634,7 +645,7 @@ int app_chart_profiles_run(AppChart *plot, int panel, const char *run_dir, int c
     if (curves > samples)
         curves = samples;
     int rc = 0;
-    AppChartPanel *p = &plot->panels[panel];
+    AppCraterChartPanel *p = &plot->panels[panel];
     snprintf(p->x_label, sizeof p->x_label, "x (m)");
     snprintf(p->y_label, sizeof p->y_label, "free surface y (m)");
     double *x = malloc((size_t)c.count * sizeof *x), *y = malloc((size_t)c.count * sizeof *y);
@@ -664,7 +675,7 @@ int app_chart_profiles_run(AppChart *plot, int panel, const char *run_dir, int c
         else
             snprintf(text, sizeof text, "t \xe2\x88\x92 t_0 = %.2f s",
                      c.v[(size_t)starts[s] * 4 + 1]);
-        rc = app_chart_add(plot, panel, text, x, y, n, 1, 0);
+        rc = app_crater_chart_add(plot, panel, text, x, y, n, 1, 0);
     }
     free(x);
     free(y);
@@ -673,7 +684,7 @@ int app_chart_profiles_run(AppChart *plot, int panel, const char *run_dir, int c
     return rc;
 }
 
-int app_surface_height(const SimFrame *frame, double x, double half_width, double *top)
+int app_crater_surface_height(const SimFrame *frame, double x, double half_width, double *top)
 {
     int found = 0;
     for (int i = 0; i < frame->mobile_count; ++i) {
@@ -687,20 +698,20 @@ int app_surface_height(const SimFrame *frame, double x, double half_width, doubl
     return found ? 0 : -1;
 }
 
-/* AppChart (owned series) as the AppPlot the renderer draws. */
-int app_chart_write(const AppChart *chart, const AppRender *render, const char *path, char *err,
-                    size_t err_size)
+/* AppCraterChart (owned series) as the AppPlot the renderer draws. */
+int app_crater_chart_write(const AppCraterChart *chart, const AppRender *render, const char *path,
+                           char *err, size_t err_size)
 {
     if (!render || !render->plot)
         return 0;
-    AppPlotSeries series[APP_CHART_MAX_PANELS][APP_CHART_MAX_SERIES];
-    AppPlotPanel panels[APP_CHART_MAX_PANELS];
+    AppPlotSeries series[APP_CRATER_CHART_MAX_PANELS][APP_CRATER_CHART_MAX_SERIES];
+    AppPlotPanel panels[APP_CRATER_CHART_MAX_PANELS];
     int count = chart->rows * chart->cols;
     memset(panels, 0, sizeof panels);
-    for (int p = 0; p < count && p < APP_CHART_MAX_PANELS; ++p) {
-        const AppChartPanel *a = &chart->panels[p];
+    for (int p = 0; p < count && p < APP_CRATER_CHART_MAX_PANELS; ++p) {
+        const AppCraterChartPanel *a = &chart->panels[p];
         for (int k = 0; k < a->series_count; ++k) {
-            const AppChartSeries *in = &a->series[k];
+            const AppCraterChartSeries *in = &a->series[k];
             series[p][k] =
                 (AppPlotSeries){.label = in->label[0] ? in->label : NULL,
                                 .count = in->count,
@@ -724,7 +735,8 @@ int app_chart_write(const AppChart *chart, const AppRender *render, const char *
                     .height = chart->height,
                     .rows = chart->rows,
                     .cols = chart->cols,
-                    .panel_count = count < APP_CHART_MAX_PANELS ? count : APP_CHART_MAX_PANELS,
+                    .panel_count =
+                        count < APP_CRATER_CHART_MAX_PANELS ? count : APP_CRATER_CHART_MAX_PANELS,
                     .panels = panels,
                     .print = chart->print};
     return render->plot(render->context, &plot, path, err, err_size);
@@ -736,7 +748,7 @@ int app_crater_plots(const Scene *scene, int energy_stage, const char *out_dir,
     if (!render || !render->plot)
         return 0;
     char path[OBS_PATH + 32], title[160];
-    AppChart plot;
+    AppCraterChart plot;
     const char *stage = energy_stage >= 0 && energy_stage < scene->stage_count
                             ? scene->stages[energy_stage].name
                             : NULL;
@@ -744,22 +756,358 @@ int app_crater_plots(const Scene *scene, int energy_stage, const char *out_dir,
         snprintf(title, sizeof title, "%s: dimensionless energies of stage %s", scene->name, stage);
     else
         snprintf(title, sizeof title, "%s: dimensionless energies of the last stage", scene->name);
-    app_chart_init(&plot, 2, 2, title);
+    app_crater_chart_init(&plot, 2, 2, title);
     plot.print = &scene->style;
     int rc = 0;
-    if (app_chart_energy_run(&plot, out_dir, scene->name, stage) == 0) {
+    if (app_crater_chart_energy_run(&plot, out_dir, scene->name, stage) == 0) {
         snprintf(path, sizeof path, "%s/energy_panels.png", out_dir);
-        rc = app_chart_write(&plot, render, path, err, err_size);
+        rc = app_crater_chart_write(&plot, render, path, err, err_size);
     }
-    app_chart_free(&plot);
+    app_crater_chart_free(&plot);
     snprintf(title, sizeof title, "%s: free-surface profile evolution (000 fig. 7.30)",
              scene->name);
-    app_chart_init(&plot, 1, 1, title);
+    app_crater_chart_init(&plot, 1, 1, title);
     plot.print = &scene->style;
-    if (rc == 0 && app_chart_profiles_run(&plot, 0, out_dir, 8, NULL) == 0) {
+    if (rc == 0 && app_crater_chart_profiles_run(&plot, 0, out_dir, 8, NULL) == 0) {
         snprintf(path, sizeof path, "%s/profiles.png", out_dir);
-        rc = app_chart_write(&plot, render, path, err, err_size);
+        rc = app_crater_chart_write(&plot, render, path, err, err_size);
     }
-    app_chart_free(&plot);
+    app_crater_chart_free(&plot);
     return rc;
 }
+
+/* -------------------------------------------------- the family's hooks (app/experiment.h) */
+
+struct AppCraterState {
+    AppCraterDig dig[SCENE_MAX_STAGES];
+    double profile_every; /* s between free-surface profiles (0 = stage ends only) */
+    double profile_bin;   /* m, 0 = the mean diameter */
+    int energy_stage;     /* the stage energy_panels.png draws, -1 = the last */
+    AppCraterObserver *observer;
+    long every_profile; /* steps, in the current stage; > stage steps: off */
+    long done;          /* steps of the current stage, as last seen */
+    char json[1024];    /* summary.json members, taken before the observer closes */
+};
+
+const AppCraterState *app_crater_of(const Scene *scene)
+{
+    return scene_experiment_state(scene, &app_crater_experiment);
+}
+
+AppCraterDig app_crater_dig(const Scene *scene, int stage)
+{
+    const AppCraterState *c = app_crater_of(scene);
+    AppCraterDig none = {0};
+    return c && stage >= 0 && stage < SCENE_MAX_STAGES ? c->dig[stage] : none;
+}
+
+/* ---------------------------------------------------------------- parse */
+
+/* dig = { center_x; width; height; top = "surface" | m; } (000 §4.1 stage 2), in stage g */
+static int parse_dig(AppConfig *p, const config_setting_t *stage, AppCraterDig *dig)
+{
+    static const char *const keys[] = {"center_x", "width", "height", "top", NULL};
+    const config_setting_t *g;
+    int found = app_config_group(p, stage, "dig", &g);
+    if (found <= 0)
+        return found;
+    if (app_config_keys(p, g, "dig", keys, NULL) < 0)
+        return -1;
+    dig->dig = 1;
+    dig->top_surface = 1;
+    if (app_config_need_number(p, g, "center_x", "dig", &dig->center_x) < 0 ||
+        app_config_need_number(p, g, "width", "dig", &dig->width) < 0 ||
+        app_config_positive(p, g, "width", dig->width) < 0 ||
+        app_config_need_number(p, g, "height", "dig", &dig->height) < 0 ||
+        app_config_positive(p, g, "height", dig->height) < 0)
+        return -1;
+    const config_setting_t *top = app_config_member(g, "top");
+    if (top && config_setting_type(top) == CONFIG_TYPE_STRING) {
+        if (strcmp(config_setting_get_string(top), "surface") != 0)
+            return app_config_fail(p, top, "`top` must be \"surface\" or a height in m");
+    } else if (top) {
+        dig->top_surface = 0;
+        if (app_config_number(p, g, "top", &dig->top) < 0)
+            return -1;
+    }
+    return 0;
+}
+
+/* A dig whose cavity lies beside everything the scene defines (its grains and walls, x) can
+ * only fail after the earlier stages ran: refused at load (a centre of 1e308). Scenes whose
+ * grains all come from elsewhere (a loaded state, sources) are not checked. */
+static int dig_within(AppConfig *p, const config_setting_t *stage, const Scene *scene,
+                      const AppCraterDig *dig)
+{
+    if (!dig->dig)
+        return 0;
+    double x0 = INFINITY, x1 = -INFINITY;
+    for (int i = 0; i < scene->grains.count; ++i) {
+        x0 = fmin(x0, scene->grains.x[i] - scene->grains.radius[i]);
+        x1 = fmax(x1, scene->grains.x[i] + scene->grains.radius[i]);
+    }
+    for (int k = 0; k < scene->def.wall_count; ++k) {
+        double a, b, c, d;
+        sim_wall_bounds(&scene->def.walls[k], &a, &b, &c, &d);
+        x0 = fmin(x0, a);
+        x1 = fmax(x1, c);
+    }
+    if (!(x1 >= x0) || scene->source_count > 0)
+        return 0;
+    const double left = dig->center_x - 0.5 * dig->width, right = dig->center_x + 0.5 * dig->width;
+    if (right > x0 && left < x1)
+        return 0;
+    const config_setting_t *g = config_setting_get_member(stage, "dig");
+    return app_config_fail(p, g ? config_setting_get_member(g, "center_x") : stage,
+                           "dig: the cavity [%g, %g] m lies outside the scene's grains and walls "
+                           "(x in [%g, %g] m)",
+                           left, right, x0, x1);
+}
+
+/* energy_stage = "NAME": the stage whose energies energy_panels.png draws (000 fig. 6.15 shows
+ * the deposit, figs. 7.1-7.8 the collapse); a stage that runs for some time */
+static int parse_energy_stage(AppConfig *p, const config_setting_t *output, const Scene *scene,
+                              int *stage)
+{
+    const char *name = NULL;
+    *stage = -1;
+    if (app_config_string(p, output, "energy_stage", &name) < 0)
+        return -1;
+    if (!name)
+        return 0;
+    const config_setting_t *at = config_setting_get_member(output, "energy_stage");
+    *stage = scene_stage_index(scene, name);
+    if (*stage < 0)
+        return app_config_fail(p, at, "`energy_stage`: no stage named `%s`", name);
+    if (!(scene->stages[*stage].duration > 0.0))
+        return app_config_fail(p, at, "`energy_stage`: stage `%s` runs no time (time.end = 0)",
+                               name);
+    return 0;
+}
+
+static int crater_parse(const config_setting_t *root, const config_setting_t *group, Scene *scene,
+                        void **state, char *err, size_t err_size)
+{
+    (void)group;
+    AppConfig p = {.path = scene->path, .err = err, .err_size = err_size, .group = NULL};
+    AppCraterState c;
+    memset(&c, 0, sizeof c);
+    c.energy_stage = -1;
+    const config_setting_t *output = config_setting_get_member(root, "output");
+    if (output && (app_config_number(&p, output, "profile_every", &c.profile_every) < 0 ||
+                   app_config_non_negative(&p, output, "profile_every", c.profile_every) < 0 ||
+                   app_config_number(&p, output, "profile_bin", &c.profile_bin) < 0 ||
+                   app_config_non_negative(&p, output, "profile_bin", c.profile_bin) < 0))
+        return -1;
+    if (output && parse_energy_stage(&p, output, scene, &c.energy_stage) < 0)
+        return -1;
+    /* a bin far below a grain measures nothing but memory (profile_bin = 1e-12 took 7.5 GB) */
+    double r_min = INFINITY;
+    for (int i = 0; i < scene->grains.count; ++i)
+        r_min = fmin(r_min, scene->grains.radius[i]);
+    if (c.profile_bin > 0.0 && c.profile_bin < 0.1 * r_min)
+        return app_config_fail(&p, config_setting_get_member(output, "profile_bin"),
+                               "`profile_bin` = %g m is below a tenth of the smallest grain "
+                               "radius (%g m); use 0 (the mean diameter) or a larger bin",
+                               c.profile_bin, r_min);
+    const config_setting_t *stages = config_setting_get_member(root, "stages");
+    int used = c.profile_every > 0.0;
+    for (int k = 0; stages && k < scene->stage_count && k < config_setting_length(stages); ++k) {
+        const config_setting_t *g = config_setting_get_elem(stages, (unsigned)k);
+        if (parse_dig(&p, g, &c.dig[k]) < 0 || dig_within(&p, g, scene, &c.dig[k]) < 0)
+            return -1;
+        used |= c.dig[k].dig;
+    }
+    *state = NULL;
+    if (!used)
+        return 0;
+    AppCraterState *out = malloc(sizeof *out);
+    if (!out) {
+        snprintf(err, err_size, "%s: out of memory", scene->path);
+        return -1;
+    }
+    *out = c;
+    *state = out;
+    return 0;
+}
+
+static void crater_free(void *state)
+{
+    free(state);
+}
+
+static void crater_describe_stage(const void *state, int stage, FILE *out)
+{
+    const AppCraterDig *d = &((const AppCraterState *)state)->dig[stage];
+    if (!d->dig)
+        return;
+    fprintf(out, ", dig center_x %g m width %g m height %g m top ", d->center_x, d->width,
+            d->height);
+    if (d->top_surface)
+        fprintf(out, "surface");
+    else
+        fprintf(out, "%g m", d->top);
+}
+
+/* ---------------------------------------------------------------- run hooks */
+
+static int crater_begin(void *state, AppContext *ctx)
+{
+    AppCraterState *c = state;
+    const Scene *scene = ctx->scene;
+    int observe = c->profile_every > 0.0;
+    for (int k = 0; k < scene->stage_count; ++k)
+        observe |= c->dig[k].dig && !scene->stages[k].skip;
+    c->json[0] = '\0';
+    if (!observe)
+        return 0;
+    c->observer =
+        app_crater_observer_open(scene, c->profile_bin, ctx->out_dir, ctx->err, ctx->err_size);
+    return c->observer ? 0 : -1;
+}
+
+/* The bed measured, then the cavity dug (000 §4.1 stage 2). */
+static int crater_stage_edit(void *state, AppContext *ctx)
+{
+    AppCraterState *c = state;
+    const AppCraterDig *d = &c->dig[ctx->stage];
+    if (!d->dig)
+        return 0;
+    double x0 = d->center_x - 0.5 * d->width, x1 = d->center_x + 0.5 * d->width;
+    app_crater_observer_before_dig(c->observer, ctx->world, x0, x1);
+    SimFrame frame;
+    sim_world_frame(ctx->world, &frame);
+    double top = d->top;
+    if (d->top_surface &&
+        app_crater_surface_height(&frame, d->center_x, 0.5 * d->width, &top) != 0) {
+        snprintf(ctx->err, ctx->err_size,
+                 "stage %s: dig: no mobile grain within width/2 of center_x = %g m",
+                 ctx->scene->stages[ctx->stage].name, d->center_x);
+        return -1;
+    }
+    ctx->removed += sim_world_remove_rect(ctx->world, x0, top - d->height, x1, top + d->height);
+    return 0;
+}
+
+static int crater_stage_begin(void *state, AppContext *ctx)
+{
+    AppCraterState *c = state;
+    c->done = 0;
+    c->every_profile = ctx->stage_steps + 1;
+    if (!c->observer)
+        return 0;
+    if (c->profile_every > 0.0) {
+        double dt = sim_world_time_step(ctx->world);
+        c->every_profile = (long)fmax(1.0, (double)llround(c->profile_every / dt));
+    }
+    app_crater_observer_stage_start(c->observer, ctx->world, ctx->stage);
+    app_crater_observer_sample(c->observer, ctx->world, ctx->stage, ctx->stage_start);
+    return 0;
+}
+
+static long crater_next_step(const void *state, const AppContext *ctx, long done, long next)
+{
+    const AppCraterState *c = state;
+    long every = c->every_profile;
+    if (every <= ctx->stage_steps && (done / every + 1) * every < next)
+        next = (done / every + 1) * every;
+    return next;
+}
+
+static void crater_step(void *state, AppContext *ctx, long done)
+{
+    AppCraterState *c = state;
+    c->done = done;
+    if (c->observer && done > 0 && done < ctx->stage_steps && done % c->every_profile == 0)
+        app_crater_observer_sample(c->observer, ctx->world, ctx->stage, ctx->stage_start);
+}
+
+static int crater_stage_end(void *state, AppContext *ctx)
+{
+    AppCraterState *c = state;
+    if (c->observer && c->done > 0)
+        app_crater_observer_sample(c->observer, ctx->world, ctx->stage, ctx->stage_start);
+    return 0;
+}
+
+static int crater_end(void *state, AppContext *ctx, int ok)
+{
+    (void)ok;
+    AppCraterState *c = state;
+    if (!c->observer)
+        return 0;
+    app_crater_observer_json(c->observer, c->json, sizeof c->json);
+    int rc = app_crater_observer_close(c->observer, ctx->world, ctx->err, ctx->err_size);
+    c->observer = NULL;
+    return rc;
+}
+
+/* A checkpoint: the profile cadence and the step last seen, then the observer's measures. */
+static int crater_checkpoint(const void *state, const AppContext *ctx, FILE *out)
+{
+    (void)ctx;
+    const AppCraterState *c = state;
+    const double v[2] = {(double)c->every_profile, (double)c->done};
+    app_checkpoint_put(out, "crater", v, 2);
+    if (c->observer)
+        app_crater_observer_checkpoint(c->observer, out);
+    return 0;
+}
+
+static int crater_resume(void *state, AppContext *ctx, const char *record)
+{
+    AppCraterState *c = state;
+    double v[2];
+    if (app_checkpoint_take(record, "crater", v, 2) != 0) {
+        snprintf(ctx->err, ctx->err_size,
+                 "--resume: the crater section of the checkpoint is "
+                 "malformed");
+        return -1;
+    }
+    c->every_profile = (long)v[0];
+    c->done = (long)v[1];
+    return c->observer ? app_crater_observer_resume(c->observer, record, ctx->err, ctx->err_size)
+                       : 0;
+}
+
+static void crater_summary_json(const void *state, char *out, size_t size)
+{
+    snprintf(out, size, "%s", ((const AppCraterState *)state)->json);
+}
+
+static int crater_figures(const void *state, const AppContext *ctx)
+{
+    const AppCraterState *c = state;
+    if (!(c->profile_every > 0.0))
+        return 0;
+    return app_crater_plots(ctx->scene, c->energy_stage, ctx->out_dir, ctx->render, ctx->err,
+                            ctx->err_size);
+}
+
+static const char *const STAGE_KEYS[] = {"dig", NULL};
+static const char *const OUTPUT_KEYS[] = {"profile_every", "profile_bin", "energy_stage", NULL};
+
+static const char *const OUTPUTS[] = {"profile.csv", "crater.csv", "observables.csv", NULL};
+const AppExperiment app_crater_experiment = {
+    .name = "crater",
+    .outputs = OUTPUTS,
+    .group = NULL,
+    .stage_keys = STAGE_KEYS,
+    .output_keys = OUTPUT_KEYS,
+    .parse = crater_parse,
+    .free = crater_free,
+    .describe_stage = crater_describe_stage,
+    .begin = crater_begin,
+    .stage_edit = crater_stage_edit,
+    .stage_begin = crater_stage_begin,
+    .next_step = crater_next_step,
+    .step = crater_step,
+    .stage_end = crater_stage_end,
+    .end = crater_end,
+    .checkpoint = crater_checkpoint,
+    .resume = crater_resume,
+    .summary_json = crater_summary_json,
+    .figures = crater_figures,
+    .commands = app_crater_commands,
+    .command_count = 1,
+};

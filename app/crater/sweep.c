@@ -42,7 +42,7 @@ typedef struct Member {
 } Member;
 
 typedef struct Sweep {
-    const AppSweepOptions *o;
+    const AppCraterSweepOptions *o;
     char scene_path[SWEEP_PATH];
     char name[SCENE_NAME_MAX];
     char parameter[64];
@@ -57,9 +57,9 @@ typedef struct Sweep {
     char bed_state[SWEEP_PATH];
 } Sweep;
 
-AppSweepOptions app_sweep_options_default(void)
+AppCraterSweepOptions app_crater_sweep_options_default(void)
 {
-    AppSweepOptions o;
+    AppCraterSweepOptions o;
     memset(&o, 0, sizeof o);
     o.jobs = 2;
     return o;
@@ -350,7 +350,7 @@ static int member_argv(const Sweep *w, const Member *m, int bed_run, char **argv
         sets[count++] = buffers[b++];
     }
     for (int k = 0; k < count && n + 3 <= capacity; ++k) {
-        argv[n++] = format("--set", "");
+        argv[n++] = format(app_set_option_name(sets[k]), "");
         argv[n++] = format(sets[k], "");
     }
     argv[n] = NULL;
@@ -431,7 +431,7 @@ static void member_progress(void *ctx, int i, int status, char *line, size_t siz
              : status == 1                    ? "unstable"
              : status == APP_POOL_INTERRUPTED ? "interrupted"
                                               : "error",
-             m->wall_seconds, app_observable(m->dir, "crater_height_m"));
+             m->wall_seconds, app_crater_observable(m->dir, "crater_height_m"));
 }
 
 static int member_folder(void *ctx, int i, char *dir, size_t size)
@@ -500,7 +500,7 @@ static int write_table(const Sweep *w)
         char status[16];
         fprintf(f, ",%.10g,%s", m->value, app_pool_status_text(m->status, status));
         for (size_t k = 0; k < sizeof keys / sizeof keys[0]; ++k)
-            fprintf(f, ",%.10g", app_observable(m->dir, keys[k]));
+            fprintf(f, ",%.10g", app_crater_observable(m->dir, keys[k]));
         fprintf(f, ",%.3f,", m->wall_seconds);
         csv_text(f, m->dir);
         fputc(',', f);
@@ -519,24 +519,24 @@ static int write_plots(const Sweep *w)
     if (!w->o->render || !w->o->render->plot)
         return 0;
     char path[SWEEP_PATH + 32], title[160], err[512] = "";
-    AppChart plot;
+    AppCraterChart plot;
     int rc = 0;
     snprintf(title, sizeof title, "%s: dimensionless energies (000 figs. 7.1-7.8, 7.20)", w->name);
-    app_chart_init(&plot, 2, 2, title);
+    app_crater_chart_init(&plot, 2, 2, title);
     for (int i = 0; i < w->member_count; ++i)
-        app_chart_energy_run(&plot, w->members[i].dir, w->members[i].label, NULL);
+        app_crater_chart_energy_run(&plot, w->members[i].dir, w->members[i].label, NULL);
     snprintf(path, sizeof path, "%s/energy_panels.png", w->out_dir);
     if (plot.panels[0].series_count > 0 &&
-        app_chart_write(&plot, w->o->render, path, err, sizeof err) != 0)
+        app_crater_chart_write(&plot, w->o->render, path, err, sizeof err) != 0)
         rc = -1;
-    app_chart_free(&plot);
+    app_crater_chart_free(&plot);
 
     snprintf(title, sizeof title, "%s: crater height (000 fig. 7.28)", w->name);
-    app_chart_init(&plot, 1, 1, title);
+    app_crater_chart_init(&plot, 1, 1, title);
     double x[MAX_MEMBERS], y[MAX_MEMBERS];
     int n = 0;
     for (int i = 0; i < w->member_count; ++i) {
-        double h = app_observable(w->members[i].dir, "crater_height_m");
+        double h = app_crater_observable(w->members[i].dir, "crater_height_m");
         if (isfinite(h)) {
             x[n] = w->members[i].value;
             y[n++] = h;
@@ -547,21 +547,21 @@ static int write_plots(const Sweep *w)
     snprintf(plot.panels[0].y_label, sizeof plot.panels[0].y_label,
              "crater height h = level - min y_s (m)");
     snprintf(path, sizeof path, "%s/crater_height.png", w->out_dir);
-    if (n > 0 && app_chart_add(&plot, 0, NULL, x, y, n, 0, 1) == 0 &&
-        app_chart_write(&plot, w->o->render, path, err, sizeof err) != 0)
+    if (n > 0 && app_crater_chart_add(&plot, 0, NULL, x, y, n, 0, 1) == 0 &&
+        app_crater_chart_write(&plot, w->o->render, path, err, sizeof err) != 0)
         rc = -1;
-    app_chart_free(&plot);
+    app_crater_chart_free(&plot);
 
     snprintf(title, sizeof title, "%s: final free-surface profiles (000 fig. 7.29)", w->name);
-    app_chart_init(&plot, 1, 1, title);
+    app_crater_chart_init(&plot, 1, 1, title);
     plot.width = 1200;
     for (int i = 0; i < w->member_count; ++i)
-        app_chart_profiles_run(&plot, 0, w->members[i].dir, 1, w->members[i].label);
+        app_crater_chart_profiles_run(&plot, 0, w->members[i].dir, 1, w->members[i].label);
     snprintf(path, sizeof path, "%s/profiles.png", w->out_dir);
     if (plot.panels[0].series_count > 0 &&
-        app_chart_write(&plot, w->o->render, path, err, sizeof err) != 0)
+        app_crater_chart_write(&plot, w->o->render, path, err, sizeof err) != 0)
         rc = -1;
-    app_chart_free(&plot);
+    app_crater_chart_free(&plot);
     if (rc != 0)
         fprintf(stderr, "sablier: sweep: figures: %s\n", err);
     return rc;
@@ -603,7 +603,7 @@ static int find_bed_stage(Sweep *w, const Scene *scene, const char *bed_name)
  * checked). 0, or 2 (message on stderr). */
 static int check_members(Sweep *w)
 {
-    const AppSweepOptions *o = w->o;
+    const AppCraterSweepOptions *o = w->o;
     char err[4096];
     for (int i = 0; i < w->member_count; ++i) {
         Member *m = &w->members[i];
@@ -638,7 +638,7 @@ static int check_members(Sweep *w)
 
 static int setup(Sweep *w)
 {
-    const AppSweepOptions *o = w->o;
+    const AppCraterSweepOptions *o = w->o;
     char vary[MAX_VARY * 2][VARY_STRING];
     int vary_count = 0;
     char bed_name[SCENE_NAME_MAX] = "";
@@ -700,7 +700,7 @@ static int setup(Sweep *w)
     return check_members(w);
 }
 
-int app_sweep(const AppSweepOptions *o)
+int app_crater_sweep(const AppCraterSweepOptions *o)
 {
     Sweep *w = calloc(1, sizeof *w);
     Member *members = calloc(MAX_MEMBERS, sizeof *members);
@@ -821,10 +821,14 @@ static const char USAGE_SWEEP[] =
     "  --out DIR          output folder (default out/sweep-<file name> or out/<scene>-sweep)\n"
     "  --dry-run          print the member commands, run nothing\n"
     "  --resume           skip the bed and the members whose folder holds a completed run\n"
-    "  --quiet            no per-member lines\n"
+    "  --quiet, -q        no per-member lines\n"
     "\n"
     "SIGINT or SIGTERM stops the members (each saves its state), writes sweep.csv with status\n"
-    "`interrupted` for the members not finished, and exits 130 or 143.\n";
+    "`interrupted` for the members not finished, and exits 130 or 143.\n"
+    "\n"
+    "exit status: 0 every member succeeded, 1 a member went unstable, 2 bad input (nothing\n"
+    "runs), a member that failed otherwise or a table that cannot be written, 130/143\n"
+    "SIGINT/SIGTERM\n";
 
 static const AppDriverSpec SWEEP_SPEC = {.usage = USAGE_SWEEP,
                                          .jobs_max = 64,
@@ -834,14 +838,14 @@ static const AppDriverSpec SWEEP_SPEC = {.usage = USAGE_SWEEP,
 
 /* The command line of `sablier sweep`: the common options (driver.h) and its own. */
 typedef struct SweepArgs {
-    AppSweepOptions o;
+    AppCraterSweepOptions o;
     AppDriverArgs d;
 } SweepArgs;
 
 /* The options of `sablier sweep` alone (app_driver_parse's `own`). */
 static int sweep_option(void *ctx, int argc, char **argv, int *i)
 {
-    AppSweepOptions *o = ctx;
+    AppCraterSweepOptions *o = ctx;
     const char *value;
     int m;
     if ((m = app_option(argc, argv, i, "--from", &value)) != 0)
@@ -856,7 +860,7 @@ static int sweep_option(void *ctx, int argc, char **argv, int *i)
 /* The command line into *a: 0, or the exit status of a usage error (message on stderr). */
 static int sweep_arguments(int argc, char **argv, SweepArgs *a)
 {
-    a->o = app_sweep_options_default();
+    a->o = app_crater_sweep_options_default();
     int rc = app_driver_parse(&SWEEP_SPEC, argc, argv, &a->d, sweep_option, &a->o);
     if (rc != 0)
         return rc;
@@ -891,10 +895,10 @@ static int sweep_command(int argc, char **argv, const AppEnv *env)
         return status;
     a.o.self = env->self;
     a.o.render = env->render;
-    return app_sweep(&a.o);
+    return app_crater_sweep(&a.o);
 }
 
-const AppCommand app_sweep_commands[] = {
+const AppCommand app_crater_commands[] = {
     {"sweep", "sweep SWEEP    run sweep members from one settled bed (crater studies)", USAGE_SWEEP,
      sweep_command, sweep_parse},
 };

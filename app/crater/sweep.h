@@ -6,9 +6,9 @@
  * (energy panels, crater height against the varied parameter, final profiles). A member's result
  * does not depend on the job count: it is a separate, deterministic process.
  *
- *     AppSweepOptions o = app_sweep_options_default();
+ *     AppCraterSweepOptions o = app_crater_sweep_options_default();
  *     o.self = "/proc/self/exe"; o.definition = "scenes/crater/sweeps/aspect.sweep";
- *     int status = app_sweep(&o);   // 0 all members ok, 1 a member failed, 2 bad input
+ *     int status = app_crater_sweep(&o);   // 0 all members ok, 1 a member failed, 2 bad input
  */
 #ifndef APP_SWEEP_H
 #define APP_SWEEP_H
@@ -16,7 +16,7 @@
 #include "crater.h"
 #include "experiment.h"
 
-typedef struct AppSweepOptions {
+typedef struct AppCraterSweepOptions {
     const char *self;        ///< the sablier executable the members run
     const char *definition;  ///< a .sweep file (libconfig), or NULL
     const char *scene_path;  ///< the scene (overrides the definition's `scene`)
@@ -32,13 +32,13 @@ typedef struct AppSweepOptions {
     const char *const *vary; ///< "KEY=v1,v2,...": one member per combination
     int vary_count;
     const AppRender *render; ///< comparison figures; NULL = none
-} AppSweepOptions;
+} AppCraterSweepOptions;
 
-AppSweepOptions app_sweep_options_default(void);
+AppCraterSweepOptions app_crater_sweep_options_default(void);
 
 /// Runs a sweep; prints messages on stderr; returns the exit status (0, 1 or 2).
-int app_sweep(const AppSweepOptions *options);
+int app_crater_sweep(const AppCraterSweepOptions *options);
 /// `sablier sweep` (one entry).
-extern const AppCommand app_sweep_commands[];
+extern const AppCommand app_crater_commands[];
 
 #endif

@@ -25,8 +25,12 @@ const char APP_DISCHARGE_USAGE[] =
     "  --seed N       deposition seed (default the scene's seed)\n"
     "  --figures      pile.png and w<W>.png (species colours, arch highlighted with an inset)\n"
     "  --movie        deposition.mp4 and w<W>.mp4\n"
+    "  --quiet, -q    no summary line per deposition and per width\n"
     "Writes pile.state, deposition.csv, discharge.csv (s, h, arch, composition) and\n"
-    "w<W>.state.\n";
+    "w<W>.state.\n"
+    "\n"
+    "exit status: 0 every width was discharged, 1 a discharge went unstable, 2 bad input or an\n"
+    "output that cannot be written (SIGINT and SIGTERM are not caught: they end it at once)\n";
 
 /* ---------------------------------------------------------------- sablier discharge */
 
@@ -53,10 +57,10 @@ static int parse_args(int argc, char **argv, DischargeArgs *a)
             if (m < 0)
                 return 2;
             a->pile = value;
-        } else if ((m = app_option(argc, argv, &i, "--set", &value)) != 0) {
-            if (m < 0 || a->set_count >= APP_MAX_SETS)
+        } else if ((m = app_set_option(argc, argv, &i, a->sets, &a->set_count, APP_MAX_SETS)) !=
+                   0) {
+            if (m < 0)
                 return app_usage_error(APP_DISCHARGE_USAGE, "bad --set", NULL);
-            a->sets[a->set_count++] = value;
         } else if ((m = app_option(argc, argv, &i, "--width", &value)) != 0) {
             double w;
             if (m < 0 || app_discharge_parse_real(value, &w) != 0 || !(w >= 0.0) ||
@@ -104,7 +108,7 @@ typedef struct DischargeRun {
 } DischargeRun;
 
 /* The deposition summary's line on stderr, and its summary.json members. */
-static void deposition_summary(DischargeRun *d, const AppDeposit *dep)
+static void deposition_summary(DischargeRun *d, const AppDischargeDeposit *dep)
 {
     const DischargeArgs *a = d->a;
     const Scene *scene = d->scene;
@@ -135,16 +139,16 @@ static int deposit_pile(DischargeRun *d)
     const Scene *scene = d->scene;
     char path[PATH + 64], err[4096] = "";
     int status = 0;
-    AppFrames frames;
+    AppDischargeFrames frames;
     snprintf(path, sizeof path, "%s/deposition.mp4", d->dir);
     if (app_discharge_movie_start(&d->movie, scene, path, &frames, d->frame_time, d->geo.dt) != 0)
         status = 2;
     snprintf(path, sizeof path, "%s/deposition.csv", d->dir);
     FILE *trace = app_tmp_open(path, "t,row,released,pile,mobile");
-    AppDeposit dep;
+    AppDischargeDeposit dep;
     SimWorld *world = status ? NULL
-                             : app_deposit(scene, a->seed_given ? a->seed : scene->seed, &frames,
-                                           trace, &dep, err, sizeof err);
+                             : app_discharge_deposit(scene, a->seed_given ? a->seed : scene->seed,
+                                                     &frames, trace, &dep, err, sizeof err);
     if (app_discharge_movie_finish(&d->movie) != 0)
         status = 2;
     if (app_tmp_commit(&trace, path) != 0)
@@ -204,7 +208,7 @@ static int discharge_width(DischargeRun *d, int k, int *stop)
     double w = d->a->widths[k];
     char wname[32], path[PATH + 64], err[4096] = "";
     app_discharge_width_name(w, wname, sizeof wname);
-    AppFrames frames;
+    AppDischargeFrames frames;
     snprintf(path, sizeof path, "%s/%s.mp4", d->dir, wname);
     *stop = 1;
     if (app_discharge_movie_start(&d->movie, d->scene, path, &frames, d->frame_time, d->geo.dt) !=

@@ -261,8 +261,8 @@ static SimWorldDef protocol_def(const Scene *scene, const AppDischargeGeometry *
 
 /* ---------------------------------------------------------------- running */
 
-static int step_frames(SimWorld *world, long steps, const AppFrames *frames, long *done, char *err,
-                       size_t err_size)
+static int step_frames(SimWorld *world, long steps, const AppDischargeFrames *frames, long *done,
+                       char *err, size_t err_size)
 {
     SimError error;
     while (steps > 0) {
@@ -290,8 +290,8 @@ static int step_frames(SimWorld *world, long steps, const AppFrames *frames, lon
     return 0;
 }
 
-int app_relax(SimWorld *world, const AppDischargeDef *def, double cap, const AppFrames *frames,
-              long *steps, char *err, size_t err_size)
+int app_discharge_relax(SimWorld *world, const AppDischargeDef *def, double cap,
+                        const AppDischargeFrames *frames, long *steps, char *err, size_t err_size)
 {
     double dt = sim_world_time_step(world);
     long total = (long)ceil(cap / dt), done = 0;
@@ -377,8 +377,8 @@ static int rain_row(SimWorld *world, const AppDischargeDef *def, const AppDischa
     return geo->row_size;
 }
 
-SimWorld *app_deposit(const Scene *scene, uint64_t seed, const AppFrames *frames, FILE *trace,
-                      AppDeposit *out, char *err, size_t err_size)
+SimWorld *app_discharge_deposit(const Scene *scene, uint64_t seed, const AppDischargeFrames *frames,
+                                FILE *trace, AppDischargeDeposit *out, char *err, size_t err_size)
 {
     const AppDischargeDef *def = app_discharge_of(scene);
     memset(out, 0, sizeof *out);
@@ -438,8 +438,8 @@ SimWorld *app_deposit(const Scene *scene, uint64_t seed, const AppFrames *frames
             break;
     }
     if (status == 0) {
-        int r = app_relax(world, def, geo.relax_time + sqrt(2.0 * geo.height / geo.g), frames,
-                          &out->steps, err, err_size);
+        int r = app_discharge_relax(world, def, geo.relax_time + sqrt(2.0 * geo.height / geo.g),
+                                    frames, &out->steps, err, err_size);
         if (r < 0)
             status = -1;
         out->equilibrium = r == 1;
@@ -453,12 +453,12 @@ SimWorld *app_deposit(const Scene *scene, uint64_t seed, const AppFrames *frames
     out->time = sim_world_time(world);
     SimFrame frame;
     sim_world_frame(world, &frame);
-    out->height = app_central_height(&frame, 0.0, 0.5 * geo.d_mean);
+    out->height = app_discharge_central_height(&frame, 0.0, 0.5 * geo.d_mean);
     out->wall_seconds = app_now_seconds() - wall0;
     return world;
 }
 
-int app_open_orifice(SimWorld *world, double width, double center_x)
+int app_discharge_open_orifice(SimWorld *world, double width, double center_x)
 {
     SimFrame frame;
     sim_world_frame(world, &frame);
@@ -474,7 +474,7 @@ int app_open_orifice(SimWorld *world, double width, double center_x)
     return removed;
 }
 
-double app_central_height(const SimFrame *frame, double center_x, double half_width)
+double app_discharge_central_height(const SimFrame *frame, double center_x, double half_width)
 {
     double h = 0.0;
     for (int i = 0; i < frame->mobile_count; ++i)
@@ -499,9 +499,10 @@ void app_discharge_measure(SimWorld *world, const AppDischargeDef *def, AppDisch
         d_sum += 2.0 * frame.radius[i];
     }
     double d_mean = frame.mobile_count ? d_sum / frame.mobile_count : 1.0;
-    out->height = app_central_height(&frame, 0.0, 0.5 * d_mean);
-    int members[APP_ARCH_MAX];
-    out->arch = sim_frame_find_arch(&frame, 0.0, def->arch_force_check, members, APP_ARCH_MAX);
+    out->height = app_discharge_central_height(&frame, 0.0, 0.5 * d_mean);
+    int members[APP_DISCHARGE_ARCH_MAX];
+    out->arch =
+        sim_frame_find_arch(&frame, 0.0, def->arch_force_check, members, APP_DISCHARGE_ARCH_MAX);
     for (int k = 0; k < out->arch; ++k) {
         int i = members[k];
         out->arch_ids[k] = frame.id[i];
@@ -511,7 +512,8 @@ void app_discharge_measure(SimWorld *world, const AppDischargeDef *def, AppDisch
 }
 
 SimWorld *app_discharge(const Scene *scene, const char *pile_path, double width,
-                        const AppFrames *frames, AppDischarge *out, char *err, size_t err_size)
+                        const AppDischargeFrames *frames, AppDischarge *out, char *err,
+                        size_t err_size)
 {
     const AppDischargeDef *def = app_discharge_of(scene);
     memset(out, 0, sizeof *out);
@@ -544,7 +546,8 @@ SimWorld *app_discharge(const Scene *scene, const char *pile_path, double width,
      * (004 §2.4). A pile whose deposition reached the relaxation cap (rattlers, undamped rolling
      * modes) gets one more free-fall time with the base intact, not another full cap: repeating
      * the cap at every width doubled the cost of a study without settling such piles. */
-    int r = app_relax(world, def, sqrt(2.0 * geo.height / geo.g), NULL, &out->steps, err, err_size);
+    int r = app_discharge_relax(world, def, sqrt(2.0 * geo.height / geo.g), NULL, &out->steps, err,
+                                err_size);
     if (r < 0) {
         sim_world_destroy(world);
         return NULL;
@@ -557,8 +560,8 @@ SimWorld *app_discharge(const Scene *scene, const char *pile_path, double width,
         frames->sink.consume(frames->sink.context, &frame);
     }
     long before0 = sim_world_removed_count(world, 0), before1 = sim_world_removed_count(world, 1);
-    out->opened = app_open_orifice(world, width, 0.0);
-    r = app_relax(world, def, geo.discharge_time, frames, &out->steps, err, err_size);
+    out->opened = app_discharge_open_orifice(world, width, 0.0);
+    r = app_discharge_relax(world, def, geo.discharge_time, frames, &out->steps, err, err_size);
     if (r < 0) {
         sim_world_destroy(world);
         return NULL;
@@ -572,7 +575,7 @@ SimWorld *app_discharge(const Scene *scene, const char *pile_path, double width,
     return world;
 }
 
-void app_arch_marks(const SimFrame *frame, const AppDischarge *result, int *marks)
+void app_discharge_arch_marks(const SimFrame *frame, const AppDischarge *result, int *marks)
 {
     for (int i = 0; i < frame->count; ++i) {
         marks[i] = -1;
@@ -643,6 +646,7 @@ static const char *const discharge_member_sets[] = {"discharge.dt_divisor=0", NU
 const AppExperiment app_discharge_experiment = {
     .name = "discharge",
     .group = "discharge",
+    .grains_from_run = 1, /* rows rained during the protocol onto a fixed base */
     .parse = discharge_parse,
     .free = discharge_free,
     .commands = app_discharge_commands,

@@ -4,11 +4,10 @@
  * protocol; lengths are in mean diameters d (d = 1), masses in units of a d = 1 grain (disk
  * density 4/pi), time in the unit that makes k_n = 1000 (notes §1.10-1.12).
  *
- *     AppDeposit dep;
- *     SimWorld *pile = app_deposit(scene, seed, NULL, &dep, err, sizeof err);   // relaxed pile
- *     sim_world_save(pile, "pile.state", &error);
- *     AppDischarge out;
- *     app_discharge(scene, "pile.state", 3.0, NULL, &out, err, sizeof err);     // s, h, arch
+ *     AppDischargeDeposit dep;
+ *     SimWorld *pile = app_discharge_deposit(scene, seed, NULL, &dep, err, sizeof err);   //
+ * relaxed pile sim_world_save(pile, "pile.state", &error); AppDischarge out; app_discharge(scene,
+ * "pile.state", 3.0, NULL, &out, err, sizeof err);     // s, h, arch
  *
  * Knows nothing about rendering (frames go to an optional SimFrameSink).
  */
@@ -24,7 +23,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#define APP_ARCH_MAX 256
+#define APP_DISCHARGE_ARCH_MAX 256
 
 /// The scene's `discharge` group (docs/discharge.md). Lengths in d, times in simulation units.
 typedef struct AppDischargeDef {
@@ -85,12 +84,12 @@ typedef struct AppDischargeGeometry {
 void app_discharge_geometry(const Scene *scene, AppDischargeGeometry *geo);
 
 /// Frames during a run (movies): every `every` steps to `sink` (NULL sink = none).
-typedef struct AppFrames {
+typedef struct AppDischargeFrames {
     SimFrameSink sink;
     long every;
-} AppFrames;
+} AppDischargeFrames;
 
-typedef struct AppDeposit {
+typedef struct AppDischargeDeposit {
     int rows;        ///< rows released
     int released;    ///< grains released
     int pile;        ///< mobile grains left at the end
@@ -102,39 +101,39 @@ typedef struct AppDeposit {
     double height;        ///< central height h of the pile (y of the top centre in |x| < d/2), d
     int pile_count_rows;  ///< entries in pile_count
     int pile_count[1024]; ///< grains with >= 1 contact after each row (004 fig. 2.8)
-} AppDeposit;
+} AppDischargeDeposit;
 
 /// Builds the base, rains rows and relaxes to static equilibrium. Returns the world (caller
 /// destroys), or NULL with a message. `trace` (optional) gets "t,row,released,pile,mobile" rows.
-SimWorld *app_deposit(const Scene *scene, uint64_t seed, const AppFrames *frames, FILE *trace,
-                      AppDeposit *out, char *err, size_t err_size);
+SimWorld *app_discharge_deposit(const Scene *scene, uint64_t seed, const AppDischargeFrames *frames,
+                                FILE *trace, AppDischargeDeposit *out, char *err, size_t err_size);
 
 /// Steps until sim_world_equilibrium(tolerance) holds (tested every check_every steps) or
 /// `cap` simulation time passed. Returns 1 at equilibrium, 0 at the cap, -1 on failure.
-int app_relax(SimWorld *world, const AppDischargeDef *def, double cap, const AppFrames *frames,
-              long *steps, char *err, size_t err_size);
+int app_discharge_relax(SimWorld *world, const AppDischargeDef *def, double cap,
+                        const AppDischargeFrames *frames, long *steps, char *err, size_t err_size);
 
 /// Removes the fixed grains whose centre lies within width/2 of center_x; returns how many.
-int app_open_orifice(SimWorld *world, double width, double center_x);
+int app_discharge_open_orifice(SimWorld *world, double width, double center_x);
 
 /// Order parameter h: y of the highest mobile-grain centre in |x - center_x| < half_width, 0
 /// when that strip is empty (the pile split in two, 004 §3.3).
-double app_central_height(const SimFrame *frame, double center_x, double half_width);
+double app_discharge_central_height(const SimFrame *frame, double center_x, double half_width);
 
 typedef struct AppDischarge {
-    double width;                      ///< w, d
-    int opened;                        ///< base grains removed
-    long through;                      ///< s: grains out through the orifice
-    long edges;                        ///< grains lost over the edges
-    int pile;                          ///< mobile grains left
-    int pile_species[SIM_MAX_SPECIES]; ///< per species
-    double height;                     ///< h, d
-    int arch;                          ///< arch grains (0 = none)
-    int arch_species[SIM_MAX_SPECIES]; ///< per species
-    uint32_t arch_ids[APP_ARCH_MAX];   ///< stable ids of the arch grains, left to right
-    int equilibrium;                   ///< 1: stopped at static equilibrium
-    int settled_before;                ///< 1: the reloaded pile was at equilibrium
-    double time;                       ///< simulation time of the discharge
+    double width;                              ///< w, d
+    int opened;                                ///< base grains removed
+    long through;                              ///< s: grains out through the orifice
+    long edges;                                ///< grains lost over the edges
+    int pile;                                  ///< mobile grains left
+    int pile_species[SIM_MAX_SPECIES];         ///< per species
+    double height;                             ///< h, d
+    int arch;                                  ///< arch grains (0 = none)
+    int arch_species[SIM_MAX_SPECIES];         ///< per species
+    uint32_t arch_ids[APP_DISCHARGE_ARCH_MAX]; ///< stable ids of the arch grains, left to right
+    int equilibrium;                           ///< 1: stopped at static equilibrium
+    int settled_before;                        ///< 1: the reloaded pile was at equilibrium
+    double time;                               ///< simulation time of the discharge
     long steps;
     double wall_seconds;
 } AppDischarge;
@@ -143,13 +142,14 @@ typedef struct AppDischarge {
 /// forces rebuild), opens the orifice, runs to a new equilibrium (or the cap) and measures.
 /// Returns the world at the end (caller destroys; NULL on failure with a message).
 SimWorld *app_discharge(const Scene *scene, const char *pile_path, double width,
-                        const AppFrames *frames, AppDischarge *out, char *err, size_t err_size);
+                        const AppDischargeFrames *frames, AppDischarge *out, char *err,
+                        size_t err_size);
 
 /// Measures s, h, arch and composition on a world (used by app_discharge).
 void app_discharge_measure(SimWorld *world, const AppDischargeDef *def, AppDischarge *out);
 
 /// Per-grain arch marks in frame order (1 for arch members, -1 otherwise) for the renderer.
-void app_arch_marks(const SimFrame *frame, const AppDischarge *result, int *marks);
+void app_discharge_arch_marks(const SimFrame *frame, const AppDischarge *result, int *marks);
 
 /// One CSV row of a discharge result (no newline); header from app_discharge_csv_header().
 const char *app_discharge_csv_header(void);

@@ -97,7 +97,7 @@ int app_discharge_check_widths(const Scene *scene, const double *widths, int cou
 /* ---------------------------------------------------------------- movies and figures */
 
 int app_discharge_movie_start(AppDischargeMovie *m, const Scene *scene, const char *path,
-                              AppFrames *frames, double frame_time, double dt)
+                              AppDischargeFrames *frames, double frame_time, double dt)
 {
     memset(frames, 0, sizeof *frames);
     if (!m->render || !m->render->movie_open)
@@ -138,7 +138,7 @@ int app_discharge_figure(const AppRender *render, const Scene *scene, SimWorld *
         marks = malloc((size_t)(frame.count + 1) * sizeof *marks);
         if (!marks)
             return -1;
-        app_arch_marks(&frame, result, marks);
+        app_discharge_arch_marks(&frame, result, marks);
     }
     /* the scene's style; force chains only through an arch */
     SceneFigure fig;

@@ -33,7 +33,7 @@ typedef struct AppDischargeMovie {
 
 /// Opens a movie at path (nothing without a renderer) and sets the frame cadence of `frames`.
 int app_discharge_movie_start(AppDischargeMovie *m, const Scene *scene, const char *path,
-                              AppFrames *frames, double frame_time, double dt);
+                              AppDischargeFrames *frames, double frame_time, double dt);
 int app_discharge_movie_finish(AppDischargeMovie *m);
 /// A pile figure in the scene's style, the arch of `result` (may be NULL) highlighted.
 int app_discharge_figure(const AppRender *render, const Scene *scene, SimWorld *world,

@@ -48,11 +48,14 @@ const char APP_STUDY_USAGE[] =
     "  --reduce-only   only rebuild tables and plots from finished runs\n"
     "  --resume        accepted for every driver alike: a study always resumes\n"
     "SIGINT or SIGTERM stops the samples (each width done is kept), writes the tables of what\n"
-    "finished and exits 130 or 143.\n";
+    "finished and exits 130 or 143.\n"
+    "\n"
+    "exit status: 0 every sample succeeded, 1 a sample failed, 2 bad input (nothing runs) or a\n"
+    "table that cannot be written, 130/143 SIGINT/SIGTERM\n";
 
 /* ---------------------------------------------------------------- species maps (004 §3.4) */
 
-int app_species_map_init(AppSpeciesMap *map, double L, double cell)
+int app_study_species_map_init(AppStudySpeciesMap *map, double L, double cell)
 {
     memset(map, 0, sizeof *map);
     if (!(L > 0.0) || !(cell > 0.0) || !isfinite(L) || !isfinite(cell) || L / cell > 4096.0)
@@ -68,20 +71,20 @@ int app_species_map_init(AppSpeciesMap *map, double L, double cell)
     map->count = calloc(n, sizeof *map->count);
     map->marked = calloc(n, sizeof *map->marked);
     if (!map->count || !map->marked) {
-        app_species_map_free(map);
+        app_study_species_map_free(map);
         return -1;
     }
     return 0;
 }
 
-void app_species_map_free(AppSpeciesMap *map)
+void app_study_species_map_free(AppStudySpeciesMap *map)
 {
     free(map->count);
     free(map->marked);
     memset(map, 0, sizeof *map);
 }
 
-int app_species_map_add(AppSpeciesMap *map, const SimFrame *frame, int marked)
+int app_study_species_map_add(AppStudySpeciesMap *map, const SimFrame *frame, int marked)
 {
     int outside = 0;
     for (int g = 0; g < frame->count; ++g) {
@@ -99,7 +102,7 @@ int app_species_map_add(AppSpeciesMap *map, const SimFrame *frame, int marked)
     return outside;
 }
 
-double app_species_map_fraction(const AppSpeciesMap *map, int i, int j)
+double app_study_species_map_fraction(const AppStudySpeciesMap *map, int i, int j)
 {
     if (i < 0 || j < 0 || i >= map->nx || j >= map->ny)
         return NOTHING;
@@ -107,7 +110,8 @@ double app_species_map_fraction(const AppSpeciesMap *map, int i, int j)
     return map->count[k] > 0 ? (double)map->marked[k] / (double)map->count[k] : NOTHING;
 }
 
-int app_species_map_format(const AppSpeciesMap *map, const char *tag, char *buf, size_t size)
+int app_study_species_map_format(const AppStudySpeciesMap *map, const char *tag, char *buf,
+                                 size_t size)
 {
     char none[1];
     if (!buf || size == 0) { /* only the length is wanted */
@@ -125,7 +129,7 @@ int app_species_map_format(const AppSpeciesMap *map, const char *tag, char *buf,
     return total;
 }
 
-int app_species_map_parse(AppSpeciesMap *map, const char *text)
+int app_study_species_map_parse(AppStudySpeciesMap *map, const char *text)
 {
     char *end;
     long nx = strtol(text, &end, 10);
@@ -158,7 +162,7 @@ int app_species_map_parse(AppSpeciesMap *map, const char *text)
     return 0;
 }
 
-int app_species_marked(const Scene *scene, const char **what)
+int app_study_species_marked(const Scene *scene, const char **what)
 {
     if (what)
         *what = NULL;
@@ -239,24 +243,24 @@ static int out_of_memory(char *err, size_t err_size)
  * two distinct species, -1 when out of memory. */
 static int map_record(const Scene *scene, SimWorld *world, double L, const char *tag, char **text)
 {
-    int marked = app_species_marked(scene, NULL);
+    int marked = app_study_species_marked(scene, NULL);
     if (marked < 0)
         return 0;
-    AppSpeciesMap map;
-    if (app_species_map_init(&map, L, SPECIES_CELL) != 0)
+    AppStudySpeciesMap map;
+    if (app_study_species_map_init(&map, L, SPECIES_CELL) != 0)
         return 0;
     SimFrame frame;
     sim_world_frame(world, &frame);
-    app_species_map_add(&map, &frame, marked);
-    int need = app_species_map_format(&map, tag, NULL, 0);
+    app_study_species_map_add(&map, &frame, marked);
+    int need = app_study_species_map_format(&map, tag, NULL, 0);
     size_t old = *text ? strlen(*text) : 0;
     char *grown = realloc(*text, old + (size_t)need + 2);
     if (grown) {
-        app_species_map_format(&map, tag, grown + old, (size_t)need + 1);
+        app_study_species_map_format(&map, tag, grown + old, (size_t)need + 1);
         memcpy(grown + old + need, "\n", 2);
         *text = grown;
     }
-    app_species_map_free(&map);
+    app_study_species_map_free(&map);
     return grown ? 1 : -1;
 }
 
@@ -347,7 +351,7 @@ static int read_maps(const char *path, const double *widths, int count, const un
 
 /* The pile's deposition record: fixed fields, then the profile of the top per d-wide strip
  * (malloc'd, NULL when out of memory). */
-static char *deposition_line(SimWorld *world, const AppDeposit *dep, double L, int sample)
+static char *deposition_line(SimWorld *world, const AppDischargeDeposit *dep, double L, int sample)
 {
     int bins = (int)floor(L + 0.5);
     double *heights = malloc((size_t)(bins + 1) * sizeof *heights);
@@ -394,9 +398,9 @@ static int deposit_sample(const Scene *scene, double L, int sample, const char *
                           const char *dep_path, const char *maps_path, char **maps)
 {
     char err[4096] = "";
-    AppDeposit dep;
-    SimWorld *world =
-        app_deposit(scene, scene->seed + (uint64_t)sample, NULL, NULL, &dep, err, sizeof err);
+    AppDischargeDeposit dep;
+    SimWorld *world = app_discharge_deposit(scene, scene->seed + (uint64_t)sample, NULL, NULL, &dep,
+                                            err, sizeof err);
     if (!world) {
         fprintf(stderr, "sablier: study L = %g sample %d: deposition: %s\n", L, sample, err);
         return 1;
@@ -712,7 +716,7 @@ static void gaussian_fit(const double *w, const double *sigma, int n, double *pe
     *A = a - b * o + c2 * o * o;
 }
 
-double app_gaussian_peak(const double *w, const double *sigma, int n)
+double app_study_gaussian_peak(const double *w, const double *sigma, int n)
 {
     double peak, A, B, C;
     gaussian_fit(w, sigma, n, &peak, &A, &B, &C);
@@ -739,7 +743,7 @@ static int compare_long(const void *a, const void *b)
 /* Every sample's map records of one L, summed: maps[0] the piles before discharge, maps[k + 1]
  * after the discharges at widths[k] an arch stopped; piles[] the records of each. */
 static void read_species_maps(const char *dir, double L, const double *widths, int width_count,
-                              int samples, AppSpeciesMap *maps, int *piles)
+                              int samples, AppStudySpeciesMap *maps, int *piles)
 {
     char path[PATH + 64], *line = NULL;
     size_t cap = 0;
@@ -759,7 +763,7 @@ static void read_species_maps(const char *dir, double L, const double *widths, i
                 for (int j = 0; j < width_count && k < 0; ++j)
                     if (fabs(widths[j] - strtod(line, NULL)) < 1e-6)
                         k = j + 1;
-            if (k >= 0 && app_species_map_parse(&maps[k], comma + 1) == 0)
+            if (k >= 0 && app_study_species_map_parse(&maps[k], comma + 1) == 0)
                 ++piles[k];
         }
         fclose(f);
@@ -780,7 +784,8 @@ typedef struct MapOutput {
 } MapOutput;
 
 /* The map of the piles before discharge: species_map.csv and .png. 0, or -1. */
-static int write_pile_map(const MapOutput *o, const AppSpeciesMap *m, int piles, double *values)
+static int write_pile_map(const MapOutput *o, const AppStudySpeciesMap *m, int piles,
+                          double *values)
 {
     int status = 0;
     char path[PATH + 64];
@@ -788,7 +793,7 @@ static int write_pile_map(const MapOutput *o, const AppSpeciesMap *m, int piles,
     size_t used = (size_t)snprintf(o->text, o->text_cap, "x,y,count,fraction\n");
     for (int j = 0; j < m->ny; ++j)
         for (int i = 0; i < m->nx; ++i) {
-            values[(size_t)j * (size_t)m->nx + (size_t)i] = app_species_map_fraction(m, i, j);
+            values[(size_t)j * (size_t)m->nx + (size_t)i] = app_study_species_map_fraction(m, i, j);
             used += (size_t)snprintf(o->text + used, o->text_cap - used, "%.6g,%.6g,%ld,%.8g\n",
                                      m->x0 + (i + 0.5) * m->cell, m->y0 + (j + 0.5) * m->cell,
                                      m->count[(size_t)j * (size_t)m->nx + (size_t)i],
@@ -819,13 +824,13 @@ static int write_pile_map(const MapOutput *o, const AppSpeciesMap *m, int piles,
 
 /* The maps after the discharges an arch stopped, per width: species_map_jammed.csv. 0, or -1;
  * *any = 1 when there is one. */
-static int write_jammed_maps(const MapOutput *o, const AppSpeciesMap *maps, const int *piles,
+static int write_jammed_maps(const MapOutput *o, const AppStudySpeciesMap *maps, const int *piles,
                              const double *widths, int width_count, int *any)
 {
     size_t used = (size_t)snprintf(o->text, o->text_cap, "w,jammed,x,y,count,fraction\n");
     *any = 0;
     for (int k = 1; k <= width_count; ++k) {
-        const AppSpeciesMap *a = &maps[k];
+        const AppStudySpeciesMap *a = &maps[k];
         if (piles[k] == 0)
             continue;
         *any = 1;
@@ -835,7 +840,7 @@ static int write_jammed_maps(const MapOutput *o, const AppSpeciesMap *maps, cons
                                          "%.10g,%d,%.6g,%.6g,%ld,%.8g\n", widths[k - 1], piles[k],
                                          a->x0 + (i + 0.5) * a->cell, a->y0 + (j + 0.5) * a->cell,
                                          a->count[(size_t)j * (size_t)a->nx + (size_t)i],
-                                         app_species_map_fraction(a, i, j));
+                                         app_study_species_map_fraction(a, i, j));
     }
     char path[PATH + 64];
     snprintf(path, sizeof path, "%s/L%g/species_map_jammed.csv", o->dir, o->L);
@@ -850,13 +855,13 @@ static int species_maps(const Scene *scene, const char *dir, double L, const dou
                         size_t err_size)
 {
     MapOutput o = {scene, dir, NULL, L, render, NULL, 0, err, err_size};
-    if (app_species_marked(scene, &o.what) < 0)
+    if (app_study_species_marked(scene, &o.what) < 0)
         return 0;
-    AppSpeciesMap *maps = calloc((size_t)width_count + 1, sizeof *maps); /* [0] = before */
+    AppStudySpeciesMap *maps = calloc((size_t)width_count + 1, sizeof *maps); /* [0] = before */
     int *piles = calloc((size_t)width_count + 1, sizeof *piles);
     int ready = maps && piles, status = 0;
     for (int k = 0; ready && k <= width_count; ++k)
-        ready = app_species_map_init(&maps[k], L, SPECIES_CELL) == 0;
+        ready = app_study_species_map_init(&maps[k], L, SPECIES_CELL) == 0;
     double *values = NULL;
     if (ready) {
         read_species_maps(dir, L, widths, width_count, samples, maps, piles);
@@ -880,7 +885,7 @@ static int species_maps(const Scene *scene, const char *dir, double L, const dou
     free(o.text);
     free(values);
     for (int k = 0; maps && k <= width_count; ++k)
-        app_species_map_free(&maps[k]);
+        app_study_species_map_free(&maps[k]);
     free(maps);
     free(piles);
     return ready ? status : -2;
@@ -1352,7 +1357,7 @@ int app_study_reduce(const Scene *scene, const char *dir, const double *lengths,
     for (int l = 0; rc == 0 && l < length_count; ++l)
         rc = reduce_length(&R, l);
     if (rc == 0) {
-        if (app_species_marked(scene, NULL) < 0)
+        if (app_study_species_marked(scene, NULL) < 0)
             fprintf(stderr, "sablier: study: no species maps: the scene's discharge rows have "
                             "one species (or two of the same diameter and density)\n");
         char path[PATH + 64];

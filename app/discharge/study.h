@@ -24,37 +24,38 @@ extern const char APP_STUDY_USAGE[];
 
 /// Gaussian fit of sigma(w) through its peak: a parabola fitted to log sigma over the points
 /// above half the maximum (at least three, else the arg-max). Returns the peak position w_t.
-double app_gaussian_peak(const double *w, const double *sigma, int n);
+double app_study_gaussian_peak(const double *w, const double *sigma, int n);
 
 /// Species counts on square cells over piles (004 §3.4: q_s and q_d maps on 5 d squares),
 /// summed over samples, so a cell's fraction is a ratio of sums: marked / count.
-typedef struct AppSpeciesMap {
+typedef struct AppStudySpeciesMap {
     int nx, ny;          ///< cells, row-major index j * nx + i
     double x0, y0, cell; ///< lower-left corner of cell (0, 0) and side, d
     long *count;         ///< grains per cell
     long *marked;        ///< of them, grains of the marked species
-} AppSpeciesMap;
+} AppStudySpeciesMap;
 
 /// Cells of side `cell` for a pile on a base of length L: an odd number of columns with one
 /// centred on x = 0 (above the orifice), covering [-L/2, L/2] x [0, L]. 0, or -1 on bad input.
-int app_species_map_init(AppSpeciesMap *map, double L, double cell);
-void app_species_map_free(AppSpeciesMap *map);
+int app_study_species_map_init(AppStudySpeciesMap *map, double L, double cell);
+void app_study_species_map_free(AppStudySpeciesMap *map);
 /// Adds the mobile grains of one pile (fixed grains skipped; flags and species may be NULL);
 /// `marked` is the species counted in map->marked. Returns the grains outside the cells.
-int app_species_map_add(AppSpeciesMap *map, const SimFrame *frame, int marked);
+int app_study_species_map_add(AppStudySpeciesMap *map, const SimFrame *frame, int marked);
 /// Fraction of marked grains in cell (i, j); NaN when the cell is empty or outside.
-double app_species_map_fraction(const AppSpeciesMap *map, int i, int j);
+double app_study_species_map_fraction(const AppStudySpeciesMap *map, int i, int j);
 /// One record "TAG,nx,ny,k:count:marked,..." of the non-empty cells (k = j * nx + i), no newline
 /// (buf may be NULL to get the length);
 /// returns what snprintf returns.
-int app_species_map_format(const AppSpeciesMap *map, const char *tag, char *buf, size_t size);
-/// Adds a record of app_species_map_format, given the text after its tag and comma. 0, or -1 when
-/// the grid differs or the text is malformed (nothing added then).
-int app_species_map_parse(AppSpeciesMap *map, const char *text);
+int app_study_species_map_format(const AppStudySpeciesMap *map, const char *tag, char *buf,
+                                 size_t size);
+/// Adds a record of app_study_species_map_format, given the text after its tag and comma. 0, or -1
+/// when the grid differs or the text is malformed (nothing added then).
+int app_study_species_map_parse(AppStudySpeciesMap *map, const char *text);
 /// The species the maps count: the smaller one when the scene's two discharge species differ in
 /// diameter (q_s), else the lighter one when they differ in density (q_d); -1 otherwise. *what
 /// (may be NULL) gets "small" or "light".
-int app_species_marked(const Scene *scene, const char **what);
+int app_study_species_marked(const Scene *scene, const char **what);
 
 /// Reduces finished runs of a study folder to tables (per-(L, w) CSV, study.csv, fits.csv, F(s))
 /// and plots; returns 0, or -1 with a message.

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* sediment/scan.c: the sediment family's multi-run driver, `sablier sediment` (thesis 002 ch. 7):
- * a scene with a `fluid` group run once per Shields number through the stage runner, in parallel
+ * a scene with a `sediment` group run once per Shields number through the stage runner, in parallel
  * processes, then flux.csv, threshold.json (the transport threshold) and flux.png. */
 #include "driver.h"
 #include "pool.h"
@@ -64,6 +64,7 @@ typedef struct Scan {
     double shields[SCAN_MAX], level;
     int count;
     const AppRender *render;
+    char group[16]; /* the scene's name of the family's group: `sediment` or `fluid` */
 } Scan;
 
 static void member_dir(const Scan *sc, int k, char *dir, size_t size)
@@ -71,13 +72,13 @@ static void member_dir(const Scan *sc, int k, char *dir, size_t size)
     snprintf(dir, size, "%s/shields=%g", sc->out_dir, sc->shields[k]);
 }
 
-/* One member, in a child process: the scene with fluid.shields = Theta_k. */
+/* One member, in a child process: the scene with sediment.shields = Theta_k. */
 static int run_member(const Scan *sc, int k)
 {
     char dir[SCAN_PATH];
     AppDriverSets sets = {.count = 0};
     app_driver_sets_add(&sets, sc->a.sets, sc->a.set_count);
-    app_driver_sets_printf(&sets, "fluid.shields=%.17g", sc->shields[k]);
+    app_driver_sets_printf(&sets, "%s.shields=%.17g", sc->group, sc->shields[k]);
     member_dir(sc, k, dir, sizeof dir);
     return app_driver_member(sc->scene_path, &sets, &app_sediment_experiment, dir,
                              sc->render_runs ? sc->render : NULL);
@@ -352,6 +353,7 @@ int app_sediment_command(int argc, char **argv, const AppEnv *env)
     Scene *scene = app_driver_load(sc.scene_path, &sets, &app_sediment_experiment);
     if (!scene)
         return 2;
+    snprintf(sc.group, sizeof sc.group, "%s", app_sediment_group(app_sediment_of(scene)));
     scene_free(scene);
     if (app_make_dirs(sc.out_dir) != 0) {
         fprintf(stderr, "sablier: sediment: cannot create %s\n", sc.out_dir);

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
-/* sediment.c: the `fluid` group (thesis 002 ch. 6: 1D mixing-length fluid over a periodic bed)
- * and the bed-load measures (002 ch. 7: flux q(t), saturated flux, saturation time).
+/* sediment.c: the `sediment` group, older name `fluid` (thesis 002 ch. 6: 1D mixing-length fluid
+ * over a periodic bed) and the bed-load measures (002 ch. 7: flux q(t), saturated flux, saturation
+ * time).
  *
  * Control numbers (002 eqs. 40-42; d = grain diameter, g = |gravity|, rho_p = grain density):
  *   D_R = rho_p / rho_f,  R = (d / nu) sqrt((D_R - 1) g d),  Theta = u*^2 / ((D_R - 1) g d).
@@ -39,6 +40,7 @@ struct AppSediment {
     AppPlotPanel side_panels[2]; /* figure_extras: profiles beside the bed */
     AppPlotSeries side_series[2];
     char u_label[32], y_label[32]; /* their axes, in the scene's units */
+    char group[16];                /* the group's name in the scene: `sediment` or `fluid` */
 };
 
 /* ---------------------------------------------------------------- parsing */
@@ -250,10 +252,14 @@ AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *e
         "diameter",      "y0",           "y1",      "cells",      "turbulent", "kappa",
         "van_driest",    "bed_fraction", "c_inf",   "reynolds_c", "buoyancy",  "geometry",
         "flow_stage",    "drag_limit",   "start",   NULL};
-    AppConfig p = {.path = scene->path, .err = err, .err_size = err_size, .group = "fluid"};
     if (err_size)
         err[0] = '\0';
-    if (!g || app_config_keys(&p, g, NULL, keys, NULL) < 0)
+    if (!g)
+        return NULL;
+    /* messages name the group as the scene gives it (`fluid` is its older name) */
+    AppConfig p = {
+        .path = scene->path, .err = err, .err_size = err_size, .group = config_setting_name(g)};
+    if (app_config_keys(&p, g, NULL, keys, NULL) < 0)
         return NULL;
     if (!(scene->def.effects & SIM_EFFECT_PERIODIC_X)) {
         app_config_fail(&p, g,
@@ -271,6 +277,8 @@ AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *e
         parse_start(&p, g, &steady) < 0)
         return NULL;
     AppSediment *s = sediment_create(&p, g, scene, &fd, &num, &in, steady);
+    if (s)
+        snprintf(s->group, sizeof s->group, "%s", config_setting_name(g));
     if (s && scene->style.normalised_units) { /* SI keeps its bare "u", "y" */
         scene_axis_label(scene, "u", SCENE_SPEED, s->u_label, sizeof s->u_label);
         scene_axis_label(scene, "y", SCENE_LENGTH, s->y_label, sizeof s->y_label);
@@ -290,6 +298,11 @@ void app_sediment_free(AppSediment *s)
     free(s->t);
     free(s->q);
     free(s);
+}
+
+const char *app_sediment_group(const AppSediment *s)
+{
+    return s->group;
 }
 
 SimFluid *app_sediment_fluid(const AppSediment *s)
@@ -619,7 +632,9 @@ static const char *const OUTPUTS[] = {"sediment.csv", "sediment.json", NULL};
 const AppExperiment app_sediment_experiment = {
     .name = "sediment",
     .outputs = OUTPUTS,
-    .group = "fluid",
+    .group = "sediment",
+    .group_alias = "fluid",
+    .effects = SIM_EFFECT_FLUID_DRAG,
     .parse = sediment_parse,
     .free = sediment_free,
     .begin = sediment_begin,

@@ -1,12 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /* sediment.h: bed-load transport under the 1D fluid column of thesis 002 ch. 6-7 (sim/fluid.c).
- * Parses a scene's `fluid` group (effect fluid_drag), owns the SimFluid whose body-force stage
- * drags the grains, and measures during a run: sediment.csv (flux q(t), bed level, fluid
- * velocity at the top), <stage>.fluid.csv (fluid, concentration, grain-velocity and stress
- * profiles) and sediment.json (q_sat, T_sat, the control numbers).
+ * Parses a scene's `sediment` group (older name `fluid`; effect fluid_drag), owns the SimFluid
+ * whose body-force stage drags the grains, and measures during a run: sediment.csv (flux q(t), bed
+ * level, fluid velocity at the top), <stage>.fluid.csv (fluid, concentration, grain-velocity and
+ * stress profiles) and sediment.json (q_sat, T_sat, the control numbers).
  *
  *     // in scene_load, after grains and stages:
- *     scene->sediment = app_sediment_parse(member(root, "fluid"), scene, err, sizeof err);
+ *     scene->sediment = app_sediment_parse(member(root, "sediment"), scene, err, sizeof err);
  *     // in the runner: app_sediment_begin / _stage / _row / _stage_end / _end
  */
 #ifndef APP_SEDIMENT_H
@@ -32,13 +32,15 @@ typedef struct AppSedimentNumbers {
 
 typedef struct AppSediment AppSediment;
 
-/// Parses `fluid` (NULL when absent: returns NULL with err empty) and creates the fluid; sets the
-/// scene's body force. NULL with "file:line: message" in err on bad input.
+/// Parses `sediment` (NULL when absent: returns NULL with err empty) and creates the fluid; sets
+/// the scene's body force. NULL with "file:line: message" in err on bad input.
 AppSediment *app_sediment_parse(const config_setting_t *group, Scene *scene, char *err,
                                 size_t err_size);
 void app_sediment_free(AppSediment *sediment);
 
 SimFluid *app_sediment_fluid(const AppSediment *sediment);
+/// The family's group as the scene names it: "sediment", or its older name "fluid".
+const char *app_sediment_group(const AppSediment *sediment);
 AppSedimentNumbers app_sediment_numbers(const AppSediment *sediment);
 
 /// Runner hooks. begin opens sediment.csv in out_dir; stage is called at each stage start (the
@@ -76,27 +78,30 @@ double app_sediment_threshold(const double *shields, const double *q_star, int c
 
 #define APP_SEDIMENT_USAGE                                                                         \
     "usage: sablier sediment SCENE --shields T1,T2,... [--jobs J] [--level Q] [--out DIR]\n"       \
-    "                        [--set KEY=VALUE]... [--render] [--resume] [--quiet]\n"               \
-    "Shields scan (thesis 002 ch. 7): runs a scene with a `fluid` group once per Shields number\n" \
-    "(--set fluid.shields=T) into DIR/shields=T/, J at a time (default 2), then writes\n"          \
-    "DIR/flux.csv (q_sat, q*_sat, T_sat per value), DIR/threshold.json and DIR/flux.png (q*\n"     \
-    "against Theta with the threshold estimate; docs/sediment.md).\n"                              \
+    "                        [--set KEY=VALUE]... [--render] [--resume] [--quiet|-q]\n"            \
+    "Shields scan (thesis 002 ch. 7): runs a scene with a `sediment` group once per Shields\n"     \
+    "number (--set sediment.shields=T) into DIR/shields=T/, J at a time (default 2), then\n"       \
+    "writes DIR/flux.csv (q_sat, q*_sat, T_sat per value), DIR/threshold.json and DIR/flux.png\n"  \
+    "(q* against Theta with the threshold estimate; docs/sediment.md).\n"                          \
     "  --level Q   q* above which a point transports (default 1e-3)\n"                             \
     "  --render    each member's own figures and movies (default: none)\n"                         \
     "  --resume    skip the members whose folder holds a completed run\n"                          \
     "SIGINT or SIGTERM stops the members, writes flux.csv (status `interrupted` for those not\n"   \
-    "finished) and exits 130 or 143.\n"
+    "finished) and exits 130 or 143.\n"                                                            \
+    "\n"                                                                                           \
+    "exit status: 0 every member succeeded, 1 a member failed, 2 bad input (nothing runs) or a\n"  \
+    "table that cannot be written, 130/143 SIGINT/SIGTERM\n"
 
 /// `sablier sediment`: parses argv (argv[1] is "sediment"), runs the scan; returns the exit status.
 int app_sediment_command(int argc, char **argv, const AppEnv *env);
 /// `sablier sediment` (one entry).
 extern const AppCommand app_sediment_commands[];
 
-/// The sediment family (app/experiment.h): the `fluid` group, sediment.csv at every energy row,
-/// <stage>.fluid.csv at each stage end, sediment.json at the end; figures get the column's
-/// velocity and concentration profiles beside the bed.
+/// The sediment family (app/experiment.h): the `sediment` group (older name `fluid`), sediment.csv
+/// at every energy row, <stage>.fluid.csv at each stage end, sediment.json at the end; figures get
+/// the column's velocity and concentration profiles beside the bed.
 extern const AppExperiment app_sediment_experiment;
-/// The scene's sediment state (NULL when it has no `fluid` group).
+/// The scene's sediment state (NULL when it has no `sediment` group).
 AppSediment *app_sediment_of(const Scene *scene);
 
 #endif

@@ -29,7 +29,8 @@ class SimMaterial(Structure):
                 ("normal_damping", c_double), ("restitution", c_double),
                 ("critical_fraction", c_double), ("friction", c_double),
                 ("tangential_damping", c_double), ("tangential_stiffness", c_double),
-                ("rolling_friction", c_double), ("rolling_stiffness", c_double)]
+                ("rolling_friction", c_double), ("rolling_stiffness", c_double),
+                ("spring_damping", c_double)]
 
 
 class SimContactModel(Structure):
@@ -58,6 +59,20 @@ class SimWall(Structure):
                 ("species", c_int), ("motion", c_int), ("shape", c_int), ("side", c_int),
                 ("center_x", c_double), ("center_y", c_double), ("radius", c_double),
                 ("angle0", c_double), ("angle1", c_double)]
+
+
+class SimWallBody(Structure):
+    _fields_ = [("active", c_int), ("axis_x", c_double), ("axis_y", c_double),
+                ("mass", c_double), ("force_x", c_double), ("force_y", c_double),
+                ("gravity", c_int), ("servo", c_int), ("target", c_double), ("gain", c_double),
+                ("max_speed", c_double)]
+
+
+class SimWallLoad(Structure):
+    _fields_ = [("fx", c_double), ("fy", c_double), ("normal", c_double),
+                ("tangential", c_double), ("torque", c_double), ("length", c_double),
+                ("x", c_double), ("y", c_double), ("offset", c_double), ("speed", c_double),
+                ("contacts", c_int)]
 
 
 class SimSink(Structure):
@@ -92,7 +107,8 @@ class SimWorldDef(Structure):
                 ("max_dt_fraction", c_double), ("skin", c_double), ("domain_x0", c_double),
                 ("domain_x1", c_double), ("grains", SimGrainSet), ("wall_count", c_int),
                 ("walls", POINTER(SimWall)), ("wall_bodies", POINTER(SimWallBody)),
-                ("motion_count", c_int), ("motions", SimMotion * SIM_MAX_MOTIONS), ("sink_count", c_int),
+                ("motion_count", c_int),
+                ("motions", SimMotion * SIM_MAX_MOTIONS), ("sink_count", c_int),
                 ("sinks", SimSink * SIM_MAX_SINKS), ("body_force", SimBodyForce),
                 ("guard_max_overlap", c_double), ("guard_max_speed", c_double),
                 ("guard_every", c_int), ("max_initial_overlap", c_double),
@@ -197,10 +213,12 @@ class SceneStage(Structure):
     _fields_ = [("name", c_char * SCENE_NAME_MAX), ("load", c_int),
                 ("load_path", c_char * SCENE_PATH_MAX), ("time_step", c_double),
                 ("duration", c_double), ("settle_kinetic", c_double),
-                ("settle_after", c_double), ("remove_count", c_int), ("remove_ids", _pu32),
+                ("settle_after", c_double), ("settle_per_grain", c_double),
+                ("settle_hold", c_double), ("remove_count", c_int), ("remove_ids", _pu32),
                 ("movie", c_int), ("skip", c_int), ("gravity_x", c_double),
                 ("gravity_y", c_double), ("effects", c_uint), ("motions", c_uint),
-                ("declares_motions", c_int), ("movie_view", c_double * 4)]
+                ("restart_motions", c_uint), ("declares_motions", c_int),
+                ("movie_view", c_double * 4), ("add_count", c_int), ("adds", c_void_p)]
 
 
 class Scene(Structure):
@@ -219,8 +237,8 @@ class Scene(Structure):
 STRUCTS = {
     "SimMaterial": ("sim/sim.h", SimMaterial), "SimContactModel": ("sim/sim.h", SimContactModel),
     "SimGrainSet": ("sim/sim.h", SimGrainSet), "SimMotion": ("sim/sim.h", SimMotion),
-    "SimWall": ("sim/sim.h", SimWall), "SimWallBody": ("sim/sim.h", SimWallBody),
-    "SimSink": ("sim/sim.h", SimSink),
+    "SimWall": ("sim/sim.h", SimWall), "SimSink": ("sim/sim.h", SimSink),
+    "SimWallBody": ("sim/sim.h", SimWallBody), "SimWallLoad": ("sim/sim.h", SimWallLoad),
     "SimBodyForceView": ("sim/sim.h", SimBodyForceView),
     "SimBodyForce": ("sim/sim.h", SimBodyForce), "SimWorldDef": ("sim/sim.h", SimWorldDef),
     "SimError": ("sim/sim.h", SimError), "SimTiming": ("sim/sim.h", SimTiming),
@@ -278,6 +296,7 @@ _SIM_FUNCTIONS = {
     "sim_world_remove_ids": (c_int, [_P_WORLD, _pu32, c_int]),
     "sim_world_add_grains": (c_int, [_P_WORLD, POINTER(SimGrainSet), _P_ERR]),
     "sim_world_freeze": (None, [_P_WORLD]),
+    "sim_world_wall_load": (c_int, [_P_WORLD, c_int, POINTER(SimWallLoad)]),
     "sim_world_save": (c_int, [_P_WORLD, c_char_p, _P_ERR]),
     "sim_world_restore_contacts": (c_int, [_P_WORLD, c_char_p, _P_ERR]),
     "sim_world_load": (_P_WORLD, [c_char_p, POINTER(SimWorldDef), _P_ERR]),

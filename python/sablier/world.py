@@ -19,7 +19,8 @@ class Frame:
 
     Arrays: x, y, angle, radius, vx, vy, omega, species, flags, id, force (sum of contact-force
     magnitudes), fx, fy, torque; `contacts` is a structured array with fields i, j (j = -1 -
-    wall index for a wall contact), normal_force, tangential_force, overlap, x, y; `walls` has
+    wall index for a wall contact), normal_force, tangential_force, overlap, x, y, nx, ny (the
+    unit normal from grain i towards j or the wall); `walls` has
     x0, y0, x1, y1, species, motion. Scalars: count, mobile_count, step, time, time_scale,
     periodic, domain_x0, domain_x1."""
 
@@ -29,8 +30,8 @@ class Frame:
                ("id", np.uint32), ("force", np.float64), ("fx", np.float64), ("fy", np.float64),
                ("torque", np.float64))
     CONTACT_DTYPE = np.dtype({"names": ["i", "j", "normal_force", "tangential_force", "overlap",
-                                        "x", "y"],
-                              "formats": [np.intc, np.intc] + [np.float64] * 5,
+                                        "x", "y", "nx", "ny"],
+                              "formats": [np.intc, np.intc] + [np.float64] * 7,
                               "offsets": [getattr(C.SimContact, f[0]).offset
                                           for f in C.SimContact._fields_],
                               "itemsize": ctypes.sizeof(C.SimContact)})
@@ -374,6 +375,21 @@ class World:
 
     def freeze(self):
         self._lib.sim_world_freeze(self._handle())
+
+    def wall_loads(self):
+        """What the grains do to each wall in the last force evaluation (sim_world_wall_load):
+        a list, one dict per wall in the definition's order, with fx, fy (N, the total force of
+        the grains on it), normal (N, the sum of the contacts' normal forces, >= 0 pushing),
+        tangential (N), torque (N m, about the wall's centre), length (m), stress (N/m, normal /
+        length), x, y (m, its centre now), offset (m), speed (m/s) (a responding wall's motion
+        along its axis, else 0) and contacts. Before the first step every force is 0."""
+        loads = []
+        load = C.SimWallLoad()
+        while self._lib.sim_world_wall_load(self._handle(), len(loads), ctypes.byref(load)) == 0:
+            d = {f[0]: getattr(load, f[0]) for f in C.SimWallLoad._fields_}
+            d["stress"] = d["normal"] / d["length"] if d["length"] > 0 else 0.0
+            loads.append(d)
+        return loads
 
     # -------------------------------------------------------- files
 

@@ -202,6 +202,7 @@ KERNEL void pair_block(SimWorld *world, const unsigned key, const int *restrict 
              spring = ((VecD){0.0, 0.0, 0.0, 0.0});
         if (law == SIM_TANGENTIAL_SPRING) {
             k_t = gather_pair(key, world->pairs, p, offsetof(PairParams, k_t));
+            gamma_s = gather_pair(key, world->pairs, p, offsetof(PairParams, gamma_t));
             spring = load(nl->hist_t, entry, lanes);
         } else {
             gamma_s = gather_pair(key, world->pairs, p, offsetof(PairParams, gamma_s));
@@ -691,8 +692,9 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
             double v_s = dvx * sx + dvy * sy + wi * ri;
             double dummy = 0.0;
             double *xi_t = (law == SIM_TANGENTIAL_SPRING) ? &wl->hist_t[k] : &dummy;
+            const double damping = law == SIM_TANGENTIAL_SPRING ? p->gamma_t : p->gamma_s;
             const double f_t =
-                tangential_force_d(key, p->k_t, p->mu, p->gamma_s, v_s, f_n, f_el, dt, xi_t);
+                tangential_force_d(key, p->k_t, p->mu, damping, v_s, f_n, f_el, dt, xi_t);
             fxk += f_t * sx;
             fyk += f_t * sy;
             if (KEY_ROTATION(key))

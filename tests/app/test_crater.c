@@ -84,7 +84,7 @@ static int dig(SimWorld *world, double cx, double width, double height)
     SimFrame frame;
     sim_world_frame(world, &frame);
     double top = 0.0;
-    if (app_surface_height(&frame, cx, 0.5 * width, &top) != 0)
+    if (app_crater_surface_height(&frame, cx, 0.5 * width, &top) != 0)
         return -1;
     return sim_world_remove_rect(world, cx - 0.5 * width, top - height, cx + 0.5 * width,
                                  top + height);
@@ -107,27 +107,27 @@ static int settled_bed_structure(void)
     Scene *scene = NULL;
     SimWorld *world = small_bed(NULL, 0, &scene);
     TEST_ASSERT(world);
-    AppProfile profile;
-    TEST_ASSERT(app_profile_measure(world, 0.0, &profile) == 0);
-    AppBed bed = app_bed_measure(world, &profile);
+    AppCraterProfile profile;
+    TEST_ASSERT(app_crater_profile_measure(world, 0.0, &profile) == 0);
+    AppCraterBed bed = app_crater_bed_measure(world, &profile);
     printf("8%%: coordination %.3f packing %.4f hexatic %.4f level %.3f m\n", bed.coordination,
            bed.packing_fraction, bed.hexatic_order, bed.level);
     TEST_ASSERT(bed.coordination > 3.4 && bed.coordination < 4.6);
     TEST_ASSERT(bed.packing_fraction > 0.80 && bed.packing_fraction < 0.88);
     TEST_ASSERT(bed.hexatic_order < 0.9);
-    app_profile_free(&profile);
+    app_crater_profile_free(&profile);
     sim_world_destroy(world);
     scene_free(scene);
 
     const char *mono[] = {"grains.rain.polydispersity=0.0"};
     world = small_bed(mono, 1, &scene);
     TEST_ASSERT(world);
-    TEST_ASSERT(app_profile_measure(world, 0.0, &profile) == 0);
-    AppBed ordered = app_bed_measure(world, &profile);
+    TEST_ASSERT(app_crater_profile_measure(world, 0.0, &profile) == 0);
+    AppCraterBed ordered = app_crater_bed_measure(world, &profile);
     printf("0%%: coordination %.3f packing %.4f hexatic %.4f\n", ordered.coordination,
            ordered.packing_fraction, ordered.hexatic_order);
     TEST_ASSERT(ordered.hexatic_order > bed.hexatic_order);
-    app_profile_free(&profile);
+    app_crater_profile_free(&profile);
     sim_world_destroy(world);
     scene_free(scene);
     return 0;
@@ -167,7 +167,7 @@ static int collapse_energy_never_increases(void)
 
 /* Final free surface of a collapse from the saved bed at time step dt. */
 static int collapse_profile(const Scene *scene, const char *bed, double dt, double duration,
-                            AppProfile *profile)
+                            AppCraterProfile *profile)
 {
     SimWorld *world = world_from(scene, bed, dt, NULL);
     if (!world)
@@ -177,7 +177,7 @@ static int collapse_profile(const Scene *scene, const char *bed, double dt, doub
     if (rc == 0 && sim_world_step(world, llround(duration / dt), &error) != SIM_OK)
         rc = -1;
     if (rc == 0)
-        rc = app_profile_measure(world, 0.0, profile);
+        rc = app_crater_profile_measure(world, 0.0, profile);
     sim_world_destroy(world);
     return rc;
 }
@@ -196,7 +196,7 @@ static int compare_time_steps(double dt_a, double dt_b, double duration)
     SimError error;
     TEST_ASSERT(sim_world_save(world, path, &error) == SIM_OK);
     sim_world_destroy(world);
-    AppProfile a, b;
+    AppCraterProfile a, b;
     TEST_ASSERT(collapse_profile(scene, path, dt_a, duration, &a) == 0);
     TEST_ASSERT(collapse_profile(scene, path, dt_b, duration, &b) == 0);
     remove(path);
@@ -210,8 +210,8 @@ static int compare_time_steps(double dt_a, double dt_b, double duration)
            worst, mean, d);
     TEST_ASSERT(worst <= d);
     TEST_ASSERT(mean <= 0.2 * d);
-    app_profile_free(&a);
-    app_profile_free(&b);
+    app_crater_profile_free(&a);
+    app_crater_profile_free(&b);
     scene_free(scene);
     return 0;
 }
@@ -249,10 +249,10 @@ static int crater_height_trend(void)
     temp_path(path, sizeof path, "trend.state");
     SimError error;
     TEST_ASSERT(sim_world_save(world, path, &error) == SIM_OK);
-    AppProfile profile;
-    TEST_ASSERT(app_profile_measure(world, 0.0, &profile) == 0);
-    double level = app_profile_level(&profile, 2);
-    app_profile_free(&profile);
+    AppCraterProfile profile;
+    TEST_ASSERT(app_crater_profile_measure(world, 0.0, &profile) == 0);
+    double level = app_crater_profile_level(&profile, 2);
+    app_crater_profile_free(&profile);
     sim_world_destroy(world);
     const double height = 0.96, ratios[3] = {1.0, 2.0, 3.0};
     double h[3];
@@ -262,12 +262,12 @@ static int crater_height_trend(void)
         TEST_ASSERT(world);
         TEST_ASSERT(dig(world, 2.625, width, height) > 0);
         TEST_ASSERT(settle(world, 0.02, 0.5, 1.5) >= 0);
-        TEST_ASSERT(app_profile_measure(world, 0.0, &profile) == 0);
+        TEST_ASSERT(app_crater_profile_measure(world, 0.0, &profile) == 0);
         AppCrater c = app_crater_measure(&profile, 2.625 - 0.5 * width, 2.625 + 0.5 * width, level);
         h[k] = c.height;
         printf("H/L = %.0f: crater height %.4f m (surface min %.4f m at x = %.3f m)\n", ratios[k],
                c.height, c.surface_min, c.x_min);
-        app_profile_free(&profile);
+        app_crater_profile_free(&profile);
         sim_world_destroy(world);
     }
     remove(path);
@@ -295,36 +295,36 @@ static int run_writes_observables(void)
         snprintf(path, sizeof path, "%s/%s", dir, files[k]);
         TEST_ASSERT(access(path, R_OK) == 0);
     }
-    double h = app_observable(dir, "crater_height_m");
-    double z = app_observable(dir, "bed_coordination");
+    double h = app_crater_observable(dir, "crater_height_m");
+    double z = app_crater_observable(dir, "bed_coordination");
     printf("crater height %.4f m, coordination %.3f\n", h, z);
     TEST_ASSERT(h > 0.0 && h < 1.05 + 0.2);
     TEST_ASSERT(z > 3.0 && z < 5.0);
-    TEST_ASSERT(app_observable(dir, "removed") > 10);
-    AppChart chart;
-    app_chart_init(&chart, 2, 2, "test");
-    TEST_ASSERT(app_chart_energy_run(&chart, dir, "small", NULL) == 0);
+    TEST_ASSERT(app_crater_observable(dir, "removed") > 10);
+    AppCraterChart chart;
+    app_crater_chart_init(&chart, 2, 2, "test");
+    TEST_ASSERT(app_crater_chart_energy_run(&chart, dir, "small", NULL) == 0);
     TEST_ASSERT(chart.panels[0].series_count == 1 && chart.panels[0].series[0].count > 50);
     TEST_ASSERT(chart.panels[1].series[0].y[0] == 0.0); /* potential relative to the start */
     double collapse_t0 = chart.panels[0].series[0].x[0];
-    app_chart_free(&chart);
+    app_crater_chart_free(&chart);
     /* the deposit's energies (000 fig. 6.15): from t* = 0 at rest, the grains falling gain
      * kinetic energy (E*_kin up to a peak well above the collapse's start) and lose potential */
-    app_chart_init(&chart, 2, 2, "test");
-    TEST_ASSERT(app_chart_energy_run(&chart, dir, "small", "deposit") == 0);
-    const AppChartSeries *kin = &chart.panels[0].series[0], *pot = &chart.panels[1].series[0];
+    app_crater_chart_init(&chart, 2, 2, "test");
+    TEST_ASSERT(app_crater_chart_energy_run(&chart, dir, "small", "deposit") == 0);
+    const AppCraterChartSeries *kin = &chart.panels[0].series[0], *pot = &chart.panels[1].series[0];
     TEST_ASSERT(kin->count > 50 && kin->x[0] == 0.0 && collapse_t0 == 0.0);
     double peak = 0.0;
     for (int i = 0; i < kin->count; ++i)
         peak = fmax(peak, kin->y[i]);
     TEST_ASSERT(kin->y[0] == 0.0 && peak > 1e-3);
     TEST_ASSERT(pot->y[pot->count - 1] < -1e-2); /* the bed ends lower than the lattice */
-    TEST_ASSERT(app_chart_energy_run(&chart, dir, "small", "nowhere") == -1);
-    app_chart_free(&chart);
-    app_chart_init(&chart, 1, 1, "test");
-    TEST_ASSERT(app_chart_profiles_run(&chart, 0, dir, 4, NULL) == 0);
+    TEST_ASSERT(app_crater_chart_energy_run(&chart, dir, "small", "nowhere") == -1);
+    app_crater_chart_free(&chart);
+    app_crater_chart_init(&chart, 1, 1, "test");
+    TEST_ASSERT(app_crater_chart_profiles_run(&chart, 0, dir, 4, NULL) == 0);
     TEST_ASSERT(chart.panels[0].series_count == 4);
-    app_chart_free(&chart);
+    app_crater_chart_free(&chart);
     for (int k = 0; k < 4; ++k) {
         snprintf(path, sizeof path, "%s/%s", dir, files[k]);
         remove(path);

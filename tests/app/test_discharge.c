@@ -114,7 +114,8 @@ static int equilibrium_pocket(void)
     TEST_ASSERT(w);
     long steps = 0;
     char err[512];
-    TEST_ASSERT(app_relax(w, app_discharge_of(s), 200.0, NULL, &steps, err, sizeof err) == 1);
+    TEST_ASSERT(app_discharge_relax(w, app_discharge_of(s), 200.0, NULL, &steps, err, sizeof err) ==
+                1);
     SimEquilibrium q = sim_world_equilibrium(w, 1e-6);
     TEST_ASSERT(q.equilibrium && q.underconnected == 0 && q.sliding_contacts == 0);
     TEST_REL(q.base_force, q.weight, 1e-6);
@@ -143,7 +144,7 @@ static int orifice_widths(void)
         SimWorld *w = pocket_world(s, x, y, 1);
         TEST_ASSERT(w);
         int before = sim_world_grain_count(w);
-        TEST_ASSERT(app_open_orifice(w, widths[k], 0.0) == removed[k]);
+        TEST_ASSERT(app_discharge_open_orifice(w, widths[k], 0.0) == removed[k]);
         TEST_ASSERT(sim_world_grain_count(w) == before - removed[k]);
         TEST_ASSERT(sim_world_mobile_count(w) == 1);
         SimFrame f;
@@ -156,10 +157,10 @@ static int orifice_widths(void)
     return 0;
 }
 
-static int deposit_small(const Scene *s, uint64_t seed, const char *path, AppDeposit *dep)
+static int deposit_small(const Scene *s, uint64_t seed, const char *path, AppDischargeDeposit *dep)
 {
     char err[1024];
-    SimWorld *w = app_deposit(s, seed, NULL, NULL, dep, err, sizeof err);
+    SimWorld *w = app_discharge_deposit(s, seed, NULL, NULL, dep, err, sizeof err);
     if (!w) {
         fprintf(stderr, "%s\n", err);
         return -1;
@@ -235,7 +236,7 @@ static int settled_pile_opens_at_once(void)
     TEST_ASSERT(s);
     char path[32];
     TEST_ASSERT(test_tmp_file(path) == 0);
-    AppDeposit dep;
+    AppDischargeDeposit dep;
     TEST_ASSERT(deposit_small(s, 5, path, &dep) == 0);
     TEST_ASSERT(dep.equilibrium == 1);
     AppDischarge r;
@@ -259,7 +260,7 @@ static int pile_conservation(void)
     TEST_ASSERT(s);
     char path[32];
     TEST_ASSERT(test_tmp_file(path) == 0);
-    AppDeposit dep;
+    AppDischargeDeposit dep;
     TEST_ASSERT(deposit_small(s, 3, path, &dep) == 0);
     TEST_ASSERT(dep.rows >= 1 && dep.released == dep.rows * 5);
     TEST_ASSERT(dep.pile > 0);
@@ -289,7 +290,7 @@ static int small_jams_wide_empties(void)
     TEST_ASSERT(s);
     char path[32];
     TEST_ASSERT(test_tmp_file(path) == 0);
-    AppDeposit dep;
+    AppDischargeDeposit dep;
     /* the first seed whose small pile covers the centre (a 10 d pile can leave it bare) */
     for (uint64_t seed = 5; seed < 15; ++seed) {
         TEST_ASSERT(deposit_small(s, seed, path, &dep) == 0);
@@ -328,7 +329,7 @@ static int reduced_study_h_decreases(void)
     for (int k = 0; k < samples; ++k) {
         char path[32];
         TEST_ASSERT(test_tmp_file(path) == 0);
-        AppDeposit dep;
+        AppDischargeDeposit dep;
         TEST_ASSERT(deposit_small(s, 100 + (uint64_t)k, path, &dep) == 0);
         for (int j = 0; j < 3; ++j) {
             AppDischarge r;
@@ -362,10 +363,10 @@ static int arch_marks_and_height(void)
     result.arch_ids[0] = 8;
     result.arch_ids[1] = 10;
     int marks[4];
-    app_arch_marks(&f, &result, marks);
+    app_discharge_arch_marks(&f, &result, marks);
     TEST_ASSERT(marks[0] == -1 && marks[1] == 0 && marks[2] == -1 && marks[3] == 0);
-    TEST_NEAR(app_central_height(&f, 0.0, 0.5), 2.5, 0.0);
-    TEST_NEAR(app_central_height(&f, 5.0, 0.5), 0.0, 0.0);
+    TEST_NEAR(app_discharge_central_height(&f, 0.0, 0.5), 2.5, 0.0);
+    TEST_NEAR(app_discharge_central_height(&f, 5.0, 0.5), 0.0, 0.0);
     return 0;
 }
 
@@ -377,7 +378,7 @@ static int fits(void)
         w[k] = 1.0 + 0.2 * k;
         sigma[k] = 0.8 * exp(-(w[k] - 4.37) * (w[k] - 4.37) / (2.0 * 0.6 * 0.6));
     }
-    TEST_NEAR(app_gaussian_peak(w, sigma, 31), 4.37, 1e-9);
+    TEST_NEAR(app_study_gaussian_peak(w, sigma, 31), 4.37, 1e-9);
     double inv[3] = {1.0 / 25, 1.0 / 50, 1.0 / 100}, wt[3];
     for (int k = 0; k < 3; ++k)
         wt[k] = 5.0 - 20.0 * inv[k];
@@ -394,8 +395,8 @@ static int fits(void)
  * record round trip, and which species a scene's map counts. */
 static int species_map_cells(void)
 {
-    AppSpeciesMap map;
-    TEST_ASSERT(app_species_map_init(&map, 10.0, 5.0) == 0);
+    AppStudySpeciesMap map;
+    TEST_ASSERT(app_study_species_map_init(&map, 10.0, 5.0) == 0);
     TEST_ASSERT(map.nx == 3 && map.ny == 2); /* a column over x = 0, one each side; 0-10 d high */
     TEST_NEAR(map.x0, -7.5, 0.0);
     TEST_NEAR(map.y0, 0.0, 0.0);
@@ -406,52 +407,52 @@ static int species_map_cells(void)
     int sp1[] = {0, 1, 0, 1, 0, 0, 0};
     unsigned fl1[] = {0, 0, 0, 0, SIM_GRAIN_FIXED, 0, 0};
     SimFrame f1 = {.count = 7, .x = x1, .y = y1, .species = sp1, .flags = fl1};
-    TEST_ASSERT(app_species_map_add(&map, &f1, 0) == 2);
-    TEST_NEAR(app_species_map_fraction(&map, 1, 0), 2.0 / 3.0, 1e-15);
-    TEST_NEAR(app_species_map_fraction(&map, 0, 1), 0.0, 0.0);
+    TEST_ASSERT(app_study_species_map_add(&map, &f1, 0) == 2);
+    TEST_NEAR(app_study_species_map_fraction(&map, 1, 0), 2.0 / 3.0, 1e-15);
+    TEST_NEAR(app_study_species_map_fraction(&map, 0, 1), 0.0, 0.0);
     TEST_ASSERT(map.count[1] == 3 && map.marked[1] == 2 && map.count[3] == 1);
-    TEST_ASSERT(isnan(app_species_map_fraction(&map, 2, 1))); /* empty */
-    TEST_ASSERT(isnan(app_species_map_fraction(&map, 3, 0))); /* outside the grid */
+    TEST_ASSERT(isnan(app_study_species_map_fraction(&map, 2, 1))); /* empty */
+    TEST_ASSERT(isnan(app_study_species_map_fraction(&map, 3, 0))); /* outside the grid */
     /* pile 2: one species-1 grain in cell (1, 0): 2 of 4 (a mean of per-pile ratios would give
      * (2/3 + 0)/2) */
     double x2[] = {2.0}, y2[] = {3.0};
     int sp2[] = {1};
     SimFrame f2 = {.count = 1, .x = x2, .y = y2, .species = sp2};
-    TEST_ASSERT(app_species_map_add(&map, &f2, 0) == 0);
-    TEST_NEAR(app_species_map_fraction(&map, 1, 0), 0.5, 1e-15);
+    TEST_ASSERT(app_study_species_map_add(&map, &f2, 0) == 0);
+    TEST_NEAR(app_study_species_map_fraction(&map, 1, 0), 0.5, 1e-15);
     /* the per-sample record: summed back exactly, twice = the counts doubled */
     char record[256];
-    int n = app_species_map_format(&map, "pile", record, sizeof record);
-    TEST_ASSERT(n == app_species_map_format(&map, "pile", NULL, 0) && n < (int)sizeof record);
+    int n = app_study_species_map_format(&map, "pile", record, sizeof record);
+    TEST_ASSERT(n == app_study_species_map_format(&map, "pile", NULL, 0) && n < (int)sizeof record);
     TEST_ASSERT(strcmp(record, "pile,3,2,1:4:2,3:1:0") == 0);
-    AppSpeciesMap sum, other;
-    TEST_ASSERT(app_species_map_init(&sum, 10.0, 5.0) == 0);
-    TEST_ASSERT(app_species_map_parse(&sum, record + 5) == 0);
-    TEST_ASSERT(app_species_map_parse(&sum, record + 5) == 0);
+    AppStudySpeciesMap sum, other;
+    TEST_ASSERT(app_study_species_map_init(&sum, 10.0, 5.0) == 0);
+    TEST_ASSERT(app_study_species_map_parse(&sum, record + 5) == 0);
+    TEST_ASSERT(app_study_species_map_parse(&sum, record + 5) == 0);
     TEST_ASSERT(sum.count[1] == 8 && sum.marked[1] == 4 && sum.count[3] == 2 && sum.marked[3] == 0);
-    TEST_NEAR(app_species_map_fraction(&sum, 1, 0), 0.5, 1e-15);
-    TEST_ASSERT(app_species_map_parse(&sum, "3,2,1:4:2,9:1:0") == -1); /* cell out of range */
-    TEST_ASSERT(app_species_map_parse(&sum, "3,2,1:4:5") == -1);       /* marked > count */
-    TEST_ASSERT(app_species_map_parse(&sum, "3,2,1:4") == -1);         /* truncated */
-    TEST_ASSERT(sum.count[1] == 8 && sum.marked[1] == 4);              /* nothing added */
-    TEST_ASSERT(app_species_map_init(&other, 20.0, 5.0) == 0);
+    TEST_NEAR(app_study_species_map_fraction(&sum, 1, 0), 0.5, 1e-15);
+    TEST_ASSERT(app_study_species_map_parse(&sum, "3,2,1:4:2,9:1:0") == -1); /* cell out of range */
+    TEST_ASSERT(app_study_species_map_parse(&sum, "3,2,1:4:5") == -1);       /* marked > count */
+    TEST_ASSERT(app_study_species_map_parse(&sum, "3,2,1:4") == -1);         /* truncated */
+    TEST_ASSERT(sum.count[1] == 8 && sum.marked[1] == 4);                    /* nothing added */
+    TEST_ASSERT(app_study_species_map_init(&other, 20.0, 5.0) == 0);
     TEST_ASSERT(other.nx == 5 && other.ny == 4);
-    TEST_ASSERT(app_species_map_parse(&other, record + 5) == -1); /* another grid */
-    app_species_map_free(&other);
-    TEST_ASSERT(app_species_map_init(&other, 0.0, 5.0) == -1);
-    app_species_map_free(&other);
-    app_species_map_free(&sum);
-    app_species_map_free(&map);
+    TEST_ASSERT(app_study_species_map_parse(&other, record + 5) == -1); /* another grid */
+    app_study_species_map_free(&other);
+    TEST_ASSERT(app_study_species_map_init(&other, 0.0, 5.0) == -1);
+    app_study_species_map_free(&other);
+    app_study_species_map_free(&sum);
+    app_study_species_map_free(&map);
     /* which species: small (size-bidisperse), light (density-bidisperse), none (one species) */
     const char *what;
     Scene *scene = small_scene_of("scenes/discharge/bidisperse.scene", NULL);
-    TEST_ASSERT(scene && app_species_marked(scene, &what) == 0 && strcmp(what, "small") == 0);
+    TEST_ASSERT(scene && app_study_species_marked(scene, &what) == 0 && strcmp(what, "small") == 0);
     scene_free(scene);
     scene = small_scene_of("scenes/discharge/density.scene", NULL);
-    TEST_ASSERT(scene && app_species_marked(scene, &what) == 0 && strcmp(what, "light") == 0);
+    TEST_ASSERT(scene && app_study_species_marked(scene, &what) == 0 && strcmp(what, "light") == 0);
     scene_free(scene);
     scene = small_scene(NULL);
-    TEST_ASSERT(scene && app_species_marked(scene, &what) == -1 && what == NULL);
+    TEST_ASSERT(scene && app_study_species_marked(scene, &what) == -1 && what == NULL);
     scene_free(scene);
     return 0;
 }

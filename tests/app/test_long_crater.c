@@ -26,7 +26,7 @@ static SimWorld *world_at(const Scene *scene, const char *path, double dt)
     return sim_world_load(path, &def, &error);
 }
 
-static int final_profile(const Scene *scene, const char *bed, double dt, AppProfile *profile)
+static int final_profile(const Scene *scene, const char *bed, double dt, AppCraterProfile *profile)
 {
     SimWorld *world = world_at(scene, bed, dt);
     if (!world)
@@ -35,13 +35,13 @@ static int final_profile(const Scene *scene, const char *bed, double dt, AppProf
     sim_world_frame(world, &frame);
     double top = 0.0;
     SimError error;
-    int rc = app_surface_height(&frame, 2.625, 0.525, &top);
+    int rc = app_crater_surface_height(&frame, 2.625, 0.525, &top);
     if (rc == 0)
         sim_world_remove_rect(world, 2.1, top - 1.05, 3.15, top + 1.05);
     if (rc == 0 && sim_world_step(world, llround(0.6 / dt), &error) != SIM_OK)
         rc = -1;
     if (rc == 0)
-        rc = app_profile_measure(world, 0.0, profile);
+        rc = app_crater_profile_measure(world, 0.0, profile);
     sim_world_destroy(world);
     return rc;
 }
@@ -62,7 +62,7 @@ static int thesis_time_steps_agree(void)
     snprintf(path, sizeof path, "/tmp/sablier_test_long_crater_%ld.state", (long)getpid());
     TEST_ASSERT(sim_world_save(world, path, &error) == SIM_OK);
     sim_world_destroy(world);
-    AppProfile a, b;
+    AppCraterProfile a, b;
     TEST_ASSERT(final_profile(scene, path, 1e-5, &a) == 0);
     TEST_ASSERT(final_profile(scene, path, 1e-6, &b) == 0);
     remove(path);
@@ -72,8 +72,8 @@ static int thesis_time_steps_agree(void)
         worst = fmax(worst, fabs(a.y[k] - b.y[k]));
     printf("dt 1e-5 vs 1e-6: largest profile difference %.4f m (d = %.4f m)\n", worst, d);
     TEST_ASSERT(worst <= d);
-    app_profile_free(&a);
-    app_profile_free(&b);
+    app_crater_profile_free(&a);
+    app_crater_profile_free(&b);
     scene_free(scene);
     return 0;
 }

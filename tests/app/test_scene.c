@@ -168,9 +168,9 @@ static int surface_height(void)
     f.y = y;
     f.radius = r;
     double top = 0.0;
-    TEST_ASSERT(app_surface_height(&f, 0.5, 1.0, &top) == 0);
+    TEST_ASSERT(app_crater_surface_height(&f, 0.5, 1.0, &top) == 0);
     TEST_NEAR(top, 2.2, 1e-15);
-    TEST_ASSERT(app_surface_height(&f, 20.0, 1.0, &top) != 0);
+    TEST_ASSERT(app_crater_surface_height(&f, 20.0, 1.0, &top) != 0);
     return 0;
 }
 

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
-/* test_sediment.c: the `fluid` group and bed-load measures (thesis 002 ch. 6-7) on a reduced bed
- * of scenes/sediment/viscous.scene (150 grains, dt = 1e-3, short stages), without rendering. */
+/* test_sediment.c: the `sediment` group (older name `fluid`) and bed-load measures (thesis 002 ch.
+ * 6-7) on a reduced bed of scenes/sediment/viscous.scene (150 grains, dt = 1e-3, short stages),
+ * without rendering. */
 #include "run.h"
 #include "scene.h"
 #include "test.h"
@@ -14,10 +15,12 @@
 
 #define SCENE "scenes/sediment/viscous.scene"
 
-static Scene *load(const char *shields, const char *flow_end, const char *extra)
+/* The reduced bed of `path`, whose family group is named `group`. */
+static Scene *load_named(const char *path, const char *group, const char *shields,
+                         const char *flow_end, const char *extra)
 {
     char s1[64], s2[64];
-    snprintf(s1, sizeof s1, "fluid.shields=%s", shields);
+    snprintf(s1, sizeof s1, "%s.shields=%s", group, shields);
     snprintf(s2, sizeof s2, "stages.flow.time.end=%s", flow_end);
     const char *sets[] = {"output.movie=[]",
                           "stages.settle.time.end=8.0",
@@ -27,10 +30,15 @@ static Scene *load(const char *shields, const char *flow_end, const char *extra)
                           s2,
                           extra};
     char err[1024] = "";
-    Scene *scene = scene_load(SCENE, sets, extra ? 7 : 6, err, sizeof err);
+    Scene *scene = scene_load(path, sets, extra ? 7 : 6, err, sizeof err);
     if (!scene)
         fprintf(stderr, "%s\n", err);
     return scene;
+}
+
+static Scene *load(const char *shields, const char *flow_end, const char *extra)
+{
+    return load_named(SCENE, "sediment", shields, flow_end, extra);
 }
 
 static int run_quiet(const Scene *scene, char *dir, size_t size, const char *tag)
@@ -60,8 +68,8 @@ static int numbers_from_scene(void)
     return 0;
 }
 
-/* The fluid drags only when the effect is declared: a `fluid` group without fluid_drag is
- * refused, and so are `fluid` with `drag`, and bad fluid keys. */
+/* The fluid drags only when the effect is declared: a `sediment` group without fluid_drag is
+ * refused, and so are `sediment` with `drag`, and bad fluid keys. */
 static int fluid_needs_effect(void)
 {
     const char *sets[] = {"effects=[friction, periodic_x]"};
@@ -69,13 +77,64 @@ static int fluid_needs_effect(void)
     Scene *scene = scene_load(SCENE, sets, 1, err, sizeof err);
     TEST_ASSERT(!scene);
     printf("%s\n", err);
-    TEST_ASSERT(strstr(err, "fluid") && strstr(err, "fluid_drag"));
-    const char *bad_start[] = {"fluid.start=\"later\""};
+    TEST_ASSERT(strstr(err, "`sediment` needs effect \"fluid_drag\""));
+    const char *with_drag[] = {"drag.model=\"linear\"", "drag.coefficient=1.0"};
+    scene = scene_load(SCENE, with_drag, 2, err, sizeof err);
+    printf("%s\n", err);
+    TEST_ASSERT(!scene && strstr(err, "`sediment` and `drag` both drag the grains"));
+    const char *bad_start[] = {"sediment.start=\"later\""};
     scene = scene_load(SCENE, bad_start, 1, err, sizeof err);
     TEST_ASSERT(!scene && strstr(err, "start"));
-    const char *bad_cells[] = {"fluid.cells=1"};
+    const char *bad_cells[] = {"sediment.cells=1"};
     scene = scene_load(SCENE, bad_cells, 1, err, sizeof err);
     TEST_ASSERT(!scene && strstr(err, "layers"));
+    return 0;
+}
+
+/* `fluid`, the group's older name, loads the same column and the messages name `fluid`; a scene
+ * that gives both names is refused. */
+static int fluid_is_an_alias(void)
+{
+    char path[256], line[512];
+    snprintf(path, sizeof path, "/tmp/sablier_test_sediment_%ld_old.scene", (long)getpid());
+    FILE *in = fopen(SCENE, "r"), *out = fopen(path, "w");
+    TEST_ASSERT(in && out);
+    int renamed = 0;
+    while (fgets(line, sizeof line, in)) {
+        if (strncmp(line, "sediment = {", 12) == 0) {
+            fprintf(out, "fluid = {%s", line + 12);
+            ++renamed;
+        } else {
+            fputs(line, out);
+        }
+    }
+    fclose(in);
+    fclose(out);
+    TEST_ASSERT(renamed == 1);
+    char err[1024] = "";
+    Scene *old = load_named(path, "fluid", "0.3", "1.0", NULL);
+    Scene *now = load("0.3", "1.0", NULL);
+    TEST_ASSERT(old && app_sediment_of(old) && now && app_sediment_of(now));
+    TEST_ASSERT(strcmp(app_sediment_group(app_sediment_of(old)), "fluid") == 0);
+    TEST_ASSERT(strcmp(app_sediment_group(app_sediment_of(now)), "sediment") == 0);
+    const SimFluidDef *a = sim_fluid_def(app_sediment_fluid(app_sediment_of(old)));
+    const SimFluidDef *b = sim_fluid_def(app_sediment_fluid(app_sediment_of(now)));
+    TEST_ASSERT(a->shear_velocity == b->shear_velocity && a->viscosity == b->viscosity);
+    scene_free(old);
+    scene_free(now);
+    const char *no_effect[] = {"effects=[friction, periodic_x]"};
+    TEST_ASSERT(!scene_load(path, no_effect, 1, err, sizeof err));
+    printf("%s\n", err);
+    TEST_ASSERT(strstr(err, "`fluid` needs effect \"fluid_drag\""));
+    const char *bad_cells[] = {"fluid.cells=1"};
+    TEST_ASSERT(!scene_load(path, bad_cells, 1, err, sizeof err));
+    printf("%s\n", err);
+    TEST_ASSERT(strstr(err, "--set fluid.cells: ") && strstr(err, "layers"));
+    const char *both[] = {"sediment.shields=0.3"};
+    TEST_ASSERT(!scene_load(path, both, 1, err, sizeof err));
+    printf("%s\n", err);
+    TEST_ASSERT(strstr(err, "`fluid` is an older name of `sediment`: keep one"));
+    remove(path);
     return 0;
 }
 
@@ -171,5 +230,6 @@ static int shields_threshold(void)
     return 0;
 }
 
-TEST_MAIN(TEST_CASE(numbers_from_scene), TEST_CASE(fluid_needs_effect), TEST_CASE(below_threshold),
-          TEST_CASE(saturation_measure), TEST_CASE(shields_threshold))
+TEST_MAIN(TEST_CASE(numbers_from_scene), TEST_CASE(fluid_needs_effect),
+          TEST_CASE(fluid_is_an_alias), TEST_CASE(below_threshold), TEST_CASE(saturation_measure),
+          TEST_CASE(shields_threshold))

@@ -2,10 +2,12 @@
 /* test_threads.c: `--threads N` drives the physics step (AppRunOptions.threads, applied to each
  * stage's world with sim_world_set_threads), and the results do not depend on it: a run of the
  * small crater scene (deposit, dig, collapse: checkpoints, energy.csv, profile.csv, crater.csv,
- * observables.csv) on 1, 2 and 3 threads writes byte-identical files; only summary.json differs
- * (wall times and the "threads" it reports). APP_THREADS_AUTO (`sablier run`'s default): the
- * count it chooses, the CPUs it counts, and a run whose count changes as grains are added, with
- * the one-thread run's outputs. No rendering. */
+ * observables.csv) on 1, 2, 3 and 8 threads writes byte-identical files; only summary.json
+ * differs (wall times and the "threads" it reports). So does a run whose count switches every
+ * few steps (AppRunOptions.threads_switch_every, the testing aid behind
+ * `--threads-switch-every`). APP_THREADS_AUTO (`sablier run`'s default): the first count it
+ * chooses, the CPUs it counts, and a tuned run (app/thread_tuner.h), with the one-thread run's
+ * outputs. No rendering. */
 #define _GNU_SOURCE /* sched_setaffinity */
 #include "app_test_run.h"
 #include "test.h"
@@ -24,8 +26,10 @@ static void run_dir(char *out, size_t size, int threads)
     snprintf(out, size, "/tmp/sablier_test_threads_%ld_%d", (long)getpid(), threads);
 }
 
-/* The small crater on `threads` (APP_THREADS_AUTO: 0) with `per` grains per thread. */
-static int run_with(int threads, int per)
+/* The small crater on `threads` (APP_THREADS_AUTO: 0) with `per` grains per thread and auto's
+ * blocks of `block` s (0: the default), switching the count every `every` steps when > 0, into
+ * run_dir(dir_key). */
+static int run_full(int threads, int per, double block, long every, int dir_key)
 {
     const char *sets[] = {"stages.deposit.time.end=0.6", "stages.collapse.time.end=0.3"};
     char err[2048], dir[256];
@@ -34,12 +38,14 @@ static int run_with(int threads, int per)
         fprintf(stderr, "%s\n", err);
         return -1;
     }
-    run_dir(dir, sizeof dir, threads);
+    run_dir(dir, sizeof dir, dir_key);
     AppRunOptions options = app_run_options_default();
     options.out_dir = dir;
     options.quiet = 1;
     options.threads = threads;
     options.grains_per_thread = per;
+    options.threads_switch_every = every;
+    options.threads_block_seconds = block;
     int status = app_run(scene, &options);
     scene_free(scene);
     return status;
@@ -47,7 +53,7 @@ static int run_with(int threads, int per)
 
 static int run_on(int threads)
 {
-    return run_with(threads, 0);
+    return run_full(threads, 0, 0.0, 0, threads);
 }
 
 /* 1 when DIR_A/NAME and DIR_B/NAME hold the same bytes. */
@@ -109,9 +115,11 @@ static int differing_outputs(const char *dir_a, const char *dir_b, const char *c
  * states and tables the brief names are among them. */
 static int same_outputs_any_thread_count(void)
 {
-    static const int counts[] = {1, 2, 3};
-    char dirs[3][256];
-    for (int k = 0; k < 3; ++k) {
+    enum { RUNS = 4 };
+
+    static const int counts[RUNS] = {1, 2, 3, 8};
+    char dirs[RUNS][256];
+    for (int k = 0; k < RUNS; ++k) {
         run_dir(dirs[k], sizeof dirs[k], counts[k]);
         app_test_remove_dir(dirs[k]);
         TEST_ASSERT(run_on(counts[k]) == 0);
@@ -119,17 +127,47 @@ static int same_outputs_any_thread_count(void)
     static const char *const expected[] = {"energy.csv",      "profile.csv",   "crater.csv",
                                            "observables.csv", "deposit.state", "collapse.state"};
     const int names = (int)(sizeof expected / sizeof expected[0]);
-    int found = 0, compared = 0, found_too = 0, compared_too = 0;
-    const int differ_2 = differing_outputs(dirs[0], dirs[1], expected, names, &found, &compared);
-    const int differ_3 =
-        differing_outputs(dirs[0], dirs[2], expected, names, &found_too, &compared_too);
-    printf("%d files compared across 1, 2 and 3 threads\n", compared);
-    const int reports = summary_int(dirs[1], "threads") == 2; /* summary.json reports the count */
-    for (int k = 0; k < 3; ++k)
+    int found = 0, compared = 0, differ = 0;
+    for (int k = 1; k < RUNS; ++k) {
+        int found_k = 0, compared_k = 0;
+        differ += differing_outputs(dirs[0], dirs[k], expected, names, &found_k, &compared_k);
+        TEST_ASSERT(k == 1 || (found_k == found && compared_k == compared));
+        found = found_k;
+        compared = compared_k;
+    }
+    printf("%d files compared across 1, 2, 3 and 8 threads\n", compared);
+    const int reports = summary_int(dirs[1], "threads") == 2 && /* the count it ran on */
+                        summary_int(dirs[3], "threads") == 8;
+    for (int k = 0; k < RUNS; ++k)
         app_test_remove_dir(dirs[k]);
-    TEST_ASSERT(found == names && compared == compared_too);
-    TEST_ASSERT(differ_2 == 0 && differ_3 == 0);
+    TEST_ASSERT(found == names);
+    TEST_ASSERT(differ == 0);
     TEST_ASSERT(reports);
+    return 0;
+}
+
+/* The count switched every 37 steps through 1, 2, 3 and 4 threads (deposit, dig and collapse,
+ * hundreds of switches, list builds between them): every output but summary.json is the
+ * one-thread run's, byte for byte, and summary.json records the switches. */
+static int switching_threads_same_bytes(void)
+{
+    char one[256], switched[256];
+    run_dir(one, sizeof one, 1);
+    run_dir(switched, sizeof switched, 99);
+    app_test_remove_dir(one);
+    app_test_remove_dir(switched);
+    TEST_ASSERT(run_on(1) == 0);
+    TEST_ASSERT(run_full(1, 0, 0.0, 37, 99) == 0);
+    int found = 0, compared = 0;
+    const int differ = differing_outputs(one, switched, NULL, 0, &found, &compared);
+    const long most = summary_int(switched, "threads"), changes = summary_int(switched, "changes");
+    const long steps = summary_int(switched, "steps");
+    printf("%d files compared; %ld changes of the count, up to %ld threads\n", compared, changes,
+           most);
+    app_test_remove_dir(one);
+    app_test_remove_dir(switched);
+    TEST_ASSERT(compared >= 6 && differ == 0);
+    TEST_ASSERT(most == 4 && steps > 10000 && changes >= steps / 37 - 1);
     return 0;
 }
 
@@ -158,9 +196,11 @@ static int auto_count(void)
     return 0;
 }
 
-/* APP_THREADS_AUTO re-chooses the count as the rain adds grains (50 grains per thread here, so
- * that the small bed crosses several counts): every output but summary.json is the one-thread
- * run's, byte for byte, and summary.json reports the most threads the step ran on. */
+/* APP_THREADS_AUTO with blocks of 1 ms (hundreds of them in this short run) and one thread per
+ * 50 grains suggested (every CPU for the small bed): it starts on one thread, tries the others
+ * as it measures them, and again when the dig removes grains; whatever it chose, every output
+ * but summary.json is the one-thread run's, byte for byte, and summary.json reports the most
+ * threads the step ran on and the tries. */
 static int auto_follows_the_grains(void)
 {
     char one[256], autod[256];
@@ -169,20 +209,23 @@ static int auto_follows_the_grains(void)
     app_test_remove_dir(one);
     app_test_remove_dir(autod);
     TEST_ASSERT(run_on(1) == 0);
-    TEST_ASSERT(run_with(APP_THREADS_AUTO, 50) == 0);
+    TEST_ASSERT(run_full(APP_THREADS_AUTO, 50, 1e-3, 0, APP_THREADS_AUTO) == 0);
     int found = 0, compared = 0;
     const int mismatched = differing_outputs(one, autod, NULL, 0, &found, &compared);
     const long most = summary_int(autod, "threads"), mobile = summary_int(one, "mobile_grains");
-    printf("%d files compared; auto ran on up to %ld threads (%d CPUs, %ld mobile grains)\n",
-           compared, most, app_cpu_count(), mobile);
+    const long probes = summary_int(autod, "probes");
+    printf("%d files compared; auto ran on up to %ld threads (%d CPUs, %ld mobile grains), "
+           "%ld tries\n",
+           compared, most, app_cpu_count(), mobile, probes);
     app_test_remove_dir(one);
     app_test_remove_dir(autod);
     TEST_ASSERT(compared >= 6 && mismatched == 0);
     /* the bed's grains (before the dig) are more than the collapse's */
     TEST_ASSERT(mobile > 100 && most >= app_step_threads((int)mobile, app_cpu_count(), 50));
     TEST_ASSERT(most <= app_cpu_count() && (app_cpu_count() < 2 || most >= 2));
+    TEST_ASSERT(app_cpu_count() < 2 || probes >= 2);
     return 0;
 }
 
-TEST_MAIN(TEST_CASE(same_outputs_any_thread_count), TEST_CASE(auto_count),
-          TEST_CASE(auto_follows_the_grains))
+TEST_MAIN(TEST_CASE(same_outputs_any_thread_count), TEST_CASE(switching_threads_same_bytes),
+          TEST_CASE(auto_count), TEST_CASE(auto_follows_the_grains))

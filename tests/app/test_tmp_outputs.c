@@ -211,7 +211,7 @@ static int sweep_table(void)
     fresh_dir(dir, sizeof dir, "sweep");
     TEST_ASSERT(dir[0]);
     const char *vary[] = {"seed=1,2"};
-    AppSweepOptions o = app_sweep_options_default();
+    AppCraterSweepOptions o = app_crater_sweep_options_default();
     o.self = "/bin/true";
     o.scene_path = CRATER_SCENE;
     /* a real checkpoint (--from is read whole before anything runs); the members do not load it */
@@ -221,14 +221,14 @@ static int sweep_table(void)
     o.quiet = 1;
     o.vary = vary;
     o.vary_count = 1;
-    TEST_ASSERT(app_sweep(&o) == 0);
+    TEST_ASSERT(app_crater_sweep(&o) == 0);
     TEST_ASSERT(first_line(dir, "sweep.csv", line, sizeof line) == 0);
     TEST_ASSERT(strncmp(line, "member,label,value,status,crater_height_m,", 42) == 0);
     TEST_ASSERT(!exists(dir, "sweep.csv.tmp"));
     remove_dir(dir);
     fresh_dir(dir, sizeof dir, "sweep");
     TEST_ASSERT(dir[0] && block(dir, "sweep.csv") == 0);
-    TEST_ASSERT(app_sweep(&o) == 2);
+    TEST_ASSERT(app_crater_sweep(&o) == 2);
     TEST_ASSERT(kept(dir, "sweep.csv"));
     remove_dir(dir);
     return 0;

@@ -152,7 +152,12 @@ static int normalised_writes_numbers_as_given(void)
     text[n] = '\0';
     /* the scene's gravity is 1 in its units: times in sqrt(d/g) */
     TEST_ASSERT(strstr(text, "\"units\": {\"system\": \"normalised\", \"length\": \"d\", "
-                             "\"time\": \"sqrt(d/g)\"}") != NULL);
+                             "\"time\": \"sqrt(d/g)\", \"mass\": \"m\", \"speed\": \"sqrt(g d)\", "
+                             "\"force\": \"m g\", \"energy\": \"m g d\", \"stress\": \"m g/d\"}") !=
+                NULL);
+    /* the simulated time is in the scene's unit, not seconds */
+    TEST_ASSERT(strstr(text, "\"simulated_time\": ") != NULL);
+    TEST_ASSERT(strstr(text, "\"simulated_seconds\"") == NULL);
     TEST_ASSERT(isnan(summary_number(nu, "length_m")));
     char cmd[600];
     snprintf(cmd, sizeof cmd, "rm -rf '%s' '%s'", si, nu);

@@ -11,14 +11,16 @@
 # after its last checkpoint (its later outputs gone, junk after the checkpoint's length in every
 # file the checkpoint records) and a run interrupted by SIGINT, both continued with --resume,
 # leave every output as the uninterrupted run does: each .state, CSV, JSON (summary.json
-# without its timings and provenance), dump file (.lammpstrj, .vtp, .pvd) and .vti, byte for
-# byte.
+# without its timings, threads and provenance), dump file (.lammpstrj, .vtp, .pvd) and .vti,
+# byte for byte.
 set -u
 fail() { echo "cli.resume: $*" >&2; exit 1; }
 
-# summary.json without what differs between runs of the same scene: timings, provenance
+# summary.json without what differs between runs of the same scene: timings, the threads auto
+# chose, provenance (and the thread choices after it)
 summary_physics() {
   sed -e 's/"wall_seconds": [^,}]*//g' -e 's/"particle_steps_per_second": [^,}]*//g' \
+    -e 's/"threads": [0-9]*//' \
     -e '/"provenance"/,$d' "$1"
 }
 

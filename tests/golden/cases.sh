@@ -3,6 +3,10 @@
 # Sourced by check.sh and record.sh; run from the repository root.
 #   golden_cases             prints the case names
 #   golden_run CASE BIN OUT  runs CASE with the binary BIN into the (absolute, fresh) folder OUT
+# GOLDEN_THREADS (environment, empty by default): more arguments for the cases that are one
+# `sablier run` (crater, brazil_nut, sediment), such as `--threads 3`: the outputs must be the
+# recorded ones on any thread count (check_threads.sh).
+read -r -a golden_threads <<<"${GOLDEN_THREADS:-}"
 golden_cases() {
   echo crater brazil_nut sediment discharge sweep bne_samples study sediment_shields
 }
@@ -11,16 +15,16 @@ golden_run() {
   local case=$1 bin=$2 out=$3
   case $case in
     crater) # deposit -> dig -> collapse; the final crater figure with velocity arrows
-      "$bin" run scenes/crater/small.scene --out "$out" --quiet \
+      "$bin" run scenes/crater/small.scene --out "$out" --quiet ${golden_threads[@]+"${golden_threads[@]}"} \
         --set stages.collapse.time.end=1.0 \
         --set render.width=300 --set render.height=300 \
         --set output.figures.1.velocity_arrows=true ;;
     brazil_nut) # settle, 100 s of shaking (the intruder rises), phase-averaged field (4 phases)
-      "$bin" run scenes/brazil_nut/small.scene --out "$out" --quiet \
+      "$bin" run scenes/brazil_nut/small.scene --out "$out" --quiet ${golden_threads[@]+"${golden_threads[@]}"} \
         --set stages.shake.time.end=100 --set bne.phase_field.phases=4 \
         --set render.width=200 --set render.height=400 ;;
     sediment) # settle dry, 10 time units of flow; no movie
-      "$bin" run scenes/sediment/viscous.scene --out "$out" --quiet \
+      "$bin" run scenes/sediment/viscous.scene --out "$out" --quiet ${golden_threads[@]+"${golden_threads[@]}"} \
         --set 'output.movie=[]' --set stages.flow.time.end=10 \
         --set output.figures.0.width=600 --set output.figures.0.height=250 ;;
     discharge) # one pile on L = 10 d, a jamming width and a catastrophic one

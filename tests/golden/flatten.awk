@@ -8,6 +8,8 @@
 function ignored(name, path) {
   # wall-clock timings: differ between runs and machines
   if (name == "wall_seconds" || name == "particle_steps_per_second") return 1
+  # the threads the step ran on (summary.json): the results are the same bits on any count
+  if (mode == "json" && path == "threads") return 1
   # build versions (summary.json)
   if (path == "versions" || index(path, "versions.") == 1) return 1
   # the member's output folder (sweep.csv): an absolute path
@@ -25,8 +27,10 @@ function clean(v,    k) {
   return v
 }
 function emit(line, name, path, v) {
-  # provenance (summary.json): the command line, date, host and revision of this very run
+  # provenance (summary.json): the command line, date, host and revision of this very run; the
+  # thread counts it chose by measurement (after the provenance, so no line moves)
   if (mode == "json" && (path == "provenance" || index(path, "provenance.") == 1)) return
+  if (mode == "json" && index(path, "thread_choices.") == 1) return
   if (ignored(name, path)) v = "(ignored)"
   else v = clean(v)
   printf "%d\t%s\t%s\n", line, path, v

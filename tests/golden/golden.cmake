@@ -32,19 +32,35 @@ foreach(entry ${golden_entries})
   endif()
 endforeach()
 
+# A variant of golden case CASE: test NAME runs SCRIPT (check_isa.sh, check_threads.sh) with
+# ARG before check.sh's arguments, into WORK; SCRIPT exits 77 to skip.
+function(golden_variant name script arg case work)
+  add_test(NAME ${name}
+           COMMAND bash ${GOLDEN_DIR}/${script} ${arg} $<TARGET_FILE:sablier> ${case} ${work}
+                   ${GOLDEN_RENDER}
+           WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  set_tests_properties(${name} PROPERTIES LABELS golden SKIP_RETURN_CODE 77)
+  if(SABLIER_SANITIZE)
+    set_tests_properties(${name} PROPERTIES
+      ENVIRONMENT "LSAN_OPTIONS=suppressions=${PROJECT_SOURCE_DIR}/tests/lsan.supp")
+  endif()
+endfunction()
+
 # The same cases with the hot loops forced to each instruction set (SABLIER_ISA; check_isa.sh
 # skips a set this build or CPU lacks): the outputs must be the recorded bits on every path.
 set(GOLDEN_ISA_CASES crater brazil_nut sediment discharge)
 foreach(isa sse2 avx2 avx512)
   foreach(case ${GOLDEN_ISA_CASES})
-    add_test(NAME golden.${case}.isa_${isa}
-             COMMAND bash ${GOLDEN_DIR}/check_isa.sh ${isa} $<TARGET_FILE:sablier> ${case}
-                     ${GOLDEN_WORK}/isa_${isa} ${GOLDEN_RENDER}
-             WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-    set_tests_properties(golden.${case}.isa_${isa} PROPERTIES LABELS golden SKIP_RETURN_CODE 77)
-    if(SABLIER_SANITIZE)
-      set_tests_properties(golden.${case}.isa_${isa} PROPERTIES
-        ENVIRONMENT "LSAN_OPTIONS=suppressions=${PROJECT_SOURCE_DIR}/tests/lsan.supp")
-    endif()
+    golden_variant(golden.${case}.isa_${isa} check_isa.sh ${isa} ${case} ${GOLDEN_WORK}/isa_${isa})
+  endforeach()
+endforeach()
+
+# The `sablier run` cases on 1, 2, 3 and 8 threads, and with the count switched every 50 steps
+# (check_threads.sh): the outputs must be the recorded bits on any count.
+set(GOLDEN_THREAD_CASES crater brazil_nut)
+foreach(threads 1 2 3 8 switch)
+  foreach(case ${GOLDEN_THREAD_CASES})
+    golden_variant(golden.${case}.threads_${threads} check_threads.sh ${threads} ${case}
+                   ${GOLDEN_WORK}/threads_${threads})
   endforeach()
 endforeach()
