@@ -84,7 +84,7 @@ class SimWorldDef(Structure):
                 ("time_step", c_double), ("steps_per_contact", c_double),
                 ("max_dt_fraction", c_double), ("skin", c_double), ("domain_x0", c_double),
                 ("domain_x1", c_double), ("grains", SimGrainSet), ("wall_count", c_int),
-                ("walls", POINTER(SimWall)), ("motion_count", c_int),
+                ("walls", POINTER(SimWall)), ("wall_bodies", c_void_p), ("motion_count", c_int),
                 ("motions", SimMotion * SIM_MAX_MOTIONS), ("sink_count", c_int),
                 ("sinks", SimSink * SIM_MAX_SINKS), ("body_force", SimBodyForce),
                 ("guard_max_overlap", c_double), ("guard_max_speed", c_double),
@@ -106,7 +106,7 @@ class SimTiming(Structure):
 class SimContact(Structure):
     _fields_ = [("i", c_int), ("j", c_int), ("normal_force", c_double),
                 ("tangential_force", c_double), ("overlap", c_double), ("x", c_double),
-                ("y", c_double)]
+                ("y", c_double), ("nx", c_double), ("ny", c_double)]
 
 
 class SimFrame(Structure):
@@ -117,6 +117,16 @@ class SimFrame(Structure):
                 ("torque", _pd), ("contact_count", c_int), ("contacts", POINTER(SimContact)),
                 ("wall_count", c_int), ("walls", POINTER(SimWall)), ("periodic", c_int),
                 ("domain_x0", c_double), ("domain_x1", c_double)]
+
+
+SIM_CG_FIELD_COUNT = 23
+
+
+class SimCoarseDef(Structure):
+    _fields_ = [("kernel", c_int), ("width", c_double), ("geometry", c_int), ("x0", c_double),
+                ("y0", c_double), ("cell_x", c_double), ("cell_y", c_double), ("nx", c_int),
+                ("ny", c_int), ("x1", c_double), ("y1", c_double), ("contacts", c_int),
+                ("normalise", c_int)]
 
 
 class SimEnergy(Structure):
@@ -200,7 +210,7 @@ class Scene(Structure):
     """The leading fields of app/scene.h's Scene, read only (the loader allocates it)."""
     _fields_ = [("path", c_char * SCENE_PATH_MAX), ("name", c_char * SCENE_NAME_MAX),
                 ("seed", c_uint64), ("def", SimWorldDef), ("grains", SimGrainBuffer),
-                ("fixed_count", c_int), ("walls", POINTER(SimWall)),
+                ("fixed_count", c_int), ("walls", POINTER(SimWall)), ("wall_bodies", c_void_p),
                 ("motion_names", (c_char * SCENE_NAME_MAX) * SIM_MAX_MOTIONS),
                 ("species_names", (c_char * SCENE_NAME_MAX) * SIM_MAX_SPECIES),
                 ("drag", SceneDrag), ("stage_count", c_int),
@@ -218,6 +228,7 @@ STRUCTS = {
     "SimContact": ("sim/sim.h", SimContact), "SimFrame": ("sim/sim.h", SimFrame),
     "SimEnergy": ("sim/sim.h", SimEnergy), "SimRng": ("sim/sim.h", SimRng),
     "SimGrainBuffer": ("sim/sim.h", SimGrainBuffer), "SimRainDef": ("sim/sim.h", SimRainDef),
+    "SimCoarseDef": ("sim/sim.h", SimCoarseDef),
     "RenderStyle": ("render/render.h", RenderStyle), "RenderMeta": ("render/render.h", RenderMeta),
     "SceneDrag": ("scene.h", SceneDrag), "SceneStage": ("scene.h", SceneStage),
     "Scene": ("scene.h", Scene),
@@ -227,6 +238,8 @@ STRUCTS = {
 
 _P_WORLD = c_void_p
 _P_ERR = POINTER(SimError)
+# app/run.h AppRunHook: int (*)(void *context, SimWorld *world, int stage, long step)
+RUN_HOOK = CFUNCTYPE(c_int, c_void_p, c_void_p, c_int, c_long)
 
 _SIM_FUNCTIONS = {
     "sim_effect_from_name": (c_uint, [c_char_p]),
@@ -269,6 +282,22 @@ _SIM_FUNCTIONS = {
     "sim_world_remove_ids": (c_int, [_P_WORLD, _pu32, c_int]),
     "sim_world_add_grains": (c_int, [_P_WORLD, POINTER(SimGrainSet), _P_ERR]),
     "sim_world_freeze": (None, [_P_WORLD]),
+    "sim_world_set_grains": (c_int, [_P_WORLD, POINTER(SimGrainSet), _P_ERR]),
+    "sim_world_set_gravity": (None, [_P_WORLD, c_double, c_double]),
+    "sim_world_set_motion": (None, [_P_WORLD, c_int, c_double, c_double]),
+    "sim_world_masses": (None, [_P_WORLD, _pd]),
+    "sim_coarse_def_default": (SimCoarseDef, []),
+    "sim_coarse_create": (c_void_p, [POINTER(SimCoarseDef), _P_ERR]),
+    "sim_coarse_destroy": (None, [c_void_p]),
+    "sim_coarse_nodes": (c_int, [c_void_p]),
+    "sim_coarse_node": (None, [c_void_p, c_int, _pd, _pd]),
+    "sim_coarse_add": (c_int, [c_void_p, POINTER(SimFrame), _pd, c_double, c_double]),
+    "sim_coarse_samples": (c_int, [c_void_p]),
+    "sim_coarse_field": (None, [c_void_p, c_int, _pd]),
+    "sim_coarse_field_from_name": (c_int, [c_char_p]),
+    "sim_coarse_field_name": (c_char_p, [c_int]),
+    "sim_coarse_field_unit": (c_char_p, [c_int]),
+    "sim_coarse_field_needs_contacts": (c_int, [c_int]),
     "sim_world_save": (c_int, [_P_WORLD, c_char_p, _P_ERR]),
     "sim_world_restore_contacts": (c_int, [_P_WORLD, c_char_p, _P_ERR]),
     "sim_world_load": (_P_WORLD, [c_char_p, POINTER(SimWorldDef), _P_ERR]),
@@ -303,6 +332,9 @@ _SCENE_FUNCTIONS = {
     "scene_free": (None, [POINTER(Scene)]),
     "scene_world_def": (SimWorldDef, [POINTER(Scene), c_int]),
     "scene_stage_index": (c_int, [POINTER(Scene), c_char_p]),
+    "scene_keys": (POINTER(c_char_p), [c_char_p, c_int]),
+    "scene_material_default": (SimMaterial, []),
+    "scene_run": (c_int, [POINTER(Scene), c_char_p, c_int, c_int, RUN_HOOK, c_void_p, c_long]),
 }
 
 
