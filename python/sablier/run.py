@@ -2,6 +2,7 @@
 """Whole scene runs: in this process with callbacks between steps (Run, through
 libsablier-scene's stage runner), or through the `sablier` command (run(), which also makes
 the scene's figures and movies)."""
+import errno
 import os
 import subprocess
 import tempfile
@@ -42,6 +43,8 @@ def run(scene, out, sets=None, quiet=True, threads=None, check=True, executable=
     {"time.end": 30} or a list of "KEY=VALUE". check=True raises RunError on a non-zero exit
     (the outputs written so far stay in `out`: RunError.out). threads: a count or "auto";
     None leaves the CLI's default, auto (every CPU, one thread per 1000 mobile grains)."""
+    if not os.path.isfile(scene):
+        raise FileNotFoundError(errno.ENOENT, "sablier: no scene file", os.fspath(scene))
     args = ["run", scene, "--out", out]
     for s in _sets_list(sets):
         args += ["--set", s]

@@ -6,9 +6,13 @@ import os
 import numpy as np
 
 from . import _capi as C
-from .definition import (GrainBuffer, Grains, InvalidDefinition, OutOfMemory, WorldDef, _array,
-                         _ptr, _raise, effects_names)
+from .definition import (GrainBuffer, Grains, InvalidDefinition, OutOfMemory, StateIOError,
+                         WorldDef, _array, _ptr, _raise, effects_names)
 from .scene import Scene
+
+
+class StateNotFound(StateIOError, FileNotFoundError):
+    """World.from_state of a path where no file is (a StateIOError and a FileNotFoundError)."""
 
 
 class StaleFrame(RuntimeError):
@@ -216,6 +220,8 @@ class World:
         default stage: the one named like the state file, else the last), or of
         options as in from_arrays. restore_contacts: also reload the contact history (springs,
         rolling torques) and sink counts, so the run continues as it would have."""
+        if not os.path.isfile(path):
+            raise StateNotFound("sablier: no state file %s" % os.fspath(path), 3, "path")
         if definition is None:
             if scene is not None:
                 sc = scene if isinstance(scene, Scene) else Scene(scene, sets)

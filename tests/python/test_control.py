@@ -85,6 +85,10 @@ class Control(unittest.TestCase):
             sablier.Scene("/nonexistent/x.scene")
         with self.assertRaises(FileNotFoundError):
             sablier.Run("/nonexistent/x.scene")
+        with self.assertRaises(FileNotFoundError):
+            sablier.run("/nonexistent/x.scene", "/nonexistent/out")
+        with self.assertRaises(FileNotFoundError):
+            sablier.World.from_state("/nonexistent/x.state")
 
     def test_a_kept_view_refuses_to_read_the_next_state(self):
         w = drop()
