@@ -92,6 +92,7 @@ AppRunOptions app_run_options_default(void)
     o.threads = 1;
     o.progress_every = APP_PROGRESS_EVERY;
     o.sablier_version = "unknown";
+    o.hook_every = 1;
     return o;
 }
 
@@ -767,17 +768,31 @@ static int outputs_due(Run *run, int k, StageClock *clock, long done)
             app_dump_frame(clock->dump, &frame);
     }
     family_step(run, done); /* profiles, phase samples, ... */
-    return figures_due(run, k, 2, done, clock->dt) != 0 ? 2 : 0;
+    if (figures_due(run, k, 2, done, clock->dt) != 0)
+        return 2;
+    const AppRunOptions *o = run->options;
+    if (o->hook && (done % o->hook_every == 0 || done == clock->total) &&
+        o->hook(o->hook_context, run->world, k, done) != 0) {
+        snprintf(run->message, sizeof run->message,
+                 "stopped by the caller's hook in stage %s at "
+                 "step %ld",
+                 run->scene->stages[k].name, done);
+        return 2;
+    }
+    return 0;
 }
 
 /* The next step after `done` at which anything is due. */
 static long next_due(const Run *run, int k, const StageClock *clock, long done)
 {
     long next = clock->total;
-    long marks[5] = {clock->every_energy, clock->movie ? clock->every_frame : clock->total,
+    long marks[6] = {clock->every_energy,
+                     clock->movie ? clock->every_frame : clock->total,
                      run->trace ? clock->every_trace : clock->total,
-                     clock->dump ? clock->every_dump : clock->total, clock->every_checkpoint};
-    for (int m = 0; m < 5; ++m) {
+                     clock->dump ? clock->every_dump : clock->total,
+                     clock->every_checkpoint,
+                     run->options->hook ? run->options->hook_every : clock->total};
+    for (int m = 0; m < 6; ++m) {
         long candidate = (done / marks[m] + 1) * marks[m];
         if (candidate < next)
             next = candidate;

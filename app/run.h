@@ -20,6 +20,9 @@
 
 #include <stddef.h>
 
+/// Called between steps with the world of stage `stage` at its step `step` (app_run's hook).
+typedef int (*AppRunHook)(void *context, SimWorld *world, int stage, long step);
+
 typedef struct AppRunOptions {
     const char *out_dir; ///< created if missing
     int quiet;           ///< 1: one line per stage only
@@ -45,6 +48,13 @@ typedef struct AppRunOptions {
     AppProvenance provenance;     ///< the command line and --set overrides, for summary.json
     int force;  ///< 1: run into a folder that holds outputs of an unknown run (no manifest.txt)
     int resume; ///< 1: continue from the newest checkpoint in out_dir (DIR/checkpoint.txt)
+    /// A caller's hook (the Python module's in-process runner, docs/python.md): called at step 0
+    /// of every stage, every `hook_every` steps, and at its last step, after that step's
+    /// outputs, with the stage's world, which it may read and change (sim_world_set_grains,
+    /// sim_world_set_gravity, ...). Nonzero stops the run: exit status 2. NULL: none.
+    AppRunHook hook;
+    void *hook_context;
+    long hook_every; ///< steps, >= 1
 } AppRunOptions;
 
 AppRunOptions app_run_options_default(void);
@@ -67,5 +77,11 @@ AppRunOptions app_run_options_default(void);
 /// SIGTERM are caught while it runs (a second one kills at once); the caller's handlers are
 /// restored on return.
 int app_run(const Scene *scene, const AppRunOptions *options);
+
+/// app_run for bindings (the Python module, libsablier-scene): runs `scene` into `out_dir`
+/// without figures or movies, quiet or with progress lines, on `threads` (APP_THREADS_AUTO: 0),
+/// with `hook` (may be NULL) every `every` steps. Returns app_run's exit status.
+int scene_run(const Scene *scene, const char *out_dir, int quiet, int threads, AppRunHook hook,
+              void *context, long every);
 
 #endif

@@ -264,6 +264,16 @@ int scene_warn(const Scene *scene, FILE *out);
 
 /// Index of a stage by name, -1 when absent.
 int scene_stage_index(const Scene *scene, const char *name);
+/// A species' material before its keys are read: sim_material_default() without damping
+/// (damping_mode GAMMA, gamma_n 0), what a scene's species that gives none of gamma_n,
+/// restitution, critical_fraction gets.
+SimMaterial scene_material_default(void);
+/// The key tables of the scene loader, NULL-ended (bindings check their dictionaries against
+/// them, docs/python.md): "species" (every key of a species), "material" (k = 0: SimMaterial
+/// field names; k = 1: the species key of each, same order), "motion.kinds" (values of `kind`,
+/// in SimMotionKind order), "motion" (k = the kind: its own keys), "motion.schedule" (keys of
+/// every kind). NULL for an unknown group.
+const char *const *scene_keys(const char *group, int k);
 
 /// Comma-separated names of declared effects ("friction, removal"; "none").
 void scene_effect_names(unsigned effects, char *out, size_t out_size);

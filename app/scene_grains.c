@@ -16,26 +16,66 @@ static const char *const SPECIES_KEYS[] = {
     "name", "density", "k_n",  "gamma_n", "restitution", "critical_fraction", "mu", "gamma_s",
     "k_t",  "gamma_t", "mu_r", "k_r",     NULL};
 
-/* SimMaterial fields -> the species keys that set them, for mapping SimError fields to lines. */
+/* SimMaterial fields -> the species keys that set them: for mapping SimError fields to lines,
+ * and the table the Python module reads (scene_keys "material"). */
+static const char *const MATERIAL_MAP[][2] = {
+    {"density", "density"},
+    {"normal_stiffness", "k_n"},
+    {"normal_damping", "gamma_n"},
+    {"restitution", "restitution"},
+    {"critical_fraction", "critical_fraction"},
+    {"friction", "mu"},
+    {"tangential_damping", "gamma_s"},
+    {"tangential_stiffness", "k_t"},
+    {"spring_damping", "gamma_t"},
+    {"rolling_friction", "mu_r"},
+    {"rolling_stiffness", "k_r"},
+};
+#define MATERIAL_KEY_COUNT (sizeof MATERIAL_MAP / sizeof MATERIAL_MAP[0])
+
+static const char *const MOTION_KINDS[] = {"sinusoidal", "velocity", "rotation", "compose", NULL};
+static const char *const MOTION_KIND_KEYS[4][6] = {
+    {"amplitude", "frequency", "phase", "direction", NULL},
+    {"velocity", NULL},
+    {"center", "angular_velocity", NULL},
+    {"of", NULL}};
+static const char *const MOTION_SCHEDULE_KEYS[] = {"kind", "start", "ramp", "stop", NULL};
+
+SimMaterial scene_material_default(void)
+{
+    SimMaterial m = sim_material_default();
+    m.damping_mode = SIM_DAMPING_GAMMA; /* elastic unless a species gives its damping */
+    m.normal_damping = 0.0;
+    return m;
+}
+
+const char *const *scene_keys(const char *group, int k)
+{
+    static const char *material[2][MATERIAL_KEY_COUNT + 1];
+    if (strcmp(group, "species") == 0)
+        return SPECIES_KEYS;
+    if (strcmp(group, "material") == 0 && (k == 0 || k == 1)) {
+        for (size_t j = 0; j < MATERIAL_KEY_COUNT; ++j)
+            material[k][j] = MATERIAL_MAP[j][k];
+        material[k][MATERIAL_KEY_COUNT] = NULL;
+        return material[k];
+    }
+    if (strcmp(group, "motion.kinds") == 0)
+        return MOTION_KINDS;
+    if (strcmp(group, "motion.schedule") == 0)
+        return MOTION_SCHEDULE_KEYS;
+    if (strcmp(group, "motion") == 0 && k >= 0 && k < 4)
+        return MOTION_KIND_KEYS[k];
+    return NULL;
+}
+
 static void where_species(Loader *L, const config_setting_t *g, int k)
 {
-    static const char *const map[][2] = {
-        {"density", "density"},
-        {"normal_stiffness", "k_n"},
-        {"normal_damping", "gamma_n"},
-        {"restitution", "restitution"},
-        {"critical_fraction", "critical_fraction"},
-        {"friction", "mu"},
-        {"tangential_damping", "gamma_s"},
-        {"tangential_stiffness", "k_t"},
-        {"spring_damping", "gamma_t"},
-        {"rolling_friction", "mu_r"},
-        {"rolling_stiffness", "k_r"},
-    };
+    const char *const(*map)[2] = MATERIAL_MAP;
     char field[64];
     snprintf(field, sizeof field, "materials[%d]", k);
     loader_where_add(L, field, g);
-    for (size_t j = 0; j < sizeof map / sizeof map[0]; ++j)
+    for (size_t j = 0; j < MATERIAL_KEY_COUNT; ++j)
         if (app_config_member(g, map[j][1])) {
             snprintf(field, sizeof field, "materials[%d].%s", k, map[j][0]);
             loader_where_add(L, field, app_config_member(g, map[j][1]));
@@ -130,7 +170,7 @@ static int parse_one_species(Loader *L, const config_setting_t *g, int k)
     SimMaterial *m = &scene->def.materials[k];
     char what[48];
     snprintf(what, sizeof what, "species %d", k);
-    *m = sim_material_default();
+    *m = scene_material_default();
     const char *name = NULL;
     if (app_config_keys(&L->p, g, what, SPECIES_KEYS, NULL) < 0 ||
         app_config_string(&L->p, g, "name", &name) < 0)
@@ -281,18 +321,12 @@ static int parse_compose(Loader *L, const config_setting_t *g, const char *what,
 static int parse_motion_kind(Loader *L, const config_setting_t *g, const char *what, int k,
                              SimMotion *m)
 {
-    static const char *const kinds[] = {"sinusoidal", "velocity", "rotation", "compose", NULL};
-    static const char *const kind_keys[4][6] = {
-        {"amplitude", "frequency", "phase", "direction", NULL},
-        {"velocity", NULL},
-        {"center", "angular_velocity", NULL},
-        {"of", NULL}};
-    static const char *const schedule_keys[] = {"kind", "start", "ramp", "stop", NULL};
     int kind = SIM_MOTION_SINUSOIDAL;
-    if (app_config_member(g, "kind") && app_config_choice(&L->p, g, "kind", kinds, &kind) < 0)
+    if (app_config_member(g, "kind") &&
+        app_config_choice(&L->p, g, "kind", MOTION_KINDS, &kind) < 0)
         return -1;
     m->kind = (SimMotionKind)kind;
-    if (app_config_keys(&L->p, g, what, kind_keys[kind], schedule_keys) < 0)
+    if (app_config_keys(&L->p, g, what, MOTION_KIND_KEYS[kind], MOTION_SCHEDULE_KEYS) < 0)
         return -1;
     double v[2] = {0.0, 0.0};
     switch (m->kind) {

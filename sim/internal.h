@@ -369,6 +369,17 @@ int sim_exact_apply(SimWorld *world, FILE *f, const SimGrainSet *saved, long ste
 const char *sim_exact_check(FILE *f);
 /* world.c: rebuild the lists now (used after installing history). */
 void sim_world_rebuild_now(SimWorld *world);
+/* world.c: fills `error` (when not NULL) and returns `status`; step and grain -1. */
+SimStatus sim_fail(SimError *error, SimStatus status, const char *field, const char *fmt, ...);
+/* world.c: SIM_ERROR_INVALID when grains `g` (radius, species, flags) paired with the grains in
+ * place have a stability limit below the world's time step. */
+SimStatus sim_world_check_timing(const SimWorld *world, const SimGrainSet *g, SimError *error);
+/* world.c: after grains were added or edited in place: the largest radius, the automatic skin's
+ * range and the cell size follow them; the lists are built and the forces evaluated anew. */
+void sim_world_grains_changed(SimWorld *world);
+/* world.c: mass (kg) and moment of inertia (kg m^2) of a grain under the mass model. */
+void sim_grain_mass_inertia(SimMassModel model, double density, double r, double *m,
+                            double *inertia);
 /* gamma_n of a pair of species (the mean of the two species' damping specifications) for a
  * pair stiffness k_n and an effective mass m_eff: the list build and the set-up timing. */
 double sim_damping_gamma(const SimMaterial *materials, int species_i, int species_j, double k_n,

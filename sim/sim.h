@@ -734,6 +734,18 @@ int sim_world_remove_ids(SimWorld *world, const uint32_t *ids, int count);
 SimStatus sim_world_add_grains(SimWorld *world, const SimGrainSet *grains, SimError *error);
 /// Set every velocity and angular velocity to zero.
 void sim_world_freeze(SimWorld *world);
+/// Writes grains in place between steps (a servo, a shaker, a caller's hook). `values->id` names
+/// the grains by stable id (`count` of them); without ids, `count` must be
+/// sim_world_grain_count and the values are in frame order. Each non-NULL array is written: x
+/// and y together (centre, m), vx and vy together (m/s), angle (rad), omega (rad/s), radius (m:
+/// mass and moment of inertia follow), flags (SIM_GRAIN_FIXED or 0: a grain made fixed stops
+/// where it is, without motion; a grain set free keeps its place; the frame order then changes).
+/// Velocities given to fixed grains are ignored; species and motion must be NULL. The lists are
+/// then built and the forces evaluated at the new state, and the integrator restarts, as after
+/// sim_world_freeze. SIM_ERROR_INVALID, nothing changed: an unknown id, a value that is not
+/// finite, a radius <= 0, an unknown flag, a pair whose stability limit falls below the time step.
+/// SIM_ERROR_MEMORY: out of memory (after the writes: the world is only fit for destroy).
+SimStatus sim_world_set_grains(SimWorld *world, const SimGrainSet *values, SimError *error);
 /// What the grains do to wall `wall` in the last force evaluation (SimWallLoad); -1 when out of
 /// range.
 int sim_world_wall_load(const SimWorld *world, int wall, SimWallLoad *load);

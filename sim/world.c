@@ -108,7 +108,7 @@ SimWorldDef sim_world_def_default(void)
 
 /* ------------------------------------------------------------------ errors */
 
-static SimStatus fail(SimError *error, SimStatus status, const char *field, const char *fmt, ...)
+SimStatus sim_fail(SimError *error, SimStatus status, const char *field, const char *fmt, ...)
 {
     if (!error)
         return status;
@@ -131,7 +131,8 @@ double sim_grain_mass(SimMassModel model, double density, double r)
                                     : density * SIM_PI * r * r;
 }
 
-static void grain_mass(SimMassModel model, double density, double r, double *m, double *inertia)
+void sim_grain_mass_inertia(SimMassModel model, double density, double r, double *m,
+                            double *inertia)
 {
     *m = sim_grain_mass(model, density, r);
     *inertia = (model == SIM_MASS_SPHERE ? 0.4 : 0.5) * *m * r * r;
@@ -212,7 +213,8 @@ static SimTiming timing_of(const SimWorldDef *def)
             continue;
         }
         double m, inertia;
-        grain_mass(def->mass_model, def->materials[s].density, g->radius[i], &m, &inertia);
+        sim_grain_mass_inertia(def->mass_model, def->materials[s].density, g->radius[i], &m,
+                               &inertia);
         if (m < light[s])
             light[s] = m;
     }
@@ -257,7 +259,7 @@ SimTiming sim_world_def_timing(const SimWorldDef *def)
 #define CHECK(cond, field, ...)                                                                    \
     do {                                                                                           \
         if (!(cond))                                                                               \
-            return fail(error, SIM_ERROR_INVALID, field, __VA_ARGS__);                             \
+            return sim_fail(error, SIM_ERROR_INVALID, field, __VA_ARGS__);                         \
     } while (0)
 
 static SimStatus validate_materials(const SimWorldDef *def, SimError *error)
@@ -289,7 +291,8 @@ static SimStatus validate_materials(const SimWorldDef *def, SimError *error)
                   m->critical_fraction);
             break;
         default:
-            return fail(error, SIM_ERROR_INVALID, FIELD("damping_mode"), "unknown damping mode");
+            return sim_fail(error, SIM_ERROR_INVALID, FIELD("damping_mode"),
+                            "unknown damping mode");
         }
         CHECK(m->friction >= 0.0 && isfinite(m->friction), FIELD("friction"),
               "friction coefficient mu must be >= 0 (got %g)", m->friction);
@@ -366,11 +369,11 @@ static SimStatus validate_grains(const SimWorldDef *def, int restored, SimError 
              * initial-overlap bound, as for pairs of grains. */
             if (g->radius[i] - d > def->max_initial_overlap * 2.0 * g->radius[i]) {
                 snprintf(f, sizeof f, "grains[%d]", i);
-                return fail(error, SIM_ERROR_INVALID, f,
-                            "grain %d at (%g, %g) overlaps wall %d at start by %.3g of its "
-                            "diameter (bound %g)",
-                            i, g->x[i], g->y[i], w, (g->radius[i] - d) / (2.0 * g->radius[i]),
-                            def->max_initial_overlap);
+                return sim_fail(error, SIM_ERROR_INVALID, f,
+                                "grain %d at (%g, %g) overlaps wall %d at start by %.3g of its "
+                                "diameter (bound %g)",
+                                i, g->x[i], g->y[i], w, (g->radius[i] - d) / (2.0 * g->radius[i]),
+                                def->max_initial_overlap);
             }
         }
     }
@@ -417,12 +420,13 @@ static SimStatus validate_motion_speed(const SimWorldDef *def, double dt, SimErr
         if (v * dt > 0.5 * r_min) {
             char f[64];
             snprintf(f, sizeof f, "motions[%d]", m);
-            return fail(error, SIM_ERROR_INVALID, f,
-                        "motion %d moves its walls or fixed grains at up to %g m/s, %g m per time "
-                        "step, more than half the smallest grain radius %g m: grains would be "
-                        "passed through or dragged past their contacts; the time step must be "
-                        "below %g s (wall-speed limit), or the motion slower",
-                        m, v, v * dt, r_min, 0.5 * r_min / v);
+            return sim_fail(
+                error, SIM_ERROR_INVALID, f,
+                "motion %d moves its walls or fixed grains at up to %g m/s, %g m per time "
+                "step, more than half the smallest grain radius %g m: grains would be "
+                "passed through or dragged past their contacts; the time step must be "
+                "below %g s (wall-speed limit), or the motion slower",
+                m, v, v * dt, r_min, 0.5 * r_min / v);
         }
     }
     return SIM_OK;
@@ -492,14 +496,15 @@ static SimStatus validate_def(const SimWorldDef *def, int restored, SimError *er
     int a = -1, b = -1;
     double worst = restored ? 0.0 : sim_def_worst_overlap(def, &a, &b);
     if (isnan(worst))
-        return fail(error, SIM_ERROR_MEMORY, "grains", "out of memory checking the overlaps");
+        return sim_fail(error, SIM_ERROR_MEMORY, "grains", "out of memory checking the overlaps");
     if (worst > def->max_initial_overlap) {
         char f[64];
         snprintf(f, sizeof f, "grains[%d]", a);
-        return fail(error, SIM_ERROR_INVALID, f,
-                    "grains %d and %d overlap at start by %.3g of the smaller diameter (bound %g: "
-                    "max_initial_overlap)",
-                    a, b, worst, def->max_initial_overlap);
+        return sim_fail(
+            error, SIM_ERROR_INVALID, f,
+            "grains %d and %d overlap at start by %.3g of the smaller diameter (bound %g: "
+            "max_initial_overlap)",
+            a, b, worst, def->max_initial_overlap);
     }
     if (def->effects & SIM_EFFECT_PERIODIC_X) {
         double r_max = 0.0;
@@ -519,7 +524,7 @@ static SimStatus validate_def(const SimWorldDef *def, int restored, SimError *er
     if (body) {
         char f[64];
         snprintf(f, sizeof f, "walls[%d]", body_wall);
-        return fail(error, SIM_ERROR_INVALID, f, "wall %d: %s", body_wall, body);
+        return sim_fail(error, SIM_ERROR_INVALID, f, "wall %d: %s", body_wall, body);
     }
     if (def->grains.count > 0 && isfinite(t.contact_time_min)) {
         CHECK(t.time_step <= t.stability_limit, "time_step",
@@ -572,8 +577,8 @@ static int load_grains(SimWorld *w, const SimGrainSet *g)
         w->x_base[k] = w->x[k];
         w->y_base[k] = w->y[k];
         double m, inertia;
-        grain_mass(w->def.mass_model, w->def.materials[w->species[k]].density, w->radius[k], &m,
-                   &inertia);
+        sim_grain_mass_inertia(w->def.mass_model, w->def.materials[w->species[k]].density,
+                               w->radius[k], &m, &inertia);
         w->mass[k] = m;
         w->inertia[k] = inertia;
         w->inv_mass[k] = fixed ? 0.0 : 1.0 / m;
@@ -856,7 +861,7 @@ static SimWorld *create(const SimWorldDef *def, int restored, SimError *error)
         return NULL;
     SimWorld *w = calloc(1, sizeof *w);
     if (!w) {
-        fail(error, SIM_ERROR_MEMORY, "", "out of memory creating the world");
+        sim_fail(error, SIM_ERROR_MEMORY, "", "out of memory creating the world");
         return NULL;
     }
     w->def = *def;
@@ -882,7 +887,7 @@ static SimWorld *create(const SimWorldDef *def, int restored, SimError *error)
 
     if (load_grains(w, &def->grains) != 0) {
         sim_world_destroy(w);
-        fail(error, SIM_ERROR_MEMORY, "", "out of memory creating the world");
+        sim_fail(error, SIM_ERROR_MEMORY, "", "out of memory creating the world");
         return NULL;
     }
     w->wall_count = def->wall_count;
@@ -912,7 +917,7 @@ static SimWorld *create(const SimWorldDef *def, int restored, SimError *error)
         !w->wall_load || !w->wall_touch ||
         (def->wall_bodies && def->wall_count > 0 && (!w->bodies || !w->body_s || !w->body_u))) {
         sim_world_destroy(w);
-        fail(error, SIM_ERROR_MEMORY, "", "out of memory creating the world");
+        sim_fail(error, SIM_ERROR_MEMORY, "", "out of memory creating the world");
         return NULL;
     }
     if (def->wall_count > 0) {
@@ -943,8 +948,8 @@ static SimWorld *create(const SimWorldDef *def, int restored, SimError *error)
     rebuild(w);
     reevaluate_forces(w); /* no time has passed: no contact-history increment */
     if (w->out_of_memory) {
-        fail(error, SIM_ERROR_MEMORY, "", "out of memory in %s creating the world",
-             w->out_of_memory);
+        sim_fail(error, SIM_ERROR_MEMORY, "", "out of memory in %s creating the world",
+                 w->out_of_memory);
         sim_world_destroy(w);
         return NULL;
     }
@@ -1077,7 +1082,7 @@ int sim_world_remove_ids(SimWorld *w, const uint32_t *ids, int count)
 /* The newcomers' pairs with the grains in place must be resolved by the time step too
  * (validate_def saw the newcomers alone): the timing of the newcomers with the lightest mobile
  * grain of each species in place and one fixed grain of each fixed species. */
-static SimStatus check_added_timing(const SimWorld *w, const SimGrainSet *g, SimError *error)
+SimStatus sim_world_check_timing(const SimWorld *w, const SimGrainSet *g, SimError *error)
 {
     const int n = g->count + 2 * SIM_MAX_SPECIES;
     double *radius = malloc((size_t)n * sizeof *radius);
@@ -1087,7 +1092,8 @@ static SimStatus check_added_timing(const SimWorld *w, const SimGrainSet *g, Sim
         free(radius);
         free(species);
         free(flags);
-        return fail(error, SIM_ERROR_MEMORY, "grains", "out of memory adding %d grains", g->count);
+        return sim_fail(error, SIM_ERROR_MEMORY, "grains", "out of memory adding %d grains",
+                        g->count);
     }
     int light[SIM_MAX_SPECIES], fixed[SIM_MAX_SPECIES], count = 0;
     for (int s = 0; s < SIM_MAX_SPECIES; ++s)
@@ -1123,13 +1129,30 @@ static SimStatus check_added_timing(const SimWorld *w, const SimGrainSet *g, Sim
     free(species);
     free(flags);
     if (isfinite(t.stability_limit) && w->dt > t.stability_limit)
-        return fail(error, SIM_ERROR_INVALID, "grains",
-                    "the new grains and the grains in place make a pair whose stability limit %g "
-                    "s (contact time %g s) is below the time step %g s of %s: the run would blow "
-                    "up; choose a time step for every species from the start",
-                    t.stability_limit, t.contact_time_min, w->dt,
-                    sim_integrator_name(w->def.integrator));
+        return sim_fail(
+            error, SIM_ERROR_INVALID, "grains",
+            "the new grains and the grains in place make a pair whose stability limit %g "
+            "s (contact time %g s) is below the time step %g s of %s: the run would blow "
+            "up; choose a time step for every species from the start",
+            t.stability_limit, t.contact_time_min, w->dt, sim_integrator_name(w->def.integrator));
     return SIM_OK;
+}
+
+void sim_world_grains_changed(SimWorld *w)
+{
+    for (int i = 0; i < w->count; ++i) /* never shrinks: a larger cell is always safe */
+        w->max_radius = fmax(w->max_radius, w->radius[i]);
+    if (w->skin_auto && w->mobile_count > 0) { /* the range follows the mobile grains' size */
+        double diameter, mass;
+        sim_world_means(w, &diameter, &mass);
+        w->skin_max = SKIN_MAX_FRACTION * diameter;
+        w->skin_min = SKIN_MIN_FRACTION * diameter;
+        w->skin = fmin(fmax(w->skin, w->skin_min), w->skin_max);
+        w->disp_limit2 = 0.25 * w->skin * w->skin;
+    }
+    w->cell_size = 2.0 * w->max_radius + w->skin_max;
+    rebuild(w);
+    reevaluate_forces(w);
 }
 
 SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *error)
@@ -1146,7 +1169,7 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
     check.max_dt_fraction = 0.0;
     SimStatus s = sim_world_def_validate(&check, error);
     if (s == SIM_OK)
-        s = check_added_timing(w, g, error);
+        s = sim_world_check_timing(w, g, error);
     if (s != SIM_OK)
         return s;
     const double span = w->def.domain_x1 - w->def.domain_x0;
@@ -1160,10 +1183,10 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
             if (ratio > w->def.max_initial_overlap) {
                 char f[64];
                 snprintf(f, sizeof f, "grains[%d]", k);
-                return fail(error, SIM_ERROR_INVALID, f,
-                            "new grain %d overlaps grain %u by %.3g of the smaller diameter "
-                            "(bound %g: max_initial_overlap)",
-                            k, w->id[i], ratio, w->def.max_initial_overlap);
+                return sim_fail(error, SIM_ERROR_INVALID, f,
+                                "new grain %d overlaps grain %u by %.3g of the smaller diameter "
+                                "(bound %g: max_initial_overlap)",
+                                k, w->id[i], ratio, w->def.max_initial_overlap);
             }
         }
     uint32_t next_id = 0;
@@ -1174,11 +1197,13 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
             if (w->id[i] == g->id[k]) {
                 char f[64];
                 snprintf(f, sizeof f, "grains[%d]", k);
-                return fail(error, SIM_ERROR_INVALID, f, "grain id %u is already in use", g->id[k]);
+                return sim_fail(error, SIM_ERROR_INVALID, f, "grain id %u is already in use",
+                                g->id[k]);
             }
     int old = w->count, old_mobile = w->mobile_count;
     if (sim_grains_reserve(w, old + g->count + 1) != 0)
-        return fail(error, SIM_ERROR_MEMORY, "grains", "out of memory adding %d grains", g->count);
+        return sim_fail(error, SIM_ERROR_MEMORY, "grains", "out of memory adding %d grains",
+                        g->count);
     /* Write the newcomers after the grains in place, then reorder. */
     for (int k = 0; k < g->count; ++k) {
         int i = old + k, fixed = g->flags && (g->flags[k] & SIM_GRAIN_FIXED);
@@ -1194,8 +1219,8 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
         w->motion[i] = g->motion ? g->motion[k] : -1;
         w->id[i] = g->id ? g->id[k] : next_id++;
         double m, inertia;
-        grain_mass(w->def.mass_model, w->def.materials[w->species[i]].density, w->radius[i], &m,
-                   &inertia);
+        sim_grain_mass_inertia(w->def.mass_model, w->def.materials[w->species[i]].density,
+                               w->radius[i], &m, &inertia);
         w->mass[i] = m;
         w->inertia[i] = inertia;
         w->inv_mass[i] = fixed ? 0.0 : 1.0 / m;
@@ -1203,12 +1228,12 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
         w->fx[i] = w->fy[i] = w->torque[i] = 0.0;
         for (int a = 0; a < w->scratch_count; ++a)
             w->scratch[a][i] = 0.0;
-        w->max_radius = fmax(w->max_radius, w->radius[i]);
     }
     /* Mobile grains first: old mobile, new mobile, old fixed, new fixed. */
     int total = old + g->count, *order = malloc((size_t)total * sizeof *order), n = 0;
     if (!order) /* nothing changed yet: the newcomers lie beyond count */
-        return fail(error, SIM_ERROR_MEMORY, "grains", "out of memory adding %d grains", g->count);
+        return sim_fail(error, SIM_ERROR_MEMORY, "grains", "out of memory adding %d grains",
+                        g->count);
     for (int i = 0; i < old_mobile; ++i)
         order[n++] = i;
     for (int i = old; i < total; ++i)
@@ -1223,25 +1248,16 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
     /* Contact history is keyed by ids: stash it before the indices move. */
     if (sim_neighbour_stash_history(w) != 0 || sim_grains_permute(w, order, total) != 0) {
         free(order); /* the world as it was (a stash, if made, holds the same history by ids) */
-        return fail(error, SIM_ERROR_MEMORY, "grains", "out of memory adding %d grains", g->count);
+        return sim_fail(error, SIM_ERROR_MEMORY, "grains", "out of memory adding %d grains",
+                        g->count);
     }
     free(order);
     w->count = total;
     w->mobile_count = mobile;
-    if (w->skin_auto && w->mobile_count > 0) { /* the range follows the mobile grains' size */
-        double diameter, mass;
-        sim_world_means(w, &diameter, &mass);
-        w->skin_max = SKIN_MAX_FRACTION * diameter;
-        w->skin_min = SKIN_MIN_FRACTION * diameter;
-        w->skin = fmin(fmax(w->skin, w->skin_min), w->skin_max);
-        w->disp_limit2 = 0.25 * w->skin * w->skin;
-    }
-    w->cell_size = 2.0 * w->max_radius + w->skin_max;
-    rebuild(w);
-    reevaluate_forces(w);
+    sim_world_grains_changed(w);
     if (w->out_of_memory)
-        return fail(error, SIM_ERROR_MEMORY, "grains", "out of memory in %s after adding grains",
-                    w->out_of_memory);
+        return sim_fail(error, SIM_ERROR_MEMORY, "grains",
+                        "out of memory in %s after adding grains", w->out_of_memory);
     return SIM_OK;
 }
 
@@ -1385,10 +1401,10 @@ static SimStatus speed_failure(SimWorld *w, const char *cause, SimError *error)
     for (int i = 0; i < w->mobile_count; ++i) {
         double v2 = w->vx[i] * w->vx[i] + w->vy[i] * w->vy[i];
         if (grain_nonfinite(w, i, v2)) {
-            fail(error, SIM_ERROR_UNSTABLE, "grains",
-                 "step %ld: grain %u has a non-finite state "
-                 "(NaN or infinity); %s",
-                 w->step, w->id[i], cause);
+            sim_fail(error, SIM_ERROR_UNSTABLE, "grains",
+                     "step %ld: grain %u has a non-finite state "
+                     "(NaN or infinity); %s",
+                     w->step, w->id[i], cause);
             error->step = w->step;
             error->grain = w->id[i];
             return SIM_ERROR_UNSTABLE;
@@ -1397,11 +1413,11 @@ static SimStatus speed_failure(SimWorld *w, const char *cause, SimError *error)
             char why[300], blowup[260];
             snprintf(blowup, sizeof blowup, "energy blow-up; %s", cause);
             speed_cause(w, i, sqrt(v2), blowup, why, sizeof why);
-            fail(error, SIM_ERROR_UNSTABLE, "grains",
-                 "step %ld (t = %g s): grain %u at (%g, %g) moves at %g m/s, above the blow-up "
-                 "bound %g m/s; %s",
-                 w->step, w->time, w->id[i], w->x[i], w->y[i], sqrt(v2), sqrt(w->guard_speed2),
-                 why);
+            sim_fail(error, SIM_ERROR_UNSTABLE, "grains",
+                     "step %ld (t = %g s): grain %u at (%g, %g) moves at %g m/s, above the blow-up "
+                     "bound %g m/s; %s",
+                     w->step, w->time, w->id[i], w->x[i], w->y[i], sqrt(v2), sqrt(w->guard_speed2),
+                     why);
             error->step = w->step;
             error->grain = w->id[i];
             return SIM_ERROR_UNSTABLE;
@@ -1438,10 +1454,10 @@ static SimStatus guard_check(SimWorld *w, SimError *error)
     time_step_cause(w, cause, sizeof cause);
     int oi, oj;
     const double worst = sim_contacts_worst_overlap(w, &oi, &oj);
-    fail(error, SIM_ERROR_UNSTABLE, "grains",
-         "step %ld: grain %u overlaps %s%d by %.3g of the smaller diameter (bound %g); %s", w->step,
-         w->id[oi], oj >= 0 ? "grain " : "wall ", oj >= 0 ? (int)w->id[oj] : -1 - oj, worst,
-         w->def.guard_max_overlap, cause);
+    sim_fail(error, SIM_ERROR_UNSTABLE, "grains",
+             "step %ld: grain %u overlaps %s%d by %.3g of the smaller diameter (bound %g); %s",
+             w->step, w->id[oi], oj >= 0 ? "grain " : "wall ", oj >= 0 ? (int)w->id[oj] : -1 - oj,
+             worst, w->def.guard_max_overlap, cause);
     error->step = w->step;
     error->grain = w->id[oi];
     return SIM_ERROR_UNSTABLE;
@@ -1459,10 +1475,10 @@ static SimStatus jump_failure(SimWorld *w, SimError *error)
              "blow-up)",
              w->dt);
     speed_cause(w, i, v, blowup, why, sizeof why);
-    fail(error, SIM_ERROR_UNSTABLE, "grains",
-         "step %ld (t = %g s): grain %u at (%g, %g) moves %g m per step (%g m/s), over half "
-         "its radius: contacts would be missed; %s",
-         w->step, w->time, w->id[i], w->x[i], w->y[i], v * w->dt, v, why);
+    sim_fail(error, SIM_ERROR_UNSTABLE, "grains",
+             "step %ld (t = %g s): grain %u at (%g, %g) moves %g m per step (%g m/s), over half "
+             "its radius: contacts would be missed; %s",
+             w->step, w->time, w->id[i], w->x[i], w->y[i], v * w->dt, v, why);
     error->step = w->step;
     error->grain = w->id[i];
     w->jump_grain = -1;
@@ -1474,8 +1490,8 @@ static SimStatus jump_failure(SimWorld *w, SimError *error)
 static SimStatus memory_failure(SimWorld *w, SimError *error)
 {
     sim_integrator_finish(w);
-    fail(error, SIM_ERROR_MEMORY, "", "step %ld: out of memory in %s; the run cannot continue",
-         w->step, w->out_of_memory);
+    sim_fail(error, SIM_ERROR_MEMORY, "", "step %ld: out of memory in %s; the run cannot continue",
+             w->step, w->out_of_memory);
     error->step = w->step;
     return SIM_ERROR_MEMORY;
 }

@@ -9,15 +9,16 @@ libsablier-scene; NumPy). docs/python.md.
     print(f.y.max(), w.hash())
     out = sablier.run("scenes/brazil_nut/small.scene", "out/bne", sets={"time.end": 30})
     bne = out.bne          # bne.csv as a structured array (or a DataFrame with pandas)
+    sablier.Run("scenes/x.scene", "out/x").stages(callback=f, every=100)  # in this process
 """
 from . import _capi, _loader
 from .outputs import RunOutputs, load, read_csv, read_key_values
 from .render import available as render_available
-from .run import RunError, command, run
+from .run import Run, RunError, command, run
 from .scene import Scene
 from .definition import (GrainBuffer, Grains, InvalidDefinition, OutOfMemory, SablierError,
                          StateIOError, Unstable, WorldDef, effects_bits, effects_names, material)
-from .world import Frame, World
+from .world import Frame, StaleFrame, World
 
 __version__ = "0.1.0"
 
@@ -64,7 +65,7 @@ def set_isa(name):
                          % (name, ", ".join(isa_supported())))
 
 
-__all__ = ["World", "WorldDef", "Frame", "Grains", "GrainBuffer", "Scene", "material", "run",
+__all__ = ["World", "WorldDef", "Frame", "StaleFrame", "Run", "Grains", "GrainBuffer", "Scene", "material", "run",
            "command", "load", "read_csv", "read_key_values", "RunOutputs", "RunError",
            "SablierError", "InvalidDefinition", "Unstable", "StateIOError", "OutOfMemory",
            "effects_bits", "effects_names", "library_path", "render_available",

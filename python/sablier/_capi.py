@@ -142,6 +142,16 @@ class SimFrame(Structure):
                 ("domain_x0", c_double), ("domain_x1", c_double)]
 
 
+SIM_CG_FIELD_COUNT = 23
+
+
+class SimCoarseDef(Structure):
+    _fields_ = [("kernel", c_int), ("width", c_double), ("geometry", c_int), ("x0", c_double),
+                ("y0", c_double), ("cell_x", c_double), ("cell_y", c_double), ("nx", c_int),
+                ("ny", c_int), ("x1", c_double), ("y1", c_double), ("contacts", c_int),
+                ("normalise", c_int)]
+
+
 class SimEnergy(Structure):
     _fields_ = [("kinetic", c_double), ("potential", c_double), ("rotational", c_double),
                 ("elastic", c_double), ("total", c_double), ("mobile", c_int),
@@ -245,6 +255,7 @@ STRUCTS = {
     "SimContact": ("sim/sim.h", SimContact), "SimFrame": ("sim/sim.h", SimFrame),
     "SimEnergy": ("sim/sim.h", SimEnergy), "SimRng": ("sim/sim.h", SimRng),
     "SimGrainBuffer": ("sim/sim.h", SimGrainBuffer), "SimRainDef": ("sim/sim.h", SimRainDef),
+    "SimCoarseDef": ("sim/sim.h", SimCoarseDef),
     "RenderStyle": ("render/render.h", RenderStyle), "RenderMeta": ("render/render.h", RenderMeta),
     "SceneDrag": ("scene.h", SceneDrag), "SceneStage": ("scene.h", SceneStage),
     "Scene": ("scene.h", Scene),
@@ -254,6 +265,8 @@ STRUCTS = {
 
 _P_WORLD = c_void_p
 _P_ERR = POINTER(SimError)
+# app/run.h AppRunHook: int (*)(void *context, SimWorld *world, int stage, long step)
+RUN_HOOK = CFUNCTYPE(c_int, c_void_p, c_void_p, c_int, c_long)
 
 _SIM_FUNCTIONS = {
     "sim_effect_from_name": (c_uint, [c_char_p]),
@@ -297,6 +310,22 @@ _SIM_FUNCTIONS = {
     "sim_world_add_grains": (c_int, [_P_WORLD, POINTER(SimGrainSet), _P_ERR]),
     "sim_world_freeze": (None, [_P_WORLD]),
     "sim_world_wall_load": (c_int, [_P_WORLD, c_int, POINTER(SimWallLoad)]),
+    "sim_world_set_grains": (c_int, [_P_WORLD, POINTER(SimGrainSet), _P_ERR]),
+    "sim_world_set_gravity": (None, [_P_WORLD, c_double, c_double]),
+    "sim_world_set_motion": (None, [_P_WORLD, c_int, c_double, c_double]),
+    "sim_world_masses": (None, [_P_WORLD, _pd]),
+    "sim_coarse_def_default": (SimCoarseDef, []),
+    "sim_coarse_create": (c_void_p, [POINTER(SimCoarseDef), _P_ERR]),
+    "sim_coarse_destroy": (None, [c_void_p]),
+    "sim_coarse_nodes": (c_int, [c_void_p]),
+    "sim_coarse_node": (None, [c_void_p, c_int, _pd, _pd]),
+    "sim_coarse_add": (c_int, [c_void_p, POINTER(SimFrame), _pd, c_double, c_double]),
+    "sim_coarse_samples": (c_int, [c_void_p]),
+    "sim_coarse_field": (None, [c_void_p, c_int, _pd]),
+    "sim_coarse_field_from_name": (c_int, [c_char_p]),
+    "sim_coarse_field_name": (c_char_p, [c_int]),
+    "sim_coarse_field_unit": (c_char_p, [c_int]),
+    "sim_coarse_field_needs_contacts": (c_int, [c_int]),
     "sim_world_save": (c_int, [_P_WORLD, c_char_p, _P_ERR]),
     "sim_world_restore_contacts": (c_int, [_P_WORLD, c_char_p, _P_ERR]),
     "sim_world_load": (_P_WORLD, [c_char_p, POINTER(SimWorldDef), _P_ERR]),
@@ -331,6 +360,9 @@ _SCENE_FUNCTIONS = {
     "scene_free": (None, [POINTER(Scene)]),
     "scene_world_def": (SimWorldDef, [POINTER(Scene), c_int]),
     "scene_stage_index": (c_int, [POINTER(Scene), c_char_p]),
+    "scene_keys": (POINTER(c_char_p), [c_char_p, c_int]),
+    "scene_material_default": (SimMaterial, []),
+    "scene_run": (c_int, [POINTER(Scene), c_char_p, c_int, c_int, RUN_HOOK, c_void_p, c_long]),
 }
 
 

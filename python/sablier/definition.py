@@ -1,6 +1,8 @@
 # SPDX-License-Identifier: MIT
 """World definitions (SimWorldDef), grain sets, material tables and the errors of the C API."""
 import ctypes
+import math
+import warnings
 
 import numpy as np
 
@@ -97,17 +99,82 @@ def effects_names(bits):
     return names
 
 
-def material(**fields):
-    """A SimMaterial: sim_material_default() with `fields` set (damping_mode may be a name:
-    "gamma", "restitution", "critical"). Unknown field names are refused."""
-    m = C.sim().sim_material_default()
-    names = {f[0] for f in C.SimMaterial._fields_}
+def _scene_table(group, k=0):
+    """A key table of the scene loader (scene_keys in app/scene.h): the lists scene files are
+    checked against, read here so that Python and scene files accept the same keys."""
+    lib = C.scene()
+    if lib is None:
+        raise OSError("sablier: libsablier-scene.so not found: it holds the scene keys")
+    p = lib.scene_keys(group.encode(), k)
+    out = []
+    while p and p[len(out)] is not None:
+        out.append(p[len(out)].decode())
+    return out
+
+
+# one way of giving normal damping each (docs/scenes.md, species)
+_DAMPING_KEYS = {"gamma_n": "gamma", "restitution": "restitution",
+                 "critical_fraction": "critical"}
+
+
+def _material_keys(fields):
+    """fields with the SimMaterial names of older versions (normal_stiffness, friction, ...)
+    turned into the scene keys (k_n, mu, ...), with a DeprecationWarning each."""
+    struct_names = _scene_table("material", 0)
+    scene_names = _scene_table("material", 1)
+    out = {}
     for key, value in fields.items():
-        if key not in names:
-            raise InvalidDefinition("material: unknown field %r" % key, 2, key)
-        if key == "damping_mode":
-            value = _choice(DAMPING, value, "damping_mode")
-        setattr(m, key, value)
+        if key not in scene_names and key in struct_names:
+            new = scene_names[struct_names.index(key)]
+            warnings.warn("material key %r is deprecated: use the scene key %r" % (key, new),
+                          DeprecationWarning, stacklevel=3)
+            key = new
+        out[key] = value
+    return out
+
+
+def material(**fields):
+    """A SimMaterial from the keys of a scene file's species (docs/scenes.md): density, k_n,
+    gamma_n | restitution | critical_fraction (at most one; none: elastic, gamma_n = 0), mu,
+    gamma_s, k_t, mu_r, k_r; `name` is accepted and ignored. Unset keys take the scene
+    loader's defaults (scene_material_default). An unknown key raises InvalidDefinition naming
+    it. The SimMaterial names of older versions (normal_stiffness, friction, normal_damping,
+    ...) and damping_mode still work, with a DeprecationWarning."""
+    lib = C.scene()
+    if lib is None:
+        raise OSError("sablier: libsablier-scene.so not found: it holds the material defaults")
+    m = lib.scene_material_default()
+    mode = fields.pop("damping_mode", None)
+    if mode is not None:
+        warnings.warn("material key 'damping_mode' is deprecated: give one of gamma_n, "
+                      "restitution, critical_fraction", DeprecationWarning, stacklevel=2)
+    fields = _material_keys(fields)
+    allowed = _scene_table("species")
+    struct_of = dict(zip(_scene_table("material", 1), _scene_table("material", 0)))
+    for key in fields:
+        if key not in allowed:
+            raise InvalidDefinition("material: unknown key `%s` (keys: %s)"
+                                    % (key, ", ".join(allowed)), 2, key)
+    ways = [k for k in _DAMPING_KEYS if k in fields]
+    if len(ways) > 1 and mode is None:
+        raise InvalidDefinition("material: give only one of gamma_n, restitution, "
+                                "critical_fraction (got %s)" % ", ".join(ways), 2, ways[1])
+    for key, value in fields.items():
+        if key == "name":
+            continue
+        value = float(value)
+        positive = key in ("density", "k_n", "gamma_s", "k_t", "k_r")
+        if not np.isfinite(value) or value < 0 or (positive and value == 0):
+            raise InvalidDefinition("material: `%s` must be %s (got %g)" % (
+                key, "positive" if positive else "non-negative", value), 2, key)
+        if key == "restitution" and not 0 < value <= 1:
+            raise InvalidDefinition("material: `restitution` must be in (0, 1] (got %g)"
+                                    % value, 2, key)
+        setattr(m, struct_of[key], value)
+    if ways and mode is None:
+        m.damping_mode = DAMPING[_DAMPING_KEYS[ways[0]]]
+    if mode is not None:
+        m.damping_mode = _choice(DAMPING, mode, "damping_mode")
     return m
 
 
@@ -254,6 +321,7 @@ class WorldDef:
     def __init__(self, raw=None, keep=None):
         self.raw = C.sim().sim_world_def_default() if raw is None else raw
         self._keep = list(keep or [])
+        self.motion_names = []
 
     _SCALARS = {f[0] for f in C.SimWorldDef._fields_} - {
         "contact", "materials", "grains", "walls", "wall_count", "motions", "motion_count",
@@ -318,7 +386,8 @@ class WorldDef:
             c.onset = _choice(ONSET, onset, "contact.onset")
 
     def set_materials(self, materials):
-        """A list (one per species) of SimMaterial or dicts of material() fields."""
+        """A list (one per species) of SimMaterial or dicts of material() keys (a scene's
+        species keys: density, k_n, restitution, mu, ...)."""
         if len(materials) > C.SIM_MAX_SPECIES:
             raise InvalidDefinition("materials: at most %d species" % C.SIM_MAX_SPECIES, 2,
                                     "species_count")
@@ -351,16 +420,27 @@ class WorldDef:
         self.raw.walls = ctypes.cast(arr, ctypes.POINTER(C.SimWall)) if n else None
 
     def set_motions(self, motions):
-        """Motions as dicts (amplitude, frequency, phase, direction=(dx, dy)) or SimMotion."""
+        """Motions as in a scene file's `motions` group (docs/scenes.md): a dict name -> dict,
+        or a list of dicts (each may hold "name"), or SimMotion. Keys: kind ("sinusoidal"
+        default, "velocity", "rotation", "compose"), the kind's own (sinusoidal: amplitude m,
+        frequency Hz, phase rad, direction; velocity: velocity m/s; rotation: center m,
+        angular_velocity rad/s; compose: of = names or indices of motions above), and start,
+        ramp, stop (s). Checked as the scene loader does: an unknown key raises
+        InvalidDefinition naming it."""
+        if isinstance(motions, dict):
+            motions = [dict(m, name=name) if isinstance(m, dict) else m
+                       for name, m in motions.items()]
         if len(motions) > C.SIM_MAX_MOTIONS:
             raise InvalidDefinition("motions: at most %d" % C.SIM_MAX_MOTIONS, 2, "motion_count")
+        names = []
         for k, m in enumerate(motions):
             if not isinstance(m, C.SimMotion):
-                d = m.get("direction", (0.0, 1.0))
-                m = C.SimMotion(m.get("amplitude", 0.0), m.get("frequency", 0.0),
-                                m.get("phase", 0.0), d[0], d[1])
+                m = _motion(m, k, names)
+            else:
+                names.append("motion%d" % k)
             self.raw.motions[k] = m
         self.raw.motion_count = len(motions)
+        self.motion_names = names
 
     def set_sinks(self, sinks):
         """Sinks as dicts (shape name, level or x0, y0, x1, y1) or SimSink."""
@@ -391,6 +471,86 @@ class WorldDef:
     def timing(self):
         t = C.sim().sim_world_def_timing(ctypes.byref(self.raw))
         return {f[0]: getattr(t, f[0]) for f in C.SimTiming._fields_}
+
+
+def _number(d, key, what, default=None, check=None):
+    if key not in d:
+        if default is None:
+            raise InvalidDefinition("%s: `%s` is missing" % (what, key), 2, key)
+        return default
+    value = float(d[key])
+    if not math.isfinite(value) or (check is not None and not check(value)):
+        raise InvalidDefinition("%s: `%s` = %r is out of range" % (what, key, d[key]), 2, key)
+    return value
+
+
+def _vector(d, key, what, default=None):
+    if key not in d:
+        if default is None:
+            raise InvalidDefinition("%s: `%s` is missing" % (what, key), 2, key)
+        return default
+    v = [float(x) for x in d[key]]
+    if len(v) != 2 or not all(math.isfinite(x) for x in v):
+        raise InvalidDefinition("%s: `%s` must be two finite numbers" % (what, key), 2, key)
+    return v
+
+
+def _motion(d, k, names):
+    """A SimMotion from a scene-style dict (the scene loader's tables and checks)."""
+    d = dict(d)
+    name = str(d.pop("name", "motion%d" % k))
+    what = "motion `%s`" % name
+    kinds = _scene_table("motion.kinds")
+    kind_name = d.get("kind", kinds[0])
+    if kind_name not in kinds:
+        raise InvalidDefinition("%s: `kind` = %r is not one of %s" % (what, kind_name,
+                                                                     ", ".join(kinds)), 2, "kind")
+    kind = kinds.index(kind_name)
+    allowed = _scene_table("motion", kind) + _scene_table("motion.schedule")
+    for key in d:
+        if key not in allowed:
+            raise InvalidDefinition("unknown key `%s` in %s (keys: %s)"
+                                    % (key, what, ", ".join(allowed)), 2, key)
+    m = C.SimMotion()
+    m.kind = kind
+    if kind == 0:
+        m.amplitude = _number(d, "amplitude", what, check=lambda v: v >= 0)
+        m.frequency = _number(d, "frequency", what, check=lambda v: v > 0)
+        m.phase = _number(d, "phase", what, 0.0)
+        dx, dy = _vector(d, "direction", what, [0.0, 1.0])
+        norm = math.hypot(dx, dy)
+        if not norm > 0:
+            raise InvalidDefinition("%s: `direction` must not be zero" % what, 2, "direction")
+        m.direction_x, m.direction_y = dx / norm, dy / norm
+    elif kind == 1:
+        m.velocity_x, m.velocity_y = _vector(d, "velocity", what)
+    elif kind == 2:
+        m.center_x, m.center_y = _vector(d, "center", what)
+        m.angular_velocity = _number(d, "angular_velocity", what)
+    else:
+        parts = d.get("of")
+        if not parts or len(parts) > 4:
+            raise InvalidDefinition("%s: `of` must list 1 to 4 motions above this one" % what,
+                                    2, "of")
+        for j, p in enumerate(parts):
+            index = names.index(p) if isinstance(p, str) and p in names else \
+                (p if isinstance(p, int) and 0 <= p < k else -1)
+            if index < 0:
+                raise InvalidDefinition("%s: `of`: `%s` is not a motion defined above this one"
+                                        % (what, p), 2, "of")
+            m.parts[j] = index
+        m.part_count = len(parts)
+    m.start = _number(d, "start", what, 0.0, lambda v: v >= 0)
+    m.ramp = _number(d, "ramp", what, 0.0, lambda v: v >= 0)
+    m.stop = _number(d, "stop", what, 0.0)
+    if "stop" in d and not m.stop > m.start:
+        raise InvalidDefinition("%s: `stop` = %g must be after `start` = %g"
+                                % (what, m.stop, m.start), 2, "stop")
+    if kind == 3 and m.ramp > 0:
+        raise InvalidDefinition("%s: a composition has no `ramp` of its own: ramp its parts"
+                                % what, 2, "ramp")
+    names.append(name)
+    return m
 
 
 class BodyForceView:

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: MIT
 """Scene files through the C scene loader (libsablier-scene: app/scene.h)."""
 import ctypes
+import errno
 import os
 
 from . import _capi as C
@@ -36,6 +37,8 @@ class Scene:
             raise OSError("sablier: libsablier-scene.so not found: scene files need the scene "
                           "loader library (or run whole scenes with sablier.run)")
         self._lib = lib
+        if not os.path.isfile(path):
+            raise FileNotFoundError(errno.ENOENT, "sablier: no scene file", os.fspath(path))
         items = _sets_list(sets)
         arr = (ctypes.c_char_p * max(len(items), 1))(*[s.encode() for s in items])
         err = ctypes.create_string_buffer(1024)
@@ -83,4 +86,6 @@ class Scene:
         if not self._p:
             raise ValueError("scene is closed")
         raw = self._lib.scene_world_def(self._p, self.stage_index(stage))
-        return WorldDef(raw, keep=[self])
+        d = WorldDef(raw, keep=[self])
+        d.motion_names = list(self.motion_names)
+        return d

@@ -6,16 +6,27 @@ import os
 import numpy as np
 
 from . import _capi as C
-from .definition import GrainBuffer, Grains, OutOfMemory, WorldDef, _ptr, _raise, effects_names
+from .definition import (GrainBuffer, Grains, InvalidDefinition, OutOfMemory, StateIOError,
+                         WorldDef, _array, _ptr, _raise, effects_names)
 from .scene import Scene
+
+
+class StateNotFound(StateIOError, FileNotFoundError):
+    """World.from_state of a path where no file is (a StateIOError and a FileNotFoundError)."""
+
+
+class StaleFrame(RuntimeError):
+    """A Frame view read after its world changed (docs/python.md, "Frames")."""
 
 
 class Frame:
     """A view of the world's state: NumPy arrays over the C library's own memory (no copies),
     in frame order (mobile grains first, then fixed grains; the order changes at neighbour-list
     builds: follow grains by `id`). Valid until the next call that changes the world (step,
-    frame, energy and other diagnostics, edits, close): afterwards its arrays read freed or reused
-    memory. Take `copy()` to keep values.
+    frame, energy and other diagnostics, edits, close): reading an array of the Frame after that
+    raises StaleFrame (the world counts its changes). An array taken out of the Frame
+    (`x = f.x`) is a bare NumPy view that cannot check: use it before the next change, or keep
+    `copy()` (or world.frame(copy=True)) to hold values.
 
     Arrays: x, y, angle, radius, vx, vy, omega, species, flags, id, force (sum of contact-force
     magnitudes), fx, fy, torque; `contacts` is a structured array with fields i, j (j = -1 -
@@ -44,10 +55,12 @@ class Frame:
     def __init__(self, raw, owner=None):
         self.raw = raw
         self._owner = owner
+        self._generation = owner._generation if owner is not None else None
         n = raw.count
         for name in ("count", "mobile_count", "step", "time", "time_scale", "periodic",
                      "domain_x0", "domain_x1"):
             setattr(self, name, getattr(raw, name))
+        data = {}
         for name, dtype in self._ARRAYS:
             p = getattr(raw, name)
             if n and p:
@@ -55,10 +68,28 @@ class Frame:
                 a.flags.writeable = False
             else:
                 a = np.zeros(n if not p else 0, dtype)
-            setattr(self, name, a)
-        self.contacts = self._records(raw.contacts, raw.contact_count, C.SimContact,
-                                      self.CONTACT_DTYPE)
-        self.walls = self._records(raw.walls, raw.wall_count, C.SimWall, self.WALL_DTYPE)
+            data[name] = a
+        data["contacts"] = self._records(raw.contacts, raw.contact_count, C.SimContact,
+                                         self.CONTACT_DTYPE)
+        data["walls"] = self._records(raw.walls, raw.wall_count, C.SimWall, self.WALL_DTYPE)
+        self._data = data
+
+    def __getattr__(self, name):
+        data = self.__dict__.get("_data")
+        if data is None or name not in data:
+            raise AttributeError(name)
+        owner = self.__dict__.get("_owner")
+        if owner is not None and owner._generation != self._generation:
+            raise StaleFrame("sablier: this Frame of step %d is stale: the world has changed "
+                             "since (step, edit, frame or diagnostics); take world.frame() again "
+                             "or keep frame.copy()" % self.step)
+        return data[name]
+
+    @property
+    def stale(self):
+        """True once the world changed after this view was taken (its arrays then refuse to be
+        read; copies never go stale)."""
+        return self._owner is not None and self._owner._generation != self._generation
 
     @staticmethod
     def _records(ptr, count, ctype, dtype):
@@ -108,13 +139,11 @@ class Frame:
         f = object.__new__(Frame)
         f.raw = None
         f._owner = None
+        f._generation = None
         for name in ("count", "mobile_count", "step", "time", "time_scale", "periodic",
                      "domain_x0", "domain_x1"):
             setattr(f, name, getattr(self, name))
-        for name, _ in self._ARRAYS:
-            setattr(f, name, getattr(self, name).copy())
-        f.contacts = self.contacts.copy()
-        f.walls = self.walls.copy()
+        f._data = {name: getattr(self, name).copy() for name in self._data}
         return f
 
 
@@ -136,6 +165,18 @@ class World:
         self._w = _handle
         self._dead = None
         self._frame = C.SimFrame()
+        self._generation = 0
+        self._borrowed = False
+        self._gravity = (definition.raw.gravity_x, definition.raw.gravity_y) \
+            if definition is not None else None
+
+    @classmethod
+    def _borrow(cls, handle, definition=None):
+        """A World over a handle owned elsewhere (the stage runner's world, valid inside a
+        callback only); close() forgets it without destroying it."""
+        world = cls(definition, _handle=handle)
+        world._borrowed = True
+        return world
 
     # -------------------------------------------------------- construction
 
@@ -180,6 +221,8 @@ class World:
         default stage: the one named like the state file, else the last), or of
         options as in from_arrays. restore_contacts: also reload the contact history (springs,
         rolling torques) and sink counts, so the run continues as it would have."""
+        if not os.path.isfile(path):
+            raise StateNotFound("sablier: no state file %s" % os.fspath(path), 3, "path")
         if definition is None:
             if scene is not None:
                 sc = scene if isinstance(scene, Scene) else Scene(scene, sets)
@@ -208,8 +251,10 @@ class World:
 
     def close(self):
         if getattr(self, "_w", None):
-            self._lib.sim_world_destroy(self._w)
+            if not self._borrowed:
+                self._lib.sim_world_destroy(self._w)
             self._w = None
+            self._generation += 1
 
     def __del__(self):
         self.close()
@@ -220,9 +265,16 @@ class World:
     def __exit__(self, *exc):
         self.close()
 
+    def _moving(self):
+        """The handle, after counting a change: Frames taken before go stale."""
+        w = self._handle()
+        self._generation += 1
+        return w
+
     def _handle(self):
         if not self._w:
-            raise ValueError("world is closed")
+            raise ValueError("world is closed" if not self._borrowed else
+                             "the stage runner's world is valid inside its callback only")
         if self._dead:
             raise OutOfMemory("world ran out of memory earlier (%s); only close() is left"
                               % self._dead, 4)
@@ -232,8 +284,11 @@ class World:
 
     def step(self, steps=1):
         """Advance by `steps` time steps. Raises Unstable (rolled back to the last good state),
-        OutOfMemory. Invalidates earlier Frame views."""
-        w = self._handle()
+        OutOfMemory; ValueError for a negative count. Invalidates earlier Frame views."""
+        steps = int(steps)
+        if steps < 0:
+            raise ValueError("step(%d): the step count must be >= 0" % steps)
+        w = self._moving()
         err = C.SimError()
         status = self._lib.sim_world_step(w, int(steps), ctypes.byref(err))
         body = getattr(self.definition, "_body", None)
@@ -301,10 +356,12 @@ class World:
         t = self._lib.sim_world_timing(self._handle())
         return {f[0]: getattr(t, f[0]) for f in C.SimTiming._fields_}
 
-    def frame(self):
-        """A Frame: zero-copy NumPy views valid until the next call that changes the world."""
-        self._lib.sim_world_frame(self._handle(), ctypes.byref(self._frame))
-        return Frame(self._frame, self)
+    def frame(self, copy=False):
+        """A Frame: zero-copy NumPy views valid until the next call that changes the world
+        (afterwards reading them raises StaleFrame); copy=True: NumPy copies, valid for ever."""
+        self._lib.sim_world_frame(self._moving(), ctypes.byref(self._frame))
+        f = Frame(self._frame, self)
+        return f.copy() if copy else f
 
     def hash(self):
         """sim_world_hash: FNV-1a of positions, velocities and angles of all grains (the value
@@ -314,20 +371,20 @@ class World:
     def energy(self):
         """dict of SimEnergy: kinetic, potential, rotational, elastic, total (J), mobile,
         contacts."""
-        e = self._lib.sim_world_energy(self._handle())
+        e = self._lib.sim_world_energy(self._moving())
         return {f[0]: getattr(e, f[0]) for f in C.SimEnergy._fields_}
 
     def coordination(self):
-        return self._lib.sim_world_coordination(self._handle())
+        return self._lib.sim_world_coordination(self._moving())
 
     def packing_fraction(self, x0, y0, x1, y1):
         return self._lib.sim_world_packing_fraction(self._handle(), x0, y0, x1, y1)
 
     def max_overlap_ratio(self):
-        return self._lib.sim_world_max_overlap_ratio(self._handle())
+        return self._lib.sim_world_max_overlap_ratio(self._moving())
 
     def hexatic_order(self):
-        return self._lib.sim_world_hexatic_order(self._handle())
+        return self._lib.sim_world_hexatic_order(self._moving())
 
     def means(self):
         """(mean diameter m, mean mass kg) of mobile grains."""
@@ -352,11 +409,11 @@ class World:
     # -------------------------------------------------------- editing
 
     def remove_rect(self, x0, y0, x1, y1):
-        return self._lib.sim_world_remove_rect(self._handle(), x0, y0, x1, y1)
+        return self._lib.sim_world_remove_rect(self._moving(), x0, y0, x1, y1)
 
     def remove_ids(self, ids):
         ids = np.ascontiguousarray(ids, dtype=np.uint32)
-        return self._lib.sim_world_remove_ids(self._handle(), _ptr(ids, ctypes.c_uint32),
+        return self._lib.sim_world_remove_ids(self._moving(), _ptr(ids, ctypes.c_uint32),
                                               ids.size)
 
     def add_grains(self, grains=None, **arrays):
@@ -369,12 +426,175 @@ class World:
             grains = grains.grains()
         s = grains.grain_set()
         err = C.SimError()
-        status = self._lib.sim_world_add_grains(self._handle(), ctypes.byref(s), ctypes.byref(err))
+        status = self._lib.sim_world_add_grains(self._moving(), ctypes.byref(s), ctypes.byref(err))
         if status != 0:
             _raise(err, "sim_world_add_grains")
 
     def freeze(self):
-        self._lib.sim_world_freeze(self._handle())
+        self._lib.sim_world_freeze(self._moving())
+
+    def set_grains(self, ids=None, *, x=None, y=None, vx=None, vy=None, angle=None,
+                   omega=None, radius=None, fixed=None):
+        """Write grains in place between steps (sim_world_set_grains): `ids` are stable ids
+        (None: every grain, values in frame order); x and y (m) together, vx and vy (m/s)
+        together, angle (rad), omega (rad/s), radius (m: mass and inertia follow), fixed
+        (bool: a grain made fixed stops where it is; the frame order then changes). Scalars
+        are broadcast. The forces are evaluated anew and the integrator restarts. Raises
+        InvalidDefinition (nothing changed) for an unknown id, a value that is not finite, a
+        radius <= 0 or a radius whose contact time the time step no longer resolves."""
+        w = self._handle()
+        if ids is None:
+            n = self.grain_count
+            id_arr = None
+        else:
+            id_arr = np.atleast_1d(np.ascontiguousarray(ids, dtype=np.uint32))
+            n = id_arr.size
+        values = {}
+        s = C.SimGrainSet()
+        s.count = n
+        for name, value in (("x", x), ("y", y), ("vx", vx), ("vy", vy), ("angle", angle),
+                            ("omega", omega), ("radius", radius)):
+            if value is not None:
+                values[name] = _array(value, np.float64, n, name)
+                setattr(s, name, _ptr(values[name], ctypes.c_double))
+        if fixed is not None:
+            values["flags"] = np.where(_array(fixed, bool, n, "fixed"), C.SIM_GRAIN_FIXED,
+                                       0).astype(np.uintc)
+            s.flags = _ptr(values["flags"], ctypes.c_uint)
+        if id_arr is not None:
+            s.id = _ptr(id_arr, ctypes.c_uint32)
+        err = C.SimError()
+        self._generation += 1
+        if self._lib.sim_world_set_grains(w, ctypes.byref(s), ctypes.byref(err)) != 0:
+            if err.status == 4:
+                self._dead = C.error_text(err)[0]
+            _raise(err, "set_grains")
+        return self
+
+    def set_positions(self, x, y, ids=None):
+        """Centres (m) of the grains `ids` (None: all, frame order)."""
+        return self.set_grains(ids, x=x, y=y)
+
+    def set_velocities(self, vx, vy, ids=None):
+        """Velocities (m/s) of mobile grains `ids` (None: all, frame order; fixed ignore it)."""
+        return self.set_grains(ids, vx=vx, vy=vy)
+
+    def set_radii(self, radius, ids=None):
+        """Radii (m) of grains `ids`; masses and moments of inertia follow."""
+        return self.set_grains(ids, radius=radius)
+
+    def set_fixed(self, fixed, ids=None):
+        """Make grains `ids` fixed (True) or mobile (False)."""
+        return self.set_grains(ids, fixed=fixed)
+
+    @property
+    def gravity(self):
+        """(g_x, g_y), m/s^2, as last set (None for a stage runner's world not yet set)."""
+        return self._gravity
+
+    @gravity.setter
+    def gravity(self, value):
+        gx, gy = float(value[0]), float(value[1])
+        if not (np.isfinite(gx) and np.isfinite(gy)):
+            raise InvalidDefinition("gravity: (%r, %r) is not finite" % (gx, gy), 2, "gravity")
+        self._lib.sim_world_set_gravity(self._moving(), gx, gy)
+        self._gravity = (gx, gy)
+
+    def set_motion(self, motion, on=0.0, off=float("inf")):
+        """Schedule motion `motion` (index, or name for a world with named motions) by world
+        time (sim_world_set_motion): it runs on its own clock from t = on (s) and holds its
+        pose from t = off on; on=inf: never enabled."""
+        names = getattr(self.definition, "motion_names", None) or []
+        if isinstance(motion, str):
+            if motion not in names:
+                raise InvalidDefinition("set_motion: no motion named %r (motions: %s)"
+                                        % (motion, ", ".join(names) or "none"), 2, "motions")
+            motion = names.index(motion)
+        count = self.definition.raw.motion_count if self.definition is not None else \
+            C.SIM_MAX_MOTIONS
+        if not 0 <= int(motion) < count:
+            raise InvalidDefinition("set_motion: motion %d out of range (%d motions)"
+                                    % (motion, count), 2, "motions")
+        self._lib.sim_world_set_motion(self._moving(), int(motion), float(on), float(off))
+
+    def masses(self):
+        """Masses of the grains in frame order, kg."""
+        m = np.empty(self.grain_count)
+        self._lib.sim_world_masses(self._handle(), _ptr(m, ctypes.c_double))
+        return m
+
+    def coarse(self, fields=("phi", "rho", "vx", "vy", "sxx", "sxy", "syy", "p"), *,
+               geometry="grid", box=None, cell=None, width=None, kernel="lucy",
+               normalise=True):
+        """Coarse-grained continuum fields of the present state (sim/coarse.c, Weinhart et al.
+        2012) as NumPy arrays: a dict of field name -> array, plus "x" and "y" (node
+        coordinates, m). geometry "grid": arrays of shape (ny, nx) over `box` = (x0, y0, x1,
+        y1) (default: the grains' box) with square cells of side `cell` (default: the mean
+        diameter); "profile_y"/"profile_x": 1D profiles along y/x averaged across the box.
+        width: the kernel's cutoff radius (default 2 cell); kernel "lucy" or "gaussian".
+        Fields: phi, rho (kg/m^2), jx, jy, vx, vy (m/s), T, kxx..kyy, cxx..cyy, sxx..syy (N/m,
+        compression positive), p, z, fxx, fxy, fyy (sim.h SimCoarseField). One sample."""
+        lib = self._lib
+        codes = []
+        for name in fields:
+            k = lib.sim_coarse_field_from_name(name.encode())
+            if k < 0:
+                raise InvalidDefinition("coarse: unknown field %r" % name, 2, "fields")
+            codes.append(k)
+        geometries = {"grid": 0, "profile_y": 1, "profile_x": 2}
+        if geometry not in geometries:
+            raise InvalidDefinition("coarse: unknown geometry %r (one of %s)"
+                                    % (geometry, ", ".join(geometries)), 2, "geometry")
+        if kernel not in ("lucy", "gaussian"):
+            raise InvalidDefinition("coarse: unknown kernel %r" % kernel, 2, "kernel")
+        f = self.frame()
+        if cell is None:
+            mobile = f.radius[:f.mobile_count]
+            cell = 2.0 * float(mobile.mean()) if mobile.size else 1.0
+        if box is None:
+            r = f.radius
+            box = (float((f.x - r).min()), float((f.y - r).min()), float((f.x + r).max()),
+                   float((f.y + r).max())) if f.count else (0.0, 0.0, 1.0, 1.0)
+        x0, y0, x1, y1 = (float(v) for v in box)
+        d = lib.sim_coarse_def_default()
+        d.kernel = 0 if kernel == "lucy" else 1
+        d.width = float(width) if width is not None else 2.0 * cell
+        d.geometry = geometries[geometry]
+        d.x0, d.y0, d.x1, d.y1 = x0, y0, x1, y1
+        d.cell_x = d.cell_y = float(cell)
+        d.nx = max(1, int(np.ceil((x1 - x0) / cell)))
+        d.ny = max(1, int(np.ceil((y1 - y0) / cell)))
+        if geometry == "profile_y":
+            d.nx = 1
+        elif geometry == "profile_x":
+            d.ny = 1
+        d.contacts = int(any(lib.sim_coarse_field_needs_contacts(k) for k in codes))
+        d.normalise = int(bool(normalise))
+        err = C.SimError()
+        cg = lib.sim_coarse_create(ctypes.byref(d), ctypes.byref(err))
+        if not cg:
+            _raise(err, "coarse")
+        try:
+            mass = self.masses()
+            if lib.sim_coarse_add(cg, ctypes.byref(self._frame), _ptr(mass, ctypes.c_double),
+                                  0.0, 0.0) != 0:
+                raise OutOfMemory("coarse: out of memory", 4)
+            n = lib.sim_coarse_nodes(cg)
+            shape = (d.ny, d.nx) if geometry == "grid" else (n,)
+            out = {}
+            xs, ys = np.empty(n), np.empty(n)
+            px, py = ctypes.c_double(), ctypes.c_double()
+            for k in range(n):
+                lib.sim_coarse_node(cg, k, ctypes.byref(px), ctypes.byref(py))
+                xs[k], ys[k] = px.value, py.value
+            out["x"], out["y"] = xs.reshape(shape), ys.reshape(shape)
+            for name, code in zip(fields, codes):
+                a = np.empty(n)
+                lib.sim_coarse_field(cg, code, _ptr(a, ctypes.c_double))
+                out[name] = a.reshape(shape)
+            return out
+        finally:
+            lib.sim_coarse_destroy(cg)
 
     def wall_loads(self):
         """What the grains do to each wall in the last force evaluation (sim_world_wall_load):
@@ -397,7 +617,7 @@ class World:
         """sim_world_save: the whole state (grains, walls, time, contact history, sink counts),
         written atomically; the `sablier` command reads it (sablier render, stage load)."""
         err = C.SimError()
-        if self._lib.sim_world_save(self._handle(), C.as_bytes(path), ctypes.byref(err)) != 0:
+        if self._lib.sim_world_save(self._moving(), C.as_bytes(path), ctypes.byref(err)) != 0:
             _raise(err, "sim_world_save %s" % os.fspath(path))
         return path
 

@@ -27,3 +27,20 @@ if(SABLIER_PYTHON_TESTS)
       ENVIRONMENT "SABLIER_LIB_DIR=${PROJECT_BINARY_DIR};SABLIER_EXECUTABLE=$<TARGET_FILE:sablier>;SABLIER_SOURCE_DIR=${PROJECT_SOURCE_DIR};PYTHONDONTWRITEBYTECODE=1")
   endforeach()
 endif()
+
+# The offline virtual-environment install of docs/python.md, then an in-process stage run, the
+# coarse-grained stress and a figure from the installed module (tests/python/venv_install.sh).
+# Needs Debian's python3-venv and python3-setuptools (scripts/setup.sh).
+if(SABLIER_PYTHON_TESTS AND TARGET scene_shared)
+  execute_process(COMMAND ${SABLIER_PYTHON3} -c "import venv, ensurepip, setuptools"
+                  RESULT_VARIABLE venv_status OUTPUT_QUIET ERROR_QUIET)
+  if(venv_status EQUAL 0)
+    add_test(NAME python.venv_install
+             COMMAND sh ${CMAKE_CURRENT_SOURCE_DIR}/python/venv_install.sh ${PROJECT_SOURCE_DIR}
+                     ${PROJECT_BINARY_DIR})
+    set_tests_properties(python.venv_install PROPERTIES LABELS python)
+  else()
+    message(STATUS "python.venv_install off: ${SABLIER_PYTHON3} lacks venv or setuptools "
+                   "(python3-venv, python3-setuptools)")
+  endif()
+endif()

@@ -72,13 +72,13 @@ def golden_world(name):
         effects.append("periodic_x")
     materials = []
     for s in range(2 if two_species else 1):
-        m = dict(density=1500.0 if s else 1000.0, normal_stiffness=3e5 if s else 1e5,
-                 friction=0.3 if s else 0.5, tangential_damping=20.0,
-                 damping_mode="restitution", restitution=0.3 if s else 0.6,
-                 rolling_friction=0.002, rolling_stiffness=5.0)
-        m["tangential_stiffness"] = 0.75 * m["normal_stiffness"]
+        m = dict(density=1500.0 if s else 1000.0, k_n=3e5 if s else 1e5,
+                 mu=0.3 if s else 0.5, gamma_s=20.0, restitution=0.3 if s else 0.6,
+                 mu_r=0.002, k_r=5.0)
+        m["k_t"] = 0.75 * m["k_n"]
         if normal == "hertz":
-            m.update(normal_stiffness=3e6, damping_mode="gamma", normal_damping=2e3)
+            del m["restitution"]
+            m.update(k_n=3e6, gamma_n=2e3)
         materials.append(m)
     mobile = (g.flags & sablier.SIM_GRAIN_FIXED) == 0
     skin = 0.2 * np.sum(2.0 * g.radius[mobile]) / np.count_nonzero(mobile)

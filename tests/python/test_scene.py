@@ -31,7 +31,7 @@ class Scenes(unittest.TestCase):
         with self.assertRaises(sablier.InvalidDefinition) as e:
             sablier.Scene(SMALL, sets=["species.0.k_n=-1"])
         self.assertIn("k_n", str(e.exception))
-        with self.assertRaises(sablier.InvalidDefinition):
+        with self.assertRaises(FileNotFoundError):
             sablier.Scene("/nonexistent.scene")
 
     def test_world_from_scene_matches_the_cli_checkpoint(self):
