@@ -257,7 +257,8 @@ if [ "$(uname -m)" = x86_64 ]; then
 fi
 echo "   ldd /usr/bin/sablier: $(ldd /usr/bin/sablier | wc -l) libraries, MPI: $(ldd /usr/bin/sablier | grep -c libmpi || true)"
 if [ $mpi = 1 ]; then
-  ldd /usr/libexec/sablier/sablier-mpi | grep -q libmpi || fail "sablier-mpi links no MPI library"
+  ldd /usr/libexec/sablier/sablier-mpi >"$tmp/ldd-mpi.txt"
+  grep -q libmpi "$tmp/ldd-mpi.txt" || fail "sablier-mpi links no MPI library"
 fi
 /usr/bin/sablier run /usr/share/sablier/scenes/validation/drop_elastic.scene --out "$tmp/run" --quiet \
   >"$tmp/run.log" 2>&1 || { cat "$tmp/run.log" >&2; fail "the installed sablier's run of drop_elastic.scene failed"; }
