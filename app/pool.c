@@ -10,11 +10,54 @@
 #include <signal.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+int app_pool_launched(void)
+{
+    if (getenv("SABLIER_POOL_TASK"))
+        return 0;
+    const char *size = getenv("OMPI_COMM_WORLD_SIZE");
+    if (size)
+        return atoi(size) > 1;
+    return getenv("PMIX_RANK") || getenv("PMI_RANK") || getenv("PMI_SIZE");
+}
+
+void app_pool_launcher_exec(char **argv)
+{
+#ifdef SABLIER_WITH_MPI
+    (void)argv; /* this program is the MPI one */
+#else
+    if (!app_pool_launched())
+        return;
+    /* the MPI program beside this one (a build folder), or in <prefix>/libexec/sablier beside
+     * <prefix>/bin (the install tree, the sablier-mpi package) */
+    char self[4096];
+    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+    if (n <= 0)
+        return;
+    self[n] = '\0';
+    char *slash = strrchr(self, '/');
+    if (!slash)
+        return;
+    *slash = '\0';
+    char path[2][4200]; /* beside it, then in <prefix>/libexec/sablier */
+    snprintf(path[0], sizeof path[0], "%s/sablier-mpi", self);
+    snprintf(path[1], sizeof path[1], "%s/../libexec/sablier/sablier-mpi", self);
+    for (int k = 0; k < 2; ++k) {
+        if (access(path[k], X_OK) == 0) {
+            fflush(NULL);
+            execv(path[k], argv);
+            fprintf(stderr, "sablier: cannot run %s: %s\n", path[k], strerror(errno));
+            return;
+        }
+    }
+#endif
+}
 
 void app_pool_begin(void)
 {

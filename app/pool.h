@@ -64,6 +64,16 @@ typedef struct AppPool {
 /// A worker rank returns from it only when rank 0 enters a pool.
 void app_pool_begin(void);
 
+/// 1 when an MPI launcher (Open MPI's mpirun, a PMI or PMIx one) started this process in a job
+/// of more than one rank, and it is not a pool's member command.
+int app_pool_launched(void);
+
+/// In the program built without MPI (`sablier`), under an MPI launcher: replaces this process by
+/// the MPI program `sablier-mpi` (beside it, or in <prefix>/libexec/sablier) with the same
+/// arguments, so that `mpirun -n N sablier ...` needs MPI only where sablier-mpi is installed.
+/// Returns when there is none (the command then runs as without a launcher) or in sablier-mpi.
+void app_pool_launcher_exec(char **argv);
+
 /// How many tasks run at once: jobs, or the worker ranks under MPI (for the drivers' messages).
 int app_pool_width(int jobs);
 

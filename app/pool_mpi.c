@@ -44,15 +44,6 @@ static struct {
 } M = {.out_fd = -1, .err_fd = -1};
 
 /* Started by an MPI launcher (mpirun, srun --mpi=pmix), and not one of our own tasks. */
-static int launched(void)
-{
-    if (getenv("SABLIER_POOL_TASK"))
-        return 0;
-    const char *size = getenv("OMPI_COMM_WORLD_SIZE");
-    if (size)
-        return atoi(size) > 1;
-    return getenv("PMIX_RANK") || getenv("PMI_RANK") || getenv("PMI_SIZE");
-}
 
 /* Waits until a message is there: probes with short sleeps, as a blocking receive would spin a
  * core that the members need; calls idle(ctx) (when not NULL) before each probe. */
@@ -142,7 +133,7 @@ static void finish(void)
 
 void app_pool_mpi_begin(void)
 {
-    if (M.active || !launched() || MPI_Init(NULL, NULL) != MPI_SUCCESS)
+    if (M.active || !app_pool_launched() || MPI_Init(NULL, NULL) != MPI_SUCCESS)
         return;
     MPI_Comm_size(MPI_COMM_WORLD, &M.size);
     MPI_Comm_rank(MPI_COMM_WORLD, &M.rank);

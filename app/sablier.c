@@ -1025,6 +1025,7 @@ int sablier_parse_arguments(int argc, char **argv)
 #ifndef SABLIER_NO_MAIN /* tests/fuzz/fuzz_cli.c links this file for sablier_parse_arguments */
 int main(int argc, char **argv)
 {
+    app_pool_launcher_exec(argv);
     return dispatch(argc, argv, 0);
 }
 #endif

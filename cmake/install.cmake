@@ -9,6 +9,10 @@ set(SABLIER_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/sablier)
 set(SABLIER_INCLUDE_DIR ${CMAKE_INSTALL_INCLUDEDIR}/sablier)
 
 install(TARGETS sablier RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# The MPI program (app/CMakeLists.txt) is no command of its own: `sablier` runs it under mpirun.
+if(TARGET sablier-mpi)
+  install(TARGETS sablier-mpi RUNTIME DESTINATION ${CMAKE_INSTALL_LIBEXECDIR}/sablier)
+endif()
 
 set(sablier_libraries sim sim_shared)
 if(SABLIER_WITH_RENDER)
@@ -82,7 +86,8 @@ install(FILES ${PROJECT_BINARY_DIR}/cmake/sablierConfig.cmake
         DESTINATION ${SABLIER_CMAKE_DIR})
 
 # The Python module (python/sablier, docs/python.md) and the library it needs beyond sim and
-# render: libsablier-scene (the scene loader). SABLIER_PYTHON_DIR, relative to the prefix or
+# render: libsablier-scene (the scene loader), private: in <libdir>/sablier, without the
+# libsablier-scene.so link, headers or pkg-config file (no program outside sablier links it). SABLIER_PYTHON_DIR, relative to the prefix or
 # absolute, defaults to Debian's lib/python3/dist-packages (on /usr/bin/python3's path when the
 # prefix is /usr). The install writes sablier/_installed.py with the library and command folders
 # relative to the package, so the installed module loads the installed libraries (not a build
@@ -90,7 +95,7 @@ install(FILES ${PROJECT_BINARY_DIR}/cmake/sablierConfig.cmake
 set(SABLIER_PYTHON_DIR lib/python3/dist-packages CACHE STRING
     "Where cmake --install puts the Python package sablier (relative paths: under the prefix)")
 if(TARGET scene_shared)
-  install(TARGETS scene_shared LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(TARGETS scene_shared LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/sablier NAMELINK_SKIP)
   if(IS_ABSOLUTE "${SABLIER_PYTHON_DIR}")
     set(sablier_py_dest "${SABLIER_PYTHON_DIR}")
   else()

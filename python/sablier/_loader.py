@@ -4,7 +4,8 @@
 Search order for a library `libNAME.so` (NAME = sablier-sim, sablier-render, sablier-scene):
 
 1. the folders of the environment variable SABLIER_LIB_DIR (os.pathsep-separated), each with
-   its sub-folders sim/, render/, app/ and lib/ (so a CMake build tree can be given as is);
+   its sub-folders sim/, render/, app/, lib/ and sablier/ (so a CMake build tree can be given
+   as is, and an install's private folder <libdir>/sablier is searched);
 2. an installed module (`cmake --install`, the .deb): the library folder that the install wrote
    into sablier/_installed.py, relative to the package (so a moved tree still finds its own);
 3. the build tree of a source checkout, when this module is imported from <checkout>/python:
@@ -26,7 +27,8 @@ import os
 import shutil
 import sysconfig
 
-_SUBDIRS = ("", "sim", "render", "app", "lib")
+# sablier/: the private library folder of an install (<libdir>/sablier/libsablier-scene.so.0.N)
+_SUBDIRS = ("", "sim", "render", "app", "lib", "sablier")
 _HERE = os.path.dirname(os.path.abspath(__file__))
 
 

@@ -11,9 +11,11 @@
 # shared and static, print the same lines; checks the man page against every command's --help;
 # checks that Debian's /usr/bin/python3 imports the installed Python module, which loads the
 # installed libraries and steps a world to the C program's hash; then, unless --no-package, makes
-# the .deb with cpack and checks its control file and contents and that the extracted `sablier`
-# runs (--version, a shipped scene) and its Python module gives the same hash. A build configured with
-# SABLIER_WITH_RENDER=OFF installs the sim library only, and that is what is checked.
+# the Debian packages (scripts/deb.sh), lists them with their sizes, runs lintian on them (no
+# error, no warning), checks their control files and contents, installs them with dpkg -i on this
+# system, runs the installed `sablier` (--version, a shipped scene), a pkg-config client and the
+# Python module, and removes them. A build configured with SABLIER_WITH_RENDER=OFF installs the
+# sim library only, and that is what is checked.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 jobs=${JOBS:-$(nproc)}
@@ -39,6 +41,9 @@ build=$(cd "$build" && pwd)
 cmake --build "$build" -j "$jobs" >/dev/null
 cache() { sed -n "s/^$1:[A-Z]*=//p" "$build/CMakeCache.txt"; }
 version=$(cache CMAKE_PROJECT_VERSION)
+# the SONAME's version: 0.x carries the minor (cmake/abi.cmake)
+sover=${version%.*}
+[ "${version%%.*}" = 0 ] || sover=${version%%.*}
 libdir=$(cache CMAKE_INSTALL_LIBDIR)
 render=$(cache SABLIER_WITH_RENDER)
 case $render in ON | on | TRUE | true | 1) render=1 ;; *) render=0 ;; esac
@@ -55,7 +60,7 @@ expect=(bin/sablier include/sablier/sim/sim.h share/man/man1/sablier.1
         "$libdir/cmake/sablier/sablierConfig.cmake" "$libdir/cmake/sablier/sablierConfigVersion.cmake"
         "$libdir/cmake/sablier/sablierTargets.cmake")
 for lib in "${libs[@]}"; do
-  expect+=("$libdir/libsablier-$lib.a" "$libdir/libsablier-$lib.so" "$libdir/libsablier-$lib.so.0"
+  expect+=("$libdir/libsablier-$lib.a" "$libdir/libsablier-$lib.so" "$libdir/libsablier-$lib.so.$sover"
            "$libdir/libsablier-$lib.so.$version" "$libdir/pkgconfig/sablier-$lib.pc")
 done
 [ $render = 1 ] && expect+=(include/sablier/render/render.h include/sablier/render/render_image.h
@@ -69,10 +74,19 @@ if [ $render = 0 ]; then
 fi
 for lib in "${libs[@]}"; do
   soname=$(readelf -d "$prefix/$libdir/libsablier-$lib.so.$version" | sed -n 's/.*SONAME.*\[\(.*\)\]/\1/p')
-  [ "$soname" = "libsablier-$lib.so.0" ] || fail "libsablier-$lib soname is '$soname'"
+  [ "$soname" = "libsablier-$lib.so.$sover" ] || fail "libsablier-$lib soname is '$soname'"
+  # the version script (cmake/abi.cmake): nothing but sim_ or render_ functions exported
+  others=$(nm -D --defined-only "$prefix/$libdir/libsablier-$lib.so.$version" | awk '{print $3}' |
+           grep -v "^${lib}_" || true)
+  [ -z "$others" ] || fail "libsablier-$lib exports $(echo $others)"
 done
+# the scene loader is private: <libdir>/sablier, no link for the linker, no headers
+[ -e "$prefix/$libdir/sablier/libsablier-scene.so.$sover" ] || fail "no private $libdir/sablier/libsablier-scene.so.$sover"
+if [ -e "$prefix/$libdir/sablier/libsablier-scene.so" ] || compgen -G "$prefix/$libdir/libsablier-scene*" >/dev/null; then
+  fail "libsablier-scene is installed as a public library"
+fi
 echo "   $(cd "$prefix" && find . -type f -o -type l | grep -vc 'share/doc\|share/sablier') files" \
-     "besides docs and scenes; sonames libsablier-{$(IFS=,; echo "${libs[*]}")}.so.0"
+     "besides docs and scenes; sonames libsablier-{$(IFS=,; echo "${libs[*]}")}.so.$sover"
 
 # ---- versions agree: the command, the library header, pkg-config and the man page
 export PKG_CONFIG_PATH=$prefix/$libdir/pkgconfig
@@ -152,7 +166,7 @@ exec(open('$src/hello_sim.py').read())") || fail "python3 -c 'import sablier' fr
 }
 python=0
 if [ -x /usr/bin/python3 ] && /usr/bin/python3 -c "import numpy" 2>/dev/null &&
-   [ -e "$prefix/$libdir/libsablier-scene.so" ]; then
+   [ -e "$prefix/$libdir/sablier/libsablier-scene.so.$sover" ]; then
   python=1
 fi
 pyrel=$(cache SABLIER_PYTHON_DIR)
@@ -166,62 +180,104 @@ fi
 
 [ $package = 1 ] || exit 0
 
-# ---- Debian package
-step "cpack -G DEB"
-cpack -G DEB -B "$tmp/deb" --config "$build/CPackConfig.cmake" >"$tmp/cpack.log" 2>&1 ||
-  { cat "$tmp/cpack.log" >&2; fail "cpack -G DEB failed"; }
-debs=("$tmp"/deb/sablier_*.deb)
-deb=${debs[0]}
-[ -f "$deb" ] || fail "cpack made no .deb"
-info=$(dpkg-deb -I "$deb")
-field() { sed -n "s/^ $1: //p" <<<"$info"; }
-[ "$(field Package)" = sablier ] || fail "package name is '$(field Package)'"
-[ -n "$(field Maintainer)" ] || fail "no Maintainer"
-depends=$(field Depends)
-need=(libc6 libconfig9)
-[ $render = 1 ] && need+=(libcairo2 libpng16-16 libosmesa6 libavcodec59 libavformat59 libswscale6 libavutil57
-                          fonts-dejavu-core)
-for d in "${need[@]}"; do
-  grep -Eq "(^|, )$d( |,|$)" <<<"$depends" || fail "Depends lacks $d: $depends"
+
+# ---- Debian packages (scripts/deb.sh, cmake/package.cmake)
+step "scripts/deb.sh: the Debian packages"
+bash "$root/scripts/deb.sh" "$build" "$tmp/deb" >"$tmp/deb.log" 2>&1 ||
+  { cat "$tmp/deb.log" >&2; fail "scripts/deb.sh failed"; }
+mpi=0
+grep -q '^Package: sablier-mpi$' "$build/debian/control" && mpi=1
+packages=("libsablier-sim$sover" libsablier-dev sablier python3-sablier)
+[ $render = 1 ] && packages+=("libsablier-render$sover")
+[ $mpi = 1 ] && packages+=(sablier-mpi)
+deb_of() { echo "$tmp/deb/${1}_${version}_$(dpkg --print-architecture).deb"; }
+for p in "${packages[@]}"; do
+  [ -f "$(deb_of "$p")" ] || fail "no package $p"
+  [ "$p" = libsablier-dev ] || [ -f "$(deb_of "$p-dbgsym")" ] || fail "no package $p-dbgsym"
 done
-echo "   $(basename "$deb"): $(field Version), Depends: $depends"
-contents=$(dpkg-deb -c "$deb" | awk '{print $6}')
-for f in ./usr/bin/sablier ./usr/lib/libsablier-sim.so.$version ./usr/lib/pkgconfig/sablier-sim.pc \
-         ./usr/lib/cmake/sablier/sablierConfig.cmake ./usr/include/sablier/sim/sim.h \
-         ./usr/share/man/man1/sablier.1 ./usr/share/doc/sablier/install.md \
-         ./usr/share/sablier/scenes/validation/drop_elastic.scene ./usr/share/doc/sablier/copyright \
-         ./usr/share/doc/sablier/changelog.Debian.gz; do
-  grep -qx -- "$f" <<<"$contents" || fail "the .deb lacks $f"
+echo "   package                        file size  installed size"
+for d in "$tmp"/deb/*.deb; do
+  printf '   %-30s %6d kB  %6d kB\n' "$(dpkg-deb -f "$d" Package)" $(( $(stat -c %s "$d") / 1024 )) \
+    "$(dpkg-deb -f "$d" Installed-Size)"
 done
-if [ $python = 1 ]; then
-  for f in ./usr/lib/libsablier-scene.so.$version ./usr/$pyrel/sablier/__init__.py ./usr/$pyrel/sablier/_installed.py; do
-    grep -qx -- "$f" <<<"$contents" || fail "the .deb lacks $f"
+step "lintian (no error, no warning)"
+lintian --fail-on error,warning "$tmp"/deb/*.deb >"$tmp/lintian.log" 2>&1 ||
+  { grep -v 'running with root privileges' "$tmp/lintian.log" >&2; fail "lintian found errors or warnings"; }
+{ grep -v 'running with root privileges' "$tmp/lintian.log" || true; } | sed 's/^/   /'
+echo "   lintian: no error, no warning in $(ls "$tmp"/deb/*.deb | wc -l) packages"
+
+# control files: shlibs, symbols and the ldconfig trigger of each runtime library package; no
+# MPI but in sablier-mpi; the development package depends on what sablier-render.pc requires
+for p in "libsablier-sim$sover" $([ $render = 1 ] && echo "libsablier-render$sover"); do
+  ctrl=$(dpkg-deb -I "$(deb_of "$p")")
+  for f in shlibs symbols triggers; do
+    grep -q " $f\$\| $f " <<<"$ctrl" || fail "$p has no $f control file"
   done
-fi
-dpkg-deb -x "$deb" "$tmp/root"
-grep -q '^License: MIT' "$tmp/root/usr/share/doc/sablier/copyright" || fail "the .deb's copyright file names no licence"
-zcat "$tmp/root/usr/share/doc/sablier/changelog.Debian.gz" | head -1 | grep -q "^sablier ($(field Version)) " ||
-  fail "the .deb's changelog.Debian.gz is not for $(field Version)"
-grep -qx 'prefix=/usr' "$tmp/root/usr/lib/pkgconfig/sablier-sim.pc" || fail "the .deb's sablier-sim.pc prefix is not /usr"
-LD_LIBRARY_PATH=$tmp/root/usr/lib "$tmp/root/usr/bin/sablier" --version >"$tmp/version.txt"
+  dpkg-deb --ctrl-tarfile "$(deb_of "$p")" | tar -xO ./triggers | grep -qx 'activate-noawait ldconfig' ||
+    fail "$p's trigger is not ldconfig's"
+done
+for p in "${packages[@]}"; do
+  [ "$p" = sablier-mpi ] && continue
+  ! dpkg-deb -f "$(deb_of "$p")" Depends | grep -qi mpi || fail "$p depends on MPI: $(dpkg-deb -f "$(deb_of "$p")" Depends)"
+done
+devdeps=$(dpkg-deb -f "$(deb_of libsablier-dev)" Depends)
+need=("libsablier-sim$sover (= $version)")
+[ $render = 1 ] && need+=("libsablier-render$sover (= $version)" libcairo2-dev libpng-dev libosmesa6-dev
+                          libavcodec-dev libavformat-dev libavutil-dev libswscale-dev)
+for d in "${need[@]}"; do
+  grep -qF "$d" <<<"$devdeps" || fail "libsablier-dev does not depend on $d: $devdeps"
+done
+contents=$(dpkg-deb -c "$(deb_of sablier)" | awk '{print $6}')
+for f in ./usr/bin/sablier ./usr/share/man/man1/sablier.1.gz ./usr/share/doc/sablier/copyright \
+         ./usr/share/doc/sablier/changelog.gz ./usr/share/sablier/scenes/validation/drop_elastic.scene; do
+  grep -qx -- "$f" <<<"$contents" || fail "the sablier package lacks $f"
+done
+
+# ---- install them on this system, use them, remove them
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+debs=()
+for p in "${packages[@]}"; do debs+=("$(deb_of "$p")"); done
+step "dpkg -i ${packages[*]}"
+removed=0
+remove() {
+  [ $removed = 1 ] && return
+  removed=1
+  $SUDO dpkg -P "${packages[@]}" >"$tmp/dpkg-P.log" 2>&1 || { cat "$tmp/dpkg-P.log" >&2; return 1; }
+}
+trap 'remove; rm -rf "$tmp"' EXIT
+$SUDO dpkg -i "${debs[@]}" >"$tmp/dpkg-i.log" 2>&1 || { cat "$tmp/dpkg-i.log" >&2; fail "dpkg -i failed"; }
+file -L /usr/bin/sablier | grep -q ', stripped' || fail "/usr/bin/sablier is not stripped"
+/usr/bin/sablier --version >"$tmp/version.txt"
 sed 's/^/   /' "$tmp/version.txt"
+[ "$(head -1 "$tmp/version.txt")" = "sablier $version" ] || fail "the installed sablier --version is not $version"
 # portable: the hot loops are chosen at run time, not compiled for this CPU (docs/dev/isa.md)
 if [ "$(uname -m)" = x86_64 ]; then
   grep -q '^kernels: .*(this CPU: sse2' "$tmp/version.txt" || fail "the packaged sablier is not portable (-march=native?)"
 fi
-LD_LIBRARY_PATH=$tmp/root/usr/lib "$tmp/root/usr/bin/sablier" run \
-  "$tmp/root/usr/share/sablier/scenes/validation/drop_elastic.scene" --out "$tmp/run" --quiet >"$tmp/run.log" 2>&1 ||
-  { cat "$tmp/run.log" >&2; fail "the packaged sablier's run of drop_elastic.scene failed"; }
-grep -q '"status": *"ok"' "$tmp/run/summary.json" || fail "the packaged sablier's run of drop_elastic.scene failed"
+echo "   ldd /usr/bin/sablier: $(ldd /usr/bin/sablier | wc -l) libraries, MPI: $(ldd /usr/bin/sablier | grep -c libmpi || true)"
+if [ $mpi = 1 ]; then
+  ldd /usr/libexec/sablier/sablier-mpi >"$tmp/ldd-mpi.txt"
+  grep -q libmpi "$tmp/ldd-mpi.txt" || fail "sablier-mpi links no MPI library"
+fi
+/usr/bin/sablier run /usr/share/sablier/scenes/validation/drop_elastic.scene --out "$tmp/run" --quiet \
+  >"$tmp/run.log" 2>&1 || { cat "$tmp/run.log" >&2; fail "the installed sablier's run of drop_elastic.scene failed"; }
+grep -q '"status": *"ok"' "$tmp/run/summary.json" || fail "the installed sablier's run of drop_elastic.scene failed"
 if [ $render = 1 ]; then
-  LD_LIBRARY_PATH=$tmp/root/usr/lib "$tmp/root/usr/bin/sablier" render "$tmp/run/run.state" \
-    -o "$tmp/run/run.png" --colorbar --time-stamp >"$tmp/render.log" 2>&1 ||
-    { cat "$tmp/render.log" >&2; fail "the packaged sablier could not render its run"; }
-  [ -s "$tmp/run/run.png" ] || fail "the packaged sablier wrote no run.png"
+  /usr/bin/sablier render "$tmp/run/run.state" -o "$tmp/run/run.png" --colorbar --time-stamp >"$tmp/render.log" 2>&1 ||
+    { cat "$tmp/render.log" >&2; fail "the installed sablier could not render its run"; }
+  [ -s "$tmp/run/run.png" ] || fail "the installed sablier wrote no run.png"
 fi
+# a pkg-config client of the system's files: no PKG_CONFIG_PATH, no LD_LIBRARY_PATH (the
+# library is found through ldconfig's cache, which the package's trigger refreshed)
+env -u PKG_CONFIG_PATH cc -std=c17 "${cflags[@]}" "$src/hello_sim.c" \
+  $(env -u PKG_CONFIG_PATH pkg-config --cflags --libs sablier-sim) -o "$tmp/sys_hello_sim"
+env -u LD_LIBRARY_PATH "$tmp/sys_hello_sim" >"$tmp/sys_hello_sim.txt"
+cmp -s "$out/pc_c.txt" "$tmp/sys_hello_sim.txt" || fail "the pkg-config client of the installed packages differs"
+echo "   hello_sim.c with pkg-config against /usr: $(grep '^hash ' "$tmp/sys_hello_sim.txt")"
 if [ $python = 1 ]; then
-  case $pyrel in /*) debpy=$tmp/root$pyrel ;; *) debpy=$tmp/root/usr/$pyrel ;; esac
-  python_check "$debpy" "$tmp/root/usr"
+  python_check /usr/lib/python3/dist-packages /usr
 fi
-echo "   the extracted sablier ran the shipped scenes/validation/drop_elastic.scene: status ok" \
-     "$([ $render = 1 ] && echo "(and drew run.png)")"
+remove || fail "dpkg -P failed"
+[ ! -e /usr/bin/sablier ] || fail "/usr/bin/sablier is still there after dpkg -P"
+echo "   installed, used and removed: ${packages[*]}"
