@@ -61,8 +61,9 @@ static inline void app_test_remove_dir(const char *dir)
     while ((e = readdir(d)) != NULL) {
         if (e->d_name[0] == '.')
             continue;
-        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-        remove(path);
+        int n = snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        if (n > 0 && (size_t)n < sizeof path) /* a longer path is not this folder's file */
+            remove(path);
     }
     closedir(d);
     rmdir(dir);
