@@ -4,14 +4,14 @@
 # shared pool (app/pool.c): exit 130 (143), no member process left, the members' table written
 # with status `interrupted` for those not finished; --resume then runs only the unfinished ones.
 # `sablier ensemble` on tests/cli/ensemble_fall.scene (one grain, without gravity, long enough
-# per member that the signal comes while members run: 4 to 9 s each in Release; shorter ones
-# all finished between two polls on a busy machine).
+# per member that the signal comes while members run: about 5 and 10 s in Release (0.6 s each
+# at a tenth of that let a member end between two polls on a busy machine).
 set -u
 sablier=$1 scene=$2 work=$3
 fail() { echo "cli.pool_signal: $*" >&2; exit 1; }
 rm -rf "$work"
 mkdir -p "$work"
-long=180000 end=$long
+long=1440000 end=$long
 ensemble() { # ensemble OUT ARGS...: in the background, $! its pid
   "$sablier" ensemble "$scene" --dt 0.0078125,0.00390625 --seeds 3 --jobs 2 --observe trace.csv:y \
     --set time.end="$end" --set 'gravity=[0.0, 0.0]' --set output.energy_every=1000 \
