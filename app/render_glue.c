@@ -104,6 +104,18 @@ void app_render_names(const Scene *scene, const char *names[SIM_MAX_SPECIES], Re
     style->species_name_count = SIM_MAX_SPECIES;
 }
 
+void app_reduced_style(double force_unit, double speed_unit, RenderStyle *style)
+{
+    if (!(force_unit > 0.0 && speed_unit > 0.0))
+        return;
+    style->force_unit = force_unit;
+    style->speed_unit = speed_unit;
+    if (style->color_by == RENDER_COLOR_FORCE)
+        style->colorbar_unit = "m g";
+    else if (style->color_by == RENDER_COLOR_SPEED)
+        style->colorbar_unit = "\xe2\x88\x9a(gd)"; /* sqrt(g d) */
+}
+
 RenderStyle app_render_style(const SceneStyle *s)
 {
     RenderStyle r = render_style_default();
@@ -187,7 +199,21 @@ typedef struct Renderer {
     } series[16];
 
     int series_count;
+    double force_unit, speed_unit; /* reduced units: m g (N) and sqrt(g d) (m/s); 0 = SI */
 } Renderer;
+
+static void hook_reduced_units(void *context, double force_unit, double speed_unit)
+{
+    Renderer *renderer = context;
+    renderer->force_unit = force_unit;
+    renderer->speed_unit = speed_unit;
+}
+
+/* A style's colour bar in the run's reduced units (app_reduced_style). */
+static void reduced_style(const Renderer *renderer, RenderStyle *style)
+{
+    app_reduced_style(renderer->force_unit, renderer->speed_unit, style);
+}
 
 static void hook_provenance(void *context, const char *comment)
 {
@@ -274,6 +300,7 @@ static int hook_movie_open(void *context, const Scene *scene, int stage, const c
     Renderer *renderer = context;
     RenderStyle style = app_render_style(&scene->style); /* axes off unless asked */
     app_render_names(scene, renderer->species, &style);
+    reduced_style(renderer, &style);
     style.width += style.width % 2; /* H.264 needs even sizes */
     style.height += style.height % 2;
     snprintf(renderer->path, sizeof renderer->path, "%s", path);
@@ -563,10 +590,10 @@ static int hook_figure(void *context, const Scene *scene, const SceneFigure *fig
                        const SimFrame *frame, const AppFigureExtras *extras, const char *path,
                        char *err, size_t err_size)
 {
-    (void)context;
     RenderStyle style = app_render_style(&figure->style);
     const char *species[SIM_MAX_SPECIES];
     app_render_names(scene, species, &style);
+    reduced_style(context, &style);
     if (figure->style.axes < 0)
         style.axes = 1; /* figures have axes unless they say `axes = false` */
     RenderMeta meta = {
@@ -800,6 +827,7 @@ const AppRender *app_render_glue(void)
         .plot = hook_plot,
         .map = hook_map,
         .provenance = hook_provenance,
+        .reduced_units = hook_reduced_units,
     };
     return &render;
 }

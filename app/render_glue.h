@@ -15,6 +15,9 @@ const AppRender *app_render_glue(void);
 /// A scene's plain style data onto RenderStyle (unset fields keep the renderer's defaults).
 /// Axes are on only when the style says `axes = true` (movies); figures turn them on when unset.
 RenderStyle app_render_style(const SceneStyle *style);
+/// Reduced units: force and speed colour bars in m g and sqrt(g d), given in N and m/s
+/// (RenderStyle.force_unit, speed_unit, and the bar's unit); nothing when either is 0.
+void app_reduced_style(double force_unit, double speed_unit, RenderStyle *style);
 /// Points the style's legend names at the scene's species names (`names` must outlive the style;
 /// scene NULL: "species N").
 void app_render_names(const Scene *scene, const char *names[SIM_MAX_SPECIES], RenderStyle *style);

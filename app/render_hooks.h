@@ -144,6 +144,9 @@ typedef struct AppRender {
     /// Sets the provenance line (command, scene SHA-256, revision, date) that every figure
     /// written from now on carries as its PNG Comment text chunk; NULL or "" for none.
     void (*provenance)(void *context, const char *comment);
+    /// Reduced units (units = "reduced"): the scales that force and speed colour bars are drawn
+    /// in from now on, m g in N and sqrt(g d) in m/s (0, 0: SI). NULL = not drawn in them.
+    void (*reduced_units)(void *context, double force_unit, double speed_unit);
 } AppRender;
 
 #endif

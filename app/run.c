@@ -696,6 +696,9 @@ static int stage_start(Run *run, int k, StageClock *clock)
     if (scene->units_reduced && run->unit_time == 0.0 && g > 0.0) {
         sim_world_means(run->world, &run->unit_length, &run->unit_mass);
         run->unit_time = sqrt(run->unit_length / g);
+        const AppRender *render = run->options->render;
+        if (render && render->reduced_units) /* colour bars in m g and sqrt(g d) */
+            render->reduced_units(render->context, run->unit_mass * g, sqrt(g * run->unit_length));
     }
     if (run->unit_time > 0.0)
         run->time_scale = run->unit_time; /* t* in the run's fixed sqrt(d/g) */

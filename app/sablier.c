@@ -887,6 +887,12 @@ static int command_render(int argc, char **argv)
             status = 2;
         } else {
             sim_world_frame(world, &frame);
+            /* units = "reduced": colour bars in m g and sqrt(g d) of this state's grains */
+            double g = hypot(scene->def.gravity_x, scene->def.gravity_y), d, m;
+            if (scene->units_reduced && g > 0.0) {
+                sim_world_means(world, &d, &m);
+                app_reduced_style(m * g, sqrt(g * d), &render_style);
+            }
         }
     } else if (app_state_frame(&grains, walls, wall_count, time, &columns, &frame) != 0) {
         fprintf(stderr, "sablier: render: out of memory\n");

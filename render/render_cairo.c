@@ -737,14 +737,20 @@ static void draw_colorbar(cairo_t *cr, const DrawScene *sc)
         render_set_rgb(cr, text_rgb);
         cairo_stroke(cr);
     }
-    double ticks[16];
-    int n = render_axis_ticks(sc->lo, sc->hi, 0, colorbar_intervals(h, fs), ticks, 16);
+    /* the ticks at round values of the bar's unit (reduced units: m g or sqrt(g d)) */
+    double unit = s->color_by == RENDER_COLOR_FORCE   ? s->force_unit
+                  : s->color_by == RENDER_COLOR_SPEED ? s->speed_unit
+                                                      : 0.0;
+    if (!(unit > 0.0) || !isfinite(unit))
+        unit = 1.0;
+    double ticks[16], lo = sc->lo / unit, hi = sc->hi / unit;
+    int n = render_axis_ticks(lo, hi, 0, colorbar_intervals(h, fs), ticks, 16);
     int e = render_tick_exponent(ticks, n);
     double factor = pow(10, -e);
-    double step = (n > 1 ? ticks[1] - ticks[0] : sc->hi - sc->lo) * factor;
+    double step = (n > 1 ? ticks[1] - ticks[0] : hi - lo) * factor;
     double widest = 0;
     for (int k = 0; k < n; ++k) {
-        double y = top + h - (ticks[k] - sc->lo) / (sc->hi - sc->lo) * h;
+        double y = top + h - (ticks[k] - lo) / (hi - lo) * h;
         cairo_move_to(cr, x + w, y);
         cairo_line_to(cr, x + w + 0.35 * fs, y);
         cairo_stroke(cr);

@@ -93,6 +93,10 @@ typedef struct RenderStyle {
     /// Grain and field arrows shorter than this fraction of the reference (key) arrow are not
     /// drawn, so grains at rest carry no dot (0 = 0.1; negative = draw every arrow).
     double arrow_min;
+    /// Reduced units (a scene's units = "reduced"): the colour bar of force shows F / force_unit
+    /// (m g, N) and that of speed v / speed_unit (sqrt(g d), m/s), in the scene's scales; the
+    /// colours and `range_min`/`range_max` stay SI. 0 = SI.
+    double force_unit, speed_unit;
 } RenderStyle;
 
 /// Default font size of grain figures, movies and heat maps: points at the print size (pixels /

@@ -200,7 +200,8 @@ class RenderStyle(Structure):
                 ("dpi", c_double), ("field_color", c_int), ("node_vx", _pd), ("node_vy", _pd),
                 ("node_nx", c_int), ("node_ny", c_int), ("node_x0", c_double),
                 ("node_y0", c_double), ("node_cell", c_double),
-                ("normalised_units", c_int), ("color_extend", c_int), ("arrow_min", c_double)]
+                ("normalised_units", c_int), ("color_extend", c_int), ("arrow_min", c_double),
+                ("force_unit", c_double), ("speed_unit", c_double)]
 
 
 class RenderMeta(Structure):

@@ -9,7 +9,9 @@
 #                 d and m g/d (or sqrt(g d)), never m, s, N;
 #   figures       the time stamp in sqrt(d/g) and the colour bar's unit (contact force in m g,
 #                 speed in sqrt(g d)), read from PDF output by pdftotext: a run's figure and
-#                 `sablier render` of its checkpoint (a movie frame is drawn with the same style).
+#                 `sablier render` of its checkpoint (a movie frame is drawn with the same style);
+#                 and an SI scene with units = "reduced" (tests/cli/reproducible.scene): force
+#                 and speed colour bars in m g and sqrt(g d), never N or m/s.
 # KIND (summary, csv, figures) chooses which of the three kinds is checked.
 set -u
 sablier=$1
@@ -71,6 +73,27 @@ for by in force speed height; do # height: bands, no colour bar
 done
 have "$work/column_force.txt" "contact force (m g)"
 have "$work/column_speed.txt" "speed (${root}(gd))"
+# units = "reduced" on an SI scene: force and speed colour bars in m g and sqrt(g d), from a run's
+# figure (the run's scales) and from `sablier render` of its state (that state's grains)
+for by in force speed; do
+  "$sablier" run tests/cli/reproducible.scene --out "$work/reduced_$by" --quiet \
+    --set 'units="reduced"' --set "render.color_by=\"$by\"" || { fail "reduced run ($by)"; continue; }
+  pdftotext "$work/reduced_$by/drop.pdf" "$work/reduced_$by.txt" || fail "pdftotext reduced $by"
+  state=$(ls "$work/reduced_$by"/*.state | head -1)
+  "$sablier" render "$state" --scene tests/cli/reproducible.scene --set 'units="reduced"' \
+    --color-by $by --colorbar -o "$work/reduced_render_$by.pdf" || fail "reduced render ($by)"
+  pdftotext "$work/reduced_render_$by.pdf" "$work/reduced_render_$by.txt" ||
+    fail "pdftotext reduced render $by"
+  for txt in "$work/reduced_$by.txt" "$work/reduced_render_$by.txt"; do
+    lacks "$txt" '\((N|m/s)\)'
+  done
+done
+for txt in "$work/reduced_force.txt" "$work/reduced_render_force.txt"; do
+  have "$txt" "contact force (m g)"
+done
+for txt in "$work/reduced_speed.txt" "$work/reduced_render_speed.txt"; do
+  have "$txt" "speed (${root}(gd))"
+done
 fi
 
 if [ $fails -gt 0 ]; then
