@@ -738,12 +738,12 @@ static void draw_colorbar(cairo_t *cr, const DrawScene *sc)
         cairo_stroke(cr);
     }
     /* the ticks at round values of the bar's unit (reduced units: m g or sqrt(g d)) */
-    double unit = s->color_by == RENDER_COLOR_FORCE   ? s->force_unit
-                  : s->color_by == RENDER_COLOR_SPEED ? s->speed_unit
-                                                      : 0.0;
-    if (!(unit > 0.0) || !isfinite(unit))
-        unit = 1.0;
-    double ticks[16], lo = sc->lo / unit, hi = sc->hi / unit;
+    double scale = s->color_by == RENDER_COLOR_FORCE   ? s->force_unit
+                   : s->color_by == RENDER_COLOR_SPEED ? s->speed_unit
+                                                       : 0.0;
+    if (!(scale > 0.0) || !isfinite(scale))
+        scale = 1.0;
+    double ticks[16], lo = sc->lo / scale, hi = sc->hi / scale;
     int n = render_axis_ticks(lo, hi, 0, colorbar_intervals(h, fs), ticks, 16);
     int e = render_tick_exponent(ticks, n);
     double factor = pow(10, -e);
