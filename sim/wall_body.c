@@ -22,23 +22,35 @@ static double wall_length(const SimWall *w)
 }
 
 /* The smallest mobile diameter of def's grains (INFINITY without mobile grains), and the largest
- * normal stiffness of a pair of a mobile grain's species with wall species `species`. Hertz
- * contacts: the tangent stiffness 3/2 k_n sqrt(xi) at an overlap of 1 % of that diameter. */
-static double wall_stiffness(const SimWorldDef *def, int species, double *d_min)
+ * normal stiffness of a pair of a mobile grain's species with wall species `species`; *gamma_max
+ * (when not NULL) the largest normal damping gamma_n of a mobile grain against the wall
+ * (sim_damping_gamma, m_eff the grain's mass). Hertz contacts: both at an overlap of 1 % of
+ * that diameter (the tangent stiffness 3/2 k_n sqrt(xi), the dashpot gamma_n sqrt(xi)). */
+static double wall_stiffness(const SimWorldDef *def, int species, double *d_min, double *gamma_max)
 {
     const SimGrainSet *g = &def->grains;
-    double k = 0.0, d = INFINITY;
+    double k = 0.0, d = INFINITY, gamma = 0.0;
     for (int i = 0; i < g->count; ++i) {
         if (g->flags && (g->flags[i] & SIM_GRAIN_FIXED))
             continue;
         const int s = g->species ? g->species[i] : 0;
+        const double k_pair =
+            0.5 * (def->materials[s].normal_stiffness + def->materials[species].normal_stiffness);
         d = fmin(d, 2.0 * g->radius[i]);
-        k = fmax(k, 0.5 * (def->materials[s].normal_stiffness +
-                           def->materials[species].normal_stiffness));
+        k = fmax(k, k_pair);
+        if (gamma_max) {
+            const double m =
+                sim_grain_mass(def->mass_model, def->materials[s].density, g->radius[i]);
+            gamma = fmax(gamma, sim_damping_gamma(def->materials, s, species, k_pair, m));
+        }
     }
-    if (def->contact.normal == SIM_NORMAL_HERTZ && isfinite(d))
+    if (def->contact.normal == SIM_NORMAL_HERTZ && isfinite(d)) {
         k = 1.5 * k * sqrt(0.01 * d);
+        gamma *= sqrt(0.01 * d);
+    }
     *d_min = d;
+    if (gamma_max)
+        *gamma_max = gamma;
     return k;
 }
 
@@ -50,7 +62,7 @@ double sim_wall_servo_time(const SimWorldDef *def, int wall)
     if (!b->active || !b->servo)
         return INFINITY;
     double d;
-    const double k = wall_stiffness(def, def->walls[wall].species, &d);
+    const double k = wall_stiffness(def, def->walls[wall].species, &d, NULL);
     /* stress: a displacement u changes the stress by k u / d; force: by k u length / d */
     double per_speed = k / d * (b->servo == 2 ? wall_length(&def->walls[wall]) : 1.0);
     return isfinite(d) && per_speed > 0.0 ? 1.0 / (b->gain * per_speed) : (double)INFINITY;
@@ -71,23 +83,10 @@ double sim_wall_servo_damping(const SimWorldDef *def, int wall, double *row)
     const SimWallBody *b = &def->wall_bodies[wall];
     if (!b->active || !b->servo)
         return 0.0;
-    const SimGrainSet *g = &def->grains;
-    const int ws = def->walls[wall].species;
-    double gamma = 0.0, d = INFINITY;
-    for (int i = 0; i < g->count; ++i) {
-        if (g->flags && (g->flags[i] & SIM_GRAIN_FIXED))
-            continue;
-        const int s = g->species ? g->species[i] : 0;
-        d = fmin(d, 2.0 * g->radius[i]);
-        const double k =
-            0.5 * (def->materials[s].normal_stiffness + def->materials[ws].normal_stiffness);
-        const double m = sim_grain_mass(def->mass_model, def->materials[s].density, g->radius[i]);
-        gamma = fmax(gamma, sim_damping_gamma(def->materials, s, ws, k, m));
-    }
+    double d, gamma;
+    wall_stiffness(def, def->walls[wall].species, &d, &gamma);
     if (!isfinite(d))
         return 0.0;
-    if (def->contact.normal == SIM_NORMAL_HERTZ)
-        gamma *= sqrt(0.01 * d);
     const double length = wall_length(&def->walls[wall]);
     *row = floor(length / d) + 1.0;
     return b->gain * gamma / (b->servo == 2 ? 1.0 : length);
