@@ -209,12 +209,6 @@ static void hook_reduced_units(void *context, double force_unit, double speed_un
     renderer->speed_unit = speed_unit;
 }
 
-/* A style's colour bar in the run's reduced units (app_reduced_style). */
-static void reduced_style(const Renderer *renderer, RenderStyle *style)
-{
-    app_reduced_style(renderer->force_unit, renderer->speed_unit, style);
-}
-
 static void hook_provenance(void *context, const char *comment)
 {
     Renderer *renderer = context;
@@ -300,7 +294,7 @@ static int hook_movie_open(void *context, const Scene *scene, int stage, const c
     Renderer *renderer = context;
     RenderStyle style = app_render_style(&scene->style); /* axes off unless asked */
     app_render_names(scene, renderer->species, &style);
-    reduced_style(renderer, &style);
+    app_reduced_style(renderer->force_unit, renderer->speed_unit, &style);
     style.width += style.width % 2; /* H.264 needs even sizes */
     style.height += style.height % 2;
     snprintf(renderer->path, sizeof renderer->path, "%s", path);
@@ -593,7 +587,8 @@ static int hook_figure(void *context, const Scene *scene, const SceneFigure *fig
     RenderStyle style = app_render_style(&figure->style);
     const char *species[SIM_MAX_SPECIES];
     app_render_names(scene, species, &style);
-    reduced_style(context, &style);
+    const Renderer *renderer = context;
+    app_reduced_style(renderer->force_unit, renderer->speed_unit, &style);
     if (figure->style.axes < 0)
         style.axes = 1; /* figures have axes unless they say `axes = false` */
     RenderMeta meta = {
