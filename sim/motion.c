@@ -148,14 +148,15 @@ static double wrap_x(double x, double x0, double span)
     return wrapped < x0 + span ? wrapped : x0;
 }
 
-static void move_grains(SimWorld *w, const SimPose *pose, const int *turns)
+/* `only` >= 0: just what motion `only` moves (-1: every motion's grains and walls). */
+static void move_grains(SimWorld *w, const SimPose *pose, const int *turns, int only)
 {
     int moved = 0;
     const int periodic = (w->effects & SIM_EFFECT_PERIODIC_X) != 0;
     const double x0 = w->def.domain_x0, span = w->def.domain_x1 - w->def.domain_x0;
     for (int i = w->mobile_count; i < w->count; ++i) {
         const int m = w->motion[i];
-        if (m < 0)
+        if (m < 0 || (only >= 0 && m != only))
             continue;
         const SimPose *p = &pose[m];
         pose_apply(p, w->x_base[i], w->y_base[i], &w->x[i], &w->y[i]);
@@ -194,11 +195,11 @@ static double wall_moved(const SimWorld *w, int k, const SimPose *p, int turns)
                 hypot(now->x1 - ref->x1, now->y1 - ref->y1));
 }
 
-static void move_walls(SimWorld *w, const SimPose *pose, const int *turns)
+static void move_walls(SimWorld *w, const SimPose *pose, const int *turns, int only)
 {
     for (int k = 0; k < w->wall_count; ++k) {
         const int m = w->walls_base[k].motion;
-        if (m < 0)
+        if (m < 0 || (only >= 0 && m != only))
             continue;
         const SimPose *p = &pose[m];
         const SimWall *base = &w->walls_base[k];
@@ -220,7 +221,7 @@ static void move_walls(SimWorld *w, const SimPose *pose, const int *turns)
     }
 }
 
-void sim_motion_move(SimWorld *w, double t)
+static void move_motions(SimWorld *w, double t, int only)
 {
     SimPose pose[SIM_MAX_MOTIONS];
     int turns[SIM_MAX_MOTIONS];
@@ -228,8 +229,13 @@ void sim_motion_move(SimWorld *w, double t)
         pose[m] = world_pose(w, m, t);
         turns[m] = motion_turns(w->def.motions, m);
     }
-    move_grains(w, pose, turns);
-    move_walls(w, pose, turns);
+    move_grains(w, pose, turns, only);
+    move_walls(w, pose, turns, only);
+}
+
+void sim_motion_move(SimWorld *w, double t)
+{
+    move_motions(w, t, -1);
 }
 
 void sim_motion_mark_build(SimWorld *w)
@@ -247,8 +253,15 @@ void sim_world_set_motion(SimWorld *w, int motion, double on, double off)
         return;
     w->motion_on[motion] = on;
     w->motion_off[motion] = off;
-    if (w->effects & SIM_EFFECT_VIBRATION) /* poses and velocities follow the new clock now */
-        sim_motion_move(w, w->time);
+    /* The poses and velocities of what this motion moves follow its new clock now; the others
+     * stay where they are. A pose depends on its own motion's clock only (a composition's parts
+     * run on the composition's clock), and moving the others here would place them by clocks
+     * not yet set: a world resumed from a state, whose walls sit where the saved run left them
+     * while its clocks are still the defaults until each is set, would count those transient
+     * poses in the walls' shift since the last list build and rebuild earlier than the run it
+     * continues. */
+    if (w->effects & SIM_EFFECT_VIBRATION)
+        move_motions(w, w->time, motion);
 }
 
 /* Speed bound of one motion for points within `size` of the origin, m/s (compositions: the

@@ -292,6 +292,15 @@ add_test(NAME cli.resume_servo
                  ${CLI_DIR}/servo_lid.scene ${CLI_WORK}/resume_servo --set stages.press.time.end=1.5
                  --set output.walls.window=[1.0,1.5] --set output.checkpoint_every=0.7)
 set_tests_properties(cli.resume_servo PROPERTIES LABELS cli)
+# two motions running when a periodic checkpoint is taken (the lid pressed through `hold` too,
+# the side wall shearing): the resumed world sets their clocks one after the other, and a wall
+# placed by a clock not yet set must not count in the list's shift (the resumed .state's list
+# bookkeeping, build step and reference positions, equal the uninterrupted run's)
+add_test(NAME cli.resume_motions
+         COMMAND bash ${CLI_DIR}/resume.sh --outputs $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/motion_clock.scene ${CLI_WORK}/resume_motions
+                 --set output.checkpoint_every=0.3 --set stages.hold.motions=["press"])
+set_tests_properties(cli.resume_motions PROPERTIES LABELS cli)
 # walls.png (and walls.pdf) of output.walls, its axes labelled with their units
 # (tests/cli/walls_figure.sh, the figure lint tests/lint/figure_lint.py)
 add_test(NAME cli.walls_figure
