@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* ensemble.c: `sablier ensemble` (ensemble.h). Every (dt, seed) member is a child process of the
  * pool (app/pool.h) that execs `sablier run SCENE --out DIR --quiet --set ...` (or the command a
- * family names for its members, AppExperiment.member_command: `sablier discharge`) and records
+ * family names for its members, AppExperiment.member: `sablier discharge`) and records
  * that process's CPU time; after the pool the observables are read from the members' folders and
  * reduced (stats.h) into members.csv, ensemble.csv, ensemble.json and ensemble.png/.pdf, and one
  * answer line per observable on stdout. */
@@ -235,7 +235,7 @@ static void member_dir(const Ensemble *E, int member, char *dir, size_t size)
 }
 
 /* The --set values of the member at `value` with `seed`, after the command line's and the
- * family's (AppExperiment.member_sets): in buffers[3][80], pointers appended to sets. Returns
+ * family's (AppExperiment.member): in buffers[3][80], pointers appended to sets. Returns
  * the new count. */
 static int member_sets(const Options *o, const AppExperiment *family, double value, long seed,
                        const char **sets, char buffers[3][80])
@@ -243,8 +243,8 @@ static int member_sets(const Options *o, const AppExperiment *family, double val
     int n = 0;
     for (int k = 0; k < o->d.set_count; ++k)
         sets[n++] = o->d.sets[k];
-    for (int k = 0; family && family->member_sets && family->member_sets[k]; ++k)
-        sets[n++] = family->member_sets[k];
+    for (int k = 0; family && family->member->sets && family->member->sets[k]; ++k)
+        sets[n++] = family->member->sets[k];
     snprintf(buffers[0], 80, "seed=%ld", seed);
     sets[n++] = buffers[0];
     if (o->by_steps) {
@@ -259,7 +259,7 @@ static int member_sets(const Options *o, const AppExperiment *family, double val
     return n;
 }
 
-/* The family of the scene that names a member command (AppExperiment.member_command), or NULL
+/* The family of the scene that names a member command (AppExperiment.member), or NULL
  * (members are `sablier run`). 0, or the exit status when the scene does not load. */
 static int member_family(Ensemble *E)
 {
@@ -272,8 +272,8 @@ static int member_family(Ensemble *E)
     }
     E->family = NULL;
     for (int k = 0; app_experiments[k]; ++k)
-        if (app_experiments[k]->member_command &&
-            scene_experiment_state(scene, app_experiments[k]) && !E->family)
+        if (app_experiments[k]->member && scene_experiment_state(scene, app_experiments[k]) &&
+            !E->family)
             E->family = app_experiments[k];
     scene_free(scene);
     return 0;
@@ -309,8 +309,8 @@ static int resolve_levels(Ensemble *E)
                 return 2;
             }
         SimTiming t;
-        if (E->family && E->family->member_timing) {
-            t = E->family->member_timing(scene_experiment_state(scene, E->family), scene);
+        if (E->family && E->family->member->timing) {
+            t = E->family->member->timing(scene_experiment_state(scene, E->family), scene);
         } else {
             SimWorldDef def = scene_world_def(scene, scene->stage_count - 1);
             t = sim_world_def_timing(&def);
@@ -349,7 +349,7 @@ static int member_argv(Ensemble *E, int member)
         member_sets(o, E->family, level_value(E, member), member_seed(E, member), sets, buffers);
     const char *words[ENS_ARGV];
     int n = 0;
-    const char *command = E->family ? E->family->member_command : "run";
+    const char *command = E->family ? E->family->member->command : "run";
     const char *head[] = {"sablier", command, o->scene_path, "--out", dir, "--quiet"};
     for (size_t k = 0; k < sizeof head / sizeof head[0]; ++k)
         words[n++] = head[k];

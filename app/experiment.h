@@ -91,6 +91,16 @@ typedef struct AppCommand {
     int (*parse)(int argc, char **argv);
 } AppCommand;
 
+/// A family's ensemble member (AppExperiment.member): `sablier <command> SCENE --out DIR --quiet
+/// --set ...` with `sets` (NULL-ended, at most 4, or NULL) after the driver's own --set lines;
+/// `timing` gives the time step and steps per contact such a member uses with the scene as
+/// loaded (the last stage's world definition would give them for `sablier run`).
+typedef struct AppMember {
+    const char *command;
+    const char *const *sets;
+    SimTiming (*timing)(const void *state, const struct Scene *scene);
+} AppMember;
+
 typedef struct AppExperiment {
     const char *name;  ///< family name, also its folder: "crater"
     const char *group; ///< top-level scene key that declares it ("bne"), or NULL
@@ -152,15 +162,10 @@ typedef struct AppExperiment {
     const AppCommand *commands;
     int command_count;
 
-    /// Drivers that run one scene many times at chosen time steps (`sablier ensemble`): a
-    /// member of a scene of this family is `sablier <member_command> SCENE --out DIR --quiet
-    /// --set ...` (NULL: `sablier run`), with `member_sets` (NULL-ended, at most 4, or NULL)
-    /// after the driver's own --set lines, and member_timing (NULL: the last stage's world
-    /// definition) gives the time step and steps per contact such a member uses with the scene
-    /// as loaded.
-    const char *member_command;
-    const char *const *member_sets;
-    SimTiming (*member_timing)(const void *state, const struct Scene *scene);
+    /// How a driver that runs one scene many times at chosen time steps (`sablier ensemble`)
+    /// runs a member of a scene of this family, when the family's protocol is a command of its
+    /// own rather than `sablier run` (NULL: `sablier run`, with the last stage's timing).
+    const AppMember *member;
 } AppExperiment;
 
 #endif

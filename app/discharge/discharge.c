@@ -639,6 +639,8 @@ const AppDischargeDef *app_discharge_of(const Scene *scene)
 /* A member of `sablier ensemble` is one `sablier discharge` (every width of the scene's list)
  * with the time step the ensemble sets (time.dt or time.steps_per_contact). */
 static const char *const discharge_member_sets[] = {"discharge.dt_divisor=0", NULL};
+static const AppMember discharge_member = {
+    .command = "discharge", .sets = discharge_member_sets, .timing = discharge_member_timing};
 
 /* The protocol runs its own piles (deposition, relaxation, discharges) rather than the stage
  * runner: `sablier run` of a discharge scene runs its stages as any scene, and the commands
@@ -651,7 +653,5 @@ const AppExperiment app_discharge_experiment = {
     .free = discharge_free,
     .commands = app_discharge_commands,
     .command_count = 2,
-    .member_command = "discharge",
-    .member_sets = discharge_member_sets,
-    .member_timing = discharge_member_timing,
+    .member = &discharge_member,
 };

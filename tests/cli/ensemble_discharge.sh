@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 # cli.ensemble_discharge: `sablier ensemble` reaches the discharge protocol (thesis 004), whose
 # time step is its own (discharge.dt_divisor): members are `sablier discharge` runs with
-# discharge.dt_divisor = 0 and the listed time step (AppExperiment.member_command/member_sets).
+# discharge.dt_divisor = 0 and the listed time step (AppExperiment.member).
 # Checked: every member's summary.json has the level's dt, a member's s and h are those of the
 # same `sablier discharge` run by hand, --steps-per-contact halves dt when n doubles, a dt above
 # the protocol's stability limit is refused with nothing made, and dt_divisor = 0.5 is refused.
