@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # SPDX-License-Identifier: MIT
 # The shipped scenes under the figure lint (sourced by tests/lint/figures.sh scenes; ctest
 # lint.figures.scene.GROUP, docs/figures.md#figure-lint). scene_GROUP runs the group's scenes
@@ -10,6 +11,8 @@
 # To add a scene: a `run` and an `expect` line in its group's function (or a new scene_GROUP
 # and its name in tests/CMakeLists.txt's list).
 
+# from figures.sh: $sablier (an absolute path) and $work (the group's empty output folder)
+: "${sablier:?}" "${work:?}"
 pdf=(--quiet --set 'render.plot_format="pdf"')
 
 # run NAME COMMAND SCENE ARGS...: `sablier COMMAND scenes/SCENE` into $work/NAME (log NAME.log)

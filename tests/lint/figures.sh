@@ -43,7 +43,7 @@ scenes)
   rm -rf "$work"
   mkdir -p "$work"
   work=$(realpath "$work")
-  cd "$here/../.." # the scenes' paths are relative to the repository root
+  cd "$here/../.." || exit 1 # the scenes' paths are relative to the repository root
   # shellcheck source=tests/lint/figure_scenes.sh
   . "$here/figure_scenes.sh"
   "scene_$group" || { echo "figures.sh: a run of group $group failed (logs in $work)" >&2; exit 1; }
