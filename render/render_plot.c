@@ -1010,6 +1010,12 @@ static void draw_plot(cairo_t *cr, void *context)
     }
 }
 
+void render_plot_paint(cairo_t *cr, const RenderPlot *plot)
+{
+    PlotDraw d = {.plot = plot};
+    draw_plot(cr, &d);
+}
+
 int render_plot_limits(const RenderPlot *plot, int panel, double lim[4])
 {
     char err[128];

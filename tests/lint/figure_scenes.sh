@@ -107,12 +107,11 @@ scene_brazil_nut_bne() {
   done
 }
 
-# the bed with its profile panels is a raster composite, PNG only (docs/figures.md#plots):
-# checked to be there, not linted; the Shields scan's flux plot is
+# the bed with its profile panels (run) and the Shields scan's flux plot (sablier sediment)
 scene_sediment() {
   local cut=(--set stages.settle.time.end=2 --set stages.flow.time.end=2)
   run viscous run sediment/viscous.scene "${cut[@]}" --set 'output.movie=[]' &&
-    expect viscous bed.png &&
+    expect viscous bed.pdf &&
     run shields sediment sediment/viscous.scene --shields 0.4,0.8 "${cut[@]}" &&
     expect shields flux.pdf
 }
