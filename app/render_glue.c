@@ -387,7 +387,7 @@ static int side_by_side(const RenderImage *bed, const RenderImage *plot, int shi
  * (at least 360 pixels). */
 static int side_figure(const SimFrame *frame, const RenderStyle *figure_style, int print,
                        const RenderMeta *meta, const AppFigureExtras *extras, const char *path,
-                       char *err, size_t err_size)
+                       const char *other, char *err, size_t err_size)
 {
     enum { MAX_PANELS = 4, MAX_SERIES = 4 };
 
@@ -479,7 +479,8 @@ static int side_figure(const SimFrame *frame, const RenderStyle *figure_style, i
             break;
         r.height += grow;
     }
-    if (rc == 0 && side_by_side(&bed, &plot, (int)lround(view.plot_y - top_px), &out) != 0) {
+    int shift = (int)lround(view.plot_y - top_px);
+    if (rc == 0 && side_by_side(&bed, &plot, shift, &out) != 0) {
         snprintf(err, err_size, "out of memory");
         rc = -1;
     }
@@ -488,6 +489,11 @@ static int side_figure(const SimFrame *frame, const RenderStyle *figure_style, i
         snprintf(seed, sizeof seed, "%llu", (unsigned long long)meta->seed);
         const char *text[] = {"Software", "sablier", "Scene", meta->scene, "Seed", seed, NULL};
         rc = render_png_write(&out, path, text, err, err_size) == 0 ? 0 : -1;
+    }
+    if (rc == 0 && other) { /* the same page as vector PDF or SVG (render.plot_format) */
+        rc = render_figure_beside_write(frame, style, meta, &r, shift, other, err, err_size);
+        if (rc == 0)
+            app_output_note(other);
     }
     render_image_free(&bed);
     render_image_free(&plot);
@@ -615,15 +621,16 @@ static int hook_figure(void *context, const Scene *scene, const SceneFigure *fig
         extras && extras->side_panel_count > 0 && len > 4 && strcmp(path + len - 4, ".png") == 0;
     int print =
         !isnan(figure->style.size_w) || (figure->style.preset >= 0 && figure->style.preset <= 1);
-    int rc = side ? side_figure(frame, &style, print, &meta, extras, path, err, err_size)
+    /* render.plot_format = "pdf" or "svg": a PNG figure also in that format beside it */
+    char other[4096];
+    int also = beside_path(path, figure->style.plot_format, other) &&
+               !figure_written_as(scene, figure->name, other + strlen(other) - 3);
+    int rc = side ? side_figure(frame, &style, print, &meta, extras, path, also ? other : NULL, err,
+                                err_size)
                   : render_figure_write(frame, &style, &meta, path, err, err_size);
     if (rc == 0)
         app_output_note(path);
-    /* render.plot_format = "pdf" or "svg": a PNG figure also in that format beside it (the
-     * side panels' composite is PNG only) */
-    char other[4096];
-    if (rc == 0 && !side && beside_path(path, figure->style.plot_format, other) &&
-        !figure_written_as(scene, figure->name, other + strlen(other) - 3)) {
+    if (rc == 0 && !side && also) {
         rc = render_figure_write(frame, &style, &meta, other, err, err_size);
         if (rc == 0)
             app_output_note(other);

@@ -163,6 +163,14 @@ int render_plot_draw(const RenderPlot *plot, RenderImage *out, char *err, size_t
 /// Writes a plot: .png (libpng, text chunks), .pdf or .svg; temporary name then rename.
 int render_plot_write(const RenderPlot *plot, const RenderMeta *meta, const char *path, char *err,
                       size_t err_size);
+/// Writes a grain figure with a plot beside it (the sediment bed's profile panels) as one .pdf or
+/// .svg page, vector and text kept as text: the grains at `style`'s size on the left, the plot
+/// (its width x height) right of them with its rows moved down by `shift` pixels (a negative
+/// shift moves the grains down instead), white elsewhere, at `style->dpi`. The page is the PNG
+/// composite's size. 0 on success, else -1 and a message in err.
+int render_figure_beside_write(const SimFrame *frame, const RenderStyle *style,
+                               const RenderMeta *meta, const RenderPlot *plot, int shift,
+                               const char *path, char *err, size_t err_size);
 /// Pixel position of data point (x, y) in a panel, as drawn. 0, or -1 if outside the axes'
 /// domain (e.g. x <= 0 on a log axis).
 int render_plot_map(const RenderPlot *plot, int panel, double x, double y, double *px, double *py);

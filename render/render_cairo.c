@@ -1073,13 +1073,39 @@ int render_cairo_overlay(const SimFrame *frame, const RenderStyle *style, Render
     return rc;
 }
 
-int render_figure_write(const SimFrame *frame, const RenderStyle *style, const RenderMeta *meta,
-                        const char *path, char *err, size_t err_size)
+/* A grain figure and a plot side by side (render_figure_beside_write): each clipped to its own
+ * rectangle on a white page, the grains `top` pixels down, the plot `top + shift`. */
+typedef struct Beside {
+    DrawScene *scene;
+    const RenderPlot *plot;
+    int top, shift, width, height;
+} Beside;
+
+static void draw_beside(cairo_t *cr, void *context)
 {
-    if (!frame || !style || style->width <= 0 || style->height <= 0) {
-        snprintf(err, err_size, "%s: bad frame or style", path);
-        return -1;
-    }
+    const Beside *b = context;
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    cairo_save(cr);
+    cairo_translate(cr, 0, b->top);
+    cairo_rectangle(cr, 0, 0, b->scene->style.width, b->scene->style.height);
+    cairo_clip(cr);
+    draw_scene(cr, b->scene);
+    cairo_restore(cr);
+    cairo_save(cr);
+    cairo_translate(cr, b->scene->style.width, b->top + b->shift);
+    cairo_rectangle(cr, 0, 0, b->plot->width, b->plot->height);
+    cairo_clip(cr);
+    render_plot_paint(cr, b->plot);
+    cairo_restore(cr);
+}
+
+/* A figure of `frame` as one page with its provenance (render_provenance, the frame's time,
+ * step and renderer): the scene alone at its size, or with `b` (its scene filled in here) the
+ * grains and plot side by side on b's width x height. */
+static int figure_page(const SimFrame *frame, const RenderStyle *style, const RenderMeta *meta,
+                       Beside *b, const char *path, char *err, size_t err_size)
+{
     DrawScene sc;
     if (draw_scene_init(&sc, frame, style) != 0) {
         draw_scene_free(&sc);
@@ -1101,8 +1127,46 @@ int render_figure_write(const SimFrame *frame, const RenderStyle *style, const R
     text[n++] = renderer;
     text[n++] = NULL;
     text[n++] = NULL;
-    int rc = render_cairo_write_dpi(path, style->width, style->height, style->dpi, draw_scene, &sc,
+    int rc;
+    if (b) {
+        b->scene = &sc;
+        rc = render_cairo_write_dpi(path, b->width, b->height, style->dpi, draw_beside, b, text,
+                                    err, err_size);
+    } else {
+        rc = render_cairo_write_dpi(path, style->width, style->height, style->dpi, draw_scene, &sc,
                                     text, err, err_size);
+    }
     draw_scene_free(&sc);
     return rc;
+}
+
+int render_figure_beside_write(const SimFrame *frame, const RenderStyle *style,
+                               const RenderMeta *meta, const RenderPlot *plot, int shift,
+                               const char *path, char *err, size_t err_size)
+{
+    if (!frame || !style || style->width <= 0 || style->height <= 0 || !plot ||
+        render_plot_layout(plot, NULL, 0) < 0) {
+        snprintf(err, err_size, "%s: bad frame, style or plot", path);
+        return -1;
+    }
+    if (render_has_extension(path, "png")) {
+        snprintf(err, err_size, "%s: a figure with a plot beside it is .pdf or .svg", path);
+        return -1;
+    }
+    /* the PNG composite's geometry (app/render_glue.c side_by_side) */
+    Beside b = {.plot = plot, .top = shift < 0 ? -shift : 0, .shift = shift};
+    b.width = style->width + plot->width;
+    b.height = style->height + b.top > plot->height + shift + b.top ? style->height + b.top
+                                                                    : plot->height + shift + b.top;
+    return figure_page(frame, style, meta, &b, path, err, err_size);
+}
+
+int render_figure_write(const SimFrame *frame, const RenderStyle *style, const RenderMeta *meta,
+                        const char *path, char *err, size_t err_size)
+{
+    if (!frame || !style || style->width <= 0 || style->height <= 0) {
+        snprintf(err, err_size, "%s: bad frame or style", path);
+        return -1;
+    }
+    return figure_page(frame, style, meta, NULL, path, err, err_size);
 }

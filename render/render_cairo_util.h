@@ -58,6 +58,10 @@ void render_markup_min_script(cairo_t *cr, double size);
 
 typedef void (*RenderDrawFn)(cairo_t *cr, void *context);
 
+/* Draws a valid plot (render_plot_layout >= 0) at the origin of cr on its own width x height,
+ * white background included (render_plot.c). */
+void render_plot_paint(cairo_t *cr, const RenderPlot *plot);
+
 /// Draws with `draw` (in pixel units) into path: .png through libpng with text chunks
 /// (key/value pairs, NULL ended), .pdf (fixed dates: byte-identical reruns) or .svg, at
 /// width x height pixels. Temporary name, then rename. 0, or -1 with a message in err.

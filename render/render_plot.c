@@ -122,6 +122,7 @@ typedef struct Panel {
     AxisTicks xt, yt;
     double lw, lh, lfs;  /* legend frame (0 = none) and font size */
     RenderLegend legend; /* where it goes: a best legend too large for the axes goes outside */
+    double ylfs, ylc;    /* the y label's font size and the height of its centre, pixels */
 } Panel;
 
 /* The text boxes placed (render_plot_layout); NULL boxes = not recorded. */
@@ -416,6 +417,32 @@ static void legend_fit(cairo_t *cr, const RenderPanel *pn, double fs, Panel *g)
         g->legend = RENDER_LEGEND_OUTSIDE;
 }
 
+/* The y label runs along the axes, centred on them; one longer than the axes may reach into
+ * the cell's margins above and below them (its column left of the tick labels holds nothing
+ * else), so it is shifted to stay inside the cell, and one longer than the cell is set smaller
+ * (down to 0.7 em, as titles and legends) so that it never runs into the figure title or the
+ * panel below. */
+static void y_label_fit(cairo_t *cr, const RenderPanel *pn, double fs, Panel *g)
+{
+    double pad = 0.4 * fs, span = g->ch - 2 * pad, w = 0, h, b;
+    g->ylfs = fs;
+    g->ylc = g->ay + 0.5 * g->ah;
+    if (!pn->y.label)
+        return;
+    text_size(cr, pn->y.label, fs, 0, &w, &h, &b);
+    if (w > span && span > 0) {
+        g->ylfs = fmax(0.7 * fs, fs * span / w);
+        text_size(cr, pn->y.label, g->ylfs, 0, &w, &h, &b);
+    }
+    render_text_font(cr, fs, 0);
+    if (w >= span) { /* still longer than the cell: centred on it */
+        g->ylc = g->cy + 0.5 * g->ch;
+        return;
+    }
+    g->ylc = fmax(g->ylc, g->cy + pad + 0.5 * w);
+    g->ylc = fmin(g->ylc, g->cy + g->ch - pad - 0.5 * w);
+}
+
 /* Margins of the axes in their cell from the measured text around them. */
 static void panel_margins(const RenderPanel *pn, const Panel *g, const double sizes[6], double fs,
                           double m[4])
@@ -492,6 +519,7 @@ static int panel_layout(cairo_t *cr, const RenderPlot *p, int index, Panel *g)
         g->aw = fmax(1.0, g->cw - m[0] - m[1]);
         g->ah = fmax(1.0, g->ch - m[2] - m[3]);
     }
+    y_label_fit(cr, pn, fs, g);
     return 0;
 }
 
@@ -912,13 +940,15 @@ static void draw_labels(cairo_t *cr, const Panel *g, const RenderPanel *pn, doub
         record(rec, RENDER_TEXT_X_LABEL, panel, b, NULL);
     }
     if (pn->y.label) { /* turned a quarter anticlockwise: its ink above the baseline is left */
-        render_markup_measure(cr, pn->y.label, fs, &w, &a, &below);
-        double xb = g->ax - tl - gap - g->yt.wmax - gap - below, yc = g->ay + 0.5 * g->ah;
+        render_text_font(cr, g->ylfs, 0);
+        render_markup_measure(cr, pn->y.label, g->ylfs, &w, &a, &below);
+        double xb = g->ax - tl - gap - g->yt.wmax - gap - below, yc = g->ylc;
         cairo_save(cr);
         cairo_translate(cr, xb, yc);
         cairo_rotate(cr, -0.5 * SIM_PI);
-        render_markup_draw(cr, 0, 0, pn->y.label, fs, 0.5, 1, b);
+        render_markup_draw(cr, 0, 0, pn->y.label, g->ylfs, 0.5, 1, b);
         cairo_restore(cr);
+        render_text_font(cr, fs, 0);
         double r[4] = {xb + b[1], yc - b[2], xb + b[3], yc - b[0]};
         record(rec, RENDER_TEXT_Y_LABEL, panel, r, NULL);
     }
@@ -978,6 +1008,12 @@ static void draw_plot(cairo_t *cr, void *context)
         render_markup_draw(cr, 0.5 * p->width, 0.4 * fs, p->title, size, 0.5, 0, b);
         record(d->rec, RENDER_TEXT_TITLE, -1, b, NULL);
     }
+}
+
+void render_plot_paint(cairo_t *cr, const RenderPlot *plot)
+{
+    PlotDraw d = {.plot = plot};
+    draw_plot(cr, &d);
 }
 
 int render_plot_limits(const RenderPlot *plot, int panel, double lim[4])

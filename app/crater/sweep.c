@@ -55,6 +55,8 @@ typedef struct Sweep {
     char stage_names[SCENE_MAX_STAGES][SCENE_NAME_MAX];
     int stage_count, bed_stage;
     char bed_state[SWEEP_PATH];
+    SceneStyle print; /* the scene's `render` keys with --set: the comparison plots' print size
+                       * and render.plot_format (docs/figures.md#plots) */
 } Sweep;
 
 AppCraterSweepOptions app_crater_sweep_options_default(void)
@@ -523,6 +525,7 @@ static int write_plots(const Sweep *w)
     int rc = 0;
     snprintf(title, sizeof title, "%s: dimensionless energies (000 figs. 7.1-7.8, 7.20)", w->name);
     app_crater_chart_init(&plot, 2, 2, title);
+    plot.print = &w->print;
     for (int i = 0; i < w->member_count; ++i)
         app_crater_chart_energy_run(&plot, w->members[i].dir, w->members[i].label, NULL);
     snprintf(path, sizeof path, "%s/energy_panels.png", w->out_dir);
@@ -533,6 +536,7 @@ static int write_plots(const Sweep *w)
 
     snprintf(title, sizeof title, "%s: crater height (000 fig. 7.28)", w->name);
     app_crater_chart_init(&plot, 1, 1, title);
+    plot.print = &w->print;
     double x[MAX_MEMBERS], y[MAX_MEMBERS];
     int n = 0;
     for (int i = 0; i < w->member_count; ++i) {
@@ -554,6 +558,7 @@ static int write_plots(const Sweep *w)
 
     snprintf(title, sizeof title, "%s: final free-surface profiles (000 fig. 7.29)", w->name);
     app_crater_chart_init(&plot, 1, 1, title);
+    plot.print = &w->print;
     plot.width = 1200;
     for (int i = 0; i < w->member_count; ++i)
         app_crater_chart_profiles_run(&plot, 0, w->members[i].dir, 1, w->members[i].label);
@@ -687,6 +692,7 @@ static int setup(Sweep *w)
         return 2;
     }
     int bed = find_bed_stage(w, scene, bed_name);
+    w->print = scene->style;
     scene_free(scene);
     if (bed != 0)
         return 2;

@@ -252,7 +252,7 @@ static void plot_flux(const Scan *sc, const ScanResult *r)
          .dashed = 1,
          .rgb = APP_RGB_AUTO},
     };
-    AppPlotPanel panel = {.x_label = "Shields number \\Theta",
+    AppPlotPanel panel = {.x_label = "Shields number \\Theta (1)",
                           .y_label = "q^* = q / (d \\sqrt{(D_R - 1) g d})",
                           .legend = APP_LEGEND_UPPER_LEFT,
                           .series_count = isfinite(theta_c) ? 3 : 2,
@@ -267,9 +267,13 @@ static void plot_flux(const Scan *sc, const ScanResult *r)
                     .scene = "sediment",
                     .data_beside = 1}; /* flux.csv */
     char path[SCAN_PATH], err[512] = "";
+    /* the scene with the command's --set: its print keys (render.plot_format, size, style) */
+    Scene *scene = scene_load(sc->scene_path, sc->a.sets, sc->a.set_count, err, sizeof err);
+    plot.print = scene ? &scene->style : NULL;
     snprintf(path, sizeof path, "%s/flux.png", sc->out_dir);
     if (sc->render->plot(sc->render->context, &plot, path, err, sizeof err) != 0)
         fprintf(stderr, "sablier: sediment: %s: %s\n", path, err);
+    scene_free(scene);
 }
 
 static int write_scan_outputs(const Scan *sc, const int *status)

@@ -613,7 +613,8 @@ static int sediment_figure_extras(void *state, const SimFrame *frame, AppFigureE
                                        .series_count = 1,
                                        .series = &s->side_series[0]};
     s->side_panels[1] = (AppPlotPanel){.title = "grain fraction",
-                                       .x_label = "\\phi",
+                                       .x_label = "\\phi (1)",
+                                       .y_label = s->y_label,
                                        .legend = APP_LEGEND_NONE,
                                        .x_max = 1.0,
                                        .series_count = 1,

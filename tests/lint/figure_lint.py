@@ -102,14 +102,28 @@ def evenly(run, along):
     return min(steps) > 0 and max(steps) <= 1.25 * min(steps)
 
 
-def tick_groups(words, vertical):
-    """Rows (x axes) and columns (y axes, colour bars) of at least two numeric labels, each
-    alone on its line (a number inside a time stamp or a legend is no tick)."""
-    per_line = {}
+def in_list(group, words):
+    """A column of numbers that goes on, at the same left edge and step, with lines
+    that are not numbers alone (a legend's entries "0.5 wide", "0.75 narrow", "1.0", "1.5") is
+    a list, not a colour bar's ticks."""
+    step = (group[-1].y0 - group[0].y0) / (len(group) - 1)
+    members = {id(w) for w in group}
     for w in words:
-        per_line[w.line] = per_line.get(w.line, 0) + 1
+        if id(w) in members or OFFSET.match(w.text) or abs(w.x0 - group[0].x0) > ALIGN_PT:
+            continue
+        for end, sign in ((group[0], -1), (group[-1], 1)):
+            if abs(w.y0 - (end.y0 + sign * step)) <= 0.25 * step:
+                return True
+    return False
+
+
+def tick_groups(words, vertical):
+    """Rows (x axes) and columns (y axes, colour bars) of at least two numeric labels, on lines
+    of numbers only (a number inside a time stamp or a legend is no tick; pdftotext may join
+    close x tick labels into one line)."""
+    other = {w.line for w in words if not NUMBER.match(w.text)}
     numbers = [w for w in words
-               if NUMBER.match(w.text) and not vertical[w.line] and per_line[w.line] == 1]
+               if NUMBER.match(w.text) and not vertical[w.line] and w.line not in other]
     rows, cols = [], []
 
     def cluster(key, along, into):
@@ -133,6 +147,12 @@ def tick_groups(words, vertical):
     cluster(lambda w: w.y1, lambda w: w.x0, rows)  # rows: one baseline
     cluster(lambda w: w.x1, lambda w: w.y0, cols)  # columns: right-aligned (y axes)
     cluster(lambda w: w.x0, lambda w: w.y0, cols)  # columns: left-aligned (colour bars)
+    cols = [g for g in cols if not in_list(g, words)]
+    # a label in a row of three or more is an x tick, not a column's (the first x tick of one
+    # panel may share its left edge with a y tick of the panel above)
+    in_rows = {id(w) for r in rows if len(r) > 2 for w in r}
+    cols = [c for c in ([w for w in g if id(w) not in in_rows] for g in cols)
+            if len(c) > 1 and evenly(c, lambda w: w.y0)]
     unique = []
     cols.sort(key=len, reverse=True)
     for g in cols:  # a column aligned on both edges is found twice, or in parts
@@ -156,6 +176,7 @@ def tick_format(group):
 
 # a unit in brackets, "q / unit", a scaled variable "t* = t / sqrt(D/g)" or a reduced (starred,
 # dimensionless) quantity "E*_kin"
+OFFSET = re.compile("^\u00d710\\S*$")
 HAS_UNIT = re.compile(r"\(.+\)\s*$|\[.+\]\s*$|\s/\s|=|\*")
 
 
@@ -166,7 +187,7 @@ def axis_label(group, is_row, words, vertical):
     fs = max(w.y1 - w.y0 for w in group)
     best, best_gap = None, None
     for w in words:
-        if w in group:
+        if w in group or OFFSET.match(w.text):  # an axis' offset "×10⁴" is not its label
             continue
         if is_row:
             gap = w.y0 - y1

@@ -422,6 +422,32 @@ static int layout_sediment(void)
     return 0;
 }
 
+/* A y label longer than its axes (the crater sweep's crater_height.png, one column wide at
+ * 300 dpi, 9 pt): it stays inside the plot's cell, clear of the figure title above, and is set
+ * smaller, down to 0.7 of the font size, when it is longer than the cell (4.7 cm high). */
+static int layout_long_y_label(void)
+{
+    double x[3] = {0.1, 0.5, 1.0}, y[3] = {0.82, 0.61, 0.55};
+    RenderSeries s = {.count = 3, .x = x, .y = y, .rgb = RENDER_RGB_AUTO, .line = 1};
+    RenderPanel pn = {.x = {.label = "\\mu (1)"},
+                      .y = {.label = "crater height h = level - min y_s (m)"},
+                      .series_count = 1,
+                      .series = &s};
+    RenderPlot sizes[] = {
+        {.width = 1004, .height = 703, .dpi = 300, .title = "crater_standard: crater height"},
+        {.width = 1004, .height = 560, .dpi = 300, .title = "crater_standard: crater height"},
+    };
+    RenderPlotBox boxes[64];
+    for (size_t k = 0; k < sizeof sizes / sizeof sizes[0]; ++k) {
+        sizes[k].rows = sizes[k].cols = 1;
+        sizes[k].panels = &pn;
+        int n = layout_clean(&sizes[k], boxes, 64);
+        TEST_ASSERT(n > 0);
+        TEST_ASSERT(count_kind(boxes, n, RENDER_TEXT_Y_LABEL, 0) == 1);
+    }
+    return 0;
+}
+
 /* A missing value lifts the pen: no line is drawn across it. */
 static int nan_gap(void)
 {
@@ -636,5 +662,6 @@ static int script_floor(void)
 
 TEST_MAIN(TEST_CASE(nice_ticks), TEST_CASE(tick_labels), TEST_CASE(energy_panels),
           TEST_CASE(plot_files), TEST_CASE(layout_energy), TEST_CASE(layout_sediment),
-          TEST_CASE(nan_gap), TEST_CASE(legend_best), TEST_CASE(declared_domain), TEST_CASE(markup),
-          TEST_CASE(print_size), TEST_CASE(script_floor))
+          TEST_CASE(layout_long_y_label), TEST_CASE(nan_gap), TEST_CASE(legend_best),
+          TEST_CASE(declared_domain), TEST_CASE(markup), TEST_CASE(print_size),
+          TEST_CASE(script_floor))
