@@ -171,5 +171,12 @@ awk -F, 'NR == 1 { next }
         printf "%-6s %8s %9s %8s %9s %8s\n", "kind", "grains", "ns/ps", "vs7k", "Ir/ps", "vs7k"
         for (r = 1; r <= n; r++)
             printf "%-6s %8d %9.2f %8.2f %9.1f %8s\n", k[r], g[r], t[r], t[r] / t0[k[r]], i[r],
-                i0[k[r]] > 0 ? sprintf("%.3f", i[r] / i0[k[r]]) : "-"
+                (i0[k[r]] > 0 ? sprintf("%.3f", i[r] / i0[k[r]]) : "-")
+        for (r = 1; r < n; r += 2) # rows come in pairs: real, then bench, at each size
+            printf "real / bench at %d grains: time %.2f, instructions %s\n", g[r], t[r] / t[r + 1],
+                (i[r + 1] > 0 ? sprintf("%.3f", i[r] / i[r + 1]) : "-")
+        if (n >= 4)
+            printf "growth, real over bench: time %.2f, instructions %s\n",
+                (t[n - 1] / t[1]) / (t[n] / t[2]),
+                (i[1] > 0 && i[2] > 0 ? sprintf("%.3f", (i[n - 1] / i[1]) / (i[n] / i[2])) : "-")
     }' "$rows"
