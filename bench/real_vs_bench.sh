@@ -124,7 +124,8 @@ for f in $factors; do
         echo "== real $n grains: depositing to t = $deposit s (once; kept in $work)"
         # shellcheck disable=SC2046
         "$sablier" run "$scene" --out "$work/deposit-$f" "${base[@]}" $(widen "$f") \
-            --set "stages.deposit.time.end=$deposit" >"$work/deposit-$f.log" 2>&1
+            --set "stages.deposit.time.end=$deposit" >"$work/deposit-$f.log" 2>&1 ||
+            { echo "real_vs_bench.sh: deposit failed: $(tail -3 "$work/deposit-$f.log")" >&2; exit 1; }
         mv "$work/deposit-$f/deposit.state" "$work/deposit-$f.state"
     fi
     best=""
