@@ -45,7 +45,7 @@ while [ $# -gt 0 ]; do
     --no-instructions) instructions=0 ;;
     --build-dir) build_dir=$2; shift ;;
     --work) work=$2; shift ;;
-    -h | --help) sed -n '3,29p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    -h | --help) sed -n '3,28p' "${BASH_SOURCE[0]}"; exit 0 ;;
     *) echo "real_vs_bench.sh: unknown option $1" >&2; exit 2 ;;
     esac
     shift
