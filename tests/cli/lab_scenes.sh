@@ -11,8 +11,15 @@
 #   plane_shear  scenes/shear/plane_shear.scene at 1 m/s: the lid holds P = 2000 N/m within 4 %
 #                (time mean; the servo lags the dilating layer), mu = F_x / N lies in [0.2, 0.6]
 #                and the layer is sheared (the bulk moves faster near the base than the lid)
+#   plane_shear_lid  scenes/shear/plane_shear_lid.scene, 2 s of shear: the lid's centre moves in x
+#                at the motion's 0.5 m/s (after its ramp, to 1e-6 m) while its servo holds
+#                P = 2000 N/m within 1 % over the window [9, 10] s (time mean of walls.csv's
+#                stress, taken over the servo's `length`, and summary.json's)
 #   impact       scenes/impact/impact.scene as shipped (a drop of about 1.5 m): the source puts
-#                the projectile in, and it ends at rest with its bottom below the bed's surface
+#                the projectile in, and it ends at rest with its bottom below the bed's surface;
+#                output.depth: depth.csv's largest depth is summary.json's, reached at its t_max,
+#                the depth grows from above the surface to it and then stops (the last 0.5 s
+#                within 1 mm of the final depth, which is within 5 cm of the largest)
 set -u
 sablier=$1 repo=$2 work=$3 case=$4
 fail() { echo "cli.lab_scenes.$case: $*" >&2; exit 1; }
@@ -30,6 +37,9 @@ plane_shear)
   scene=$repo/scenes/shear/plane_shear.scene
   sets=(--set 'motions.slide.velocity=[1.0,0.0]' --set stages.shear.time.end=6.0
         --set 'output.walls.window=[11.0,14.0]') ;;
+plane_shear_lid)
+  scene=$repo/scenes/shear/plane_shear_lid.scene
+  sets=(--set stages.shear.time.end=2.0 --set 'output.walls.window=[9.0,10.0]') ;;
 impact)
   scene=$repo/scenes/impact/impact.scene
   sets=() ;;
@@ -61,6 +71,23 @@ if case == "impact":
     assert len(end) == len(bed) + 1 and projectile["r"] == 0.15, projectile
     assert projectile["y"] - projectile["r"] < surface, (projectile, surface)
     assert speed < 0.05, speed
+    rows = [{k: (v if k == "stage" else float(v)) for k, v in r.items()}
+            for r in csv.DictReader(open(os.path.join(run, "depth.csv")))]
+    assert list(rows[0]) == ["t (s)", "stage", "depth (m)", "bottom (m)", "x (m)", "surface (m)"]
+    depth = json.load(open(os.path.join(run, "summary.json")))["depth"]
+    d = [r["depth (m)"] for r in rows]
+    t = [r["t (s)"] for r in rows]
+    k = d.index(max(d))
+    print("depth: %d rows from t = %.2f s, from %.3f m to max %.4f m at %.2f s, final %.4f m; "
+          "summary %s" % (len(rows), t[0], d[0], d[k], t[k], d[-1], depth))
+    assert all(r["stage"] == "impact" for r in rows) and t[0] == 4.0, rows[0]
+    assert depth["species"] == "projectile" and depth["rows"] == len(rows), depth
+    assert abs(depth["max"] - max(d)) <= 1e-8 * abs(max(d)), (depth, max(d))
+    assert abs(depth["t_max"] - t[k]) < 1e-9, (depth, t[k])
+    assert d[0] < 0.0 < d[k], d[:3]  # it starts above the surface, ends below
+    assert d[-1] > d[k] - 0.05 and abs(d[-1] - (surface - projectile["y"] + projectile["r"])) < 0.05
+    late = [x for x, tt in zip(d, t) if tt >= t[-1] - 0.5]
+    assert max(late) - min(late) < 1e-3, late
     sys.exit(0)
 rows = list(csv.DictReader(open(os.path.join(run, "walls.csv"))))
 walls = {}
@@ -90,6 +117,20 @@ elif case == "janssen":
           (weight, nominal, base, base / weight))
     assert abs(weight - nominal) < 0.05 * nominal, (weight, nominal)
     assert base < 0.9 * weight, (base, weight)
+elif case == "plane_shear_lid":
+    lid = walls[0]
+    moving = [r for r in lid if r["t"] >= 8.5 + 1e-9]
+    err = max(abs(r["x"] - (1.0 + 0.5 * (r["t"] - 8.0) - 0.125)) for r in moving)
+    pick = [r["stress"] for r in lid if t0 <= r["t"] <= t1]
+    mean_stress = sum(pick) / len(pick)
+    print("plane_shear_lid: %d rows after the ramp, x off by %.3g m at most; P %.2f N/m "
+          "(summary %.2f), offset %.3f m, mu %.3f" % (len(moving), err, mean_stress,
+                                                    mean[0]["stress"], mean[0]["offset"],
+                                                    mean[0]["fx"] / mean[0]["normal"]))
+    assert len(moving) >= 70 and err < 1e-6, err
+    assert abs(mean_stress - 2000.0) < 0.01 * 2000.0, mean_stress
+    assert abs(mean[0]["stress"] - 2000.0) < 0.01 * 2000.0, mean[0]
+    assert mean[0]["offset"] > 0.1, mean[0]
 elif case == "plane_shear":
     lid = mean[0]
     mu = lid["fx"] / lid["normal"]
