@@ -11,15 +11,16 @@
 #   plane_shear  scenes/shear/plane_shear.scene at 1 m/s: the lid holds P = 2000 N/m within 4 %
 #                (time mean; the servo lags the dilating layer), mu = F_x / N lies in [0.2, 0.6]
 #                and the layer is sheared (the bulk moves faster near the base than the lid)
-#   plane_shear_lid  scenes/shear/plane_shear_lid.scene, 2 s of shear: the lid's centre moves in x
-#                at the motion's 0.5 m/s (after its ramp, to 1e-6 m) while its servo holds
-#                P = 2000 N/m within 1 % over the window [9, 10] s (time mean of walls.csv's
-#                stress, taken over the servo's `length`, and summary.json's)
+#   plane_shear_lid  scenes/shear/plane_shear_lid.scene as shipped (12 s of shear): the lid's
+#                centre moves in x at the motion's 0.5 m/s (after its ramp, to 1e-6 m) while its
+#                servo holds P = 2000 N/m within 1 % over the window [10, 20] s (time mean of
+#                walls.csv's stress, taken over the servo's `length`, and summary.json's)
 #   impact       scenes/impact/impact.scene as shipped (a drop of about 1.5 m): the source puts
 #                the projectile in, and it ends at rest with its bottom below the bed's surface;
 #                output.depth: depth.csv's largest depth is summary.json's, reached at its t_max,
 #                the depth grows from above the surface to it and then stops (the last 0.5 s
-#                within 1 mm of the final depth, which is within 5 cm of the largest)
+#                within 1 cm, the final depth within 5 cm of the largest and equal to the
+#                final state's)
 set -u
 sablier=$1 repo=$2 work=$3 case=$4
 fail() { echo "cli.lab_scenes.$case: $*" >&2; exit 1; }
@@ -39,7 +40,7 @@ plane_shear)
         --set 'output.walls.window=[11.0,14.0]') ;;
 plane_shear_lid)
   scene=$repo/scenes/shear/plane_shear_lid.scene
-  sets=(--set stages.shear.time.end=2.0 --set 'output.walls.window=[9.0,10.0]') ;;
+  sets=() ;;
 impact)
   scene=$repo/scenes/impact/impact.scene
   sets=() ;;
@@ -85,9 +86,11 @@ if case == "impact":
     assert abs(depth["max"] - max(d)) <= 1e-8 * abs(max(d)), (depth, max(d))
     assert abs(depth["t_max"] - t[k]) < 1e-9, (depth, t[k])
     assert d[0] < 0.0 < d[k], d[:3]  # it starts above the surface, ends below
-    assert d[-1] > d[k] - 0.05 and abs(d[-1] - (surface - projectile["y"] + projectile["r"])) < 0.05
+    assert d[-1] > d[k] - 0.05, (d[-1], d[k])
+    bottom = projectile["y"] - projectile["r"]  # the final state's
+    assert abs(d[-1] - (depth["surface"] - bottom)) < 1e-6, (d[-1], depth["surface"], bottom)
     late = [x for x, tt in zip(d, t) if tt >= t[-1] - 0.5]
-    assert max(late) - min(late) < 1e-3, late
+    assert max(late) - min(late) < 0.01, late  # it rocks by a few mm in the settling bed
     sys.exit(0)
 rows = list(csv.DictReader(open(os.path.join(run, "walls.csv"))))
 walls = {}
