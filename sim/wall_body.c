@@ -358,5 +358,11 @@ void sim_wall_bodies_read(SimWorld *w, FILE *f)
     for (size_t k = 0; k < n; ++k)
         if (!read || !isfinite(s[k]) || !isfinite(u[k]))
             s[k] = u[k] = 0.0;
+    /* The list's wall shift is the saved one (an exact continuation restored it; otherwise the
+     * world is rebuilt): a wall that also follows a motion is placed here with its motion's pose
+     * under the clock the world was created with, which the stage's clock then replaces
+     * (sim_world_set_motion), and that interim place must not ask for a list build. */
+    const double shift = w->wall_shift;
     sim_wall_bodies_place(w);
+    w->wall_shift = shift;
 }
