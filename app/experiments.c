@@ -27,11 +27,13 @@
     APP_FAMILY(surface)
 
 /* The core layers on the hook table, called after every family: coarse-grained measures
- * (app/measures.h), then the forces on walls (app/wall_loads.c). They are app core, not families:
+ * (app/measures.h), the forces on walls (app/wall_loads.c), then a projectile's depth
+ * (app/depth.c). They are app core, not families:
  * any scene may use them and families may read them. */
 #define APP_CORE_LAYERS                                                                            \
     APP_FAMILY(measures)                                                                           \
-    APP_FAMILY(wall_loads)
+    APP_FAMILY(wall_loads)                                                                         \
+    APP_FAMILY(depth)
 
 #define APP_FAMILY(name) extern const AppExperiment app_##name##_experiment;
 APP_FAMILIES

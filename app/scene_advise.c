@@ -65,13 +65,14 @@ static int holder(const Scene *scene, unsigned used, int m)
     return -1;
 }
 
-/* The walls that respond to the grains (a mass or a servo), as "walls 1, 3", into text. */
+/* The walls that respond to the grains (a mass or a servo) and follow no motion, as "walls 1, 3",
+ * into text. */
 static void responding_walls(const Scene *scene, char *text, size_t size)
 {
     size_t n = 0;
     text[0] = '\0';
     for (int k = 0; scene->wall_bodies && k < scene->def.wall_count && n < size; ++k)
-        if (scene->wall_bodies[k].active)
+        if (scene->wall_bodies[k].active && scene->walls[k].motion < 0)
             n += (size_t)snprintf(text + n, size - n, "%s%d", n ? ", " : "; walls ", k);
     if (n && n < size)
         snprintf(text + n, size - n,

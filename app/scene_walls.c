@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* scene_walls.c: the keys that make a wall respond to the grains (docs/scenes.md, "Walls that
- * respond"): walls.N.mass, axis, force, gravity and servo = {stress | force, gain, max_speed},
- * into sim.h's SimWallBody. sim checks the rest (the servo's stability rule) against the stage's
- * time step, with walls[N] mapped back to the wall's line. */
+ * respond"): walls.N.mass, axis, force, gravity and servo = {stress | force, gain, max_speed,
+ * length | between}, into sim.h's SimWallBody (a `motion` of the wall moves it across its axis).
+ * sim checks the rest (the servo's stability rule, the motion's direction, the `between` walls'
+ * geometry) against the stage's time step, with walls[N] mapped back to the wall's line. */
 #include "scene_internal.h"
 
 #include <math.h>
@@ -33,10 +34,50 @@ static int parse_axis(Loader *L, const config_setting_t *g, const SimWall *w, Si
     return 0;
 }
 
-/* servo = {stress = S | force = F, gain = G, max_speed = V}. */
-static int parse_servo(Loader *L, const config_setting_t *g, const char *what, SimWallBody *b)
+/* A stress servo's `length = L` (m) or `between = [i, j]` (two walls of the list, by index),
+ * the length its target is taken over (sim.h SimWallBody length_kind; sim checks the walls'
+ * geometry). */
+static int parse_servo_length(Loader *L, const config_setting_t *servo, const char *name, int k,
+                              SimWallBody *b)
 {
-    static const char *const keys[] = {"stress", "force", "gain", "max_speed", NULL};
+    const config_setting_t *length = app_config_member(servo, "length");
+    const config_setting_t *between = app_config_member(servo, "between");
+    if (!length && !between)
+        return 0;
+    if (b->servo != 1 || (length && between))
+        return app_config_fail(&L->p, length ? length : between,
+                               "%s: `length` or `between` (one of them) is for a `stress` target",
+                               name);
+    if (length) {
+        b->length_kind = 1;
+        return app_config_number(&L->p, servo, "length", &b->length) < 0 ||
+                       app_config_positive(&L->p, servo, "length", b->length) < 0
+                   ? -1
+                   : 0;
+    }
+    double pair[2];
+    const int count = config_setting_length(config_setting_parent(config_setting_parent(servo)));
+    if (app_config_vector(&L->p, servo, "between", pair, 2) < 0)
+        return -1;
+    for (int j = 0; j < 2; ++j) {
+        if (!(pair[j] >= 0.0 && pair[j] < count && pair[j] == floor(pair[j]) && pair[j] != k &&
+              pair[j] != pair[1 - j]))
+            return app_config_fail(&L->p, between,
+                                   "%s.between: two other walls of the list, by index (0 to %d, "
+                                   "not %d)",
+                                   name, count - 1, k);
+        b->between[j] = (int)pair[j];
+    }
+    b->length_kind = 2;
+    return 0;
+}
+
+/* servo = {stress = S | force = F, gain = G, max_speed = V, length = L | between = [i, j]}. */
+static int parse_servo(Loader *L, const config_setting_t *g, const char *what, int k,
+                       SimWallBody *b)
+{
+    static const char *const keys[] = {"stress", "force",   "gain", "max_speed",
+                                       "length", "between", NULL};
     const config_setting_t *servo;
     char name[48];
     snprintf(name, sizeof name, "%s.servo", what);
@@ -54,7 +95,8 @@ static int parse_servo(Loader *L, const config_setting_t *g, const char *what, S
         app_config_need_number(&L->p, servo, "gain", name, &b->gain) < 0 ||
         app_config_positive(&L->p, servo, "gain", b->gain) < 0 ||
         app_config_need_number(&L->p, servo, "max_speed", name, &b->max_speed) < 0 ||
-        app_config_positive(&L->p, servo, "max_speed", b->max_speed) < 0)
+        app_config_positive(&L->p, servo, "max_speed", b->max_speed) < 0 ||
+        parse_servo_length(L, servo, name, k, b) < 0)
         return -1;
     if (!(b->target >= 0.0))
         return app_config_fail(&L->p, app_config_member(servo, stress ? "stress" : "force"),
@@ -92,12 +134,8 @@ int loader_parse_wall_body(Loader *L, const config_setting_t *g, const char *wha
         (app_config_member(g, "mass") && app_config_positive(&L->p, g, "mass", b->mass) < 0) ||
         app_config_vector(&L->p, g, "force", force, 2) < 0 ||
         app_config_bool(&L->p, g, "gravity", &b->gravity) < 0 ||
-        (app_config_member(g, "servo") && parse_servo(L, g, what, b) < 0))
+        (app_config_member(g, "servo") && parse_servo(L, g, what, k, b) < 0))
         return -1;
-    if (w->motion >= 0)
-        return app_config_fail(&L->p, app_config_member(g, "motion"),
-                               "%s: a wall with a mass or a servo cannot also follow a motion",
-                               what);
     if (!b->servo && !app_config_member(g, "mass"))
         return app_config_fail(&L->p, g, "%s: a responding wall needs a `mass` or a `servo`", what);
     b->force_x = force[0];

@@ -175,6 +175,9 @@ struct SimWorld {
     int *wall_touch;
     SimWallBody *bodies;
     double *body_s, *body_u;
+    /* a responding wall's motion across its axis, 4 per wall: its offset (x, y), m, and
+     * velocity, m/s (zero without a motion; motion.c move_walls) */
+    double *body_m;
     int pending_removal; /* grains flagged SIM_GRAIN_REMOVED wait for the next build */
     int drop_history;    /* the list refers to a state that was replaced: carry nothing over */
     int exact_restored;  /* loaded with a state's exact-continuation section (resume.c) */
@@ -283,6 +286,11 @@ void sim_motion_move(SimWorld *world, double t);
 void sim_wall_bodies_step(SimWorld *world);
 /* Places the responding walls at their offsets (after create or a state load). */
 void sim_wall_bodies_place(SimWorld *world);
+/* Places responding wall k: its motion's offset (body_m) plus its offset along the axis. */
+void sim_wall_body_place(SimWorld *world, int k);
+/* Why motion `index` cannot move a wall that responds along (axis_x, axis_y): it turns, or it
+ * has a part along the axis; NULL when it only moves across it (an axis (0, 0): turns only). */
+const char *sim_motion_across(const SimMotion *motions, int index, double axis_x, double axis_y);
 /* NULL when the responding walls of def are valid at time step dt, else what is wrong, with the
  * wall's index in *wall. */
 const char *sim_wall_bodies_problem(const SimWorldDef *def, double dt, int *wall, char *buf,

@@ -243,6 +243,13 @@ typedef struct SimWallBody {
     double target;           ///< N/m (stress) or N (force)
     double gain;             ///< servo gain, m/s per N/m (stress) or per N (force)
     double max_speed;        ///< servo speed cap, m/s
+    /// The length a stress target is taken over (measured = N / length; docs/scenes.md,
+    /// "servo"): 0 the wall's own length, 1 `length` (m), 2 the current distance across the
+    /// axis between walls `between[0]` and `between[1]` (segments parallel to the axis: the
+    /// sample's width between them, as Yade's TriaxialStressController takes the box size).
+    int length_kind;
+    double length;  ///< m (length_kind 1)
+    int between[2]; ///< wall indices (length_kind 2)
 } SimWallBody;
 
 /// What the grains do to a wall in the last force evaluation, and where it is.

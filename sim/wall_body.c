@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* wall_body.c: walls that respond to the grains (sim.h SimWallBody): free pistons of a given
- * mass and servo-controlled walls, each a rigid translation along its axis, and the load the
+ * mass and servo-controlled walls, each a rigid translation along its axis (plus, with a motion,
+ * the motion's translation across it), and the load the
  * grains put on every wall (SimWallLoad). The loads are summed by the wall pass
  * (sim/isa/contact_pass.c) in the wall list's order, serially: the same bits for any thread
  * count. The bodies move once per step, after the step's last force evaluation (symplectic
@@ -19,6 +20,21 @@ static double wall_length(const SimWall *w)
     if (w->shape == SIM_WALL_ARC)
         return w->radius * fmin(w->angle1 - w->angle0, 2.0 * SIM_PI);
     return hypot(w->x1 - w->x0, w->y1 - w->y0);
+}
+
+/* The length responding wall k's stress target is taken over (SimWallBody length_kind), m, with
+ * the walls where they are (`walls`: now, or as defined before a run): its own length, a given
+ * one, or the distance across its axis t = (-a_y, a_x) between the two walls it names, |(p_1 -
+ * p_0).t| for a point p of each (segments parallel to the axis). */
+static double servo_length(const SimWall *walls, int k, const SimWallBody *b)
+{
+    if (b->length_kind == 1)
+        return b->length;
+    if (b->length_kind == 2) {
+        const SimWall *a = &walls[b->between[0]], *c = &walls[b->between[1]];
+        return fabs((c->y0 - a->y0) * b->axis_x - (c->x0 - a->x0) * b->axis_y);
+    }
+    return wall_length(&walls[k]);
 }
 
 /* The smallest mobile diameter of def's grains (INFINITY without mobile grains), and the largest
@@ -87,9 +103,47 @@ double sim_wall_servo_damping(const SimWorldDef *def, int wall, double *row)
     wall_stiffness(def, def->walls[wall].species, &d, &gamma);
     if (!isfinite(d))
         return 0.0;
-    const double length = wall_length(&def->walls[wall]);
+    const double length = servo_length(def->walls, wall, b);
     *row = floor(length / d) + 1.0;
     return b->gain * gamma / (b->servo == 2 ? 1.0 : length);
+}
+
+/* The problem of responding wall k's stress length (SimWallBody length_kind); NULL: sound. */
+static const char *length_problem(const SimWorldDef *def, int k, char *buf, size_t size)
+{
+    const SimWallBody *b = &def->wall_bodies[k];
+    if (b->length_kind == 0)
+        return NULL;
+    if (b->servo != 1)
+        return "a servo's length is for a stress target (a force needs none)";
+    if (b->length_kind == 1)
+        return b->length > 0.0 && isfinite(b->length) ? NULL : "its servo length must be > 0";
+    if (b->length_kind != 2)
+        return "unknown servo length kind";
+    for (int j = 0; j < 2; ++j) {
+        const int n = b->between[j];
+        if (n < 0 || n >= def->wall_count || n == k || n == b->between[1 - j]) {
+            snprintf(buf, size,
+                     "its servo's `between` names wall %d: it needs two other walls of the %d", n,
+                     def->wall_count);
+            return buf;
+        }
+        const SimWall *w = &def->walls[n];
+        const double ex = w->x1 - w->x0, ey = w->y1 - w->y0;
+        if (w->shape == SIM_WALL_ARC ||
+            !(fabs(ex * b->axis_y - ey * b->axis_x) <= 1e-9 * hypot(ex, ey)) ||
+            (w->motion >= 0 && w->motion < def->motion_count &&
+             sim_motion_across(def->motions, w->motion, 0.0, 0.0))) {
+            snprintf(buf, size,
+                     "its servo's `between` names wall %d, which is not a segment parallel to "
+                     "its axis (that stays so: no turning motion)",
+                     n);
+            return buf;
+        }
+    }
+    if (!(servo_length(def->walls, k, b) > 0.0))
+        return "its servo's `between` walls are at no distance from each other";
+    return NULL;
 }
 
 /* The problem of one responding wall k, written into buf; NULL when it is sound. */
@@ -100,8 +154,15 @@ static const char *body_problem(const SimWorldDef *def, int k, double dt, double
     const double norm = hypot(b->axis_x, b->axis_y);
     if (!(fabs(norm - 1.0) < 1e-9))
         return "the axis of a responding wall must be a unit vector";
-    if (def->walls[k].motion >= 0)
-        return "a wall with a mass or a servo cannot also follow a motion";
+    const int motion = def->walls[k].motion;
+    const char *across = motion >= 0 && motion < def->motion_count
+                             ? sim_motion_across(def->motions, motion, b->axis_x, b->axis_y)
+                             : NULL;
+    if (across)
+        return across;
+    const char *length = length_problem(def, k, buf, size);
+    if (length)
+        return length;
     if (!(isfinite(b->force_x) && isfinite(b->force_y)))
         return "its applied force is not finite";
     if (!b->servo) {
@@ -163,30 +224,34 @@ const char *sim_wall_bodies_problem(const SimWorldDef *def, double dt, int *wall
     return NULL;
 }
 
+void sim_wall_body_place(SimWorld *w, int k)
+{
+    const SimWallBody *b = &w->bodies[k];
+    const double *mine = &w->body_m[4 * k]; /* its motion, across the axis */
+    const double ox = mine[0] + w->body_s[k] * b->axis_x, oy = mine[1] + w->body_s[k] * b->axis_y;
+    const SimWall *base = &w->walls_base[k];
+    SimWall *now = &w->walls[k];
+    now->x0 = base->x0 + ox;
+    now->y0 = base->y0 + oy;
+    now->x1 = base->x1 + ox;
+    now->y1 = base->y1 + oy;
+    now->center_x = base->center_x + ox;
+    now->center_y = base->center_y + oy;
+    w->wall_vx[k] = mine[2] + w->body_u[k] * b->axis_x;
+    w->wall_vy[k] = mine[3] + w->body_u[k] * b->axis_y;
+    w->wall_ox[k] = ox;
+    w->wall_oy[k] = oy;
+    const double shift = hypot(ox - w->wall_ref_dx[k], oy - w->wall_ref_dy[k]);
+    w->wall_shift = fmax(shift, w->wall_shift);
+}
+
 void sim_wall_bodies_place(SimWorld *w)
 {
     if (!w->bodies)
         return;
-    for (int k = 0; k < w->wall_count; ++k) {
-        const SimWallBody *b = &w->bodies[k];
-        if (!b->active)
-            continue;
-        const double ox = w->body_s[k] * b->axis_x, oy = w->body_s[k] * b->axis_y;
-        const SimWall *base = &w->walls_base[k];
-        SimWall *now = &w->walls[k];
-        now->x0 = base->x0 + ox;
-        now->y0 = base->y0 + oy;
-        now->x1 = base->x1 + ox;
-        now->y1 = base->y1 + oy;
-        now->center_x = base->center_x + ox;
-        now->center_y = base->center_y + oy;
-        w->wall_vx[k] = w->body_u[k] * b->axis_x;
-        w->wall_vy[k] = w->body_u[k] * b->axis_y;
-        w->wall_ox[k] = ox;
-        w->wall_oy[k] = oy;
-        const double shift = hypot(ox - w->wall_ref_dx[k], oy - w->wall_ref_dy[k]);
-        w->wall_shift = fmax(shift, w->wall_shift);
-    }
+    for (int k = 0; k < w->wall_count; ++k)
+        if (w->bodies[k].active)
+            sim_wall_body_place(w, k);
 }
 
 /* The speed of responding wall k after this step, m/s. */
@@ -198,7 +263,7 @@ static double body_speed(const SimWorld *w, int k)
     if (b->servo) {
         double measured = -along;
         if (b->servo == 1)
-            measured /= wall_length(&w->walls_base[k]);
+            measured /= servo_length(w->walls, k, b);
         const double u = b->gain * (b->target - measured);
         return fmax(-b->max_speed, fmin(b->max_speed, u));
     }
@@ -246,6 +311,8 @@ int sim_world_wall_load(const SimWorld *w, int wall, SimWallLoad *load)
             len > 0.0 ? (l[0] * (now->x1 - now->x0) + l[1] * (now->y1 - now->y0)) / len : 0.0;
     }
     if (w->bodies && w->bodies[wall].active) {
+        if (w->bodies[wall].servo == 1) /* the length its stress target is taken over */
+            load->length = servo_length(w->walls, wall, &w->bodies[wall]);
         load->offset = w->body_s[wall];
         load->speed = w->body_u[wall];
     }
@@ -291,5 +358,11 @@ void sim_wall_bodies_read(SimWorld *w, FILE *f)
     for (size_t k = 0; k < n; ++k)
         if (!read || !isfinite(s[k]) || !isfinite(u[k]))
             s[k] = u[k] = 0.0;
+    /* The list's wall shift is the saved one (an exact continuation restored it; otherwise the
+     * world is rebuilt): a wall that also follows a motion is placed here with its motion's pose
+     * under the clock the world was created with, which the stage's clock then replaces
+     * (sim_world_set_motion), and that interim place must not ask for a list build. */
+    const double shift = w->wall_shift;
     sim_wall_bodies_place(w);
+    w->wall_shift = shift;
 }

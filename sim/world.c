@@ -908,6 +908,7 @@ static SimWorld *create(const SimWorldDef *def, int restored, SimError *error)
         w->bodies = malloc(nw * sizeof *w->bodies);
         w->body_s = calloc(nw, sizeof(double));
         w->body_u = calloc(nw, sizeof(double));
+        w->body_m = calloc(4 * nw, sizeof(double));
         if (w->bodies)
             memcpy(w->bodies, def->wall_bodies, nw * sizeof *w->bodies);
     }
@@ -915,7 +916,8 @@ static SimWorld *create(const SimWorldDef *def, int restored, SimError *error)
     if (!w->walls_base || !w->walls || !w->wall_vx || !w->wall_vy || !w->wall_omega ||
         !w->wall_ox || !w->wall_oy || !w->wall_ref_dx || !w->wall_ref_dy || !w->walls_ref ||
         !w->wall_load || !w->wall_touch ||
-        (def->wall_bodies && def->wall_count > 0 && (!w->bodies || !w->body_s || !w->body_u))) {
+        (def->wall_bodies && def->wall_count > 0 &&
+         (!w->bodies || !w->body_s || !w->body_u || !w->body_m))) {
         sim_world_destroy(w);
         sim_fail(error, SIM_ERROR_MEMORY, "", "out of memory creating the world");
         return NULL;
@@ -991,6 +993,7 @@ void sim_world_destroy(SimWorld *w)
     free(w->bodies);
     free(w->body_s);
     free(w->body_u);
+    free(w->body_m);
     free(w->good.data);
     free(w->good.ints);
     free(w->good.flags);

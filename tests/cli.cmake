@@ -271,9 +271,9 @@ add_test(NAME cli.servo_damping_warning COMMAND $<TARGET_FILE:sablier> check ${C
 set_tests_properties(cli.servo_damping_warning PROPERTIES LABELS cli PASS_REGULAR_EXPRESSION
   "servo_lid.scene:15: warning: wall 3's servo flips its speed every step once 10 grains touch it[^\n]*gain below 0.000454545")
 # the scenes of docs/experiments.md for controlled boundaries (biaxial compression, Janssen silo,
-# plane shear, impact) load and a shortened run of each shows its physics
+# plane shear by the base and by the lid, impact with its depth in time) load and a shortened run of each shows its physics
 # (tests/cli/lab_scenes.sh)
-foreach(case biaxial janssen plane_shear impact)
+foreach(case biaxial janssen plane_shear plane_shear_lid impact)
   add_test(NAME cli.lab_scenes.${case}
            COMMAND bash ${CLI_DIR}/lab_scenes.sh $<TARGET_FILE:sablier> ${PROJECT_SOURCE_DIR}
                    ${CLI_WORK}/lab_scenes_${case} ${case})
@@ -301,6 +301,24 @@ add_test(NAME cli.resume_motions
                  ${CLI_DIR}/motion_clock.scene ${CLI_WORK}/resume_motions
                  --set output.checkpoint_every=0.3 --set stages.hold.motions=["press"])
 set_tests_properties(cli.resume_motions PROPERTIES LABELS cli)
+# the lid of plane_shear_lid.scene, a servo that also follows a motion across its axis, lost after
+# a checkpoint taken while it slides, and interrupted, then resumed: every output byte for byte
+add_test(NAME cli.resume_servo_motion
+         COMMAND bash ${CLI_DIR}/resume.sh --outputs $<TARGET_FILE:sablier>
+                 ${PROJECT_SOURCE_DIR}/scenes/shear/plane_shear_lid.scene
+                 ${CLI_WORK}/resume_servo_motion --set stages.press.time.end=1.0
+                 --set stages.shear.time.end=1.0 --set output.walls.window=[1.2,2.0]
+                 --set output.checkpoint_every=0.7)
+set_tests_properties(cli.resume_servo_motion PROPERTIES LABELS cli)
+# a small impact (100 grains) lost after a checkpoint taken while its projectile falls, and
+# interrupted, then resumed: depth.csv and summary.json's "depth" byte for byte
+add_test(NAME cli.resume_impact_depth
+         COMMAND bash ${CLI_DIR}/resume.sh --outputs $<TARGET_FILE:sablier>
+                 ${PROJECT_SOURCE_DIR}/scenes/impact/impact.scene ${CLI_WORK}/resume_impact_depth
+                 --set grains.rain.max_count=100 --set stages.settle.time.end=1.0
+                 --set stages.impact.time.end=0.8 --set sources.projectile.region=[1.49,0.9,1.51,0.91]
+                 --set output.checkpoint_every=0.7)
+set_tests_properties(cli.resume_impact_depth PROPERTIES LABELS cli)
 # walls.png (and walls.pdf) of output.walls, its axes labelled with their units
 # (tests/cli/walls_figure.sh, the figure lint tests/lint/figure_lint.py)
 add_test(NAME cli.walls_figure

@@ -61,13 +61,6 @@ class SimWall(Structure):
                 ("angle0", c_double), ("angle1", c_double)]
 
 
-class SimWallBody(Structure):
-    _fields_ = [("active", c_int), ("axis_x", c_double), ("axis_y", c_double),
-                ("mass", c_double), ("force_x", c_double), ("force_y", c_double),
-                ("gravity", c_int), ("servo", c_int), ("target", c_double), ("gain", c_double),
-                ("max_speed", c_double)]
-
-
 class SimWallLoad(Structure):
     _fields_ = [("fx", c_double), ("fy", c_double), ("normal", c_double),
                 ("tangential", c_double), ("torque", c_double), ("length", c_double),
@@ -96,7 +89,8 @@ class SimWallBody(Structure):
     _fields_ = [("active", c_int), ("axis_x", c_double), ("axis_y", c_double),
                 ("mass", c_double), ("force_x", c_double), ("force_y", c_double),
                 ("gravity", c_int), ("servo", c_int), ("target", c_double), ("gain", c_double),
-                ("max_speed", c_double)]
+                ("max_speed", c_double), ("length_kind", c_int), ("length", c_double),
+                ("between", c_int * 2)]
 
 
 class SimWorldDef(Structure):

@@ -249,6 +249,172 @@ static int servo_same_bits_threads_and_resume(void)
     return 0;
 }
 
+/* The servo lid, its stress taken over `length` = 2 m (its own), following motion 0: `velocity`
+ * (vx, vy) from the start (vibration on). */
+static void sliding_lid_def(Box *box, double gain, double vx, double vy)
+{
+    SimWallBody lid = servo_lid(gain);
+    lid.length_kind = 1;
+    lid.length = 2.0;
+    box_def(box, &lid);
+    box->walls[3].motion = 0;
+    box->def.effects |= SIM_EFFECT_VIBRATION;
+    box->def.motion_count = 1;
+    box->def.motions[0] =
+        (SimMotion){.kind = SIM_MOTION_VELOCITY, .velocity_x = vx, .velocity_y = vy};
+}
+
+/* A servo lid that also follows a motion across its axis (x, 1 cm/s: it stays over the box): its
+ * centre moves at the motion's speed while the servo holds 2000 N/m within 1 %. */
+static int servo_lid_follows_motion_across(void)
+{
+    Box box;
+    sliding_lid_def(&box, 1e-3, 0.01, 0.0);
+    SimWorld *w = tu_create(&box.def, &box.grains);
+    TEST_ASSERT(w);
+    TEST_ASSERT(tu_step(w, 40000) == 0);
+    SimWallLoad l;
+    sim_world_wall_load(w, 3, &l);
+    TEST_NEAR(l.x, 1.0 + 0.01 * 4.0, 1e-12); /* the centre (1, 1.9) moved 1 cm/s x 4 s */
+    TEST_NEAR(l.length, 2.0, 0.0);
+    SimWallLoad mean;
+    TEST_ASSERT(mean_load(w, 1000, 10, &mean) == 0);
+    printf("sliding servo lid: stress %.9g N/m (target 2000), offset %.4g m\n", mean.fy / 2.0,
+           mean.offset);
+    TEST_ASSERT(mean.offset > 0.5);
+    TEST_NEAR(mean.fy / 2.0, 2000.0, 20.0);
+    sim_world_wall_load(w, 3, &l);
+    TEST_NEAR(l.x, 1.0 + 0.01 * 5.0, 1e-12);
+    sim_world_destroy(w);
+    sim_grain_buffer_free(&box.grains);
+    return 0;
+}
+
+/* A responding wall's motion with a part along its axis, or one that turns, is refused at
+ * create, naming the wall. */
+static int servo_motion_along_axis_refused(void)
+{
+    for (int turn = 0; turn < 2; ++turn) {
+        Box box;
+        sliding_lid_def(&box, 1e-3, 0.3, turn ? 0.0 : 0.1);
+        if (turn)
+            box.def.motions[0] = (SimMotion){.kind = SIM_MOTION_ROTATION, .angular_velocity = 0.1};
+        box.def.grains = sim_grain_buffer_view(&box.grains);
+        SimError err;
+        SimWorld *w = sim_world_create(&box.def, &err);
+        TEST_ASSERT(!w);
+        TEST_ASSERT(strcmp(err.field, "walls[3]") == 0);
+        TEST_ASSERT(strstr(err.message, turn ? "turns" : "along its axis") != NULL);
+        sim_grain_buffer_free(&box.grains);
+    }
+    return 0;
+}
+
+/* The sliding servo lid on 1, 2, 3 and 8 threads, and a run saved and loaded half-way: the same
+ * bits (compared as saved files). */
+static int sliding_lid_same_bits_threads_and_resume(void)
+{
+    enum { RUNS = 5 };
+
+    static const int threads[RUNS - 1] = {1, 2, 3, 8};
+    Box box[RUNS];
+    SimWorld *w[RUNS];
+    for (int k = 0; k < RUNS - 1; ++k) {
+        sliding_lid_def(&box[k], 1e-3, 0.01, 0.0);
+        w[k] = tu_create(&box[k].def, &box[k].grains);
+        TEST_ASSERT(w[k]);
+        sim_world_set_threads(w[k], threads[k]);
+        TEST_ASSERT(tu_step(w[k], 6000) == 0);
+    }
+    char saved[32], out[RUNS][32];
+    TEST_ASSERT(test_tmp_file(saved) == 0);
+    SimError err;
+    TEST_ASSERT(sim_world_save(w[0], saved, &err) == SIM_OK);
+    sliding_lid_def(&box[RUNS - 1], 1e-3, 0.01, 0.0);
+    w[RUNS - 1] = sim_world_load(saved, &box[RUNS - 1].def, &err);
+    TEST_ASSERT(w[RUNS - 1]);
+    TEST_ASSERT(sim_world_restore_contacts(w[RUNS - 1], saved, &err) == SIM_OK);
+    int same = 1;
+    FILE *f[RUNS];
+    for (int k = 0; k < RUNS; ++k) {
+        TEST_ASSERT(tu_step(w[k], 4000) == 0);
+        TEST_ASSERT(test_tmp_file(out[k]) == 0 && sim_world_save(w[k], out[k], &err) == SIM_OK);
+        f[k] = fopen(out[k], "rb");
+        same &= f[k] != NULL;
+    }
+    SimWallLoad l;
+    sim_world_wall_load(w[0], 3, &l);
+    TEST_ASSERT(l.offset > 0.1);
+    while (same) {
+        const int x = fgetc(f[0]);
+        for (int k = 1; k < RUNS; ++k)
+            same &= fgetc(f[k]) == x;
+        if (x == EOF)
+            break;
+    }
+    for (int k = 0; k < RUNS; ++k) {
+        if (f[k])
+            fclose(f[k]);
+        remove(out[k]);
+        sim_world_destroy(w[k]);
+        sim_grain_buffer_free(&box[k].grains);
+    }
+    remove(saved);
+    TEST_ASSERT(same);
+    return 0;
+}
+
+/* A box whose side walls are longer than the sample (y from -1 to 4 m), gravity on: the base
+ * (y = 0), the left wall (x = 0) and the lid (y = 1.9) still, the right wall (x = 2) a servo
+ * along -x holding sigma_xx = 2000 N/m over the distance between the base and the lid
+ * (`between`), 1.9 m, not over its own 5 m: the load's length is that distance, the servo's
+ * speed follows its gain law with it at every sample, and the mean of force / 1.9 m holds the
+ * target within 1 % (the pile settles as tall as its lateral load needs, about 1 m). */
+static int servo_stress_over_walls_between(void)
+{
+    SimWallBody none = {0};
+    Box box;
+    box_def(&box, &none);
+    box.walls[1].y0 = box.walls[2].y0 = -1.0;
+    box.walls[1].y1 = box.walls[2].y1 = 4.0;
+    box.bodies[2] = (SimWallBody){.active = 1,
+                                  .axis_x = -1.0,
+                                  .servo = 1,
+                                  .target = 2000.0,
+                                  .gain = 2e-4,
+                                  .max_speed = 0.5,
+                                  .length_kind = 2,
+                                  .between = {0, 3}};
+    SimWorld *w = tu_create(&box.def, &box.grains);
+    TEST_ASSERT(w);
+    TEST_ASSERT(tu_step(w, 60000) == 0);
+    double sxx = 0.0, height = 0.0, width = 0.0;
+    const int samples = 1000;
+    for (int s = 0; s < samples; ++s) {
+        TEST_ASSERT(tu_step(w, 10) == 0);
+        SimWallLoad l[4];
+        for (int k = 0; k < 4; ++k)
+            sim_world_wall_load(w, k, &l[k]);
+        const double h = l[3].y - l[0].y, b = l[2].x - l[1].x;
+        TEST_NEAR(l[2].length, h, 1e-12);
+        /* the servo's law on this length: u = gain (target - F_x / h), |u| <= max_speed */
+        const double u = fmax(-0.5, fmin(0.5, 2e-4 * (2000.0 - l[2].fx / h)));
+        TEST_NEAR(l[2].speed, u, 1e-12);
+        sxx += l[2].fx / h / samples; /* the grains push the right wall along +x */
+        height += h / samples;
+        width += b / samples;
+    }
+    printf("box %.4g x %.4g m: sigma_xx %.9g N/m (target 2000)\n", width, height, sxx);
+    TEST_ASSERT(width < 1.8); /* the servo closed on the sample */
+    TEST_NEAR(sxx, 2000.0, 20.0);
+    sim_world_destroy(w);
+    sim_grain_buffer_free(&box.grains);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(servo_holds_target_stress), TEST_CASE(servo_unstable_gain_refused),
           TEST_CASE(piston_reaches_static_balance), TEST_CASE(wall_load_is_contact_sum),
-          TEST_CASE(servo_same_bits_threads_and_resume))
+          TEST_CASE(servo_same_bits_threads_and_resume), TEST_CASE(servo_lid_follows_motion_across),
+          TEST_CASE(servo_motion_along_axis_refused),
+          TEST_CASE(sliding_lid_same_bits_threads_and_resume),
+          TEST_CASE(servo_stress_over_walls_between))
