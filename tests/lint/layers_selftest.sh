@@ -19,8 +19,8 @@ expect() {
 }
 
 mkdir -p "$tree/sim" "$tree/app/fam"
-# a chain, no circle: a.c calls b.c's function and includes b.h, b.c includes a.h for a type;
-# b.c names a_first only in a comment and a string
+# a chain, no circle: source A calls source B's function and includes B's header, B includes A's
+# header for a type and names a_first only in a comment and a string
 printf '#include "b.h"\nint a_first(void)\n{\n    return b_second();\n}\n' >"$tree/sim/a.c"
 printf 'typedef int A;\nint a_first(void);\n' >"$tree/sim/a.h"
 printf '#include "a.h"\n/* not a_first */\nint b_second(void)\n{\n    return (int)sizeof "a_first()";\n}\n' \
@@ -28,7 +28,7 @@ printf '#include "a.h"\n/* not a_first */\nint b_second(void)\n{\n    return (in
 printf 'int b_second(void);\n' >"$tree/sim/b.h"
 expect 0 'no-circles: ok'
 
-# a circle of calls: b.c now calls a_first
+# a circle of calls: B now calls a_first
 printf '#include "a.h"\nint b_second(void)\n{\n    return a_first() - 1;\n}\n' >"$tree/sim/b.c"
 expect 1 'sim/b.c:4: calls a_first'
 expect 1 'sim/a.c:4: calls b_second'
