@@ -62,7 +62,8 @@ void app_pool_launcher_exec(char **argv)
 void app_pool_begin(void)
 {
 #ifdef SABLIER_WITH_MPI
-    app_pool_mpi_begin();
+    if (app_pool_launched())
+        app_pool_mpi_begin();
 #endif
 }
 

@@ -4,7 +4,7 @@
 #ifndef APP_POOL_LOCAL_H
 #define APP_POOL_LOCAL_H
 
-#include "pool.h"
+#include "pool_task.h"
 
 #include <signal.h>
 

@@ -133,7 +133,7 @@ static void finish(void)
 
 void app_pool_mpi_begin(void)
 {
-    if (M.active || !app_pool_launched() || MPI_Init(NULL, NULL) != MPI_SUCCESS)
+    if (M.active || MPI_Init(NULL, NULL) != MPI_SUCCESS)
         return;
     MPI_Comm_size(MPI_COMM_WORLD, &M.size);
     MPI_Comm_rank(MPI_COMM_WORLD, &M.rank);

@@ -4,11 +4,11 @@
 #ifndef APP_POOL_MPI_H
 #define APP_POOL_MPI_H
 
-#include "pool.h"
+#include "pool_task.h"
 
-/// Under an MPI launcher with more than one rank: joins the job (MPI_Init) and returns on
-/// rank 0; a worker rank returns only when rank 0 enters a pool, or exits with status 0 when
-/// rank 0 ends. Anywhere else: nothing.
+/// Called (by app_pool_begin) only under an MPI launcher (app_pool_launched): joins the job
+/// (MPI_Init) and returns on rank 0; a worker rank returns only when rank 0 enters a pool, or
+/// exits with status 0 when rank 0 ends. A job of one rank: nothing (the local pool).
 void app_pool_mpi_begin(void);
 
 /// 1 when app_pool_mpi_begin joined a job of more than one rank.

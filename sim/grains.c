@@ -1,10 +1,26 @@
 /* SPDX-License-Identifier: MIT */
 /* grains.c: the structure-of-arrays grain storage: growth, permutation (spatial sort), removal of
- * flagged grains, release. */
+ * flagged grains, release; a grain's mass and moment of inertia (world.c, wall_body.c and edit.c
+ * ask for them, so they sit below all three). */
 #include "internal.h"
 
 #include <stdlib.h>
 #include <string.h>
+
+/* A disc (m = rho pi r^2, I = m r^2 / 2) or a sphere (m = rho 4/3 pi r^3, I = 2/5 m r^2), as the
+ * definition's mass model says (sim.h, SimMassModel). */
+double sim_grain_mass(SimMassModel model, double density, double r)
+{
+    return model == SIM_MASS_SPHERE ? density * 4.0 / 3.0 * SIM_PI * r * r * r
+                                    : density * SIM_PI * r * r;
+}
+
+void sim_grain_mass_inertia(SimMassModel model, double density, double r, double *m,
+                            double *inertia)
+{
+    *m = sim_grain_mass(model, density, r);
+    *inertia = (model == SIM_MASS_SPHERE ? 0.4 : 0.5) * *m * r * r;
+}
 
 /* The double grain arrays are staggered blocks (sim_stagger_grow, internal.h): without it every
  * array of a large pile begins at the same offset in its page (blocks over glibc's mmap threshold,

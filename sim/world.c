@@ -123,20 +123,7 @@ SimStatus sim_fail(SimError *error, SimStatus status, const char *field, const c
     return status;
 }
 
-/* ------------------------------------------------------------------ masses and pairs */
-
-double sim_grain_mass(SimMassModel model, double density, double r)
-{
-    return model == SIM_MASS_SPHERE ? density * 4.0 / 3.0 * SIM_PI * r * r * r
-                                    : density * SIM_PI * r * r;
-}
-
-void sim_grain_mass_inertia(SimMassModel model, double density, double r, double *m,
-                            double *inertia)
-{
-    *m = sim_grain_mass(model, density, r);
-    *inertia = (model == SIM_MASS_SPHERE ? 0.4 : 0.5) * *m * r * r;
-}
+/* ------------------------------------------------------------------ pairs (masses: grains.c) */
 
 /* Harmonic mean 2ab/(a+b): zero when either is zero, so a frictionless species (a smooth wall)
  * makes frictionless contacts with any grain; equal values are unchanged. */

@@ -7,16 +7,22 @@
 #                             no run.h and name no function that app/run.c or app/scene_load.c
 #                             defines: no circle run -> sources -> run or scene_load -> sources
 #                             -> scene_load
+#   layers.sh no-circles      no circle among the files of sim/, render/ and app/: no file
+#                             includes itself through others, and no two sources call each
+#                             other, directly or through others (the arrows of circles.awk)
+# A second argument names the tree to check (the repository by default; the self-test of
+# no-circles, layers_selftest.sh, hands it small trees with and without a circle).
 # A family is a folder app/F/. An include names a header by path ("bne/bne.h", "app/bne/bne.h")
 # or, since app/ and each family folder are include folders, by its bare name ("bne.h").
 # Prints each offending line as file:line: include, and exits 1 when there is any.
 set -euo pipefail
-rule=${1:?usage: layers.sh render-no-app|core-no-family|families-apart|sources-below-run}
-cd "$(dirname "$0")/../.."
+rule=${1:?usage: layers.sh render-no-app|core-no-family|families-apart|sources-below-run|no-circles [TREE]}
+here=$(cd "$(dirname "$0")" && pwd)
+cd "${2:-$here/../..}"
 
 families=()
 for d in app/*/; do
-  families+=("$(basename "$d")")
+  [ -d "$d" ] && families+=("$(basename "$d")")
 done
 
 # headers_of DIR...: the bare names of the headers under DIR
@@ -76,6 +82,33 @@ sources-below-run)
   if [ ${#names[@]} -gt 0 ]; then
     found+=$'\n'$(grep -nHwE "$(IFS='|'; echo "${names[*]}")" "${files[@]}" || true)
   fi
+  ;;
+no-circles)
+  mapfile -t files < <(find sim render app -name '*.[ch]' 2>/dev/null | sort)
+  tmp=$(mktemp -d)
+  trap 'rm -rf "$tmp"' EXIT
+  printf '%s\n' "${files[@]}" >"$tmp/files"
+  : >"$tmp/edges"
+  : >"$tmp/why"
+  dirs="app ."
+  for f in "${families[@]}"; do dirs+=" app/$f"; done
+  if [ ${#files[@]} -gt 0 ]; then
+    awk -v list_file="$tmp/files" -v include_dirs="$dirs" -v edges_file="$tmp/edges" \
+      -v why_file="$tmp/why" -f "$here/circles.awk" "${files[@]}" pass=2 "${files[@]}"
+  fi
+  # tsort names the files of each circle it breaks; each circle is printed with its arrows
+  found=$({ tsort "$tmp/edges" 2>&1 >/dev/null || true; } | awk -F '\t' -v why="$tmp/why" '
+    BEGIN { while ((getline l < why) > 0) { split(l, p, "\t"); arrow[p[1]] = p[2] } }
+    function flush(a, b) {
+      if (n == 0) return
+      print "circle:" members
+      for (a = 1; a <= n; ++a) for (b = 1; b <= n; ++b)
+        if ((m[a] " " m[b]) in arrow) print "  " arrow[m[a] " " m[b]]
+      n = 0; members = ""
+    }
+    /input contains a loop/ { flush(); next }
+    { sub(/^tsort: /, ""); m[++n] = $0; members = members " " $0 }
+    END { flush() }')
   ;;
 *)
   echo "layers.sh: unknown rule $rule" >&2
