@@ -288,9 +288,6 @@ void sim_wall_bodies_step(SimWorld *world);
 void sim_wall_bodies_place(SimWorld *world);
 /* Places responding wall k: its motion's offset (body_m) plus its offset along the axis. */
 void sim_wall_body_place(SimWorld *world, int k);
-/* Why motion `index` cannot move a wall that responds along (axis_x, axis_y): it turns, or it
- * has a part along the axis; NULL when it only moves across it (an axis (0, 0): turns only). */
-const char *sim_motion_across(const SimMotion *motions, int index, double axis_x, double axis_y);
 /* NULL when the responding walls of def are valid at time step dt, else what is wrong, with the
  * wall's index in *wall. */
 const char *sim_wall_bodies_problem(const SimWorldDef *def, double dt, int *wall, char *buf,

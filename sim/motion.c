@@ -126,37 +126,6 @@ static int motion_turns(const SimMotion *motions, int index)
     return 0;
 }
 
-const char *sim_motion_across(const SimMotion *motions, int index, double axis_x, double axis_y)
-{
-    const SimMotion *m = &motions[index];
-    double vx = 0.0, vy = 0.0;
-    switch (m->kind) {
-    case SIM_MOTION_ROTATION:
-        return "its motion turns it (a wall that responds only translates)";
-    case SIM_MOTION_COMPOSE:
-        for (int k = 0; k < m->part_count; ++k) {
-            const char *why = m->parts[k] >= 0 && m->parts[k] < index
-                                  ? sim_motion_across(motions, m->parts[k], axis_x, axis_y)
-                                  : NULL;
-            if (why)
-                return why;
-        }
-        return NULL;
-    case SIM_MOTION_SINUSOIDAL:
-        vx = m->amplitude * m->direction_x;
-        vy = m->amplitude * m->direction_y;
-        break;
-    case SIM_MOTION_VELOCITY:
-        vx = m->velocity_x;
-        vy = m->velocity_y;
-        break;
-    }
-    if (fabs(vx * axis_x + vy * axis_y) > 1e-12 * hypot(vx, vy))
-        return "its motion moves it along its axis, which its mass or servo controls (give the "
-               "motion a direction across the axis)";
-    return NULL;
-}
-
 /* (x, y) under the pose; a pure translation adds the offset (the sinusoidal shaker's bits). */
 static void pose_apply(const SimPose *p, double x, double y, double *ox, double *oy)
 {

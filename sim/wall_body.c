@@ -108,6 +108,39 @@ double sim_wall_servo_damping(const SimWorldDef *def, int wall, double *row)
     return b->gain * gamma / (b->servo == 2 ? 1.0 : length);
 }
 
+/* Why motion `index` cannot move a wall that responds along (axis_x, axis_y): it turns, or it
+ * has a part along the axis; NULL when it only moves across it (an axis (0, 0): turns only). */
+static const char *motion_across(const SimMotion *motions, int index, double axis_x, double axis_y)
+{
+    const SimMotion *m = &motions[index];
+    double vx = 0.0, vy = 0.0;
+    switch (m->kind) {
+    case SIM_MOTION_ROTATION:
+        return "its motion turns it (a wall that responds only translates)";
+    case SIM_MOTION_COMPOSE:
+        for (int k = 0; k < m->part_count; ++k) {
+            const char *why = m->parts[k] >= 0 && m->parts[k] < index
+                                  ? motion_across(motions, m->parts[k], axis_x, axis_y)
+                                  : NULL;
+            if (why)
+                return why;
+        }
+        return NULL;
+    case SIM_MOTION_SINUSOIDAL:
+        vx = m->amplitude * m->direction_x;
+        vy = m->amplitude * m->direction_y;
+        break;
+    case SIM_MOTION_VELOCITY:
+        vx = m->velocity_x;
+        vy = m->velocity_y;
+        break;
+    }
+    if (fabs(vx * axis_x + vy * axis_y) > 1e-12 * hypot(vx, vy))
+        return "its motion moves it along its axis, which its mass or servo controls (give the "
+               "motion a direction across the axis)";
+    return NULL;
+}
+
 /* The problem of responding wall k's stress length (SimWallBody length_kind); NULL: sound. */
 static const char *length_problem(const SimWorldDef *def, int k, char *buf, size_t size)
 {
@@ -133,7 +166,7 @@ static const char *length_problem(const SimWorldDef *def, int k, char *buf, size
         if (w->shape == SIM_WALL_ARC ||
             !(fabs(ex * b->axis_y - ey * b->axis_x) <= 1e-9 * hypot(ex, ey)) ||
             (w->motion >= 0 && w->motion < def->motion_count &&
-             sim_motion_across(def->motions, w->motion, 0.0, 0.0))) {
+             motion_across(def->motions, w->motion, 0.0, 0.0))) {
             snprintf(buf, size,
                      "its servo's `between` names wall %d, which is not a segment parallel to "
                      "its axis (that stays so: no turning motion)",
@@ -156,7 +189,7 @@ static const char *body_problem(const SimWorldDef *def, int k, double dt, double
         return "the axis of a responding wall must be a unit vector";
     const int motion = def->walls[k].motion;
     const char *across = motion >= 0 && motion < def->motion_count
-                             ? sim_motion_across(def->motions, motion, b->axis_x, b->axis_y)
+                             ? motion_across(def->motions, motion, b->axis_x, b->axis_y)
                              : NULL;
     if (across)
         return across;
