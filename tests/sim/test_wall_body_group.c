@@ -27,7 +27,7 @@ static void piston_def(Piston *p, const SimWallBody *body)
     memcpy(p->walls, walls, sizeof walls);
     p->body = *body;
     tu_rain_150(&p->grains, 7, 0.06);
-    sim_build_fixed_row(&p->grains, 0.06, 1.94, 1.95, 0.05, 0, SIM_GRAIN_BODY(0));
+    sim_build_fixed_row(&p->grains, 0.05, 1.95, 1.95, 0.05, 0, SIM_GRAIN_BODY(0));
     p->def = tu_def(1000.0, 1e5, 1e-4);
     p->def.gravity_y = -G0;
     p->def.materials[0].normal_damping = 200.0;
@@ -73,7 +73,7 @@ static int group_load_is_contact_sum(void)
     printf("piston: offset %.4g m, F_y %.6g N (m g %.6g N), touched in %d of 60\n", l.offset, l.fy,
            20.0 * G0, touched);
     TEST_ASSERT(l.offset > 0.1 && touched >= 10);
-    TEST_NEAR(l.length, 1.94 - 0.06 + 0.1, 1e-12);
+    TEST_NEAR(l.length, 2.0, 1e-12); /* 20 grains from x = 0 to 2 m */
     TEST_ASSERT(sim_world_wall_load(w, 5, &l) == -1);
     sim_world_destroy(w);
     sim_grain_buffer_free(&p.grains);
@@ -187,13 +187,13 @@ static int hinged_body_case(int group)
         .count = 1, .vy = (double[]){-1.0}, .vx = (double[]){0.0}, .id = (uint32_t[]){0}};
     SimError err;
     TEST_ASSERT(sim_world_set_grains(w, &v, &err) == SIM_OK);
-    /* I about the hinge: a rod m L^2 / 12, or the mass over 19 discs of radius 0.05 */
+    /* I about the hinge: a rod m L^2 / 12, or the mass over 20 discs of radius 0.05 */
     double inertia = 10.0 * 4.0 / 12.0;
     if (group) {
         double spread = 0.0;
-        for (int k = 0; k < 19; ++k)
+        for (int k = 0; k < 20; ++k)
             spread += (0.05 + 0.1 * k - 1.0) * (0.05 + 0.1 * k - 1.0) + 0.5 * 0.05 * 0.05;
-        inertia = 10.0 * spread / 19.0;
+        inertia = 10.0 * spread / 20.0;
     }
     const double m = tu_mass(SIM_MASS_DISK, 1000.0, 0.05), l0 = -0.8 * m;
     TEST_NEAR(angular_momentum(w), l0, 1e-12);
