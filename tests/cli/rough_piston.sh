@@ -18,7 +18,7 @@ fi
 "$sablier" run "$scene" --out "$work/run" --quiet "$@" >"$work/run.log" 2>&1 ||
   fail "run failed: $(cat "$work/run.log")"
 rows=$(($(wc -l <"$work/run/walls.csv") - 1))
-[ "$rows" = $((4 * 301)) ] || fail "walls.csv has $rows rows, expected 4 x 301"
+[ "$rows" = $((4 * 6001)) ] || fail "walls.csv has $rows rows, expected 4 x 6001"
 python3 - "$work/run/summary.json" "$mode" <<'PY' || fail "summary.json's piston mean is off"
 import json, sys
 walls = json.load(open(sys.argv[1]))["walls"]
