@@ -223,6 +223,9 @@ typedef struct Scene {
     /// One above the largest id of the grains the stages add (a source's grains take ids from
     /// here up); 0 when no stage adds grains.
     uint32_t added_id_end;
+    /// `bodies`: rigid groups of fixed grains (def.grain_bodies points here), their group names
+    SimWallBody *grain_bodies;
+    char (*body_names)[SCENE_NAME_MAX];
 } Scene;
 
 /// Loads, overrides and checks a scene. `sets` are "KEY=VALUE" strings. Returns NULL with

@@ -531,8 +531,10 @@ static int parse_box(Loader *L, const config_setting_t *grains)
 
 static int parse_rows(Loader *L, const config_setting_t *grains, int columns)
 {
-    static const char *const row_keys[] = {"x0", "x1", "y", "radius", "species", "motion", NULL};
-    static const char *const column_keys[] = {"x", "y0", "y1", "radius", "species", "motion", NULL};
+    static const char *const row_keys[] = {"x0",      "x1",     "y",     "radius",
+                                           "species", "motion", "group", NULL};
+    static const char *const column_keys[] = {"x",       "y0",     "y1",    "radius",
+                                              "species", "motion", "group", NULL};
     const char *key = columns ? "columns" : "rows";
     const config_setting_t *list;
     if (app_config_list(&L->p, grains, key, &list) <= 0)
@@ -549,7 +551,8 @@ static int parse_rows(Loader *L, const config_setting_t *grains, int columns)
             app_config_need_number(&L->p, g, columns ? "y1" : "y", what, &c) < 0 ||
             app_config_need_number(&L->p, g, "radius", what, &r) < 0 ||
             app_config_positive(&L->p, g, "radius", r) < 0 ||
-            loader_get_species(L, g, &species) < 0 || get_motion(L, g, &motion) < 0)
+            loader_get_species(L, g, &species) < 0 || get_motion(L, g, &motion) < 0 ||
+            loader_get_group(L, g, what, &motion) < 0)
             return -1;
         if (check_line_count(L, g, what, fabs(columns ? c - b : b - a), r) < 0)
             return -1;
@@ -675,7 +678,8 @@ int loader_parse_grains(Loader *L, const config_setting_t *root)
         return -1;
     /* Stable ids follow this order: list, rain, box, rows, columns. */
     if (parse_list(L, grains) < 0 || parse_rain(L, grains) < 0 || parse_box(L, grains) < 0 ||
-        parse_rows(L, grains, 0) < 0 || parse_rows(L, grains, 1) < 0 || parse_file(L, grains) < 0)
+        parse_rows(L, grains, 0) < 0 || parse_rows(L, grains, 1) < 0 || parse_file(L, grains) < 0 ||
+        loader_check_bodies(L, root) < 0)
         return -1;
     Scene *scene = L->scene;
     scene->fixed_count = 0;
@@ -744,9 +748,9 @@ static int parse_arc(Loader *L, const config_setting_t *g, const char *what, Sim
 
 int loader_parse_walls(Loader *L, const config_setting_t *root)
 {
-    static const char *const keys[] = {"from",  "to",      "center", "radius", "angles",
-                                       "side",  "species", "motion", "mass",   "axis",
-                                       "force", "gravity", "servo",  NULL};
+    static const char *const keys[] = {
+        "from", "to",   "center", "radius",  "angles", "side",     "species", "motion",
+        "mass", "axis", "force",  "gravity", "servo",  "rotation", "inertia", NULL};
     const config_setting_t *list;
     if (app_config_list(&L->p, root, "walls", &list) <= 0)
         return L->p.failed ? -1 : 0;

@@ -31,7 +31,7 @@
 static const char *const ROOT_KEYS[] = {
     "name",    "seed",     "units",   "effects", "mass_model", "gravity", "integrator", "time",
     "skin",    "guard",    "contact", "species", "grains",     "walls",   "motions",    "sinks",
-    "sources", "periodic", "drag",    "stages",  "output",     "render",  NULL};
+    "sources", "periodic", "drag",    "stages",  "output",     "render",  "bodies",     NULL};
 
 static int parse_effects(Loader *L, const config_setting_t *root)
 {
@@ -695,11 +695,12 @@ static int parse_scene(Loader *L, const config_setting_t *root)
     Scene *scene = L->scene;
     if (parse_physics(L, root) < 0 || loader_parse_species(L, root) < 0 ||
         loader_parse_motions(L, root) < 0 || parse_effect_groups(L, root) < 0 ||
-        loader_parse_grains(L, root) < 0 || loader_parse_walls(L, root) < 0 ||
-        apply_target_error(L) < 0 || loader_parse_sinks(L, root) < 0 ||
-        loader_parse_stages(L, root) < 0 || loader_parse_sources(L, root) < 0 ||
-        check_sources(L, root) < 0 || loader_check_remove_ids(L, root) < 0 ||
-        loader_claim_run_outputs(L, root) < 0 || loader_parse_output(L, root) < 0)
+        loader_parse_bodies(L, root) < 0 || loader_parse_grains(L, root) < 0 ||
+        loader_parse_walls(L, root) < 0 || apply_target_error(L) < 0 ||
+        loader_parse_sinks(L, root) < 0 || loader_parse_stages(L, root) < 0 ||
+        loader_parse_sources(L, root) < 0 || check_sources(L, root) < 0 ||
+        loader_check_remove_ids(L, root) < 0 || loader_claim_run_outputs(L, root) < 0 ||
+        loader_parse_output(L, root) < 0)
         return -1;
     normalised_labels(scene);
     for (int f = 0; app_experiments[f]; ++f) { /* each family parses its own keys */
@@ -824,6 +825,8 @@ void scene_free(Scene *scene)
     sim_grain_buffer_free(&scene->grains);
     free(scene->walls);
     free(scene->wall_bodies);
+    free(scene->grain_bodies);
+    free(scene->body_names);
     free(scene->resolved);
     free(scene->sources);
     for (int f = 0; app_experiments[f]; ++f)

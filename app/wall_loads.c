@@ -3,7 +3,8 @@
  * `output.walls = { window = [t0, t1]; }` writes DIR/walls.csv, one row per wall at every energy
  * row (output.energy_every): the force of the grains on it (x, y, normal, tangential), its torque,
  * the normal stress (force per length), its centre and, for a responding wall, its offset and
- * speed (sim.h SimWallLoad). The rows whose time lies in the window are averaged into
+ * speed (sim.h SimWallLoad); the grain bodies (`bodies`, rough pistons) follow the walls, numbered
+ * on from them. The rows whose time lies in the window are averaged into
  * summary.json's "walls" (the steady mean). Not a family: a core layer that rides on the
  * experiment hooks, as app/measures.c does. */
 #include "checkpoint.h"
@@ -48,14 +49,15 @@ static int wall_loads_parse(const config_setting_t *root, const config_setting_t
     if (!(window[0] >= 0.0) || !(window[1] > window[0]))
         return app_config_fail(&p, app_config_member(g, "window"),
                                "`window` = [t0, t1] needs 0 <= t0 < t1 (simulated time)");
-    if (scene->def.wall_count == 0)
+    const int count = scene->def.wall_count + scene->def.grain_body_count;
+    if (count == 0)
         return app_config_fail(&p, g, "`output.walls`: the scene has no walls");
     if (scene_claim_output(scene, &p, g, "output.walls", "walls.csv") < 0 ||
         scene_claim_output(scene, &p, g, "output.walls", "walls.png") < 0)
         return -1;
     WallLoads *w = calloc(1, sizeof *w);
     if (w)
-        w->sums = calloc((size_t)scene->def.wall_count * MEAN_COUNT, sizeof *w->sums);
+        w->sums = calloc((size_t)count * MEAN_COUNT, sizeof *w->sums);
     if (!w || !w->sums) {
         free(w);
         return app_config_fail(&p, g, "out of memory");
@@ -63,7 +65,7 @@ static int wall_loads_parse(const config_setting_t *root, const config_setting_t
     w->scene = scene;
     w->from = window[0];
     w->to = window[1];
-    w->wall_count = scene->def.wall_count;
+    w->wall_count = count;
     *state = w;
     return 0;
 }

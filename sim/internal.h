@@ -170,11 +170,15 @@ struct SimWorld {
     /* What the grains do to each wall in the last wall pass (4 per wall: fx, fy, the sum of the
      * normal forces, the torque about the wall's centre; wall_touch: contacts), and the walls
      * that respond (sim.h SimWallBody; wall_body.c): their offset along the axis (m) and speed
-     * (m/s). bodies is NULL when none responds. */
+     * (m/s), their angle (rad) and angular speed (rad/s). bodies is NULL when none responds; else
+     * body_count = wall_count + grain_body_count entries, the grain bodies after the walls (their
+     * loads too: wall_load and wall_touch hold body_count entries). body_rest: 4 per body, its
+     * centre at rest (m), its length (m) and its moment of inertia (kg m^2). */
     double *wall_load;
     int *wall_touch;
     SimWallBody *bodies;
-    double *body_s, *body_u;
+    int body_count;
+    double *body_s, *body_u, *body_a, *body_w, *body_rest;
     /* a responding wall's motion across its axis, 4 per wall: its offset (x, y), m, and
      * velocity, m/s (zero without a motion; motion.c move_walls) */
     double *body_m;
@@ -284,12 +288,17 @@ void sim_motion_move(SimWorld *world, double t);
 /* Moves the responding walls one step on from the wall loads of the last force evaluation
  * (symplectic Euler; servo walls at the gain law's speed). */
 void sim_wall_bodies_step(SimWorld *world);
-/* Places the responding walls at their offsets (after create or a state load). */
+/* Places the responding walls and grain bodies at their offsets (after create or a state load). */
 void sim_wall_bodies_place(SimWorld *world);
-/* Places responding wall k: its motion's offset (body_m) plus its offset along the axis. */
+/* Places responding wall k: its motion's offset (body_m) plus its offset along the axis (and
+ * its angle when it turns). */
 void sim_wall_body_place(SimWorld *world, int k);
-/* NULL when the responding walls of def are valid at time step dt, else what is wrong, with the
- * wall's index in *wall. */
+/* Allocates the responding bodies of def (walls, then grain bodies) with their rest geometry;
+ * nothing when none responds. -1: out of memory. */
+int sim_wall_bodies_create(SimWorld *world, const SimWorldDef *def);
+void sim_wall_bodies_free(SimWorld *world);
+/* NULL when the responding walls and grain bodies of def are valid at time step dt, else what is
+ * wrong, with the body's index in *wall (wall_count + b: grain body b). */
 const char *sim_wall_bodies_problem(const SimWorldDef *def, double dt, int *wall, char *buf,
                                     size_t size);
 /* The responding walls' footer of a state file (offsets and speeds): written when a wall

@@ -233,9 +233,21 @@ typedef struct SimWall {
 /// d / (gain k_n length) for a force); dt > tau overshoots and dt > 2 tau diverges, so a gain
 /// with dt > tau is refused. The contacts' damping feeds the wall speed back too
 /// (sim_wall_servo_damping): a gain at which one contact's dashpot flips the speed is refused.
+/// With `rotation` the body also turns about its centre (a segment's midpoint, an arc's centre,
+/// a grain body's area-weighted centroid at rest), counterclockwise positive:
+/// I domega/dt = T, T the torque of the grains' contact forces about that centre, integrated
+/// by the same symplectic Euler as the translation (omega from T, then the angle from omega).
+/// I is `inertia` when > 0, else from the mass and the geometry: m L^2 / 12 for a segment
+/// (a thin rod about its midpoint), m R^2 for an arc (a thin ring about its centre), for a grain
+/// body m sum_i a_i (|c_i - c|^2 + r_i^2 / 2) / sum_i a_i (the mass spread over the grains'
+/// discs by area a_i = pi r_i^2). The servo drives the translation only.
+/// The same struct declares a grain body (SimWorldDef.grain_bodies, a rough piston): the fixed
+/// grains whose motion is SIM_GRAIN_BODY(b) move as one rigid body; its load is the sum of the
+/// contact forces of the mobile grains on them, its length their extent across the axis.
 typedef struct SimWallBody {
     int active;              ///< 0: the wall is still or follows its motion (the rest unused)
-    double axis_x, axis_y;   ///< unit direction of its motion, into the grains
+    double axis_x, axis_y;   ///< unit direction of its motion, into the grains; (0, 0): it
+                             ///< does not translate (hinged at its centre: rotation, no servo)
     double mass;             ///< kg (free body; unused with a servo)
     double force_x, force_y; ///< applied force, N (its part along the axis acts)
     int gravity;             ///< 1: the world's gravity acts on the mass
@@ -244,13 +256,19 @@ typedef struct SimWallBody {
     double gain;             ///< servo gain, m/s per N/m (stress) or per N (force)
     double max_speed;        ///< servo speed cap, m/s
     /// The length a stress target is taken over (measured = N / length; docs/scenes.md,
-    /// "servo"): 0 the wall's own length, 1 `length` (m), 2 the current distance across the
-    /// axis between walls `between[0]` and `between[1]` (segments parallel to the axis: the
-    /// sample's width between them, as Yade's TriaxialStressController takes the box size).
+    /// "servo"): 0 the body's own length (a wall's; a grain body's extent across its axis), 1
+    /// `length` (m), 2 the current distance across the axis between walls `between[0]` and
+    /// `between[1]` (segments parallel to the axis: the sample's width between them, as Yade's
+    /// TriaxialStressController takes the box size).
     int length_kind;
     double length;  ///< m (length_kind 1)
     int between[2]; ///< wall indices (length_kind 2)
+    int rotation;   ///< 1: it also turns freely about its centre
+    double inertia; ///< moment of inertia about its centre, kg m^2; 0: from the mass
 } SimWallBody;
+
+/// The motion index that makes a fixed grain a member of grain body b (SimWorldDef.grain_bodies).
+#define SIM_GRAIN_BODY(b) (-2 - (b))
 
 /// What the grains do to a wall in the last force evaluation, and where it is.
 typedef struct SimWallLoad {
@@ -343,6 +361,10 @@ typedef struct SimWorldDef {
     int wall_count;
     const SimWall *walls;
     const SimWallBody *wall_bodies; ///< wall_count entries, or NULL: no wall responds
+    /// Rigid groups of fixed grains that respond (rough pistons): body b holds the fixed grains
+    /// whose motion is SIM_GRAIN_BODY(b); every entry active, with at least one grain.
+    const SimWallBody *grain_bodies;
+    int grain_body_count;
     int motion_count;
     SimMotion motions[SIM_MAX_MOTIONS]; ///< refused when a motion's speed bound times dt exceeds
                                         ///< half the smallest mobile radius (wall-speed limit)
@@ -754,7 +776,9 @@ void sim_world_freeze(SimWorld *world);
 /// SIM_ERROR_MEMORY: out of memory (after the writes: the world is only fit for destroy).
 SimStatus sim_world_set_grains(SimWorld *world, const SimGrainSet *values, SimError *error);
 /// What the grains do to wall `wall` in the last force evaluation (SimWallLoad); -1 when out of
-/// range.
+/// range. wall_count + b is grain body b (SimWorldDef.grain_bodies): fx, fy and torque sum the
+/// contact forces on its grains (torque about its centre), normal is -F.axis, tangential the
+/// force across the axis, length its extent across the axis, contacts its grains that touch.
 int sim_world_wall_load(const SimWorld *world, int wall, SimWallLoad *load);
 /// Changes gravity from now on (a stage's own `gravity`), m/s^2.
 void sim_world_set_gravity(SimWorld *world, double gravity_x, double gravity_y);

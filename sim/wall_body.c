@@ -1,17 +1,20 @@
 /* SPDX-License-Identifier: MIT */
-/* wall_body.c: walls that respond to the grains (sim.h SimWallBody): free pistons of a given
- * mass and servo-controlled walls, each a rigid translation along its axis (plus, with a motion,
- * the motion's translation across it), and the load the
- * grains put on every wall (SimWallLoad). The loads are summed by the wall pass
- * (sim/isa/contact_pass.c) in the wall list's order, serially: the same bits for any thread
- * count. The bodies move once per step, after the step's last force evaluation (symplectic
- * Euler: the speed from the force, then the offset from the new speed). Their offsets and speeds
- * are kept at the end of a state file (docs/state-format.md, "Responding walls"). */
+/* wall_body.c: walls and groups of fixed grains that respond to the grains (sim.h SimWallBody):
+ * free pistons of a given mass and servo-controlled walls, each a rigid translation along its
+ * axis (plus, for a wall with a motion, the motion's translation across it) and, when asked, a
+ * rotation about its centre, and the load the grains put on every wall (SimWallLoad). The wall
+ * loads are summed by the wall pass (sim/isa/contact_pass.c) in the wall list's order, serially;
+ * a grain body's load sums its grains' contact forces in frame order, serially: the same bits
+ * for any thread count. The bodies move once per step, after the step's last force evaluation
+ * (symplectic Euler: the speed from the force, then the offset from the new speed; the same for
+ * the angle). Their offsets, speeds, angles and angular speeds are kept at the end of a state
+ * file (docs/state-format.md, "Responding walls"). */
 #include "internal.h"
 #include "walls.h"
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* Length of a wall: a segment's, an arc's span (a full circle at most), m. */
@@ -22,11 +25,12 @@ static double wall_length(const SimWall *w)
     return hypot(w->x1 - w->x0, w->y1 - w->y0);
 }
 
-/* The length responding wall k's stress target is taken over (SimWallBody length_kind), m, with
- * the walls where they are (`walls`: now, or as defined before a run): its own length, a given
+/* The length a responding body's stress target is taken over (SimWallBody length_kind), m, with
+ * the walls where they are (`walls`: now, or as defined before a run): its own length `own` (a
+ * wall's, a grain body's extent across its axis, as at rest), a given
  * one, or the distance across its axis t = (-a_y, a_x) between the two walls it names, |(p_1 -
  * p_0).t| for a point p of each (segments parallel to the axis). */
-static double servo_length(const SimWall *walls, int k, const SimWallBody *b)
+static double servo_length(const SimWall *walls, const SimWallBody *b, double own)
 {
     if (b->length_kind == 1)
         return b->length;
@@ -34,7 +38,7 @@ static double servo_length(const SimWall *walls, int k, const SimWallBody *b)
         const SimWall *a = &walls[b->between[0]], *c = &walls[b->between[1]];
         return fabs((c->y0 - a->y0) * b->axis_x - (c->x0 - a->x0) * b->axis_y);
     }
-    return wall_length(&walls[k]);
+    return own;
 }
 
 /* The smallest mobile diameter of def's grains (INFINITY without mobile grains), and the largest
@@ -70,17 +74,97 @@ static double wall_stiffness(const SimWorldDef *def, int species, double *d_min,
     return k;
 }
 
+/* Body k of def: wall k (k < wall_count; NULL when it does not respond), else grain body
+ * k - wall_count. */
+static const SimWallBody *def_body(const SimWorldDef *def, int k)
+{
+    if (k < 0 || k >= def->wall_count + (def->grain_bodies ? def->grain_body_count : 0))
+        return NULL;
+    if (k < def->wall_count)
+        return def->wall_bodies && def->wall_bodies[k].active ? &def->wall_bodies[k] : NULL;
+    return &def->grain_bodies[k - def->wall_count];
+}
+
+/* A body's shape at rest: its centre, its length (a wall's; a grain body's extent across its
+ * axis), the moment of inertia of its mass about the centre (sim.h SimWallBody), its grains
+ * and the species its load is measured against (a wall's; a grain body's first grain's). */
+typedef struct BodyShape {
+    double cx, cy, length, inertia;
+    int grains, species;
+} BodyShape;
+
+/* Grain i of g is a member of grain body b. */
+static int body_member(const SimGrainSet *g, int i, int b)
+{
+    return g->motion && g->motion[i] == SIM_GRAIN_BODY(b);
+}
+
+static BodyShape grain_body_shape(const SimWorldDef *def, int b, const SimWallBody *body)
+{
+    const SimGrainSet *g = &def->grains;
+    BodyShape s = {0.0, 0.0, 0.0, 0.0, 0, 0};
+    double area = 0.0, lo = INFINITY, hi = -INFINITY, spread = 0.0;
+    for (int i = 0; i < g->count; ++i) {
+        if (!body_member(g, i, b))
+            continue;
+        const double r = g->radius[i], a = SIM_PI * r * r;
+        const double across = g->y[i] * body->axis_x - g->x[i] * body->axis_y;
+        if (s.grains++ == 0)
+            s.species = g->species ? g->species[i] : 0;
+        area += a;
+        s.cx += a * g->x[i];
+        s.cy += a * g->y[i];
+        lo = fmin(lo, across - r);
+        hi = fmax(hi, across + r);
+    }
+    if (!s.grains)
+        return s;
+    s.cx /= area;
+    s.cy /= area;
+    s.length = hi - lo;
+    for (int i = 0; i < g->count; ++i)
+        if (body_member(g, i, b)) {
+            const double r = g->radius[i], dx = g->x[i] - s.cx, dy = g->y[i] - s.cy;
+            spread += SIM_PI * r * r * (dx * dx + dy * dy + 0.5 * r * r);
+        }
+    s.inertia = body->mass * spread / area;
+    return s;
+}
+
+static BodyShape body_shape(const SimWorldDef *def, int k)
+{
+    const SimWallBody *body = def_body(def, k);
+    if (k >= def->wall_count) {
+        BodyShape s = grain_body_shape(def, k - def->wall_count, body);
+        if (body->inertia > 0.0)
+            s.inertia = body->inertia;
+        return s;
+    }
+    const SimWall *w = &def->walls[k];
+    const int arc = w->shape == SIM_WALL_ARC;
+    BodyShape s = {arc ? w->center_x : 0.5 * (w->x0 + w->x1),
+                   arc ? w->center_y : 0.5 * (w->y0 + w->y1),
+                   wall_length(w),
+                   0.0,
+                   0,
+                   w->species};
+    const double m = body ? body->mass : 0.0;
+    s.inertia = arc ? m * w->radius * w->radius : m * s.length * s.length / 12.0;
+    if (body && body->inertia > 0.0)
+        s.inertia = body->inertia;
+    return s;
+}
+
 double sim_wall_servo_time(const SimWorldDef *def, int wall)
 {
-    if (!def->wall_bodies || wall < 0 || wall >= def->wall_count)
+    const SimWallBody *b = def_body(def, wall);
+    if (!b || !b->servo)
         return INFINITY;
-    const SimWallBody *b = &def->wall_bodies[wall];
-    if (!b->active || !b->servo)
-        return INFINITY;
+    const BodyShape shape = body_shape(def, wall);
     double d;
-    const double k = wall_stiffness(def, def->walls[wall].species, &d, NULL);
+    const double k = wall_stiffness(def, shape.species, &d, NULL);
     /* stress: a displacement u changes the stress by k u / d; force: by k u length / d */
-    double per_speed = k / d * (b->servo == 2 ? wall_length(&def->walls[wall]) : 1.0);
+    double per_speed = k / d * (b->servo == 2 ? shape.length : 1.0);
     return isfinite(d) && per_speed > 0.0 ? 1.0 / (b->gain * per_speed) : (double)INFINITY;
 }
 
@@ -94,16 +178,15 @@ double sim_wall_servo_time(const SimWorldDef *def, int wall)
 double sim_wall_servo_damping(const SimWorldDef *def, int wall, double *row)
 {
     *row = 0.0;
-    if (!def->wall_bodies || wall < 0 || wall >= def->wall_count)
+    const SimWallBody *b = def_body(def, wall);
+    if (!b || !b->servo)
         return 0.0;
-    const SimWallBody *b = &def->wall_bodies[wall];
-    if (!b->active || !b->servo)
-        return 0.0;
+    const BodyShape shape = body_shape(def, wall);
     double d, gamma;
-    wall_stiffness(def, def->walls[wall].species, &d, &gamma);
+    wall_stiffness(def, shape.species, &d, &gamma);
     if (!isfinite(d))
         return 0.0;
-    const double length = servo_length(def->walls, wall, b);
+    const double length = servo_length(def->walls, b, shape.length);
     *row = floor(length / d) + 1.0;
     return b->gain * gamma / (b->servo == 2 ? 1.0 : length);
 }
@@ -142,9 +225,9 @@ static const char *motion_across(const SimMotion *motions, int index, double axi
 }
 
 /* The problem of responding wall k's stress length (SimWallBody length_kind); NULL: sound. */
-static const char *length_problem(const SimWorldDef *def, int k, char *buf, size_t size)
+static const char *length_problem(const SimWorldDef *def, int k, const SimWallBody *b, char *buf,
+                                  size_t size)
 {
-    const SimWallBody *b = &def->wall_bodies[k];
     if (b->length_kind == 0)
         return NULL;
     if (b->servo != 1)
@@ -174,26 +257,52 @@ static const char *length_problem(const SimWorldDef *def, int k, char *buf, size
             return buf;
         }
     }
-    if (!(servo_length(def->walls, k, b) > 0.0))
+    if (!(servo_length(def->walls, b, body_shape(def, k).length) > 0.0))
         return "its servo's `between` walls are at no distance from each other";
     return NULL;
 }
 
-/* The problem of one responding wall k, written into buf; NULL when it is sound. */
+/* The problem of body k's shape (a grain body's grains, a rotation's inertia); NULL if none. */
+static const char *shape_problem(const SimWorldDef *def, int k, const SimWallBody *b)
+{
+    if (k >= def->wall_count) {
+        const SimGrainSet *g = &def->grains;
+        const int body = k - def->wall_count;
+        for (int i = 0; i < g->count; ++i)
+            if (body_member(g, i, body) && !(g->flags && (g->flags[i] & SIM_GRAIN_FIXED)))
+                return "the grains of a grain body must be fixed grains";
+        if (body_shape(def, k).grains == 0)
+            return "a grain body needs at least one grain (its group is empty)";
+    }
+    if (!(isfinite(b->inertia) && b->inertia >= 0.0))
+        return "its moment of inertia must be >= 0 (finite; 0: from the mass)";
+    if (b->rotation && !(body_shape(def, k).inertia > 0.0))
+        return "a body that turns needs a mass or a moment of inertia > 0";
+    return NULL;
+}
+
+/* The problem of one responding body k, written into buf; NULL when it is sound. */
 static const char *body_problem(const SimWorldDef *def, int k, double dt, double r_min, char *buf,
                                 size_t size)
 {
-    const SimWallBody *b = &def->wall_bodies[k];
+    const SimWallBody *b = def_body(def, k);
+    if (!b)
+        return NULL; /* it does not respond */
     const double norm = hypot(b->axis_x, b->axis_y);
-    if (!(fabs(norm - 1.0) < 1e-9))
-        return "the axis of a responding wall must be a unit vector";
-    const int motion = def->walls[k].motion;
+    if (norm == 0.0 && !(b->rotation && !b->servo))
+        return "a body without an axis (hinged at its centre) must turn and have no servo";
+    if (norm != 0.0 && !(fabs(norm - 1.0) < 1e-9))
+        return "the axis of a responding wall must be a unit vector (or zero: it only turns)";
+    const char *shape = shape_problem(def, k, b);
+    if (shape)
+        return shape;
+    const int motion = k < def->wall_count ? def->walls[k].motion : -1;
     const char *across = motion >= 0 && motion < def->motion_count
                              ? motion_across(def->motions, motion, b->axis_x, b->axis_y)
                              : NULL;
     if (across)
         return across;
-    const char *length = length_problem(def, k, buf, size);
+    const char *length = length_problem(def, k, b, buf, size);
     if (length)
         return length;
     if (!(isfinite(b->force_x) && isfinite(b->force_y)))
@@ -239,14 +348,15 @@ static const char *body_problem(const SimWorldDef *def, int k, double dt, double
 const char *sim_wall_bodies_problem(const SimWorldDef *def, double dt, int *wall, char *buf,
                                     size_t size)
 {
-    if (!def->wall_bodies)
+    const int bodies = def->wall_count + (def->grain_bodies ? def->grain_body_count : 0);
+    if (!def->wall_bodies && bodies == def->wall_count)
         return NULL;
     double r_min = INFINITY;
     for (int i = 0; i < def->grains.count; ++i)
         if (!(def->grains.flags && (def->grains.flags[i] & SIM_GRAIN_FIXED)))
             r_min = fmin(r_min, def->grains.radius[i]);
-    for (int k = 0; k < def->wall_count; ++k) {
-        if (!def->wall_bodies[k].active)
+    for (int k = 0; k < bodies; ++k) {
+        if (!def_body(def, k))
             continue;
         const char *why = body_problem(def, k, dt, r_min, buf, size);
         if (why) {
@@ -257,24 +367,140 @@ const char *sim_wall_bodies_problem(const SimWorldDef *def, double dt, int *wall
     return NULL;
 }
 
+int sim_wall_bodies_create(SimWorld *w, const SimWorldDef *def)
+{
+    const int groups = def->grain_bodies ? def->grain_body_count : 0;
+    if (!(def->wall_bodies && def->wall_count > 0) && groups <= 0)
+        return 0;
+    const int n = def->wall_count + groups;
+    w->body_count = n;
+    w->bodies = calloc((size_t)n, sizeof *w->bodies);
+    double **arrays[] = {&w->body_s, &w->body_u, &w->body_a, &w->body_w};
+    w->body_m = calloc(4 * (size_t)n, sizeof(double));
+    for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; ++a)
+        *arrays[a] = calloc((size_t)n, sizeof(double));
+    w->body_rest = calloc(4 * (size_t)n, sizeof(double));
+    if (!w->bodies || !w->body_s || !w->body_u || !w->body_a || !w->body_w || !w->body_rest ||
+        !w->body_m)
+        return -1;
+    for (int k = 0; k < n; ++k) {
+        const SimWallBody *b = def_body(def, k);
+        if (!b)
+            continue;
+        w->bodies[k] = *b;
+        w->bodies[k].active = 1;
+        const BodyShape shape = body_shape(def, k);
+        double *rest = &w->body_rest[4 * k];
+        rest[0] = shape.cx;
+        rest[1] = shape.cy;
+        rest[2] = shape.length;
+        rest[3] = shape.inertia;
+    }
+    w->def.wall_bodies = def->wall_bodies ? w->bodies : NULL;
+    w->def.grain_bodies = groups > 0 ? w->bodies + def->wall_count : NULL;
+    w->def.grain_body_count = groups;
+    return 0;
+}
+
+void sim_wall_bodies_free(SimWorld *w)
+{
+    free(w->bodies);
+    free(w->body_s);
+    free(w->body_u);
+    free(w->body_a);
+    free(w->body_w);
+    free(w->body_rest);
+    free(w->body_m);
+}
+
+/* (x, y) turned by the angle whose cosine and sine are c and s about (cx, cy), then moved by
+ * (ox, oy). */
+static void turn_point(double c, double s, double cx, double cy, double ox, double oy, double *x,
+                       double *y)
+{
+    const double dx = *x - cx, dy = *y - cy;
+    *x = cx + (c * dx - s * dy) + ox;
+    *y = cy + (s * dx + c * dy) + oy;
+}
+
+/* Wall k at offset (ox, oy), turned by its angle about its centre when it turns; returns how
+ * far it moved since the last build. */
+static double place_wall(SimWorld *w, int k, double ox, double oy)
+{
+    const SimWall *base = &w->walls_base[k];
+    SimWall *now = &w->walls[k];
+    const double *rest = &w->body_rest[4 * k];
+    if (!w->bodies[k].rotation) {
+        now->x0 = base->x0 + ox;
+        now->y0 = base->y0 + oy;
+        now->x1 = base->x1 + ox;
+        now->y1 = base->y1 + oy;
+        now->center_x = base->center_x + ox;
+        now->center_y = base->center_y + oy;
+        return hypot(ox - w->wall_ref_dx[k], oy - w->wall_ref_dy[k]);
+    }
+    const double a = w->body_a[k], c = cos(a), s = sin(a);
+    *now = *base;
+    turn_point(c, s, rest[0], rest[1], ox, oy, &now->x0, &now->y0);
+    turn_point(c, s, rest[0], rest[1], ox, oy, &now->x1, &now->y1);
+    turn_point(c, s, rest[0], rest[1], ox, oy, &now->center_x, &now->center_y);
+    now->angle0 = base->angle0 + a;
+    now->angle1 = base->angle1 + a;
+    const SimWall *ref = &w->walls_ref[k];
+    double shift = fmax(hypot(now->x0 - ref->x0, now->y0 - ref->y0),
+                        hypot(now->x1 - ref->x1, now->y1 - ref->y1));
+    if (now->shape == SIM_WALL_ARC)
+        shift = hypot(now->center_x - ref->center_x, now->center_y - ref->center_y) +
+                now->radius * fabs(now->angle0 - ref->angle0);
+    return shift;
+}
+
+/* The grains of the grain bodies at their bodies' poses, with their bodies' velocities. */
+static void place_grains(SimWorld *w)
+{
+    int moved = 0;
+    for (int i = w->mobile_count; i < w->count; ++i) {
+        const int m = w->motion[i];
+        if (m >= -1)
+            continue;
+        const int k = w->wall_count + SIM_GRAIN_BODY(m); /* SIM_GRAIN_BODY is its own inverse */
+        const SimWallBody *b = &w->bodies[k];
+        const double *rest = &w->body_rest[4 * k];
+        const double s = w->body_s[k], u = w->body_u[k];
+        if (b->rotation) {
+            const double a = w->body_a[k], c = cos(a), sn = sin(a);
+            double x = w->x_base[i], y = w->y_base[i];
+            turn_point(c, sn, rest[0], rest[1], s * b->axis_x, s * b->axis_y, &x, &y);
+            w->x[i] = x;
+            w->y[i] = y;
+            const double rx = x - (rest[0] + s * b->axis_x), ry = y - (rest[1] + s * b->axis_y);
+            w->vx[i] = u * b->axis_x - w->body_w[k] * ry;
+            w->vy[i] = u * b->axis_y + w->body_w[k] * rx;
+            w->omega[i] = w->body_w[k];
+        } else {
+            w->x[i] = w->x_base[i] + s * b->axis_x;
+            w->y[i] = w->y_base[i] + s * b->axis_y;
+            w->vx[i] = u * b->axis_x;
+            w->vy[i] = u * b->axis_y;
+        }
+        const double dx = w->x[i] - w->x_ref[i], dy = w->y[i] - w->y_ref[i];
+        moved |= dx * dx + dy * dy > w->disp_limit2;
+    }
+    w->need_rebuild |= moved;
+}
+
 void sim_wall_body_place(SimWorld *w, int k)
 {
     const SimWallBody *b = &w->bodies[k];
     const double *mine = &w->body_m[4 * k]; /* its motion, across the axis */
     const double ox = mine[0] + w->body_s[k] * b->axis_x, oy = mine[1] + w->body_s[k] * b->axis_y;
-    const SimWall *base = &w->walls_base[k];
-    SimWall *now = &w->walls[k];
-    now->x0 = base->x0 + ox;
-    now->y0 = base->y0 + oy;
-    now->x1 = base->x1 + ox;
-    now->y1 = base->y1 + oy;
-    now->center_x = base->center_x + ox;
-    now->center_y = base->center_y + oy;
+    const double shift = place_wall(w, k, ox, oy);
     w->wall_vx[k] = mine[2] + w->body_u[k] * b->axis_x;
     w->wall_vy[k] = mine[3] + w->body_u[k] * b->axis_y;
-    w->wall_ox[k] = ox;
-    w->wall_oy[k] = oy;
-    const double shift = hypot(ox - w->wall_ref_dx[k], oy - w->wall_ref_dy[k]);
+    w->wall_omega[k] = b->rotation ? w->body_w[k] : 0.0;
+    /* the surface speed turns about the centre now (walls.h sim_wall_velocity) */
+    w->wall_ox[k] = b->rotation ? w->body_rest[4 * k] + ox : ox;
+    w->wall_oy[k] = b->rotation ? w->body_rest[4 * k + 1] + oy : oy;
     w->wall_shift = fmax(shift, w->wall_shift);
 }
 
@@ -285,18 +511,46 @@ void sim_wall_bodies_place(SimWorld *w)
     for (int k = 0; k < w->wall_count; ++k)
         if (w->bodies[k].active)
             sim_wall_body_place(w, k);
+    if (w->body_count > w->wall_count)
+        place_grains(w);
 }
 
-/* The speed of responding wall k after this step, m/s. */
-static double body_speed(const SimWorld *w, int k)
+/* The load of grain body k (4 values as a wall's, its touching grains in *touch): the contact
+ * forces on its grains summed in frame order, the torque about its centre now. */
+static void grain_body_load(const SimWorld *w, int k, double load[4], int *touch)
 {
     const SimWallBody *b = &w->bodies[k];
-    const double *load = &w->wall_load[4 * k];
+    const double cx = w->body_rest[4 * k] + w->body_s[k] * b->axis_x;
+    const double cy = w->body_rest[4 * k + 1] + w->body_s[k] * b->axis_y;
+    const int m = SIM_GRAIN_BODY(k - w->wall_count);
+    double fx = 0.0, fy = 0.0, torque = 0.0;
+    int n = 0;
+    for (int i = w->mobile_count; i < w->count; ++i) {
+        if (w->motion[i] != m)
+            continue;
+        fx += w->fx[i];
+        fy += w->fy[i];
+        torque += (w->x[i] - cx) * w->fy[i] - (w->y[i] - cy) * w->fx[i];
+        if (w->rotation)
+            torque += w->torque[i];
+        n += w->fx[i] != 0.0 || w->fy[i] != 0.0;
+    }
+    load[0] = fx;
+    load[1] = fy;
+    load[2] = -(fx * b->axis_x + fy * b->axis_y);
+    load[3] = torque;
+    *touch = n;
+}
+
+/* The speed of responding body k after this step, m/s, from its load (4 values). */
+static double body_speed(const SimWorld *w, int k, const double *load)
+{
+    const SimWallBody *b = &w->bodies[k];
     const double along = load[0] * b->axis_x + load[1] * b->axis_y; /* the grains' force */
     if (b->servo) {
         double measured = -along;
         if (b->servo == 1)
-            measured /= servo_length(w->walls, k, b);
+            measured /= servo_length(w->walls, b, w->body_rest[4 * k + 2]);
         const double u = b->gain * (b->target - measured);
         return fmax(-b->max_speed, fmin(b->max_speed, u));
     }
@@ -310,42 +564,71 @@ void sim_wall_bodies_step(SimWorld *w)
 {
     if (!w->bodies)
         return;
-    for (int k = 0; k < w->wall_count; ++k) {
+    for (int k = 0; k < w->body_count; ++k) {
         if (!w->bodies[k].active)
             continue;
-        w->body_u[k] = body_speed(w, k);
+        double group[4];
+        int touch;
+        if (k >= w->wall_count)
+            grain_body_load(w, k, group, &touch);
+        const double *load = k < w->wall_count ? &w->wall_load[4 * k] : group;
+        w->body_u[k] = body_speed(w, k, load);
         w->body_s[k] += w->dt * w->body_u[k];
+        if (w->bodies[k].rotation) { /* I domega/dt = T, then the angle: as the translation */
+            w->body_w[k] += w->dt * (load[3] / w->body_rest[4 * k + 3]);
+            w->body_a[k] += w->dt * w->body_w[k];
+        }
     }
     sim_wall_bodies_place(w);
 }
 
-int sim_world_wall_load(const SimWorld *w, int wall, SimWallLoad *load)
+/* Grain body k's load (sim_world_wall_load). */
+static void grain_body_view(const SimWorld *w, int k, SimWallLoad *load)
 {
-    if (!w || wall < 0 || wall >= w->wall_count || !load)
-        return -1;
-    const SimWall *now = &w->walls[wall];
-    const double *l = &w->wall_load[4 * wall];
-    memset(load, 0, sizeof *load);
+    const SimWallBody *b = &w->bodies[k];
+    double l[4];
+    grain_body_load(w, k, l, &load->contacts);
     load->fx = l[0];
     load->fy = l[1];
     load->normal = l[2];
     load->torque = l[3];
-    load->length = wall_length(now);
-    load->contacts = w->wall_touch[wall];
-    if (now->shape == SIM_WALL_ARC) {
-        load->x = now->center_x;
-        load->y = now->center_y;
-        load->tangential = now->radius > 0.0 ? l[3] / now->radius : 0.0;
+    load->tangential = l[1] * b->axis_x - l[0] * b->axis_y;
+    load->length = w->body_rest[4 * k + 2];
+    load->x = w->body_rest[4 * k] + w->body_s[k] * b->axis_x;
+    load->y = w->body_rest[4 * k + 1] + w->body_s[k] * b->axis_y;
+}
+
+int sim_world_wall_load(const SimWorld *w, int wall, SimWallLoad *load)
+{
+    if (!w || wall < 0 || wall >= (w->bodies ? w->body_count : w->wall_count) || !load)
+        return -1;
+    memset(load, 0, sizeof *load);
+    if (wall >= w->wall_count) {
+        grain_body_view(w, wall, load);
     } else {
-        load->x = 0.5 * (now->x0 + now->x1);
-        load->y = 0.5 * (now->y0 + now->y1);
-        const double len = load->length;
-        load->tangential =
-            len > 0.0 ? (l[0] * (now->x1 - now->x0) + l[1] * (now->y1 - now->y0)) / len : 0.0;
+        const SimWall *now = &w->walls[wall];
+        const double *l = &w->wall_load[4 * wall];
+        load->fx = l[0];
+        load->fy = l[1];
+        load->normal = l[2];
+        load->torque = l[3];
+        load->length = wall_length(now);
+        load->contacts = w->wall_touch[wall];
+        if (now->shape == SIM_WALL_ARC) {
+            load->x = now->center_x;
+            load->y = now->center_y;
+            load->tangential = now->radius > 0.0 ? l[3] / now->radius : 0.0;
+        } else {
+            load->x = 0.5 * (now->x0 + now->x1);
+            load->y = 0.5 * (now->y0 + now->y1);
+            const double len = load->length;
+            load->tangential =
+                len > 0.0 ? (l[0] * (now->x1 - now->x0) + l[1] * (now->y1 - now->y0)) / len : 0.0;
+        }
     }
     if (w->bodies && w->bodies[wall].active) {
         if (w->bodies[wall].servo == 1) /* the length its stress target is taken over */
-            load->length = servo_length(w->walls, wall, &w->bodies[wall]);
+            load->length = servo_length(w->walls, &w->bodies[wall], w->body_rest[4 * wall + 2]);
         load->offset = w->body_s[wall];
         load->speed = w->body_u[wall];
     }
@@ -354,19 +637,22 @@ int sim_world_wall_load(const SimWorld *w, int wall, SimWallLoad *load)
 
 /* ------------------------------------------------------------------ state file footer */
 
-/* The footer: the offsets and speeds of every wall (wall_count each), then the wall count
- * (int32) and this tag, at the very end of the file, written only when a wall responds. */
-static const char body_tag[8] = "WBODY-1\n";
+/* The footer: the offsets, speeds, angles and angular speeds of every body (body_count each),
+ * then the body count (int32) and this tag, at the very end of the file, written only when a
+ * body responds. The first version held the walls' offsets and speeds only (read as such). */
+static const char body_tag[8] = "WBODY-2\n", body_tag_1[8] = "WBODY-1\n";
 
 int sim_wall_bodies_write(FILE *f, const SimWorld *w)
 {
     if (!w->bodies)
         return 0;
-    const size_t n = (size_t)w->wall_count;
-    const int32_t count = w->wall_count;
-    return fwrite(w->body_s, sizeof(double), n, f) == n &&
-                   fwrite(w->body_u, sizeof(double), n, f) == n &&
-                   fwrite(&count, sizeof count, 1, f) == 1 &&
+    const size_t n = (size_t)w->body_count;
+    const int32_t count = w->body_count;
+    const double *arrays[] = {w->body_s, w->body_u, w->body_a, w->body_w};
+    int ok = 1;
+    for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; ++a)
+        ok = ok && fwrite(arrays[a], sizeof(double), n, f) == n;
+    return ok && fwrite(&count, sizeof count, 1, f) == 1 &&
                    fwrite(body_tag, sizeof body_tag, 1, f) == 1
                ? 0
                : -1;
@@ -380,17 +666,23 @@ void sim_wall_bodies_read(SimWorld *w, FILE *f)
     int32_t count = -1;
     const long tail = (long)(sizeof count + sizeof tag);
     if (fseek(f, -tail, SEEK_END) != 0 || fread(&count, sizeof count, 1, f) != 1 ||
-        fread(tag, sizeof tag, 1, f) != 1 || memcmp(tag, body_tag, sizeof tag) != 0 ||
-        count != w->wall_count)
-        return; /* none saved: the walls start at rest where they are defined */
-    const size_t n = (size_t)count;
-    if (fseek(f, -(tail + (long)(2 * n * sizeof(double))), SEEK_END) != 0)
+        fread(tag, sizeof tag, 1, f) != 1)
         return;
-    double *s = w->body_s, *u = w->body_u;
-    const int read = fread(s, sizeof(double), n, f) == n && fread(u, sizeof(double), n, f) == n;
+    const int first = memcmp(tag, body_tag_1, sizeof tag) == 0;
+    if (!(first || memcmp(tag, body_tag, sizeof tag) == 0) ||
+        count != (first ? w->wall_count : w->body_count))
+        return; /* none saved: the bodies start at rest where they are defined */
+    const size_t n = (size_t)count, arrays = first ? 2 : 4;
+    if (fseek(f, -(tail + (long)(arrays * n * sizeof(double))), SEEK_END) != 0)
+        return;
+    double *into[] = {w->body_s, w->body_u, w->body_a, w->body_w};
+    int read = 1;
+    for (size_t a = 0; a < arrays; ++a)
+        read = read && fread(into[a], sizeof(double), n, f) == n;
     for (size_t k = 0; k < n; ++k)
-        if (!read || !isfinite(s[k]) || !isfinite(u[k]))
-            s[k] = u[k] = 0.0;
+        if (!read || !isfinite(w->body_s[k]) || !isfinite(w->body_u[k]) ||
+            !isfinite(w->body_a[k]) || !isfinite(w->body_w[k]))
+            w->body_s[k] = w->body_u[k] = w->body_a[k] = w->body_w[k] = 0.0;
     /* The list's wall shift is the saved one (an exact continuation restored it; otherwise the
      * world is rebuilt): a wall that also follows a motion is placed here with its motion's pose
      * under the clock the world was created with, which the stage's clock then replaces

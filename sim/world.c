@@ -320,6 +320,8 @@ static SimStatus validate_grains(const SimWorldDef *def, int restored, SimError 
         CHECK(s >= 0 && s < def->species_count, f, "grain %d has species %d, not defined", i, s);
         int mo = g->motion ? g->motion[i] : -1;
         CHECK(mo < def->motion_count, f, "grain %d uses motion %d, not defined", i, mo);
+        CHECK(mo >= -1 || (def->grain_bodies && SIM_GRAIN_BODY(mo) < def->grain_body_count), f,
+              "grain %d belongs to grain body %d, not defined", i, SIM_GRAIN_BODY(mo));
         if (mo >= 0)
             CHECK(def->effects & SIM_EFFECT_VIBRATION, f,
                   "grain %d has a prescribed motion but the vibration effect is not declared", i);
@@ -462,6 +464,8 @@ static SimStatus validate_def(const SimWorldDef *def, int restored, SimError *er
           "max_initial_overlap must be >= 0");
     CHECK(def->length_scale >= 0.0 && isfinite(def->length_scale), "length_scale",
           "length_scale must be >= 0");
+    CHECK(!def->grain_bodies || def->grain_body_count >= 0, "bodies",
+          "grain_body_count %d is negative", def->grain_body_count);
     CHECK(def->motion_count >= 0 && def->motion_count <= SIM_MAX_MOTIONS, "motions",
           "too many motions (at most %d)", SIM_MAX_MOTIONS);
     CHECK(def->sink_count >= 0 && def->sink_count <= SIM_MAX_SINKS, "sinks",
@@ -510,6 +514,11 @@ static SimStatus validate_def(const SimWorldDef *def, int restored, SimError *er
     const char *body = sim_wall_bodies_problem(def, t.time_step, &body_wall, why, sizeof why);
     if (body) {
         char f[64];
+        const int group = body_wall - def->wall_count;
+        if (group >= 0) {
+            snprintf(f, sizeof f, "bodies[%d]", group);
+            return sim_fail(error, SIM_ERROR_INVALID, f, "grain body %d: %s", group, body);
+        }
         snprintf(f, sizeof f, "walls[%d]", body_wall);
         return sim_fail(error, SIM_ERROR_INVALID, f, "wall %d: %s", body_wall, body);
     }
@@ -889,22 +898,13 @@ static SimWorld *create(const SimWorldDef *def, int restored, SimError *error)
     w->wall_ref_dx = calloc(nw, sizeof(double));
     w->wall_ref_dy = calloc(nw, sizeof(double));
     w->walls_ref = calloc(nw, sizeof *w->walls_ref);
-    w->wall_load = calloc(4 * nw, sizeof(double));
-    w->wall_touch = calloc(nw, sizeof(int));
-    if (def->wall_bodies && def->wall_count > 0) {
-        w->bodies = malloc(nw * sizeof *w->bodies);
-        w->body_s = calloc(nw, sizeof(double));
-        w->body_u = calloc(nw, sizeof(double));
-        w->body_m = calloc(4 * nw, sizeof(double));
-        if (w->bodies)
-            memcpy(w->bodies, def->wall_bodies, nw * sizeof *w->bodies);
-    }
-    w->def.wall_bodies = w->bodies;
+    /* the grain bodies' loads follow the walls' (wall_body.c) */
+    const size_t nl = nw + (size_t)(def->grain_bodies ? def->grain_body_count : 0);
+    w->wall_load = calloc(4 * nl, sizeof(double));
+    w->wall_touch = calloc(nl, sizeof(int));
     if (!w->walls_base || !w->walls || !w->wall_vx || !w->wall_vy || !w->wall_omega ||
         !w->wall_ox || !w->wall_oy || !w->wall_ref_dx || !w->wall_ref_dy || !w->walls_ref ||
-        !w->wall_load || !w->wall_touch ||
-        (def->wall_bodies && def->wall_count > 0 &&
-         (!w->bodies || !w->body_s || !w->body_u || !w->body_m))) {
+        !w->wall_load || !w->wall_touch || sim_wall_bodies_create(w, def) != 0) {
         sim_world_destroy(w);
         sim_fail(error, SIM_ERROR_MEMORY, "", "out of memory creating the world");
         return NULL;
@@ -977,10 +977,7 @@ void sim_world_destroy(SimWorld *w)
     free(w->walls_ref);
     free(w->wall_load);
     free(w->wall_touch);
-    free(w->bodies);
-    free(w->body_s);
-    free(w->body_u);
-    free(w->body_m);
+    sim_wall_bodies_free(w);
     free(w->good.data);
     free(w->good.ints);
     free(w->good.flags);

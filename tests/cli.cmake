@@ -264,6 +264,24 @@ add_test(NAME cli.servo_lid
          COMMAND bash ${CLI_DIR}/servo_lid.sh $<TARGET_FILE:sablier>
                  ${CLI_DIR}/servo_lid.scene ${CLI_WORK}/servo_lid)
 set_tests_properties(cli.servo_lid PROPERTIES LABELS cli)
+# a rough piston (`bodies`: a row of fixed grains moving as one rigid body) falling on a bed rests
+# at the balance of its weight, and one held by a servo keeps its target stress, both within 1 %
+# over the window of walls.csv's means (tests/cli/rough_piston.sh)
+add_test(NAME cli.wall_rough_piston
+         COMMAND bash ${CLI_DIR}/rough_piston.sh $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/rough_piston.scene ${CLI_WORK}/rough_piston)
+add_test(NAME cli.servo_rough_piston
+         COMMAND bash ${CLI_DIR}/rough_piston.sh $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/rough_piston_servo.scene ${CLI_WORK}/rough_piston_servo --servo)
+set_tests_properties(cli.wall_rough_piston cli.servo_rough_piston PROPERTIES LABELS cli)
+# the rough piston's run lost after a checkpoint, and interrupted, then resumed: every output
+# byte for byte as the uninterrupted run's (tests/cli/resume.sh --outputs)
+add_test(NAME cli.resume_rough_piston
+         COMMAND bash ${CLI_DIR}/resume.sh --outputs $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/rough_piston.scene ${CLI_WORK}/resume_rough_piston
+                 --set stages.press.time.end=1.0 --set output.walls.window=[0.5,1.0]
+                 --set output.checkpoint_every=0.4)
+set_tests_properties(cli.resume_rough_piston PROPERTIES LABELS cli)
 # the servo's damping bound: a lid whose full row of grains would flip its speed is warned about
 # at its file:line, with the gain that keeps a row stable (tests/scenes_bad/servo_damping_gain.scene:
 # one contact already flips it, refused)

@@ -90,7 +90,7 @@ class SimWallBody(Structure):
                 ("mass", c_double), ("force_x", c_double), ("force_y", c_double),
                 ("gravity", c_int), ("servo", c_int), ("target", c_double), ("gain", c_double),
                 ("max_speed", c_double), ("length_kind", c_int), ("length", c_double),
-                ("between", c_int * 2)]
+                ("between", c_int * 2), ("rotation", c_int), ("inertia", c_double)]
 
 
 class SimWorldDef(Structure):
@@ -101,6 +101,7 @@ class SimWorldDef(Structure):
                 ("max_dt_fraction", c_double), ("skin", c_double), ("domain_x0", c_double),
                 ("domain_x1", c_double), ("grains", SimGrainSet), ("wall_count", c_int),
                 ("walls", POINTER(SimWall)), ("wall_bodies", POINTER(SimWallBody)),
+                ("grain_bodies", POINTER(SimWallBody)), ("grain_body_count", c_int),
                 ("motion_count", c_int),
                 ("motions", SimMotion * SIM_MAX_MOTIONS), ("sink_count", c_int),
                 ("sinks", SimSink * SIM_MAX_SINKS), ("body_force", SimBodyForce),
