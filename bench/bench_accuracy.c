@@ -607,7 +607,7 @@ static double n_for(const char *test, const Scheme *scheme, double target, doubl
 
 /* The convergence law of the restitution error, |e - e_n| <= C / n^p over n in [30, 3000]: p the
  * least-squares order, C the envelope max(error n^p) (so the law bounds every measured point).
- * app/advice.c stores these for `sablier check --target-error` and `time.target_error`. */
+ * app/scene/advice.c stores these for `sablier check --target-error` and `time.target_error`. */
 static void print_laws(void)
 {
     static const char *const tests[3] = {"restitution_0.2", "restitution_0.5", "restitution_0.9"};

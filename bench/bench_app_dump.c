@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* bench_app_dump: what a per-grain dump (app/dump.c, docs/dumps.md) costs.
+/* bench_app_dump: what a per-grain dump (app/output/dump.c, docs/dumps.md) costs.
  *
  * Part 1, per sample: the grains of a scene's first stage after `--settle` seconds, then each
  * writer timed over `--samples` frames of that state: the frame view alone (sim_world_frame:
@@ -17,9 +17,9 @@
  *
  * Usage: bench_app_dump [--scene S] [--settle T] [--samples K] [--repeats R] [--end T]
  *        (defaults: scenes/crater/small.scene, 1.0 s, 20 samples, 5 repeats, stage end 1.0 s) */
-#include "dump.h"
-#include "run.h"
-#include "scene.h"
+#include "output/dump.h"
+#include "run/run.h"
+#include "scene/scene.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -7,8 +7,8 @@
  * Usage: bench_app_plot_profile RUN_DIR OUT_DIR [REPEATS]
  * RUN_DIR holds profile.csv and scene.resolved.cfg (a crater run's folder); writes
  * OUT_DIR/profiles.png and OUT_DIR/profiles.pdf, and prints the mean wall time per figure. */
-#include "render_glue.h"
-#include "scene.h"
+#include "cli/render_glue.h"
+#include "scene/scene.h"
 
 #include <stdio.h>
 #include <stdlib.h>

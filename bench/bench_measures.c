@@ -13,8 +13,8 @@
  * A benchmark reports; it asserts nothing about time.
  *
  * Usage: bench_measures [--repeats K] */
-#include "run.h"
-#include "scene.h"
+#include "run/run.h"
+#include "scene/scene.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -24,7 +24,7 @@ static const uint32_t text_rgb = 0x111111;
 
 /* ---------------------------------------------------------------- the drawn scene */
 
-/* What one frame's drawing needs, resolved once (not `Scene`: app/scene.h has its own). */
+/* What one frame's drawing needs, resolved once (not `Scene`: app/scene/scene.h has its own). */
 typedef struct DrawScene {
     const SimFrame *frame;
     RenderStyle style; /* resolved */
@@ -1153,7 +1153,7 @@ int render_figure_beside_write(const SimFrame *frame, const RenderStyle *style,
         snprintf(err, err_size, "%s: a figure with a plot beside it is .pdf or .svg", path);
         return -1;
     }
-    /* the PNG composite's geometry (app/render_glue.c side_by_side) */
+    /* the PNG composite's geometry (app/cli/render_glue.c side_by_side) */
     Beside b = {.plot = plot, .top = shift < 0 ? -shift : 0, .shift = shift};
     b.width = style->width + plot->width;
     b.height = style->height + b.top > plot->height + shift + b.top ? style->height + b.top

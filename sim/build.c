@@ -124,7 +124,7 @@ SimGrainSet sim_grain_buffer_view(const SimGrainBuffer *b)
 }
 
 /* floor(n) as a loop count: -1 for NaN or negative, at most INT_MAX - 2 (no out-of-range
- * conversion; callers bound their sizes, app/scene_grains.c refuses over 1e7 grains). */
+ * conversion; callers bound their sizes, app/scene/scene_grains.c refuses over 1e7 grains). */
 static int lattice_count(double n)
 {
     n = floor(n);

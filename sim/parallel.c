@@ -212,8 +212,8 @@ static int run_job(SimPool *p, SimWorld *world, RangeFn *fn, int n, int chunk, i
 int sim_parallel_ranges(SimWorld *world, RangeFn *fn, int n, int align)
 {
     SimPool *p = world->pool;
-    /* In a child forked after the workers started (app/pool.c forks members) the world has no
-     * workers: it runs on one thread, with the same results. */
+    /* In a child forked after the workers started (app/driver/pool.c forks members) the world has
+     * no workers: it runs on one thread, with the same results. */
     int parts = p && p->owner == getpid() ? p->workers + 1 : 1;
     if (parts > n / MIN_PER_THREAD)
         parts = n / MIN_PER_THREAD;

@@ -580,7 +580,7 @@ double sim_kernel_lucy(double r, double c);
 /* ================================================================ coarse graining (sim/coarse.c)
  * Continuum fields from a frame by kernel coarse-graining (Goldhirsch 2010; Weinhart et al. 2012,
  * "From discrete particles to continuum fields near a boundary", Granular Matter 14: 289), the
- * one implementation of the app's measures (app/measures.c) and of render's velocity field.
+ * one implementation of the app's measures (app/output/measures.c) and of render's velocity field.
  * Mobile grains only; contacts between a mobile grain and a fixed grain or a wall count.
  *
  *     SimCoarseDef cd = sim_coarse_def_default();
@@ -786,7 +786,7 @@ void sim_world_set_gravity(SimWorld *world, double gravity_x, double gravity_y);
 /// (its schedule then applies: SimMotion.start, ramp, stop), and from t = off on it holds the
 /// pose it had at off, at rest (off = INFINITY: never). on = INFINITY: never enabled (at rest
 /// where it was defined). At create every motion has on = 0, off = INFINITY. A stage's
-/// `motions` list calls this (app/run.c). Out-of-range indices are ignored.
+/// `motions` list calls this (app/run/run.c). Out-of-range indices are ignored.
 void sim_world_set_motion(SimWorld *world, int motion, double on, double off);
 
 /* ---------------------------------------------------------------- checkpoints */

@@ -8,7 +8,7 @@
  *   3. its call in sim_world_forces_at() below, behind a test of its effect bit (the contact pass,
  *      the wall pass and the integrator are instead chosen once in sim_world_create(), from the
  *      contact key and the integrator: function pointers in the world);
- *   4. the scene keys in the scene loader, gated by loader_gate (app/scene_keys.c);
+ *   4. the scene keys in the scene loader, gated by loader_gate (app/scene/scene_keys.c);
  *   5. a validation scene and a test.
  */
 #include "internal.h"

@@ -452,7 +452,7 @@ sablier_cli_test(study_widths_empty_item
 sablier_cli_test(study_widths_too_small
                  "study|${CLI_DISCHARGE}|--widths|0.5,2|--out|${CLI_WORK}/study_widths_too_small" 2
                  ERR "study: --widths 0.5: an orifice width must be in")
-# sweep and study parse through the multi-run driver (app/driver.h): their usage errors unchanged,
+# sweep and study parse through the multi-run driver (app/driver/driver.h): their usage errors unchanged,
 # and what one command does not take (study: --quiet, --vary) still refused
 sablier_cli_test(study_no_scene "study" 2 ERR "missing SCENE\n\nusage: sablier study")
 sablier_cli_test(study_quiet "study|${CLI_DISCHARGE}|--quiet" 2 ERR "unknown option --quiet")

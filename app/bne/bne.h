@@ -23,9 +23,8 @@
 #ifndef APP_BNE_H
 #define APP_BNE_H
 
-#include "experiment.h"
-#include "scene.h"
-
+#include "base/experiment.h"
+#include "scene/scene.h"
 #include "sim/sim.h"
 
 #include <libconfig.h>
@@ -49,7 +48,7 @@ typedef struct AppBneResult {
     const double *height;            ///< intruder centre in the box frame, m
 } AppBneResult;
 
-/// The Brazil-nut family (app/experiment.h): parses `bne`, stops the named motion before the
+/// The Brazil-nut family (app/base/experiment.h): parses `bne`, stops the named motion before the
 /// shaking stage and phases it to start at rest offset there (adjust_def), re-creates the world
 /// at the shaking stage, writes bne.csv at every energy row, the phase samples at their steps,
 /// phase_field.csv and phase_field.png at the end of the shaking stage, and bne.json at the end.
@@ -132,7 +131,7 @@ typedef struct AppBneSamplesOptions {
     const char *vary; ///< "KEY=v1,v2,..." or NULL
     int seeds;        ///< runs per value, seeds seed0 .. seed0 + seeds - 1
     long seed0;
-    int jobs;           ///< runs at a time (child processes, app/pool.h); MPI ranks under mpirun
+    int jobs; ///< runs at a time (child processes, app/driver/pool.h); MPI ranks under mpirun
     double ldf_periods; ///< window of the large-deviation function, in shaking periods (0 = off)
     int quiet;
     int resume;              ///< 1: skip the runs whose folder holds a completed run

@@ -4,10 +4,10 @@
  * +- standard deviation rise curves, rise times and the large-deviation function of the windowed
  * rise rate (docs/brazil_nut.md). */
 #include "bne.h"
-#include "driver.h"
-#include "pool.h"
-#include "util.h"
 
+#include "base/util.h"
+#include "driver/driver.h"
+#include "driver/pool.h"
 #include "sim/sim.h"
 
 #include <math.h>
@@ -227,7 +227,7 @@ static int run_one(Samples *S, double value, long seed, Record *rec)
 }
 
 /* The runs are the pool's tasks, values outer: task k is value k / seeds, seed seed0 + k % seeds.
- * Each runs in a child process (app/pool.h) and hands its record back through a file. */
+ * Each runs in a child process (app/driver/pool.h) and hands its record back through a file. */
 static int sample_run(void *ctx, int k)
 {
     Samples *S = ctx;

@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MIT */
-/* crater.c: the crater-collapse family (thesis 000) behind app/experiment.h, and its observables.
- * The family owns the stages' `dig` keys (a cavity dug at the stage start, 000 §4.1 stage 2) and
- * `output.profile_every` / `output.profile_bin` (free-surface profiles), runs the observer during
- * a run and draws the energy and profile figures after it; `sablier sweep` (sweep.c) is its
- * driver. Its hook table, app_crater_experiment, closes this file.
+/* crater.c: the crater-collapse family (thesis 000) behind app/base/experiment.h, and its
+ * observables. The family owns the stages' `dig` keys (a cavity dug at the stage start, 000 §4.1
+ * stage 2) and `output.profile_every` / `output.profile_bin` (free-surface profiles), runs the
+ * observer during a run and draws the energy and profile figures after it; `sablier sweep`
+ * (sweep.c) is its driver. Its hook table, app_crater_experiment, closes this file.
  *
  * Observables (000 §5.4): the profile is the thesis's free surface: per x-bin about one mean
  * diameter wide, the highest top of a grain centred in it (notes §5.4 [D]). The crater height is
@@ -11,13 +11,13 @@
  * height"). */
 #include "crater.h"
 
-#include "checkpoint.h"
-#include "config.h"
-#include "experiments.h"
-#include "run_value.h"
 #include "sweep.h"
-#include "util.h"
 
+#include "base/config.h"
+#include "base/experiments.h"
+#include "base/util.h"
+#include "driver/run_value.h"
+#include "run/checkpoint.h"
 #include "sim/sim.h"
 
 #include <errno.h>
@@ -776,7 +776,7 @@ int app_crater_plots(const Scene *scene, int energy_stage, const char *out_dir,
     return rc;
 }
 
-/* -------------------------------------------------- the family's hooks (app/experiment.h) */
+/* -------------------------------------------------- the family's hooks (app/base/experiment.h) */
 
 struct AppCraterState {
     AppCraterDig dig[SCENE_MAX_STAGES];

@@ -2,8 +2,8 @@
 /* crater.h: crater observables of a run (thesis 000 §5.4, Ch. 7): the free-surface profile over
  * time (profile.csv), the crater height (crater.csv), the settled bed's structure (coordination,
  * packing fraction, hexatic order) and a key/value summary (observables.csv); plus plain plot
- * descriptions (AppCraterChart) built from those CSV files, which app/sablier.c draws with render/.
- * Knows nothing about rendering.
+ * descriptions (AppCraterChart) built from those CSV files, which app/cli/sablier.c draws with
+ * render/. Knows nothing about rendering.
  *
  *     AppCraterObserver *obs = app_crater_observer_open(scene, "out/quick", err, sizeof err);
  *     app_crater_observer_before_edit(obs, world, stage);  // bed measures before a dig
@@ -13,10 +13,9 @@
 #ifndef APP_CRATER_H
 #define APP_CRATER_H
 
-#include "experiment.h"
-#include "render_hooks.h"
-#include "scene.h"
-
+#include "base/experiment.h"
+#include "base/render_hooks.h"
+#include "scene/scene.h"
 #include "sim/sim.h"
 
 #include <stddef.h>
@@ -83,7 +82,7 @@ void app_crater_observer_stage_start(AppCraterObserver *observer, SimWorld *worl
 void app_crater_observer_sample(AppCraterObserver *observer, SimWorld *world, int stage,
                                 double stage_start);
 /// A checkpoint of the running stage: the measures so far and the lengths of profile.csv and
-/// crater.csv, as lines of the family's section (app/checkpoint.h).
+/// crater.csv, as lines of the family's section (app/run/checkpoint.h).
 void app_crater_observer_checkpoint(const AppCraterObserver *observer, FILE *out);
 /// --resume: the observer just opened continues from those lines (its CSV files cut back to the
 /// recorded lengths). 0, or -1 with a message.

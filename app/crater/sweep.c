@@ -3,13 +3,12 @@
  * member's outputs are those of the same `sablier run` command line whatever the job count. */
 #include "sweep.h"
 
-#include "config.h"
-#include "driver.h"
-#include "pool.h"
-#include "run.h"
-#include "scene.h"
-#include "util.h"
-
+#include "base/config.h"
+#include "base/util.h"
+#include "driver/driver.h"
+#include "driver/pool.h"
+#include "run/run.h"
+#include "scene/scene.h"
 #include "sim/sim.h"
 
 #include <errno.h>
@@ -442,7 +441,7 @@ static int member_folder(void *ctx, int i, char *dir, size_t size)
     return snprintf(dir, size, "%s", run->members[i].dir) < (int)size ? 0 : -1;
 }
 
-/* Runs `count` members (the bed: bed_run = 1), `jobs` at a time (app/pool.h); --resume skips
+/* Runs `count` members (the bed: bed_run = 1), `jobs` at a time (app/driver/pool.h); --resume skips
  * those whose folder holds a completed run. The pool's status: 0, or 128 + a signal that
  * stopped it. */
 static int run_members(Sweep *w, Member *members, int count, int bed_run)

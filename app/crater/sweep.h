@@ -14,7 +14,8 @@
 #define APP_SWEEP_H
 
 #include "crater.h"
-#include "experiment.h"
+
+#include "base/experiment.h"
 
 typedef struct AppCraterSweepOptions {
     const char *self;        ///< the sablier executable the members run

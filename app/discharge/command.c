@@ -2,7 +2,8 @@
 /* discharge/command.c: `sablier discharge` (thesis 004): one open pile built (or loaded) and
  * discharged through a central orifice at each width, with figures and movies on request. */
 #include "drivers.h"
-#include "util.h"
+
+#include "base/util.h"
 
 #include <errno.h>
 #include <math.h>

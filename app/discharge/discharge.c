@@ -8,9 +8,9 @@
  * sim_frame_find_arch) and the species composition (004 §3.4). */
 #include "discharge.h"
 
-#include "config.h"
-#include "experiments.h"
-#include "util.h"
+#include "base/config.h"
+#include "base/experiments.h"
+#include "base/util.h"
 
 #include <math.h>
 #include <stdarg.h>

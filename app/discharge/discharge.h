@@ -14,9 +14,8 @@
 #ifndef APP_DISCHARGE_H
 #define APP_DISCHARGE_H
 
-#include "experiment.h"
-#include "scene.h"
-
+#include "base/experiment.h"
+#include "scene/scene.h"
 #include "sim/sim.h"
 
 #include <libconfig.h>
@@ -156,7 +155,7 @@ const char *app_discharge_csv_header(void);
 void app_discharge_csv_row(const AppDischarge *r, long sample, double base_length, char *out,
                            size_t size);
 
-/// The discharge family (app/experiment.h): the `discharge` group and the commands `discharge`
+/// The discharge family (app/base/experiment.h): the `discharge` group and the commands `discharge`
 /// and `study` (app_discharge_commands, two entries).
 extern const AppExperiment app_discharge_experiment;
 /// The protocol world's timing with the scene's own time step (time.dt, or

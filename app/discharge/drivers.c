@@ -2,7 +2,7 @@
 /* discharge/drivers.c: what the discharge family's two commands share (drivers.h). */
 #include "drivers.h"
 
-#include "util.h"
+#include "base/util.h"
 
 #include <errno.h>
 #include <math.h>

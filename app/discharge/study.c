@@ -4,13 +4,13 @@
  * discharged at every width (004 §3.1: "the same samples are discharged at every w"). */
 #include "study.h"
 
-#include "driver.h"
 #include "drivers.h"
-#include "pool.h"
-#include "run.h"
-#include "stats.h"
-#include "util.h"
 
+#include "base/util.h"
+#include "driver/driver.h"
+#include "driver/pool.h"
+#include "driver/stats.h"
+#include "run/run.h"
 #include "sim/sim.h"
 
 #include <errno.h>

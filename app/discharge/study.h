@@ -3,13 +3,15 @@
  * `discharge` builds one pile and discharges it at a few widths (figures, movies); `study` runs
  * independent samples over base lengths and widths in parallel processes, resumes where it
  * stopped, and reduces them to per-(L, w) tables, fits (w_t, w_c), F(s) and plots. Rendering
- * comes through the AppRender of app/render_hooks.h (NULL: figures, movies and plots skipped). */
+ * comes through the AppRender of app/base/render_hooks.h (NULL: figures, movies and plots skipped).
+ */
 #ifndef APP_STUDY_H
 #define APP_STUDY_H
 
 #include "discharge.h"
-#include "render_hooks.h"
-#include "run.h"
+
+#include "base/render_hooks.h"
+#include "run/run.h"
 
 #include <stddef.h>
 

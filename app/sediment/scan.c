@@ -2,12 +2,12 @@
 /* sediment/scan.c: the sediment family's multi-run driver, `sablier sediment` (thesis 002 ch. 7):
  * a scene with a `sediment` group run once per Shields number through the stage runner, in parallel
  * processes, then flux.csv, threshold.json (the transport threshold) and flux.png. */
-#include "driver.h"
-#include "pool.h"
-#include "run_value.h"
 #include "sediment.h"
-#include "util.h"
 
+#include "base/util.h"
+#include "driver/driver.h"
+#include "driver/pool.h"
+#include "driver/run_value.h"
 #include "sim/sim.h"
 
 #include <math.h>

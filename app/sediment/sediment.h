@@ -12,9 +12,8 @@
 #ifndef APP_SEDIMENT_H
 #define APP_SEDIMENT_H
 
-#include "experiment.h"
-#include "scene.h"
-
+#include "base/experiment.h"
+#include "scene/scene.h"
 #include "sim/sim.h"
 
 #include <libconfig.h>
@@ -97,9 +96,9 @@ int app_sediment_command(int argc, char **argv, const AppEnv *env);
 /// `sablier sediment` (one entry).
 extern const AppCommand app_sediment_commands[];
 
-/// The sediment family (app/experiment.h): the `sediment` group (older name `fluid`), sediment.csv
-/// at every energy row, <stage>.fluid.csv at each stage end, sediment.json at the end; figures get
-/// the column's velocity and concentration profiles beside the bed.
+/// The sediment family (app/base/experiment.h): the `sediment` group (older name `fluid`),
+/// sediment.csv at every energy row, <stage>.fluid.csv at each stage end, sediment.json at the end;
+/// figures get the column's velocity and concentration profiles beside the bed.
 extern const AppExperiment app_sediment_experiment;
 /// The scene's sediment state (NULL when it has no `sediment` group).
 AppSediment *app_sediment_of(const Scene *scene);

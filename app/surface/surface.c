@@ -7,11 +7,11 @@
  * the stage on. */
 #include "surface.h"
 
-#include "checkpoint.h"
-#include "config.h"
-#include "scene.h"
-#include "stats.h"
-#include "util.h"
+#include "base/config.h"
+#include "base/util.h"
+#include "driver/stats.h"
+#include "run/checkpoint.h"
+#include "scene/scene.h"
 
 #include <math.h>
 #include <stdio.h>

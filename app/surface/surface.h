@@ -5,7 +5,7 @@
 #ifndef APP_SURFACE_H
 #define APP_SURFACE_H
 
-#include "experiment.h"
+#include "base/experiment.h"
 
 extern const AppExperiment app_surface_experiment;
 

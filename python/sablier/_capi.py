@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""ctypes mirror of sablier's public C headers (sim/sim.h, render/render.h, app/scene.h).
+"""ctypes mirror of sablier's public C headers (sim/sim.h, render/render.h, app/scene/scene.h).
 
 Every Structure below copies the field order and types of its C struct. tests/python/test_abi.py
 compiles a probe against the real headers and checks sizeof and every offsetof, so a change of a
@@ -203,7 +203,7 @@ class RenderMeta(Structure):
     _fields_ = [("scene", c_char_p), ("seed", c_uint64), ("comment", c_char_p)]
 
 
-# ------------------------------------------------------------------ app/scene.h (a prefix)
+# ------------------------------------------------------------------ app/scene/scene.h (a prefix)
 
 SCENE_MAX_STAGES = 8
 SCENE_NAME_MAX = 64
@@ -228,7 +228,7 @@ class SceneStage(Structure):
 
 
 class Scene(Structure):
-    """The leading fields of app/scene.h's Scene, read only (the loader allocates it)."""
+    """The leading fields of app/scene/scene.h's Scene, read only (the loader allocates it)."""
     _fields_ = [("path", c_char * SCENE_PATH_MAX), ("name", c_char * SCENE_NAME_MAX),
                 ("seed", c_uint64), ("def", SimWorldDef), ("grains", SimGrainBuffer),
                 ("fixed_count", c_int), ("walls", POINTER(SimWall)),
@@ -253,15 +253,15 @@ STRUCTS = {
     "SimGrainBuffer": ("sim/sim.h", SimGrainBuffer), "SimRainDef": ("sim/sim.h", SimRainDef),
     "SimCoarseDef": ("sim/sim.h", SimCoarseDef),
     "RenderStyle": ("render/render.h", RenderStyle), "RenderMeta": ("render/render.h", RenderMeta),
-    "SceneDrag": ("scene.h", SceneDrag), "SceneStage": ("scene.h", SceneStage),
-    "Scene": ("scene.h", Scene),
+    "SceneDrag": ("scene/scene.h", SceneDrag), "SceneStage": ("scene/scene.h", SceneStage),
+    "Scene": ("scene/scene.h", Scene),
 }
 
 # ------------------------------------------------------------------ functions
 
 _P_WORLD = c_void_p
 _P_ERR = POINTER(SimError)
-# app/run.h AppRunHook: int (*)(void *context, SimWorld *world, int stage, long step)
+# app/run/run.h AppRunHook: int (*)(void *context, SimWorld *world, int stage, long step)
 RUN_HOOK = CFUNCTYPE(c_int, c_void_p, c_void_p, c_int, c_long)
 
 _SIM_FUNCTIONS = {

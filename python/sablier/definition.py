@@ -100,7 +100,7 @@ def effects_names(bits):
 
 
 def _scene_table(group, k=0):
-    """A key table of the scene loader (scene_keys in app/scene.h): the lists scene files are
+    """A key table of the scene loader (scene_keys in app/scene/scene.h): the lists scene files are
     checked against, read here so that Python and scene files accept the same keys."""
     lib = C.scene()
     if lib is None:

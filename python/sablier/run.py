@@ -62,7 +62,7 @@ def run(scene, out, sets=None, quiet=True, threads=None, check=True, executable=
 
 
 class Run:
-    """The stage runner of `sablier run` in this process (app/run.h scene_run): every stage of
+    """The stage runner of `sablier run` in this process (app/run/run.h scene_run): every stage of
     a scene, its outputs written to `out` (a new temporary folder when None) as the command
     writes them, without figures or movies. A callback sees the stage's world between steps:
 

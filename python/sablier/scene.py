@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""Scene files through the C scene loader (libsablier-scene: app/scene.h)."""
+"""Scene files through the C scene loader (libsablier-scene: app/scene/scene.h)."""
 import ctypes
 import errno
 import os

@@ -6,8 +6,8 @@
 #ifndef APP_TEST_RUN_H
 #define APP_TEST_RUN_H
 
-#include "run.h"
-#include "scene.h"
+#include "run/run.h"
+#include "scene/scene.h"
 
 #include <dirent.h>
 #include <stdio.h>

@@ -1,10 +1,10 @@
 /* SPDX-License-Identifier: MIT */
-/* test_advice.c: dt advice (app/advice.h): the advised time step, run, meets the target error in
- * e_n; time.target_error chooses it at load and excludes dt and steps_per_contact. */
+/* test_advice.c: dt advice (app/scene/advice.h): the advised time step, run, meets the target error
+ * in e_n; time.target_error chooses it at load and excludes dt and steps_per_contact. */
 #include "test.h"
 
-#include "app/advice.h"
-#include "app/scene.h"
+#include "app/scene/advice.h"
+#include "app/scene/scene.h"
 #include "sim/sim_test_util.h"
 
 #include <stdlib.h>

@@ -3,9 +3,10 @@
  * 300 grains), without rendering: the box follows the prescribed sinusoid exactly, grains never
  * tunnel through the moving base, no rise below Gamma = 1, the periodic seam changes nothing, and
  * the rise-time and large-deviation helpers. Slow orderings are in test_long_bne.c. */
-#include "run.h"
-#include "scene.h"
 #include "test.h"
+
+#include "run/run.h"
+#include "scene/scene.h"
 
 #include <stdio.h>
 #include <stdlib.h>

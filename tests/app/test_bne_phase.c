@@ -5,9 +5,10 @@
  * average, a small-box run writes phase_field.csv and phase_fields.csv and hands the figure to the
  * render hook without changing the run, and the cycle mean of the small box shows the convection
  * rolls (down along the walls, up in the middle). */
-#include "run.h"
-#include "scene.h"
 #include "test.h"
+
+#include "run/run.h"
+#include "scene/scene.h"
 
 #include <math.h>
 #include <stdio.h>

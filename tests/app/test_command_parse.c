@@ -2,10 +2,11 @@
 /* test_command_parse: every command's parse-only entry point (AppCommand.parse, export's and
  * ensemble's), which tests/fuzz/fuzz_cli.c calls on any argument list: 0 for a good command
  * line, 2 for a bad one, and nothing read, made or run either way. */
-#include "dump.h"
-#include "ensemble.h"
-#include "experiments.h"
 #include "test.h"
+
+#include "base/experiments.h"
+#include "driver/ensemble.h"
+#include "output/dump.h"
 
 #include <sys/stat.h>
 #include <unistd.h>

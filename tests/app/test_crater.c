@@ -2,10 +2,10 @@
 /* test_crater.c: the crater study of thesis 000 on reduced sizes (scenes/crater/small.scene,
  * 300 grains): settled-bed structure, energy during the collapse, time-step robustness, the crater
  * height trend of fig. 7.28, and the observables a run writes. No rendering. */
-#include "run.h"
-#include "scene.h"
 #include "test.h"
 
+#include "run/run.h"
+#include "scene/scene.h"
 #include "sim/sim.h"
 
 #include <math.h>

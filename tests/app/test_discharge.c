@@ -7,8 +7,8 @@
 
 #include "app/discharge/discharge.h"
 #include "app/discharge/study.h"
-#include "app/scene.h"
-#include "app/stats.h"
+#include "app/driver/stats.h"
+#include "app/scene/scene.h"
 #include "sim/sim.h"
 
 #include <stdlib.h>

@@ -1,15 +1,15 @@
 /* SPDX-License-Identifier: MIT */
-/* test_dump.c: the per-grain dumps (app/dump.c, docs/dumps.md): the LAMMPS frame's header, atom
- * count and values (every double back to the same bits), the VTK PolyData files of grains and
+/* test_dump.c: the per-grain dumps (app/output/dump.c, docs/dumps.md): the LAMMPS frame's header,
+ * atom count and values (every double back to the same bits), the VTK PolyData files of grains and
  * contacts by their element counts, the `dump` keys of a scene, and a run's files: committed at
  * the stage end, none left half-written when the run fails. The real readers (lmp, VTK) are
  * tests/clients. */
 #include "test.h"
 
-#include "app/dump.h"
-#include "app/run.h"
-#include "app/scene.h"
-#include "app/vtk_xml.h"
+#include "app/output/dump.h"
+#include "app/output/vtk_xml.h"
+#include "app/run/run.h"
+#include "app/scene/scene.h"
 #include "sim/sim.h"
 
 #include <stdint.h>

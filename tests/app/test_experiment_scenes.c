@@ -2,8 +2,9 @@
 /* test_experiment_scenes.c: shortened runs of the shipped scenes of docs/experiments.md (drum,
  * chute, hopper, couette), each asserting what it shows; and a fast drum that no grain leaves. */
 #include "app_test_run.h"
-#include "stats.h"
 #include "test.h"
+
+#include "driver/stats.h"
 
 #include <stdio.h>
 #include <stdlib.h>

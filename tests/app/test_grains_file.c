@@ -1,11 +1,12 @@
 /* SPDX-License-Identifier: MIT */
-/* test_grains_file.c: `grains.file` (app/grains_file.c): a CSV written from a world with %.17g in
- * the `sablier export --format csv` layout reads back the same positions bit for bit; a LAMMPS
- * dump's columns are found by name; a bad row names the file and line; a column given twice,
+/* test_grains_file.c: `grains.file` (app/scene/grains_file.c): a CSV written from a world with
+ * %.17g in the `sablier export --format csv` layout reads back the same positions bit for bit; a
+ * LAMMPS dump's columns are found by name; a bad row names the file and line; a column given twice,
  * `fixed` not 0/1, ids out of range or repeated and a wrong atom count are refused. */
-#include "grains_file.h"
-#include "scene.h"
 #include "test.h"
+
+#include "scene/grains_file.h"
+#include "scene/scene.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -5,7 +5,8 @@
  * --vary (the first max read), sediment's --shields (>= 0, more than max malformed) and the
  * discharge study's --widths / --L lists (out-of-range values malformed). */
 #include "test.h"
-#include "util.h"
+
+#include "base/util.h"
 
 #include <math.h>
 #include <string.h>

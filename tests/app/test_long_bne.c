@@ -26,9 +26,10 @@
  * errors below the measured value). The run is deterministic; the bound guards against a change
  * of the physics that reverses the ordering (at Gamma >= 2 or restitution >= 0.9 it is reversed:
  * docs/brazil_nut.md). */
-#include "run.h"
-#include "scene.h"
 #include "test.h"
+
+#include "run/run.h"
+#include "scene/scene.h"
 
 #include <math.h>
 #include <stdio.h>

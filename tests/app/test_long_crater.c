@@ -2,10 +2,10 @@
 /* test_long_crater.c: the thesis's own time-step pair (000 §6.1.1: dt = 1e-5 and 1e-6 agree) on
  * the reduced crater (scenes/crater/small.scene, 300 grains, 0.6 s of collapse): 660 000 steps,
  * so label slow (skipped by the sanitizer run); test_crater.c checks 2e-5 against 5e-6. */
-#include "run.h"
-#include "scene.h"
 #include "test.h"
 
+#include "run/run.h"
+#include "scene/scene.h"
 #include "sim/sim.h"
 
 #include <math.h>

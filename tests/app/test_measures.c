@@ -1,11 +1,12 @@
 /* SPDX-License-Identifier: MIT */
-/* test_measures.c: the measures layer (app/measures.c) through sablier run's runner: the column
- * scene's profile, grid, .vti and flux outputs; a scene without measures runs no measure; every
- * sink's count reaches summary.json. */
-#include "measures.h"
-#include "run.h"
-#include "scene.h"
+/* test_measures.c: the measures layer (app/output/measures.c) through sablier run's runner: the
+ * column scene's profile, grid, .vti and flux outputs; a scene without measures runs no measure;
+ * every sink's count reaches summary.json. */
 #include "test.h"
+
+#include "output/measures.h"
+#include "run/run.h"
+#include "scene/scene.h"
 
 #include <math.h>
 #include <stdio.h>

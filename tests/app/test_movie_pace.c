@@ -3,9 +3,10 @@
  * output.movie_duration and frame_rate (docs/scenes.md#output): a one-grain scene (dt = 1e-3 s,
  * time.end = 1 s, fps 25) run with a renderer whose movie only counts the frames it is given and
  * their times. */
-#include "run.h"
-#include "scene.h"
 #include "test.h"
+
+#include "run/run.h"
+#include "scene/scene.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
-/* test_pool.c: the multi-run drivers' process pool (app/pool.h). Every task runs once, in a child
- * of its own, whatever the job count; done sees every exit status; a start hook skips a task;
+/* test_pool.c: the multi-run drivers' process pool (app/driver/pool.h). Every task runs once, in a
+ * child of its own, whatever the job count; done sees every exit status; a start hook skips a task;
  * a signal reads as signal_status. */
-#include "pool.h"
 #include "test.h"
+
+#include "driver/pool.h"
 
 #include <signal.h>
 #include <string.h>

@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /* Provenance: SHA-256 against the FIPS 180-4 examples, and the manifest that lets a run remove
  * only what an earlier run into its folder wrote. */
-#include "provenance.h"
 #include "test.h"
-#include "util.h"
+
+#include "base/util.h"
+#include "output/provenance.h"
 
 #include <stdint.h>
 #include <sys/stat.h>

@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
-/* test_run_value.c: numbers read from a run's folder by key (app/run_value.h): dotted JSON paths
- * through objects, arrays, strings with braces and nulls; a key,value CSV table's row; another
- * table's column of its last row; keys of a bad form refused. */
-#include "run_value.h"
+/* test_run_value.c: numbers read from a run's folder by key (app/driver/run_value.h): dotted JSON
+ * paths through objects, arrays, strings with braces and nulls; a key,value CSV table's row;
+ * another table's column of its last row; keys of a bad form refused. */
 #include "test.h"
+
+#include "driver/run_value.h"
 
 #include <stdlib.h>
 #include <unistd.h>

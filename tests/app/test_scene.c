@@ -1,10 +1,11 @@
 /* SPDX-License-Identifier: MIT */
-/* test_scene.c: the scene loader (app/scene_load.c) and runner (app/run.c), without render. */
+/* test_scene.c: the scene loader (app/scene/scene_load.c) and runner (app/run/run.c), without
+ * render. */
 #include "test.h"
 
 #include "app/crater/crater.h"
-#include "app/run.h"
-#include "app/scene.h"
+#include "app/run/run.h"
+#include "app/scene/scene.h"
 #include "sim/sim.h"
 
 #include <stdlib.h>

@@ -2,9 +2,10 @@
 /* test_sediment.c: the `sediment` group (older name `fluid`) and bed-load measures (thesis 002 ch.
  * 6-7) on a reduced bed of scenes/sediment/viscous.scene (150 grains, dt = 1e-3, short stages),
  * without rendering. */
-#include "run.h"
-#include "scene.h"
 #include "test.h"
+
+#include "run/run.h"
+#include "scene/scene.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* test_sources.c: insertion sources (app/sources.h): the count over a stage is the rate times the
- * time, inserted grains never overlap, the same seed gives the same grains. */
+/* test_sources.c: insertion sources (app/scene/sources.h): the count over a stage is the rate times
+ * the time, inserted grains never overlap, the same seed gives the same grains. */
 #include "app_test_run.h"
 #include "test.h"
 

@@ -1,10 +1,11 @@
 /* SPDX-License-Identifier: MIT */
-/* test_stats.c: the ensemble statistics (app/stats.h): Student-t quantiles against tabulated
+/* test_stats.c: the ensemble statistics (app/driver/stats.h): Student-t quantiles against tabulated
  * values, a sample's mean, standard deviation and interval, Welch's interval, its coverage and
  * false-alarm rate over many synthetic ensembles, and a synthetic dt list whose known shift is
  * found where it is and nowhere else. */
-#include "stats.h"
 #include "test.h"
+
+#include "driver/stats.h"
 
 #include <stdint.h>
 

@@ -1,12 +1,13 @@
 /* SPDX-License-Identifier: MIT */
-/* test_thread_tuner.c: the policy of `--threads auto` (app/thread_tuner.h), fed made-up rates
+/* test_thread_tuner.c: the policy of `--threads auto` (app/run/thread_tuner.h), fed made-up rates
  * (no clock): it keeps one thread when two are slower and two when they are faster, climbs to
  * the fastest of many counts, tries the other counts less and less often while the one it has
  * keeps winning, tries again at once when the grains change beyond the factor or a block runs
  * much slower, never leaves the counts the grains and the CPUs allow; the testing aid's switch
  * cycle and the chunks that end on its switches; summary.json's record. */
 #include "test.h"
-#include "thread_tuner.h"
+
+#include "run/thread_tuner.h"
 
 /* A machine whose rate (particle-steps per second) on n threads is rates[n]. */
 typedef struct Machine {

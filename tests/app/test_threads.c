@@ -6,7 +6,7 @@
  * differs (wall times and the "threads" it reports). So does a run whose count switches every
  * few steps (AppRunOptions.threads_switch_every, the testing aid behind
  * `--threads-switch-every`). APP_THREADS_AUTO (`sablier run`'s default): the first count it
- * chooses, the CPUs it counts, and a tuned run (app/thread_tuner.h), with the one-thread run's
+ * chooses, the CPUs it counts, and a tuned run (app/run/thread_tuner.h), with the one-thread run's
  * outputs. No rendering. */
 #define _GNU_SOURCE /* sched_setaffinity */
 #include "app_test_run.h"

@@ -5,8 +5,9 @@
  * PATH.tmp is a folder (the open fails). No simulation runs: the sediment writers are called
  * directly, the sweep's members are /bin/true and the Shields scan's member cannot create its
  * folder. */
-#include "scene.h"
 #include "test.h"
+
+#include "scene/scene.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -6,10 +6,11 @@
  * are the same text, summary.json gains the scales, the SI run's has none; a t_star_length is
  * refused in reduced units. units = "normalised" (labels only) writes every output file but
  * summary.json byte for byte as without it, and summary.json names the units. No rendering. */
-#include "render_hooks.h"
-#include "run.h"
-#include "scene.h"
 #include "test.h"
+
+#include "base/render_hooks.h"
+#include "run/run.h"
+#include "scene/scene.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# cli.bne_signal: SIGINT to `sablier bne` (through the shared pool, app/pool.c) stops its runs:
+# cli.bne_signal: SIGINT to `sablier bne` (through the shared pool, app/driver/pool.c) stops its runs:
 # exit 130, samples.csv written (through a temporary name: no .tmp left) with a row per run and
 # the status `interrupted` for the runs that did not finish, the stopped runs' states saved.
 # The shake stage is long enough that no run finishes before the signal.

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # cli.pool_signal: SIGINT (and SIGTERM) to a multi-run command stops its members through the
-# shared pool (app/pool.c): exit 130 (143), no member process left, the members' table written
+# shared pool (app/driver/pool.c): exit 130 (143), no member process left, the members' table written
 # with status `interrupted` for those not finished; --resume then runs only the unfinished ones.
 # `sablier ensemble` on tests/cli/ensemble_fall.scene (one grain, without gravity, long enough
 # per member that the signal comes while members run: about 5 and 10 s in Release (0.6 s each

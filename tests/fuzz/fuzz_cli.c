@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MIT */
-/* fuzz_cli: the command line of every `sablier` command (sablier_parse_arguments, app/cli.h:
+/* fuzz_cli: the command line of every `sablier` command (sablier_parse_arguments, app/cli/cli.h:
  * the checks each command makes before it reads, writes or starts anything). The input is the
  * arguments after `sablier`, one a line (the first names the command); the answer must be 0 or
  * a usage error's exit status 2, never a crash, a leak or a hang. Nothing is run. */
-#include "cli.h"
+#include "cli/cli.h"
 
 #include <stdint.h>
 #include <stdlib.h>

@@ -3,7 +3,8 @@
  * on any bytes must append grains or refuse with a "file:line: message", never crash, leak, hang
  * or allocate without bound. */
 #include "fuzz_input.h"
-#include "grains_file.h"
+
+#include "scene/grains_file.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

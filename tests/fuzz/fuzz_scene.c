@@ -2,7 +2,8 @@
 /* fuzz_scene: scene_load on any bytes must return a scene or a "file:line: message", never crash,
  * leak, hang or allocate without bound. */
 #include "fuzz_input.h"
-#include "scene.h"
+
+#include "scene/scene.h"
 
 #include <string.h>
 

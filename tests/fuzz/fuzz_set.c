@@ -3,8 +3,9 @@
  * then a NUL byte, then the scene text; the scene loaded with them must come back or be refused
  * with a message, never crash, leak, hang or allocate without bound. */
 #include "fuzz_input.h"
-#include "scene.h"
-#include "util.h"
+
+#include "base/util.h"
+#include "scene/scene.h"
 
 #include <string.h>
 

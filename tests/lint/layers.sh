@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Layering rules of docs/dev/architecture.md, one rule per call, run from the repository root:
 #   layers.sh render-no-app   render/ never includes an app/ header
-#   layers.sh core-no-family  the app core (app/*.c, app/*.h) includes no family header
+#   layers.sh core-no-family  the app core (app/ but the family folders) includes no family header
 #   layers.sh families-apart  a family folder app/F/ never includes another family's header
-#   layers.sh sources-below-run  app/sources.[ch] (used by the run and the scene loader) include
-#                             no run.h and name no function that app/run.c or app/scene_load.c
+#   layers.sh sources-below-run  app/scene/sources.[ch] (used by the run and the scene loader) include
+#                             no run.h and name no function that app/run/run.c or app/scene/scene_load.c
 #                             defines: no circle run -> sources -> run or scene_load -> sources
 #                             -> scene_load
 #   layers.sh no-circles      no circle among the files of sim/, render/ and app/: no file
@@ -12,17 +12,22 @@
 #                             other, directly or through others (the arrows of circles.awk)
 # A second argument names the tree to check (the repository by default; the self-test of
 # no-circles, layers_selftest.sh, hands it small trees with and without a circle).
-# A family is a folder app/F/. An include names a header by path ("bne/bne.h", "app/bne/bne.h")
-# or, since app/ and each family folder are include folders, by its bare name ("bne.h").
+# A family is a folder app/F/ whose F.c defines app_F_experiment. An include names a header by path
+# ("bne/bne.h", "app/bne/bne.h") or, from a file of the same folder, by its bare name ("bne.h").
 # Prints each offending line as file:line: include, and exits 1 when there is any.
 set -euo pipefail
 rule=${1:?usage: layers.sh render-no-app|core-no-family|families-apart|sources-below-run|no-circles [TREE]}
 here=$(cd "$(dirname "$0")" && pwd)
 cd "${2:-$here/../..}"
 
+# a family: a folder app/F/ whose F.c defines its hook table app_F_experiment; the other folders
+# (the layers: base/, scene/, run/, output/, driver/, cli/) are the app core
 families=()
 for d in app/*/; do
-  [ -d "$d" ] && families+=("$(basename "$d")")
+  f=$(basename "$d")
+  if [ -d "$d" ] && grep -qs "AppExperiment app_${f}_experiment\b" "app/$f/$f.c"; then
+    families+=("$f")
+  fi
 done
 
 # headers_of DIR...: the bare names of the headers under DIR
@@ -57,9 +62,11 @@ render-no-app)
   )
   ;;
 core-no-family)
-  mapfile -t files < <(find app -maxdepth 1 -name '*.[ch]')
   dirs=()
   for f in "${families[@]}"; do dirs+=("app/$f"); done
+  prune=()
+  for d in "${dirs[@]}"; do prune+=(-path "$d" -prune -o); done
+  mapfile -t files < <(find app "${prune[@]}" -name '*.[ch]' -print)
   mapfile -t names < <(headers_of "${dirs[@]}")
   found=$(offending "${files[@]}" -- "${names[@]}")
   ;;
@@ -74,11 +81,11 @@ families-apart)
   done
   ;;
 sources-below-run)
-  files=(app/sources.c app/sources.h)
+  files=(app/scene/sources.c app/scene/sources.h)
   found=$(offending "${files[@]}" -- run.h scene_load.h)
   # the functions defined at file scope (a name and "(" after a type, at the start of a line)
   mapfile -t names < <(grep -hoE '^[A-Za-z_][A-Za-z0-9_ *]*[ *]((app|scene|loader)_[A-Za-z0-9_]+)[(]' \
-    app/run.c app/scene_load.c | sed -E 's/.*[ *]([A-Za-z0-9_]+)[(]$/\1/' | sort -u)
+    app/run/run.c app/scene/scene_load.c | sed -E 's/.*[ *]([A-Za-z0-9_]+)[(]$/\1/' | sort -u)
   if [ ${#names[@]} -gt 0 ]; then
     found+=$'\n'$(grep -nHwE "$(IFS='|'; echo "${names[*]}")" "${files[@]}" || true)
   fi

@@ -4,7 +4,7 @@
 
     words.py paths    every repository path named in a code comment (C, C++, CMake, shell,
                       Python) or a doc (README.md, CONTRIBUTING.md, docs/**/*.md) exists: a name
-                      that starts with a top folder of the repository (app/run.c, sim/sim.h,
+                      that starts with a top folder of the repository (app/run/run.c, sim/sim.h,
                       scenes/crater/, docs/scenes.md), a relative Markdown link of a doc, and
                       the name a C file gives itself at the top of its opening comment
                       ("/* run.c: ..."), which must be its own, and a file named bare

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # mpi.signal SABLIER SCENE WORK WITH_MPI: a signal while both worker ranks of `mpirun -n 3 sablier
-# ensemble` run a member: rank 0 passes the stop on to every busy worker (app/pool_mpi.c), so
+# ensemble` run a member: rank 0 passes the stop on to every busy worker (app/driver/pool_mpi.c), so
 # both members stop at once and save their state, members.csv is written with every member
 # `interrupted` and no process is left. SIGINT to rank 0 alone (the workers get nothing from
 # mpirun: without the stop their members ran to their end), then SIGINT and SIGTERM to mpirun;

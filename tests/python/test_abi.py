@@ -15,9 +15,9 @@ class Layout(unittest.TestCase):
         if abi_probe.compiler() is None:
             self.skipTest("no C compiler")
         structs = dict(_capi.STRUCTS)
-        # app/scene.h includes libconfig.h; without its headers check sim and render only
+        # app/scene/scene.h includes libconfig.h; without its headers check sim and render only
         if not os.path.exists("/usr/include/libconfig.h"):
-            structs = {k: v for k, v in structs.items() if v[0] != "scene.h"}
+            structs = {k: v for k, v in structs.items() if v[0] != "scene/scene.h"}
         with tempfile.TemporaryDirectory() as tmp:
             c = abi_probe.c_table(structs, support.SOURCE_DIR, tmp)
         py = abi_probe.python_table(structs)
