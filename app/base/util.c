@@ -2,7 +2,6 @@
 /* util.c: small helpers shared by the app/ modules. */
 #include "base/util.h"
 
-#include "scene/scene.h"
 #include "sim/sim.h"
 
 #include <errno.h>
@@ -275,7 +274,7 @@ int app_parse_numbers(const char *text, const AppNumberList *how, double *values
 
 int app_make_dirs(const char *path)
 {
-    char buffer[SCENE_PATH_MAX + 2 * SCENE_NAME_MAX]; /* the longest output path (run.c) */
+    char buffer[APP_PATH_MAX + 2 * APP_NAME_MAX]; /* the longest output path (run.c) */
     if (strlen(path) >= sizeof buffer || !path[0])
         return -1;
     strcpy(buffer, path);

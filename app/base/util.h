@@ -39,6 +39,11 @@ int app_series_grow(double **t, double **v, int *capacity, int initial);
 /// At most this many --set options on one command line.
 #define APP_MAX_SETS 64
 
+/// The longest name (of a stage, a species, a source) and path the app holds; the scene's bounds
+/// SCENE_NAME_MAX and SCENE_PATH_MAX (app/scene/scene.h) are these.
+#define APP_NAME_MAX 64
+#define APP_PATH_MAX 1024
+
 /// `--set KEY=VALUE` or `--unset KEY` at argv[*i] (*i moves past its value), appended to
 /// sets[*count] (capacity max) in command-line order: an --unset's entry is its KEY alone (no
 /// `=`; scene_load removes it). 1 when taken, 0 when argv[*i] is neither, -1 after a message

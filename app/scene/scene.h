@@ -13,6 +13,7 @@
 #define SCENE_H
 
 #include "base/experiments.h"
+#include "base/util.h"
 #include "output/dump.h"
 #include "sim/sim.h"
 
@@ -23,8 +24,8 @@
 #define SCENE_MAX_STAGES  8
 #define SCENE_MAX_FIGURES 16
 #define SCENE_MAX_TRACE   64
-#define SCENE_NAME_MAX    64
-#define SCENE_PATH_MAX    1024
+#define SCENE_NAME_MAX    APP_NAME_MAX
+#define SCENE_PATH_MAX    APP_PATH_MAX
 /// The largest `seed` (2^53 - 1): summary.json and the figures' metadata write it as a JSON
 /// number, which every reader holds exactly only up to 2^53.
 #define SCENE_SEED_MAX    9007199254740991ll
