@@ -29,7 +29,7 @@
  *                                that step's sample/step hooks: the family writes what it keeps
  *                                in memory (counters, sums, next-due steps, the lengths of the
  *                                files it appends to) as lines of its section of checkpoint.txt
- *                                (app/run/checkpoint.h)
+ *                                (app/base/checkpoint.h)
  *     --resume: parse, begin     as in any run (begin opens the files afresh)
  *       resume                   the resumed stage's world loaded, before its loop (no
  *                                stage_edit, no stage_begin for it): the family restores its
@@ -146,7 +146,7 @@ typedef struct AppExperiment {
     void (*step)(void *state, AppContext *c, long done);
     int (*stage_end)(void *state, AppContext *c);
     int (*end)(void *state, AppContext *c, int ok);
-    /// Writes the family's section of a checkpoint record (app/run/checkpoint.h). 0, or -1 with
+    /// Writes the family's section of a checkpoint record (app/base/checkpoint.h). 0, or -1 with
     /// err.
     int (*checkpoint)(const void *state, const AppContext *c, FILE *out);
     /// --resume: restores the section `record` (its lines; "" when the checkpoint has none)

@@ -31,6 +31,9 @@ int app_out_of_space(void);
 /// (app_out_of_space, errno as the failing call left it, or `message` naming ENOSPC or EDQUOT),
 /// which a command reports with exit status 3 (APP_EXIT_DISK_FULL), not 2.
 int app_failed_for_space(const char *message);
+/// Exit status of a run whose outputs could not be written because the disk or the quota was
+/// full: no truncated file is left under a final name, and the message names the first one.
+#define APP_EXIT_DISK_FULL 3
 
 /// Doubles the capacity (first: `initial`) of two parallel arrays, e.g. a time series t and v.
 /// 0, or -1 when out of memory (the arrays keep their contents).

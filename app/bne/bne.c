@@ -2,10 +2,10 @@
 /* bne.c: Brazil-nut measures and samples (thesis 002 ch. 5; see bne.h and docs/brazil_nut.md). */
 #include "bne.h"
 
+#include "base/checkpoint.h"
 #include "base/config.h"
 #include "base/experiments.h"
 #include "base/util.h"
-#include "run/checkpoint.h"
 
 #include <errno.h>
 #include <math.h>

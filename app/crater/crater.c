@@ -13,11 +13,11 @@
 
 #include "sweep.h"
 
+#include "base/checkpoint.h"
 #include "base/config.h"
 #include "base/experiments.h"
 #include "base/util.h"
 #include "driver/run_value.h"
-#include "run/checkpoint.h"
 #include "sim/sim.h"
 
 #include <errno.h>

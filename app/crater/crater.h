@@ -82,7 +82,7 @@ void app_crater_observer_stage_start(AppCraterObserver *observer, SimWorld *worl
 void app_crater_observer_sample(AppCraterObserver *observer, SimWorld *world, int stage,
                                 double stage_start);
 /// A checkpoint of the running stage: the measures so far and the lengths of profile.csv and
-/// crater.csv, as lines of the family's section (app/run/checkpoint.h).
+/// crater.csv, as lines of the family's section (app/base/checkpoint.h).
 void app_crater_observer_checkpoint(const AppCraterObserver *observer, FILE *out);
 /// --resume: the observer just opened continues from those lines (its CSV files cut back to the
 /// recorded lengths). 0, or -1 with a message.

@@ -3,8 +3,8 @@
  * pool->jobs at a time, and waits for them; passes SIGINT and SIGTERM on to them (pool.h). */
 #include "driver/pool_local.h"
 
+#include "base/checkpoint.h"
 #include "base/util.h"
-#include "run/checkpoint.h"
 #include "run/run.h"
 
 #include <errno.h>

@@ -7,10 +7,9 @@
  * checkpoint frame are dump_export.c. */
 #include "output/dump.h"
 
+#include "base/checkpoint.h"
 #include "base/util.h"
 #include "output/vtk_xml.h"
-#include "run/checkpoint.h"
-#include "run/run.h"
 #include "scene/scene.h"
 
 #include <errno.h>

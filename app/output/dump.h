@@ -108,7 +108,7 @@ void app_dump_frame(AppDump *dump, const SimFrame *frame);
 int app_dump_close(AppDump **dump, SimWorld *world, int ok, char *err, size_t err_size);
 
 /// A checkpoint of the running stage: the frames so far, their times and the LAMMPS file's
-/// length, as the lines of the dump's section of checkpoint.txt (app/run/checkpoint.h).
+/// length, as the lines of the dump's section of checkpoint.txt (app/base/checkpoint.h).
 void app_dump_checkpoint(const AppDump *dump, FILE *out);
 /// --resume: the writer just opened continues from that section: the LAMMPS file cut back to its
 /// recorded length, the VTK frames written after the checkpoint removed, the frame count and

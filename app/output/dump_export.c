@@ -5,7 +5,6 @@
  * that `sablier render` draws without a scene. */
 #include "base/util.h"
 #include "output/dump.h"
-#include "run/run.h"
 
 #include <errno.h>
 #include <stdio.h>

@@ -5,11 +5,10 @@
  * are updated at every step (sim_flux_update) and written every `every`. */
 #include "output/measures.h"
 
+#include "base/checkpoint.h"
 #include "base/config.h"
 #include "base/util.h"
 #include "output/vtk_xml.h"
-#include "run/checkpoint.h"
-#include "run/run.h"
 #include "scene/scene_internal.h"
 
 #include <math.h>

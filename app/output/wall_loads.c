@@ -7,9 +7,9 @@
  * on from them. The rows whose time lies in the window are averaged into
  * summary.json's "walls" (the steady mean). Not a family: a core layer that rides on the
  * experiment hooks, as app/output/measures.c does. */
+#include "base/checkpoint.h"
 #include "base/experiment.h"
 #include "base/util.h"
-#include "run/checkpoint.h"
 #include "scene/scene_internal.h"
 
 #include <math.h>

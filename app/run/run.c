@@ -6,10 +6,10 @@
 #define _GNU_SOURCE /* struct sigaction */
 #include "run/run.h"
 
+#include "base/checkpoint.h"
 #include "base/experiments.h"
 #include "base/util.h"
 #include "output/dump.h"
-#include "run/checkpoint.h"
 #include "scene/sources.h"
 #include "sim/sim.h"
 
@@ -878,7 +878,7 @@ static size_t checkpoint_record(const Run *run, int k, long done, const char *st
     return n < size ? n + strlen(text + n) : n;
 }
 
-/* The sections of a record after the runner's own lines (app/run/checkpoint.h): the stage's dump,
+/* The sections of a record after the runner's own lines (app/base/checkpoint.h): the stage's dump,
  * then each family's, in registry order. 0, or -1 (a family's message in run->message). */
 static int checkpoint_sections(Run *run, const AppDump *dump, FILE *f)
 {

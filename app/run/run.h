@@ -67,10 +67,8 @@ AppRunOptions app_run_options_default(void);
 /// 128 + the signal for a run interrupted by SIGINT (130) or SIGTERM (143), which finishes its
 /// step, saves DIR/STAGE.interrupted.state, commits every output and writes summary.json with
 /// "status": "interrupted".
-#define APP_EXIT_SIGNAL    128
-/// Exit status of a run whose outputs could not be written because the disk or the quota was
-/// full: no truncated file is left under a final name, and the message names the first one.
-#define APP_EXIT_DISK_FULL 3
+#define APP_EXIT_SIGNAL 128
+/* APP_EXIT_DISK_FULL, the exit status of a run whose outputs did not fit: base/util.h */
 
 /// Runs every stage; returns the exit status after printing any message on stderr. SIGINT and
 /// SIGTERM are caught while it runs (a second one kills at once); the caller's handlers are

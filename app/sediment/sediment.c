@@ -8,10 +8,10 @@
  * A scene gives either these three or rho_f, nu and u* directly. */
 #include "sediment.h"
 
+#include "base/checkpoint.h"
 #include "base/config.h"
 #include "base/experiments.h"
 #include "base/util.h"
-#include "run/checkpoint.h"
 
 #include <errno.h>
 #include <math.h>

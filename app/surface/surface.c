@@ -7,10 +7,10 @@
  * the stage on. */
 #include "surface.h"
 
+#include "base/checkpoint.h"
 #include "base/config.h"
 #include "base/util.h"
 #include "driver/stats.h"
-#include "run/checkpoint.h"
 #include "scene/scene.h"
 
 #include <math.h>

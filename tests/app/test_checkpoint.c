@@ -1,12 +1,12 @@
 /* SPDX-License-Identifier: MIT */
-/* test_checkpoint.c: the sections of a checkpoint record (app/run/checkpoint.h). Numbers written
+/* test_checkpoint.c: the sections of a checkpoint record (app/base/checkpoint.h). Numbers written
  * with app_checkpoint_put read back to the bit (subnormals, signed zero, infinities, integers up to
  * 2^53; NaN stays NaN), a key is never confused with a longer one that starts like it, a missing
  * or short line is refused; an append file is continued at its recorded length, from PATH.tmp when
  * a killed run left it there, else from PATH. */
 #include "test.h"
 
-#include "run/checkpoint.h"
+#include "base/checkpoint.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* checkpoint.c: the sections of a checkpoint record (checkpoint.h). */
-#include "run/checkpoint.h"
+#include "base/checkpoint.h"
 
 #include "base/util.h"
 #include "sim/sim.h"
