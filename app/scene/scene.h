@@ -14,7 +14,7 @@
 
 #include "base/experiments.h"
 #include "base/util.h"
-#include "output/dump.h"
+#include "scene/dump_spec.h"
 #include "sim/sim.h"
 
 #include <stddef.h>
@@ -166,7 +166,7 @@ typedef struct SceneOutput {
     double t_star_length; ///< D of t* = t / sqrt(D/g), m (0 = the sim's time scale)
     int figure_count;
     SceneFigure figures[SCENE_MAX_FIGURES];
-    AppDumpSpec dump[SCENE_MAX_STAGES]; ///< per-grain dumps of each stage (app/output/dump.h)
+    AppDumpSpec dump[SCENE_MAX_STAGES]; ///< per-grain dumps of each stage (app/scene/dump_spec.h)
     int movie_view; ///< 0 "grains": the grains' box at the stage start; 1 "container": all, per
                     ///< frame
 } SceneOutput;
