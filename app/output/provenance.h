@@ -6,14 +6,11 @@
 #ifndef APP_PROVENANCE_H
 #define APP_PROVENANCE_H
 
+#include "base/sha256.h"
+
 #include <stddef.h>
 #include <stdint.h>
 #include <time.h>
-
-/// SHA-256 (FIPS 180-4) of n bytes.
-void app_sha256(const void *data, size_t n, uint8_t digest[32]);
-/// SHA-256 of a file as 64 lowercase hex digits. 0, or -1 when it cannot be read.
-int app_sha256_file(const char *path, char hex[65]);
 
 /// A JSON string literal (quotes, escapes) of text into out[size]; cut to fit.
 void app_json_string(char *out, size_t size, const char *text);

@@ -9,7 +9,7 @@
  * it. This file holds scene_load and the top-level physics; scene_internal.h lists the others
  * (scene_keys.c: the key rules every part of the loader shares). */
 #include "base/experiments.h"
-#include "output/provenance.h"
+#include "base/sha256.h"
 #include "scene/advice.h"
 #include "scene/scene.h"
 #include "scene/scene_internal.h"
