@@ -7,6 +7,9 @@
 #                             no run.h and name no function that app/run/run.c or app/scene/scene_load.c
 #                             defines: no circle run -> sources -> run or scene_load -> sources
 #                             -> scene_load
+#   layers.sh layers-order    a core folder includes only the folders below it: cli > driver > run
+#                             > output > scene > base (a header of a higher folder named by path,
+#                             "run/run.h" or "app/run/run.h", from a lower one fails)
 #   layers.sh no-circles      no circle among the files of sim/, render/ and app/: no file
 #                             includes itself through others, and no two sources call each
 #                             other, directly or through others (the arrows of circles.awk)
@@ -16,7 +19,7 @@
 # ("bne/bne.h", "app/bne/bne.h") or, from a file of the same folder, by its bare name ("bne.h").
 # Prints each offending line as file:line: include, and exits 1 when there is any.
 set -euo pipefail
-rule=${1:?usage: layers.sh render-no-app|core-no-family|families-apart|sources-below-run|no-circles [TREE]}
+rule=${1:?usage: layers.sh render-no-app|core-no-family|families-apart|sources-below-run|layers-order|no-circles [TREE]}
 here=$(cd "$(dirname "$0")" && pwd)
 cd "${2:-$here/../..}"
 
@@ -89,6 +92,20 @@ sources-below-run)
   if [ ${#names[@]} -gt 0 ]; then
     found+=$'\n'$(grep -nHwE "$(IFS='|'; echo "${names[*]}")" "${files[@]}" || true)
   fi
+  ;;
+layers-order)
+  # the core folders, lowest first (the table of docs/dev/architecture.md)
+  order=(base scene output run driver cli)
+  for i in "${!order[@]}"; do
+    higher=("${order[@]:i+1}")
+    [ ${#higher[@]} -gt 0 ] || continue
+    mapfile -t files < <(find "app/${order[$i]}" -name '*.[ch]')
+    [ ${#files[@]} -gt 0 ] || continue
+    found+=$(grep -nHE "^[[:space:]]*#[[:space:]]*include[[:space:]]*\"(app/)?($(
+      IFS='|'
+      echo "${higher[*]}"
+    ))/" "${files[@]}" || true)$'\n'
+  done
   ;;
 no-circles)
   mapfile -t files < <(find sim render app -name '*.[ch]' 2>/dev/null | sort)
