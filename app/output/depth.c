@@ -9,9 +9,9 @@
  * depth and its time go to summary.json ("depth"), the curve to depth.png. The penetration of
  * an impactor into a granular bed: Uehara et al. (2003), Phys. Rev. Lett. 90, 194301. Not a
  * family: a core layer on the experiment hooks, as app/output/wall_loads.c. */
+#include "base/checkpoint.h"
 #include "base/experiment.h"
 #include "base/util.h"
-#include "run/checkpoint.h"
 #include "scene/scene_internal.h"
 
 #include <math.h>
