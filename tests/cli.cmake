@@ -189,6 +189,12 @@ add_test(NAME cli.sweep_inputs
          COMMAND bash ${CLI_DIR}/sweep_inputs.sh $<TARGET_FILE:sablier>
                  ${PROJECT_SOURCE_DIR}/scenes/crater/small.scene ${CLI_WORK}/sweep_inputs)
 set_tests_properties(cli.sweep_inputs PROPERTIES LABELS cli)
+# a sweep from --vary alone: crater_height's x axis names the key with its unit
+add_test(NAME cli.sweep_vary_units
+         COMMAND bash ${CLI_DIR}/sweep_vary_units.sh $<TARGET_FILE:sablier>
+                 ${PROJECT_SOURCE_DIR}/scenes/crater/small.scene ${CLI_WORK}/sweep_vary_units
+                 ${PROJECT_SOURCE_DIR}/tests/lint/figure_lint.py)
+set_tests_properties(cli.sweep_vary_units PROPERTIES LABELS cli)
 add_test(NAME cli.sediment_alias
          COMMAND bash ${CLI_DIR}/sediment_alias.sh $<TARGET_FILE:sablier>
                  ${PROJECT_SOURCE_DIR}/scenes/sediment/viscous.scene ${CLI_WORK}/sediment_alias)

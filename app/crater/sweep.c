@@ -44,7 +44,8 @@ typedef struct Sweep {
     const AppCraterSweepOptions *o;
     char scene_path[SWEEP_PATH];
     char name[SCENE_NAME_MAX];
-    char parameter[64];
+    char parameter[64];          /* the x label of crater_height.png with its unit */
+    char vary_key[SWEEP_STRING]; /* the first varied key (the members' `value`) */
     char out_dir[SWEEP_PATH];
     int set_count; /* the definition's `set`, for members only */
     char sets[MAX_SETS][SWEEP_STRING];
@@ -292,8 +293,7 @@ static int expand_vary(Sweep *w, char vary[][VARY_STRING], int vary_count)
         if (*end)
             m->value = (double)index[0];
     }
-    if (!w->parameter[0])
-        snprintf(w->parameter, sizeof w->parameter, "%.63s", keys[0]);
+    snprintf(w->vary_key, sizeof w->vary_key, "%s", keys[0]);
     return 0;
 }
 
@@ -640,6 +640,23 @@ static int check_members(Sweep *w)
     return 0;
 }
 
+/* Without a sweep file's `parameter`: the first varied key with its unit in the scene's units
+ * ("species.0.k_n (N/m)", "species.0.mu (1)"), or bare with a warning where the scene keys record
+ * none (scene_key_quantity). */
+static void parameter_of_key(Sweep *w, const Scene *scene)
+{
+    SceneQuantity quantity = scene_key_quantity(scene, w->vary_key);
+    if (quantity < SCENE_QUANTITY_COUNT) {
+        scene_axis_label(scene, w->vary_key, quantity, w->parameter, sizeof w->parameter);
+        return;
+    }
+    snprintf(w->parameter, sizeof w->parameter, "%.63s", w->vary_key);
+    fprintf(stderr,
+            "sablier: sweep: warning: no unit is recorded for `%s`; crater_height's x axis "
+            "names it bare (a sweep file's `parameter` gives its label)\n",
+            w->vary_key);
+}
+
 static int setup(Sweep *w)
 {
     const AppCraterSweepOptions *o = w->o;
@@ -692,6 +709,8 @@ static int setup(Sweep *w)
     }
     int bed = find_bed_stage(w, scene, bed_name);
     w->print = scene->style;
+    if (!w->parameter[0] && w->vary_key[0])
+        parameter_of_key(w, scene);
     scene_free(scene);
     if (bed != 0)
         return 2;

@@ -300,6 +300,9 @@ typedef enum SceneQuantity {
     SCENE_RATE,      ///< per time
     SCENE_MASS_RATE, ///< mass per time
     SCENE_DIMENSIONLESS,
+    SCENE_DENSITY,           ///< mass per volume (a species' density with mass_model "sphere")
+    SCENE_HERTZ_STIFFNESS,   ///< force per length^1.5 (k_n of the Hertz law)
+    SCENE_ROLLING_STIFFNESS, ///< torque per radian (k_r)
     SCENE_QUANTITY_COUNT
 } SceneQuantity;
 
@@ -326,6 +329,11 @@ const char *scene_unit_after(const Scene *scene, SceneQuantity quantity, char *b
 const char *scene_axis_label(const Scene *scene, const char *name, SceneQuantity quantity,
                              char *buf, size_t size);
 
+/// The quantity of the value a `--set KEY` sets, for its unit (scene_axis_label): a species key
+/// ("species.0.mu", "species[1].k_n") by the species table (app/scene/scene_grains.c), whose
+/// density and k_n follow the scene's mass model and normal law; SCENE_QUANTITY_COUNT for a key
+/// whose unit is not recorded (every other key, gamma_n of the Hertz law).
+SceneQuantity scene_key_quantity(const Scene *scene, const char *key);
 /// "libconfig 1.5.0"
 const char *scene_libconfig_version(void);
 /// Simulated time between stage k's movie frames, s: movie_speed / fps, else time.end /

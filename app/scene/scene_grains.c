@@ -16,21 +16,27 @@ static const char *const SPECIES_KEYS[] = {
     "name", "density", "k_n",  "gamma_n", "restitution", "critical_fraction", "mu", "gamma_s",
     "k_t",  "gamma_t", "mu_r", "k_r",     NULL};
 
-/* SimMaterial fields -> the species keys that set them: for mapping SimError fields to lines,
- * and the table the Python module reads (scene_keys "material"). */
-static const char *const MATERIAL_MAP[][2] = {
-    {"density", "density"},
-    {"normal_stiffness", "k_n"},
-    {"normal_damping", "gamma_n"},
-    {"restitution", "restitution"},
-    {"critical_fraction", "critical_fraction"},
-    {"friction", "mu"},
-    {"tangential_damping", "gamma_s"},
-    {"tangential_stiffness", "k_t"},
-    {"spring_damping", "gamma_t"},
-    {"rolling_friction", "mu_r"},
-    {"rolling_stiffness", "k_r"},
+/* SimMaterial fields -> the species keys that set them, and the quantity of each (its unit, the
+ * `species` table of docs/scenes.md): for mapping SimError fields to lines, the table the Python
+ * module reads (scene_keys "material") and the unit of a swept key (scene_key_quantity). density
+ * and k_n as with mass_model "disk" and the linear law. */
+static const struct {
+    const char *field, *key;
+    SceneQuantity quantity;
+} MATERIAL_MAP[] = {
+    {"density", "density", SCENE_AREAL_DENSITY},
+    {"normal_stiffness", "k_n", SCENE_STRESS},
+    {"normal_damping", "gamma_n", SCENE_MASS_RATE},
+    {"restitution", "restitution", SCENE_DIMENSIONLESS},
+    {"critical_fraction", "critical_fraction", SCENE_DIMENSIONLESS},
+    {"friction", "mu", SCENE_DIMENSIONLESS},
+    {"tangential_damping", "gamma_s", SCENE_MASS_RATE},
+    {"tangential_stiffness", "k_t", SCENE_STRESS},
+    {"spring_damping", "gamma_t", SCENE_MASS_RATE},
+    {"rolling_friction", "mu_r", SCENE_LENGTH}, /* the cap |M_r| <= mu_r F_el (004 eq. 4.1) */
+    {"rolling_stiffness", "k_r", SCENE_ROLLING_STIFFNESS},
 };
+
 #define MATERIAL_KEY_COUNT (sizeof MATERIAL_MAP / sizeof MATERIAL_MAP[0])
 
 static const char *const MOTION_KINDS[] = {"sinusoidal", "velocity", "rotation", "compose", NULL};
@@ -56,7 +62,7 @@ const char *const *scene_keys(const char *group, int k)
         return SPECIES_KEYS;
     if (strcmp(group, "material") == 0 && (k == 0 || k == 1)) {
         for (size_t j = 0; j < MATERIAL_KEY_COUNT; ++j)
-            material[k][j] = MATERIAL_MAP[j][k];
+            material[k][j] = k == 0 ? MATERIAL_MAP[j].field : MATERIAL_MAP[j].key;
         material[k][MATERIAL_KEY_COUNT] = NULL;
         return material[k];
     }
@@ -69,16 +75,46 @@ const char *const *scene_keys(const char *group, int k)
     return NULL;
 }
 
+SceneQuantity scene_key_quantity(const Scene *scene, const char *key)
+{
+    /* "species", then an index as ".0", "[0]" or ".[0]", then "." and the species key */
+    size_t n = strlen("species");
+    const char *rest = key + n;
+    if (strncmp(key, "species", n) != 0)
+        return SCENE_QUANTITY_COUNT;
+    rest += *rest == '.';
+    int bracket = *rest == '[';
+    rest += bracket;
+    size_t digits = strspn(rest, "0123456789");
+    if (digits == 0 || (bracket && rest[digits] != ']'))
+        return SCENE_QUANTITY_COUNT;
+    rest += digits + (size_t)bracket;
+    if (*rest != '.')
+        return SCENE_QUANTITY_COUNT;
+    ++rest;
+    const int sphere = scene && scene->def.mass_model == SIM_MASS_SPHERE;
+    const int hertz = scene && scene->def.contact.normal == SIM_NORMAL_HERTZ;
+    if (strcmp(rest, "density") == 0 && sphere)
+        return SCENE_DENSITY;
+    if (strcmp(rest, "k_n") == 0 && hertz)
+        return SCENE_HERTZ_STIFFNESS;
+    if (strcmp(rest, "gamma_n") == 0 && hertz) /* F_n = sqrt(xi) (k_n xi + gamma_n dxi/dt) */
+        return SCENE_QUANTITY_COUNT;
+    for (size_t j = 0; j < MATERIAL_KEY_COUNT; ++j)
+        if (strcmp(rest, MATERIAL_MAP[j].key) == 0)
+            return MATERIAL_MAP[j].quantity;
+    return SCENE_QUANTITY_COUNT;
+}
+
 static void where_species(Loader *L, const config_setting_t *g, int k)
 {
-    const char *const(*map)[2] = MATERIAL_MAP;
     char field[64];
     snprintf(field, sizeof field, "materials[%d]", k);
     loader_where_add(L, field, g);
     for (size_t j = 0; j < MATERIAL_KEY_COUNT; ++j)
-        if (app_config_member(g, map[j][1])) {
-            snprintf(field, sizeof field, "materials[%d].%s", k, map[j][0]);
-            loader_where_add(L, field, app_config_member(g, map[j][1]));
+        if (app_config_member(g, MATERIAL_MAP[j].key)) {
+            snprintf(field, sizeof field, "materials[%d].%s", k, MATERIAL_MAP[j].field);
+            loader_where_add(L, field, app_config_member(g, MATERIAL_MAP[j].key));
         }
 }
 

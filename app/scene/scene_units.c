@@ -32,6 +32,13 @@ static const char *const names[SCENE_QUANTITY_COUNT][UNITS_COUNT][2] = {
     [SCENE_RATE] = {{"1/s", NULL}, {"sqrt(g/d)", "\xe2\x88\x9a(g/d)"}, {"", NULL}},
     [SCENE_MASS_RATE] = {{"kg/s", NULL}, {"m sqrt(g/d)", "m\xe2\x88\x9a(g/d)"}, {"", NULL}},
     [SCENE_DIMENSIONLESS] = {{"", NULL}, {"", NULL}, {"", NULL}},
+    [SCENE_DENSITY] = {{"kg/m^3", "kg/m\xc2\xb3"},
+                       {"m/d^3", "m/d\xc2\xb3"},
+                       {"m/d^3", "m/d\xc2\xb3"}},
+    [SCENE_HERTZ_STIFFNESS] = {{"N/m^1.5", "N/m^{1.5}"}, /* figure markup */
+                               {"m g/d^1.5", "m g/d^{1.5}"},
+                               {"", NULL}},
+    [SCENE_ROLLING_STIFFNESS] = {{"N m/rad", NULL}, {"m g d/rad", NULL}, {"", NULL}},
 };
 
 static int system_of_style(const SceneStyle *style)

@@ -199,6 +199,51 @@ static int shipped_scenes_name_their_units(void)
     return 0;
 }
 
+/* A swept species key's unit from the species table (scene_key_quantity), as a sweep's x axis
+ * names it: by the scene's mass model and normal law, in its unit system; none for a key whose
+ * unit is not recorded. */
+static int species_keys_name_their_units(void)
+{
+    const char *hertz[] = {"contact.normal=\"hertz\""}, *disk[] = {"mass_model=\"disk\""};
+    char err[2048], label[64];
+    Scene *si = scene_load("scenes/crater/small.scene", NULL, 0, err, sizeof err); /* sphere */
+    TEST_ASSERT(si != NULL);
+    TEST_ASSERT(scene_key_quantity(si, "species.0.mu") == SCENE_DIMENSIONLESS);
+    TEST_ASSERT(scene_key_quantity(si, "species[0].k_n") == SCENE_STRESS);
+    TEST_ASSERT(scene_key_quantity(si, "species.[1].gamma_s") == SCENE_MASS_RATE);
+    TEST_ASSERT(scene_key_quantity(si, "species.0.density") == SCENE_DENSITY);
+    TEST_ASSERT(scene_key_quantity(si, "species.0.mu_r") == SCENE_LENGTH);
+    const char *unknown[] = {"time.dt",        "species.0.name", "species.mu", "species[0.mu",
+                             "species.0.frob", "species0mu",     "species.0"};
+    for (int k = 0; k < 7; ++k)
+        TEST_ASSERT(scene_key_quantity(si, unknown[k]) == SCENE_QUANTITY_COUNT);
+    TEST_ASSERT(
+        strcmp(scene_axis_label(si, "species.0.mu", SCENE_DIMENSIONLESS, label, sizeof label),
+               "species.0.mu (1)") == 0);
+    TEST_ASSERT(strcmp(scene_axis_label(si, "k_r", scene_key_quantity(si, "species.0.k_r"), label,
+                                        sizeof label),
+                       "k_r (N m/rad)") == 0);
+    TEST_ASSERT(strcmp(scene_unit(si, SCENE_DENSITY, 0), "kg/m^3") == 0);
+    scene_free(si);
+    Scene *h = scene_load("scenes/crater/small.scene", hertz, 1, err, sizeof err);
+    TEST_ASSERT(h != NULL);
+    TEST_ASSERT(scene_key_quantity(h, "species.0.k_n") == SCENE_HERTZ_STIFFNESS);
+    TEST_ASSERT(scene_key_quantity(h, "species.0.gamma_n") == SCENE_QUANTITY_COUNT);
+    TEST_ASSERT(strcmp(scene_unit(h, SCENE_HERTZ_STIFFNESS, 0), "N/m^1.5") == 0);
+    scene_free(h);
+    Scene *d = scene_load("scenes/crater/small.scene", disk, 1, err, sizeof err);
+    TEST_ASSERT(d != NULL);
+    TEST_ASSERT(scene_key_quantity(d, "species.0.density") == SCENE_AREAL_DENSITY);
+    scene_free(d);
+    Scene *own = scene_load("scenes/measure/column.scene", NULL, 0, err, sizeof err);
+    TEST_ASSERT(own != NULL && own->units_normalised);
+    TEST_ASSERT(strcmp(scene_axis_label(own, "k_n", scene_key_quantity(own, "species.0.k_n"), label,
+                                        sizeof label),
+                       "k_n / (m g/d)") == 0);
+    scene_free(own);
+    return 0;
+}
+
 /* Every axis and colour-bar label the measures give the renderer, recorded. */
 typedef struct Labels {
     char text[4096];
@@ -264,4 +309,4 @@ static int measure_labels_in_scene_units(void)
 
 TEST_MAIN(TEST_CASE(energy_time_in_sqrt_d_over_g), TEST_CASE(t_star_length_refused),
           TEST_CASE(normalised_writes_numbers_as_given), TEST_CASE(shipped_scenes_name_their_units),
-          TEST_CASE(measure_labels_in_scene_units))
+          TEST_CASE(species_keys_name_their_units), TEST_CASE(measure_labels_in_scene_units))
