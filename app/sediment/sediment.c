@@ -279,12 +279,9 @@ AppSediment *app_sediment_parse(const config_setting_t *g, Scene *scene, char *e
     AppSediment *s = sediment_create(&p, g, scene, &fd, &num, &in, steady);
     if (s)
         snprintf(s->group, sizeof s->group, "%s", config_setting_name(g));
-    if (s && scene->style.normalised_units) { /* SI keeps its bare "u", "y" */
+    if (s) { /* "u (m/s)", "y (m)" in SI; "u / sqrt(g d)", "y / d" normalised */
         scene_axis_label(scene, "u", SCENE_SPEED, s->u_label, sizeof s->u_label);
         scene_axis_label(scene, "y", SCENE_LENGTH, s->y_label, sizeof s->y_label);
-    } else if (s) {
-        snprintf(s->u_label, sizeof s->u_label, "u");
-        snprintf(s->y_label, sizeof s->y_label, "y");
     }
     return s;
 }

@@ -107,11 +107,14 @@ scene_brazil_nut_bne() {
   done
 }
 
-# the bed with its profile panels (run) and the Shields scan's flux plot (sablier sediment)
+# the bed with its profile panels (run; also in SI, whose panels say m and m/s) and the Shields
+# scan's flux plot (sablier sediment)
 scene_sediment() {
   local cut=(--set stages.settle.time.end=2 --set stages.flow.time.end=2)
   run viscous run sediment/viscous.scene "${cut[@]}" --set 'output.movie=[]' &&
     expect viscous bed.pdf &&
+    run viscous_si run sediment/viscous.scene "${cut[@]}" --set 'output.movie=[]' \
+      --set 'units="SI"' && expect viscous_si bed.pdf &&
     run shields sediment sediment/viscous.scene --shields 0.4,0.8 "${cut[@]}" &&
     expect shields flux.pdf
 }
