@@ -715,8 +715,8 @@ static void figure_panel(const Ensemble *E, Figure *F, int j)
     }
     double span = hi > lo ? hi - lo : fmax(fabs(hi), 1e-12);
     F->panels[j] = (AppPlotPanel){.title = E->o->keys[j],
-                                  .x_label = "CPU s per member",
-                                  .y_label = "shift of the mean",
+                                  .x_label = "CPU time per member (s)",
+                                  .y_label = "shift of the mean (the observable's unit)",
                                   .x_log = 1,
                                   .legend = j == 0 ? APP_LEGEND_UPPER_LEFT : APP_LEGEND_NONE,
                                   .x_min = pow(10.0, floor(log10(F->zero_x[0] / 1.3))),

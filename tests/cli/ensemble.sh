@@ -62,6 +62,11 @@ grep -q '^energy.csv:e_kin: from dt = 0.0078125 s on .*(every dt of the list)$' 
 grep -q '"within_from_dt_s"' "$se/ensemble.json" || fail "ensemble.json has no answer"
 if [ "$render" = ON ]; then
   [ -s "$se/ensemble.png" ] && [ -s "$se/ensemble.pdf" ] || fail "no ensemble.png/.pdf"
+  # every axis names its unit (the figure lint, docs/figures.md#figure-lint)
+  if command -v pdftotext >/dev/null; then
+    python3 "$(dirname "$0")/../lint/figure_lint.py" "$se/ensemble.pdf" ||
+      fail "the figure lint complains on ensemble.pdf"
+  fi
 fi
 # the same tables with one job (timing columns aside)
 run "$work/se1" --jobs 1
