@@ -808,7 +808,7 @@ static int write_pile_map(const MapOutput *o, const AppStudySpeciesMap *m, int p
                  "fraction of %s grains before discharge, L = %g d, %d piles, %g d cells (004 "
                  "fig. 3.4)",
                  o->what, o->L, piles, SPECIES_CELL);
-        snprintf(bar, sizeof bar, "%s", strcmp(o->what, "small") == 0 ? "q_s" : "q_d");
+        snprintf(bar, sizeof bar, "%s (1)", strcmp(o->what, "small") == 0 ? "q_s" : "q_d");
         int rows = 1; /* drawn up to the highest row with grains */
         for (size_t c = 0; c < cells; ++c)
             if (m->count[c] > 0)
@@ -1274,7 +1274,7 @@ static int plot_fits(const Reduction *R)
     }
     plot = (StudyPlot){"species-0 fraction: pile (dashed) and arch (004 figs. 3.6, 3.8)",
                        "w / d",
-                       "q",
+                       "q (1)",
                        0,
                        ns,
                        series,

@@ -73,7 +73,8 @@ scene_impact() {
     --set stages.impact.time.end=0.3 && expect impact impact.pdf
 }
 
-# the pile (L = 10 d) and one orifice: pile.png and w<W>.png, the arch in its inset
+# the pile (L = 10 d) and one orifice: pile.png and w<W>.png, the arch in its inset; a short
+# study's plots
 scene_discharge() {
   local s w
   for s in bidisperse:3.0 density:3.0 poly:2.2 rolling_chord:2.2 rolling_fixed:2.2; do
@@ -81,6 +82,11 @@ scene_discharge() {
     run "$s" discharge "discharge/$s.scene" --width "$w" --figures \
       --set discharge.base_length=10 && expect "$s" pile.pdf "w$w.pdf" || return 1
   done
+  # the study's reduction plots (`sablier study` takes no --quiet)
+  "$sablier" study scenes/discharge/bidisperse.scene --out "$work/study" --L 10,12 \
+    --widths 1.5,2.5 --samples 2 --set 'render.plot_format="pdf"' >"$work/study.log" 2>&1 ||
+    { cat "$work/study.log" >&2; return 1; }
+  expect study h_mean.pdf sigma_h.pdf wt.pdf composition.pdf
 }
 
 # the large boxes' own figures (bands, the velocity field, the phase field) from `sablier run`
