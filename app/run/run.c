@@ -954,7 +954,7 @@ static int stage_loop(Run *run, int k, StageClock *clock, long done, int resumed
             status = 2;
             break;
         }
-        if (app_run_signal()) {
+        if (!run->options->bare && app_run_signal()) { /* bare: catches none */
             status = APP_EXIT_SIGNAL + app_run_signal();
             break;
         }
