@@ -247,7 +247,8 @@ set(RESUME_surface scenes/drum/drum.scene stages.settle.time.end=3 stages.rotate
     surface.after=2 output.checkpoint_every=2.5)
 set(RESUME_measures scenes/measure/column.scene grains.rain.max_count=150 stages.rain.time.end=4
     output.checkpoint_every=1.5)
-# (discharge keeps nothing between steps: its scenes run plain stages, as cli.resume's does)
+# (discharge keeps nothing between steps of a run: its hooks act in the phases of `sablier discharge`
+# and `study` only, and its scenes run plain stages, as cli.resume's does)
 foreach(family crater bne sediment surface measures)
   list(GET RESUME_${family} 0 scene)
   list(SUBLIST RESUME_${family} 1 -1 sets)

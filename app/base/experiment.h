@@ -16,6 +16,7 @@
  *       stage_begin              after every edit, at the stage's start time
  *       loop: sample             at every energy row (output.energy_every)
  *             next_step, step    at steps the family asks for (profiles, phase samples)
+ *             stage_done         at every step boundary: 1 ends the stage there
  *       stage_end                checkpoint written (the world is the stage's end state)
  *     end                        every stage done or the run failed (ok = 0); world may be NULL
  *                                (ok = 0 with c->checkpointed: interrupted at a checkpoint, the
@@ -144,6 +145,11 @@ typedef struct AppExperiment {
     long (*next_step)(const void *state, const AppContext *c, long done, long next);
     /// Called at every step boundary the runner stops at (`done` steps into the stage).
     void (*step)(void *state, AppContext *c, long done);
+    /// The family's stop criterion, at every step boundary after `step` (and after the stage's
+    /// settle test): 1 ends the stage at `done` as its time.end would (a flow that stopped, a
+    /// pile at rest, a target reached; next_step makes the runner stop at the steps it tests
+    /// on), 0 goes on, -1 fails the run with err (exit status 2).
+    int (*stage_done)(void *state, AppContext *c, long done);
     int (*stage_end)(void *state, AppContext *c);
     int (*end)(void *state, AppContext *c, int ok);
     /// Writes the family's section of a checkpoint record (app/base/checkpoint.h). 0, or -1 with

@@ -102,15 +102,11 @@ typedef struct AppDischargeDeposit {
     int pile_count[1024]; ///< grains with >= 1 contact after each row (004 fig. 2.8)
 } AppDischargeDeposit;
 
-/// Builds the base, rains rows and relaxes to static equilibrium. Returns the world (caller
-/// destroys), or NULL with a message. `trace` (optional) gets "t,row,released,pile,mobile" rows.
+/// Builds the base, rains rows and relaxes to static equilibrium (testing it every check_every
+/// steps), on the stage runner (app/discharge/discharge.c). Returns the world (caller destroys), or
+/// NULL with a message. `trace` (optional) gets "t,row,released,pile,mobile" rows.
 SimWorld *app_discharge_deposit(const Scene *scene, uint64_t seed, const AppDischargeFrames *frames,
                                 FILE *trace, AppDischargeDeposit *out, char *err, size_t err_size);
-
-/// Steps until sim_world_equilibrium(tolerance) holds (tested every check_every steps) or
-/// `cap` simulation time passed. Returns 1 at equilibrium, 0 at the cap, -1 on failure.
-int app_discharge_relax(SimWorld *world, const AppDischargeDef *def, double cap,
-                        const AppDischargeFrames *frames, long *steps, char *err, size_t err_size);
 
 /// Removes the fixed grains whose centre lies within width/2 of center_x; returns how many.
 int app_discharge_open_orifice(SimWorld *world, double width, double center_x);

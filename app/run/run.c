@@ -10,6 +10,7 @@
 #include "base/experiments.h"
 #include "base/util.h"
 #include "output/dump.h"
+#include "run/run_internal.h"
 #include "scene/sources.h"
 #include "sim/sim.h"
 
@@ -24,65 +25,9 @@
 #include <time.h>
 #include <unistd.h>
 
-#define PATH_SIZE          (SCENE_PATH_MAX + 2 * SCENE_NAME_MAX)
-#define RESOLVED_NAME      "scene.resolved.cfg" /* the scene as run, beside its outputs */
 /* A stage steps at most this many steps between two looks at the signal flag (the chunks end on
  * output times anyway; their lengths do not change the bits). */
 #define SIGNAL_CHECK_STEPS 2000
-
-typedef struct StageReport {
-    long steps;
-    double start_time, end_time; /* s */
-    double wall_seconds;
-    int settled;
-    int removed;  /* grains removed at the start (edits) and by the sinks during the stage */
-    int at_start; /* of which at the start */
-    long sinks[SIM_MAX_SINKS]; /* sink counters at the start, then grains through each sink */
-    int mobile;
-} StageReport;
-
-typedef struct Run {
-    const Scene *scene;
-    const AppRunOptions *options;
-    SimWorld *world;
-    FILE *energy, *trace;
-    char energy_path[PATH_SIZE], trace_path[PATH_SIZE];
-    double time_scale; /* sqrt(D/g), s; 0 = unknown */
-    /* units = "reduced" (docs/scenes.md#units): d, m and sqrt(d/g) of the mobile grains at the
-     * start of the first stage, fixed for the run; 0 in SI */
-    double unit_length, unit_mass, unit_time;
-    long steps;
-    double simulated, particle_steps, step_seconds;
-    double contacts_sum;
-    long contacts_samples;
-    StageReport stages[SCENE_MAX_STAGES];
-    int stages_done;
-    int status; /* exit status */
-    char message[4 * PATH_SIZE];
-    SimError error;
-    int render_warned;
-    int progress_tty;
-    double progress_every, last_progress; /* wall s between progress lines (0: none); the last */
-    AppThreads threads;  /* fixed, tuned (APP_THREADS_AUTO) or switched: thread_tuner.h */
-    int threads_asked;   /* the count last given to the world (sim_world_set_threads) */
-    int threads_most;    /* the most threads the step ran on: summary.json's "threads" */
-    AppContext context;  /* what the experiment families' hooks see */
-    char observed[2048]; /* their summary.json members */
-    /* The motions' clocks by world time (sim_world_set_motion), from the stages' `motions`. */
-    int motion_running[SIM_MAX_MOTIONS];
-    double motion_on[SIM_MAX_MOTIONS], motion_off[SIM_MAX_MOTIONS];
-    double settle_since; /* the stage time since which the settle test holds; < 0: it does not */
-    AppSources *sources; /* insertion sources, NULL without */
-    /* Checkpoints (docs/cli.md): the wall clock of the last one; with --resume, the point
-     * the run continues from (stage, steps done in it, state file) and the original start. */
-    double checkpoint_wall;
-    int resume_stage;
-    long resume_done;
-    char resume_state[PATH_SIZE];
-    long long started;
-    long energy_bytes, trace_bytes; /* of the files at the resumed checkpoint */
-    char *resume_record;            /* its checkpoint.txt, whole (sections included) */
-} Run;
 
 AppRunOptions app_run_options_default(void)
 {
@@ -110,167 +55,8 @@ static void apply_threads(Run *run, int fresh)
 
 static void out_path(const Run *run, char *out, const char *name, const char *suffix)
 {
-    snprintf(out, PATH_SIZE, "%s/%s%s", run->options->out_dir, name, suffix);
-}
-
-/* Grains that left through each sink, in scenes that have sinks (other summaries keep their
- * form). A stage entry's end: `, "removed_by_sinks": [n, ...]}`. */
-static size_t stage_sinks_json(char *out, size_t size, const Scene *scene, const StageReport *s)
-{
-    size_t n = 0;
-    if (scene->def.sink_count > 0)
-        n += (size_t)snprintf(out, size, ", \"removed_by_sinks\": [");
-    for (int k = 0; k < scene->def.sink_count; ++k)
-        n +=
-            (size_t)snprintf(out + n, n < size ? size - n : 0, "%s%ld", k ? ", " : "", s->sinks[k]);
-    n += (size_t)snprintf(out + n, n < size ? size - n : 0, scene->def.sink_count > 0 ? "]}" : "}");
-    return n;
-}
-
-/* The run's totals: `  "sinks": [{"shape": "below", "removed": n}, ...],\n`. */
-static size_t run_sinks_json(char *out, size_t size, const Run *run)
-{
-    static const char *const shapes[] = {"below", "above", "left", "right", "rect"};
-    const Scene *scene = run->scene;
-    size_t n = 0;
-    if (scene->def.sink_count == 0)
-        return 0;
-    n += (size_t)snprintf(out, size, "  \"sinks\": [");
-    for (int k = 0; k < scene->def.sink_count; ++k) {
-        long total = 0;
-        for (int s = 0; s < run->stages_done; ++s)
-            total += run->stages[s].sinks[k];
-        unsigned shape = (unsigned)scene->def.sinks[k].shape;
-        n += (size_t)snprintf(out + n, n < size ? size - n : 0,
-                              "%s{\"shape\": \"%s\", \"removed\": %ld}", k ? ", " : "",
-                              shape < 5 ? shapes[shape] : "?", total);
-    }
-    n += (size_t)snprintf(out + n, n < size ? size - n : 0, "],\n");
-    return n;
-}
-
-/* summary.json's "units" member of a scene in its own units: the unit of each quantity that its
- * files hold, from the unit table (scene_unit); "scene" for the scene's own, unnamed unit (a time
- * when |g| is not 1). The number of bytes written, as snprintf. */
-static size_t normalised_units_json(const Scene *scene, char *text, size_t size)
-{
-    static const struct {
-        const char *key;
-        SceneQuantity quantity;
-    } row[] = {{"length", SCENE_LENGTH}, {"time", SCENE_TIME},   {"mass", SCENE_MASS},
-               {"speed", SCENE_SPEED},   {"force", SCENE_FORCE}, {"energy", SCENE_ENERGY},
-               {"stress", SCENE_STRESS}};
-
-    size_t n = (size_t)snprintf(text, size, "  \"units\": {\"system\": \"normalised\"");
-    for (size_t k = 0; k < sizeof row / sizeof row[0] && n < size; ++k) {
-        const char *unit = scene_unit(scene, row[k].quantity, 0);
-        n += (size_t)snprintf(text + n, size - n, ", \"%s\": \"%s\"", row[k].key,
-                              unit[0] ? unit : "scene");
-    }
-    return n + (size_t)snprintf(text + n, n < size ? size - n : 0, "},\n");
-}
-
-static int write_summary(const Run *run, double wall_seconds)
-{
-    const Scene *scene = run->scene;
-    size_t size = 24576 + 512 * SCENE_MAX_STAGES;
-    char *text = malloc(size);
-    if (!text)
-        return -1;
-    char name[256], file[2 * SCENE_PATH_MAX], message[2200], render[600], effects[256],
-        effects_json[300], n1[40], n2[40], n3[40], n4[40];
-    app_json_string(name, sizeof name, scene->name);
-    char recorded[SCENE_PATH_MAX]; /* no machine path in the output (docs/cli.md "Provenance") */
-    app_provenance_path(&run->options->provenance, scene->path, recorded, sizeof recorded);
-    app_json_string(file, sizeof file, recorded);
-    app_json_string(message, sizeof message, run->message);
-    app_json_string(render, sizeof render,
-                    run->options->render_versions ? run->options->render_versions : "not built");
-    scene_effect_names(scene->def.effects, effects, sizeof effects);
-    app_json_string(effects_json, sizeof effects_json, effects);
-    int grains = run->world ? sim_world_grain_count(run->world) : scene->grains.count;
-    int mobile =
-        run->world ? sim_world_mobile_count(run->world) : scene->grains.count - scene->fixed_count;
-    app_json_number(n1, sizeof n1, run->simulated);
-    app_json_number(n2, sizeof n2, wall_seconds);
-    app_json_number(n3, sizeof n3,
-                    run->step_seconds > 0.0 ? run->particle_steps / run->step_seconds : 0.0);
-    app_json_number(n4, sizeof n4,
-                    run->contacts_samples ? run->contacts_sum / (double)run->contacts_samples
-                                          : 0.0);
-    const char *status = run->status == 0                    ? "ok"
-                         : run->status == 1                  ? "unstable"
-                         : run->status > APP_EXIT_SIGNAL     ? "interrupted"
-                         : run->status == APP_EXIT_DISK_FULL ? "disk_full"
-                                                             : "error";
-    size_t n = (size_t)snprintf(
-        text, size,
-        "{\n  \"scene\": %s,\n  \"scene_file\": %s,\n  \"seed\": %llu,\n  \"grains\": %d,\n"
-        "  \"mobile_grains\": %d,\n  \"steps\": %ld,\n  \"%s\": %s,\n"
-        "  \"wall_seconds\": %s,\n  \"particle_steps_per_second\": %s,\n"
-        "  \"contacts_mean\": %s,\n  \"status\": \"%s\",\n  \"message\": %s,\n"
-        "  \"effects\": %s,\n  \"threads\": %d,\n",
-        name, file, (unsigned long long)scene->seed, grains, mobile, run->steps,
-        scene->units_normalised ? "simulated_time" : "simulated_seconds", n1, n2, n3, n4, status,
-        message, effects_json,
-        run->threads_most > 0 ? run->threads_most
-                              : (run->options->threads > 0 ? run->options->threads : 1));
-    n += run_sinks_json(text + n, size - n, run);
-    if (run->unit_time > 0.0 && n < size) {
-        char d[40], m[40], t[40];
-        app_json_number(d, sizeof d, run->unit_length);
-        app_json_number(m, sizeof m, run->unit_mass);
-        app_json_number(t, sizeof t, run->unit_time);
-        n += (size_t)snprintf(text + n, size - n,
-                              "  \"units\": {\"system\": \"reduced\", \"length_m\": %s, "
-                              "\"mass_kg\": %s, \"time_s\": %s},\n",
-                              d, m, t);
-    }
-    if (run->scene->units_normalised && n < size)
-        n += normalised_units_json(run->scene, text + n, size - n);
-    char sources[2048];
-    app_sources_json(run->sources, sources, sizeof sources);
-    n += (size_t)snprintf(text + n, n < size ? size - n : 0, "%s%s  \"stages\": [", sources,
-                          run->observed);
-    for (int k = 0; k < run->stages_done && n < size; ++k) {
-        const StageReport *s = &run->stages[k];
-        char stage_name[160], a[40], b[40], c[40];
-        app_json_string(stage_name, sizeof stage_name, scene->stages[k].name);
-        app_json_number(a, sizeof a, s->start_time);
-        app_json_number(b, sizeof b, s->end_time);
-        app_json_number(c, sizeof c, s->wall_seconds);
-        n += (size_t)snprintf(text + n, size - n,
-                              "%s\n    {\"name\": %s, \"steps\": %ld, \"start_time\": %s, "
-                              "\"end_time\": %s, \"wall_seconds\": %s, \"settled\": %s, "
-                              "\"removed\": %d, \"mobile_grains\": %d",
-                              k ? "," : "", stage_name, s->steps, a, b, c,
-                              s->settled ? "true" : "false", s->removed, s->mobile);
-        n += stage_sinks_json(text + n, n < size ? size - n : 0, scene, s);
-    }
-    if (n < size) {
-        char sablier[80];
-        app_json_string(sablier, sizeof sablier, run->options->sablier_version);
-        n += (size_t)snprintf(text + n, size - n,
-                              "\n  ],\n  \"versions\": {\"sablier\": %s, \"sim\": \"%s\", "
-                              "\"libconfig\": \"%s\", \"render\": %s},\n",
-                              sablier, SIM_VERSION,
-                              scene_libconfig_version() + strlen("libconfig "), render);
-    }
-    if (n < size) /* last: the fields above keep their lines whatever the command line */
-        n += app_provenance_json(&run->options->provenance, scene->sha256, RESOLVED_NAME, text + n,
-                                 size - n);
-    if (n < size && n > 0 && text[n - 1] == '\n') { /* after it: they differ between runs too */
-        n += (size_t)snprintf(text + n - 1, size - n + 1, ",\n") - 1;
-        n += app_threads_json(&run->threads, text + n, size - n);
-        n += (size_t)snprintf(text + n, n < size ? size - n : 0, "\n");
-    }
-    if (n < size)
-        n += (size_t)snprintf(text + n, size - n, "}\n");
-    char path[PATH_SIZE];
-    out_path(run, path, "summary", ".json");
-    int rc = n < size ? app_write_atomic(path, text) : -1;
-    free(text);
-    return rc;
+    const char *dir = run->options->out_dir ? run->options->out_dir : "."; /* bare: may be NULL */
+    snprintf(out, PATH_SIZE, "%s/%s%s", dir, name, suffix);
 }
 
 /* ---------------------------------------------------------------- outputs during a stage */
@@ -449,6 +235,22 @@ static void family_step(Run *run, long done)
             app_experiments[f]->step(run->scene->experiments[f], &run->context, done);
 }
 
+/* The families' stop criteria at step `done` (AppExperiment.stage_done): 1 when one ends the
+ * stage here, -1 when one failed (message in run->message), else 0. */
+static int family_done(Run *run, long done)
+{
+    run->context.world = run->world;
+    for (int f = 0; app_experiments[f]; ++f) {
+        const AppExperiment *e = app_experiments[f];
+        int r = run->scene->experiments[f] && e->stage_done
+                    ? e->stage_done(run->scene->experiments[f], &run->context, done)
+                    : 0;
+        if (r != 0)
+            return r < 0 ? -1 : 1;
+    }
+    return 0;
+}
+
 static int stage_world(Run *run, int k)
 {
     const Scene *scene = run->scene;
@@ -620,7 +422,7 @@ static void unstable_message(Run *run, int k)
     char path[PATH_SIZE];
     out_path(run, path, stage->name, ".last_good.state");
     SimError save_error;
-    int saved = app_state_save(run->world, path, &save_error) == 0;
+    int saved = !run->options->bare && app_state_save(run->world, path, &save_error) == 0;
     SimTiming timing = sim_world_timing(run->world);
     const char *cause =
         timing.steps_per_contact < 20.0
@@ -641,7 +443,10 @@ static void unstable_message(Run *run, int k)
              run->error.step >= 0 ? t_fail : sim_world_time(run->world), run->error.grain,
              run->error.message, named ? "" : "; likely cause: ", named ? "" : cause,
              timing.time_step, timing.steps_per_contact,
-             saved ? "saved to" : "could not be saved to", path);
+             saved                ? "saved to"
+             : run->options->bare ? "not saved (a bare run writes no file), as"
+                                  : "could not be saved to",
+             path);
 }
 
 /* The stage's cadences, in steps from its start: chunks of sim_world_step end on output times. */
@@ -835,7 +640,7 @@ static int settled(Run *run, const SceneStage *stage, const StageClock *clock, l
 static int checkpoint_due(Run *run, const StageClock *clock, long done)
 {
     const double minutes = run->scene->output.checkpoint_minutes;
-    if (done <= 0 || done >= clock->total)
+    if (done <= 0 || done >= clock->total || run->options->bare)
         return 0;
     if (done % clock->every_checkpoint == 0)
         return 1;
@@ -1137,6 +942,11 @@ static int stage_loop(Run *run, int k, StageClock *clock, long done, int resumed
             report->settled = 1;
             break;
         }
+        int family_stop = resumed ? 0 : family_done(run, done);
+        if (family_stop != 0) {
+            status = family_stop < 0 ? 2 : 0;
+            break;
+        }
         /* A periodic checkpoint due here is written before a signal is heeded: a run resumed
          * from this step writes no outputs for it, so the periodic one would be missing. */
         if (!resumed && checkpoint_due(run, clock, done) &&
@@ -1144,7 +954,7 @@ static int stage_loop(Run *run, int k, StageClock *clock, long done, int resumed
             status = 2;
             break;
         }
-        if (app_run_signal()) {
+        if (!run->options->bare && app_run_signal()) { /* bare: catches none */
             status = APP_EXIT_SIGNAL + app_run_signal();
             break;
         }
@@ -1227,7 +1037,7 @@ static int stage_finish(Run *run, int k, StageClock *clock, int status)
     if (status != 0)
         return status;
     out_path(run, path, stage->name, ".state");
-    if (app_state_save(run->world, path, &run->error) != 0) {
+    if (!run->options->bare && app_state_save(run->world, path, &run->error) != 0) {
         snprintf(run->message, sizeof run->message, "checkpoint %s: %s", path, run->error.message);
         return 2;
     }
@@ -1328,7 +1138,8 @@ static int run_stage(Run *run, int k)
     run->stages[k].wall_seconds = app_now_seconds() - wall_start;
     if (status != 0)
         return status;
-    progress(run, k, 0.0, 0.0, 0.0, 1);
+    if (!run->options->bare)
+        progress(run, k, 0.0, 0.0, 0.0, 1);
     return 0;
 }
 
@@ -1384,7 +1195,8 @@ static int resume_supported(const Run *run)
     const Scene *scene = run->scene;
     for (int f = 0; app_experiments[f]; ++f) {
         const AppExperiment *e = app_experiments[f];
-        int keeps = e->begin || e->stage_begin || e->sample || e->step || e->stage_end || e->end;
+        int keeps = e->begin || e->stage_begin || e->sample || e->step || e->stage_done ||
+                    e->stage_end || e->end;
         if (!scene->experiments[f] || e->resume || !keeps)
             continue;
         fprintf(stderr,
@@ -1515,37 +1327,25 @@ static void run_stages(Run *run)
     }
 }
 
-int app_run(const Scene *scene, const AppRunOptions *options)
+/* A bare run (AppRunOptions.bare): the stages and the families' hooks, no file, no signal. */
+static void run_bare(Run *run)
 {
-    Run *run = calloc(1, sizeof *run);
-    if (!run) {
-        fprintf(stderr, "sablier: out of memory\n");
-        return 2;
-    }
-    run->scene = scene;
-    run->options = options;
-    run->settle_since = -1.0; /* a checkpoint from before `hold`: no window under way */
-    run->context = (AppContext){.scene = scene,
-                                .out_dir = options->out_dir,
-                                .render = options->render,
-                                .stage = -1,
-                                .err = run->message,
-                                .err_size = sizeof run->message};
-    run->progress_tty = !options->quiet && isatty(STDERR_FILENO);
-    run->progress_every = options->quiet ? 0.0 : run->progress_tty ? 0.25 : options->progress_every;
-    double wall_start = app_now_seconds();
-    run->last_progress = wall_start;
-    time_t started = time(NULL);
-    run->started = (long long)started;
-    run->resume_stage = -1;
-    run->checkpoint_wall = wall_start;
-    app_threads_init(&run->threads, options->threads, options->threads_switch_every,
-                     app_cpu_count(), options->grains_per_thread, options->threads_block_seconds);
-    if (prepare_folder(run) != 0) {
-        free(run->resume_record);
-        free(run);
-        return 2;
-    }
+    run_stages(run);
+    families_end(run);
+    const AppRunOptions *o = run->options;
+    if (o->err && o->err_size > 0)
+        snprintf(o->err, o->err_size, "%s", run->status != 0 ? run->message : "");
+}
+
+/* The run with its files: the folder, the stages, energy.csv, trace.csv, summary.json, the
+ * families' figures and the manifest, under the caught signals. run->status set; 0, or -1
+ * when the folder could not be made ready (nothing ran). */
+static int run_files(Run *run, double wall_start)
+{
+    const Scene *scene = run->scene;
+    const AppRunOptions *options = run->options;
+    if (prepare_folder(run) != 0)
+        return -1;
     if (options->render && options->render->provenance) {
         char comment[2048];
         app_provenance_comment(&options->provenance, scene->sha256, comment, sizeof comment);
@@ -1565,7 +1365,7 @@ int app_run(const Scene *scene, const AppRunOptions *options)
         run->status = 2;
     }
     disk_full_status(run);
-    if (write_summary(run, app_now_seconds() - wall_start) != 0 && run->status == 0) {
+    if (app_run_summary_write(run, app_now_seconds() - wall_start) != 0 && run->status == 0) {
         snprintf(run->message, sizeof run->message, "cannot write %s/summary.json",
                  options->out_dir);
         run->status = 2;
@@ -1581,8 +1381,46 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     disk_full_status(run);
     if (run->status != 0)
         fprintf(stderr, "sablier: %s\n", run->message);
-    int status = run->status;
-    if (run->world)
+    return 0;
+}
+
+int app_run(const Scene *scene, const AppRunOptions *options)
+{
+    Run *run = calloc(1, sizeof *run);
+    if (!run) {
+        fprintf(stderr, "sablier: out of memory\n");
+        return 2;
+    }
+    run->scene = scene;
+    run->options = options;
+    run->settle_since = -1.0; /* a checkpoint from before `hold`: no window under way */
+    run->context = (AppContext){.scene = scene,
+                                .out_dir = options->out_dir,
+                                .render = options->render,
+                                .stage = -1,
+                                .err = run->message,
+                                .err_size = sizeof run->message};
+    const int quiet = options->quiet || options->bare;
+    run->progress_tty = !quiet && isatty(STDERR_FILENO);
+    run->progress_every = quiet ? 0.0 : run->progress_tty ? 0.25 : options->progress_every;
+    double wall_start = app_now_seconds();
+    run->last_progress = wall_start;
+    time_t started = time(NULL);
+    run->started = (long long)started;
+    run->resume_stage = -1;
+    run->checkpoint_wall = wall_start;
+    app_threads_init(&run->threads, options->threads, options->threads_switch_every,
+                     app_cpu_count(), options->grains_per_thread, options->threads_block_seconds);
+    if (options->world)
+        *options->world = NULL;
+    int status = 2;
+    if (options->bare)
+        run_bare(run);
+    if (options->bare || run_files(run, wall_start) == 0)
+        status = run->status;
+    if (run->world && options->world && status == 0)
+        *options->world = run->world; /* handed over: the caller destroys it */
+    else if (run->world)
         sim_world_destroy(run->world);
     app_sources_free(run->sources);
     free(run->resume_record);

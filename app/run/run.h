@@ -54,6 +54,17 @@ typedef struct AppRunOptions {
     AppRunHook hook;
     void *hook_context;
     long hook_every; ///< steps, >= 1
+    /// 1: a phase of a family's protocol run in process, whose caller writes the outputs (its
+    /// own files, in its own form): the runner writes no file (no summary.json, energy.csv,
+    /// trace.csv, manifest, resolved scene, stage states or checkpoints; out_dir may be NULL),
+    /// catches no signal, prints no line, and puts a failure's message in `err` rather than on
+    /// stderr. The scene is then usually one the caller built in memory (its stages the phases).
+    int bare;
+    char *err; ///< bare: the message of a failure ("" when none); may be NULL
+    size_t err_size;
+    /// Not NULL: the world at the end of a successful run is handed over here (the caller
+    /// destroys it) instead of destroyed; NULL after a failure.
+    SimWorld **world;
 } AppRunOptions;
 
 AppRunOptions app_run_options_default(void);
