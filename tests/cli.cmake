@@ -328,6 +328,15 @@ add_test(NAME cli.resume_servo
                  ${CLI_DIR}/servo_lid.scene ${CLI_WORK}/resume_servo --set stages.press.time.end=1.5
                  --set output.walls.window=[1.0,1.5] --set output.checkpoint_every=0.7)
 set_tests_properties(cli.resume_servo PROPERTIES LABELS cli)
+# the explicit 1.98 m lid, flipping, lost after a checkpoint taken while it flips, and
+# interrupted, then resumed: every output byte for byte, summary.json's servo_flips included (the
+# flip counters are in the .state's footer)
+add_test(NAME cli.resume_servo_flip
+         COMMAND bash ${CLI_DIR}/resume.sh --outputs $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/servo_flip.scene ${CLI_WORK}/resume_servo_flip
+                 --set "walls.3.servo.damping=\"explicit\"" --set stages.press.time.end=2.5
+                 --set output.walls.window=[2.0,2.5] --set output.checkpoint_every=2.2)
+set_tests_properties(cli.resume_servo_flip PROPERTIES LABELS cli)
 # two motions running when a periodic checkpoint is taken (the lid pressed through `hold` too,
 # the side wall shearing): the resumed world sets their clocks one after the other, and a wall
 # placed by a clock not yet set must not count in the list's shift (the resumed .state's list
