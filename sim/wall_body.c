@@ -559,8 +559,9 @@ static void grain_body_load(const SimWorld *w, int k, double load[4], int *touch
  * dashpots of the wall's contacts, N(u) ~ N + c (u - u_old) with c = wall_damp (per length for a
  * stress), u_old the speed the contacts saw: explicit, u from N alone (stable only while
  * gain c < 1); implicit, u solved with the dashpot part at the new speed, the linearised
- * backward Euler step of the stiff part (Hairer & Wanner, Solving ODEs II, section IV.9,
- * linearly implicit Euler): u = gain (target - N + c u_old) / (1 + gain c), then capped. */
+ * backward Euler step of the stiff part (the linearly implicit Euler method of Hairer & Wanner,
+ * Solving Ordinary Differential Equations II, Rosenbrock-type methods): u = gain (target - N +
+ * c u_old) / (1 + gain c), then capped. */
 static double body_speed(const SimWorld *w, int k, const double *load)
 {
     const SimWallBody *b = &w->bodies[k];
