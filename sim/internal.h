@@ -179,6 +179,12 @@ struct SimWorld {
     SimWallBody *bodies;
     int body_count;
     double *body_s, *body_u, *body_a, *body_w, *body_rest;
+    /* wall_damp: per body, the sum over a servo wall's contacts in the last wall pass of their
+     * normal damping coefficients projected on its axis, gamma_n (a_axis . n)^2 (Hertz: gamma_n
+     * sqrt(xi)), N s/m (wall_body.c body_speed). body_flip: 3 per body, its servo's current
+     * run of steps flipping between the caps, the steps counted in runs longer than
+     * SIM_SERVO_FLIP_STEPS and the time the first such run was found (NaN: none). */
+    double *wall_damp, *body_flip;
     /* a responding wall's motion across its axis, 4 per wall: its offset (x, y), m, and
      * velocity, m/s (zero without a motion; motion.c move_walls) */
     double *body_m;

@@ -227,12 +227,21 @@ typedef struct SimWall {
 /// PFC's servo-controlled walls (Itasca, PFC2D manual, "servo-control"):
 ///     u = gain (target - measured), |u| <= max_speed,
 /// measured = N / length (servo_stress) or N (servo_force); the wall moves into the grains
-/// while they push less than the target. Stability (sim_wall_servo_time): a wall touching
+/// while they push less than the target. The contacts' normal dashpots make the measured load
+/// depend on the speed itself, N = N_el + c u (c the sum over the wall's contacts of their
+/// normal damping coefficients, projected on the axis): a wall's servo (servo_explicit 0) takes
+/// the new speed from the linearised backward Euler step of that dependence,
+///     u = gain (target - N + c' u_old) / (1 + gain c'), c' = c (force) or c / length (stress),
+/// u_old the speed the contacts saw (the same fixed point, u = 0 at N = target; no feedback
+/// through the dashpots at any gain). Stability (sim_wall_servo_time): a wall touching
 /// grains of diameter >= d with contact stiffness k_n stiffens by about k_n / d per length, so
 /// the error shrinks by a factor 1 - dt / tau each step with tau = d / (gain k_n) (stress;
 /// d / (gain k_n length) for a force); dt > tau overshoots and dt > 2 tau diverges, so a gain
-/// with dt > tau is refused. The contacts' damping feeds the wall speed back too
-/// (sim_wall_servo_damping): a gain at which one contact's dashpot flips the speed is refused.
+/// with dt > tau is refused. With the explicit law (servo_explicit 1, and a grain body's) the
+/// contacts' damping feeds the wall speed back too (sim_wall_servo_damping): a gain at which one
+/// contact's dashpot flips the speed is refused, and a speed that flips between the caps
+/// +-max_speed on consecutive steps for more than SIM_SERVO_FLIP_STEPS steps is counted
+/// (SimWallLoad servo_flips).
 /// With `rotation` the body also turns about its centre (a segment's midpoint, an arc's centre,
 /// a grain body's area-weighted centroid at rest), counterclockwise positive:
 /// I domega/dt = T, T the torque of the grains' contact forces about that centre, integrated
@@ -265,6 +274,11 @@ typedef struct SimWallBody {
     int between[2]; ///< wall indices (length_kind 2)
     int rotation;   ///< 1: it also turns freely about its centre
     double inertia; ///< moment of inertia about its centre, kg m^2; 0: from the mass
+    /// How the servo's speed treats the contacts' normal dashpots: 0 implicit for a wall (the
+    /// speed solved together with the dashpot part of the load it causes, linearised backward
+    /// Euler; explicit for a grain body, whose contacts are grain pairs), 1 explicit (the gain
+    /// law on the load as measured; a gain whose dashpots flip the speed is refused).
+    int servo_explicit;
 } SimWallBody;
 
 /// The motion index that makes a fixed grain a member of grain body b (SimWorldDef.grain_bodies).
@@ -281,7 +295,16 @@ typedef struct SimWallLoad {
     double offset;     ///< responding walls: displacement along the axis, m (else 0)
     double speed;      ///< responding walls: speed along the axis, m/s (else 0)
     int contacts;      ///< grains touching it
+    /// servos: the steps spent in flipping runs (the speed at +max_speed and -max_speed on
+    /// consecutive steps for more than SIM_SERVO_FLIP_STEPS steps: the load then alternates
+    /// between two values every step, and a mean over rows a multiple of 2 steps apart reads
+    /// one of them), counted since the run began (0: never)
+    long servo_flips;
+    double servo_flip_time; ///< the time the first flipping run was found, s (NaN: never)
 } SimWallLoad;
+
+/// The flipping run a servo's speed must exceed to count (SimWallLoad servo_flips), steps.
+#define SIM_SERVO_FLIP_STEPS 20
 
 /// Contact distance from a grain of `radius` at (x, y) to the wall: the distance to a segment;
 /// for an arc the distance to the circle on the touched side (negative for a centre pushed past
@@ -387,9 +410,13 @@ SimWorldDef sim_world_def_default(void);
 /// The servo's time scale tau of wall `wall` (SimWallBody), s: INFINITY without a servo or
 /// without mobile grains. A time step above tau is refused (sim_world_def_validate).
 double sim_wall_servo_time(const SimWorldDef *def, int wall);
+/// 1 when body `wall` (a wall, or grain body wall - wall_count) has a servo on the implicit law
+/// (SimWallBody servo_explicit 0 on a wall), else 0.
+int sim_wall_servo_implicit(const SimWorldDef *def, int wall);
 /// The servo's damping feedback of wall `wall` per contact (dimensionless): how much a wall speed
 /// set at one step changes the next through one contact's normal dashpot, gain gamma_n / length
-/// (stress; gain gamma_n for a force); 0 without a servo. With n contacts the factor is n times
+/// (stress; gain gamma_n for a force); 0 without a servo or on the implicit law (which solves the
+/// dashpots' part with the new speed: no feedback). With n contacts the factor is n times
 /// this, and at 1 or more the wall's speed flips sign every step: a factor >= 1 for one contact
 /// is refused, and `sablier check` warns when a row of the smallest grains along the wall
 /// (*row contacts) would reach 1.

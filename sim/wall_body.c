@@ -168,6 +168,12 @@ double sim_wall_servo_time(const SimWorldDef *def, int wall)
     return isfinite(d) && per_speed > 0.0 ? 1.0 / (b->gain * per_speed) : (double)INFINITY;
 }
 
+int sim_wall_servo_implicit(const SimWorldDef *def, int wall)
+{
+    const SimWallBody *b = def_body(def, wall);
+    return b && b->servo && wall < def->wall_count && !b->servo_explicit;
+}
+
 /* The servo's damping feedback: the wall speed u set at one step enters every contact's normal
  * dashpot at the next (000 eq. 3.4: F_n = k_n xi + gamma_n dxi/dt), so one contact moves the
  * measured load by about gamma_n u and the next speed by gain gamma_n u (stress: divided by the
@@ -179,7 +185,7 @@ double sim_wall_servo_damping(const SimWorldDef *def, int wall, double *row)
 {
     *row = 0.0;
     const SimWallBody *b = def_body(def, wall);
-    if (!b || !b->servo)
+    if (!b || !b->servo || sim_wall_servo_implicit(def, wall))
         return 0.0;
     const BodyShape shape = body_shape(def, wall);
     double d, gamma;
@@ -380,9 +386,13 @@ int sim_wall_bodies_create(SimWorld *w, const SimWorldDef *def)
     for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; ++a)
         *arrays[a] = calloc((size_t)n, sizeof(double));
     w->body_rest = calloc(4 * (size_t)n, sizeof(double));
+    w->wall_damp = calloc((size_t)n, sizeof(double));
+    w->body_flip = calloc(3 * (size_t)n, sizeof(double));
     if (!w->bodies || !w->body_s || !w->body_u || !w->body_a || !w->body_w || !w->body_rest ||
-        !w->body_m)
+        !w->body_m || !w->wall_damp || !w->body_flip)
         return -1;
+    for (int k = 0; k < n; ++k)
+        w->body_flip[3 * k + 2] = NAN;
     for (int k = 0; k < n; ++k) {
         const SimWallBody *b = def_body(def, k);
         if (!b)
@@ -411,6 +421,8 @@ void sim_wall_bodies_free(SimWorld *w)
     free(w->body_w);
     free(w->body_rest);
     free(w->body_m);
+    free(w->wall_damp);
+    free(w->body_flip);
 }
 
 /* (x, y) turned by the angle whose cosine and sine are c and s about (cx, cy), then moved by
@@ -542,22 +554,52 @@ static void grain_body_load(const SimWorld *w, int k, double load[4], int *touch
     *touch = n;
 }
 
-/* The speed of responding body k after this step, m/s, from its load (4 values). */
+/* The speed of responding body k after this step, m/s, from its load (4 values). The servo's
+ * gain law u = gain (target - N(u)), where the measured load N depends on u through the normal
+ * dashpots of the wall's contacts, N(u) ~ N + c (u - u_old) with c = wall_damp (per length for a
+ * stress), u_old the speed the contacts saw: explicit, u from N alone (stable only while
+ * gain c < 1); implicit, u solved with the dashpot part at the new speed, the linearised
+ * backward Euler step of the stiff part (the linearly implicit Euler method of Hairer & Wanner,
+ * Solving Ordinary Differential Equations II, Rosenbrock-type methods): u = gain (target - N +
+ * c u_old) / (1 + gain c), then capped. */
 static double body_speed(const SimWorld *w, int k, const double *load)
 {
     const SimWallBody *b = &w->bodies[k];
     const double along = load[0] * b->axis_x + load[1] * b->axis_y; /* the grains' force */
     if (b->servo) {
-        double measured = -along;
-        if (b->servo == 1)
-            measured /= servo_length(w->walls, b, w->body_rest[4 * k + 2]);
-        const double u = b->gain * (b->target - measured);
+        double measured = -along, c = sim_wall_servo_implicit(&w->def, k) ? w->wall_damp[k] : 0.0;
+        if (b->servo == 1) {
+            const double length = servo_length(w->walls, b, w->body_rest[4 * k + 2]);
+            measured /= length;
+            c /= length;
+        }
+        const double u =
+            c > 0.0 ? b->gain * (b->target - measured + c * w->body_u[k]) / (1.0 + b->gain * c)
+                    : b->gain * (b->target - measured);
         return fmax(-b->max_speed, fmin(b->max_speed, u));
     }
     double f = along + b->force_x * b->axis_x + b->force_y * b->axis_y;
     if (b->gravity)
         f += b->mass * (w->def.gravity_x * b->axis_x + w->def.gravity_y * b->axis_y);
     return w->body_u[k] + w->dt * (f / b->mass);
+}
+
+/* A servo's speed flipping between its caps (sim.h SimWallLoad servo_flips): the step from the
+ * speed the contacts saw to the new one u goes from one cap to the other. */
+static void count_flips(SimWorld *w, int k, double u)
+{
+    const double cap = w->bodies[k].max_speed, old = w->body_u[k];
+    double *f = &w->body_flip[3 * k];
+    if (!(fabs(u) == cap && old == -u)) {
+        f[0] = 0.0;
+        return;
+    }
+    f[0] += 1.0;
+    if (f[0] <= SIM_SERVO_FLIP_STEPS)
+        return;
+    f[1] += f[0] == SIM_SERVO_FLIP_STEPS + 1 ? f[0] : 1.0; /* the whole run, once it counts */
+    if (isnan(f[2])) /* the end of this step: the time sim_world_step reports after it */
+        f[2] = w->def.start_time + (double)(w->step + 1) * w->dt;
 }
 
 void sim_wall_bodies_step(SimWorld *w)
@@ -572,7 +614,10 @@ void sim_wall_bodies_step(SimWorld *w)
         if (k >= w->wall_count)
             grain_body_load(w, k, group, &touch);
         const double *load = k < w->wall_count ? &w->wall_load[4 * k] : group;
-        w->body_u[k] = body_speed(w, k, load);
+        const double u = body_speed(w, k, load);
+        if (w->bodies[k].servo)
+            count_flips(w, k, u);
+        w->body_u[k] = u;
         w->body_s[k] += w->dt * w->body_u[k];
         if (w->bodies[k].rotation) { /* I domega/dt = T, then the angle: as the translation */
             w->body_w[k] += w->dt * (load[3] / w->body_rest[4 * k + 3]);
@@ -631,6 +676,10 @@ int sim_world_wall_load(const SimWorld *w, int wall, SimWallLoad *load)
             load->length = servo_length(w->walls, &w->bodies[wall], w->body_rest[4 * wall + 2]);
         load->offset = w->body_s[wall];
         load->speed = w->body_u[wall];
+        load->servo_flips = (long)w->body_flip[3 * wall + 1];
+        load->servo_flip_time = w->body_flip[3 * wall + 2];
+    } else {
+        load->servo_flip_time = NAN;
     }
     return 0;
 }
@@ -638,9 +687,11 @@ int sim_world_wall_load(const SimWorld *w, int wall, SimWallLoad *load)
 /* ------------------------------------------------------------------ state file footer */
 
 /* The footer: the offsets, speeds, angles and angular speeds of every body (body_count each),
- * then the body count (int32) and this tag, at the very end of the file, written only when a
- * body responds. The first version held the walls' offsets and speeds only (read as such). */
-static const char body_tag[8] = "WBODY-2\n", body_tag_1[8] = "WBODY-1\n";
+ * their servos' flip counters (3 per body, internal.h body_flip), then the body count (int32)
+ * and this tag, at the very end of the file, written only when a body responds. The first
+ * version held the walls' offsets and speeds only, the second no flip counters (read as such). */
+static const char body_tag[8] = "WBODY-3\n", body_tag_2[8] = "WBODY-2\n",
+                  body_tag_1[8] = "WBODY-1\n";
 
 int sim_wall_bodies_write(FILE *f, const SimWorld *w)
 {
@@ -652,6 +703,7 @@ int sim_wall_bodies_write(FILE *f, const SimWorld *w)
     int ok = 1;
     for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; ++a)
         ok = ok && fwrite(arrays[a], sizeof(double), n, f) == n;
+    ok = ok && fwrite(w->body_flip, sizeof(double), 3 * n, f) == 3 * n;
     return ok && fwrite(&count, sizeof count, 1, f) == 1 &&
                    fwrite(body_tag, sizeof body_tag, 1, f) == 1
                ? 0
@@ -669,16 +721,23 @@ void sim_wall_bodies_read(SimWorld *w, FILE *f)
         fread(tag, sizeof tag, 1, f) != 1)
         return;
     const int first = memcmp(tag, body_tag_1, sizeof tag) == 0;
-    if (!(first || memcmp(tag, body_tag, sizeof tag) == 0) ||
+    const int flips = memcmp(tag, body_tag, sizeof tag) == 0;
+    if (!(first || flips || memcmp(tag, body_tag_2, sizeof tag) == 0) ||
         count != (first ? w->wall_count : w->body_count))
         return; /* none saved: the bodies start at rest where they are defined */
     const size_t n = (size_t)count, arrays = first ? 2 : 4;
-    if (fseek(f, -(tail + (long)(arrays * n * sizeof(double))), SEEK_END) != 0)
+    if (fseek(f, -(tail + (long)((arrays + 3 * (size_t)flips) * n * sizeof(double))), SEEK_END) !=
+        0)
         return;
     double *into[] = {w->body_s, w->body_u, w->body_a, w->body_w};
     int read = 1;
     for (size_t a = 0; a < arrays; ++a)
         read = read && fread(into[a], sizeof(double), n, f) == n;
+    if (flips && (!read || fread(w->body_flip, sizeof(double), 3 * n, f) != 3 * n))
+        for (size_t k = 0; k < n; ++k) { /* counted afresh */
+            w->body_flip[3 * k] = w->body_flip[3 * k + 1] = 0.0;
+            w->body_flip[3 * k + 2] = NAN;
+        }
     for (size_t k = 0; k < n; ++k)
         if (!read || !isfinite(w->body_s[k]) || !isfinite(w->body_u[k]) ||
             !isfinite(w->body_a[k]) || !isfinite(w->body_w[k]))

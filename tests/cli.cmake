@@ -289,10 +289,28 @@ add_test(NAME cli.resume_rough_piston
                  --set stages.press.time.end=1.0 --set output.walls.window=[0.5,1.0]
                  --set output.checkpoint_every=0.4)
 set_tests_properties(cli.resume_rough_piston PROPERTIES LABELS cli)
+# the servo's damping bound at run time: the 1.98 m lid (force 4000 N, gain 1e-3, gamma_n 200)
+# holds its mean within 1 % of the target under the implicit law whether sampled every 10 or every
+# 2 steps, and under the explicit law flips, told once on stderr and counted in summary.json
+# (tests/cli/servo_flip.sh)
+add_test(NAME cli.servo_flip
+         COMMAND bash ${CLI_DIR}/servo_flip.sh $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/servo_flip.scene ${CLI_WORK}/servo_flip)
+set_tests_properties(cli.servo_flip PROPERTIES LABELS cli)
+# a grain body's servo in `check`: its time scale and damping feedback, named by its group, and
+# the warning at its file:line when a row of grains along it would flip it (stderr, unbuffered,
+# comes first)
+# (tests/cli/rough_piston_servo.scene with a gain 5 times its own)
+add_test(NAME cli.servo_body_check
+         COMMAND $<TARGET_FILE:sablier> check ${CLI_DIR}/rough_piston_servo.scene
+                 --set bodies.0.servo.gain=1e-3)
+set_tests_properties(cli.servo_body_check PROPERTIES LABELS cli PASS_REGULAR_EXPRESSION
+  "rough_piston_servo.scene:11: warning: body piston's servo flips its speed every step(.|\n)*body piston servo +target stress 2000, time scale tau 0.000920419 s[^\n]*damping feedback 0.1 per contact")
 # the servo's damping bound: a lid whose full row of grains would flip its speed is warned about
 # at its file:line, with the gain that keeps a row stable (tests/scenes_bad/servo_damping_gain.scene:
 # one contact already flips it, refused)
-add_test(NAME cli.servo_damping_warning COMMAND $<TARGET_FILE:sablier> check ${CLI_DIR}/servo_lid.scene)
+add_test(NAME cli.servo_damping_warning COMMAND $<TARGET_FILE:sablier> check ${CLI_DIR}/servo_lid.scene
+         --set "walls.3.servo.damping=\"explicit\"")
 set_tests_properties(cli.servo_damping_warning PROPERTIES LABELS cli PASS_REGULAR_EXPRESSION
   "servo_lid.scene:15: warning: wall 3's servo flips its speed every step once 10 grains touch it[^\n]*gain below 0.000454545")
 # the scenes of docs/experiments.md for controlled boundaries (biaxial compression, Janssen silo,
@@ -317,6 +335,15 @@ add_test(NAME cli.resume_servo
                  ${CLI_DIR}/servo_lid.scene ${CLI_WORK}/resume_servo --set stages.press.time.end=1.5
                  --set output.walls.window=[1.0,1.5] --set output.checkpoint_every=0.7)
 set_tests_properties(cli.resume_servo PROPERTIES LABELS cli)
+# the explicit 1.98 m lid, flipping, lost after a checkpoint taken while it flips, and
+# interrupted, then resumed: every output byte for byte, summary.json's servo_flips included (the
+# flip counters are in the .state's footer)
+add_test(NAME cli.resume_servo_flip
+         COMMAND bash ${CLI_DIR}/resume.sh --outputs $<TARGET_FILE:sablier>
+                 ${CLI_DIR}/servo_flip.scene ${CLI_WORK}/resume_servo_flip
+                 --set "walls.3.servo.damping=\"explicit\"" --set stages.press.time.end=2.5
+                 --set output.walls.window=[2.0,2.5] --set output.checkpoint_every=2.2)
+set_tests_properties(cli.resume_servo_flip PROPERTIES LABELS cli)
 # two motions running when a periodic checkpoint is taken (the lid pressed through `hold` too,
 # the side wall shearing): the resumed world sets their clocks one after the other, and a wall
 # placed by a clock not yet set must not count in the list's shift (the resumed .state's list

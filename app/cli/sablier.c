@@ -306,6 +306,53 @@ static void print_stage_forcing(const Scene *scene, int k)
     printf("%s", any ? "" : " none");
 }
 
+/* Responding body k of def, stage `stage`'s (a wall, then the grain bodies): a free body's mass
+ * and axis, or
+ * its servo's time scale and damping feedback (sim.h sim_wall_servo_time,
+ * sim_wall_servo_damping), warned about on stderr at its `file:line` when a row of grains along
+ * it would flip an explicit servo. `s`: the time unit after a number. */
+static void print_body(const Scene *scene, int stage, int k, const SimWorldDef *def, double dt,
+                       const char *s)
+{
+    const int walls = def->wall_count;
+    const SimWallBody *b =
+        k < walls ? (def->wall_bodies && def->wall_bodies[k].active ? &def->wall_bodies[k] : NULL)
+                  : &def->grain_bodies[k - walls];
+    if (!b)
+        return;
+    char who[SCENE_NAME_MAX + 16], field[32];
+    if (k < walls) {
+        snprintf(who, sizeof who, "wall %d", k);
+        snprintf(field, sizeof field, "walls[%d]", k);
+    } else {
+        snprintf(who, sizeof who, "body %s", scene->body_names[k - walls]);
+        snprintf(field, sizeof field, "bodies[%d]", k - walls);
+    }
+    if (!b->servo) {
+        printf("  %-16s free body, mass %g, axis (%g, %g)\n", who, b->mass, b->axis_x, b->axis_y);
+        return;
+    }
+    const double tau = sim_wall_servo_time(def, k);
+    double row;
+    const double per_contact = sim_wall_servo_damping(def, k, &row);
+    char damping[64] = "damping implicit";
+    if (!sim_wall_servo_implicit(def, k))
+        snprintf(damping, sizeof damping, "damping feedback %.3g per contact", per_contact);
+    printf("  %s servo%*s target %s %g, time scale tau %g%s, dt / tau %.3g (refused above 1; "
+           "the gain's bound: tau = dt at gain %g), %s\n",
+           who, (int)(strlen(who) < 10 ? 10 - strlen(who) : 0), "",
+           b->servo == 1 ? "stress" : "force", b->target, tau, s, dt / tau, b->gain * tau / dt,
+           damping);
+    if (per_contact * row >= 1.0)
+        fprintf(stderr,
+                "%s: warning: %s's servo flips its speed every step once %.0f grains touch it "
+                "(damping feedback %.3g per contact; a row of the smallest grains along it makes "
+                "%.0f): its walls.csv rows then catch one phase; a gain below %g keeps a full row "
+                "stable\n",
+                scene_where_field(scene, stage, field), who, ceil(1.0 / per_contact), per_contact,
+                row, b->gain / (per_contact * row));
+}
+
 static void print_timing(const Scene *scene, int k)
 {
     SimWorldDef def = scene_world_def(scene, k);
@@ -317,36 +364,8 @@ static void print_timing(const Scene *scene, int k)
     printf("  contact time     %g%s (shortest pair)\n", t.contact_time_min, s);
     printf("  stability limit  %g%s\n", t.stability_limit, s);
     printf("  steps per contact %.1f\n", t.steps_per_contact);
-    for (int w = 0; def.wall_bodies && w < def.wall_count; ++w) {
-        const SimWallBody *b = &def.wall_bodies[w];
-        if (!b->active)
-            continue;
-        if (!b->servo) {
-            printf("  wall %d           free body, mass %g, axis (%g, %g)\n", w, b->mass, b->axis_x,
-                   b->axis_y);
-            continue;
-        }
-        const double tau = sim_wall_servo_time(&def, w);
-        double row;
-        const double per_contact = sim_wall_servo_damping(&def, w, &row);
-        printf("  wall %d servo     target %s %g, time scale tau %g%s, dt / tau %.3g (refused "
-               "above 1; the gain's bound: tau = dt at gain %g), damping feedback %.3g per "
-               "contact\n",
-               w, b->servo == 1 ? "stress" : "force", b->target, tau, s, t.time_step / tau,
-               b->gain * tau / t.time_step, per_contact);
-        if (per_contact * row >= 1.0) {
-            char field[32];
-            snprintf(field, sizeof field, "walls[%d]", w);
-            fprintf(
-                stderr,
-                "%s: warning: wall %d's servo flips its speed every step once %.0f grains touch "
-                "it (damping feedback %.3g per contact; a row of the smallest grains along it "
-                "makes %.0f): its walls.csv rows then catch one phase; a gain below %g keeps a "
-                "full row stable\n",
-                scene_where_field(scene, k, field), w, ceil(1.0 / per_contact), per_contact, row,
-                b->gain / (per_contact * row));
-        }
-    }
+    for (int b = 0; b < def.wall_count + def.grain_body_count; ++b)
+        print_body(scene, k, b, &def, t.time_step, s);
 }
 
 /* `sablier check`'s command line. */

@@ -28,7 +28,30 @@ typedef struct WallLoads {
     FILE *csv;
     double samples; /* rows averaged (per wall) */
     double *sums;   /* MEAN_COUNT per wall */
+    /* per wall, a servo's steps spent flipping between its caps (sim.h SimWallLoad servo_flips)
+     * at the last look; -1 without a servo */
+    double *flips;
 } WallLoads;
+
+/* Body k of the scene (its walls, then its grain bodies) has a servo. */
+static int has_servo(const Scene *scene, int k)
+{
+    const int walls = scene->def.wall_count;
+    if (k < walls)
+        return scene->def.wall_bodies && scene->def.wall_bodies[k].active &&
+               scene->def.wall_bodies[k].servo;
+    return scene->def.grain_bodies[k - walls].servo;
+}
+
+/* The servos' flip counts from the world as it is now. */
+static void look_at_flips(WallLoads *w, const SimWorld *world)
+{
+    for (int k = 0; world && k < w->wall_count; ++k) {
+        SimWallLoad l;
+        if (w->flips[k] >= 0.0 && sim_world_wall_load(world, k, &l) == 0)
+            w->flips[k] = (double)l.servo_flips;
+    }
+}
 
 static int wall_loads_parse(const config_setting_t *root, const config_setting_t *group,
                             Scene *scene, void **state, char *err, size_t err_size)
@@ -56,12 +79,20 @@ static int wall_loads_parse(const config_setting_t *root, const config_setting_t
         scene_claim_output(scene, &p, g, "output.walls", "walls.png") < 0)
         return -1;
     WallLoads *w = calloc(1, sizeof *w);
-    if (w)
+    if (w) {
         w->sums = calloc((size_t)count * MEAN_COUNT, sizeof *w->sums);
-    if (!w || !w->sums) {
+        w->flips = calloc((size_t)count, sizeof *w->flips);
+    }
+    if (!w || !w->sums || !w->flips) {
+        if (w) {
+            free(w->sums);
+            free(w->flips);
+        }
         free(w);
         return app_config_fail(&p, g, "out of memory");
     }
+    for (int k = 0; k < count; ++k)
+        w->flips[k] = has_servo(scene, k) ? 0.0 : -1.0;
     w->scene = scene;
     w->from = window[0];
     w->to = window[1];
@@ -75,6 +106,7 @@ static void wall_loads_free(void *state)
     WallLoads *w = state;
     app_tmp_discard(&w->csv, w->path);
     free(w->sums);
+    free(w->flips);
     free(w);
 }
 
@@ -115,12 +147,14 @@ static void wall_loads_sample(void *state, AppContext *c)
         }
     }
     w->samples += in_window;
+    look_at_flips(w, c->world);
 }
 
 static int wall_loads_end(void *state, AppContext *c, int ok)
 {
     (void)ok;
     WallLoads *w = state;
+    look_at_flips(w, c->world);
     if (app_tmp_commit(&w->csv, w->path) != 0) {
         snprintf(c->err, c->err_size, "cannot write %s", w->path);
         return -1;
@@ -155,7 +189,7 @@ static int wall_loads_resume(void *state, AppContext *c, const char *record)
 }
 
 /* "walls": {"window": [t0, t1], "samples": N, "mean": [{"wall": k, "fx": N, "fy": N, "normal": N,
- * "tangential": N, "torque": N m, "stress": N/m, "offset": m}, ...]}. */
+ * "tangential": N, "torque": N m, "stress": N/m, "offset": m[, "servo_flips": n]}, ...]}. */
 static void wall_loads_summary_json(const void *state, char *out, size_t size)
 {
     static const char *const names[MEAN_COUNT] = {"fx",     "fy",     "normal", "tangential",
@@ -171,6 +205,8 @@ static void wall_loads_summary_json(const void *state, char *out, size_t size)
             const double mean = w->samples > 0.0 ? w->sums[k * MEAN_COUNT + q] / w->samples : 0.0;
             n += (size_t)snprintf(out + n, size - n, ", \"%s\": %.10g", names[q], mean);
         }
+        if (w->flips[k] >= 0.0 && n < size) /* a servo's: 0 unless its mean is biased */
+            n += (size_t)snprintf(out + n, size - n, ", \"servo_flips\": %.0f", w->flips[k]);
         if (n < size)
             n += (size_t)snprintf(out + n, size - n, "}");
     }

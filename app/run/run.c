@@ -929,6 +929,32 @@ static int resume_same_scene(const Run *run)
 
 /* Steps the stage in chunks that end on output times, until its end or the settle test, from
  * step `done` (resumed: a checkpoint's, whose outputs were written). 0, or the exit status. */
+/* A servo found flipping between its caps in the steps since time `before` (sim.h SimWallLoad
+ * servo_flips: the first run longer than SIM_SERVO_FLIP_STEPS, found once per run and saved in
+ * checkpoints, so a resumed run does not tell it again), told on stderr. */
+static void servo_flip_report(const Run *run, int stage, double before)
+{
+    const Scene *scene = run->scene;
+    const int walls = scene->def.wall_count;
+    for (int b = 0; b < walls + scene->def.grain_body_count; ++b) {
+        SimWallLoad l;
+        if (sim_world_wall_load(run->world, b, &l) != 0 || !(l.servo_flip_time > before))
+            continue;
+        char who[SCENE_NAME_MAX + 16];
+        if (b < walls)
+            snprintf(who, sizeof who, "wall %d", b);
+        else
+            snprintf(who, sizeof who, "body %s", scene->body_names[b - walls]);
+        fprintf(stderr,
+                "sablier: warning: %s's servo flips its speed between +max_speed and -max_speed "
+                "every step since t = %.9g s (stage %s; more than %d steps in a row): its load "
+                "alternates between two values, so rows taken an even number of steps apart "
+                "(walls.csv, summary.json's walls mean, which counts them as servo_flips) catch "
+                "one of them; docs/scenes.md \"Damping bound\"\n",
+                who, l.servo_flip_time, scene->stages[stage].name, SIM_SERVO_FLIP_STEPS);
+    }
+}
+
 static int stage_loop(Run *run, int k, StageClock *clock, long done, int resumed)
 {
     const SceneStage *stage = &run->scene->stages[k];
@@ -963,9 +989,11 @@ static int stage_loop(Run *run, int k, StageClock *clock, long done, int resumed
             next = done + SIGNAL_CHECK_STEPS;
         apply_threads(run, 0); /* APP_THREADS_AUTO follows the rates and the grains */
         next = done + app_threads_chunk(&run->threads, next - done);
+        const double before = sim_world_time(run->world);
         double t0 = app_now_seconds();
         SimStatus s = sim_world_step(run->world, next - done, &run->error);
         double t1 = app_now_seconds();
+        servo_flip_report(run, k, before);
         step_wall += t1 - t0;
         app_threads_done(&run->threads, next - done, sim_world_mobile_count(run->world), t1 - t0);
         run->particle_steps += (double)sim_world_mobile_count(run->world) * (double)(next - done);

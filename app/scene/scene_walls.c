@@ -83,12 +83,15 @@ static int parse_servo_length(Loader *L, const config_setting_t *servo, const ch
     return 0;
 }
 
-/* servo = {stress = S | force = F, gain = G, max_speed = V, length = L | between = [i, j]}. */
+/* servo = {stress = S | force = F, gain = G, max_speed = V, length = L | between = [i, j],
+ * damping = "implicit" | "explicit"}: implicit is a wall's default, explicit a grain body's
+ * only law (sim.h SimWallBody servo_explicit; docs/scenes.md "Damping bound"). */
 static int parse_servo(Loader *L, const config_setting_t *g, const char *what, int k,
                        SimWallBody *b)
 {
-    static const char *const keys[] = {"stress", "force",   "gain", "max_speed",
-                                       "length", "between", NULL};
+    static const char *const keys[] = {"stress", "force",   "gain",    "max_speed",
+                                       "length", "between", "damping", NULL};
+    static const char *const laws[] = {"implicit", "explicit", NULL};
     const config_setting_t *servo;
     char name[48];
     snprintf(name, sizeof name, "%s.servo", what);
@@ -109,6 +112,17 @@ static int parse_servo(Loader *L, const config_setting_t *g, const char *what, i
         app_config_positive(&L->p, servo, "max_speed", b->max_speed) < 0 ||
         parse_servo_length(L, servo, name, k, b) < 0)
         return -1;
+    int law = k < 0; /* a grain body's contacts are grain pairs: no implicit law */
+    if (app_config_member(servo, "damping") &&
+        app_config_choice(&L->p, servo, "damping", laws, &law) < 0)
+        return -1;
+    if (k < 0 && law == 0)
+        return app_config_fail(&L->p, app_config_member(servo, "damping"),
+                               "%s: `damping` = \"implicit\" is for a wall's servo (a grain "
+                               "body's load comes from grain pairs, whose dashpots it does not "
+                               "sum): give \"explicit\" or leave it out",
+                               name);
+    b->servo_explicit = law;
     if (!(b->target >= 0.0))
         return app_config_fail(&L->p, app_config_member(servo, stress ? "stress" : "force"),
                                "%s: the target must be >= 0 (compressive)", name);

@@ -65,7 +65,8 @@ class SimWallLoad(Structure):
     _fields_ = [("fx", c_double), ("fy", c_double), ("normal", c_double),
                 ("tangential", c_double), ("torque", c_double), ("length", c_double),
                 ("x", c_double), ("y", c_double), ("offset", c_double), ("speed", c_double),
-                ("contacts", c_int)]
+                ("contacts", c_int), ("servo_flips", c_long),
+                ("servo_flip_time", c_double)]
 
 
 class SimSink(Structure):
@@ -90,7 +91,8 @@ class SimWallBody(Structure):
                 ("mass", c_double), ("force_x", c_double), ("force_y", c_double),
                 ("gravity", c_int), ("servo", c_int), ("target", c_double), ("gain", c_double),
                 ("max_speed", c_double), ("length_kind", c_int), ("length", c_double),
-                ("between", c_int * 2), ("rotation", c_int), ("inertia", c_double)]
+                ("between", c_int * 2), ("rotation", c_int), ("inertia", c_double),
+                ("servo_explicit", c_int)]
 
 
 class SimWorldDef(Structure):

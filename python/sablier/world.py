@@ -602,7 +602,9 @@ class World:
         the grains on it), normal (N, the sum of the contacts' normal forces, >= 0 pushing),
         tangential (N), torque (N m, about the wall's centre), length (m), stress (N/m, normal /
         length), x, y (m, its centre now), offset (m), speed (m/s) (a responding wall's motion
-        along its axis, else 0) and contacts. Before the first step every force is 0."""
+        along its axis, else 0), contacts, servo_flips (a servo's steps spent flipping between
+        +-max_speed, sim.h SimWallLoad) and servo_flip_time (s, NaN: never). Before the first
+        step every force is 0."""
         loads = []
         load = C.SimWallLoad()
         while self._lib.sim_world_wall_load(self._handle(), len(loads), ctypes.byref(load)) == 0:

@@ -642,6 +642,20 @@ static inline void wall_load_add(SimWorld *world, int w, double fx, double fy, d
     world->wall_touch[w] += 1;
 }
 
+/* A servo wall's contact's normal dashpot, dF_n/dv_n (gamma_n; Hertz gamma_n sqrt(xi): the
+ * normal law above), projected on the wall's axis twice (the load's part along the axis from the
+ * speed along it), added to the wall's damping (internal.h wall_damp; wall_body.c body_speed)
+ * in the wall list's order, as the load. The event-aware onset's phi < 1 is not applied: an
+ * overestimate only slows the implicit law, never flips it. */
+static inline void wall_damping_add(SimWorld *world, int w, const unsigned key, double gamma_n,
+                                    double overlap, double nx, double ny)
+{
+    const SimWallBody *b = &world->bodies[w];
+    const double along = nx * b->axis_x + ny * b->axis_y;
+    const double c = (key & KEY_HERTZ) ? gamma_n * sqrt(overlap) : gamma_n;
+    world->wall_damp[w] += c * along * along;
+}
+
 /* Grain-wall contacts: the wall acts as a partner of infinite mass, zero radius, no spin. */
 KERNEL void wall_pass(SimWorld *world, const unsigned key)
 {
@@ -652,6 +666,8 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
         world->wall_load[4 * w] = world->wall_load[4 * w + 1] = 0.0;
         world->wall_load[4 * w + 2] = world->wall_load[4 * w + 3] = 0.0;
         world->wall_touch[w] = 0;
+        if (world->wall_damp)
+            world->wall_damp[w] = 0.0;
     }
     for (int k = 0; k < wl->count; ++k) {
         const int i = wl->grain[k], w = wl->wall[k];
@@ -712,6 +728,8 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
         world->fx[i] += fxk;
         world->fy[i] += fyk;
         wall_load_add(world, w, -fxk, -fyk, f_n, world->x[i] + d * nx, world->y[i] + d * ny);
+        if (world->wall_damp && world->bodies[w].servo && (f_n > 0.0 || !(key & KEY_CLIP)))
+            wall_damping_add(world, w, key, wl->gamma[k], overlap, nx, ny);
     }
 }
 
