@@ -3,8 +3,9 @@
  * laws, so that no per-contact `if` tests a disabled effect (the `key` argument is a compile-time
  * constant in every instantiation and the branches fold away). This file is compiled once per
  * instruction set (sim/CMakeLists.txt: SSE2, AVX2, AVX-512; its external names carry the set's
- * suffix, SIM_ISA_SYMBOL), with half of the keys, and again as contact_pass_upper.c with the other
- * half; sim/isa.c picks one copy at run time (docs/dev/isa.md).
+ * suffix, SIM_ISA_SYMBOL), with part of the folded keys, and again as contact_pass_upper.c with
+ * the others (KEYS_LOWER, KEYS_UPPER below); sim/isa.c picks one copy at run time
+ * (docs/dev/isa.md).
  *
  * Conventions (000 eqs. 3.1-3.5): n points from i to j, s = (n_y, -n_x),
  * v_s = (v_j - v_i).s + omega_i r_i + omega_j r_j. The force on i is -F_n n + F_t s, on j the
@@ -735,21 +736,46 @@ KERNEL void wall_pass(SimWorld *world, const unsigned key)
 
 /* One instantiation per key = 8 * high + low: low = tangential law (0..2) | rolling (4);
  * high = periodic | hertz << 1 | clip << 2 | chord << 3 | event << 4, chord only with rolling,
- * event only without hertz (sim_world_create refuses the pair). */
+ * event only without hertz (sim_world_create refuses the pair): 108 keys in four groups of 18
+ * or 36. */
 /* clang-format off */
 #define KEYS_LOW(X, h)  X(h, 0) X(h, 1) X(h, 2) X(h, 4) X(h, 5) X(h, 6)
 #define KEYS_ROLL(X, h) X(h, 4) X(h, 5) X(h, 6)
-/* Two halves of 54 keys, compiled as two translation units per instruction set (this file, and
- * contact_pass_upper.c for KEYS_UPPER) so that a two-core build compiles them at the same time. */
-#define KEYS_LOWER(X)                                                                   \
-    KEYS_LOW(X, 0) KEYS_LOW(X, 1) KEYS_LOW(X, 2) KEYS_LOW(X, 3) KEYS_LOW(X, 4)         \
-    KEYS_LOW(X, 5) KEYS_LOW(X, 6) KEYS_LOW(X, 7) KEYS_ROLL(X, 8) KEYS_ROLL(X, 9)
-#define KEYS_UPPER(X)                                                                   \
-    KEYS_ROLL(X, 10) KEYS_ROLL(X, 11) KEYS_ROLL(X, 12) KEYS_ROLL(X, 13)                \
-    KEYS_ROLL(X, 14) KEYS_ROLL(X, 15)                                                  \
+/* The linear normal law with the step onset, without tensile clipping and with it: every
+ * shipped scene (scenes/) and every bench_sim law is one of these 36 keys. */
+#define KEYS_LINEAR(X)                                                                  \
+    KEYS_LOW(X, 0) KEYS_LOW(X, 1) KEYS_ROLL(X, 8) KEYS_ROLL(X, 9)
+#define KEYS_LINEAR_CLIP(X)                                                             \
+    KEYS_LOW(X, 4) KEYS_LOW(X, 5) KEYS_ROLL(X, 12) KEYS_ROLL(X, 13)
+/* The Hertz normal law, and the event-aware onset (docs/accuracy.md). */
+#define KEYS_HERTZ(X)                                                                   \
+    KEYS_LOW(X, 2) KEYS_LOW(X, 3) KEYS_LOW(X, 6) KEYS_LOW(X, 7)                        \
+    KEYS_ROLL(X, 10) KEYS_ROLL(X, 11) KEYS_ROLL(X, 14) KEYS_ROLL(X, 15)
+#define KEYS_EVENT(X)                                                                   \
     KEYS_LOW(X, 16) KEYS_LOW(X, 17) KEYS_LOW(X, 20) KEYS_LOW(X, 21)                    \
     KEYS_ROLL(X, 24) KEYS_ROLL(X, 25) KEYS_ROLL(X, 28) KEYS_ROLL(X, 29)
-#define KEYS_ALL(X) KEYS_LOWER(X) KEYS_UPPER(X)
+#define KEYS_ALL(X) KEYS_LINEAR(X) KEYS_LINEAR_CLIP(X) KEYS_HERTZ(X) KEYS_EVENT(X)
+
+/* Which keys are folded (one copy each, the key a constant), in this file (KEYS_LOWER) and in
+ * contact_pass_upper.c (KEYS_UPPER), the two halves compiled side by side by a two-core build;
+ * the others (KEYS_RARE) share one copy that reads the key from the world at run time (same
+ * source, same bits). sim/CMakeLists.txt chooses (docs/dev/isa.md, "Folded keys"):
+ * SIM_ISA_KEY_AT_RUN_TIME folds none (the SSE2 copy by default, the sanitized and fuzz builds),
+ * SIM_ISA_FOLD_ALL_KEYS all 108 (SABLIER_FOLD_ALL_KEYS), and by default the 36 linear keys. */
+#if defined(SIM_ISA_KEY_AT_RUN_TIME)
+#define KEYS_LOWER(X)
+#define KEYS_UPPER(X)
+#define KEYS_RARE(X) KEYS_ALL(X)
+#elif defined(SIM_ISA_FOLD_ALL_KEYS)
+#define KEYS_LOWER(X) KEYS_LINEAR(X) KEYS_HERTZ(X)
+#define KEYS_UPPER(X) KEYS_LINEAR_CLIP(X) KEYS_EVENT(X)
+#define KEYS_RARE(X)
+#define SIM_ISA_NO_RARE_KEYS 1
+#else
+#define KEYS_LOWER(X) KEYS_LINEAR(X)
+#define KEYS_UPPER(X) KEYS_LINEAR_CLIP(X)
+#define KEYS_RARE(X) KEYS_HERTZ(X) KEYS_EVENT(X)
+#endif
 /* clang-format on */
 
 /* The passes of one key: KEY is an expression of `world` (every function's parameter), a constant
@@ -840,25 +866,24 @@ FusedFn *SIM_ISA_SYMBOL(sim_fused_pass_upper)(unsigned key)
     return fused_passes[key];
 }
 #else
-#if defined(SIM_ISA_KEY_AT_RUN_TIME)
-/* Sanitized and fuzz builds (sim/CMakeLists.txt): one copy of each pass, its key read at run time
- * from the world (sim_contact_key at create) instead of one folded copy per key. The source and
- * the arithmetic are the same (a branch on the key runs or not; nothing is contracted or
- * reordered), so the bits are too (the golden and determinism tests run in those builds), and
- * the sanitizers see every line; what goes is the compile time of 2 x 108 instrumented copies. */
+KEYS_LOWER(DEFINE_KEY_PASS)
+#if !defined(SIM_ISA_NO_RARE_KEYS)
+/* One copy of each pass for the keys that are not folded, its key read at run time from the
+ * world (sim_contact_key at create). The source and the arithmetic are the folded copies' (a
+ * branch on the key runs or not; nothing is contracted or reordered), so the bits are too (the
+ * golden tests run both kinds of key on every path); what goes is the compile time of their
+ * folded copies, and in the sanitized build the instrumentation of them. */
 DEFINE_PASS(any, world->contact_key)
-#define ANY_GRAIN(h, l)  [(h)*8 + (l)] = grain_pass_any,
-#define ANY_WALL(h, l)   [(h)*8 + (l)] = wall_pass_any,
-#define ANY_FUSED(h, l)  [(h)*8 + (l)] = fused_pass_any,
-static StageFn *const grain_passes[KEY_COUNT] = {KEYS_ALL(ANY_GRAIN)};
-static StageFn *const wall_passes[KEY_COUNT] = {KEYS_ALL(ANY_WALL)};
-static FusedFn *const fused_passes[KEY_COUNT] = {KEYS_ALL(ANY_FUSED)};
+#endif
+#define ANY_GRAIN(h, l) [(h)*8 + (l)] = grain_pass_any,
+#define ANY_WALL(h, l)  [(h)*8 + (l)] = wall_pass_any,
+#define ANY_FUSED(h, l) [(h)*8 + (l)] = fused_pass_any,
+static StageFn *const grain_passes[KEY_COUNT] = {KEYS_LOWER(GRAIN_ENTRY) KEYS_RARE(ANY_GRAIN)};
+static StageFn *const wall_passes[KEY_COUNT] = {KEYS_LOWER(WALL_ENTRY) KEYS_RARE(ANY_WALL)};
+static FusedFn *const fused_passes[KEY_COUNT] = {KEYS_LOWER(FUSED_ENTRY) KEYS_RARE(ANY_FUSED)};
+#if defined(SIM_ISA_KEY_AT_RUN_TIME)
 #define UPPER(kind, key) NULL
 #else
-KEYS_LOWER(DEFINE_KEY_PASS)
-static StageFn *const grain_passes[KEY_COUNT] = {KEYS_LOWER(GRAIN_ENTRY)};
-static StageFn *const wall_passes[KEY_COUNT] = {KEYS_LOWER(WALL_ENTRY)};
-static FusedFn *const fused_passes[KEY_COUNT] = {KEYS_LOWER(FUSED_ENTRY)};
 #define UPPER(kind, key) SIM_ISA_SYMBOL(sim_##kind##_pass_upper)(key)
 #endif
 
