@@ -303,13 +303,22 @@ void sim_wall_body_place(SimWorld *world, int k);
  * nothing when none responds. -1: out of memory. */
 int sim_wall_bodies_create(SimWorld *world, const SimWorldDef *def);
 void sim_wall_bodies_free(SimWorld *world);
+/* Why grains g cannot join the world (NULL when they can), with the body in *body: grains of an
+ * active grain body (a body takes its grains while dormant, all at once), or a dormant body they
+ * wake that fails the checks of sim_wall_bodies_problem against the world's grains and g. */
+const char *sim_wall_bodies_join_problem(const SimWorld *world, const SimGrainSet *g, int *body,
+                                         char *buf, size_t size);
+/* Wakes the dormant grain bodies whose grains are now in the world: their rest geometry from
+ * their grains where they were put, at rest (offset, speed, angle 0). */
+void sim_wall_bodies_join(SimWorld *world);
 /* NULL when the responding walls and grain bodies of def are valid at time step dt, else what is
  * wrong, with the body's index in *wall (wall_count + b: grain body b). */
 const char *sim_wall_bodies_problem(const SimWorldDef *def, double dt, int *wall, char *buf,
                                     size_t size);
-/* The responding walls' footer of a state file (offsets and speeds): written when a wall
- * responds (0, -1 on a write error); read from the file's end into the world, which keeps its
- * walls at rest when the file has none. */
+/* The responding bodies' footer of a state file (offsets, speeds, angles, their motions'
+ * offsets and their rest geometry; docs/state-format.md): written when a body responds (0, -1 on
+ * a write error); read from the file's end into the world, which places every body where the
+ * saved run left it (at rest where it is defined when the file has none). */
 int sim_wall_bodies_write(FILE *f, const SimWorld *world);
 void sim_wall_bodies_read(SimWorld *world, FILE *f);
 /* Records the walls' positions at a neighbour build (the reference of wall_shift). */

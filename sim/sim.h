@@ -385,7 +385,9 @@ typedef struct SimWorldDef {
     const SimWall *walls;
     const SimWallBody *wall_bodies; ///< wall_count entries, or NULL: no wall responds
     /// Rigid groups of fixed grains that respond (rough pistons): body b holds the fixed grains
-    /// whose motion is SIM_GRAIN_BODY(b); every entry active, with at least one grain.
+    /// whose motion is SIM_GRAIN_BODY(b); every entry active. A body whose group has no grain
+    /// is dormant (it neither moves nor is checked) until its grains join, all at once, by
+    /// sim_world_add_grains: it then moves from where they were put, at rest.
     const SimWallBody *grain_bodies;
     int grain_body_count;
     int motion_count;
@@ -784,7 +786,8 @@ int sim_world_remove_ids(SimWorld *world, const uint32_t *ids, int count);
 /// Add grains to a running world (rain-like deposition, 004 §3.1). Their ids must not be in use;
 /// without ids they get fresh ones above every id in use. Returns SIM_OK, SIM_ERROR_INVALID
 /// (bad grain, unknown species, an overlap above max_initial_overlap with a grain present, a pair
-/// of a new grain with a grain in place whose stability limit is below the time step) or
+/// of a new grain with a grain in place whose stability limit is below the time step, grains of
+/// a grain body that already moves, a dormant grain body they wake that fails its checks) or
 /// SIM_ERROR_MEMORY (the world unchanged, unless the failure came in the rebuild after the
 /// addition: then sim_world_step reports it too).
 SimStatus sim_world_add_grains(SimWorld *world, const SimGrainSet *grains, SimError *error);

@@ -277,8 +277,6 @@ static const char *shape_problem(const SimWorldDef *def, int k, const SimWallBod
         for (int i = 0; i < g->count; ++i)
             if (body_member(g, i, body) && !(g->flags && (g->flags[i] & SIM_GRAIN_FIXED)))
                 return "the grains of a grain body must be fixed grains";
-        if (body_shape(def, k).grains == 0)
-            return "a grain body needs at least one grain (its group is empty)";
     }
     if (!(isfinite(b->inertia) && b->inertia >= 0.0))
         return "its moment of inertia must be >= 0 (finite; 0: from the mass)";
@@ -351,18 +349,32 @@ static const char *body_problem(const SimWorldDef *def, int k, double dt, double
     return NULL;
 }
 
+/* The smallest radius of def's mobile grains (INFINITY without any). */
+static double mobile_r_min(const SimWorldDef *def)
+{
+    double r_min = INFINITY;
+    for (int i = 0; i < def->grains.count; ++i)
+        if (!(def->grains.flags && (def->grains.flags[i] & SIM_GRAIN_FIXED)))
+            r_min = fmin(r_min, def->grains.radius[i]);
+    return r_min;
+}
+
+/* Body k of def is a grain body whose group has no grain yet: dormant (sim.h SimWorldDef
+ * grain_bodies), checked when its grains join (sim_wall_bodies_join_problem). */
+static int dormant(const SimWorldDef *def, int k)
+{
+    return k >= def->wall_count && body_shape(def, k).grains == 0;
+}
+
 const char *sim_wall_bodies_problem(const SimWorldDef *def, double dt, int *wall, char *buf,
                                     size_t size)
 {
     const int bodies = def->wall_count + (def->grain_bodies ? def->grain_body_count : 0);
     if (!def->wall_bodies && bodies == def->wall_count)
         return NULL;
-    double r_min = INFINITY;
-    for (int i = 0; i < def->grains.count; ++i)
-        if (!(def->grains.flags && (def->grains.flags[i] & SIM_GRAIN_FIXED)))
-            r_min = fmin(r_min, def->grains.radius[i]);
+    const double r_min = mobile_r_min(def);
     for (int k = 0; k < bodies; ++k) {
-        if (!def_body(def, k))
+        if (!def_body(def, k) || dormant(def, k))
             continue;
         const char *why = body_problem(def, k, dt, r_min, buf, size);
         if (why) {
@@ -371,6 +383,16 @@ const char *sim_wall_bodies_problem(const SimWorldDef *def, double dt, int *wall
         }
     }
     return NULL;
+}
+
+/* Body k's rest geometry (body_rest): its centre, length and moment of inertia. */
+static void set_rest(SimWorld *w, int k, BodyShape shape)
+{
+    double *rest = &w->body_rest[4 * k];
+    rest[0] = shape.cx;
+    rest[1] = shape.cy;
+    rest[2] = shape.length;
+    rest[3] = shape.inertia;
 }
 
 int sim_wall_bodies_create(SimWorld *w, const SimWorldDef *def)
@@ -398,18 +420,105 @@ int sim_wall_bodies_create(SimWorld *w, const SimWorldDef *def)
         if (!b)
             continue;
         w->bodies[k] = *b;
-        w->bodies[k].active = 1;
-        const BodyShape shape = body_shape(def, k);
-        double *rest = &w->body_rest[4 * k];
-        rest[0] = shape.cx;
-        rest[1] = shape.cy;
-        rest[2] = shape.length;
-        rest[3] = shape.inertia;
+        w->bodies[k].active = !dormant(def, k);
+        set_rest(w, k, body_shape(def, k));
     }
     w->def.wall_bodies = def->wall_bodies ? w->bodies : NULL;
     w->def.grain_bodies = groups > 0 ? w->bodies + def->wall_count : NULL;
     w->def.grain_body_count = groups;
     return 0;
+}
+
+/* The world's grains (their rest positions) and g after them, as one set in `def` (arrays in
+ * *store, freed by the caller); -1 out of memory. */
+static int joined_grains(const SimWorld *w, const SimGrainSet *g, SimWorldDef *def, void **store)
+{
+    const size_t n = (size_t)w->count, total = n + (size_t)g->count;
+    char *p = malloc(total * (3 * sizeof(double) + 2 * sizeof(int) + sizeof(unsigned)) + 1);
+    *store = p;
+    if (!p)
+        return -1;
+    double *x = (double *)p, *y = x + total, *r = y + total;
+    int *species = (int *)(r + total), *motion = species + total;
+    unsigned *flags = (unsigned *)(motion + total);
+    memcpy(x, w->x_base, n * sizeof *x);
+    memcpy(y, w->y_base, n * sizeof *y);
+    memcpy(r, w->radius, n * sizeof *r);
+    memcpy(species, w->species, n * sizeof *species);
+    memcpy(motion, w->motion, n * sizeof *motion);
+    memcpy(flags, w->flags, n * sizeof *flags);
+    for (int k = 0; k < g->count; ++k) {
+        const size_t i = n + (size_t)k;
+        x[i] = g->x[k];
+        y[i] = g->y[k];
+        r[i] = g->radius[k];
+        species[i] = g->species ? g->species[k] : 0;
+        motion[i] = g->motion ? g->motion[k] : -1;
+        flags[i] = g->flags ? g->flags[k] : 0u;
+    }
+    *def = w->def;
+    def->grains = (SimGrainSet){.count = (int)total,
+                                .x = x,
+                                .y = y,
+                                .radius = r,
+                                .species = species,
+                                .flags = flags,
+                                .motion = motion};
+    def->wall_count = w->wall_count;
+    def->walls = w->walls;
+    return 0;
+}
+
+const char *sim_wall_bodies_join_problem(const SimWorld *w, const SimGrainSet *g, int *body,
+                                         char *buf, size_t size)
+{
+    int joins = 0;
+    for (int k = 0; k < g->count && g->motion; ++k) {
+        const int m = g->motion[k];
+        if (m >= -1 || !w->bodies || SIM_GRAIN_BODY(m) >= w->body_count - w->wall_count)
+            continue;
+        *body = w->wall_count + SIM_GRAIN_BODY(m);
+        if (w->bodies[*body].active)
+            return "its grains are in place and it moves: grains join a grain body only while "
+                   "its group is empty (dormant), all of them at once";
+        joins = 1;
+    }
+    if (!joins)
+        return NULL;
+    SimWorldDef def;
+    void *store;
+    if (joined_grains(w, g, &def, &store) != 0)
+        return "out of memory checking the grain bodies the new grains join";
+    const double r_min = mobile_r_min(&def);
+    const char *why = NULL;
+    for (int k = w->wall_count; k < w->body_count && !why; ++k)
+        if (!w->bodies[k].active && !dormant(&def, k)) {
+            *body = k;
+            why = body_problem(&def, k, w->dt, r_min, buf, size);
+        }
+    free(store);
+    return why;
+}
+
+void sim_wall_bodies_join(SimWorld *w)
+{
+    if (!w->bodies)
+        return;
+    SimWorldDef def = w->def;
+    def.grains = (SimGrainSet){.count = w->count,
+                               .x = w->x_base,
+                               .y = w->y_base,
+                               .radius = w->radius,
+                               .species = w->species,
+                               .flags = w->flags,
+                               .motion = w->motion};
+    for (int k = w->wall_count; k < w->body_count; ++k) {
+        if (w->bodies[k].active || dormant(&def, k))
+            continue;
+        set_rest(w, k, body_shape(&def, k)); /* at rest: where the grains were put */
+        w->body_s[k] = w->body_u[k] = w->body_a[k] = w->body_w[k] = 0.0;
+        w->bodies[k].active = 1;
+    }
 }
 
 void sim_wall_bodies_free(SimWorld *w)
@@ -686,12 +795,29 @@ int sim_world_wall_load(const SimWorld *w, int wall, SimWallLoad *load)
 
 /* ------------------------------------------------------------------ state file footer */
 
-/* The footer: the offsets, speeds, angles and angular speeds of every body (body_count each),
- * their servos' flip counters (3 per body, internal.h body_flip), then the body count (int32)
- * and this tag, at the very end of the file, written only when a body responds. The first
- * version held the walls' offsets and speeds only, the second no flip counters (read as such). */
-static const char body_tag[8] = "WBODY-3\n", body_tag_2[8] = "WBODY-2\n",
-                  body_tag_1[8] = "WBODY-1\n";
+/* The footer: per body its offset, speed, angle and angular speed (body_count each), its
+ * motion's offset and velocity across its axis (body_m, 4 each), its rest geometry (body_rest,
+ * 4 each) and its servo's flip counters (body_flip, 3 each: internal.h), then the body count
+ * (int32) and this tag, at the very end of the file, written only when a body responds. The
+ * first version held the walls' offsets and speeds only, the second the first four arrays (both
+ * read as such: the flip counters then start afresh). */
+static const char body_tag[8] = "WBODY-3\n";
+
+/* The version of footer tag `tag` (1 to 3), or 0. */
+static int footer_version(const char tag[8])
+{
+    static const char *const tags[] = {"WBODY-1\n", "WBODY-2\n", body_tag};
+    for (int v = 0; v < 3; ++v)
+        if (memcmp(tag, tags[v], sizeof body_tag) == 0)
+            return v + 1;
+    return 0;
+}
+
+/* Doubles per body in a footer of version v. */
+static size_t footer_doubles(int version)
+{
+    return version == 1 ? 2 : version == 2 ? 4 : 15;
+}
 
 int sim_wall_bodies_write(FILE *f, const SimWorld *w)
 {
@@ -699,15 +825,41 @@ int sim_wall_bodies_write(FILE *f, const SimWorld *w)
         return 0;
     const size_t n = (size_t)w->body_count;
     const int32_t count = w->body_count;
-    const double *arrays[] = {w->body_s, w->body_u, w->body_a, w->body_w};
+    const double *arrays[] = {w->body_s, w->body_u,    w->body_a,   w->body_w,
+                              w->body_m, w->body_rest, w->body_flip};
+    const size_t sizes[] = {n, n, n, n, 4 * n, 4 * n, 3 * n};
     int ok = 1;
     for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; ++a)
-        ok = ok && fwrite(arrays[a], sizeof(double), n, f) == n;
-    ok = ok && fwrite(w->body_flip, sizeof(double), 3 * n, f) == 3 * n;
+        ok = ok && fwrite(arrays[a], sizeof(double), sizes[a], f) == sizes[a];
     return ok && fwrite(&count, sizeof count, 1, f) == 1 &&
                    fwrite(body_tag, sizeof body_tag, 1, f) == 1
                ? 0
                : -1;
+}
+
+/* Body k from footer `saved` of version v over n bodies (the arrays one after another, as
+ * written): its offset, speed, angle and angular speed, and from a third version its motion's
+ * offset and velocity, its rest geometry and its flip counters. A body with a value that is not
+ * finite stays as created (at rest where it is defined); the flip time is NaN until a flip. */
+static void footer_body(SimWorld *w, const double *saved, size_t n, int version, size_t k)
+{
+    int finite = 1;
+    for (size_t a = 0; a < 4 && a < footer_doubles(version); ++a) /* offset, speed, angle, ... */
+        finite &= isfinite(saved[a * n + k]) != 0;
+    for (size_t b = 0; version > 2 && b < 2; ++b) /* body_m, then body_rest: 4 a body */
+        for (size_t j = 0; j < 4; ++j)
+            finite &= isfinite(saved[(4 + 4 * b) * n + 4 * k + j]) != 0;
+    if (!finite)
+        return;
+    w->body_s[k] = saved[k];
+    w->body_u[k] = saved[n + k];
+    w->body_a[k] = version > 1 ? saved[2 * n + k] : 0.0;
+    w->body_w[k] = version > 1 ? saved[3 * n + k] : 0.0;
+    if (version > 2) {
+        memcpy(&w->body_m[4 * k], &saved[4 * n + 4 * k], 4 * sizeof(double));
+        memcpy(&w->body_rest[4 * k], &saved[8 * n + 4 * k], 4 * sizeof(double));
+        memcpy(&w->body_flip[3 * k], &saved[12 * n + 3 * k], 3 * sizeof(double));
+    }
 }
 
 void sim_wall_bodies_read(SimWorld *w, FILE *f)
@@ -720,33 +872,21 @@ void sim_wall_bodies_read(SimWorld *w, FILE *f)
     if (fseek(f, -tail, SEEK_END) != 0 || fread(&count, sizeof count, 1, f) != 1 ||
         fread(tag, sizeof tag, 1, f) != 1)
         return;
-    const int first = memcmp(tag, body_tag_1, sizeof tag) == 0;
-    const int flips = memcmp(tag, body_tag, sizeof tag) == 0;
-    if (!(first || flips || memcmp(tag, body_tag_2, sizeof tag) == 0) ||
-        count != (first ? w->wall_count : w->body_count))
+    const int version = footer_version(tag);
+    if (!version || count != (version == 1 ? w->wall_count : w->body_count))
         return; /* none saved: the bodies start at rest where they are defined */
-    const size_t n = (size_t)count, arrays = first ? 2 : 4;
-    if (fseek(f, -(tail + (long)((arrays + 3 * (size_t)flips) * n * sizeof(double))), SEEK_END) !=
-        0)
-        return;
-    double *into[] = {w->body_s, w->body_u, w->body_a, w->body_w};
-    int read = 1;
-    for (size_t a = 0; a < arrays; ++a)
-        read = read && fread(into[a], sizeof(double), n, f) == n;
-    if (flips && (!read || fread(w->body_flip, sizeof(double), 3 * n, f) != 3 * n))
-        for (size_t k = 0; k < n; ++k) { /* counted afresh */
-            w->body_flip[3 * k] = w->body_flip[3 * k + 1] = 0.0;
-            w->body_flip[3 * k + 2] = NAN;
-        }
-    for (size_t k = 0; k < n; ++k)
-        if (!read || !isfinite(w->body_s[k]) || !isfinite(w->body_u[k]) ||
-            !isfinite(w->body_a[k]) || !isfinite(w->body_w[k]))
-            w->body_s[k] = w->body_u[k] = w->body_a[k] = w->body_w[k] = 0.0;
-    /* The list's wall shift is the saved one (an exact continuation restored it; otherwise the
-     * world is rebuilt): a wall that also follows a motion is placed here with its motion's pose
-     * under the clock the world was created with, which the stage's clock then replaces
-     * (sim_world_set_motion), and that interim place must not ask for a list build. */
-    const double shift = w->wall_shift;
+    const size_t n = (size_t)count, total = footer_doubles(version) * n;
+    double *saved = malloc((total > 0 ? total : 1) * sizeof *saved);
+    if (saved && fseek(f, -(tail + (long)(total * sizeof(double))), SEEK_END) == 0 &&
+        fread(saved, sizeof(double), total, f) == total)
+        for (size_t k = 0; k < n; ++k)
+            footer_body(w, saved, n, version, k);
+    free(saved);
+    /* Every body where the saved run left it: its own offset and its motion's (body_m), so the
+     * shift since the last list build it counts is the one the saved run counted last (the
+     * list's bookkeeping continues; a motion's clock set afterwards, sim_world_set_motion, moves
+     * it by that clock). A file of an older version has no body_m: a wall that follows a motion
+     * is placed by the motion's pose under the clock the world was created with until its clock
+     * is set, and may then rebuild its list earlier than the saved run did. */
     sim_wall_bodies_place(w);
-    w->wall_shift = shift;
 }

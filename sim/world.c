@@ -1159,6 +1159,15 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
         s = sim_world_check_timing(w, g, error);
     if (s != SIM_OK)
         return s;
+    char why[320];
+    int body = 0;
+    const char *join = sim_wall_bodies_join_problem(w, g, &body, why, sizeof why);
+    if (join) {
+        char f[64];
+        snprintf(f, sizeof f, "bodies[%d]", body - w->wall_count);
+        return sim_fail(error, SIM_ERROR_INVALID, f, "grain body %d: %s", body - w->wall_count,
+                        join);
+    }
     const double span = w->def.domain_x1 - w->def.domain_x0;
     for (int k = 0; k < g->count; ++k)
         for (int i = 0; i < w->count; ++i) {
@@ -1241,6 +1250,7 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
     free(order);
     w->count = total;
     w->mobile_count = mobile;
+    sim_wall_bodies_join(w); /* a dormant grain body whose grains came moves from now on */
     sim_world_grains_changed(w);
     if (w->out_of_memory)
         return sim_fail(error, SIM_ERROR_MEMORY, "grains",

@@ -91,6 +91,7 @@ typedef struct SceneAdd {
     double x, y, vx, vy, omega;      ///< m, m/s, rad/s
     double radius;                   ///< m
     int species;                     ///< material index
+    int motion;                      ///< -1, or SIM_GRAIN_BODY(b): a fixed grain of body b
     uint32_t id;                     ///< its stable id
     char where[SCENE_PATH_MAX + 32]; ///< "file:line" of its entry
 } SceneAdd;

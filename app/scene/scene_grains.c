@@ -714,8 +714,7 @@ int loader_parse_grains(Loader *L, const config_setting_t *root)
         return -1;
     /* Stable ids follow this order: list, rain, box, rows, columns. */
     if (parse_list(L, grains) < 0 || parse_rain(L, grains) < 0 || parse_box(L, grains) < 0 ||
-        parse_rows(L, grains, 0) < 0 || parse_rows(L, grains, 1) < 0 || parse_file(L, grains) < 0 ||
-        loader_check_bodies(L, root) < 0)
+        parse_rows(L, grains, 0) < 0 || parse_rows(L, grains, 1) < 0 || parse_file(L, grains) < 0)
         return -1;
     Scene *scene = L->scene;
     scene->fixed_count = 0;

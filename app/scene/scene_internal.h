@@ -89,7 +89,9 @@ int loader_parse_wall_body(Loader *L, const config_setting_t *g, const char *wha
 /* `bodies`: rigid groups of fixed grains (scene_walls.c), parsed before the grains; each entry's
  * group is named by the grains.rows and columns entries' `group` (loader_get_group: 1 with
  * *motion set to the body's SIM_GRAIN_BODY, 0 absent, -1 an unknown group or a grain that also
- * follows a motion); loader_check_bodies refuses a group without grains. 0, or -1. */
+ * follows a motion); loader_check_bodies, once the stages are read, refuses a group without
+ * grains (rows, columns or a stage's `add`), one filled both by rows or columns and by a stage,
+ * and one that two stages add to (a body takes its grains once). 0, or -1. */
 int loader_parse_bodies(Loader *L, const config_setting_t *root);
 int loader_get_group(Loader *L, const config_setting_t *g, const char *what, int *motion);
 int loader_check_bodies(Loader *L, const config_setting_t *root);

@@ -697,9 +697,9 @@ static int parse_scene(Loader *L, const config_setting_t *root)
         loader_parse_bodies(L, root) < 0 || loader_parse_grains(L, root) < 0 ||
         loader_parse_walls(L, root) < 0 || apply_target_error(L) < 0 ||
         loader_parse_sinks(L, root) < 0 || loader_parse_stages(L, root) < 0 ||
-        loader_parse_sources(L, root) < 0 || check_sources(L, root) < 0 ||
-        loader_check_remove_ids(L, root) < 0 || loader_claim_run_outputs(L, root) < 0 ||
-        loader_parse_output(L, root) < 0)
+        loader_check_bodies(L, root) < 0 || loader_parse_sources(L, root) < 0 ||
+        check_sources(L, root) < 0 || loader_check_remove_ids(L, root) < 0 ||
+        loader_claim_run_outputs(L, root) < 0 || loader_parse_output(L, root) < 0)
         return -1;
     normalised_labels(scene);
     for (int f = 0; app_experiments[f]; ++f) { /* each family parses its own keys */

@@ -250,20 +250,49 @@ int loader_get_group(Loader *L, const config_setting_t *g, const char *what, int
                            name, name);
 }
 
+/* The first added grain of group b at a stage after stage `after` (-1: any stage), with its
+ * stage in *stage; NULL when none. */
+static const SceneAdd *group_add(const Scene *scene, int b, int after, int *stage)
+{
+    for (int k = after + 1; k < scene->stage_count; ++k)
+        for (int j = 0; j < scene->stages[k].add_count; ++j)
+            if (scene->stages[k].adds[j].motion == SIM_GRAIN_BODY(b)) {
+                *stage = k;
+                return &scene->stages[k].adds[j];
+            }
+    return NULL;
+}
+
 int loader_check_bodies(Loader *L, const config_setting_t *root)
 {
     const Scene *scene = L->scene;
     for (int b = 0; b < scene->def.grain_body_count; ++b) {
-        int n = 0;
+        const char *name = scene->body_names[b];
+        int n = 0, first = -1, later = -1;
         for (int i = 0; i < scene->grains.count; ++i)
             n += scene->grains.motion[i] == SIM_GRAIN_BODY(b);
-        if (n == 0) {
+        const SceneAdd *added = group_add(scene, b, -1, &first);
+        if (n == 0 && !added) {
             const config_setting_t *list = app_config_member(root, "bodies");
             return app_config_fail(&L->p, config_setting_get_elem(list, (unsigned)b),
-                                   "bodies.%d: group `%s` is empty: no grains.rows or "
-                                   "grains.columns entry has group = \"%s\"",
-                                   b, scene->body_names[b], scene->body_names[b]);
+                                   "bodies.%d: group `%s` is empty: no grains.rows, "
+                                   "grains.columns or stage `add` entry has group = \"%s\"",
+                                   b, name, name);
         }
+        if (n > 0 && added)
+            return app_config_fail_at(&L->p, added->where,
+                                      "stage %s: add: group `%s` has its grains from grains.rows "
+                                      "or grains.columns and its body moves from the start: a "
+                                      "stage adds the grains of a group that is empty until then "
+                                      "(its body dormant), all in one stage",
+                                      scene->stages[first].name, name);
+        const SceneAdd *again = added ? group_add(scene, b, first, &later) : NULL;
+        if (again)
+            return app_config_fail_at(&L->p, again->where,
+                                      "stage %s: add: group `%s` got its grains at stage %s and "
+                                      "its body moves from then on: a body takes no more grains "
+                                      "(add them all in one stage)",
+                                      scene->stages[later].name, name, scene->stages[first].name);
     }
     return 0;
 }

@@ -26,9 +26,10 @@
 /* One entry of `add`: name, position, velocity, radius, species. 0, or -1. */
 static int parse_add(Loader *L, const config_setting_t *e, SceneAdd *a, const char *what)
 {
-    static const char *const keys[] = {"name",  "x",      "y",       "vx", "vy",
-                                       "omega", "radius", "species", NULL};
+    static const char *const keys[] = {"name",  "x",      "y",       "vx",    "vy",
+                                       "omega", "radius", "species", "group", NULL};
     const char *name = NULL;
+    a->motion = -1;
     if (app_config_keys(&L->p, e, what, keys, NULL) < 0 ||
         app_config_need_number(&L->p, e, "x", what, &a->x) < 0 ||
         app_config_need_number(&L->p, e, "y", what, &a->y) < 0 ||
@@ -37,8 +38,17 @@ static int parse_add(Loader *L, const config_setting_t *e, SceneAdd *a, const ch
         app_config_number(&L->p, e, "vx", &a->vx) < 0 ||
         app_config_number(&L->p, e, "vy", &a->vy) < 0 ||
         app_config_number(&L->p, e, "omega", &a->omega) < 0 ||
-        loader_get_species(L, e, &a->species) < 0 || app_config_string(&L->p, e, "name", &name) < 0)
+        loader_get_species(L, e, &a->species) < 0 ||
+        app_config_string(&L->p, e, "name", &name) < 0 ||
+        loader_get_group(L, e, what, &a->motion) < 0)
         return -1;
+    static const char *const moving[] = {"vx", "vy", "omega"};
+    for (int k = 0; a->motion < -1 && k < 3; ++k)
+        if (app_config_member(e, moving[k]))
+            return app_config_fail(&L->p, app_config_member(e, moving[k]),
+                                   "%s: `%s`: a grain of a group moves with its body (it is put "
+                                   "at rest; give the body a force or a servo)",
+                                   what, moving[k]);
     if (name && (!name[0] || strlen(name) >= sizeof a->name))
         return app_config_fail(&L->p, app_config_member(e, "name"),
                                "%s: `name` must have 1 to %d characters", what,
@@ -243,7 +253,8 @@ int scene_stage_add(const Scene *scene, int k, SimWorld *world, char *err, size_
     sim_grain_buffer_init(&b);
     for (int j = 0; j < stage->add_count; ++j) {
         const SceneAdd *a = &stage->adds[j];
-        int i = sim_grain_buffer_add(&b, a->x, a->y, a->radius, a->species, 0u, -1);
+        const unsigned fixed = a->motion < -1 ? SIM_GRAIN_FIXED : 0u; /* a body's grain */
+        int i = sim_grain_buffer_add(&b, a->x, a->y, a->radius, a->species, fixed, a->motion);
         b.vx[i] = a->vx;
         b.vy[i] = a->vy;
         b.omega[i] = a->omega;
@@ -253,8 +264,11 @@ int scene_stage_add(const Scene *scene, int k, SimWorld *world, char *err, size_
     SimError error;
     int rc = sim_world_add_grains(world, &set, &error) == SIM_OK ? 0 : -1;
     if (rc != 0) {
-        int j = 0;
+        int j = 0, body = -1;
         sscanf(error.field, "grains[%d]", &j);
+        if (sscanf(error.field, "bodies[%d]", &body) == 1) /* the group's first grain */
+            for (j = 0; j < stage->add_count && stage->adds[j].motion != SIM_GRAIN_BODY(body);)
+                ++j;
         snprintf(err, err_size, "%s: stage %s: added grain: %s",
                  stage->adds[j >= 0 && j < stage->add_count ? j : 0].where, stage->name,
                  error.message);
