@@ -472,126 +472,126 @@ static int servo_implicit_damping_holds_lid(void)
         sim_world_destroy(w[k]);
         sim_grain_buffer_free(&box[k].grains);
     }
-    /* 1 when the two files hold the same bytes. */
-    static int same_files(const char *a, const char *b)
-    {
-        FILE *f[2] = {fopen(a, "rb"), fopen(b, "rb")};
-        int same = f[0] && f[1];
-        while (same) {
-            const int x = fgetc(f[0]);
-            same = fgetc(f[1]) == x;
-            if (x == EOF)
-                break;
-        }
-        for (int k = 0; k < 2; ++k)
-            if (f[k])
-                fclose(f[k]);
-        return same;
-    }
+    return 0;
+}
 
-    /* Saves the two worlds and compares the files (1: the same bytes), then frees both runs and
-     * removes `saved`, the state the second was loaded from. */
-    static int ends_alike(SimWorld * w[2], Box box[2], const char *saved)
-    {
-        char out[2][32];
-        SimError err;
-        int saved_both = 1;
-        for (int k = 0; k < 2; ++k)
-            saved_both &=
-                test_tmp_file(out[k]) == 0 && sim_world_save(w[k], out[k], &err) == SIM_OK;
-        const int same = saved_both && same_files(out[0], out[1]);
-        for (int k = 0; k < 2; ++k) {
-            remove(out[k]);
-            sim_world_destroy(w[k]);
-            sim_grain_buffer_free(&box[k].grains);
-        }
-        remove(saved);
-        return same;
+/* 1 when the two files hold the same bytes. */
+static int same_files(const char *a, const char *b)
+{
+    FILE *f[2] = {fopen(a, "rb"), fopen(b, "rb")};
+    int same = f[0] && f[1];
+    while (same) {
+        const int x = fgetc(f[0]);
+        same = fgetc(f[1]) == x;
+        if (x == EOF)
+            break;
     }
+    for (int k = 0; k < 2; ++k)
+        if (f[k])
+            fclose(f[k]);
+    return same;
+}
 
-    /* The sliding lid of sliding_lid_def, its motion (5 cm/s across) enabled at t = 0.2 s as a
-     * stage would (sim_world_set_motion), saved at t = 0.6 s and loaded as a resumed run does:
-     * created from the state (the motions' clocks are the defaults then: on at 0), then its clock
-     * set. The loaded world holds the lid where the uninterrupted one has it, with the same list
-     * bookkeeping (the walls' shift since the last build, the build step), and both go on to the
-     * same bits. A footer without the lid's motion offset (WBODY-2) placed the lid at load by the
-     * default clock, 2 cm off, and counted that as the lid's shift since the build. */
-    static int sliding_lid_resumed_keeps_list_bookkeeping(void)
-    {
-        Box box[2];
-        sliding_lid_def(&box[0], 1e-3, 0.05, 0.0);
-        SimWorld *w[2] = {tu_create(&box[0].def, &box[0].grains), NULL};
-        TEST_ASSERT(w[0]);
-        sim_world_set_motion(w[0], 0, 0.2, INFINITY);
-        TEST_ASSERT(tu_step(w[0], 6000) == 0);
-        char saved[32];
-        SimError err;
-        TEST_ASSERT(test_tmp_file(saved) == 0 && sim_world_save(w[0], saved, &err) == SIM_OK);
-        sliding_lid_def(&box[1], 1e-3, 0.05, 0.0);
-        w[1] = sim_world_load(saved, &box[1].def, &err);
-        TEST_ASSERT(w[1] && w[1]->exact_restored);
-        sim_world_set_motion(w[1], 0, 0.2, INFINITY);
-        printf("sliding lid at load: x0 %.17g (run %.17g), wall shift %.17g (run %.17g), built at "
-               "step %ld (run %ld)\n",
-               w[1]->walls[3].x0, w[0]->walls[3].x0, w[1]->wall_shift, w[0]->wall_shift,
-               w[1]->build_step, w[0]->build_step);
-        TEST_ASSERT(memcmp(&w[1]->walls[3], &w[0]->walls[3], sizeof(SimWall)) == 0);
-        TEST_ASSERT(w[1]->wall_shift == w[0]->wall_shift && w[1]->build_step == w[0]->build_step);
-        for (int k = 0; k < 2; ++k)
-            TEST_ASSERT(tu_step(w[k], 4000) == 0);
-        TEST_ASSERT(w[1]->build_step == w[0]->build_step && w[1]->rebuilds == w[0]->rebuilds);
-        TEST_ASSERT(ends_alike(w, box, saved));
-        return 0;
+/* Saves the two worlds and compares the files (1: the same bytes), then frees both runs and
+ * removes `saved`, the state the second was loaded from. */
+static int ends_alike(SimWorld *w[2], Box box[2], const char *saved)
+{
+    char out[2][32];
+    SimError err;
+    int saved_both = 1;
+    for (int k = 0; k < 2; ++k)
+        saved_both &= test_tmp_file(out[k]) == 0 && sim_world_save(w[k], out[k], &err) == SIM_OK;
+    const int same = saved_both && same_files(out[0], out[1]);
+    for (int k = 0; k < 2; ++k) {
+        remove(out[k]);
+        sim_world_destroy(w[k]);
+        sim_grain_buffer_free(&box[k].grains);
     }
+    remove(saved);
+    return same;
+}
 
-    /* A state whose footer is of the second version (WBODY-2: offsets, speeds, angles and angular
-     * speeds, no motion offsets, rest geometry or flip counters), made from a saved one by cutting
-     * those out: it
-     * still loads, the lid at its saved offset and speed, and (its clock the default one, as when
-     * it was saved) goes on to the same bits as the uninterrupted run. */
-    static int older_footer_still_loads(void)
-    {
-        Box box[2];
-        sliding_lid_def(&box[0], 1e-3, 0.01, 0.0);
-        SimWorld *w[2] = {tu_create(&box[0].def, &box[0].grains), NULL};
-        TEST_ASSERT(w[0] && tu_step(w[0], 6000) == 0);
-        char saved[32];
-        SimError err;
-        TEST_ASSERT(test_tmp_file(saved) == 0 && sim_world_save(w[0], saved, &err) == SIM_OK);
-        FILE *f = fopen(saved, "rb");
-        TEST_ASSERT(f && fseek(f, 0, SEEK_END) == 0);
-        const long size = ftell(f), n = w[0]->body_count, cut = 11 * n * (long)sizeof(double);
-        char *bytes = malloc((size_t)size);
-        TEST_ASSERT(bytes && fseek(f, 0, SEEK_SET) == 0 &&
-                    fread(bytes, 1, (size_t)size, f) == (size_t)size);
-        fclose(f);
-        TEST_ASSERT(memcmp(bytes + size - 8, "WBODY-3\n", 8) == 0);
-        memmove(bytes + size - 12 - cut, bytes + size - 12,
-                12); /* count and tag after the 4 arrays */
-        memcpy(bytes + size - cut - 8, "WBODY-2\n", 8);
-        f = fopen(saved, "wb");
-        TEST_ASSERT(f && fwrite(bytes, 1, (size_t)(size - cut), f) == (size_t)(size - cut));
-        fclose(f);
-        free(bytes);
-        sliding_lid_def(&box[1], 1e-3, 0.01, 0.0);
-        w[1] = sim_world_load(saved, &box[1].def, &err);
-        TEST_ASSERT(w[1]);
-        SimWallLoad l[2];
-        for (int k = 0; k < 2; ++k)
-            sim_world_wall_load(w[k], 3, &l[k]);
-        TEST_ASSERT(l[0].offset > 0.1 && l[1].offset == l[0].offset && l[1].speed == l[0].speed);
-        for (int k = 0; k < 2; ++k)
-            TEST_ASSERT(tu_step(w[k], 2000) == 0);
-        TEST_ASSERT(ends_alike(w, box, saved));
-        return 0;
-    }
+/* The sliding lid of sliding_lid_def, its motion (5 cm/s across) enabled at t = 0.2 s as a
+ * stage would (sim_world_set_motion), saved at t = 0.6 s and loaded as a resumed run does:
+ * created from the state (the motions' clocks are the defaults then: on at 0), then its clock
+ * set. The loaded world holds the lid where the uninterrupted one has it, with the same list
+ * bookkeeping (the walls' shift since the last build, the build step), and both go on to the
+ * same bits. A footer without the lid's motion offset (WBODY-2) placed the lid at load by the
+ * default clock, 2 cm off, and counted that as the lid's shift since the build. */
+static int sliding_lid_resumed_keeps_list_bookkeeping(void)
+{
+    Box box[2];
+    sliding_lid_def(&box[0], 1e-3, 0.05, 0.0);
+    SimWorld *w[2] = {tu_create(&box[0].def, &box[0].grains), NULL};
+    TEST_ASSERT(w[0]);
+    sim_world_set_motion(w[0], 0, 0.2, INFINITY);
+    TEST_ASSERT(tu_step(w[0], 6000) == 0);
+    char saved[32];
+    SimError err;
+    TEST_ASSERT(test_tmp_file(saved) == 0 && sim_world_save(w[0], saved, &err) == SIM_OK);
+    sliding_lid_def(&box[1], 1e-3, 0.05, 0.0);
+    w[1] = sim_world_load(saved, &box[1].def, &err);
+    TEST_ASSERT(w[1] && w[1]->exact_restored);
+    sim_world_set_motion(w[1], 0, 0.2, INFINITY);
+    printf("sliding lid at load: x0 %.17g (run %.17g), wall shift %.17g (run %.17g), built at "
+           "step %ld (run %ld)\n",
+           w[1]->walls[3].x0, w[0]->walls[3].x0, w[1]->wall_shift, w[0]->wall_shift,
+           w[1]->build_step, w[0]->build_step);
+    TEST_ASSERT(memcmp(&w[1]->walls[3], &w[0]->walls[3], sizeof(SimWall)) == 0);
+    TEST_ASSERT(w[1]->wall_shift == w[0]->wall_shift && w[1]->build_step == w[0]->build_step);
+    for (int k = 0; k < 2; ++k)
+        TEST_ASSERT(tu_step(w[k], 4000) == 0);
+    TEST_ASSERT(w[1]->build_step == w[0]->build_step && w[1]->rebuilds == w[0]->rebuilds);
+    TEST_ASSERT(ends_alike(w, box, saved));
+    return 0;
+}
 
-    TEST_MAIN(TEST_CASE(servo_holds_target_stress), TEST_CASE(servo_unstable_gain_refused),
-              TEST_CASE(piston_reaches_static_balance), TEST_CASE(wall_load_is_contact_sum),
-              TEST_CASE(servo_same_bits_threads_and_resume),
-              TEST_CASE(servo_lid_follows_motion_across),
-              TEST_CASE(servo_motion_along_axis_refused),
-              TEST_CASE(sliding_lid_same_bits_threads_and_resume),
-              TEST_CASE(servo_stress_over_walls_between),
-              TEST_CASE(sliding_lid_resumed_keeps_list_bookkeeping),
-              TEST_CASE(older_footer_still_loads), TEST_CASE(servo_implicit_damping_holds_lid))
+/* A state whose footer is of the second version (WBODY-2: offsets, speeds, angles and angular
+ * speeds, no motion offsets, rest geometry or flip counters), made from a saved one by cutting
+ * those out: it
+ * still loads, the lid at its saved offset and speed, and (its clock the default one, as when
+ * it was saved) goes on to the same bits as the uninterrupted run. */
+static int older_footer_still_loads(void)
+{
+    Box box[2];
+    sliding_lid_def(&box[0], 1e-3, 0.01, 0.0);
+    SimWorld *w[2] = {tu_create(&box[0].def, &box[0].grains), NULL};
+    TEST_ASSERT(w[0] && tu_step(w[0], 6000) == 0);
+    char saved[32];
+    SimError err;
+    TEST_ASSERT(test_tmp_file(saved) == 0 && sim_world_save(w[0], saved, &err) == SIM_OK);
+    FILE *f = fopen(saved, "rb");
+    TEST_ASSERT(f && fseek(f, 0, SEEK_END) == 0);
+    const long size = ftell(f), n = w[0]->body_count, cut = 11 * n * (long)sizeof(double);
+    char *bytes = malloc((size_t)size);
+    TEST_ASSERT(bytes && fseek(f, 0, SEEK_SET) == 0 &&
+                fread(bytes, 1, (size_t)size, f) == (size_t)size);
+    fclose(f);
+    TEST_ASSERT(memcmp(bytes + size - 8, "WBODY-3\n", 8) == 0);
+    memmove(bytes + size - 12 - cut, bytes + size - 12, 12); /* count and tag after the 4 arrays */
+    memcpy(bytes + size - cut - 8, "WBODY-2\n", 8);
+    f = fopen(saved, "wb");
+    TEST_ASSERT(f && fwrite(bytes, 1, (size_t)(size - cut), f) == (size_t)(size - cut));
+    fclose(f);
+    free(bytes);
+    sliding_lid_def(&box[1], 1e-3, 0.01, 0.0);
+    w[1] = sim_world_load(saved, &box[1].def, &err);
+    TEST_ASSERT(w[1]);
+    SimWallLoad l[2];
+    for (int k = 0; k < 2; ++k)
+        sim_world_wall_load(w[k], 3, &l[k]);
+    TEST_ASSERT(l[0].offset > 0.1 && l[1].offset == l[0].offset && l[1].speed == l[0].speed);
+    for (int k = 0; k < 2; ++k)
+        TEST_ASSERT(tu_step(w[k], 2000) == 0);
+    TEST_ASSERT(ends_alike(w, box, saved));
+    return 0;
+}
+
+TEST_MAIN(TEST_CASE(servo_holds_target_stress), TEST_CASE(servo_unstable_gain_refused),
+          TEST_CASE(piston_reaches_static_balance), TEST_CASE(wall_load_is_contact_sum),
+          TEST_CASE(servo_same_bits_threads_and_resume), TEST_CASE(servo_lid_follows_motion_across),
+          TEST_CASE(servo_motion_along_axis_refused),
+          TEST_CASE(sliding_lid_same_bits_threads_and_resume),
+          TEST_CASE(servo_stress_over_walls_between),
+          TEST_CASE(sliding_lid_resumed_keeps_list_bookkeeping),
+          TEST_CASE(older_footer_still_loads), TEST_CASE(servo_implicit_damping_holds_lid))
