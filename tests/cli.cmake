@@ -487,6 +487,10 @@ sablier_cli_test(bne_ldf_inf "bne|${CLI_BNE}|--seeds|2|--ldf|inf|--out|${CLI_WOR
 sablier_cli_test(discharge_width_zero
                  "discharge|${CLI_DISCHARGE}|--width|0|--out|${CLI_WORK}/discharge_width_zero" 2
                  ERR "--width 0: an orifice width must be in \\[1, base_length = 25\\] d")
+# a --pile that cannot be read is refused before the scene runs (exit 2, no folder half-written)
+sablier_cli_test(discharge_pile_missing
+                 "discharge|${CLI_DISCHARGE}|--pile|${CLI_WORK}/no_such_pile.state|--out|${CLI_WORK}/discharge_pile_missing" 2
+                 ERR "--pile: cannot read .*no_such_pile.state")
 sablier_cli_test(discharge_width_scene
                  "check|${CLI_DISCHARGE}|--set|discharge.widths=[2.0,0.5]" 2
                  ERR "--set discharge.widths: orifice width 0.5 d out of \\[1, base_length")

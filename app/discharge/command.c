@@ -57,6 +57,10 @@ static int parse_args(int argc, char **argv, DischargeArgs *a)
         } else if ((m = app_option(argc, argv, &i, "--pile", &value)) != 0) {
             if (m < 0)
                 return 2;
+            FILE *pile = fopen(value, "rb"); /* refused before anything runs */
+            if (!pile)
+                return app_usage_error(APP_DISCHARGE_USAGE, "--pile: cannot read", value);
+            fclose(pile);
             a->pile = value;
         } else if ((m = app_set_option(argc, argv, &i, a->sets, &a->set_count, APP_MAX_SETS)) !=
                    0) {
