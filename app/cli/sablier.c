@@ -307,8 +307,7 @@ static void print_stage_forcing(const Scene *scene, int k)
 }
 
 /* Responding body k of def, stage `stage`'s (a wall, then the grain bodies): a free body's mass
- * and axis, or
- * its servo's time scale and damping feedback (sim.h sim_wall_servo_time,
+ * and axis, or its servo's time scale and damping feedback (sim.h sim_wall_servo_time,
  * sim_wall_servo_damping), warned about on stderr at its `file:line` when a row of grains along
  * it would flip an explicit servo. `s`: the time unit after a number. */
 static void print_body(const Scene *scene, int stage, int k, const SimWorldDef *def, double dt,

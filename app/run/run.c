@@ -927,8 +927,6 @@ static int resume_same_scene(const Run *run)
     return same ? 0 : -1;
 }
 
-/* Steps the stage in chunks that end on output times, until its end or the settle test, from
- * step `done` (resumed: a checkpoint's, whose outputs were written). 0, or the exit status. */
 /* A servo found flipping between its caps in the steps since time `before` (sim.h SimWallLoad
  * servo_flips: the first run longer than SIM_SERVO_FLIP_STEPS, found once per run and saved in
  * checkpoints, so a resumed run does not tell it again), told on stderr. */
@@ -955,6 +953,9 @@ static void servo_flip_report(const Run *run, int stage, double before)
     }
 }
 
+/* Steps the stage in chunks that end on output times, until its end, the settle test or a
+ * family's stop criterion (AppExperiment.stage_done), from step `done` (resumed: a checkpoint's,
+ * whose outputs were written). 0, or the exit status. */
 static int stage_loop(Run *run, int k, StageClock *clock, long done, int resumed)
 {
     const SceneStage *stage = &run->scene->stages[k];
