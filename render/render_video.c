@@ -277,45 +277,46 @@ static void tag_bt709(enum AVColorSpace *space, enum AVColorPrimaries *primaries
     *range = AVCOL_RANGE_MPEG;
 }
 
-RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *style, char *err,
-                               size_t err_size)
+/* Checks a movie's definition; gives its frame rate and CRF with the defaults applied. 0, or -1
+ * with a message in err. */
+static int check_movie_def(const RenderMovieDef *def, const RenderStyle *style, double *fps,
+                           int *crf, char *err, size_t err_size)
 {
-    char text[128];
-    RenderMovie *movie = NULL;
-    AVDictionary *options = NULL;
-    int rc;
     if (!def || !style || !def->path || !def->path[0]) {
         snprintf(err, err_size, "movie: no definition, style or path");
-        return NULL;
+        return -1;
     }
     if (style->width <= 0 || style->height <= 0 || style->width % 2 || style->height % 2) {
         snprintf(err, err_size,
                  "%s: movie size %dx%d: width and height must be positive and even (H.264 "
                  "yuv420p)",
                  def->path, style->width, style->height);
-        return NULL;
+        return -1;
     }
-    double fps = def->fps == 0.0 ? 30.0 : def->fps;
-    if (!(fps > 0.0 && fps <= RENDER_VIDEO_MAX_FPS)) {
-        snprintf(err, err_size, "%s: frame rate %g outside (0, %g] frames/s", def->path, fps,
+    *fps = def->fps == 0.0 ? 30.0 : def->fps;
+    if (!(*fps > 0.0 && *fps <= RENDER_VIDEO_MAX_FPS)) {
+        snprintf(err, err_size, "%s: frame rate %g outside (0, %g] frames/s", def->path, *fps,
                  RENDER_VIDEO_MAX_FPS);
-        return NULL;
+        return -1;
     }
-    int crf = def->crf == 0 ? 20 : def->crf;
-    if (crf < 0 || crf > 51) {
-        snprintf(err, err_size, "%s: quality (CRF) %d outside 0..51", def->path, crf);
-        return NULL;
+    *crf = def->crf == 0 ? 20 : def->crf;
+    if (*crf < 0 || *crf > 51) {
+        snprintf(err, err_size, "%s: quality (CRF) %d outside 0..51", def->path, *crf);
+        return -1;
     }
     if (def->drawer != RENDER_DRAWER_CAIRO && def->drawer != RENDER_DRAWER_OSMESA) {
         snprintf(err, err_size, "%s: unknown drawer %d", def->path, (int)def->drawer);
-        return NULL;
+        return -1;
     }
+    return 0;
+}
 
-    /* libav's default level prints x264's statistics and the muxer's faststart notice on every
-     * movie; keep warnings and errors unless the program chose a level itself. */
-    if (av_log_get_level() == AV_LOG_INFO)
-        av_log_set_level(AV_LOG_WARNING);
-    movie = calloc(1, sizeof *movie);
+/* A movie with its lock, its settings and its paths, nothing of libav yet; NULL with a message
+ * in err. */
+static RenderMovie *movie_create(const RenderMovieDef *def, const RenderStyle *style, char *err,
+                                 size_t err_size)
+{
+    RenderMovie *movie = calloc(1, sizeof *movie);
     if (!movie) {
         snprintf(err, err_size, "%s: out of memory", def->path);
         return NULL;
@@ -341,11 +342,17 @@ RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *sty
     movie->path = copy_string(def->path, "");
     movie->temp_path = copy_string(def->path, ".tmp");
     if (!movie->path || !movie->temp_path) {
-        fail(movie, "%s: out of memory", def->path);
-        goto fail;
+        snprintf(err, err_size, "%s: out of memory", def->path);
+        movie_free(movie);
+        return NULL;
     }
+    return movie;
+}
 
-    /* Encoder: libx264 unless told otherwise; without it, mpeg4 (always built in). */
+/* The encoder: libx264 unless told otherwise; without it, mpeg4 (always built in). NULL after
+ * fail(). */
+static const AVCodec *find_encoder(RenderMovie *movie, const RenderMovieDef *def)
+{
     const char *name = def->encoder ? def->encoder : "libx264";
     const AVCodec *encoder = avcodec_find_encoder_by_name(name);
     if (!encoder && !def->encoder) {
@@ -357,27 +364,37 @@ RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *sty
                 "(larger files; a libavcodec built with libx264 gives H.264 High profile)\n",
                 movie->path);
     }
-    if (!encoder) {
+    if (!encoder)
         fail(movie, "%s: libavcodec has no encoder named %s", movie->path, name);
-        goto fail;
-    }
-    int is_x264 = strcmp(encoder->name, "libx264") == 0;
+    return encoder;
+}
 
+/* The MP4 muxer, its stream, the encoder's context and a packet. 0, or -1 after fail(). */
+static int alloc_muxer(RenderMovie *movie, const AVCodec *encoder)
+{
+    char text[128];
     /* The muxer is named: the .tmp name does not tell the format. */
-    rc = avformat_alloc_output_context2(&movie->format, NULL, "mp4", movie->temp_path);
+    int rc = avformat_alloc_output_context2(&movie->format, NULL, "mp4", movie->temp_path);
     if (rc < 0 || !movie->format) {
         fail(movie, "%s: cannot set up the MP4 muxer: %s", movie->path,
              av_message(rc, text, sizeof text));
-        goto fail;
+        return -1;
     }
     movie->stream = avformat_new_stream(movie->format, NULL);
     movie->codec = avcodec_alloc_context3(encoder);
     movie->packet = av_packet_alloc();
     if (!movie->stream || !movie->codec || !movie->packet) {
         fail(movie, "%s: out of memory", movie->path);
-        goto fail;
+        return -1;
     }
-    AVRational rate = av_d2q(fps, 100000); /* 30 -> 30/1, 29.97 -> 2997/100 */
+    return 0;
+}
+
+/* Sets the encoder's picture, rate and quality (x264: preset and CRF in *options; others: a
+ * fixed quantiser). */
+static void configure_encoder(RenderMovie *movie, const RenderMovieDef *def, const AVCodec *encoder,
+                              AVRational rate, double fps, int crf, AVDictionary **options)
+{
     AVCodecContext *codec = movie->codec;
     codec->width = movie->width;
     codec->height = movie->height;
@@ -392,11 +409,11 @@ RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *sty
     tag_bt709(&codec->colorspace, &codec->color_primaries, &codec->color_trc, &codec->color_range);
     if (movie->format->oformat->flags & AVFMT_GLOBALHEADER)
         codec->flags |= AV_CODEC_FLAG_GLOBAL_HEADER; /* MP4 keeps SPS/PPS in avcC */
-    if (is_x264) {
+    if (strcmp(encoder->name, "libx264") == 0) {
         char value[16];
         snprintf(value, sizeof value, "%d", crf);
-        av_dict_set(&options, "preset", def->preset ? def->preset : DEFAULT_PRESET, 0);
-        av_dict_set(&options, "crf", value, 0);
+        av_dict_set(options, "preset", def->preset ? def->preset : DEFAULT_PRESET, 0);
+        av_dict_set(options, "crf", value, 0);
     } else {
         /* No CRF outside x264: a fixed quantiser of similar visual quality (CRF 20 -> q 4). */
         int q = (int)lround(crf / 5.0);
@@ -406,23 +423,37 @@ RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *sty
             fprintf(stderr, "warning: %s: preset %s ignored by encoder %s\n", movie->path,
                     def->preset, encoder->name);
     }
-    rc = avcodec_open2(codec, encoder, &options);
+}
+
+/* Configures and opens the encoder, copies its parameters to the stream and tags the file with
+ * the scene. 0, or -1 after fail(). */
+static int open_encoder(RenderMovie *movie, const RenderMovieDef *def, const AVCodec *encoder,
+                        double fps, int crf)
+{
+    char text[128];
+    AVDictionary *options = NULL;
+    AVRational rate = av_d2q(fps, 100000); /* 30 -> 30/1, 29.97 -> 2997/100 */
+    configure_encoder(movie, def, encoder, rate, fps, crf, &options);
+    AVCodecContext *codec = movie->codec;
+    int rc = avcodec_open2(codec, encoder, &options);
     if (rc < 0) {
         fail(movie, "%s: cannot open encoder %s: %s", movie->path, encoder->name,
              av_message(rc, text, sizeof text));
-        goto fail;
+        av_dict_free(&options);
+        return -1;
     }
     if (av_dict_count(options) > 0) {
         fail(movie, "%s: encoder %s does not know option %s=%s", movie->path, encoder->name,
              av_dict_get(options, "", NULL, AV_DICT_IGNORE_SUFFIX)->key,
              av_dict_get(options, "", NULL, AV_DICT_IGNORE_SUFFIX)->value);
-        goto fail;
+        av_dict_free(&options);
+        return -1;
     }
     av_dict_free(&options);
     rc = avcodec_parameters_from_context(movie->stream->codecpar, codec);
     if (rc < 0) {
         fail(movie, "%s: out of memory", movie->path);
-        goto fail;
+        return -1;
     }
     movie->stream->time_base = codec->time_base; /* a hint: the muxer may change it */
     movie->stream->avg_frame_rate = rate;
@@ -432,37 +463,50 @@ RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *sty
         av_dict_set(&movie->format->metadata, "title", def->meta.scene, 0);
         av_dict_set(&movie->format->metadata, "comment", text, 0);
     }
+    return 0;
+}
 
+/* Creates PATH.tmp and writes the MP4 header. 0, or -1 after fail(). */
+static int open_file(RenderMovie *movie)
+{
+    char text[128];
     /* PATH.tmp made anew as a regular file, PATH refused unless one (sim_open_output) */
     const char *why = NULL;
     FILE *fresh = sim_open_output(movie->path, &why);
     if (!fresh) {
         fail(movie, "%s: %s", movie->path, why);
-        goto fail;
+        return -1;
     }
     fclose(fresh);
-    rc = avio_open(&movie->format->pb, movie->temp_path, AVIO_FLAG_WRITE);
+    int rc = avio_open(&movie->format->pb, movie->temp_path, AVIO_FLAG_WRITE);
     if (rc < 0) {
         fail(movie, "%s: cannot create %s: %s", movie->path, movie->temp_path,
              av_message(rc, text, sizeof text));
-        goto fail;
+        return -1;
     }
     movie->temp_created = 1;
+    AVDictionary *options = NULL;
     av_dict_set(&options, "movflags", "+faststart", 0); /* moov before mdat: web playback */
     rc = avformat_write_header(movie->format, &options);
     av_dict_free(&options);
     if (rc < 0) {
         fail(movie, "%s: cannot write the MP4 header: %s", movie->path,
              av_message(rc, text, sizeof text));
-        goto fail;
+        return -1;
     }
+    return 0;
+}
 
+/* The queue's yuv420p frames and, for OSMesa, its drawn images and the GL context. 0, or -1
+ * after fail(). */
+static int alloc_slots(RenderMovie *movie, const RenderStyle *style)
+{
     for (int k = 0; k < QUEUE_SLOTS; ++k) {
         AVFrame *slot = av_frame_alloc();
         movie->slots[k].frame = slot;
         if (!slot) {
             fail(movie, "%s: out of memory", movie->path);
-            goto fail;
+            return -1;
         }
         slot->format = AV_PIX_FMT_YUV420P;
         slot->width = movie->width;
@@ -470,27 +514,49 @@ RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *sty
         tag_bt709(&slot->colorspace, &slot->color_primaries, &slot->color_trc, &slot->color_range);
         if (av_frame_get_buffer(slot, 0) < 0) {
             fail(movie, "%s: out of memory", movie->path);
-            goto fail;
+            return -1;
         }
     }
-    if (movie->drawer == RENDER_DRAWER_OSMESA) {
-        /* GL draws the grain layer; Cairo adds the annotations on the same pixels. */
-        movie->overlay = style->colorbar || style->time_stamp || style->scale_bar || style->title ||
-                         style->velocity_arrows || style->velocity_field || style->arch_ids;
-        for (int k = 0; k < QUEUE_SLOTS; ++k) {
-            if (render_image_alloc(&movie->slots[k].image, movie->width, movie->height,
-                                   RENDER_PIXEL_BGRA_PREMUL) != 0) {
-                fail(movie, "%s: out of memory", movie->path);
-                goto fail;
-            }
-        }
-        char message[256];
-        movie->gl = render_gl_create(movie->width, movie->height, message, sizeof message);
-        if (!movie->gl) {
-            fail(movie, "%s: %s", movie->path, message);
-            goto fail;
+    if (movie->drawer != RENDER_DRAWER_OSMESA)
+        return 0;
+    /* GL draws the grain layer; Cairo adds the annotations on the same pixels. */
+    movie->overlay = style->colorbar || style->time_stamp || style->scale_bar || style->title ||
+                     style->velocity_arrows || style->velocity_field || style->arch_ids;
+    for (int k = 0; k < QUEUE_SLOTS; ++k) {
+        if (render_image_alloc(&movie->slots[k].image, movie->width, movie->height,
+                               RENDER_PIXEL_BGRA_PREMUL) != 0) {
+            fail(movie, "%s: out of memory", movie->path);
+            return -1;
         }
     }
+    char message[256];
+    movie->gl = render_gl_create(movie->width, movie->height, message, sizeof message);
+    if (!movie->gl) {
+        fail(movie, "%s: %s", movie->path, message);
+        return -1;
+    }
+    return 0;
+}
+
+RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *style, char *err,
+                               size_t err_size)
+{
+    double fps;
+    int crf;
+    if (check_movie_def(def, style, &fps, &crf, err, err_size) != 0)
+        return NULL;
+    /* libav's default level prints x264's statistics and the muxer's faststart notice on every
+     * movie; keep warnings and errors unless the program chose a level itself. */
+    if (av_log_get_level() == AV_LOG_INFO)
+        av_log_set_level(AV_LOG_WARNING);
+    RenderMovie *movie = movie_create(def, style, err, err_size);
+    if (!movie)
+        return NULL;
+    const AVCodec *encoder = find_encoder(movie, def);
+    if (!encoder || alloc_muxer(movie, encoder) != 0 ||
+        open_encoder(movie, def, encoder, fps, crf) != 0 || open_file(movie) != 0 ||
+        alloc_slots(movie, style) != 0)
+        goto fail;
     if (pthread_create(&movie->thread, NULL, encoder_main, movie) != 0) {
         fail(movie, "%s: cannot start the encoder thread", movie->path);
         goto fail;
@@ -501,7 +567,6 @@ RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *sty
     return movie;
 
 fail:
-    av_dict_free(&options);
     snprintf(err, err_size, "%s", movie->message);
     movie_free(movie);
     return NULL;

@@ -421,11 +421,9 @@ static SimStatus validate_motion_speed(const SimWorldDef *def, double dt, SimErr
     return SIM_OK;
 }
 
-static SimStatus validate_def(const SimWorldDef *def, int restored, SimError *error)
+/* The effect bits, the integrator and the contact laws, alone and together. */
+static SimStatus validate_laws(const SimWorldDef *def, SimError *error)
 {
-    SimStatus s;
-    if (error)
-        memset(error, 0, sizeof *error);
     CHECK(!(def->effects & ~63u), "effects", "unknown effect bits 0x%x", def->effects);
     CHECK((int)def->integrator >= 0 && def->integrator < SIM_INTEGRATOR_COUNT, "integrator",
           "unknown integrator %d", (int)def->integrator);
@@ -451,6 +449,12 @@ static SimStatus validate_def(const SimWorldDef *def, int restored, SimError *er
     CHECK(!(history && def->integrator == SIM_INTEGRATOR_RK4), "integrator",
           "rk4 cannot integrate history-dependent contacts (tangential spring, rolling "
           "resistance): choose velocity_verlet or gear");
+    return SIM_OK;
+}
+
+/* The scalar settings (gravity, time step, skin, guards, counts) and each motion. */
+static SimStatus validate_settings(const SimWorldDef *def, SimError *error)
+{
     CHECK(isfinite(def->gravity_x) && isfinite(def->gravity_y), "gravity", "gravity not finite");
     CHECK(def->time_step >= 0.0 && isfinite(def->time_step), "time_step",
           "time step must be positive (got %g)", def->time_step);
@@ -480,10 +484,12 @@ static SimStatus validate_def(const SimWorldDef *def, int restored, SimError *er
         snprintf(f, sizeof f, "motions[%d]", m);
         CHECK(!problem, f, "motion %d: %s", m, problem);
     }
-    if ((s = validate_materials(def, error)) != SIM_OK)
-        return s;
-    if ((s = validate_grains(def, restored, error)) != SIM_OK)
-        return s;
+    return SIM_OK;
+}
+
+/* The grains' worst overlap at start against max_initial_overlap (none checked once restored). */
+static SimStatus validate_overlap(const SimWorldDef *def, int restored, SimError *error)
+{
     int a = -1, b = -1;
     double worst = restored ? 0.0 : sim_def_worst_overlap(def, &a, &b);
     if (isnan(worst))
@@ -497,18 +503,27 @@ static SimStatus validate_def(const SimWorldDef *def, int restored, SimError *er
             "max_initial_overlap)",
             a, b, worst, def->max_initial_overlap);
     }
-    if (def->effects & SIM_EFFECT_PERIODIC_X) {
-        double r_max = 0.0;
-        for (int i = 0; i < def->grains.count; ++i)
-            r_max = fmax(r_max, def->grains.radius[i]);
-        double span = def->domain_x1 - def->domain_x0;
-        CHECK(span > 0.0, "domain", "periodic domain needs x1 > x0");
-        CHECK(span >= 3.0 * (2.0 * r_max + fmax(def->skin, 0.4 * r_max)), "domain",
-              "periodic domain %g wide is narrower than three largest grains plus skin", span);
-    }
-    SimTiming t = timing_of(def);
-    if ((s = validate_motion_speed(def, t.time_step, error)) != SIM_OK)
-        return s;
+    return SIM_OK;
+}
+
+/* A periodic domain holds three of the largest grains plus the skin across. */
+static SimStatus validate_periodic(const SimWorldDef *def, SimError *error)
+{
+    if (!(def->effects & SIM_EFFECT_PERIODIC_X))
+        return SIM_OK;
+    double r_max = 0.0;
+    for (int i = 0; i < def->grains.count; ++i)
+        r_max = fmax(r_max, def->grains.radius[i]);
+    double span = def->domain_x1 - def->domain_x0;
+    CHECK(span > 0.0, "domain", "periodic domain needs x1 > x0");
+    CHECK(span >= 3.0 * (2.0 * r_max + fmax(def->skin, 0.4 * r_max)), "domain",
+          "periodic domain %g wide is narrower than three largest grains plus skin", span);
+    return SIM_OK;
+}
+
+/* The time step against the bodies on walls and grains and the contacts' stability limit. */
+static SimStatus validate_time_step(const SimWorldDef *def, SimTiming t, SimError *error)
+{
     char why[320];
     int body_wall = -1;
     const char *body = sim_wall_bodies_problem(def, t.time_step, &body_wall, why, sizeof why);
@@ -537,6 +552,26 @@ static SimStatus validate_def(const SimWorldDef *def, int restored, SimError *er
               1.0 / def->max_dt_fraction);
     }
     return SIM_OK;
+}
+
+static SimStatus validate_def(const SimWorldDef *def, int restored, SimError *error)
+{
+    SimStatus s;
+    if (error)
+        memset(error, 0, sizeof *error);
+    if ((s = validate_laws(def, error)) != SIM_OK || (s = validate_settings(def, error)) != SIM_OK)
+        return s;
+    if ((s = validate_materials(def, error)) != SIM_OK)
+        return s;
+    if ((s = validate_grains(def, restored, error)) != SIM_OK)
+        return s;
+    if ((s = validate_overlap(def, restored, error)) != SIM_OK ||
+        (s = validate_periodic(def, error)) != SIM_OK)
+        return s;
+    SimTiming t = timing_of(def);
+    if ((s = validate_motion_speed(def, t.time_step, error)) != SIM_OK)
+        return s;
+    return validate_time_step(def, t, error);
 }
 
 SimStatus sim_world_def_validate(const SimWorldDef *def, SimError *error)
@@ -1142,12 +1177,10 @@ void sim_world_grains_changed(SimWorld *w)
     reevaluate_forces(w);
 }
 
-SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *error)
+/* The newcomers alone (positions, radii, species, walls), then against the grains in place
+ * through a combined definition, and the grain bodies they join. */
+static SimStatus check_newcomers(const SimWorld *w, const SimGrainSet *g, SimError *error)
 {
-    if (g->count <= 0)
-        return SIM_OK;
-    /* Validate the newcomers alone (positions, radii, species, walls), then against the grains
-     * in place through a combined definition. */
     SimWorldDef check = w->def;
     check.grains = *g;
     check.wall_count = w->wall_count;
@@ -1168,6 +1201,12 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
         return sim_fail(error, SIM_ERROR_INVALID, f, "grain body %d: %s", body - w->wall_count,
                         join);
     }
+    return SIM_OK;
+}
+
+/* No newcomer overlaps a grain in place by more than max_initial_overlap or takes its id. */
+static SimStatus check_newcomers_fit(const SimWorld *w, const SimGrainSet *g, SimError *error)
+{
     const double span = w->def.domain_x1 - w->def.domain_x0;
     for (int k = 0; k < g->count; ++k)
         for (int i = 0; i < w->count; ++i) {
@@ -1185,9 +1224,6 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
                                 k, w->id[i], ratio, w->def.max_initial_overlap);
             }
         }
-    uint32_t next_id = 0;
-    for (int i = 0; i < w->count; ++i)
-        next_id = w->id[i] >= next_id ? w->id[i] + 1 : next_id;
     for (int k = 0; k < g->count && g->id; ++k)
         for (int i = 0; i < w->count; ++i)
             if (w->id[i] == g->id[k]) {
@@ -1196,11 +1232,16 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
                 return sim_fail(error, SIM_ERROR_INVALID, f, "grain id %u is already in use",
                                 g->id[k]);
             }
-    int old = w->count, old_mobile = w->mobile_count;
-    if (sim_grains_reserve(w, old + g->count + 1) != 0)
-        return sim_fail(error, SIM_ERROR_MEMORY, "grains", "out of memory adding %d grains",
-                        g->count);
-    /* Write the newcomers after the grains in place, then reorder. */
+    return SIM_OK;
+}
+
+/* Writes the newcomers after the `old` grains in place (room reserved), with fresh ids above
+ * the largest in place when the set has none. */
+static void write_newcomers(SimWorld *w, const SimGrainSet *g, int old)
+{
+    uint32_t next_id = 0;
+    for (int i = 0; i < w->count; ++i)
+        next_id = w->id[i] >= next_id ? w->id[i] + 1 : next_id;
     for (int k = 0; k < g->count; ++k) {
         int i = old + k, fixed = g->flags && (g->flags[k] & SIM_GRAIN_FIXED);
         w->x[i] = w->x_base[i] = w->x_ref[i] = g->x[k];
@@ -1225,11 +1266,13 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
         for (int a = 0; a < w->scratch_count; ++a)
             w->scratch[a][i] = 0.0;
     }
-    /* Mobile grains first: old mobile, new mobile, old fixed, new fixed. */
-    int total = old + g->count, *order = malloc((size_t)total * sizeof *order), n = 0;
-    if (!order) /* nothing changed yet: the newcomers lie beyond count */
-        return sim_fail(error, SIM_ERROR_MEMORY, "grains", "out of memory adding %d grains",
-                        g->count);
+}
+
+/* The order that puts mobile grains first: old mobile, new mobile, old fixed, new fixed (the
+ * newcomers at old .. total - 1). Returns the mobile count. */
+static int mobile_first(const SimWorld *w, int old, int old_mobile, int total, int *order)
+{
+    int n = 0;
     for (int i = 0; i < old_mobile; ++i)
         order[n++] = i;
     for (int i = old; i < total; ++i)
@@ -1241,6 +1284,29 @@ SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *erro
     for (int i = old; i < total; ++i)
         if (w->flags[i] & SIM_GRAIN_FIXED)
             order[n++] = i;
+    return mobile;
+}
+
+SimStatus sim_world_add_grains(SimWorld *w, const SimGrainSet *g, SimError *error)
+{
+    if (g->count <= 0)
+        return SIM_OK;
+    SimStatus s = check_newcomers(w, g, error);
+    if (s == SIM_OK)
+        s = check_newcomers_fit(w, g, error);
+    if (s != SIM_OK)
+        return s;
+    int old = w->count, old_mobile = w->mobile_count;
+    if (sim_grains_reserve(w, old + g->count + 1) != 0)
+        return sim_fail(error, SIM_ERROR_MEMORY, "grains", "out of memory adding %d grains",
+                        g->count);
+    /* Write the newcomers after the grains in place, then reorder. */
+    write_newcomers(w, g, old);
+    int total = old + g->count, *order = malloc((size_t)total * sizeof *order);
+    if (!order) /* nothing changed yet: the newcomers lie beyond count */
+        return sim_fail(error, SIM_ERROR_MEMORY, "grains", "out of memory adding %d grains",
+                        g->count);
+    int mobile = mobile_first(w, old, old_mobile, total, order);
     /* Contact history is keyed by ids: stash it before the indices move. */
     if (sim_neighbour_stash_history(w) != 0 || sim_grains_permute(w, order, total) != 0) {
         free(order); /* the world as it was (a stash, if made, holds the same history by ids) */

@@ -189,12 +189,19 @@ add_test(NAME cli.sweep_inputs
          COMMAND bash ${CLI_DIR}/sweep_inputs.sh $<TARGET_FILE:sablier>
                  ${PROJECT_SOURCE_DIR}/scenes/crater/small.scene ${CLI_WORK}/sweep_inputs)
 set_tests_properties(cli.sweep_inputs PROPERTIES LABELS cli)
-# a sweep from --vary alone: crater_height's x axis names the key with its unit
+# a sweep from --vary alone: crater_height's x axis names the key with its unit, a species key
+# (the species table) or a scalar key of the scene (time.dt: the `time` group's table)
 add_test(NAME cli.sweep_vary_units
          COMMAND bash ${CLI_DIR}/sweep_vary_units.sh $<TARGET_FILE:sablier>
                  ${PROJECT_SOURCE_DIR}/scenes/crater/small.scene ${CLI_WORK}/sweep_vary_units
-                 ${PROJECT_SOURCE_DIR}/tests/lint/figure_lint.py)
+                 ${PROJECT_SOURCE_DIR}/tests/lint/figure_lint.py species.0.mu=0.1,0.5
+                 "species.0.mu (1)")
 set_tests_properties(cli.sweep_vary_units PROPERTIES LABELS cli)
+add_test(NAME cli.sweep_vary_time_units
+         COMMAND bash ${CLI_DIR}/sweep_vary_units.sh $<TARGET_FILE:sablier>
+                 ${PROJECT_SOURCE_DIR}/scenes/crater/small.scene ${CLI_WORK}/sweep_vary_time_units
+                 ${PROJECT_SOURCE_DIR}/tests/lint/figure_lint.py time.dt=5e-5,4e-5 "time.dt (s)")
+set_tests_properties(cli.sweep_vary_time_units PROPERTIES LABELS cli)
 add_test(NAME cli.sediment_alias
          COMMAND bash ${CLI_DIR}/sediment_alias.sh $<TARGET_FILE:sablier>
                  ${PROJECT_SOURCE_DIR}/scenes/sediment/viscous.scene ${CLI_WORK}/sediment_alias)

@@ -377,47 +377,21 @@ static int side_by_side(const RenderImage *bed, const RenderImage *plot, int shi
     return 0;
 }
 
-/* Panels beside a grain figure on the same heights (thesis 002 fig. 31 for the sediment bed):
- * the grains (render_cairo_draw) and the plot (render_plot_draw) side by side, the plot's y axis
- * the grain view's y range, its height adjusted until the two scales match to a pixel. Each
- * series is clipped to that range (a gap where it leaves it); an x range left unset runs from 0
- * to 1.05 max |x|. Text at the grain figure's font size. `print`: the figure has a print size
- * (`size` or `style`), which the whole is to fill: the grains take two thirds of its width and
- * the panels the rest; else the grains take the figure's width and the panels half as much more
- * (at least 360 pixels). */
-static int side_figure(const SimFrame *frame, const RenderStyle *figure_style, int print,
-                       const RenderMeta *meta, const AppFigureExtras *extras, const char *path,
-                       const char *other, char *err, size_t err_size)
-{
-    enum { MAX_PANELS = 4, MAX_SERIES = 4 };
+/* The panels beside a grain figure and the series of each, at most. */
+enum { SIDE_MAX_PANELS = 4, SIDE_MAX_SERIES = 4 };
 
-    RenderStyle grains = *figure_style;
-    if (print && figure_style->width > 0)
-        grains.width = figure_style->width * 2 / 3;
-    const RenderStyle *style = &grains;
-    RenderView view;
-    render_view_fit(frame, style, &view);
-    double y_top = view.center_y + 0.5 * view.plot_h / view.scale;
-    double y_bottom = view.center_y - 0.5 * view.plot_h / view.scale;
-    int panel_count = extras->side_panel_count < MAX_PANELS ? extras->side_panel_count : MAX_PANELS;
-    size_t points = 0;
-    for (int k = 0; k < panel_count; ++k)
-        for (int j = 0; j < extras->side_panels[k].series_count && j < MAX_SERIES; ++j)
-            points += (size_t)extras->side_panels[k].series[j].count;
-    double *buffer = malloc(2 * (points + 1) * sizeof *buffer);
-    if (!buffer) {
-        snprintf(err, err_size, "out of memory");
-        return -1;
-    }
-    RenderSeries series[MAX_PANELS][MAX_SERIES];
-    RenderPanel panels[MAX_PANELS];
-    memset(series, 0, sizeof series);
-    memset(panels, 0, sizeof panels);
+/* The side panels of a grain figure in render's form, each series clipped to the grain view's
+ * y range [y_bottom, y_top] (a NaN point where it leaves it: the pen lifts) into `buffer` (two
+ * doubles a point); an x range left unset runs from 0 to 1.05 max |x|. */
+static void side_panels(const AppFigureExtras *extras, int panel_count, double y_bottom,
+                        double y_top, double *buffer, RenderSeries series[][SIDE_MAX_SERIES],
+                        RenderPanel *panels)
+{
     double *next = buffer;
     for (int k = 0; k < panel_count; ++k) {
         const AppPlotPanel *in = &extras->side_panels[k];
         double x_max = 0.0;
-        int n_series = in->series_count < MAX_SERIES ? in->series_count : MAX_SERIES;
+        int n_series = in->series_count < SIDE_MAX_SERIES ? in->series_count : SIDE_MAX_SERIES;
         for (int j = 0; j < n_series; ++j) {
             const AppPlotSeries *s = &in->series[j];
             double *x = next, *y = next + s->count;
@@ -452,6 +426,86 @@ static int side_figure(const SimFrame *frame, const RenderStyle *figure_style, i
         panels[k].series_count = n_series;
         panels[k].series = series[k];
     }
+}
+
+/* Draws the panels, changing their height until their y axis spans the grain view's height to a
+ * pixel (three tries at most); *top_px gets the pixel row of y_top in the plot. 0, or -1 with a
+ * message. */
+static int match_plot_height(RenderPlot *r, const RenderView *view, double y_top, double y_bottom,
+                             RenderImage *plot, double *top_px, char *err, size_t err_size)
+{
+    double bottom_px = 0.0, x_px;
+    *top_px = 0.0;
+    int rc = 0;
+    for (int pass = 0; pass < 3 && rc == 0; ++pass) { /* match the vertical scales */
+        render_image_free(plot);
+        rc = render_plot_draw(r, plot, err, err_size);
+        if (rc != 0 || render_plot_map(r, 0, 0.0, y_top, &x_px, top_px) != 0 ||
+            render_plot_map(r, 0, 0.0, y_bottom, &x_px, &bottom_px) != 0)
+            break;
+        int grow = (int)lround(view->plot_h - (bottom_px - *top_px));
+        if (grow == 0)
+            break;
+        r->height += grow;
+    }
+    return rc;
+}
+
+/* Writes the side-by-side image as PNG at `path` and, when `other` is set, the same page as
+ * vector PDF or SVG (render.plot_format). 0, or -1 with a message. */
+static int write_side_figure(const SimFrame *frame, const RenderStyle *style,
+                             const RenderMeta *meta, const RenderPlot *r, int shift,
+                             const RenderImage *out, const char *path, const char *other, char *err,
+                             size_t err_size)
+{
+    char seed[32];
+    snprintf(seed, sizeof seed, "%llu", (unsigned long long)meta->seed);
+    const char *text[] = {"Software", "sablier", "Scene", meta->scene, "Seed", seed, NULL};
+    int rc = render_png_write(out, path, text, err, err_size) == 0 ? 0 : -1;
+    if (rc == 0 && other) { /* the same page as vector PDF or SVG (render.plot_format) */
+        rc = render_figure_beside_write(frame, style, meta, r, shift, other, err, err_size);
+        if (rc == 0)
+            app_output_note(other);
+    }
+    return rc;
+}
+
+/* Panels beside a grain figure on the same heights (thesis 002 fig. 31 for the sediment bed):
+ * the grains (render_cairo_draw) and the plot (render_plot_draw) side by side, the plot's y axis
+ * the grain view's y range, its height adjusted until the two scales match to a pixel. Each
+ * series is clipped to that range (a gap where it leaves it); an x range left unset runs from 0
+ * to 1.05 max |x|. Text at the grain figure's font size. `print`: the figure has a print size
+ * (`size` or `style`), which the whole is to fill: the grains take two thirds of its width and
+ * the panels the rest; else the grains take the figure's width and the panels half as much more
+ * (at least 360 pixels). */
+static int side_figure(const SimFrame *frame, const RenderStyle *figure_style, int print,
+                       const RenderMeta *meta, const AppFigureExtras *extras, const char *path,
+                       const char *other, char *err, size_t err_size)
+{
+    RenderStyle grains = *figure_style;
+    if (print && figure_style->width > 0)
+        grains.width = figure_style->width * 2 / 3;
+    const RenderStyle *style = &grains;
+    RenderView view;
+    render_view_fit(frame, style, &view);
+    double y_top = view.center_y + 0.5 * view.plot_h / view.scale;
+    double y_bottom = view.center_y - 0.5 * view.plot_h / view.scale;
+    int panel_count =
+        extras->side_panel_count < SIDE_MAX_PANELS ? extras->side_panel_count : SIDE_MAX_PANELS;
+    size_t points = 0;
+    for (int k = 0; k < panel_count; ++k)
+        for (int j = 0; j < extras->side_panels[k].series_count && j < SIDE_MAX_SERIES; ++j)
+            points += (size_t)extras->side_panels[k].series[j].count;
+    double *buffer = malloc(2 * (points + 1) * sizeof *buffer);
+    if (!buffer) {
+        snprintf(err, err_size, "out of memory");
+        return -1;
+    }
+    RenderSeries series[SIDE_MAX_PANELS][SIDE_MAX_SERIES];
+    RenderPanel panels[SIDE_MAX_PANELS];
+    memset(series, 0, sizeof series);
+    memset(panels, 0, sizeof panels);
+    side_panels(extras, panel_count, y_bottom, y_top, buffer, series, panels);
     RenderImage bed = {0}, plot = {0}, out = {0};
     RenderPlot r = {.width = print && figure_style->width > 0 ? figure_style->width - style->width
                              : style->width > 0               ? style->width / 2
@@ -467,34 +521,16 @@ static int side_figure(const SimFrame *frame, const RenderStyle *figure_style, i
     int rc = render_cairo_draw(frame, style, &bed) == 0 ? 0 : -1;
     if (rc != 0)
         snprintf(err, err_size, "cannot draw the bed");
-    double top_px = 0.0, bottom_px = 0.0, x_px;
-    for (int pass = 0; pass < 3 && rc == 0; ++pass) { /* match the vertical scales */
-        render_image_free(&plot);
-        rc = render_plot_draw(&r, &plot, err, err_size);
-        if (rc != 0 || render_plot_map(&r, 0, 0.0, y_top, &x_px, &top_px) != 0 ||
-            render_plot_map(&r, 0, 0.0, y_bottom, &x_px, &bottom_px) != 0)
-            break;
-        int grow = (int)lround(view.plot_h - (bottom_px - top_px));
-        if (grow == 0)
-            break;
-        r.height += grow;
-    }
+    double top_px = 0.0;
+    if (rc == 0)
+        rc = match_plot_height(&r, &view, y_top, y_bottom, &plot, &top_px, err, err_size);
     int shift = (int)lround(view.plot_y - top_px);
     if (rc == 0 && side_by_side(&bed, &plot, shift, &out) != 0) {
         snprintf(err, err_size, "out of memory");
         rc = -1;
     }
-    if (rc == 0) {
-        char seed[32];
-        snprintf(seed, sizeof seed, "%llu", (unsigned long long)meta->seed);
-        const char *text[] = {"Software", "sablier", "Scene", meta->scene, "Seed", seed, NULL};
-        rc = render_png_write(&out, path, text, err, err_size) == 0 ? 0 : -1;
-    }
-    if (rc == 0 && other) { /* the same page as vector PDF or SVG (render.plot_format) */
-        rc = render_figure_beside_write(frame, style, meta, &r, shift, other, err, err_size);
-        if (rc == 0)
-            app_output_note(other);
-    }
+    if (rc == 0)
+        rc = write_side_figure(frame, style, meta, &r, shift, &out, path, other, err, err_size);
     render_image_free(&bed);
     render_image_free(&plot);
     render_image_free(&out);

@@ -406,31 +406,26 @@ static int parse_check(int argc, char **argv)
     return check_arguments(argc, argv, &a);
 }
 
-static int command_check(int argc, char **argv)
+/* The units `sablier check` prints after its numbers (docs/scenes.md#units): acceleration,
+ * length, time, energy and mass rate. */
+static void check_units(const Scene *scene, char u[5][32])
 {
-    CheckArgs a;
-    int bad = check_arguments(argc, argv, &a);
-    if (bad)
-        return bad;
-    double target = a.target;
-    char err[4096];
-    Scene *scene = scene_load(a.scene_path, a.sets, a.set_count, err, sizeof err);
-    if (!scene) {
-        fprintf(stderr, "%s\n", err);
-        return 2;
-    }
+    scene_unit_after(scene, SCENE_ACCELERATION, u[0], sizeof u[0]);
+    scene_unit_after(scene, SCENE_LENGTH, u[1], sizeof u[1]);
+    scene_unit_after(scene, SCENE_TIME, u[2], sizeof u[2]);
+    scene_unit_after(scene, SCENE_ENERGY, u[3], sizeof u[3]);
+    scene_unit_after(scene, SCENE_MASS_RATE, u[4], sizeof u[4]);
+}
+
+/* `sablier check`: the scene, its physics, grains, species and neighbour lists. */
+static void print_check_grains(const Scene *scene, char u[5][32])
+{
     static const char *const mass[] = {"disk", "sphere"};
     char effects[256];
     scene_effect_names(scene->def.effects, effects, sizeof effects);
     printf("scene    %s (%s)\n", scene->name, scene->path);
     printf("seed     %llu\n", (unsigned long long)scene->seed);
     printf("effects  %s\n", effects);
-    char u[5][32]; /* the scene's units (docs/scenes.md#units) */
-    scene_unit_after(scene, SCENE_ACCELERATION, u[0], sizeof u[0]);
-    scene_unit_after(scene, SCENE_LENGTH, u[1], sizeof u[1]);
-    scene_unit_after(scene, SCENE_TIME, u[2], sizeof u[2]);
-    scene_unit_after(scene, SCENE_ENERGY, u[3], sizeof u[3]);
-    scene_unit_after(scene, SCENE_MASS_RATE, u[4], sizeof u[4]);
     printf("mass     %s, integrator %s, gravity (%g, %g)%s\n", mass[scene->def.mass_model],
            sim_integrator_name(scene->def.integrator), scene->def.gravity_x, scene->def.gravity_y,
            u[0]);
@@ -454,6 +449,11 @@ static int command_check(int argc, char **argv)
     else
         printf("lists    Verlet skin automatic, 0.01-0.2 mean diameter (the cheapest for the "
                "grains' motion)\n");
+}
+
+/* `sablier check`: each grain source and its rate. */
+static void print_check_sources(const Scene *scene, char u[5][32])
+{
     for (int k = 0; k < scene->source_count; ++k) {
         const SceneSource *src = &scene->sources[k];
         printf("source   %s: [%g, %g, %g, %g], ", src->name, src->x0, src->y0, src->x1, src->y1);
@@ -465,6 +465,11 @@ static int command_check(int argc, char **argv)
             printf("%ld grains at the stage start", src->count);
         printf("%s\n", src->rate > 0.0 && src->count > 0 ? " (capped)" : "");
     }
+}
+
+/* `sablier check`: each stage, its settings, its families' settings, adds, timing and dumps. */
+static void print_check_stages(const Scene *scene, char u[5][32])
+{
     printf("stages   %d\n", scene->stage_count);
     static const char *const loads[] = {"scene grains", "previous stage", "file"};
     for (int k = 0; k < scene->stage_count; ++k) {
@@ -494,6 +499,11 @@ static int command_check(int argc, char **argv)
         print_timing(scene, k);
         app_dump_describe(&scene->output.dump[k], s->duration, s->time_step, stdout);
     }
+}
+
+/* `sablier check`: the energy rows, figures and traced grains. */
+static void print_check_output(const Scene *scene, char u[5][32])
+{
     const SceneOutput *o = &scene->output;
     printf("output   energy every %g%s, %d figures, %d traced grains\n", o->energy_every, u[2],
            o->figure_count, o->trace_count);
@@ -505,6 +515,27 @@ static int command_check(int argc, char **argv)
         else
             printf("figure %s.%s: stage %s, at %s\n", o->figures[k].name, o->figures[k].format,
                    scene->stages[o->figures[k].stage].name, o->figures[k].at_end ? "end" : "start");
+}
+
+static int command_check(int argc, char **argv)
+{
+    CheckArgs a;
+    int bad = check_arguments(argc, argv, &a);
+    if (bad)
+        return bad;
+    double target = a.target;
+    char err[4096];
+    Scene *scene = scene_load(a.scene_path, a.sets, a.set_count, err, sizeof err);
+    if (!scene) {
+        fprintf(stderr, "%s\n", err);
+        return 2;
+    }
+    char u[5][32]; /* the scene's units (docs/scenes.md#units) */
+    check_units(scene, u);
+    print_check_grains(scene, u);
+    print_check_sources(scene, u);
+    print_check_stages(scene, u);
+    print_check_output(scene, u);
     if (target > 0.0) {
         SimWorldDef def = scene_world_def(scene, 0);
         AppAdvice advice;

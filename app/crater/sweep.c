@@ -107,12 +107,91 @@ static int read_string_array(AppConfig *p, const config_setting_t *a, char sets[
     return 0;
 }
 
+/* The definition's `members` list (may be NULL): a member per group. 0, or -1 with the message
+ * in p. */
+static int read_members(AppConfig *p, const config_setting_t *members, Sweep *w)
+{
+    static const char *const member_keys[] = {"label", "value", "set", NULL};
+    const char *text;
+    int rc = 0;
+    if (!members)
+        return 0;
+    if (config_setting_type(members) != CONFIG_TYPE_LIST)
+        rc = app_config_fail(p, members, "`members` must be a list of groups ( {...}, ... )");
+    for (int k = 0; rc == 0 && k < config_setting_length(members); ++k) {
+        const config_setting_t *g = config_setting_get_elem(members, (unsigned)k);
+        if (w->member_count >= MAX_MEMBERS) {
+            rc = app_config_fail(p, g, "too many members");
+            break;
+        }
+        Member *m = &w->members[w->member_count];
+        memset(m, 0, sizeof *m);
+        m->value = (double)k;
+        const config_setting_t *value = config_setting_get_member(g, "value");
+        if (config_setting_type(g) != CONFIG_TYPE_GROUP ||
+            app_config_keys(p, g, NULL, member_keys, NULL) ||
+            !config_setting_lookup_string(g, "label", &text)) {
+            rc = app_config_fail(p, g, "a member is { label = \"...\"; value = x; set = [...]; }");
+            break;
+        }
+        snprintf(m->label, sizeof m->label, "%s", text);
+        m->line = config_setting_source_line(g);
+        if (value && app_config_number_of(p, value, "value", &m->value) < 0)
+            rc = -1;
+        if (rc == 0)
+            rc = read_string_array(p, config_setting_get_member(g, "set"), m->sets, &m->set_count);
+        w->member_count++;
+    }
+    return rc;
+}
+
+/* The definition's `vary` list (may be NULL): a "KEY=v1,v2,..." line per element in vary. 0, or
+ * -1 with the message in p. */
+static int read_vary(AppConfig *p, const config_setting_t *v, char vary[][VARY_STRING],
+                     int *vary_count)
+{
+    static const char *const vary_keys[] = {"key", "values", NULL};
+    const char *text;
+    int rc = 0;
+    if (!v)
+        return 0;
+    if (config_setting_type(v) != CONFIG_TYPE_LIST)
+        rc = app_config_fail(p, v, "`vary` must be a list ( { key = \"...\"; values = [...]; } )");
+    for (int k = 0; rc == 0 && k < config_setting_length(v); ++k) {
+        const config_setting_t *g = config_setting_get_elem(v, (unsigned)k);
+        const config_setting_t *values = config_setting_get_member(g, "values");
+        if (config_setting_type(g) != CONFIG_TYPE_GROUP ||
+            app_config_keys(p, g, NULL, vary_keys, NULL) ||
+            !config_setting_lookup_string(g, "key", &text) || !values ||
+            config_setting_type(values) != CONFIG_TYPE_ARRAY || *vary_count >= MAX_VARY) {
+            rc =
+                app_config_fail(p, g, "a vary element is { key = \"...\"; values = [a, b, ...]; }");
+            break;
+        }
+        char *out = vary[(*vary_count)++];
+        size_t n = (size_t)snprintf(out, VARY_STRING, "%s=", text);
+        if (config_setting_length(values) > MAX_VALUES || n >= SWEEP_STRING) {
+            rc = app_config_fail(p, g, "at most %d values per key (got %d)", MAX_VALUES,
+                                 config_setting_length(values));
+            break;
+        }
+        for (int j = 0; j < config_setting_length(values); ++j) {
+            double x;
+            if (app_config_number_of(p, config_setting_get_elem(values, (unsigned)j), "values",
+                                     &x) < 0) {
+                rc = -1;
+                break;
+            }
+            n += (size_t)snprintf(out + n, VARY_STRING - n, "%s%.10g", j ? "," : "", x);
+        }
+    }
+    return rc;
+}
+
 static int read_definition(Sweep *w, const char *file, char vary[][VARY_STRING], int *vary_count)
 {
     static const char *const keys[] = {"scene",   "bed_stage", "parameter", "set",
                                        "members", "vary",      NULL};
-    static const char *const member_keys[] = {"label", "value", "set", NULL};
-    static const char *const vary_keys[] = {"key", "values", NULL};
     char err[2048];
     AppConfig p = {.path = file, .err = err, .err_size = sizeof err};
     config_t config;
@@ -152,71 +231,10 @@ static int read_definition(Sweep *w, const char *file, char vary[][VARY_STRING],
         snprintf(w->bed_name, sizeof w->bed_name, "%s", text);
     if (rc == 0)
         rc = read_string_array(&p, config_setting_get_member(root, "set"), w->sets, &w->set_count);
-    const config_setting_t *members = config_setting_get_member(root, "members");
-    if (rc == 0 && members) {
-        if (config_setting_type(members) != CONFIG_TYPE_LIST)
-            rc = app_config_fail(&p, members, "`members` must be a list of groups ( {...}, ... )");
-        for (int k = 0; rc == 0 && k < config_setting_length(members); ++k) {
-            const config_setting_t *g = config_setting_get_elem(members, (unsigned)k);
-            if (w->member_count >= MAX_MEMBERS) {
-                rc = app_config_fail(&p, g, "too many members");
-                break;
-            }
-            Member *m = &w->members[w->member_count];
-            memset(m, 0, sizeof *m);
-            m->value = (double)k;
-            const config_setting_t *value = config_setting_get_member(g, "value");
-            if (config_setting_type(g) != CONFIG_TYPE_GROUP ||
-                app_config_keys(&p, g, NULL, member_keys, NULL) ||
-                !config_setting_lookup_string(g, "label", &text)) {
-                rc = app_config_fail(&p, g,
-                                     "a member is { label = \"...\"; value = x; set = [...]; }");
-                break;
-            }
-            snprintf(m->label, sizeof m->label, "%s", text);
-            m->line = config_setting_source_line(g);
-            if (value && app_config_number_of(&p, value, "value", &m->value) < 0)
-                rc = -1;
-            if (rc == 0)
-                rc = read_string_array(&p, config_setting_get_member(g, "set"), m->sets,
-                                       &m->set_count);
-            w->member_count++;
-        }
-    }
-    const config_setting_t *v = config_setting_get_member(root, "vary");
-    if (rc == 0 && v) {
-        if (config_setting_type(v) != CONFIG_TYPE_LIST)
-            rc = app_config_fail(&p, v,
-                                 "`vary` must be a list ( { key = \"...\"; values = [...]; } )");
-        for (int k = 0; rc == 0 && k < config_setting_length(v); ++k) {
-            const config_setting_t *g = config_setting_get_elem(v, (unsigned)k);
-            const config_setting_t *values = config_setting_get_member(g, "values");
-            if (config_setting_type(g) != CONFIG_TYPE_GROUP ||
-                app_config_keys(&p, g, NULL, vary_keys, NULL) ||
-                !config_setting_lookup_string(g, "key", &text) || !values ||
-                config_setting_type(values) != CONFIG_TYPE_ARRAY || *vary_count >= MAX_VARY) {
-                rc = app_config_fail(&p, g,
-                                     "a vary element is { key = \"...\"; values = [a, b, ...]; }");
-                break;
-            }
-            char *out = vary[(*vary_count)++];
-            size_t n = (size_t)snprintf(out, VARY_STRING, "%s=", text);
-            if (config_setting_length(values) > MAX_VALUES || n >= SWEEP_STRING) {
-                rc = app_config_fail(&p, g, "at most %d values per key (got %d)", MAX_VALUES,
-                                     config_setting_length(values));
-                break;
-            }
-            for (int j = 0; j < config_setting_length(values); ++j) {
-                double x;
-                if (app_config_number_of(&p, config_setting_get_elem(values, (unsigned)j), "values",
-                                         &x) < 0) {
-                    rc = -1;
-                    break;
-                }
-                n += (size_t)snprintf(out + n, VARY_STRING - n, "%s%.10g", j ? "," : "", x);
-            }
-        }
-    }
+    if (rc == 0)
+        rc = read_members(&p, config_setting_get_member(root, "members"), w);
+    if (rc == 0)
+        rc = read_vary(&p, config_setting_get_member(root, "vary"), vary, vary_count);
     if (rc != 0)
         fprintf(stderr, "%s\n", err);
     config_destroy(&config);

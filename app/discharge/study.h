@@ -29,7 +29,8 @@ extern const char APP_STUDY_USAGE[];
 double app_study_gaussian_peak(const double *w, const double *sigma, int n);
 
 /// Species counts on square cells over piles (004 §3.4: q_s and q_d maps on 5 d squares),
-/// summed over samples, so a cell's fraction is a ratio of sums: marked / count.
+/// summed over samples, so a cell's fraction is a ratio of sums: marked / count. The maps'
+/// functions below are in app/discharge/species_map.c.
 typedef struct AppStudySpeciesMap {
     int nx, ny;          ///< cells, row-major index j * nx + i
     double x0, y0, cell; ///< lower-left corner of cell (0, 0) and side, d

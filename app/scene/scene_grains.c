@@ -39,6 +39,31 @@ static const struct {
 
 #define MATERIAL_KEY_COUNT (sizeof MATERIAL_MAP / sizeof MATERIAL_MAP[0])
 
+/* The keys of a `grains.rain` group and of `grains.box`, and their quantities (docs/scenes.md,
+ * `grains`): fractions and the grain count are dimensionless, a species or motion has no unit. */
+const SceneKey loader_rain_keys[] = {{"x0", SCENE_LENGTH},
+                                     {"x1", SCENE_LENGTH},
+                                     {"y0", SCENE_LENGTH},
+                                     {"y1", SCENE_LENGTH},
+                                     {"radius_mean", SCENE_LENGTH},
+                                     {"polydispersity", SCENE_DIMENSIONLESS},
+                                     {"pitch_radius", SCENE_LENGTH},
+                                     {"column_gap", SCENE_LENGTH},
+                                     {"row_gap", SCENE_LENGTH},
+                                     {"column_jitter", SCENE_DIMENSIONLESS},
+                                     {"row_jitter", SCENE_DIMENSIONLESS},
+                                     {"max_count", SCENE_DIMENSIONLESS},
+                                     {"species", SCENE_QUANTITY_COUNT},
+                                     {NULL, SCENE_QUANTITY_COUNT}};
+const SceneKey loader_box_keys[] = {{"x0", SCENE_LENGTH},
+                                    {"x1", SCENE_LENGTH},
+                                    {"y0", SCENE_LENGTH},
+                                    {"y1", SCENE_LENGTH},
+                                    {"radius", SCENE_LENGTH},
+                                    {"species", SCENE_QUANTITY_COUNT},
+                                    {"motion", SCENE_QUANTITY_COUNT},
+                                    {NULL, SCENE_QUANTITY_COUNT}};
+
 static const char *const MOTION_KINDS[] = {"sinusoidal", "velocity", "rotation", "compose", NULL};
 static const char *const MOTION_KIND_KEYS[4][6] = {
     {"amplitude", "frequency", "phase", "direction", NULL},
@@ -75,23 +100,40 @@ const char *const *scene_keys(const char *group, int k)
     return NULL;
 }
 
-SceneQuantity scene_key_quantity(const Scene *scene, const char *key)
+/* The key after `group` in a --set key, past a list index written ".0", "[0]" or ".[0]" that
+ * `index` requires (1) or allows (2): "species.0.mu" -> "mu", "grains.rain.[1].x0" -> "x0". NULL
+ * when `key` is not of that group. */
+static const char *key_in_group(const char *key, const char *group, int index)
 {
-    /* "species", then an index as ".0", "[0]" or ".[0]", then "." and the species key */
-    size_t n = strlen("species");
+    size_t n = strlen(group);
+    if (strncmp(key, group, n) != 0)
+        return NULL;
     const char *rest = key + n;
-    if (strncmp(key, "species", n) != 0)
-        return SCENE_QUANTITY_COUNT;
-    rest += *rest == '.';
-    int bracket = *rest == '[';
-    rest += bracket;
-    size_t digits = strspn(rest, "0123456789");
-    if (digits == 0 || (bracket && rest[digits] != ']'))
-        return SCENE_QUANTITY_COUNT;
-    rest += digits + (size_t)bracket;
-    if (*rest != '.')
-        return SCENE_QUANTITY_COUNT;
-    ++rest;
+    if (index) {
+        const char *at = rest + (*rest == '.');
+        int bracket = *at == '[';
+        at += bracket;
+        size_t digits = strspn(at, "0123456789");
+        if (digits > 0 && (!bracket || at[digits] == ']'))
+            rest = at + digits + (size_t)bracket;
+        else if (index == 1 || bracket)
+            return NULL;
+    }
+    return *rest == '.' ? rest + 1 : NULL;
+}
+
+/* The quantity of `key` in a SceneKey table; SCENE_QUANTITY_COUNT when it has none. */
+static SceneQuantity table_quantity(const SceneKey *table, const char *key)
+{
+    for (int k = 0; table[k].key; ++k)
+        if (strcmp(key, table[k].key) == 0)
+            return table[k].quantity;
+    return SCENE_QUANTITY_COUNT;
+}
+
+/* A species key's quantity: density and k_n follow the mass model and the normal law. */
+static SceneQuantity species_quantity(const Scene *scene, const char *rest)
+{
     const int sphere = scene && scene->def.mass_model == SIM_MASS_SPHERE;
     const int hertz = scene && scene->def.contact.normal == SIM_NORMAL_HERTZ;
     if (strcmp(rest, "density") == 0 && sphere)
@@ -103,6 +145,25 @@ SceneQuantity scene_key_quantity(const Scene *scene, const char *key)
     for (size_t j = 0; j < MATERIAL_KEY_COUNT; ++j)
         if (strcmp(rest, MATERIAL_MAP[j].key) == 0)
             return MATERIAL_MAP[j].quantity;
+    return SCENE_QUANTITY_COUNT;
+}
+
+SceneQuantity scene_key_quantity(const Scene *scene, const char *key)
+{
+    static const struct {
+        const char *group;
+        int index; /* 2: a list's entries may be named by an index */
+        const SceneKey *keys;
+    } groups[] = {{"time", 0, loader_time_keys},
+                  {"grains.rain", 2, loader_rain_keys},
+                  {"grains.box", 0, loader_box_keys}};
+
+    const char *rest = key_in_group(key, "species", 1);
+    if (rest)
+        return species_quantity(scene, rest);
+    for (size_t g = 0; g < sizeof groups / sizeof groups[0]; ++g)
+        if ((rest = key_in_group(key, groups[g].group, groups[g].index)) != NULL)
+            return table_quantity(groups[g].keys, rest);
     return SCENE_QUANTITY_COUNT;
 }
 
@@ -442,19 +503,12 @@ int loader_parse_motions(Loader *L, const config_setting_t *root)
 /* One rain group g (`what` names it); group `index` of a list seeds its own stream. */
 static int parse_rain_group(Loader *L, const config_setting_t *g, const char *what, int index)
 {
-    static const char *const keys[] = {"x0",           "x1",
-                                       "y0",           "y1",
-                                       "radius_mean",  "polydispersity",
-                                       "pitch_radius", "column_gap",
-                                       "row_gap",      "column_jitter",
-                                       "row_jitter",   "max_count",
-                                       "species",      NULL};
     SimRainDef rain;
     memset(&rain, 0, sizeof rain);
     long long max_count = 0;
     rain.column_jitter = 0.05; /* 000 §4.2 */
     rain.row_jitter = 0.08;
-    if (app_config_keys(&L->p, g, what, keys, NULL) < 0 ||
+    if (loader_keys(L, g, what, loader_rain_keys) < 0 ||
         app_config_need_number(&L->p, g, "x0", what, &rain.x0) < 0 ||
         app_config_need_number(&L->p, g, "x1", what, &rain.x1) < 0 ||
         app_config_need_number(&L->p, g, "y0", what, &rain.y0) < 0 ||
@@ -533,14 +587,13 @@ static int check_line_count(Loader *L, const config_setting_t *g, const char *wh
 
 static int parse_box(Loader *L, const config_setting_t *grains)
 {
-    static const char *const keys[] = {"x0", "x1", "y0", "y1", "radius", "species", "motion", NULL};
     const config_setting_t *g;
     if (app_config_group(&L->p, grains, "box", &g) <= 0)
         return L->p.failed ? -1 : 0;
     const char *what = "grains.box";
     double x0 = 0.0, x1 = 0.0, y0 = 0.0, y1 = 0.0, r = 0.0;
     int species = 0, motion = -1;
-    if (app_config_keys(&L->p, g, what, keys, NULL) < 0 ||
+    if (loader_keys(L, g, what, loader_box_keys) < 0 ||
         app_config_need_number(&L->p, g, "x0", what, &x0) < 0 ||
         app_config_need_number(&L->p, g, "x1", what, &x1) < 0 ||
         app_config_need_number(&L->p, g, "y0", what, &y0) < 0 ||

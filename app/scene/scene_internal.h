@@ -52,7 +52,25 @@ typedef struct Loader {
     int unsetting; ///< 1 while an --unset is applied (its messages)
 } Loader;
 
+/// A key of a scene group and the quantity of its value, for its unit (docs/scenes.md#units;
+/// SCENE_QUANTITY_COUNT: a name, index or count of things, no unit). A group's table of them,
+/// ended by a NULL key, is both the keys the loader accepts (loader_keys) and the units of the
+/// keys a sweep varies (scene_key_quantity).
+typedef struct SceneKey {
+    const char *key;
+    SceneQuantity quantity;
+} SceneKey;
+
+/// The most keys a SceneKey table holds (loader_keys).
+#define SCENE_GROUP_KEYS_MAX 32
+
+/// The tables of the scene's `time` group (scene_load.c) and of `grains.rain` and `grains.box`
+/// (scene_grains.c).
+extern const SceneKey loader_time_keys[], loader_rain_keys[], loader_box_keys[];
+
 /* scene_keys.c */
+/// app_config_keys with the keys of a SceneKey table: 0, or -1 with a message naming `what`.
+int loader_keys(Loader *L, const config_setting_t *g, const char *what, const SceneKey *keys);
 /// A key that only makes sense with an effect: refused when the effect is not declared.
 int loader_gate(Loader *L, const config_setting_t *g, const char *key, unsigned effect);
 /// Names used in file names: letters, digits, '_', '-', '.'.

@@ -19,6 +19,16 @@ int loader_gate(Loader *L, const config_setting_t *g, const char *key, unsigned 
                            key, sim_effect_name(effect));
 }
 
+int loader_keys(Loader *L, const config_setting_t *g, const char *what, const SceneKey *keys)
+{
+    const char *names[SCENE_GROUP_KEYS_MAX + 1];
+    int n = 0;
+    for (; keys[n].key && n < SCENE_GROUP_KEYS_MAX; ++n)
+        names[n] = keys[n].key;
+    names[n] = NULL;
+    return app_config_keys(&L->p, g, what, names, NULL);
+}
+
 int loader_check_file_name(Loader *L, const config_setting_t *g, const char *key, const char *v)
 {
     int ok = v[0] != '\0' && v[0] != '.' && strlen(v) < SCENE_NAME_MAX;

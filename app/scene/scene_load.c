@@ -143,17 +143,23 @@ static int parse_dynamics(Loader *L, const config_setting_t *root)
     return 0;
 }
 
+/* The keys of `time` and their quantities (docs/scenes.md, `time`). */
+const SceneKey loader_time_keys[] = {{"dt", SCENE_TIME},
+                                     {"end", SCENE_TIME},
+                                     {"steps_per_contact", SCENE_DIMENSIONLESS},
+                                     {"max_dt_fraction", SCENE_DIMENSIONLESS},
+                                     {"target_error", SCENE_DIMENSIONLESS},
+                                     {NULL, SCENE_QUANTITY_COUNT}};
+
 /* time = { dt; end; steps_per_contact; max_dt_fraction; target_error; }, and skin.
  * target_error chooses dt (apply_target_error), so it excludes dt and steps_per_contact. */
 static int parse_time(Loader *L, const config_setting_t *root)
 {
-    static const char *const time_keys[] = {
-        "dt", "end", "steps_per_contact", "max_dt_fraction", "target_error", NULL};
     SimWorldDef *def = &L->scene->def;
     const config_setting_t *time;
     if (app_config_need(&L->p, root, "time", "the scene") < 0 ||
         app_config_group(&L->p, root, "time", &time) < 0 ||
-        app_config_keys(&L->p, time, "time", time_keys, NULL) < 0)
+        loader_keys(L, time, "time", loader_time_keys) < 0)
         return -1;
     const config_setting_t *target = app_config_member(time, "target_error");
     if (target) {

@@ -213,7 +213,7 @@ static int species_keys_name_their_units(void)
     TEST_ASSERT(scene_key_quantity(si, "species.[1].gamma_s") == SCENE_MASS_RATE);
     TEST_ASSERT(scene_key_quantity(si, "species.0.density") == SCENE_DENSITY);
     TEST_ASSERT(scene_key_quantity(si, "species.0.mu_r") == SCENE_LENGTH);
-    const char *unknown[] = {"time.dt",        "species.0.name", "species.mu", "species[0.mu",
+    const char *unknown[] = {"guard.every",    "species.0.name", "species.mu", "species[0.mu",
                              "species.0.frob", "species0mu",     "species.0"};
     for (int k = 0; k < 7; ++k)
         TEST_ASSERT(scene_key_quantity(si, unknown[k]) == SCENE_QUANTITY_COUNT);
@@ -241,6 +241,42 @@ static int species_keys_name_their_units(void)
                                         sizeof label),
                        "k_n / (m g/d)") == 0);
     scene_free(own);
+    return 0;
+}
+
+/* A swept scalar key's unit from its group's key table (scene_key_quantity): the table the loader
+ * checks the group's keys against, so "time.dt (s)" on a sweep's x axis; a rain group may be
+ * named by its index in a list, the box may not; names, indices and unknown keys have none. */
+static int scalar_keys_name_their_units(void)
+{
+    char err[2048], label[64];
+    Scene *si = scene_load("scenes/crater/small.scene", NULL, 0, err, sizeof err);
+    TEST_ASSERT(si != NULL);
+    TEST_ASSERT(scene_key_quantity(si, "time.dt") == SCENE_TIME);
+    TEST_ASSERT(scene_key_quantity(si, "time.end") == SCENE_TIME);
+    TEST_ASSERT(scene_key_quantity(si, "time.steps_per_contact") == SCENE_DIMENSIONLESS);
+    TEST_ASSERT(scene_key_quantity(si, "grains.rain.x1") == SCENE_LENGTH);
+    TEST_ASSERT(scene_key_quantity(si, "grains.rain.[1].radius_mean") == SCENE_LENGTH);
+    TEST_ASSERT(scene_key_quantity(si, "grains.rain.0.polydispersity") == SCENE_DIMENSIONLESS);
+    TEST_ASSERT(scene_key_quantity(si, "grains.box.radius") == SCENE_LENGTH);
+    const char *none[] = {"time.frob",
+                          "timedt",
+                          "time",
+                          "grains.rain.species",
+                          "grains.rain.[0.x0",
+                          "grains.box.0.x0",
+                          "grains.box.motion",
+                          "stages.deposit.time.end"};
+    for (int k = 0; k < 8; ++k)
+        TEST_ASSERT(scene_key_quantity(si, none[k]) == SCENE_QUANTITY_COUNT);
+    TEST_ASSERT(strcmp(scene_axis_label(si, "time.dt", scene_key_quantity(si, "time.dt"), label,
+                                        sizeof label),
+                       "time.dt (s)") == 0);
+    TEST_ASSERT(
+        strcmp(scene_axis_label(si, "grains.rain.x1", scene_key_quantity(si, "grains.rain.x1"),
+                                label, sizeof label),
+               "grains.rain.x1 (m)") == 0);
+    scene_free(si);
     return 0;
 }
 
@@ -309,4 +345,5 @@ static int measure_labels_in_scene_units(void)
 
 TEST_MAIN(TEST_CASE(energy_time_in_sqrt_d_over_g), TEST_CASE(t_star_length_refused),
           TEST_CASE(normalised_writes_numbers_as_given), TEST_CASE(shipped_scenes_name_their_units),
-          TEST_CASE(species_keys_name_their_units), TEST_CASE(measure_labels_in_scene_units))
+          TEST_CASE(species_keys_name_their_units), TEST_CASE(scalar_keys_name_their_units),
+          TEST_CASE(measure_labels_in_scene_units))
