@@ -428,6 +428,55 @@ static inline double min2(double a, double b)
     return a < b ? a : b;
 }
 
+/* The fluid advanced to `time` with the coupling recorded at the last evaluation. */
+static void advance_to(SimFluid *f, double time)
+{
+    if (isfinite(f->last_eval) && time > f->last_eval) {
+        double dt = time - f->last_eval;
+        f->limit_dt = dt;
+        sim_fluid_step(f, dt, f->coupled ? f->phi_next : NULL, f->coupled ? f->rate : NULL,
+                       f->coupled ? f->source : NULL);
+    } else if (!isfinite(f->last_eval)) {
+        f->time = time;
+    }
+    if (!isfinite(f->last_eval) || time > f->last_eval)
+        f->last_eval = time;
+}
+
+/* The span of layer k that a grain at height yc of radius r covers, and in *half_chord the half
+ * chord at the middle of that span. */
+static double layer_span(const SimFluidDef *d, double h, int k, double yc, double r,
+                         double *half_chord)
+{
+    double a = max2(d->y0 + k * h, yc - r), b = min2(d->y0 + (k + 1) * h, yc + r);
+    double m = 0.5 * (a + b) - yc;
+    *half_chord = sqrt(max2(r * r - m * m, 0.0));
+    return b - a;
+}
+
+/* The drag coefficient coef (kg/s) of a grain of diameter dia and mass m at relative speed
+ * `speed`: F = coef (u - v), 002 eqs. 23-25, limited to an exact relaxation over one step. */
+static double drag_coefficient(const SimFluid *f, double speed, double dia, double mass)
+{
+    const SimFluidDef *d = &f->def;
+    /* C_d |du| = (sqrt(C_inf |du|) + sqrt(R_c nu / d))^2: finite as |du| -> 0 */
+    double s = sqrt(d->drag_c_inf * speed) + sqrt(d->drag_reynolds * d->viscosity / dia);
+    double frontal = d->geometry == SIM_FLUID_SPHERE ? 0.25 * SIM_PI * dia * dia : dia;
+    double coef = 0.5 * d->density * frontal * s * s; /* 002 eqs. 23-25 */
+    if (d->drag_limit && f->limit_dt > 0.0 && mass > 0.0) {
+        /* exact relaxation over one step: no overshoot however small tau_p = m / coef */
+        double x = coef * f->limit_dt / mass;
+        if (x > 1e-8) {
+            /* Velocity Verlet hands the stage a predicted velocity v_half + a dt / 2; with
+             * c = coef dt / m that recursion has eigenvalues of (1 - 3c/2) +- ..., one negative
+             * and reaching -1 as c -> 1. Capping c at 2/3 keeps both within 0.58. */
+            double c = -expm1(-x);
+            coef = mass * (c < DRAG_STEP_CAP ? c : DRAG_STEP_CAP) / f->limit_dt;
+        }
+    }
+    return coef;
+}
+
 /* The body-force stage (see sim.h). */
 static void fluid_apply(void *context, const SimBodyForceView *view)
 {
@@ -437,16 +486,7 @@ static void fluid_apply(void *context, const SimBodyForceView *view)
     const double h = f->h, rho = d->density;
     const double layer_volume = d->width * h * d->depth;
     /* 1. advance the fluid to this evaluation with the coupling recorded at the last one */
-    if (isfinite(f->last_eval) && view->time > f->last_eval) {
-        double dt = view->time - f->last_eval;
-        f->limit_dt = dt;
-        sim_fluid_step(f, dt, f->coupled ? f->phi_next : NULL, f->coupled ? f->rate : NULL,
-                       f->coupled ? f->source : NULL);
-    } else if (!isfinite(f->last_eval)) {
-        f->time = view->time;
-    }
-    if (!isfinite(f->last_eval) || view->time > f->last_eval)
-        f->last_eval = view->time;
+    advance_to(f, view->time);
     /* 2. drag and buoyancy on every grain; the reaction per layer */
     memset(f->phi_next, 0, (size_t)n * sizeof(double));
     memset(f->rate, 0, (size_t)n * sizeof(double));
@@ -467,15 +507,13 @@ static void fluid_apply(void *context, const SimBodyForceView *view)
          * below; grains spanning more than WEIGHTS_MAX layers recompute. */
         double weights[WEIGHTS_MAX], raw = 0.0;
         for (int k = k0; k <= k1; ++k) {
-            double a = max2(d->y0 + k * h, yc - r), b = min2(d->y0 + (k + 1) * h, yc + r);
-            double m = 0.5 * (a + b) - yc, chord = 2.0 * sqrt(max2(r * r - m * m, 0.0));
-            raw += chord * (b - a);
+            double half, span = layer_span(d, h, k, yc, r, &half), chord = 2.0 * half;
+            raw += chord * span;
         }
         double scale = raw > 0.0 ? area / raw : 0.0;
         for (int k = lo; k <= hi; ++k) {
-            double a = max2(d->y0 + k * h, yc - r), b = min2(d->y0 + (k + 1) * h, yc + r);
-            double m = 0.5 * (a + b) - yc;
-            double w = scale * 2.0 * sqrt(max2(r * r - m * m, 0.0)) * (b - a);
+            double half, span = layer_span(d, h, k, yc, r, &half);
+            double w = scale * 2.0 * half * span;
             if (k - lo < WEIGHTS_MAX)
                 weights[k - lo] = w;
             inside += w;
@@ -489,22 +527,8 @@ static void fluid_apply(void *context, const SimBodyForceView *view)
             u_f = yc > d->y0 ? f->u[n - 1] : 0.0;
         double rel_x = u_f - view->vx[i], rel_y = -view->vy[i];
         double speed = sqrt(rel_x * rel_x + rel_y * rel_y);
-        /* C_d |du| = (sqrt(C_inf |du|) + sqrt(R_c nu / d))^2: finite as |du| -> 0 */
-        double s = sqrt(d->drag_c_inf * speed) + sqrt(d->drag_reynolds * d->viscosity / dia);
-        double frontal = d->geometry == SIM_FLUID_SPHERE ? 0.25 * SIM_PI * dia * dia : dia;
-        double coef = 0.5 * rho * frontal * s * s; /* 002 eqs. 23-25: F = coef (u - v), kg/s */
         const double mass = view->mass[i];
-        if (d->drag_limit && f->limit_dt > 0.0 && mass > 0.0) {
-            /* exact relaxation over one step: no overshoot however small tau_p = m / coef */
-            double x = coef * f->limit_dt / mass;
-            if (x > 1e-8) {
-                /* Velocity Verlet hands the stage a predicted velocity v_half + a dt / 2; with
-                 * c = coef dt / m that recursion has eigenvalues of (1 - 3c/2) +- ..., one negative
-                 * and reaching -1 as c -> 1. Capping c at 2/3 keeps both within 0.58. */
-                double c = -expm1(-x);
-                coef = mass * (c < DRAG_STEP_CAP ? c : DRAG_STEP_CAP) / f->limit_dt;
-            }
-        }
+        double coef = drag_coefficient(f, speed, dia, mass);
         view->fx[i] += coef * rel_x;
         view->fy[i] += coef * rel_y;
         if (d->buoyancy) {
@@ -518,9 +542,8 @@ static void fluid_apply(void *context, const SimBodyForceView *view)
             if (k - lo < WEIGHTS_MAX) {
                 w = weights[k - lo];
             } else {
-                double a = max2(d->y0 + k * h, yc - r), b = min2(d->y0 + (k + 1) * h, yc + r);
-                double m = 0.5 * (a + b) - yc;
-                w = scale * 2.0 * sqrt(max2(r * r - m * m, 0.0)) * (b - a);
+                double half, span = layer_span(d, h, k, yc, r, &half);
+                w = scale * 2.0 * half * span;
             }
             double share = w / area;
             f->rate[k] += share * coef / layer_volume;

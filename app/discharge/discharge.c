@@ -22,16 +22,9 @@
 
 /* ---------------------------------------------------------------- parsing */
 
-int app_discharge_parse(const config_setting_t *g, const char *scene_path, int species_count,
-                        AppDischargeDef *def, char *err, size_t err_size)
+/* The defaults of the `discharge` group (docs/scenes.md, `discharge`). */
+static void discharge_defaults(AppDischargeDef *def, int species_count)
 {
-    AppConfig p = {.path = scene_path, .err = err, .err_size = err_size, .group = "discharge"};
-    static const char *const keys[] = {
-        "base_length",      "base_diameter", "gravity",     "release_height",  "row_period",
-        "row_fill",         "row_jitter",    "max_rows",    "stationary_rows", "stationary_gain",
-        "dt_divisor",       "tolerance",     "check_every", "relax_time",      "discharge_time",
-        "polydispersity",   "fractions",     "diameters",   "base_species",    "exit_half_width",
-        "arch_force_check", "widths",        NULL};
     memset(def, 0, sizeof *def);
     def->base_diameter = 0.1;
     def->thesis_gravity = 1;
@@ -47,58 +40,68 @@ int app_discharge_parse(const config_setting_t *g, const char *scene_path, int s
     def->fractions[0] = 1.0;
     for (int k = 0; k < SIM_MAX_SPECIES; ++k)
         def->diameters[k] = 1.0;
-    if (app_config_keys(&p, g, NULL, keys, NULL) < 0)
+}
+
+/* The group's scalar keys, each within its own bounds. */
+static int parse_numbers(AppConfig *p, const config_setting_t *g, AppDischargeDef *def)
+{
+    if (!config_setting_get_member(g, "base_length"))
+        return app_config_fail(p, g, "`base_length` (L, in grain diameters) is required");
+    if (app_config_number_min(p, g, "base_length", 2.0, &def->base_length) < 0 ||
+        app_config_number_min(p, g, "base_diameter", 1e-3, &def->base_diameter) < 0 ||
+        app_config_number_min(p, g, "release_height", 0.0, &def->release_height) < 0 ||
+        app_config_number_min(p, g, "row_period", 0.0, &def->row_period) < 0 ||
+        app_config_number_min(p, g, "row_fill", 1e-3, &def->row_fill) < 0 ||
+        app_config_number_min(p, g, "row_jitter", 0.0, &def->row_jitter) < 0 ||
+        app_config_int_in(p, g, "max_rows", 0, 1000000000L, &def->max_rows) < 0 ||
+        app_config_int_in(p, g, "stationary_rows", 0, 1000000000L, &def->stationary_rows) < 0 ||
+        app_config_number_min(p, g, "stationary_gain", 0.0, &def->stationary_gain) < 0 ||
+        app_config_number_min(p, g, "dt_divisor", 0.0, &def->dt_divisor) < 0 ||
+        app_config_number_min(p, g, "tolerance", 0.0, &def->tolerance) < 0 ||
+        app_config_int_in(p, g, "check_every", 1, 1000000000L, &def->check_every) < 0 ||
+        app_config_number_min(p, g, "relax_time", 0.0, &def->relax_time) < 0 ||
+        app_config_number_min(p, g, "discharge_time", 0.0, &def->discharge_time) < 0 ||
+        app_config_number_min(p, g, "polydispersity", 0.0, &def->polydispersity) < 0 ||
+        app_config_int_in(p, g, "base_species", 0, 1000000000L, &def->base_species) < 0 ||
+        app_config_number_min(p, g, "exit_half_width", 0.0, &def->exit_half_width) < 0)
         return -1;
-    const config_setting_t *s = config_setting_get_member(g, "base_length");
-    if (!s)
-        return app_config_fail(&p, g, "`base_length` (L, in grain diameters) is required");
-    if (app_config_number_min(&p, g, "base_length", 2.0, &def->base_length) < 0 ||
-        app_config_number_min(&p, g, "base_diameter", 1e-3, &def->base_diameter) < 0 ||
-        app_config_number_min(&p, g, "release_height", 0.0, &def->release_height) < 0 ||
-        app_config_number_min(&p, g, "row_period", 0.0, &def->row_period) < 0 ||
-        app_config_number_min(&p, g, "row_fill", 1e-3, &def->row_fill) < 0 ||
-        app_config_number_min(&p, g, "row_jitter", 0.0, &def->row_jitter) < 0 ||
-        app_config_int_in(&p, g, "max_rows", 0, 1000000000L, &def->max_rows) < 0 ||
-        app_config_int_in(&p, g, "stationary_rows", 0, 1000000000L, &def->stationary_rows) < 0 ||
-        app_config_number_min(&p, g, "stationary_gain", 0.0, &def->stationary_gain) < 0 ||
-        app_config_number_min(&p, g, "dt_divisor", 0.0, &def->dt_divisor) < 0 ||
-        app_config_number_min(&p, g, "tolerance", 0.0, &def->tolerance) < 0 ||
-        app_config_int_in(&p, g, "check_every", 1, 1000000000L, &def->check_every) < 0 ||
-        app_config_number_min(&p, g, "relax_time", 0.0, &def->relax_time) < 0 ||
-        app_config_number_min(&p, g, "discharge_time", 0.0, &def->discharge_time) < 0 ||
-        app_config_number_min(&p, g, "polydispersity", 0.0, &def->polydispersity) < 0 ||
-        app_config_int_in(&p, g, "base_species", 0, 1000000000L, &def->base_species) < 0 ||
-        app_config_number_min(&p, g, "exit_half_width", 0.0, &def->exit_half_width) < 0)
-        return -1;
+    return 0;
+}
+
+/* The bounds that join two keys, or a key and the scene's species. */
+static int check_numbers(AppConfig *p, const config_setting_t *g, const AppDischargeDef *def,
+                         int species_count)
+{
     if (def->base_length / def->base_diameter > APP_DISCHARGE_MAX_BASE_GRAINS)
-        return app_config_fail(&p, config_setting_get_member(g, "base_length"),
+        return app_config_fail(p, config_setting_get_member(g, "base_length"),
                                "`base_length` %g d makes a base of %.3g grains of base_diameter "
                                "%g d; at most 1e7",
                                def->base_length, def->base_length / def->base_diameter,
                                def->base_diameter);
     if (def->dt_divisor > 0.0 && def->dt_divisor < 1.0)
-        return app_config_fail(&p, config_setting_get_member(g, "dt_divisor"),
+        return app_config_fail(p, config_setting_get_member(g, "dt_divisor"),
                                "`dt_divisor` must be >= 1, or 0 for the scene's time step (got %g)",
                                def->dt_divisor);
     if (def->row_fill > 1.0 || def->row_jitter > 1.0 || def->polydispersity >= 0.5) {
-        s = config_setting_get_member(g, def->row_fill > 1.0     ? "row_fill"
+        const config_setting_t *s =
+            config_setting_get_member(g, def->row_fill > 1.0     ? "row_fill"
                                          : def->row_jitter > 1.0 ? "row_jitter"
                                                                  : "polydispersity");
-        return app_config_fail(&p, s, "row_fill and row_jitter must be <= 1, polydispersity < 0.5");
+        return app_config_fail(p, s, "row_fill and row_jitter must be <= 1, polydispersity < 0.5");
     }
     if (def->base_species >= species_count)
-        return app_config_fail(&p, config_setting_get_member(g, "base_species"),
+        return app_config_fail(p, config_setting_get_member(g, "base_species"),
                                "`base_species` %d is not a species (0 to %d)", def->base_species,
                                species_count - 1);
-    static const char *const gravities[] = {"thesis", "scene", NULL};
-    int gravity = 0;
-    if (app_config_choice(&p, g, "gravity", gravities, &gravity) < 0 ||
-        app_config_bool(&p, g, "arch_force_check", &def->arch_force_check) < 0)
-        return -1;
-    if (app_config_member(g, "gravity"))
-        def->thesis_gravity = gravity == 0;
+    return 0;
+}
+
+/* `fractions` (normalised to sum 1), `diameters` and the orifice `widths`. */
+static int parse_lists(AppConfig *p, const config_setting_t *g, AppDischargeDef *def,
+                       int species_count)
+{
     int n = 0;
-    int got = app_config_array(&p, g, "fractions", SIM_MAX_SPECIES, def->fractions, &n);
+    int got = app_config_array(p, g, "fractions", SIM_MAX_SPECIES, def->fractions, &n);
     if (got < 0)
         return -1;
     if (got > 0) {
@@ -107,28 +110,52 @@ int app_discharge_parse(const config_setting_t *g, const char *scene_path, int s
             sum += def->fractions[k];
         if (n > species_count || !(sum > 0.0))
             return app_config_fail(
-                &p, config_setting_get_member(g, "fractions"),
+                p, config_setting_get_member(g, "fractions"),
                 "`fractions` needs one entry per species (%d) and a positive sum", species_count);
         for (int k = 0; k < n; ++k)
             def->fractions[k] /= sum;
     }
-    got = app_config_array(&p, g, "diameters", SIM_MAX_SPECIES, def->diameters, &n);
+    got = app_config_array(p, g, "diameters", SIM_MAX_SPECIES, def->diameters, &n);
     if (got < 0)
         return -1;
     for (int k = 0; got > 0 && k < n; ++k)
         if (!(def->diameters[k] > 0.0) || n > species_count)
-            return app_config_fail(&p, config_setting_get_member(g, "diameters"),
+            return app_config_fail(p, config_setting_get_member(g, "diameters"),
                                    "`diameters` needs one positive entry per species (%d)",
                                    species_count);
-    got = app_config_array(&p, g, "widths", 64, def->widths, &def->width_count);
+    got = app_config_array(p, g, "widths", 64, def->widths, &def->width_count);
     if (got < 0)
         return -1;
     for (int k = 0; k < def->width_count; ++k)
         if (!app_discharge_width_fits(def, def->widths[k]))
-            return app_config_fail(&p, config_setting_get_member(g, "widths"),
+            return app_config_fail(p, config_setting_get_member(g, "widths"),
                                    "orifice width %g d out of [1, base_length = %g] d",
                                    def->widths[k], def->base_length);
     return 0;
+}
+
+int app_discharge_parse(const config_setting_t *g, const char *scene_path, int species_count,
+                        AppDischargeDef *def, char *err, size_t err_size)
+{
+    AppConfig p = {.path = scene_path, .err = err, .err_size = err_size, .group = "discharge"};
+    static const char *const keys[] = {
+        "base_length",      "base_diameter", "gravity",     "release_height",  "row_period",
+        "row_fill",         "row_jitter",    "max_rows",    "stationary_rows", "stationary_gain",
+        "dt_divisor",       "tolerance",     "check_every", "relax_time",      "discharge_time",
+        "polydispersity",   "fractions",     "diameters",   "base_species",    "exit_half_width",
+        "arch_force_check", "widths",        NULL};
+    static const char *const gravities[] = {"thesis", "scene", NULL};
+    discharge_defaults(def, species_count);
+    if (app_config_keys(&p, g, NULL, keys, NULL) < 0 || parse_numbers(&p, g, def) < 0 ||
+        check_numbers(&p, g, def, species_count) < 0)
+        return -1;
+    int gravity = 0;
+    if (app_config_choice(&p, g, "gravity", gravities, &gravity) < 0 ||
+        app_config_bool(&p, g, "arch_force_check", &def->arch_force_check) < 0)
+        return -1;
+    if (app_config_member(g, "gravity"))
+        def->thesis_gravity = gravity == 0;
+    return parse_lists(&p, g, def, species_count);
 }
 
 int app_discharge_width_fits(const AppDischargeDef *def, double w)

@@ -65,6 +65,29 @@ static size_t normalised_units_json(const Scene *scene, char *text, size_t size)
     return n + (size_t)snprintf(text + n, n < size ? size - n : 0, "},\n");
 }
 
+/* The entries of summary.json's "stages" array, one per stage run; the characters written. */
+static size_t stages_json(const Run *run, char *text, size_t size)
+{
+    const Scene *scene = run->scene;
+    size_t n = 0;
+    for (int k = 0; k < run->stages_done && n < size; ++k) {
+        const StageReport *s = &run->stages[k];
+        char stage_name[160], a[40], b[40], c[40];
+        app_json_string(stage_name, sizeof stage_name, scene->stages[k].name);
+        app_json_number(a, sizeof a, s->start_time);
+        app_json_number(b, sizeof b, s->end_time);
+        app_json_number(c, sizeof c, s->wall_seconds);
+        n += (size_t)snprintf(text + n, size - n,
+                              "%s\n    {\"name\": %s, \"steps\": %ld, \"start_time\": %s, "
+                              "\"end_time\": %s, \"wall_seconds\": %s, \"settled\": %s, "
+                              "\"removed\": %d, \"mobile_grains\": %d",
+                              k ? "," : "", stage_name, s->steps, a, b, c,
+                              s->settled ? "true" : "false", s->removed, s->mobile);
+        n += stage_sinks_json(text + n, n < size ? size - n : 0, scene, s);
+    }
+    return n;
+}
+
 int app_run_summary_write(const Run *run, double wall_seconds)
 {
     const Scene *scene = run->scene;
@@ -127,21 +150,8 @@ int app_run_summary_write(const Run *run, double wall_seconds)
     app_sources_json(run->sources, sources, sizeof sources);
     n += (size_t)snprintf(text + n, n < size ? size - n : 0, "%s%s  \"stages\": [", sources,
                           run->observed);
-    for (int k = 0; k < run->stages_done && n < size; ++k) {
-        const StageReport *s = &run->stages[k];
-        char stage_name[160], a[40], b[40], c[40];
-        app_json_string(stage_name, sizeof stage_name, scene->stages[k].name);
-        app_json_number(a, sizeof a, s->start_time);
-        app_json_number(b, sizeof b, s->end_time);
-        app_json_number(c, sizeof c, s->wall_seconds);
-        n += (size_t)snprintf(text + n, size - n,
-                              "%s\n    {\"name\": %s, \"steps\": %ld, \"start_time\": %s, "
-                              "\"end_time\": %s, \"wall_seconds\": %s, \"settled\": %s, "
-                              "\"removed\": %d, \"mobile_grains\": %d",
-                              k ? "," : "", stage_name, s->steps, a, b, c,
-                              s->settled ? "true" : "false", s->removed, s->mobile);
-        n += stage_sinks_json(text + n, n < size ? size - n : 0, scene, s);
-    }
+    if (n < size)
+        n += stages_json(run, text + n, size - n);
     if (n < size) {
         char sablier[80];
         app_json_string(sablier, sizeof sablier, run->options->sablier_version);
