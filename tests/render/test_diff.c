@@ -272,7 +272,9 @@ static int vector_pair(const char *ext)
     /* drawn at RENDER_RASTER_DPI from a page of 320 x 240 px at RENDER_PT_PER_PX pt/px */
     TEST_ASSERT(r.width == (int)ceil(320 * RENDER_PT_PER_PX * RENDER_RASTER_DPI / 72.0 - 1e-9));
     TEST_ASSERT(r.height == (int)ceil(240 * RENDER_PT_PER_PX * RENDER_RASTER_DPI / 72.0 - 1e-9));
-    TEST_ASSERT(render_diff_files(a, c, NULL, DIR "/shape_diff.png", &r, err, sizeof err) == 1);
+    char diff[128]; /* one per format: the two cases run side by side under ctest -j */
+    snprintf(diff, sizeof diff, DIR "/shape_diff_%s.png", ext);
+    TEST_ASSERT(render_diff_files(a, c, NULL, diff, &r, err, sizeof err) == 1);
     TEST_ASSERT(r.differing_pixels > 1000 && r.max_channel_diff > 100);
     RenderImage page;
     TEST_ASSERT(render_figure_read(c, 72.0, &page, err, sizeof err) == 0);
