@@ -75,6 +75,17 @@ typedef struct PartPlan {
     int *shared_slot;  /* ascending within a grain */
     int *mark;         /* per grain: the build's scratch */
     int target_capacity, slot_capacity, grain_capacity;
+    /* The cut by measurement (parts.c, balance_shares): part p's share of the entries (all 0:
+     * equal shares), and since the shares last moved, summed over the steps the parts ran
+     * (`timed`): when part p's run began after the job's hand-over (its head drifted: a worker's
+     * start lag and head), how long its run took (ns) and its entries. A part's sums are written
+     * by the thread that runs it. */
+    double share[SIM_MAX_PARTS];
+    int shared_parts; /* the part count of `share` and the sums below */
+    long long job_ns; /* the present job's hand-over, CLOCK_MONOTONIC ns */
+    long long begin_ns[SIM_MAX_PARTS], run_ns[SIM_MAX_PARTS], entries[SIM_MAX_PARTS];
+    int timed;
+    int even_cut; /* 1: equal shares whatever the timing (tests of the plan's structure) */
 } PartPlan;
 
 /* Half neighbour list in CSR form over mobile grains i: entries k in [start[i], start[i+1]) hold
@@ -356,6 +367,8 @@ void sim_parts_free(SimWorld *world);
 /* Makes sure part q's shared grains are drifted: drifts them if no thread has begun to (returning
  * the drift's flag), or waits until the thread that has is done (returning 0). */
 int sim_parts_drift_head(SimWorld *world, int q);
+/// The monotonic clock, ns (the parts' timing for the cut by measurement).
+long long sim_parts_now_ns(void);
 double sim_def_worst_overlap(const SimWorldDef *def, int *first, int *second);
 /* Collects contact history by ids now, for the next build (before grains are reordered); -1 when
  * out of memory (the world unchanged). */

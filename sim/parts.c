@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* parts.c: the plan of the threaded fused contact pass (internal.h PartPlan; the pass itself is
- * sim/isa/contact_pass.c, fused_parts). The mobile grains are cut into parts of about as many list
- * entries, one per thread; each part runs as the one-thread fused pass does (the
+ * sim/isa/contact_pass.c, fused_parts). The mobile grains are cut into parts, one per thread, that
+ * share the list's entries so that they end together (measured: balance_shares; equal shares
+ * until a plan has been timed); each part runs as the one-thread fused pass does (the
  * drift of its grains just ahead of its entries, phase 1 into a block on the stack, the flat
  * scatter), and writes only its own grains, so the parts run side by side without a reduction.
  *
@@ -27,6 +28,7 @@
 #include <sched.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 /* Parts per thread: one. Two (a thread that finishes early could take a delayed one's second
  * part: sim_parallel_units helps as sim_parallel_ranges does) were 3-6 % slower on 2 threads on
@@ -89,15 +91,86 @@ static int reserve(PartPlan *pp, int grains, int entries, int slots)
     return 0;
 }
 
+long long sim_parts_now_ns(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (long long)t.tv_sec * 1000000000LL + t.tv_nsec;
+}
+
+/* The cut by measurement. With the last plan's timing (at least BALANCE_MIN_STEPS steps), part p
+ * began its run b_p after the hand-over and took c_p per entry: the parts all end together when
+ * part p holds n_p = (T - b_p) / c_p entries, T = (N + sum b_p / c_p) / sum 1 / c_p for the N
+ * entries. The shares move halfway to those n_p / N (the timing is noisy), each within
+ * [SHARE_MIN, SHARE_MAX] of an equal share. Which grains a part holds changes no result
+ * (the bits are the same for any cut), only when the parts end. On the 7000-grain pile on two
+ * threads the worker begins its run about 3.6 us after the calling thread (its start lag and its
+ * head's drift), but runs an entry in 5.5 ns where the calling thread takes 7.4, so the worker
+ * ends up with 55 % of the entries; equal shares left the calling thread waiting
+ * (docs/dev/scaling.md, "The cut by measurement"). */
+enum { BALANCE_MIN_STEPS = 20 };
+
+#define SHARE_MIN 0.5
+#define SHARE_MAX 1.5
+
+/* The shares halfway to those that end every part at `end` (ns after the hand-over), n entries
+ * per step in all, part p beginning at b[p] and taking c[p] ns an entry. */
+static void move_shares(PartPlan *pp, int parts, double end, double n, const double *b,
+                        const double *c)
+{
+    double sum = 0.0;
+    for (int p = 0; p < parts; ++p) {
+        const double old = pp->share[p] > 0.0 ? pp->share[p] : 1.0 / parts;
+        double want = (end - b[p]) / c[p] / n;
+        want = want > SHARE_MIN / parts ? want : SHARE_MIN / parts;
+        want = want < SHARE_MAX / parts ? want : SHARE_MAX / parts;
+        pp->share[p] = 0.5 * (old + want);
+        sum += pp->share[p];
+    }
+    for (int p = 0; p < parts; ++p)
+        pp->share[p] /= sum;
+}
+
+static void balance_shares(PartPlan *pp, int parts)
+{
+    if (pp->shared_parts != parts || pp->even_cut) {
+        memset(pp->share, 0, sizeof pp->share);
+        pp->shared_parts = parts;
+        pp->timed = 0;
+    }
+    const int timed = pp->timed;
+    if (timed == 0 || timed >= BALANCE_MIN_STEPS) { /* the sums start again */
+        double n = 0.0, inv = 0.0, lead = 0.0, b[SIM_MAX_PARTS], c[SIM_MAX_PARTS];
+        int usable = timed > 0;
+        for (int p = 0; p < parts && usable; ++p) {
+            usable = pp->entries[p] > 0 && pp->run_ns[p] > 0;
+            b[p] = usable ? (double)pp->begin_ns[p] / timed : 0.0;
+            c[p] = usable ? (double)pp->run_ns[p] / (double)pp->entries[p] : 0.0;
+            n += (double)pp->entries[p] / (timed > 0 ? timed : 1);
+            inv += usable ? 1.0 / c[p] : 0.0;
+            lead += usable ? b[p] / c[p] : 0.0;
+        }
+        pp->timed = 0;
+        memset(pp->begin_ns, 0, sizeof pp->begin_ns);
+        memset(pp->run_ns, 0, sizeof pp->run_ns);
+        memset(pp->entries, 0, sizeof pp->entries);
+        if (usable)
+            move_shares(pp, parts, (n + lead) / inv, n, b, c);
+    }
+}
+
 /* The cut: part p's first grain is the first multiple of PART_ALIGN whose entries start at or
- * after p / parts of the list. */
+ * after the shares of parts 0 .. p - 1 of the list (p / parts of it while no part is measured). */
 static void cut_parts(PartPlan *pp, const int *start, int mobile, int parts)
 {
     const int total = start[mobile];
     pp->first[0] = 0;
     int g = 0;
+    double before = 0.0;
     for (int p = 1; p < parts; ++p) {
-        const long long want = (long long)total * p / parts;
+        before += pp->share[p - 1];
+        const long long want =
+            pp->share[0] > 0.0 ? (long long)(total * before) : (long long)total * p / parts;
         while (g < mobile && start[g] < want)
             g += PART_ALIGN;
         g = g < mobile ? g : mobile;
@@ -197,6 +270,7 @@ void sim_parts_build(SimWorld *world)
     parts = parts < mobile / PART_MIN_GRAINS ? parts : mobile / PART_MIN_GRAINS;
     if (parts < 2)
         return;
+    balance_shares(pp, parts);
     if (reserve(pp, world->count, world->nl.start[mobile], 0) != 0)
         return;
     cut_parts(pp, world->nl.start, mobile, parts);

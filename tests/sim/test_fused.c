@@ -9,6 +9,7 @@
 
 #include "sim/internal.h"
 
+#include <math.h>
 #include <string.h>
 
 /* `large`: 1500 grains instead of 150, a list of many of the passes' blocks of entries. */
@@ -64,6 +65,7 @@ static int same_as_separate_on(SimTangentialLaw tangential, SimRollingLaw rollin
     plain->fused_pass = NULL;
     sim_world_set_threads(fused, threads);
     TEST_ASSERT(sim_world_threads(fused) == threads);
+    fused->nl.plan.even_cut = 1; /* the cut where the checks below expect it, whatever the timing */
     int fixed_shared = 0;
     for (int batch = 0; batch < 40; ++batch) {
         TEST_ASSERT(tu_step(fused, 75) == 0);
@@ -249,8 +251,64 @@ static int threads_build_their_arrays(void)
     return 0;
 }
 
+/* The cut by measurement (sim/parts.c, balance_shares): from a plan's timing (part 1 beginning
+ * 0.4 us after part 0, both at 5 ns an entry) the next plan's shares move halfway to those that end
+ * both parts together, and the cut follows them; a part ten times slower is held at 1.5 equal
+ * shares. The steps on the skewed cut keep the bits of a one-thread twin. */
+static int parts_cut_by_measurement(void)
+{
+    SimGrainBuffer b1, b2;
+    SimWorld *one = make_pile(SIM_TANGENTIAL_REGULARISED, SIM_ROLLING_OFF, &b1, 1);
+    SimWorld *two = make_pile(SIM_TANGENTIAL_REGULARISED, SIM_ROLLING_OFF, &b2, 1);
+    TEST_ASSERT(one && two);
+    sim_world_set_threads(two, 2);
+    TEST_ASSERT(tu_step(one, 300) == 0 && tu_step(two, 300) == 0);
+    PartPlan *pp = &two->nl.plan;
+    TEST_ASSERT(pp->count == 2 && pp->shared_parts == 2);
+    const int total = two->nl.start[two->mobile_count], steps = 50;
+    pp->timed = steps;
+    pp->begin_ns[0] = 0;
+    pp->begin_ns[1] = 400LL * steps;
+    pp->entries[0] = pp->entries[1] = (long long)(total / 2) * steps;
+    pp->run_ns[0] = pp->run_ns[1] = 5 * pp->entries[0];
+    double was = pp->share[0] > 0.0 ? pp->share[0] : 0.5;
+    sim_world_rebuild_now(one);
+    sim_world_rebuild_now(two);
+    /* n = 2 (total / 2) entries a step; T = (n + 400 / 5) / (2 / 5); part 0 wants T / 5 / n */
+    const double n = 2.0 * (total / 2), end = (n + 400.0 / 5.0) / (2.0 / 5.0);
+    const double want = 0.5 * (was + end / 5.0 / n);
+    TEST_ASSERT(fabs(pp->share[0] - want) < 1e-12 &&
+                fabs(pp->share[0] + pp->share[1] - 1.0) < 1e-12);
+    TEST_ASSERT(end / 5.0 / n > 0.5 && end / 5.0 / n < 0.75); /* not held at a bound */
+    TEST_ASSERT(pp->timed == 0 && pp->run_ns[0] == 0);
+    const int *start = two->nl.start, cut = pp->first[1];
+    const int listed = start[two->mobile_count]; /* the rebuilt list's entries */
+    TEST_ASSERT(cut % 8 == 0 && start[cut] >= (long long)(listed * pp->share[0]));
+    TEST_ASSERT(cut < 8 || start[cut - 8] < (long long)(listed * pp->share[0]));
+    TEST_ASSERT(tu_step(one, 200) == 0 && tu_step(two, 200) == 0);
+    TEST_ASSERT(sim_world_hash(one) == sim_world_hash(two));
+    /* part 1 ten times slower per entry: part 0 would take it all, held at 0.75 */
+    was = pp->share[0];
+    pp->timed = steps;
+    memset(pp->begin_ns, 0, sizeof pp->begin_ns);
+    pp->entries[0] = pp->entries[1] = 1000LL * steps;
+    pp->run_ns[0] = 1000LL * steps;
+    pp->run_ns[1] = 10000LL * steps;
+    sim_world_rebuild_now(one);
+    sim_world_rebuild_now(two);
+    TEST_ASSERT(fabs(pp->share[0] -
+                     0.5 * (was + 0.75) / (0.5 * (was + 0.75) + 0.5 * (1.0 - was + 0.25))) < 1e-12);
+    TEST_ASSERT(tu_step(one, 200) == 0 && tu_step(two, 200) == 0);
+    TEST_ASSERT(sim_world_hash(one) == sim_world_hash(two));
+    sim_world_destroy(one);
+    sim_world_destroy(two);
+    sim_grain_buffer_free(&b1);
+    sim_grain_buffer_free(&b2);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(spring), TEST_CASE(spring_rolling), TEST_CASE(regularised_rolling),
           TEST_CASE(spring_rolling_large), TEST_CASE(parts_spring_rolling),
           TEST_CASE(parts_regularised_chord), TEST_CASE(parts_small_pile), TEST_CASE(parts_thin),
           TEST_CASE(fixed_partners_only), TEST_CASE(threads_separate_passes),
-          TEST_CASE(threads_build_their_arrays))
+          TEST_CASE(threads_build_their_arrays), TEST_CASE(parts_cut_by_measurement))
