@@ -11,6 +11,8 @@
 
 #include <math.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 /* `large`: 1500 grains instead of 150, a list of many of the passes' blocks of entries. */
 static SimWorld *make_pile(SimTangentialLaw tangential, SimRollingLaw rolling, SimGrainBuffer *b,
@@ -307,8 +309,48 @@ static int parts_cut_by_measurement(void)
     return 0;
 }
 
+/* A child forked from a process whose world has threads has none of its workers (fork copies
+ * the calling thread only): its steps run on one thread (sim/parallel.c, pool_here) with the
+ * bits of a one-thread twin, and the parent's world keeps its threads. A child that waited for
+ * the missing workers would be stopped by its alarm (30 s). */
+static int forked_child_runs_alone(void)
+{
+    SimGrainBuffer b1, b2;
+    SimWorld *one = make(SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF, &b1);
+    SimWorld *two = make(SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF, &b2);
+    TEST_ASSERT(one && two);
+    sim_world_set_threads(two, 2);
+    TEST_ASSERT(tu_step(one, 100) == 0 && tu_step(two, 100) == 0);
+    int fd[2];
+    TEST_ASSERT(pipe(fd) == 0);
+    fflush(NULL);
+    const pid_t child = fork();
+    TEST_ASSERT(child >= 0);
+    if (child == 0) {
+        alarm(30);
+        uint64_t hash = tu_step(two, 300) == 0 ? sim_world_hash(two) : 0;
+        _exit(write(fd[1], &hash, sizeof hash) == (ssize_t)sizeof hash ? 0 : 1);
+    }
+    close(fd[1]);
+    uint64_t hash = 0;
+    const ssize_t got = read(fd[0], &hash, sizeof hash);
+    close(fd[0]);
+    int status = 0;
+    TEST_ASSERT(waitpid(child, &status, 0) == child);
+    TEST_ASSERT(WIFEXITED(status) && WEXITSTATUS(status) == 0 && got == (ssize_t)sizeof hash);
+    TEST_ASSERT(tu_step(one, 300) == 0 && hash == sim_world_hash(one));
+    TEST_ASSERT(sim_world_threads(two) == 2 && tu_step(two, 300) == 0);
+    TEST_ASSERT(sim_world_hash(one) == sim_world_hash(two));
+    sim_world_destroy(one);
+    sim_world_destroy(two);
+    sim_grain_buffer_free(&b1);
+    sim_grain_buffer_free(&b2);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(spring), TEST_CASE(spring_rolling), TEST_CASE(regularised_rolling),
           TEST_CASE(spring_rolling_large), TEST_CASE(parts_spring_rolling),
           TEST_CASE(parts_regularised_chord), TEST_CASE(parts_small_pile), TEST_CASE(parts_thin),
           TEST_CASE(fixed_partners_only), TEST_CASE(threads_separate_passes),
-          TEST_CASE(threads_build_their_arrays), TEST_CASE(parts_cut_by_measurement))
+          TEST_CASE(threads_build_their_arrays), TEST_CASE(parts_cut_by_measurement),
+          TEST_CASE(forked_child_runs_alone))
