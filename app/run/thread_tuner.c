@@ -56,7 +56,7 @@ static void tuner_range(AppThreadTuner *t, int mobile)
 }
 
 /* It starts on one thread, the count that can never be much slower than the others, and tries
- * the suggested count after one block: a try that runs at less than half the rate ends early
+ * the suggested count after one block: a try that runs clearly slower ends early
  * (app_threads_done), so a machine where more threads are much slower costs little. */
 void app_thread_tuner_init(AppThreadTuner *t, int cpus, int grains_per_thread, int mobile)
 {
@@ -210,8 +210,10 @@ long app_threads_chunk(const AppThreads *t, long steps)
      * count can be 20 times slower than another, and a whole chunk of it would cost seconds. */
     if (t->seconds_per_step <= 0.0 || t->timed_count != t->tuner.current)
         return steps < APP_TUNER_FIRST_STEPS ? steps : APP_TUNER_FIRST_STEPS;
-    /* then a few chunks a block, so that a block ends close to its length */
-    const double fit = t->block_length / 4.0 / t->seconds_per_step;
+    /* then a few chunks a block, so that a block ends close to its length; a try's are shorter,
+     * so that a slower count is found out early (block_over) */
+    const double parts = t->tuner.current != t->tuner.best ? APP_TUNER_TRY_PARTS : 4.0;
+    const double fit = t->block_length / parts / t->seconds_per_step;
     const long most = fit < APP_TUNER_FIRST_STEPS ? APP_TUNER_FIRST_STEPS
                       : fit > (double)steps       ? steps
                                                   : (long)fit;
@@ -219,8 +221,9 @@ long app_threads_chunk(const AppThreads *t, long steps)
 }
 
 /* The block ends: a full one; or a try already at less than a quarter of the rate of the count
- * it is compared with, or at less than half after a quarter of a block (no need to lose more
- * time on it: on a loaded machine a count can be 20 times slower than another). */
+ * it is compared with, or at less than APP_TUNER_EARLY_OUT of it after its first chunk of a
+ * block's 1 / APP_TUNER_TRY_PARTS (no need to lose more time on it: on a loaded machine a count
+ * can be 20 times slower than another, and one 0.6 times as fast loses 40 % of every step). */
 static int block_over(const AppThreads *t)
 {
     if (t->block_seconds >= t->block_length)
@@ -230,7 +233,8 @@ static int block_over(const AppThreads *t)
         return 0;
     const double rate = t->block_ps / t->block_seconds;
     return rate < 0.25 * u->best_rate ||
-           (t->block_seconds >= t->block_length / 4.0 && rate < 0.5 * u->best_rate);
+           (t->block_seconds >= t->block_length / APP_TUNER_TRY_PARTS &&
+            rate < APP_TUNER_EARLY_OUT * u->best_rate);
 }
 
 void app_threads_done(AppThreads *t, long steps, int mobile, double seconds)
@@ -238,11 +242,16 @@ void app_threads_done(AppThreads *t, long steps, int mobile, double seconds)
     const int c = t->tuner.current;
     t->seconds[c < APP_TUNER_COUNTS ? c : APP_TUNER_COUNTS] += seconds;
     t->stepped += steps;
+    const int first_chunk = t->timed_count != c;
     if (steps > 0) {
         t->seconds_per_step = seconds / (double)steps;
         t->timed_count = c;
     }
-    if (t->mode != APP_THREADS_TUNED)
+    /* A count's first chunk pays for its start (the workers' first wake-up, caches filled on other
+     * cores): on the quiet 2-vCPU VM the first 5 steps of a try on two threads ran at 0.08-0.15
+     * of one thread's rate, and the try ended there although two threads were the faster count.
+     * Its rate is the next chunks'. */
+    if (t->mode != APP_THREADS_TUNED || (first_chunk && steps > 0))
         return;
     t->block_seconds += seconds;
     t->block_ps += (double)mobile * (double)steps;

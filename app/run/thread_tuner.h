@@ -52,6 +52,13 @@ int app_step_threads(int mobile, int cpus, int grains_per_thread);
 #define APP_TUNER_BLOCK_SECONDS 0.25
 /// A tried count replaces the one it is compared with only when faster by this fraction.
 #define APP_TUNER_MARGIN        0.05
+/// A try at less than this fraction of the rate it is compared with ends after its first
+/// measured chunk (0.5 and a quarter of a block until measured: a whole block of two threads at
+/// 0.6 of one, under a competing process, cost auto 6-9 % of a 1.5 s deposit;
+/// docs/dev/scaling.md, "Threads by measurement").
+#define APP_TUNER_EARLY_OUT     0.8
+/// A try runs in chunks of a block's 1 / this (others in quarters).
+#define APP_TUNER_TRY_PARTS     8.0
 /// A block slower than this fraction of the block before it is a sudden slowdown: try again.
 #define APP_TUNER_SLOWDOWN      0.7
 /// The mobile grains changed by more than this factor since the counts were last tried.

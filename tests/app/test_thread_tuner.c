@@ -206,21 +206,57 @@ static int run_modes(void)
     app_threads_init(&t, APP_THREADS_AUTO, 0, 2, 0, 0);
     TEST_ASSERT(app_threads_want(&t, 7000) == 1);
     TEST_ASSERT(app_threads_chunk(&t, 2000) == APP_TUNER_FIRST_STEPS); /* not timed yet */
-    app_threads_done(&t, 100, 7000, 0.01);                             /* 1e-4 s a step */
-    TEST_ASSERT(app_threads_chunk(&t, 2000) == 625);                   /* a quarter of a block */
+    app_threads_done(&t, 100, 7000, 0.01); /* 1e-4 s a step; a first chunk: not in the block */
+    TEST_ASSERT(app_threads_chunk(&t, 2000) == 625); /* a quarter of a block */
     TEST_ASSERT(app_threads_chunk(&t, 300) == 300);
-    app_threads_done(&t, 2400, 7000, 0.24); /* the block: 70e6 particle-steps/s on 1 */
-    TEST_ASSERT(t.tuner.current == 2);      /* the try of the suggested count */
+    app_threads_done(&t, 2400, 7000, 0.24);
+    TEST_ASSERT(t.tuner.current == 1);     /* 0.24 s measured: the block goes on */
+    app_threads_done(&t, 100, 7000, 0.01); /* the block: 70e6 particle-steps/s on 1 */
+    TEST_ASSERT(t.tuner.current == 2);     /* the try of the suggested count */
     TEST_ASSERT(app_threads_chunk(&t, 2000) == APP_TUNER_FIRST_STEPS);
-    /* the try at 1/3 of that: over after a quarter of a block, not a whole one */
-    app_threads_done(&t, 20, 7000, 0.006);
+    /* its first chunk at 1/20 (the workers' start) is not its rate; at 1/3 after that, the try
+     * is over after an eighth of a block, not a whole one; a try's chunks are eighths */
+    app_threads_done(&t, 5, 7000, 0.01);
+    TEST_ASSERT(t.tuner.current == 2 && app_threads_chunk(&t, 2000) == 15); /* 0.03125 s */
+    app_threads_done(&t, 50, 7000, 0.015);
     TEST_ASSERT(t.tuner.current == 2);
-    app_threads_done(&t, 200, 7000, 0.06);
+    app_threads_done(&t, 100, 7000, 0.03);
     TEST_ASSERT(t.tuner.current == 1 && t.tuner.best == 1);
-    /* a try at 1/10: over after its first chunk */
+    /* a slow first chunk, then 1.5 times the rate: two threads win (the quiet machine) */
     app_threads_init(&t, APP_THREADS_AUTO, 0, 2, 0, 0);
     app_threads_want(&t, 7000);
+    app_threads_done(&t, 5, 7000, 5e-4);
     app_threads_done(&t, 2500, 7000, 0.25);
+    TEST_ASSERT(t.tuner.current == 2);
+    app_threads_done(&t, 5, 7000, 0.006); /* 5.8e6: 0.08 of one thread */
+    app_threads_done(&t, 3750, 7000, 0.25);
+    TEST_ASSERT(t.tuner.current == 2 && t.tuner.best == 2);
+    /* a try at 0.6 (two threads beside a competing process): over after an eighth of a block;
+     * one at 0.85 runs its whole block */
+    app_threads_init(&t, APP_THREADS_AUTO, 0, 2, 0, 0);
+    app_threads_want(&t, 7000);
+    app_threads_done(&t, 5, 7000, 5e-4);
+    app_threads_done(&t, 2500, 7000, 0.25); /* 70e6 on one thread */
+    TEST_ASSERT(t.tuner.current == 2);
+    app_threads_done(&t, 5, 7000, 5e-4);
+    app_threads_done(&t, 240, 7000, 0.04); /* 42e6 */
+    TEST_ASSERT(t.tuner.current == 1 && t.tuner.best == 1);
+    app_threads_init(&t, APP_THREADS_AUTO, 0, 2, 0, 0);
+    app_threads_want(&t, 7000);
+    app_threads_done(&t, 5, 7000, 5e-4);
+    app_threads_done(&t, 2500, 7000, 0.25);
+    app_threads_done(&t, 5, 7000, 5e-4);
+    app_threads_done(&t, 850, 7000, 0.1); /* 59.5e6 */
+    TEST_ASSERT(t.tuner.current == 2);
+    app_threads_done(&t, 1275, 7000, 0.15); /* the block's 0.25 s */
+    TEST_ASSERT(t.tuner.current == 1 && t.tuner.best == 1);
+    /* a try at 1/10: over after its first measured chunk */
+    app_threads_init(&t, APP_THREADS_AUTO, 0, 2, 0, 0);
+    app_threads_want(&t, 7000);
+    app_threads_done(&t, 5, 7000, 5e-4);
+    app_threads_done(&t, 2500, 7000, 0.25);
+    TEST_ASSERT(t.tuner.current == 2);
+    app_threads_done(&t, APP_TUNER_FIRST_STEPS, 7000, APP_TUNER_FIRST_STEPS * 1e-3);
     TEST_ASSERT(t.tuner.current == 2);
     app_threads_done(&t, APP_TUNER_FIRST_STEPS, 7000, APP_TUNER_FIRST_STEPS * 1e-3);
     TEST_ASSERT(t.tuner.current == 1);
@@ -233,7 +269,9 @@ static int record(void)
     AppThreads t;
     app_threads_init(&t, APP_THREADS_AUTO, 0, 2, 0, 0);
     TEST_ASSERT(app_threads_want(&t, 7000) == 1);
-    for (int k = 0; k < 8; ++k) /* 3 chunks on 1 (a block), 2 on 2 (a try), 3 on 1 */
+    /* 4 chunks on 1 (the first not measured, then a block), 2 on 2 (the first not measured,
+     * then a try at half the rate, over after a quarter of a block), 2 on 1 */
+    for (int k = 0; k < 8; ++k)
         app_threads_done(&t, 1000, 7000, t.tuner.current == 1 ? 0.1 : 0.2);
     char json[8192];
     const size_t n = app_threads_json(&t, json, sizeof json);
@@ -242,8 +280,8 @@ static int record(void)
     TEST_ASSERT(strncmp(json, "  \"thread_choices\": {\"mode\": \"auto\", \"cpus\": 2", 46) == 0);
     TEST_ASSERT(strstr(json,
                        "[{\"step\": 0, \"threads\": 1, \"rate\": 0, \"why\": \"start\"}, "
-                       "{\"step\": 3000, \"threads\": 2, \"rate\": 70000000, \"why\": \"probe\"}, "
-                       "{\"step\": 5000, \"threads\": 1, \"rate\": 35000000, \"why\": \"back\"}]"));
+                       "{\"step\": 4000, \"threads\": 2, \"rate\": 70000000, \"why\": \"probe\"}, "
+                       "{\"step\": 6000, \"threads\": 1, \"rate\": 35000000, \"why\": \"back\"}]"));
     TEST_ASSERT(strstr(json, "\"seconds_on\": [[1, 0.6], [2, 0.4]]}"));
     TEST_ASSERT(json[n - 1] == '}');
     app_threads_init(&t, 8, 0, 2, 0, 0);
