@@ -184,6 +184,16 @@ static int stays_within_its_range(void)
     return 0;
 }
 
+/* Auto on 2 CPUs with 7000 grains: one thread's first chunk (not measured), then a block at
+ * 70e6 particle-steps/s; the try of two threads begins. */
+static void try_two(AppThreads *t)
+{
+    app_threads_init(t, APP_THREADS_AUTO, 0, 2, 0, 0);
+    app_threads_want(t, 7000);
+    app_threads_done(t, 5, 7000, 5e-4);
+    app_threads_done(t, 2500, 7000, 0.25);
+}
+
 /* The run's threads: a fixed count stays; the testing aid cycles 1, 2, 3, 4 on every
  * switch_every-th step, its chunks ending there; auto's chunks fit its blocks. */
 static int run_modes(void)
@@ -223,38 +233,26 @@ static int run_modes(void)
     app_threads_done(&t, 100, 7000, 0.03);
     TEST_ASSERT(t.tuner.current == 1 && t.tuner.best == 1);
     /* a slow first chunk, then 1.5 times the rate: two threads win (the quiet machine) */
-    app_threads_init(&t, APP_THREADS_AUTO, 0, 2, 0, 0);
-    app_threads_want(&t, 7000);
-    app_threads_done(&t, 5, 7000, 5e-4);
-    app_threads_done(&t, 2500, 7000, 0.25);
+    try_two(&t);
     TEST_ASSERT(t.tuner.current == 2);
     app_threads_done(&t, 5, 7000, 0.006); /* 5.8e6: 0.08 of one thread */
     app_threads_done(&t, 3750, 7000, 0.25);
     TEST_ASSERT(t.tuner.current == 2 && t.tuner.best == 2);
     /* a try at 0.6 (two threads beside a competing process): over after an eighth of a block;
      * one at 0.85 runs its whole block */
-    app_threads_init(&t, APP_THREADS_AUTO, 0, 2, 0, 0);
-    app_threads_want(&t, 7000);
-    app_threads_done(&t, 5, 7000, 5e-4);
-    app_threads_done(&t, 2500, 7000, 0.25); /* 70e6 on one thread */
+    try_two(&t);
     TEST_ASSERT(t.tuner.current == 2);
     app_threads_done(&t, 5, 7000, 5e-4);
     app_threads_done(&t, 240, 7000, 0.04); /* 42e6 */
     TEST_ASSERT(t.tuner.current == 1 && t.tuner.best == 1);
-    app_threads_init(&t, APP_THREADS_AUTO, 0, 2, 0, 0);
-    app_threads_want(&t, 7000);
-    app_threads_done(&t, 5, 7000, 5e-4);
-    app_threads_done(&t, 2500, 7000, 0.25);
+    try_two(&t);
     app_threads_done(&t, 5, 7000, 5e-4);
     app_threads_done(&t, 850, 7000, 0.1); /* 59.5e6 */
     TEST_ASSERT(t.tuner.current == 2);
     app_threads_done(&t, 1275, 7000, 0.15); /* the block's 0.25 s */
     TEST_ASSERT(t.tuner.current == 1 && t.tuner.best == 1);
     /* a try at 1/10: over after its first measured chunk */
-    app_threads_init(&t, APP_THREADS_AUTO, 0, 2, 0, 0);
-    app_threads_want(&t, 7000);
-    app_threads_done(&t, 5, 7000, 5e-4);
-    app_threads_done(&t, 2500, 7000, 0.25);
+    try_two(&t);
     TEST_ASSERT(t.tuner.current == 2);
     app_threads_done(&t, APP_TUNER_FIRST_STEPS, 7000, APP_TUNER_FIRST_STEPS * 1e-3);
     TEST_ASSERT(t.tuner.current == 2);
