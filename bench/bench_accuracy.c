@@ -36,7 +36,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 /* Thesis 000 material and sizes (000 §4.3), e_n given instead of gamma_n. */
@@ -69,13 +68,6 @@ typedef struct Outcome {
     double time_step; /* s */
     char note[160];
 } Outcome;
-
-static double clock_s(clockid_t id)
-{
-    struct timespec ts;
-    clock_gettime(id, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* The first INTEGRATOR_COUNT schemes are the integrators with the default onset, in
  * SimIntegrator order. */
@@ -197,7 +189,7 @@ static void impact_once(const Scheme *scheme, double restitution, double n, doub
     double xi_prev = -gap, t_in = NAN, t_out_s = NAN, x1 = NAN, t1 = NAN;
     long max_steps = (long)ceil(12.0 * t_c / dt) + 10;
     SimError err;
-    double cpu0 = clock_s(CLOCK_PROCESS_CPUTIME_ID), wall0 = clock_s(CLOCK_MONOTONIC);
+    double cpu0 = sim_clock_seconds(SIM_CLOCK_PROCESS), wall0 = sim_clock_seconds(SIM_CLOCK_WALL);
     for (long s = 0; s < max_steps; ++s) {
         if (sim_world_step(w, 1, &err) != SIM_OK) {
             fail_run(e_out, &err);
@@ -226,7 +218,7 @@ static void impact_once(const Scheme *scheme, double restitution, double n, doub
             break;
         }
     }
-    double cpu = clock_s(CLOCK_PROCESS_CPUTIME_ID) - cpu0, wall = clock_s(CLOCK_MONOTONIC) - wall0;
+    double cpu = sim_clock_seconds(SIM_CLOCK_PROCESS) - cpu0, wall = sim_clock_seconds(SIM_CLOCK_WALL) - wall0;
     const long steps = sim_world_step_count(w);
     const double simulated = sim_world_time(w);
     sim_world_destroy(w);
@@ -297,9 +289,9 @@ static double impact_cost(const Scheme *scheme, double restitution, double n)
             return NAN;
         long steps = (long)ceil(4.0 * n);
         SimError err;
-        double c0 = clock_s(CLOCK_PROCESS_CPUTIME_ID);
+        double c0 = sim_clock_seconds(SIM_CLOCK_PROCESS);
         SimStatus s = sim_world_step(w, steps, &err);
-        double c = clock_s(CLOCK_PROCESS_CPUTIME_ID) - c0;
+        double c = sim_clock_seconds(SIM_CLOCK_PROCESS) - c0;
         const double dt = sim_world_time_step(w);
         sim_world_destroy(w);
         if (s != SIM_OK)
@@ -338,7 +330,7 @@ static void bounces_once(const Scheme *scheme, double n, int count, double phase
     const long max_steps = (long)((count + 2) * period / timing.time_step);
     int bounced = 0, in_contact = 0;
     SimError err;
-    double cpu0 = clock_s(CLOCK_PROCESS_CPUTIME_ID), wall0 = clock_s(CLOCK_MONOTONIC);
+    double cpu0 = sim_clock_seconds(SIM_CLOCK_PROCESS), wall0 = sim_clock_seconds(SIM_CLOCK_WALL);
     while (sim_world_step_count(w) < max_steps) {
         long k = bounced >= count ? 1 : chunk;
         if (sim_world_step(w, k, &err) != SIM_OK) {
@@ -355,8 +347,8 @@ static void bounces_once(const Scheme *scheme, double n, int count, double phase
         if (bounced >= count && !touching && f.vy[0] <= 0.0)
             break;
     }
-    out->cpu = clock_s(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
-    out->wall = clock_s(CLOCK_MONOTONIC) - wall0;
+    out->cpu = sim_clock_seconds(SIM_CLOCK_PROCESS) - cpu0;
+    out->wall = sim_clock_seconds(SIM_CLOCK_WALL) - wall0;
     out->simulated = sim_world_time(w);
     out->steps = sim_world_step_count(w);
     out->mobile = 1;
@@ -537,10 +529,10 @@ static void crater_run(const Crater *c, const Scheme *scheme, double n, double s
     const double dt = sim_world_time_step(w);
     const long steps = (long)ceil(seconds / dt);
     out->mobile = sim_world_mobile_count(w);
-    double cpu0 = clock_s(CLOCK_PROCESS_CPUTIME_ID), wall0 = clock_s(CLOCK_MONOTONIC);
+    double cpu0 = sim_clock_seconds(SIM_CLOCK_PROCESS), wall0 = sim_clock_seconds(SIM_CLOCK_WALL);
     SimStatus s = sim_world_step(w, steps, &err);
-    out->cpu = clock_s(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
-    out->wall = clock_s(CLOCK_MONOTONIC) - wall0;
+    out->cpu = sim_clock_seconds(SIM_CLOCK_PROCESS) - cpu0;
+    out->wall = sim_clock_seconds(SIM_CLOCK_WALL) - wall0;
     out->steps = steps;
     out->simulated = (double)steps * dt;
     if (s != SIM_OK)

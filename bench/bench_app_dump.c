@@ -25,15 +25,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
-
-static double cpu_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static long file_size(const char *path)
 {
@@ -57,10 +49,10 @@ static int per_sample(const Scene *scene, double settle, int samples)
         fprintf(stderr, "bench_app_dump: cannot settle: %s\n", e.message);
         return -1;
     }
-    double t0 = cpu_s();
+    double t0 = sim_clock_seconds(SIM_CLOCK_PROCESS);
     long steps = 200;
     sim_world_step(w, steps, &e);
-    double step_s = (cpu_s() - t0) / (double)steps;
+    double step_s = (sim_clock_seconds(SIM_CLOCK_PROCESS) - t0) / (double)steps;
     SimFrame f;
     sim_world_frame(w, &f);
     char lammps[64], vtp[64], contacts[64];
@@ -77,15 +69,15 @@ static int per_sample(const Scene *scene, double settle, int samples)
                    {"VTK contacts .vtp", 0, 0}};
     FILE *out = fopen(lammps, "w");
     for (int k = 0; k < samples && out; ++k) {
-        double a = cpu_s();
+        double a = sim_clock_seconds(SIM_CLOCK_PROCESS);
         sim_world_frame(w, &f);
-        double b = cpu_s();
+        double b = sim_clock_seconds(SIM_CLOCK_PROCESS);
         app_dump_lammps_frame(out, &f, fields, n, &scene->def, NULL);
-        double c = cpu_s();
+        double c = sim_clock_seconds(SIM_CLOCK_PROCESS);
         app_dump_vtp_grains(vtp, &f, fields, n, &scene->def, 0);
-        double d = cpu_s();
+        double d = sim_clock_seconds(SIM_CLOCK_PROCESS);
         app_dump_vtp_contacts(contacts, &f, 0);
-        double e2 = cpu_s();
+        double e2 = sim_clock_seconds(SIM_CLOCK_PROCESS);
         s[0].seconds += b - a;
         s[1].seconds += c - b;
         s[2].seconds += d - c;
@@ -176,9 +168,9 @@ static int in_run(const char *path, double end, int repeats)
             o.out_dir = dir;
             o.quiet = 1;
             o.render_off = 1;
-            double t0 = cpu_s();
+            double t0 = sim_clock_seconds(SIM_CLOCK_PROCESS);
             int rc = app_run(scene, &o);
-            double t = cpu_s() - t0;
+            double t = sim_clock_seconds(SIM_CLOCK_PROCESS) - t0;
             scene_free(scene);
             if (rc != 0)
                 return -1;

@@ -12,16 +12,8 @@
 
 #include <stdio.h>
 #include <stdlib.h>
-#include <time.h>
 
 #include "crater/crater.h"
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 int main(int argc, char **argv)
 {
@@ -38,7 +30,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_app_plot_profile: %s\n", scene ? "REPEATS must be >= 1" : err);
         return 2;
     }
-    double t0 = now();
+    double t0 = sim_clock_seconds(SIM_CLOCK_WALL);
     AppCraterChart *chart = malloc(sizeof *chart);
     int rc = chart ? 0 : 1;
     for (int k = 0; k < repeats && rc == 0; ++k) {
@@ -53,7 +45,7 @@ int main(int argc, char **argv)
         }
         app_crater_chart_free(chart);
     }
-    double t = (now() - t0) / repeats;
+    double t = (sim_clock_seconds(SIM_CLOCK_WALL) - t0) / repeats;
     if (rc == 0)
         printf("sablier: %.1f ms per figure (profile.csv read, PNG and PDF written), %d repeats\n",
                1e3 * t, repeats);

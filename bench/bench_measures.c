@@ -20,15 +20,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 typedef struct Variant {
     const char *name;
@@ -69,9 +61,9 @@ static double run_once(const char *scene_path, const char *out)
     o.out_dir = out;
     o.quiet = 1;
     o.render_off = 1;
-    double t0 = now();
+    double t0 = sim_clock_seconds(SIM_CLOCK_WALL);
     int rc = app_run(scene, &o);
-    double t1 = now();
+    double t1 = sim_clock_seconds(SIM_CLOCK_WALL);
     scene_free(scene);
     return rc == 0 ? t1 - t0 : -1.0;
 }
@@ -122,14 +114,14 @@ static void sim_costs(const char *state, int repeats)
         SimCoarse *cg = kinds[k].contacts >= 0 ? sim_coarse_create(&d, NULL) : NULL;
         double best = 1e30;
         for (int r = 0; r < repeats; ++r) {
-            double t0 = now();
+            double t0 = sim_clock_seconds(SIM_CLOCK_WALL);
             for (int s = 0; s < 20; ++s) {
                 SimFrame f;
                 sim_world_frame(w, &f);
                 if (cg)
                     sim_coarse_add(cg, &f, mass, 0.0, 0.0);
             }
-            best = fmin(best, (now() - t0) / 20.0);
+            best = fmin(best, (sim_clock_seconds(SIM_CLOCK_WALL) - t0) / 20.0);
         }
         printf("  %-30s %8.3f ms per sample\n", kinds[k].name, 1e3 * best);
         sim_coarse_destroy(cg);
@@ -137,14 +129,14 @@ static void sim_costs(const char *state, int repeats)
     SimFlux *flux = sim_flux_create(0.0, 10.0, 30.0, 10.0);
     double best = 1e30;
     for (int r = 0; r < repeats; ++r) {
-        double t0 = now();
+        double t0 = sim_clock_seconds(SIM_CLOCK_WALL);
         for (int s = 0; s < 1000; ++s)
             sim_flux_update(flux, w);
-        best = fmin(best, (now() - t0) / 1000.0);
+        best = fmin(best, (sim_clock_seconds(SIM_CLOCK_WALL) - t0) / 1000.0);
     }
-    double t0 = now();
+    double t0 = sim_clock_seconds(SIM_CLOCK_WALL);
     sim_world_step(w, 200, NULL);
-    double step = (now() - t0) / 200.0;
+    double step = (sim_clock_seconds(SIM_CLOCK_WALL) - t0) / 200.0;
     printf("  %-30s %8.3f us per update (a step: %.3f us)\n", "flux counter", 1e6 * best,
            1e6 * step);
     sim_flux_destroy(flux);

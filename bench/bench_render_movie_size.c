@@ -28,7 +28,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
 typedef struct Frames {
@@ -39,13 +38,6 @@ typedef struct Frames {
 static size_t frame_bytes(const Frames *f)
 {
     return (size_t)f->width * (size_t)f->height * 3 / 2;
-}
-
-static double cpu_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
 /* Packs a decoded yuv420p frame. */
@@ -267,9 +259,9 @@ static int measure(const Frames *src, const char *preset, int current, int crf, 
 {
     char path[128];
     snprintf(path, sizeof path, "/tmp/bench_render_movie_size_%ld.mp4", (long)getpid());
-    double t0 = cpu_seconds();
+    double t0 = sim_clock_seconds(SIM_CLOCK_PROCESS);
     r->bytes = encode(src, preset, current, crf, path);
-    r->cpu_ms = 1e3 * (cpu_seconds() - t0) / src->count;
+    r->cpu_ms = 1e3 * (sim_clock_seconds(SIM_CLOCK_PROCESS) - t0) / src->count;
     Frames got;
     int rc = r->bytes < 0 ? -1 : decode(path, src->count + 5, &got);
     if (rc != 0 || got.count != src->count) {

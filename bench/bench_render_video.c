@@ -18,9 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
 enum { GRAINS = 7284, COLS = 114, WIDTH = 1920, HEIGHT = 1080 };
@@ -37,34 +35,6 @@ typedef struct Bench {
     int contact_count;
     SimFrame frame;
 } Bench;
-
-static double now_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-/* CPU seconds of the whole process (all threads): on a shared machine this shows the cost that
- * wall time hides; on 2 idle cores the wall time is at least half of it. */
-static double cpu_seconds(void)
-{
-    struct rusage u;
-    getrusage(RUSAGE_SELF, &u);
-    return (double)u.ru_utime.tv_sec + 1e-6 * (double)u.ru_utime.tv_usec +
-           (double)u.ru_stime.tv_sec + 1e-6 * (double)u.ru_stime.tv_usec;
-}
-
-/* CPU seconds of the calling thread alone: the bench's frame data and the drawer's share of an
- * OSMesa frame in this thread (layout; set-up, binning and read-back of the upper band), which
- * llvmpipe's rasteriser threads do not overlap. The drawer's helper thread sets up the lower band
- * at the same time. */
-static double thread_cpu_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 /* Frames per second of wall time, CPU milliseconds per frame (all threads, and the calling
  * thread alone). */
@@ -223,9 +193,9 @@ static Rate draw_rate(Bench *b, enum Stage stage, int frames)
     double start = 0.0, cpu = 0.0, caller = 0.0;
     for (int k = -1; k < frames; ++k) { /* frame -1 warms up (shader compilation, caches) */
         if (k == 0) {
-            start = now_seconds();
-            cpu = cpu_seconds();
-            caller = thread_cpu_seconds();
+            start = sim_clock_seconds(SIM_CLOCK_WALL);
+            cpu = sim_clock_seconds(SIM_CLOCK_PROCESS);
+            caller = sim_clock_seconds(SIM_CLOCK_THREAD);
         }
         bench_frame(b, k + 1);
         if (gl) {
@@ -243,9 +213,9 @@ static Rate draw_rate(Bench *b, enum Stage stage, int frames)
             render_image_free(&image);
         }
     }
-    rate.fps = frames / (now_seconds() - start);
-    rate.cpu_ms = 1e3 * (cpu_seconds() - cpu) / frames;
-    rate.caller_ms = 1e3 * (thread_cpu_seconds() - caller) / frames;
+    rate.fps = frames / (sim_clock_seconds(SIM_CLOCK_WALL) - start);
+    rate.cpu_ms = 1e3 * (sim_clock_seconds(SIM_CLOCK_PROCESS) - cpu) / frames;
+    rate.caller_ms = 1e3 * (sim_clock_seconds(SIM_CLOCK_THREAD) - caller) / frames;
     render_gl_destroy(gl);
     return rate;
 }
@@ -264,7 +234,7 @@ static Rate movie_rate(Bench *b, RenderDrawer drawer, int frames, const char *pa
                           .frames_expected = frames};
     char err[512];
     Rate rate = {0.0, 0.0, 0.0};
-    double start = now_seconds(), cpu = cpu_seconds();
+    double start = sim_clock_seconds(SIM_CLOCK_WALL), cpu = sim_clock_seconds(SIM_CLOCK_PROCESS);
     RenderMovie *movie = render_movie_open(&def, &style, err, sizeof err);
     if (!movie) {
         fprintf(stderr, "%s\n", err);
@@ -279,8 +249,8 @@ static Rate movie_rate(Bench *b, RenderDrawer drawer, int frames, const char *pa
         fprintf(stderr, "%s\n", err);
         return rate;
     }
-    rate.fps = frames / (now_seconds() - start);
-    rate.cpu_ms = 1e3 * (cpu_seconds() - cpu) / frames;
+    rate.fps = frames / (sim_clock_seconds(SIM_CLOCK_WALL) - start);
+    rate.cpu_ms = 1e3 * (sim_clock_seconds(SIM_CLOCK_PROCESS) - cpu) / frames;
     struct stat st;
     *bytes = stat(path, &st) == 0 ? (long)st.st_size : 0;
     return rate;

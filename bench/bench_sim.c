@@ -42,7 +42,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
-#include <time.h>
 #include <unistd.h>
 
 /* Thesis 000 geometry: boundary grains of r_max, grains 0.08 m +- 8 % (sim_rain_def_thesis000),
@@ -91,24 +90,6 @@ typedef struct Result {
     double time_step;
     uint64_t hash; /* sim_world_hash at the end: the same for every thread count */
 } Result;
-
-static double clock_s(clockid_t clock)
-{
-    struct timespec ts;
-    clock_gettime(clock, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static double now_s(void)
-{
-    return clock_s(CLOCK_MONOTONIC);
-}
-
-/* CPU time of this process: on a shared machine it is less disturbed than wall time. */
-static double cpu_s(void)
-{
-    return clock_s(CLOCK_PROCESS_CPUTIME_ID);
-}
 
 /* Bytes the allocator has handed out (small blocks plus mmapped large ones). */
 static double heap_in_use(void)
@@ -221,7 +202,7 @@ static int settle_and_save(const Options *o, const SimGrainBuffer *buffer, doubl
             "bench_sim: settling %d grains, dt %.4g s, until E_kin/N < %.3g J or t = %g s\n",
             sim_world_grain_count(world), dt, threshold, time_cap);
     const long chunk = (long)ceil(0.1 / dt);
-    double t0 = now_s(), per_grain = 0.0;
+    double t0 = sim_clock_seconds(SIM_CLOCK_WALL), per_grain = 0.0;
     while (sim_world_time(world) < time_cap) {
         if (sim_world_step(world, chunk, &err) != SIM_OK) {
             fprintf(stderr, "bench_sim: settling failed: %s\n", err.message);
@@ -236,7 +217,7 @@ static int settle_and_save(const Options *o, const SimGrainBuffer *buffer, doubl
     fprintf(stderr,
             "bench_sim: settling reached t = %.2f s (%ld steps, %.1f s wall), E_kin/N = %.3g J "
             "(%s)\n",
-            sim_world_time(world), sim_world_step_count(world), now_s() - t0, per_grain,
+            sim_world_time(world), sim_world_step_count(world), sim_clock_seconds(SIM_CLOCK_WALL) - t0, per_grain,
             per_grain < threshold ? "below threshold" : "time cap");
     SimStatus s = sim_world_save(world, o->cache, &err);
     if (s != SIM_OK)
@@ -483,10 +464,10 @@ static int run_variant(const Options *o, const Variant *v, Result *r)
     double *cpu = times + o->repeats;
     const long rebuilds0 = w->rebuilds;
     for (int k = 0; k < o->repeats; ++k) {
-        double t0 = now_s(), c0 = cpu_s();
+        double t0 = sim_clock_seconds(SIM_CLOCK_WALL), c0 = sim_clock_seconds(SIM_CLOCK_PROCESS);
         SimStatus s = sim_world_step(w, o->steps, &err);
-        times[k] = now_s() - t0;
-        cpu[k] = cpu_s() - c0;
+        times[k] = sim_clock_seconds(SIM_CLOCK_WALL) - t0;
+        cpu[k] = sim_clock_seconds(SIM_CLOCK_PROCESS) - c0;
         if (s != SIM_OK) {
             fprintf(stderr, "bench_sim: %s: run failed: %s\n", v->name, err.message);
             free(times);

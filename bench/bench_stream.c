@@ -24,16 +24,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 enum { SPLIT_ARRAYS = 16, RECORD = 8 };
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* Array number k of the layout, n doubles in a staggered block (sim_stagger_grow), filled. */
 static double *staggered(size_t n, int k)
@@ -133,10 +125,10 @@ static double time_layout(Layout l, int n, int repeats, double seconds, double *
     double best = 1e30;
     int passes = 1;
     for (int r = -1; r < repeats; ++r) { /* r = -1 warms up and sizes the timing */
-        const double t0 = now();
+        const double t0 = sim_clock_seconds(SIM_CLOCK_WALL);
         for (int p = 0; p < passes; ++p)
             *sink += l == SPLIT ? drift_split(q, n, c) : drift_packed(q, n, c);
-        const double t = now() - t0;
+        const double t = sim_clock_seconds(SIM_CLOCK_WALL) - t0;
         if (r < 0) {
             const double per_pass = t / passes;
             passes = per_pass > 0.0 ? (int)(seconds / per_pass) + 1 : 1000;

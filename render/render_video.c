@@ -29,7 +29,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 /* Drawn frames waiting for the encoder: enough to absorb jitter between drawing and x264, few
  * enough to bound memory (8 MiB drawn + 3 MiB converted each at 1080p). */
@@ -81,13 +80,6 @@ struct RenderMovie {
     double encode_s; ///< encoder thread's busy time (convert + encode), under lock
     int progress_shown;
 };
-
-static double now_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 /* Keeps the first error only (either thread). */
 __attribute__((format(printf, 2, 3))) static void fail(RenderMovie *movie, const char *format, ...)
@@ -206,10 +198,10 @@ static void *encoder_main(void *argument)
         Slot *slot = &movie->slots[movie->head];
         int skip = movie->failed; /* after an error, drain the queue without encoding */
         pthread_mutex_unlock(&movie->lock);
-        double t0 = now_seconds();
+        double t0 = sim_clock_seconds(SIM_CLOCK_WALL);
         if (!skip && convert(movie, &slot->image, slot->frame) == 0)
             encode(movie, slot->frame);
-        double busy = now_seconds() - t0;
+        double busy = sim_clock_seconds(SIM_CLOCK_WALL) - t0;
         pthread_mutex_lock(&movie->lock);
         movie->encode_s += busy;
         movie->head = (movie->head + 1) % QUEUE_SLOTS;
@@ -562,7 +554,7 @@ RenderMovie *render_movie_open(const RenderMovieDef *def, const RenderStyle *sty
         goto fail;
     }
     movie->thread_running = 1;
-    movie->start_s = now_seconds();
+    movie->start_s = sim_clock_seconds(SIM_CLOCK_WALL);
     movie->last_report_s = movie->start_s;
     return movie;
 
@@ -590,7 +582,7 @@ double render_movie_encode_left(RenderMovie *movie, long frames_to_come)
 
 static void report_progress(RenderMovie *movie, int final)
 {
-    double now = now_seconds();
+    double now = sim_clock_seconds(SIM_CLOCK_WALL);
     double elapsed = now - movie->start_s;
     /* Short encodes stay silent; long ones update one line about once a second. */
     if (movie->quiet || (!final && (elapsed < 2.0 || now - movie->last_report_s < 1.0)))
@@ -702,7 +694,7 @@ int render_movie_close(RenderMovie *movie, char *err, size_t err_size)
     }
     int failed = movie->failed;
     if (!failed && !movie->quiet) {
-        double elapsed = now_seconds() - movie->start_s;
+        double elapsed = sim_clock_seconds(SIM_CLOCK_WALL) - movie->start_s;
         fprintf(stderr, "movie %s: %ld frames (%.1f s of video) in %.1f s, %s\n", movie->path,
                 movie->frames_given, (double)movie->frames_given * av_q2d(movie->codec->time_base),
                 elapsed, movie->codec->codec->name);

@@ -367,8 +367,9 @@ void sim_parts_free(SimWorld *world);
 /* Makes sure part q's shared grains are drifted: drifts them if no thread has begun to (returning
  * the drift's flag), or waits until the thread that has is done (returning 0). */
 int sim_parts_drift_head(SimWorld *world, int q);
-/// The monotonic clock, ns (the parts' timing for the cut by measurement).
-long long sim_parts_now_ns(void);
+/// The monotonic clock, ns (the parts' timing for the cut by measurement, the workers' bounded
+/// spin; sim/clock.c).
+long long sim_now_ns(void);
 double sim_def_worst_overlap(const SimWorldDef *def, int *first, int *second);
 /* Collects contact history by ids now, for the next build (before grains are reordered); -1 when
  * out of memory (the world unchanged). */

@@ -24,25 +24,22 @@
 #include <sched.h>
 #include <stdatomic.h>
 #include <stdlib.h>
-#include <time.h>
 
 /* Below this many indices per thread a loop runs on one thread: the hand-over would cost more
  * than the work (the split does not change the results either way). */
 enum { MIN_PER_THREAD = 64, CHUNKS_PER_PART = 8, YIELD_EVERY = 4096 };
 
-#define SPIN_NS 200000L /* 200 us */
+#define SPIN_NS 200000LL /* 200 us */
 
 /* A bounded spin: spin_more() is 1 while the waiter should keep checking. */
 typedef struct Spin {
-    struct timespec start;
+    long long start; /* ns */
     unsigned checks;
 } Spin;
 
 static Spin spin_start(void)
 {
-    Spin s = {.checks = 0};
-    clock_gettime(CLOCK_MONOTONIC, &s.start);
-    return s;
+    return (Spin){.start = sim_now_ns(), .checks = 0};
 }
 
 static int spin_more(Spin *s)
@@ -50,10 +47,7 @@ static int spin_more(Spin *s)
     if (++s->checks % YIELD_EVERY != 0)
         return 1;
     sched_yield();
-    struct timespec now;
-    clock_gettime(CLOCK_MONOTONIC, &now);
-    long ns = (now.tv_sec - s->start.tv_sec) * 1000000000L + (now.tv_nsec - s->start.tv_nsec);
-    return ns < SPIN_NS;
+    return sim_now_ns() - s->start < SPIN_NS;
 }
 
 typedef struct SimPool SimPool;

@@ -28,7 +28,6 @@
 #include <sched.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 /* Parts per thread: one. Two (a thread that finishes early could take a delayed one's second
  * part: sim_parallel_units helps as sim_parallel_ranges does) were 3-6 % slower on 2 threads on
@@ -89,13 +88,6 @@ static int reserve(PartPlan *pp, int grains, int entries, int slots)
         pp->slot_capacity = slots;
     }
     return 0;
-}
-
-long long sim_parts_now_ns(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (long long)t.tv_sec * 1000000000LL + t.tv_nsec;
 }
 
 /* The cut by measurement. With the last plan's timing (at least BALANCE_MIN_STEPS steps), part p

@@ -11,7 +11,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 
 int app_series_grow(double **t, double **v, int *capacity, int initial)
 {
@@ -179,13 +178,6 @@ int app_state_save(SimWorld *world, const char *path, SimError *error)
         return -1;
     app_output_note(path);
     return 0;
-}
-
-double app_now_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
 int app_set_option(int argc, char **argv, int *i, const char **sets, int *count, int max)

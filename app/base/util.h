@@ -116,9 +116,6 @@ struct SimError;
 /// reason in *error.
 int app_state_save(struct SimWorld *world, const char *path, struct SimError *error);
 
-/// Monotonic wall clock, s (for timings only; never for results).
-double app_now_seconds(void);
-
 /// Writes "sablier: MESSAGE ARG" and the usage text to stderr; returns 2 (bad command line).
 int app_usage_error(const char *usage, const char *message, const char *arg);
 

@@ -412,7 +412,7 @@ static int member_start(void *ctx, int i)
         not_started(run, m);
         return 1;
     }
-    m->started = app_now_seconds();
+    m->started = sim_clock_seconds(SIM_CLOCK_WALL);
     return 0;
 }
 
@@ -435,7 +435,7 @@ static int member_ended(void *ctx, int i, int status)
         not_started(run, m);
         return m->status;
     }
-    m->wall_seconds = m->started > 0.0 ? app_now_seconds() - m->started : 0.0; /* 0: --resume */
+    m->wall_seconds = m->started > 0.0 ? sim_clock_seconds(SIM_CLOCK_WALL) - m->started : 0.0; /* 0: --resume */
     m->status = status;
     return status;
 }
@@ -759,7 +759,7 @@ int app_crater_sweep(const AppCraterSweepOptions *o)
         fprintf(stderr, "sablier: sweep: cannot create %s: %s\n", w->out_dir, strerror(errno));
         status = 2;
     }
-    double start = app_now_seconds();
+    double start = sim_clock_seconds(SIM_CLOCK_WALL);
     int interrupted = 0, tables = 0; /* interrupted: 128 + the signal that stopped a pool */
     /* the bed: given, or the scene's stages up to the bed stage, run once */
     if (status == 0) {
@@ -835,7 +835,7 @@ int app_crater_sweep(const AppCraterSweepOptions *o)
             status = 2;
         if (!o->quiet)
             fprintf(stderr, "sablier: sweep: %s in %.1f s: %s/sweep.csv\n",
-                    interrupted ? "interrupted" : "done", app_now_seconds() - start, w->out_dir);
+                    interrupted ? "interrupted" : "done", sim_clock_seconds(SIM_CLOCK_WALL) - start, w->out_dir);
     }
     if (interrupted)
         status = interrupted;

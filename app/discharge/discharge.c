@@ -744,7 +744,7 @@ SimWorld *app_discharge_deposit(const Scene *scene, uint64_t seed, const AppDisc
         snprintf(err, err_size, "%s: the scene has no `discharge` group", scene->path);
         return NULL;
     }
-    double wall0 = app_now_seconds();
+    double wall0 = sim_clock_seconds(SIM_CLOCK_WALL);
     DischargePhase p = {.def = def, .frames = frames, .dep = out, .trace = trace};
     app_discharge_geometry(scene, &p.geo);
     sim_rng_seed(&p.rng, seed);
@@ -771,7 +771,7 @@ SimWorld *app_discharge_deposit(const Scene *scene, uint64_t seed, const AppDisc
     SimFrame frame;
     sim_world_frame(world, &frame);
     out->height = app_discharge_central_height(&frame, 0.0, 0.5 * p.geo.d_mean);
-    out->wall_seconds = app_now_seconds() - wall0;
+    out->wall_seconds = sim_clock_seconds(SIM_CLOCK_WALL) - wall0;
     return world;
 }
 
@@ -786,7 +786,7 @@ SimWorld *app_discharge(const Scene *scene, const char *pile_path, double width,
         snprintf(err, err_size, "%s: the scene has no `discharge` group", scene->path);
         return NULL;
     }
-    double wall0 = app_now_seconds();
+    double wall0 = sim_clock_seconds(SIM_CLOCK_WALL);
     DischargePhase p = {.def = def, .frames = frames, .result = out};
     app_discharge_geometry(scene, &p.geo);
     const double fall = sqrt(2.0 * p.geo.height / p.geo.g);
@@ -800,7 +800,7 @@ SimWorld *app_discharge(const Scene *scene, const char *pile_path, double width,
     out->edges -= p.before[1];
     out->time = sim_world_time(world) - p.t0;
     out->steps = sim_world_step_count(world) - p.steps0;
-    out->wall_seconds = app_now_seconds() - wall0;
+    out->wall_seconds = sim_clock_seconds(SIM_CLOCK_WALL) - wall0;
     return world;
 }
 

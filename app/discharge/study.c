@@ -422,7 +422,7 @@ static void study_progress(void *ctx, int index, int status, char *line, size_t 
         return;
     }
     int finished = run->pool->finished, count = run->pool->count;
-    double elapsed = app_now_seconds() - run->pool->start_at;
+    double elapsed = sim_clock_seconds(SIM_CLOCK_WALL) - run->pool->start_at;
     snprintf(line, size, "L = %g sample %d %s (%d/%d, %.0f s, ETA %.0f s)", L, t.sample,
              status == 0 ? "done" : "FAILED", finished, count, elapsed,
              elapsed / finished * (count - finished));

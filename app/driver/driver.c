@@ -221,7 +221,7 @@ int app_driver_pool_run(AppDriverPool *p)
         p->status[k] = -1;
     p->finished = 0;
     p->failed = 0;
-    p->start_at = app_now_seconds();
+    p->start_at = sim_clock_seconds(SIM_CLOCK_WALL);
     AppPool pool = {.count = p->count,
                     .jobs = (int)p->jobs,
                     .ctx = p,

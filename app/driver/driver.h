@@ -116,7 +116,7 @@ typedef struct AppDriverPool {
     void (*progress)(void *ctx, int k, int status, char *line, size_t size);
     int finished;    ///< members that ended, not counting those interrupted (for an ETA)
     int failed;      ///< 1 once a member ended otherwise than with 0, or its fork failed
-    double start_at; ///< app_now_seconds() when the pool started
+    double start_at; ///< sim_clock_seconds(SIM_CLOCK_WALL) when the pool started
 } AppDriverPool;
 
 /// Runs the members: app_pool_run's status (0, -1 when a fork or a wait failed, 128 + the

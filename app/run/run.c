@@ -644,7 +644,7 @@ static int checkpoint_due(Run *run, const StageClock *clock, long done)
         return 0;
     if (done % clock->every_checkpoint == 0)
         return 1;
-    return minutes > 0.0 && app_now_seconds() - run->checkpoint_wall >= 60.0 * minutes;
+    return minutes > 0.0 && sim_clock_seconds(SIM_CLOCK_WALL) - run->checkpoint_wall >= 60.0 * minutes;
 }
 
 /* The record of a checkpoint at step `done` of stage k: what the run needs to continue from its
@@ -740,7 +740,7 @@ static int checkpoint_write(Run *run, int k, long done, int interrupted, const A
     if (rc != 0 && !family_failed)
         snprintf(run->message, sizeof run->message, "cannot write %s/%s: %s", run->options->out_dir,
                  CHECKPOINT_NAME, strerror(errno));
-    run->checkpoint_wall = app_now_seconds();
+    run->checkpoint_wall = sim_clock_seconds(SIM_CLOCK_WALL);
     return rc;
 }
 
@@ -991,9 +991,9 @@ static int stage_loop(Run *run, int k, StageClock *clock, long done, int resumed
         apply_threads(run, 0); /* APP_THREADS_AUTO follows the rates and the grains */
         next = done + app_threads_chunk(&run->threads, next - done);
         const double before = sim_world_time(run->world);
-        double t0 = app_now_seconds();
+        double t0 = sim_clock_seconds(SIM_CLOCK_WALL);
         SimStatus s = sim_world_step(run->world, next - done, &run->error);
-        double t1 = app_now_seconds();
+        double t1 = sim_clock_seconds(SIM_CLOCK_WALL);
         servo_flip_report(run, k, before);
         step_wall += t1 - t0;
         app_threads_done(&run->threads, next - done, sim_world_mobile_count(run->world), t1 - t0);
@@ -1151,7 +1151,7 @@ static int stage_resume(Run *run, int k, StageClock *clock)
 
 static int run_stage(Run *run, int k)
 {
-    double wall_start = app_now_seconds();
+    double wall_start = sim_clock_seconds(SIM_CLOCK_WALL);
     StageClock clock;
     memset(&clock, 0, sizeof clock);
     const int resumed = k == run->resume_stage && run->resume_state[0];
@@ -1164,7 +1164,7 @@ static int run_stage(Run *run, int k)
     }
     status = stage_finish(run, k, &clock,
                           stage_loop(run, k, &clock, resumed ? run->resume_done : 0, resumed));
-    run->stages[k].wall_seconds = app_now_seconds() - wall_start;
+    run->stages[k].wall_seconds = sim_clock_seconds(SIM_CLOCK_WALL) - wall_start;
     if (status != 0)
         return status;
     if (!run->options->bare)
@@ -1394,7 +1394,7 @@ static int run_files(Run *run, double wall_start)
         run->status = 2;
     }
     disk_full_status(run);
-    if (app_run_summary_write(run, app_now_seconds() - wall_start) != 0 && run->status == 0) {
+    if (app_run_summary_write(run, sim_clock_seconds(SIM_CLOCK_WALL) - wall_start) != 0 && run->status == 0) {
         snprintf(run->message, sizeof run->message, "cannot write %s/summary.json",
                  options->out_dir);
         run->status = 2;
@@ -1432,7 +1432,7 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     const int quiet = options->quiet || options->bare;
     run->progress_tty = !quiet && isatty(STDERR_FILENO);
     run->progress_every = quiet ? 0.0 : run->progress_tty ? 0.25 : options->progress_every;
-    double wall_start = app_now_seconds();
+    double wall_start = sim_clock_seconds(SIM_CLOCK_WALL);
     run->last_progress = wall_start;
     time_t started = time(NULL);
     run->started = (long long)started;

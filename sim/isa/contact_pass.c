@@ -501,11 +501,11 @@ KERNEL int fused_part(SimWorld *world, FusedRunFn *run, const int p)
     const int moved = sim_parts_drift_head(world, p);
     const FusedRun part = {pp->first[p], pp->first[p + 1],  pp->head[p],          p, pp->count,
                            pp->target,   pp->slot_first[p], pp->slot_first[p + 1]};
-    const long long begin = sim_parts_now_ns();
+    const long long begin = sim_now_ns();
     const int rc = run(world, pp->drift, pp->align, part) | moved;
     if (!rc) { /* the cut by measurement (sim/parts.c); a pass cut short tells nothing */
         pp->begin_ns[p] += begin - pp->job_ns;
-        pp->run_ns[p] += sim_parts_now_ns() - begin;
+        pp->run_ns[p] += sim_now_ns() - begin;
         pp->entries[p] += world->nl.start[pp->first[p + 1]] - world->nl.start[pp->first[p]];
     }
     return rc;
@@ -574,7 +574,7 @@ KERNEL int fused_parts(SimWorld *world, const unsigned key, RangeFn *parts, Rang
     for (int p = 0; p < pp->count; ++p)
         atomic_store_explicit(&pp->head_state[p], 0, memory_order_relaxed);
     atomic_store_explicit(&pp->abort, 0, memory_order_relaxed);
-    pp->job_ns = sim_parts_now_ns();
+    pp->job_ns = sim_now_ns();
     if (sim_parallel_units(world, parts, pp->count))
         return 1;
     ++pp->timed;
