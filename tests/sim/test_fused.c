@@ -47,12 +47,34 @@ static SimWorld *make_pile(SimTangentialLaw tangential, SimRollingLaw rolling, S
     return tu_create(&def, b);
 }
 
-static SimWorld *make(SimTangentialLaw tangential, SimRollingLaw rolling, SimGrainBuffer *b)
+#define SAME(a, b, n) (memcmp((a), (b), (size_t)(n) * sizeof *(a)) == 0)
+
+/* Two identical piles (make_pile): `one` stays on one thread, `two` is given `threads` threads
+ * (0: left as made, for a test that gives them later). */
+typedef struct Twins {
+    SimGrainBuffer b1, b2;
+    SimWorld *one, *two;
+} Twins;
+
+static int twins_make(Twins *t, SimTangentialLaw tangential, SimRollingLaw rolling, int large,
+                      int threads)
 {
-    return make_pile(tangential, rolling, b, 0);
+    t->one = make_pile(tangential, rolling, &t->b1, large);
+    t->two = make_pile(tangential, rolling, &t->b2, large);
+    if (!t->one || !t->two)
+        return 1;
+    if (threads > 0)
+        sim_world_set_threads(t->two, threads);
+    return 0;
 }
 
-#define SAME(a, b, n) (memcmp((a), (b), (size_t)(n) * sizeof *(a)) == 0)
+static void twins_free(Twins *t)
+{
+    sim_world_destroy(t->one);
+    sim_world_destroy(t->two);
+    sim_grain_buffer_free(&t->b1);
+    sim_grain_buffer_free(&t->b2);
+}
 
 /* One world fused (on `threads` threads: in parts, sim/parts.c), one with the separate passes on
  * one thread, stepped in batches (so that the closing kick is deferred into the next drift, as in
@@ -60,12 +82,10 @@ static SimWorld *make(SimTangentialLaw tangential, SimRollingLaw rolling, SimGra
 static int same_as_separate_on(SimTangentialLaw tangential, SimRollingLaw rolling, int large,
                                int threads)
 {
-    SimGrainBuffer b1, b2;
-    SimWorld *fused = make_pile(tangential, rolling, &b1, large);
-    SimWorld *plain = make_pile(tangential, rolling, &b2, large);
-    TEST_ASSERT(fused && plain);
+    Twins t;
+    TEST_ASSERT(twins_make(&t, tangential, rolling, large, threads) == 0);
+    SimWorld *fused = t.two, *plain = t.one;
     plain->fused_pass = NULL;
-    sim_world_set_threads(fused, threads);
     TEST_ASSERT(sim_world_threads(fused) == threads);
     fused->nl.plan.even_cut = 1; /* the cut where the checks below expect it, whatever the timing */
     int fixed_shared = 0;
@@ -95,10 +115,7 @@ static int same_as_separate_on(SimTangentialLaw tangential, SimRollingLaw rollin
     TEST_ASSERT(e.contacts > 100);
     /* the large pile's list spans many blocks of the passes (FUSED_BLOCK entries) */
     TEST_ASSERT(!large || fused->nl.start[fused->mobile_count] > 2500);
-    sim_world_destroy(fused);
-    sim_world_destroy(plain);
-    sim_grain_buffer_free(&b1);
-    sim_grain_buffer_free(&b2);
+    twins_free(&t);
     return 0;
 }
 
@@ -204,19 +221,14 @@ static int parts_thin(void)
  * prescribed motion) give the one-thread bits too. */
 static int threads_separate_passes(void)
 {
-    SimGrainBuffer b1, b2;
-    SimWorld *one = make(SIM_TANGENTIAL_SPRING, SIM_ROLLING_FIXED, &b1);
-    SimWorld *two = make(SIM_TANGENTIAL_SPRING, SIM_ROLLING_FIXED, &b2);
-    TEST_ASSERT(one && two);
-    sim_world_set_threads(two, 2);
+    Twins t;
+    TEST_ASSERT(twins_make(&t, SIM_TANGENTIAL_SPRING, SIM_ROLLING_FIXED, 0, 2) == 0);
+    SimWorld *one = t.one, *two = t.two;
     two->fused_pass = NULL;
     TEST_ASSERT(tu_step(one, 1500) == 0 && tu_step(two, 1500) == 0);
     TEST_ASSERT(sim_world_hash(one) == sim_world_hash(two));
     TEST_ASSERT(one->fused_steps > 1000 && two->fused_steps == 0);
-    sim_world_destroy(one);
-    sim_world_destroy(two);
-    sim_grain_buffer_free(&b1);
-    sim_grain_buffer_free(&b2);
+    twins_free(&t);
     return 0;
 }
 
@@ -226,10 +238,9 @@ static int threads_separate_passes(void)
  * twin. */
 static int threads_build_their_arrays(void)
 {
-    SimGrainBuffer b1, b2;
-    SimWorld *one = make_pile(SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF, &b1, 1);
-    SimWorld *two = make_pile(SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF, &b2, 1);
-    TEST_ASSERT(one && two);
+    Twins t;
+    TEST_ASSERT(twins_make(&t, SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF, 1, 0) == 0);
+    SimWorld *one = t.one, *two = t.two;
     TEST_ASSERT(tu_step(one, 300) == 0 && tu_step(two, 300) == 0);
     TEST_ASSERT(!two->nl.in_ready && two->nl.out == NULL && two->nl.in_entry == NULL);
     const long builds = two->rebuilds, fused = two->fused_steps;
@@ -246,10 +257,7 @@ static int threads_build_their_arrays(void)
     TEST_ASSERT(!two->nl.in_ready && two->nl.plan.count == 0);
     TEST_ASSERT(tu_step(one, 300) == 0 && tu_step(two, 300) == 0);
     TEST_ASSERT(two->fused_steps > fused && sim_world_hash(one) == sim_world_hash(two));
-    sim_world_destroy(one);
-    sim_world_destroy(two);
-    sim_grain_buffer_free(&b1);
-    sim_grain_buffer_free(&b2);
+    twins_free(&t);
     return 0;
 }
 
@@ -259,11 +267,9 @@ static int threads_build_their_arrays(void)
  * shares. The steps on the skewed cut keep the bits of a one-thread twin. */
 static int parts_cut_by_measurement(void)
 {
-    SimGrainBuffer b1, b2;
-    SimWorld *one = make_pile(SIM_TANGENTIAL_REGULARISED, SIM_ROLLING_OFF, &b1, 1);
-    SimWorld *two = make_pile(SIM_TANGENTIAL_REGULARISED, SIM_ROLLING_OFF, &b2, 1);
-    TEST_ASSERT(one && two);
-    sim_world_set_threads(two, 2);
+    Twins t;
+    TEST_ASSERT(twins_make(&t, SIM_TANGENTIAL_REGULARISED, SIM_ROLLING_OFF, 1, 2) == 0);
+    SimWorld *one = t.one, *two = t.two;
     TEST_ASSERT(tu_step(one, 300) == 0 && tu_step(two, 300) == 0);
     PartPlan *pp = &two->nl.plan;
     TEST_ASSERT(pp->count == 2 && pp->shared_parts == 2);
@@ -302,10 +308,7 @@ static int parts_cut_by_measurement(void)
                      0.5 * (was + 0.75) / (0.5 * (was + 0.75) + 0.5 * (1.0 - was + 0.25))) < 1e-12);
     TEST_ASSERT(tu_step(one, 200) == 0 && tu_step(two, 200) == 0);
     TEST_ASSERT(sim_world_hash(one) == sim_world_hash(two));
-    sim_world_destroy(one);
-    sim_world_destroy(two);
-    sim_grain_buffer_free(&b1);
-    sim_grain_buffer_free(&b2);
+    twins_free(&t);
     return 0;
 }
 
@@ -315,11 +318,9 @@ static int parts_cut_by_measurement(void)
  * the missing workers would be stopped by its alarm (30 s). */
 static int forked_child_runs_alone(void)
 {
-    SimGrainBuffer b1, b2;
-    SimWorld *one = make(SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF, &b1);
-    SimWorld *two = make(SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF, &b2);
-    TEST_ASSERT(one && two);
-    sim_world_set_threads(two, 2);
+    Twins t;
+    TEST_ASSERT(twins_make(&t, SIM_TANGENTIAL_SPRING, SIM_ROLLING_OFF, 0, 2) == 0);
+    SimWorld *one = t.one, *two = t.two;
     TEST_ASSERT(tu_step(one, 100) == 0 && tu_step(two, 100) == 0);
     int fd[2];
     TEST_ASSERT(pipe(fd) == 0);
@@ -341,10 +342,7 @@ static int forked_child_runs_alone(void)
     TEST_ASSERT(tu_step(one, 300) == 0 && hash == sim_world_hash(one));
     TEST_ASSERT(sim_world_threads(two) == 2 && tu_step(two, 300) == 0);
     TEST_ASSERT(sim_world_hash(one) == sim_world_hash(two));
-    sim_world_destroy(one);
-    sim_world_destroy(two);
-    sim_grain_buffer_free(&b1);
-    sim_grain_buffer_free(&b2);
+    twins_free(&t);
     return 0;
 }
 
