@@ -274,9 +274,9 @@ int main(int argc, char **argv)
     mkdir("out", 0755);
     mkdir("out/bench", 0755);
     bench_frame(&bench, 0);
-    const char *threads = getenv("LP_NUM_THREADS"), *bands = getenv("SABLIER_GL_BANDS");
+    const char *threads = getenv("LP_NUM_THREADS"), *bands = getenv("SABLIER_BANDS");
     printf("bench_render_video: %d grains, %d contacts, %dx%d, %d frames, best of %d, %ld CPUs, "
-           "LP_NUM_THREADS %s, SABLIER_GL_BANDS %s, %s\n",
+           "LP_NUM_THREADS %s, SABLIER_BANDS %s, %s\n",
            GRAINS, bench.contact_count, WIDTH, HEIGHT, frames, repeats,
            sysconf(_SC_NPROCESSORS_ONLN), threads ? threads : "unset (the drawer sets CPUs)",
            bands ? bands : "unset (2 bands on 2 CPUs)", render_library_versions());

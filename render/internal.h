@@ -53,8 +53,33 @@ uint32_t render_species_rgb(int species);
 /// [0, max over the frame's mobile grains] (1 when that is 0).
 void render_color_range(const SimFrame *frame, const RenderStyle *style, double *lo, double *hi);
 
-/* ---- the annotations (render_cairo.c) ---- */
+/* ---- the drawing helper (render_helper.c): a second thread for the lower band of a movie
+ * frame, in both drawers ---- */
 
+/// A thread that runs one job at a time for the thread that created it.
+typedef struct RenderHelper RenderHelper;
+typedef void RenderJobFn(void *context);
+/// Starts the thread; NULL when the system gives none (the caller then draws alone).
+RenderHelper *render_helper_create(void);
+/// Gives the thread `job(context)`; the caller goes on and later waits (one job at a time).
+void render_helper_start(RenderHelper *helper, RenderJobFn *job, void *context);
+/// Returns once the job given last has finished (at once when none is running).
+void render_helper_wait(RenderHelper *helper);
+/// Waits for the job running, stops the thread and frees it; NULL is a no-op.
+void render_helper_destroy(RenderHelper *helper);
+/// How many bands a movie frame of `height` rows is drawn in: 2 (the lower one in a helper
+/// thread) on a machine with two CPUs or more and 128 rows or more, else 1; the environment
+/// variable SABLIER_BANDS=1 or 2 chooses (tests and A/B timing). The pixels are the same either way.
+int render_band_count(int height);
+
+/* ---- the Cairo drawer and the annotations (render_cairo.c) ---- */
+
+/// render_cairo_draw with the rows below the middle drawn by `helper` (render_helper.c) while the
+/// calling thread draws those above: the same pixels as render_cairo_draw (each band is the whole
+/// scene on a surface over its rows, moved by whole pixels), in about half the time on two
+/// cores. NULL helper: drawn in one band by the calling thread.
+int render_cairo_draw_split(const SimFrame *frame, const RenderStyle *style, RenderImage *out,
+                            RenderHelper *helper);
 /// Draws the annotations of render_cairo_draw (velocity field and arrows, arch highlights and
 /// inset, time stamp, scale bar, colour bar, title: whatever the style asks for) over an image
 /// that already holds the grain layer of the same frame and style (e.g. an OSMesa frame), with
@@ -176,8 +201,8 @@ void render_set_err(char *err, size_t size, const char *fmt, ...)
  * render_gl.c so that an EGL surfaceless back end can replace OSMesa (gone in Mesa >= 25.1) ---- */
 
 /// A persistent GL drawer of one size (contexts, shaders, buffers); one per thread. It draws the
-/// lower half of each image in a helper thread of its own when the machine has two CPUs or more
-/// (environment SABLIER_GL_BANDS=1 keeps all drawing in the calling thread, =2 forces the helper).
+/// lower half of each image in a helper thread of its own (render_band_count: two CPUs or more;
+/// SABLIER_BANDS=1 keeps all drawing in the calling thread, =2 forces the helper).
 typedef struct RenderGl RenderGl;
 
 /// Creates a drawer for width x height pixels. NULL on failure with a message in err.

@@ -1023,6 +1023,64 @@ int render_cairo_draw(const SimFrame *frame, const RenderStyle *style, RenderIma
     return rc;
 }
 
+/* Rows [y0, y1) of the scene into `out` (the whole style's size, BGRA): a surface over those rows
+ * of its pixels, the scene moved up by y0 whole pixels. Cairo's coordinates are fixed point in
+ * device space, so a whole-pixel move shifts every edge exactly and each pixel gets what the
+ * whole-image drawing gives it (render.cairo.split_same_pixels). */
+typedef struct Rows {
+    const DrawScene *scene;
+    RenderImage *out;
+    int y0, y1;
+    int rc; /* 0, or -1 when Cairo failed */
+} Rows;
+
+static void draw_rows(void *context)
+{
+    Rows *r = context;
+    RenderImage *out = r->out;
+    cairo_surface_t *surface = cairo_image_surface_create_for_data(
+        out->pixels + (size_t)r->y0 * (size_t)out->stride, CAIRO_FORMAT_ARGB32, out->width,
+        r->y1 - r->y0, out->stride);
+    r->rc = -1;
+    if (cairo_surface_status(surface) == CAIRO_STATUS_SUCCESS) {
+        cairo_t *cr = cairo_create(surface);
+        cairo_translate(cr, 0, -r->y0);
+        draw_scene(cr, (void *)(uintptr_t)r->scene); /* RenderDrawFn's context is not const */
+        r->rc = cairo_status(cr) == CAIRO_STATUS_SUCCESS ? 0 : -1;
+        cairo_destroy(cr);
+        cairo_surface_flush(surface);
+    }
+    cairo_surface_destroy(surface);
+}
+
+int render_cairo_draw_split(const SimFrame *frame, const RenderStyle *style, RenderImage *out,
+                            RenderHelper *helper)
+{
+    if (!helper)
+        return render_cairo_draw(frame, style, out);
+    out->pixels = NULL;
+    if (!frame || !style || style->width <= 0 || style->height <= 0)
+        return -1;
+    DrawScene sc;
+    int rc = draw_scene_init(&sc, frame, style);
+    if (rc == 0)
+        rc = render_image_alloc(out, style->width, style->height, RENDER_PIXEL_BGRA_PREMUL);
+    if (rc == 0 && cairo_format_stride_for_width(CAIRO_FORMAT_ARGB32, out->width) != out->stride)
+        rc = -1;
+    if (rc == 0) {
+        const int middle = style->height / 2;
+        Rows lower = {&sc, out, middle, style->height, 0}, upper = {&sc, out, 0, middle, 0};
+        render_helper_start(helper, draw_rows, &lower);
+        draw_rows(&upper);
+        render_helper_wait(helper);
+        rc = upper.rc != 0 || lower.rc != 0 ? -1 : 0;
+    }
+    if (rc != 0)
+        render_image_free(out);
+    draw_scene_free(&sc);
+    return rc;
+}
+
 /* Swaps bytes 0 and 2 of every pixel: RGBA <-> BGRA. */
 static void swap_red_blue(RenderImage *image)
 {

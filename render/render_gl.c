@@ -537,9 +537,6 @@ typedef struct Band {
 
 enum { MAX_BANDS = 2 };
 
-/* What the helper thread is asked to do with its band. */
-enum { JOB_NONE, JOB_INIT, JOB_DRAW, JOB_QUIT };
-
 typedef struct Layout Layout;
 
 struct RenderGl {
@@ -552,12 +549,8 @@ struct RenderGl {
     char renderer[128]; ///< GL_RENDERER
     Band bands[MAX_BANDS];
     int band_count;
-    /* The helper thread draws band 1 (its context is current there only). */
-    int helper_running;
-    pthread_t helper;
-    pthread_mutex_t lock;
-    pthread_cond_t wake, done;
-    int job, job_done;
+    /* The helper thread (render_helper.c) draws band 1 (its context is current there only). */
+    RenderHelper *helper;
     const SimFrame *frame; ///< the job's frame, layout and image rows (band 1's start there)
     const Layout *layout;
     uint8_t *image;
@@ -754,61 +747,26 @@ static void band_free(Band *b)
 
 static int band_draw(RenderGl *r, Band *b, const SimFrame *frame, const Layout *l, uint8_t *image);
 
-/* The helper thread: initialises band 1, then draws it whenever asked, until told to quit. */
-static void *helper_main(void *arg)
+/* The helper thread's jobs on band 1: set it up, draw it, let go of its context (which the
+ * creating thread destroys). */
+static void band1_init(void *context)
 {
-    RenderGl *r = arg;
+    RenderGl *r = context;
     Band *b = &r->bands[1];
-    pthread_mutex_lock(&r->lock);
-    for (;;) {
-        while (r->job == JOB_NONE)
-            pthread_cond_wait(&r->wake, &r->lock);
-        int job = r->job;
-        r->job = JOB_NONE;
-        pthread_mutex_unlock(&r->lock);
-        if (job == JOB_INIT)
-            b->rc = band_init(r, b, b->err, sizeof b->err);
-        else if (job == JOB_DRAW)
-            b->rc = band_draw(r, b, r->frame, r->layout, r->image);
-        else /* JOB_QUIT: release the context, which the creating thread destroys */
-            context_release();
-        pthread_mutex_lock(&r->lock);
-        r->job_done = 1;
-        pthread_cond_signal(&r->done);
-        if (job == JOB_QUIT)
-            break;
-    }
-    pthread_mutex_unlock(&r->lock);
-    return NULL;
+    b->rc = band_init(r, b, b->err, sizeof b->err);
 }
 
-/* Gives the helper thread a job. */
-static void helper_start(RenderGl *r, int job)
+static void band1_draw(void *context)
 {
-    pthread_mutex_lock(&r->lock);
-    r->job = job;
-    r->job_done = 0;
-    pthread_cond_signal(&r->wake);
-    pthread_mutex_unlock(&r->lock);
+    RenderGl *r = context;
+    Band *b = &r->bands[1];
+    b->rc = band_draw(r, b, r->frame, r->layout, r->image);
 }
 
-/* Waits until the helper thread has done its job. */
-static void helper_wait(RenderGl *r)
+static void band1_release(void *context)
 {
-    pthread_mutex_lock(&r->lock);
-    while (!r->job_done)
-        pthread_cond_wait(&r->done, &r->lock);
-    pthread_mutex_unlock(&r->lock);
-}
-
-/* Bands: two where there are two CPUs and rows enough, else one; SABLIER_GL_BANDS=1 or 2
- * chooses (tests and A/B timing). */
-static int band_count_for(int height)
-{
-    const char *forced = getenv("SABLIER_GL_BANDS");
-    if (forced && (forced[0] == '1' || forced[0] == '2') && forced[1] == '\0')
-        return forced[0] == '2' && height >= 2 ? 2 : 1;
-    return sysconf(_SC_NPROCESSORS_ONLN) >= 2 && height >= 128 ? 2 : 1;
+    (void)context;
+    context_release();
 }
 
 RenderGl *render_gl_create(int width, int height, char *err, size_t err_size)
@@ -830,7 +788,7 @@ RenderGl *render_gl_create(int width, int height, char *err, size_t err_size)
         free(r);
         return NULL;
     }
-    r->band_count = band_count_for(height);
+    r->band_count = render_band_count(height);
     int rows = r->band_count == 2 ? height / 2 : height;
     r->bands[0].height = rows;
     r->bands[1].y0 = rows;
@@ -865,26 +823,11 @@ RenderGl *render_gl_create(int width, int height, char *err, size_t err_size)
         goto fail;
 
     if (r->band_count == 2) {
-        if (pthread_mutex_init(&r->lock, NULL) != 0)
+        r->helper = render_helper_create();
+        if (!r->helper)
             goto no_thread;
-        if (pthread_cond_init(&r->wake, NULL) != 0) {
-            pthread_mutex_destroy(&r->lock);
-            goto no_thread;
-        }
-        if (pthread_cond_init(&r->done, NULL) != 0) {
-            pthread_cond_destroy(&r->wake);
-            pthread_mutex_destroy(&r->lock);
-            goto no_thread;
-        }
-        if (pthread_create(&r->helper, NULL, helper_main, r) != 0) {
-            pthread_cond_destroy(&r->done);
-            pthread_cond_destroy(&r->wake);
-            pthread_mutex_destroy(&r->lock);
-            goto no_thread;
-        }
-        r->helper_running = 1;
-        helper_start(r, JOB_INIT);
-        helper_wait(r);
+        render_helper_start(r->helper, band1_init, r);
+        render_helper_wait(r->helper);
         if (r->bands[1].rc != 0) {
             snprintf(err, err_size, "%s", r->bands[1].err);
             goto fail;
@@ -903,12 +846,9 @@ void render_gl_destroy(RenderGl *r)
 {
     if (!r)
         return;
-    if (r->helper_running) {
-        helper_start(r, JOB_QUIT);
-        pthread_join(r->helper, NULL);
-        pthread_cond_destroy(&r->done);
-        pthread_cond_destroy(&r->wake);
-        pthread_mutex_destroy(&r->lock);
+    if (r->helper) {
+        render_helper_start(r->helper, band1_release, NULL);
+        render_helper_destroy(r->helper);
     }
     context_release();
     for (int k = 0; k < MAX_BANDS; ++k)
@@ -1492,12 +1432,12 @@ static int draw_frame(RenderGl *r, const SimFrame *frame, const RenderStyle *sty
         r->frame = frame;
         r->layout = &l;
         r->image = pixels;
-        helper_start(r, JOB_DRAW);
+        render_helper_start(r->helper, band1_draw, r);
     }
     Band *b0 = &r->bands[0];
     b0->rc = band_draw(r, b0, frame, &l, pixels);
     if (r->band_count == 2)
-        helper_wait(r);
+        render_helper_wait(r->helper);
     for (int k = 0; k < r->band_count; ++k) {
         if (r->bands[k].rc != 0) {
             snprintf(err, err_size, "%s", r->bands[k].err);

@@ -56,6 +56,7 @@ struct RenderMovie {
     char *path, *temp_path;
     int temp_created; ///< 1 once path.tmp exists (removed on failure)
     RenderGl *gl;
+    RenderHelper *helper; ///< Cairo frames: draws the lower half (render_cairo_draw_split), or NULL
     AVFormatContext *format;
     AVCodecContext *codec;
     AVStream *stream;
@@ -238,6 +239,7 @@ static void movie_free(RenderMovie *movie)
         render_image_free(&movie->slots[k].image);
     }
     render_gl_destroy(movie->gl);
+    render_helper_destroy(movie->helper);
     if (movie->sync_ready) {
         pthread_cond_destroy(&movie->changed);
         pthread_mutex_destroy(&movie->lock);
@@ -509,8 +511,12 @@ static int alloc_slots(RenderMovie *movie, const RenderStyle *style)
             return -1;
         }
     }
-    if (movie->drawer != RENDER_DRAWER_OSMESA)
+    if (movie->drawer != RENDER_DRAWER_OSMESA) {
+        /* Cairo: the lower half of each frame in a helper thread (none given: one band) */
+        if (render_band_count(movie->height) == 2)
+            movie->helper = render_helper_create();
         return 0;
+    }
     /* GL draws the grain layer; Cairo adds the annotations on the same pixels. */
     movie->overlay = style->colorbar || style->time_stamp || style->scale_bar || style->title ||
                      style->velocity_arrows || style->velocity_field || style->arch_ids;
@@ -638,7 +644,7 @@ int render_movie_frame(RenderMovie *movie, const SimFrame *frame)
         }
     } else {
         render_image_free(&slot->image);
-        if (render_cairo_draw(frame, &movie->style, &slot->image) != 0) {
+        if (render_cairo_draw_split(frame, &movie->style, &slot->image, movie->helper) != 0) {
             fail(movie, "%s: frame %ld: Cairo drawing failed", movie->path, movie->frames_given);
             return -1;
         }

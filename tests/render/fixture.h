@@ -228,6 +228,20 @@ static inline int fixture_bed(Fixture *f, int cols, int rows, double r, uint64_t
     return 0;
 }
 
+/* ---- files ---- */
+
+/* Reads up to `size` bytes of the file at `path` into buf: the count read, or -1 when it cannot
+ * be opened. */
+static inline long fixture_read(const char *path, void *buf, long size)
+{
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        return -1;
+    long n = (long)fread(buf, 1, (size_t)size, fp);
+    fclose(fp);
+    return n;
+}
+
 /* ---- reference images ---- */
 
 static inline void fixture_mkdirs(void)

@@ -228,15 +228,6 @@ static void draw_shape(cairo_t *cr, void *context)
     }
 }
 
-static long file_bytes(const char *path, char *buf, long size)
-{
-    FILE *f = fopen(path, "rb");
-    long n = f ? (long)fread(buf, 1, (size_t)size, f) : -1;
-    if (f)
-        fclose(f);
-    return n;
-}
-
 /* Two figures of one format: the same drawing with other metadata (another date and comment)
  * matches by pixels though the bytes differ; an added disc is a change. */
 static int vector_pair(const char *ext)
@@ -255,7 +246,7 @@ static int vector_pair(const char *ext)
     unsetenv("SOURCE_DATE_EPOCH");
     TEST_ASSERT(render_cairo_write(c, 320, 240, draw_shape, &disc, text_a, err, sizeof err) == 0);
     static char bytes_a[1 << 16], bytes_b[1 << 16];
-    long na = file_bytes(a, bytes_a, sizeof bytes_a), nb = file_bytes(b, bytes_b, sizeof bytes_b);
+    long na = fixture_read(a, bytes_a, sizeof bytes_a), nb = fixture_read(b, bytes_b, sizeof bytes_b);
     TEST_ASSERT(na > 0 && nb > 0);
     if (strcmp(ext, "pdf") == 0) /* SVG has no metadata: its bytes are the same */
         TEST_ASSERT(na != nb || memcmp(bytes_a, bytes_b, (size_t)na) != 0);

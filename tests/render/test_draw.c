@@ -4,6 +4,10 @@
 #include "fixture.h"
 #include "test.h"
 
+#include "render/internal.h"
+
+#include <pthread.h>
+
 static RenderStyle quiet_style(int w, int h)
 {
     RenderStyle s = render_style_default();
@@ -482,9 +486,90 @@ static int arrow_key_length(void)
     return 0;
 }
 
+/* A frame drawn in two bands, the lower one by the helper thread (render_cairo_draw_split), has
+ * every pixel of the one-band drawing: force chains, outlines, arrows and the field, colour bar,
+ * time stamp, scale bar and title, at an even and an odd height (the bands' edge cuts disks,
+ * chains and text). */
+static int split_same_pixels(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 24, 14, 0.01, 9) == 0);
+    fixture_find_contacts(&f, 0.2 * 0.01, 1.0);
+    RenderHelper *helper = render_helper_create();
+    TEST_ASSERT(helper != NULL);
+    for (int odd = 0; odd < 2; ++odd) {
+        RenderStyle s = render_style_default();
+        s.width = 480;
+        s.height = 360 + odd;
+        s.color_by = RENDER_COLOR_FORCE;
+        s.force_chains = 1;
+        s.velocity_arrows = odd;
+        s.velocity_field = !odd;
+        s.title = "bands";
+        RenderImage one, two;
+        TEST_ASSERT(render_cairo_draw(&f.frame, &s, &one) == 0);
+        TEST_ASSERT(render_cairo_draw_split(&f.frame, &s, &two, helper) == 0);
+        TEST_ASSERT(two.width == one.width && two.height == one.height &&
+                    two.stride == one.stride && two.format == one.format);
+        TEST_ASSERT(memcmp(one.pixels, two.pixels, (size_t)one.stride * (size_t)one.height) == 0);
+        /* the drawing reaches both bands: neither half is plain background */
+        const size_t half = (size_t)one.stride * (size_t)(one.height / 2);
+        int upper = 0, lower = 0;
+        for (size_t k = 4; k < half; k += 4) {
+            upper |= memcmp(one.pixels + k, one.pixels, 4) != 0;
+            lower |= memcmp(one.pixels + half + k, one.pixels + half, 4) != 0;
+        }
+        TEST_ASSERT(upper && lower);
+        render_image_free(&one);
+        render_image_free(&two);
+    }
+    render_helper_destroy(helper);
+    fixture_free(&f);
+    return 0;
+}
+
+/* The helper runs each job in one thread of its own (the same for every job: a GL context stays
+ * current there), the jobs one after the other; waiting with no job given returns at once, and
+ * destroying it waits for the job given last. */
+typedef struct Job {
+    pthread_t ran_on;
+    int count;
+} Job;
+
+static void record_job(void *context)
+{
+    Job *j = context;
+    j->ran_on = pthread_self();
+    j->count += 1;
+}
+
+static int helper_runs_jobs_in_one_thread(void)
+{
+    RenderHelper *helper = render_helper_create();
+    TEST_ASSERT(helper != NULL);
+    render_helper_wait(helper); /* nothing given */
+    Job job = {.count = 0};
+    render_helper_start(helper, record_job, &job);
+    render_helper_wait(helper);
+    const pthread_t first = job.ran_on;
+    TEST_ASSERT(job.count == 1 && !pthread_equal(first, pthread_self()));
+    for (int k = 1; k < 3; ++k) {
+        render_helper_start(helper, record_job, &job);
+        render_helper_wait(helper);
+        TEST_ASSERT(pthread_equal(job.ran_on, first));
+    }
+    TEST_ASSERT(job.count == 3);
+    render_helper_start(helper, record_job, &job);
+    render_helper_destroy(helper); /* waits for the job given */
+    TEST_ASSERT(job.count == 4);
+    render_helper_destroy(NULL);
+    return 0;
+}
+
 TEST_MAIN(TEST_CASE(grains_fixed), TEST_CASE(grains_force_viridis), TEST_CASE(force_chains),
           TEST_CASE(velocity_arrows), TEST_CASE(arches), TEST_CASE(periodic_seam),
           TEST_CASE(species_and_bands), TEST_CASE(annotations), TEST_CASE(disk_colours_exact),
           TEST_CASE(chain_selection), TEST_CASE(colormaps), TEST_CASE(color_range),
           TEST_CASE(default_font_in_points), TEST_CASE(colorbar_extend), TEST_CASE(color_lock),
-          TEST_CASE(arrows_below_key), TEST_CASE(arrow_key_length))
+          TEST_CASE(arrows_below_key), TEST_CASE(arrow_key_length),
+          TEST_CASE(split_same_pixels), TEST_CASE(helper_runs_jobs_in_one_thread))

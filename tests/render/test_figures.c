@@ -184,16 +184,6 @@ static int node_field_key(void)
     return rc;
 }
 
-static long file_read(const char *path, unsigned char *buf, long size)
-{
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        return -1;
-    long n = (long)fread(buf, 1, (size_t)size, fp);
-    fclose(fp);
-    return n;
-}
-
 static const unsigned char *find_bytes(const unsigned char *buf, long n, const char *what)
 {
     size_t len = strlen(what);
@@ -227,13 +217,13 @@ static int print_size(void)
     TEST_ASSERT(render_figure_write(&f.frame, &s, &meta, "out/render-tests/print.svg", err,
                                     sizeof err) == 0);
     static unsigned char buf[1 << 20];
-    long n = file_read("out/render-tests/print.png", buf, sizeof buf);
+    long n = fixture_read("out/render-tests/print.png", buf, sizeof buf);
     const unsigned char *p = find_bytes(buf, n, "pHYs");
     TEST_ASSERT(p);
     unsigned long per_metre =
         (unsigned long)p[4] << 24 | (unsigned long)p[5] << 16 | (unsigned long)p[6] << 8 | p[7];
     TEST_ASSERT(per_metre == 11811); /* 300 / 0.0254 */
-    n = file_read("out/render-tests/print.pdf", buf, sizeof buf);
+    n = fixture_read("out/render-tests/print.pdf", buf, sizeof buf);
     TEST_ASSERT(n > 0);
     p = find_bytes(buf, n, "/MediaBox [ 0 0 ");
     TEST_ASSERT(p);
@@ -242,7 +232,7 @@ static int print_size(void)
     TEST_NEAR(w_pt, 1004 * 72.0 / 300, 0.01);
     TEST_NEAR(h_pt, 756 * 72.0 / 300, 0.01);
     TEST_ASSERT(find_bytes(buf, n, "/FontFile")); /* fonts embedded */
-    n = file_read("out/render-tests/print.svg", buf, sizeof buf);
+    n = fixture_read("out/render-tests/print.svg", buf, sizeof buf);
     TEST_ASSERT(n > 0 && find_bytes(buf, n, "glyph")); /* text as glyph outlines */
     fixture_free(&f);
     return rc;

@@ -578,13 +578,13 @@ static int gl_large_edge_and_clipped(void)
     return 0;
 }
 
-/* Draws a frame with a new drawer of `bands` bands (SABLIER_GL_BANDS); 0 on success. */
+/* Draws a frame with a new drawer of `bands` bands (SABLIER_BANDS); 0 on success. */
 static int draw_banded(const SimFrame *frame, const RenderStyle *style, const char *bands,
                        RenderImage *out)
 {
-    setenv("SABLIER_GL_BANDS", bands, 1);
+    setenv("SABLIER_BANDS", bands, 1);
     int rc = render_gl_draw(frame, style, out);
-    unsetenv("SABLIER_GL_BANDS");
+    unsetenv("SABLIER_BANDS");
     return rc;
 }
 

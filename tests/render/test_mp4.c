@@ -2,6 +2,7 @@
 /* test_mp4.c: MP4 movies read back with libavformat/libavcodec: codec, frame count, duration,
  * size, yuv420p, BT.709 tags and colours, faststart, odd sizes, path.tmp then rename, sticky
  * errors, the mpeg4 encoder, both drawers. Outputs under out/render-tests/. */
+#include "fixture.h"
 #include "test.h"
 
 #include "render/internal.h"
@@ -526,6 +527,24 @@ static int mp4_crf_size(void)
 /* The same frames give the same bytes, and the encoder runs RENDER_MOVIE_THREADS threads
  * whatever the machine's cores (x264 writes its settings in the stream: "threads=N"), so the
  * bytes do not depend on the machine either. */
+/* 1 when the two files hold the same bytes (and at least one); their contents in *first. */
+static int same_files(const char *a, const char *b, char **first)
+{
+    long size = file_size(a);
+    *first = NULL;
+    if (size <= 0 || size != file_size(b))
+        return 0;
+    char *bytes[2] = {malloc((size_t)size + 1), malloc((size_t)size + 1)};
+    int same = bytes[0] && bytes[1] && fixture_read(a, bytes[0], size) == size &&
+               fixture_read(b, bytes[1], size) == size &&
+               memcmp(bytes[0], bytes[1], (size_t)size) == 0;
+    if (bytes[0])
+        bytes[0][size] = '\0';
+    free(bytes[1]);
+    *first = bytes[0];
+    return same;
+}
+
 static int mp4_same_bytes(void)
 {
     make_out_dir();
@@ -535,27 +554,43 @@ static int mp4_same_bytes(void)
         RenderMovieDef def = movie_def(paths[k], RENDER_DRAWER_CAIRO);
         TEST_ASSERT(write_movie(&def, &style, 40) == 0);
     }
-    long size = file_size(paths[0]);
-    TEST_ASSERT(size > 0 && size == file_size(paths[1]));
-    char *bytes[2];
-    for (int k = 0; k < 2; ++k) {
-        FILE *f = fopen(paths[k], "rb");
-        TEST_ASSERT(f != NULL);
-        bytes[k] = malloc((size_t)size + 1);
-        TEST_ASSERT(bytes[k] && fread(bytes[k], 1, (size_t)size, f) == (size_t)size);
-        bytes[k][size] = '\0';
-        fclose(f);
-    }
-    TEST_ASSERT(memcmp(bytes[0], bytes[1], (size_t)size) == 0);
+    char *bytes = NULL;
+    TEST_ASSERT(same_files(paths[0], paths[1], &bytes));
+    const long size = file_size(paths[0]);
     char want[32];
     snprintf(want, sizeof want, " threads=%d ", RENDER_MOVIE_THREADS);
     const char *sei = NULL;
     for (long i = 0; i + 8 < size && !sei; ++i) /* x264's SEI text, inside mdat */
-        if (memcmp(bytes[0] + i, "options:", 8) == 0)
-            sei = bytes[0] + i;
+        if (memcmp(bytes + i, "options:", 8) == 0)
+            sei = bytes + i;
     TEST_ASSERT(sei != NULL && strstr(sei, want) != NULL);
-    free(bytes[0]);
-    free(bytes[1]);
+    free(bytes);
+    return 0;
+}
+
+/* A Cairo movie drawn in two bands on two threads (render_cairo_draw_split, SABLIER_BANDS=2) has
+ * the bytes of one drawn in one band (SABLIER_BANDS=1): the frames' pixels are the same. The
+ * frames carry force chains, velocity arrows, a colour bar, a time stamp and a scale bar. */
+static int mp4_cairo_bands_same_bytes(void)
+{
+    make_out_dir();
+    const char *paths[2] = {OUT_DIR "/mp4_bands_1.mp4", OUT_DIR "/mp4_bands_2.mp4"};
+    for (int k = 0; k < 2; ++k) {
+        RenderStyle style = small_style(320, 242); /* an odd half: bands of 121 rows */
+        style.force_chains = 1;
+        style.velocity_arrows = 1;
+        style.colorbar = 1;
+        style.time_stamp = 1;
+        style.scale_bar = 1;
+        RenderMovieDef def = movie_def(paths[k], RENDER_DRAWER_CAIRO);
+        setenv("SABLIER_BANDS", k ? "2" : "1", 1);
+        const int rc = write_movie(&def, &style, 12);
+        unsetenv("SABLIER_BANDS");
+        TEST_ASSERT(rc == 0);
+    }
+    char *bytes = NULL;
+    TEST_ASSERT(same_files(paths[0], paths[1], &bytes));
+    free(bytes);
     return 0;
 }
 
@@ -645,4 +680,5 @@ TEST_MAIN(TEST_CASE(mp4_properties), TEST_CASE(mp4_colour_roundtrip),
           TEST_CASE(mp4_odd_size_rejected), TEST_CASE(mp4_bad_settings_rejected),
           TEST_CASE(mp4_temp_then_rename), TEST_CASE(mp4_errors_sticky),
           TEST_CASE(mp4_mpeg4_encoder), TEST_CASE(mp4_cairo_drawer), TEST_CASE(mp4_high_profile),
-          TEST_CASE(mp4_crf_size), TEST_CASE(mp4_same_bytes), TEST_CASE(mp4_one_colour_scale))
+          TEST_CASE(mp4_crf_size), TEST_CASE(mp4_same_bytes), TEST_CASE(mp4_one_colour_scale),
+          TEST_CASE(mp4_cairo_bands_same_bytes))
