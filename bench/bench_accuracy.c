@@ -218,7 +218,8 @@ static void impact_once(const Scheme *scheme, double restitution, double n, doub
             break;
         }
     }
-    double cpu = sim_clock_seconds(SIM_CLOCK_PROCESS) - cpu0, wall = sim_clock_seconds(SIM_CLOCK_WALL) - wall0;
+    double cpu = sim_clock_seconds(SIM_CLOCK_PROCESS) - cpu0,
+           wall = sim_clock_seconds(SIM_CLOCK_WALL) - wall0;
     const long steps = sim_world_step_count(w);
     const double simulated = sim_world_time(w);
     sim_world_destroy(w);

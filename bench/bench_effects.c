@@ -271,12 +271,14 @@ int main(int argc, char **argv)
             timing[0].mobile, dt, steps, repeats, load[0]);
     for (int r = 0; r < repeats; ++r)
         for (int v = 0; v < VARIANT_COUNT; ++v) {
-            double c0 = sim_clock_seconds(SIM_CLOCK_PROCESS), w0 = sim_clock_seconds(SIM_CLOCK_WALL);
+            double c0 = sim_clock_seconds(SIM_CLOCK_PROCESS),
+                   w0 = sim_clock_seconds(SIM_CLOCK_WALL);
             if (sim_world_step(worlds[v], steps, &err) != SIM_OK) {
                 fprintf(stderr, "bench_effects: %s: %s\n", variants[v].name, err.message);
                 return 1;
             }
-            double c = sim_clock_seconds(SIM_CLOCK_PROCESS) - c0, w = sim_clock_seconds(SIM_CLOCK_WALL) - w0;
+            double c = sim_clock_seconds(SIM_CLOCK_PROCESS) - c0,
+                   w = sim_clock_seconds(SIM_CLOCK_WALL) - w0;
             double work = (double)steps * timing[v].mobile;
             timing[v].best_cpu = fmin(timing[v].best_cpu, c / work);
             timing[v].best_wall = fmin(timing[v].best_wall, w / work);

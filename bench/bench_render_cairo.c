@@ -9,7 +9,6 @@
  */
 #include "render/render.h"
 
-
 #include "../tests/render/fixture.h"
 
 enum { GRAINS = 7284, WIDTH = 1920, HEIGHT = 1080 };

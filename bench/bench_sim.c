@@ -217,7 +217,8 @@ static int settle_and_save(const Options *o, const SimGrainBuffer *buffer, doubl
     fprintf(stderr,
             "bench_sim: settling reached t = %.2f s (%ld steps, %.1f s wall), E_kin/N = %.3g J "
             "(%s)\n",
-            sim_world_time(world), sim_world_step_count(world), sim_clock_seconds(SIM_CLOCK_WALL) - t0, per_grain,
+            sim_world_time(world), sim_world_step_count(world),
+            sim_clock_seconds(SIM_CLOCK_WALL) - t0, per_grain,
             per_grain < threshold ? "below threshold" : "time cap");
     SimStatus s = sim_world_save(world, o->cache, &err);
     if (s != SIM_OK)

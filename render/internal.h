@@ -69,7 +69,8 @@ void render_helper_wait(RenderHelper *helper);
 void render_helper_destroy(RenderHelper *helper);
 /// How many bands a movie frame of `height` rows is drawn in: 2 (the lower one in a helper
 /// thread) on a machine with two CPUs or more and 128 rows or more, else 1; the environment
-/// variable SABLIER_BANDS=1 or 2 chooses (tests and A/B timing). The pixels are the same either way.
+/// variable SABLIER_BANDS=1 or 2 chooses (tests and A/B timing). The pixels are the same either
+/// way.
 int render_band_count(int height);
 
 /* ---- the Cairo drawer and the annotations (render_cairo.c) ---- */

@@ -495,9 +495,10 @@ int sim_world_threads(const SimWorld *world);
 /// The clocks a run, a renderer or a benchmark times itself with.
 typedef enum SimClock {
     SIM_CLOCK_WALL = 0,    ///< monotonic wall time (CLOCK_MONOTONIC)
-    SIM_CLOCK_PROCESS = 1, ///< CPU time of the whole process, every thread (CLOCK_PROCESS_CPUTIME_ID)
+    SIM_CLOCK_PROCESS = 1, ///< CPU time of the process, all threads (CLOCK_PROCESS_CPUTIME_ID)
     SIM_CLOCK_THREAD = 2   ///< CPU time of the calling thread (CLOCK_THREAD_CPUTIME_ID)
 } SimClock;
+
 /// The reading of `clock`, s (a difference of two readings is a duration; their origin is the
 /// system's). An unknown value reads the wall clock.
 double sim_clock_seconds(SimClock clock);

@@ -435,7 +435,8 @@ static int member_ended(void *ctx, int i, int status)
         not_started(run, m);
         return m->status;
     }
-    m->wall_seconds = m->started > 0.0 ? sim_clock_seconds(SIM_CLOCK_WALL) - m->started : 0.0; /* 0: --resume */
+    m->wall_seconds =
+        m->started > 0.0 ? sim_clock_seconds(SIM_CLOCK_WALL) - m->started : 0.0; /* 0: --resume */
     m->status = status;
     return status;
 }
@@ -835,7 +836,8 @@ int app_crater_sweep(const AppCraterSweepOptions *o)
             status = 2;
         if (!o->quiet)
             fprintf(stderr, "sablier: sweep: %s in %.1f s: %s/sweep.csv\n",
-                    interrupted ? "interrupted" : "done", sim_clock_seconds(SIM_CLOCK_WALL) - start, w->out_dir);
+                    interrupted ? "interrupted" : "done", sim_clock_seconds(SIM_CLOCK_WALL) - start,
+                    w->out_dir);
     }
     if (interrupted)
         status = interrupted;

@@ -644,7 +644,8 @@ static int checkpoint_due(Run *run, const StageClock *clock, long done)
         return 0;
     if (done % clock->every_checkpoint == 0)
         return 1;
-    return minutes > 0.0 && sim_clock_seconds(SIM_CLOCK_WALL) - run->checkpoint_wall >= 60.0 * minutes;
+    return minutes > 0.0 &&
+           sim_clock_seconds(SIM_CLOCK_WALL) - run->checkpoint_wall >= 60.0 * minutes;
 }
 
 /* The record of a checkpoint at step `done` of stage k: what the run needs to continue from its
@@ -1394,7 +1395,8 @@ static int run_files(Run *run, double wall_start)
         run->status = 2;
     }
     disk_full_status(run);
-    if (app_run_summary_write(run, sim_clock_seconds(SIM_CLOCK_WALL) - wall_start) != 0 && run->status == 0) {
+    if (app_run_summary_write(run, sim_clock_seconds(SIM_CLOCK_WALL) - wall_start) != 0 &&
+        run->status == 0) {
         snprintf(run->message, sizeof run->message, "cannot write %s/summary.json",
                  options->out_dir);
         run->status = 2;

@@ -246,7 +246,8 @@ static int vector_pair(const char *ext)
     unsetenv("SOURCE_DATE_EPOCH");
     TEST_ASSERT(render_cairo_write(c, 320, 240, draw_shape, &disc, text_a, err, sizeof err) == 0);
     static char bytes_a[1 << 16], bytes_b[1 << 16];
-    long na = fixture_read(a, bytes_a, sizeof bytes_a), nb = fixture_read(b, bytes_b, sizeof bytes_b);
+    long na = fixture_read(a, bytes_a, sizeof bytes_a),
+         nb = fixture_read(b, bytes_b, sizeof bytes_b);
     TEST_ASSERT(na > 0 && nb > 0);
     if (strcmp(ext, "pdf") == 0) /* SVG has no metadata: its bytes are the same */
         TEST_ASSERT(na != nb || memcmp(bytes_a, bytes_b, (size_t)na) != 0);

@@ -571,5 +571,5 @@ TEST_MAIN(TEST_CASE(grains_fixed), TEST_CASE(grains_force_viridis), TEST_CASE(fo
           TEST_CASE(species_and_bands), TEST_CASE(annotations), TEST_CASE(disk_colours_exact),
           TEST_CASE(chain_selection), TEST_CASE(colormaps), TEST_CASE(color_range),
           TEST_CASE(default_font_in_points), TEST_CASE(colorbar_extend), TEST_CASE(color_lock),
-          TEST_CASE(arrows_below_key), TEST_CASE(arrow_key_length),
-          TEST_CASE(split_same_pixels), TEST_CASE(helper_runs_jobs_in_one_thread))
+          TEST_CASE(arrows_below_key), TEST_CASE(arrow_key_length), TEST_CASE(split_same_pixels),
+          TEST_CASE(helper_runs_jobs_in_one_thread))

@@ -2,8 +2,9 @@
 /* sim_clock_seconds (sim.h), the one clock the runner, the renderer and the benchmarks time
  * themselves with: each of its clocks measures what its name says. The bounds are one-sided (a
  * clock must advance at least so much), never a speed. */
-#include "sim/sim.h"
 #include "test.h"
+
+#include "sim/sim.h"
 
 #include <pthread.h>
 #include <time.h>
@@ -66,7 +67,8 @@ static void *busy_thread(void *arg)
 /* The process clock counts every thread's CPU time; the thread clock only the caller's. */
 static int process_counts_every_thread(void)
 {
-    const double p0 = sim_clock_seconds(SIM_CLOCK_PROCESS), c0 = sim_clock_seconds(SIM_CLOCK_THREAD);
+    const double p0 = sim_clock_seconds(SIM_CLOCK_PROCESS),
+                 c0 = sim_clock_seconds(SIM_CLOCK_THREAD);
     double sink = 0.0;
     pthread_t t;
     TEST_ASSERT(pthread_create(&t, NULL, busy_thread, &sink) == 0);
