@@ -483,6 +483,9 @@ int sim_world_mobile_count(const SimWorld *world);
 double sim_world_skin(const SimWorld *world);
 /// Neighbour-list builds so far (the one at creation included).
 long sim_world_list_builds(const SimWorld *world);
+/// Entries of the neighbour list now: the grain pairs within the cut-off and the skin, each once
+/// (the contact pass's work per step grows with them).
+long sim_world_list_entries(const SimWorld *world);
 /// Threads of the physics step (default 1; values below 1 mean 1): the world keeps threads - 1
 /// POSIX worker threads until destroyed (fewer when the system refuses some; sim_world_threads
 /// says how many run). The contact forces, their per-grain sums and the velocity-Verlet

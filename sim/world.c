@@ -1639,3 +1639,8 @@ long sim_world_list_builds(const SimWorld *w)
 {
     return w->rebuilds;
 }
+
+long sim_world_list_entries(const SimWorld *w)
+{
+    return w->nl.start ? w->nl.start[w->mobile_count] : 0; /* start: capacity + 1 entries */
+}

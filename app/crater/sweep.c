@@ -743,6 +743,13 @@ static int setup(Sweep *w)
     return check_members(w);
 }
 
+/* The sweep's last line on stderr. */
+static void report_done(const char *out_dir, int interrupted, double seconds)
+{
+    fprintf(stderr, "sablier: sweep: %s in %.1f s: %s/sweep.csv\n",
+            interrupted ? "interrupted" : "done", seconds, out_dir);
+}
+
 int app_crater_sweep(const AppCraterSweepOptions *o)
 {
     Sweep *w = calloc(1, sizeof *w);
@@ -835,9 +842,7 @@ int app_crater_sweep(const AppCraterSweepOptions *o)
         if (write_plots(w) != 0 && status == 0)
             status = 2;
         if (!o->quiet)
-            fprintf(stderr, "sablier: sweep: %s in %.1f s: %s/sweep.csv\n",
-                    interrupted ? "interrupted" : "done", sim_clock_seconds(SIM_CLOCK_WALL) - start,
-                    w->out_dir);
+            report_done(w->out_dir, interrupted, sim_clock_seconds(SIM_CLOCK_WALL) - start);
     }
     if (interrupted)
         status = interrupted;

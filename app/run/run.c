@@ -997,7 +997,9 @@ static int stage_loop(Run *run, int k, StageClock *clock, long done, int resumed
         double t1 = sim_clock_seconds(SIM_CLOCK_WALL);
         servo_flip_report(run, k, before);
         step_wall += t1 - t0;
-        app_threads_done(&run->threads, next - done, sim_world_mobile_count(run->world), t1 - t0);
+        const int mobile = sim_world_mobile_count(run->world);
+        app_threads_done(&run->threads, next - done, mobile,
+                         app_threads_work(mobile, sim_world_list_entries(run->world)), t1 - t0);
         run->particle_steps += (double)sim_world_mobile_count(run->world) * (double)(next - done);
         report->steps += next - done;
         done = next;

@@ -237,7 +237,12 @@ static int block_over(const AppThreads *t)
             rate < APP_TUNER_EARLY_OUT * u->best_rate);
 }
 
-void app_threads_done(AppThreads *t, long steps, int mobile, double seconds)
+double app_threads_work(int mobile, long entries)
+{
+    return (double)mobile + APP_TUNER_ENTRY_WORK * (double)entries;
+}
+
+void app_threads_done(AppThreads *t, long steps, int mobile, double work, double seconds)
 {
     const int c = t->tuner.current;
     t->seconds[c < APP_TUNER_COUNTS ? c : APP_TUNER_COUNTS] += seconds;
@@ -254,7 +259,7 @@ void app_threads_done(AppThreads *t, long steps, int mobile, double seconds)
     if (t->mode != APP_THREADS_TUNED || (first_chunk && steps > 0))
         return;
     t->block_seconds += seconds;
-    t->block_ps += (double)mobile * (double)steps;
+    t->block_ps += work * (double)steps;
     if (!block_over(t))
         return;
     app_thread_tuner_next(&t->tuner, t->stepped, mobile, t->block_ps, t->block_seconds);

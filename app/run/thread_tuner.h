@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /* thread_tuner.h: the threads of `sablier run`'s physics step (docs/cli.md, "Threads").
  *
- * --threads auto measures the run's own throughput (mobile grains x steps per second of step
- * time) over blocks of steps and keeps the count that steps fastest now. It starts on one thread,
- * tries the count the world's size suggests (app_step_threads) after the first block, and then
+ * --threads auto measures the run's own throughput (work x steps per second of step time, the
+ * work of a step its mobile grains and list entries: app_threads_work) over blocks of steps and
+ * keeps the count that steps fastest now. It starts on one thread, tries the count the world's
+ * size suggests (app_step_threads) after the first block, and then
  * a neighbouring count from time to time, less and less often while the count it has keeps
  * winning (the blocks between two tries double up to APP_TUNER_MAX_INTERVAL), and at once when
  * the number of grains changes by more than APP_TUNER_GRAIN_FACTOR or a block runs much slower
@@ -23,7 +24,7 @@
  *         sim_world_set_threads(world, app_threads_want(&t, mobile));
  *         long steps = app_threads_chunk(&t, wanted_steps);
  *         ... step `steps`, timed ...
- *         app_threads_done(&t, steps, mobile, seconds);
+ *         app_threads_done(&t, steps, mobile, app_threads_work(mobile, entries), seconds);
  *     }
  */
 #ifndef APP_THREAD_TUNER_H
@@ -57,6 +58,9 @@ int app_step_threads(int mobile, int cpus, int grains_per_thread);
 /// 0.6 of one, under a competing process, cost auto 6-9 % of a 1.5 s deposit;
 /// docs/dev/scaling.md, "Threads by measurement").
 #define APP_TUNER_EARLY_OUT     0.8
+/// A list entry's cost in mobile grains' (the drift's) on the settled pile: the pair kernel and
+/// the scatter take about 80 % of a step for 2.4 entries a grain, the drift about 12 %.
+#define APP_TUNER_ENTRY_WORK    3.0
 /// A try runs in chunks of a block's 1 / this (others in quarters).
 #define APP_TUNER_TRY_PARTS     8.0
 /// A block slower than this fraction of the block before it is a sudden slowdown: try again.
@@ -74,7 +78,7 @@ int app_step_threads(int mobile, int cpus, int grains_per_thread);
 
 /// One change of the count (or the start): at the run's step `step`, `threads` chosen because
 /// of `why` ("start", "probe", "faster", "back", "grains", "slowdown"), after a block that ran
-/// at `rate` particle-steps per second (0: none measured).
+/// at `rate` work x steps per second (app_threads_work; 0: none measured).
 typedef struct AppThreadChoice {
     long step;
     int threads;
@@ -101,7 +105,7 @@ typedef struct AppThreadTuner {
 /// grains_per_thread).
 void app_thread_tuner_init(AppThreadTuner *t, int cpus, int grains_per_thread, int mobile);
 
-/// A block of `particle_steps` (mobile grains x steps) that took `seconds` on t->current
+/// A block of `particle_steps` (work x steps, app_threads_work) that took `seconds` on t->current
 /// threads, with `mobile` grains at its end and the run at step `step`: returns the count for
 /// the next block (also t->current).
 int app_thread_tuner_next(AppThreadTuner *t, long step, int mobile, double particle_steps,
@@ -135,8 +139,14 @@ void app_threads_init(AppThreads *t, int threads, long switch_every, int cpus,
 int app_threads_want(AppThreads *t, int mobile);
 /// The steps of the next chunk, at most `steps`: shorter where a switch or a block is due.
 long app_threads_chunk(const AppThreads *t, long steps);
-/// A chunk of `steps` with `mobile` grains took `seconds`.
-void app_threads_done(AppThreads *t, long steps, int mobile, double seconds);
+/// The work of one step that --threads auto divides its blocks' seconds by: the mobile grains
+/// plus APP_TUNER_ENTRY_WORK times the neighbour list's entries (sim_world_list_entries). In a
+/// growing bed (a rain) the contacts grow faster than the grains, and a rate in grains x steps
+/// fell from block to block, so a count tried later lost against the one it was compared with
+/// at equal speed (docs/dev/scaling.md, "Frames: the serial part of a real run").
+double app_threads_work(int mobile, long entries);
+/// A chunk of `steps` with `mobile` grains and `work` per step (app_threads_work) took `seconds`.
+void app_threads_done(AppThreads *t, long steps, int mobile, double work, double seconds);
 /// summary.json's member, `  "thread_choices": {...}` (no comma, no newline); the length.
 size_t app_threads_json(const AppThreads *t, char *out, size_t size);
 

@@ -190,8 +190,8 @@ static void try_two(AppThreads *t)
 {
     app_threads_init(t, APP_THREADS_AUTO, 0, 2, 0, 0);
     app_threads_want(t, 7000);
-    app_threads_done(t, 5, 7000, 5e-4);
-    app_threads_done(t, 2500, 7000, 0.25);
+    app_threads_done(t, 5, 7000, 7000, 5e-4);
+    app_threads_done(t, 2500, 7000, 7000, 0.25);
 }
 
 /* The run's threads: a fixed count stays; the testing aid cycles 1, 2, 3, 4 on every
@@ -201,7 +201,7 @@ static int run_modes(void)
     AppThreads t;
     app_threads_init(&t, 3, 0, 2, 0, 0);
     TEST_ASSERT(app_threads_want(&t, 7000) == 3);
-    app_threads_done(&t, 100000, 7000, 100.0);
+    app_threads_done(&t, 100000, 7000, 7000, 100.0);
     TEST_ASSERT(app_threads_want(&t, 70) == 3 && app_threads_chunk(&t, 2000) == 2000);
     app_threads_init(&t, 1, 7, 2, 0, 0);
     long at = 0;
@@ -210,53 +210,54 @@ static int run_modes(void)
         TEST_ASSERT(n == 1 + (int)(at / 7 % 4));
         const long steps = app_threads_chunk(&t, 5);
         TEST_ASSERT((at % 7) + steps <= 7); /* never across a switch */
-        app_threads_done(&t, steps, 300, 1e-3);
+        app_threads_done(&t, steps, 300, 300, 1e-3);
         at += steps;
     }
     app_threads_init(&t, APP_THREADS_AUTO, 0, 2, 0, 0);
     TEST_ASSERT(app_threads_want(&t, 7000) == 1);
     TEST_ASSERT(app_threads_chunk(&t, 2000) == APP_TUNER_FIRST_STEPS); /* not timed yet */
-    app_threads_done(&t, 100, 7000, 0.01); /* 1e-4 s a step; a first chunk: not in the block */
+    /* 1e-4 s a step; a first chunk: not in the block */
+    app_threads_done(&t, 100, 7000, 7000, 0.01);
     TEST_ASSERT(app_threads_chunk(&t, 2000) == 625); /* a quarter of a block */
     TEST_ASSERT(app_threads_chunk(&t, 300) == 300);
-    app_threads_done(&t, 2400, 7000, 0.24);
-    TEST_ASSERT(t.tuner.current == 1);     /* 0.24 s measured: the block goes on */
-    app_threads_done(&t, 100, 7000, 0.01); /* the block: 70e6 particle-steps/s on 1 */
-    TEST_ASSERT(t.tuner.current == 2);     /* the try of the suggested count */
+    app_threads_done(&t, 2400, 7000, 7000, 0.24);
+    TEST_ASSERT(t.tuner.current == 1);           /* 0.24 s measured: the block goes on */
+    app_threads_done(&t, 100, 7000, 7000, 0.01); /* the block: 70e6 particle-steps/s on 1 */
+    TEST_ASSERT(t.tuner.current == 2);           /* the try of the suggested count */
     TEST_ASSERT(app_threads_chunk(&t, 2000) == APP_TUNER_FIRST_STEPS);
     /* its first chunk at 1/20 (the workers' start) is not its rate; at 1/3 after that, the try
      * is over after an eighth of a block, not a whole one; a try's chunks are eighths */
-    app_threads_done(&t, 5, 7000, 0.01);
+    app_threads_done(&t, 5, 7000, 7000, 0.01);
     TEST_ASSERT(t.tuner.current == 2 && app_threads_chunk(&t, 2000) == 15); /* 0.03125 s */
-    app_threads_done(&t, 50, 7000, 0.015);
+    app_threads_done(&t, 50, 7000, 7000, 0.015);
     TEST_ASSERT(t.tuner.current == 2);
-    app_threads_done(&t, 100, 7000, 0.03);
+    app_threads_done(&t, 100, 7000, 7000, 0.03);
     TEST_ASSERT(t.tuner.current == 1 && t.tuner.best == 1);
     /* a slow first chunk, then 1.5 times the rate: two threads win (the quiet machine) */
     try_two(&t);
     TEST_ASSERT(t.tuner.current == 2);
-    app_threads_done(&t, 5, 7000, 0.006); /* 5.8e6: 0.08 of one thread */
-    app_threads_done(&t, 3750, 7000, 0.25);
+    app_threads_done(&t, 5, 7000, 7000, 0.006); /* 5.8e6: 0.08 of one thread */
+    app_threads_done(&t, 3750, 7000, 7000, 0.25);
     TEST_ASSERT(t.tuner.current == 2 && t.tuner.best == 2);
     /* a try at 0.6 (two threads beside a competing process): over after an eighth of a block;
      * one at 0.85 runs its whole block */
     try_two(&t);
     TEST_ASSERT(t.tuner.current == 2);
-    app_threads_done(&t, 5, 7000, 5e-4);
-    app_threads_done(&t, 240, 7000, 0.04); /* 42e6 */
+    app_threads_done(&t, 5, 7000, 7000, 5e-4);
+    app_threads_done(&t, 240, 7000, 7000, 0.04); /* 42e6 */
     TEST_ASSERT(t.tuner.current == 1 && t.tuner.best == 1);
     try_two(&t);
-    app_threads_done(&t, 5, 7000, 5e-4);
-    app_threads_done(&t, 850, 7000, 0.1); /* 59.5e6 */
+    app_threads_done(&t, 5, 7000, 7000, 5e-4);
+    app_threads_done(&t, 850, 7000, 7000, 0.1); /* 59.5e6 */
     TEST_ASSERT(t.tuner.current == 2);
-    app_threads_done(&t, 1275, 7000, 0.15); /* the block's 0.25 s */
+    app_threads_done(&t, 1275, 7000, 7000, 0.15); /* the block's 0.25 s */
     TEST_ASSERT(t.tuner.current == 1 && t.tuner.best == 1);
     /* a try at 1/10: over after its first measured chunk */
     try_two(&t);
     TEST_ASSERT(t.tuner.current == 2);
-    app_threads_done(&t, APP_TUNER_FIRST_STEPS, 7000, APP_TUNER_FIRST_STEPS * 1e-3);
+    app_threads_done(&t, APP_TUNER_FIRST_STEPS, 7000, 7000, APP_TUNER_FIRST_STEPS * 1e-3);
     TEST_ASSERT(t.tuner.current == 2);
-    app_threads_done(&t, APP_TUNER_FIRST_STEPS, 7000, APP_TUNER_FIRST_STEPS * 1e-3);
+    app_threads_done(&t, APP_TUNER_FIRST_STEPS, 7000, 7000, APP_TUNER_FIRST_STEPS * 1e-3);
     TEST_ASSERT(t.tuner.current == 1);
     return 0;
 }
@@ -270,7 +271,7 @@ static int record(void)
     /* 4 chunks on 1 (the first not measured, then a block), 2 on 2 (the first not measured,
      * then a try at half the rate, over after a quarter of a block), 2 on 1 */
     for (int k = 0; k < 8; ++k)
-        app_threads_done(&t, 1000, 7000, t.tuner.current == 1 ? 0.1 : 0.2);
+        app_threads_done(&t, 1000, 7000, 7000, t.tuner.current == 1 ? 0.1 : 0.2);
     char json[8192];
     const size_t n = app_threads_json(&t, json, sizeof json);
     printf("%s\n", json);
@@ -284,13 +285,33 @@ static int record(void)
     TEST_ASSERT(json[n - 1] == '}');
     app_threads_init(&t, 8, 0, 2, 0, 0);
     app_threads_want(&t, 7000);
-    app_threads_done(&t, 10, 7000, 0.5);
+    app_threads_done(&t, 10, 7000, 7000, 0.5);
     app_threads_json(&t, json, sizeof json);
     TEST_ASSERT(strstr(json, "\"mode\": \"fixed\"") && strstr(json, "\"seconds_on\": [[8, 0.5]]"));
+    return 0;
+}
+
+/* A growing bed (the rain): the try of two threads steps as many times a second as one thread
+ * did a block before, but each step now has 1000 more list entries. In work per second
+ * (app_threads_work: grains + 3 x entries) it is 1.43 times faster and stays; in grains x steps
+ * per second it would have tied and gone back. */
+static int growing_bed_counts_work(void)
+{
+    TEST_NEAR(app_threads_work(7000, 1000), 7000.0 + APP_TUNER_ENTRY_WORK * 1000.0, 0.0);
+    TEST_ASSERT(app_threads_work(7000, 0) == 7000.0);
+    AppThreads t;
+    try_two(&t); /* one thread: 1e4 steps/s of work 7000 */
+    TEST_ASSERT(t.tuner.current == 2);
+    const double work = app_threads_work(7000, 1000);
+    app_threads_done(&t, 5, 7000, work, 5e-4);    /* the first chunk: not measured */
+    app_threads_done(&t, 2500, 7000, work, 0.25); /* 1e4 steps/s again, of work 10 000 */
+    TEST_ASSERT(t.tuner.current == 2 && t.tuner.best == 2);
+    TEST_NEAR(t.tuner.best_rate, 1e4 * work, 1e-3 * work);
     return 0;
 }
 
 TEST_MAIN(TEST_CASE(keeps_one_when_two_are_slower), TEST_CASE(takes_two_when_faster),
           TEST_CASE(climbs_to_the_fastest), TEST_CASE(tries_back_off),
           TEST_CASE(tries_again_when_the_grains_change), TEST_CASE(tries_again_after_a_slowdown),
-          TEST_CASE(stays_within_its_range), TEST_CASE(run_modes), TEST_CASE(record))
+          TEST_CASE(stays_within_its_range), TEST_CASE(run_modes), TEST_CASE(record),
+          TEST_CASE(growing_bed_counts_work))
