@@ -1008,21 +1008,6 @@ static void draw_overlay(cairo_t *cr, const DrawScene *sc)
 
 /* ---------------------------------------------------------------- public entry points */
 
-int render_cairo_draw(const SimFrame *frame, const RenderStyle *style, RenderImage *out)
-{
-    out->pixels = NULL;
-    if (!frame || !style || style->width <= 0 || style->height <= 0)
-        return -1;
-    DrawScene sc;
-    if (draw_scene_init(&sc, frame, style) != 0) {
-        draw_scene_free(&sc);
-        return -1;
-    }
-    int rc = render_cairo_image(style->width, style->height, draw_scene, &sc, out, NULL, 0);
-    draw_scene_free(&sc);
-    return rc;
-}
-
 /* Rows [y0, y1) of the scene into `out` (the whole style's size, BGRA): a surface over those rows
  * of its pixels, the scene moved up by y0 whole pixels. Cairo's coordinates are fixed point in
  * device space, so a whole-pixel move shifts every edge exactly and each pixel gets what the
@@ -1056,8 +1041,6 @@ static void draw_rows(void *context)
 int render_cairo_draw_split(const SimFrame *frame, const RenderStyle *style, RenderImage *out,
                             RenderHelper *helper)
 {
-    if (!helper)
-        return render_cairo_draw(frame, style, out);
     out->pixels = NULL;
     if (!frame || !style || style->width <= 0 || style->height <= 0)
         return -1;
@@ -1067,18 +1050,25 @@ int render_cairo_draw_split(const SimFrame *frame, const RenderStyle *style, Ren
         rc = render_image_alloc(out, style->width, style->height, RENDER_PIXEL_BGRA_PREMUL);
     if (rc == 0 && cairo_format_stride_for_width(CAIRO_FORMAT_ARGB32, out->width) != out->stride)
         rc = -1;
-    if (rc == 0) {
-        const int middle = style->height / 2;
+    if (rc == 0) { /* no helper: one band, the whole image */
+        const int middle = helper ? style->height / 2 : style->height;
         Rows lower = {&sc, out, middle, style->height, 0}, upper = {&sc, out, 0, middle, 0};
-        render_helper_start(helper, draw_rows, &lower);
+        if (helper)
+            render_helper_start(helper, draw_rows, &lower);
         draw_rows(&upper);
-        render_helper_wait(helper);
+        if (helper)
+            render_helper_wait(helper);
         rc = upper.rc != 0 || lower.rc != 0 ? -1 : 0;
     }
     if (rc != 0)
         render_image_free(out);
     draw_scene_free(&sc);
     return rc;
+}
+
+int render_cairo_draw(const SimFrame *frame, const RenderStyle *style, RenderImage *out)
+{
+    return render_cairo_draw_split(frame, style, out, NULL);
 }
 
 /* Swaps bytes 0 and 2 of every pixel: RGBA <-> BGRA. */

@@ -1000,7 +1000,7 @@ static int stage_loop(Run *run, int k, StageClock *clock, long done, int resumed
         const int mobile = sim_world_mobile_count(run->world);
         app_threads_done(&run->threads, next - done, mobile,
                          app_threads_work(mobile, sim_world_list_entries(run->world)), t1 - t0);
-        run->particle_steps += (double)sim_world_mobile_count(run->world) * (double)(next - done);
+        run->particle_steps += (double)mobile * (double)(next - done);
         report->steps += next - done;
         done = next;
         if (s != SIM_OK) {
