@@ -124,10 +124,10 @@ static void try_ended(AppThreadTuner *t, long step, double rate)
     set_current(t, t->best, step, rate, "back");
 }
 
-int app_thread_tuner_next(AppThreadTuner *t, long step, int mobile, double particle_steps,
+int app_thread_tuner_next(AppThreadTuner *t, long step, int mobile, double work_steps,
                           double seconds)
 {
-    const double rate = seconds > 0.0 ? particle_steps / seconds : 0.0;
+    const double rate = seconds > 0.0 ? work_steps / seconds : 0.0;
     if (grains_changed(t, mobile)) { /* another world: tries from the count it has */
         const int measured = t->current == t->best;
         tuner_range(t, mobile);
@@ -231,7 +231,7 @@ static int block_over(const AppThreads *t)
     const AppThreadTuner *u = &t->tuner;
     if (u->current == u->best || !(t->block_seconds > 0.0))
         return 0;
-    const double rate = t->block_ps / t->block_seconds;
+    const double rate = t->block_work / t->block_seconds;
     return rate < 0.25 * u->best_rate ||
            (t->block_seconds >= t->block_length / APP_TUNER_TRY_PARTS &&
             rate < APP_TUNER_EARLY_OUT * u->best_rate);
@@ -259,11 +259,11 @@ void app_threads_done(AppThreads *t, long steps, int mobile, double work, double
     if (t->mode != APP_THREADS_TUNED || (first_chunk && steps > 0))
         return;
     t->block_seconds += seconds;
-    t->block_ps += work * (double)steps;
+    t->block_work += work * (double)steps;
     if (!block_over(t))
         return;
-    app_thread_tuner_next(&t->tuner, t->stepped, mobile, t->block_ps, t->block_seconds);
-    t->block_seconds = t->block_ps = 0.0;
+    app_thread_tuner_next(&t->tuner, t->stepped, mobile, t->block_work, t->block_seconds);
+    t->block_seconds = t->block_work = 0.0;
 }
 
 size_t app_threads_json(const AppThreads *t, char *out, size_t size)

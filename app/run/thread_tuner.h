@@ -105,10 +105,10 @@ typedef struct AppThreadTuner {
 /// grains_per_thread).
 void app_thread_tuner_init(AppThreadTuner *t, int cpus, int grains_per_thread, int mobile);
 
-/// A block of `particle_steps` (work x steps, app_threads_work) that took `seconds` on t->current
+/// A block of `work_steps` (work x steps, app_threads_work) that took `seconds` on t->current
 /// threads, with `mobile` grains at its end and the run at step `step`: returns the count for
 /// the next block (also t->current).
-int app_thread_tuner_next(AppThreadTuner *t, long step, int mobile, double particle_steps,
+int app_thread_tuner_next(AppThreadTuner *t, long step, int mobile, double work_steps,
                           double seconds);
 
 typedef enum AppThreadsMode {
@@ -123,7 +123,7 @@ typedef struct AppThreads {
     long switch_every;
     long stepped;                         ///< steps run so far
     double block_length;                  ///< wall seconds of a block (APP_TUNER_BLOCK_SECONDS)
-    double block_seconds, block_ps;       ///< the block being measured
+    double block_seconds, block_work;     ///< the block being measured
     double seconds_per_step;              ///< of the last chunk (0: none yet)
     int timed_count;                      ///< the count of that chunk
     double seconds[APP_TUNER_COUNTS + 1]; ///< step seconds on each count (index = count)
