@@ -68,10 +68,10 @@ void render_helper_wait(RenderHelper *helper);
 /// Waits for the job running, stops the thread and frees it; NULL is a no-op.
 void render_helper_destroy(RenderHelper *helper);
 /// How many bands a movie frame of `height` rows is drawn in: 2 (the lower one in a helper
-/// thread) on a machine with two CPUs or more and 128 rows or more, else 1; the environment
-/// variable SABLIER_BANDS=1 or 2 chooses (tests and A/B timing). The pixels are the same either
-/// way.
-int render_band_count(int height);
+/// thread) when `threads` is 2 or more (0: the CPUs of the affinity mask, sim_cpu_count) and the
+/// frame has 128 rows or more, else 1; the environment variable SABLIER_BANDS=1 or 2 chooses
+/// (tests and A/B timing). The pixels are the same either way.
+int render_band_count(int height, int threads);
 
 /* ---- the Cairo drawer and the annotations (render_cairo.c) ---- */
 
@@ -206,8 +206,9 @@ void render_set_err(char *err, size_t size, const char *fmt, ...)
 /// SABLIER_BANDS=1 keeps all drawing in the calling thread, =2 forces the helper).
 typedef struct RenderGl RenderGl;
 
-/// Creates a drawer for width x height pixels. NULL on failure with a message in err.
-RenderGl *render_gl_create(int width, int height, char *err, size_t err_size);
+/// Creates a drawer for width x height pixels whose drawing may use `threads` (RenderMovieDef's
+/// threads: 0 = the CPUs of the affinity mask). NULL on failure with a message in err.
+RenderGl *render_gl_create(int width, int height, int threads, char *err, size_t err_size);
 void render_gl_destroy(RenderGl *gl);
 /// Draws one frame (style->width/height must equal the drawer's size). On success *out views the
 /// drawer's own BGRA buffer (RENDER_PIXEL_BGRA_PREMUL, rows top-down, opaque), valid until the

@@ -38,7 +38,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 /* ------------------------------------------------------------------ GL context (OSMesa) */
 
@@ -58,9 +57,9 @@ static void set_rasteriser_threads(void)
 {
     if (getenv("LP_NUM_THREADS"))
         return;
-    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+    const int cpus = sim_cpu_count(); /* the affinity mask's: taskset, a batch system's CPU set */
     char value[16];
-    snprintf(value, sizeof value, "%ld", cpus > 0 ? (cpus < 32 ? cpus : 32) : 1);
+    snprintf(value, sizeof value, "%d", cpus < 32 ? cpus : 32);
     setenv("LP_NUM_THREADS", value, 0);
 }
 
@@ -769,7 +768,7 @@ static void band1_release(void *context)
     context_release();
 }
 
-RenderGl *render_gl_create(int width, int height, char *err, size_t err_size)
+RenderGl *render_gl_create(int width, int height, int threads, char *err, size_t err_size)
 {
     if (width <= 0 || height <= 0 || width > 16384 || height > 16384) {
         snprintf(err, err_size, "GL: image size %dx%d outside 1..16384", width, height);
@@ -788,7 +787,7 @@ RenderGl *render_gl_create(int width, int height, char *err, size_t err_size)
         free(r);
         return NULL;
     }
-    r->band_count = render_band_count(height);
+    r->band_count = render_band_count(height, threads);
     int rows = r->band_count == 2 ? height / 2 : height;
     r->bands[0].height = rows;
     r->bands[1].y0 = rows;
@@ -1484,7 +1483,7 @@ int render_gl_draw(const SimFrame *frame, const RenderStyle *style, RenderImage 
     if (!style || !out)
         return -1;
     out->pixels = NULL;
-    RenderGl *r = render_gl_create(style->width, style->height, err, sizeof err);
+    RenderGl *r = render_gl_create(style->width, style->height, 0, err, sizeof err);
     if (!r)
         return -1;
     RenderImage view;

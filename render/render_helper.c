@@ -7,7 +7,6 @@
 
 #include <pthread.h>
 #include <stdlib.h>
-#include <unistd.h>
 
 struct RenderHelper {
     pthread_t thread;
@@ -101,10 +100,11 @@ void render_helper_destroy(RenderHelper *h)
     free(h);
 }
 
-int render_band_count(int height)
+int render_band_count(int height, int threads)
 {
     const char *forced = getenv("SABLIER_BANDS");
     if (forced && (forced[0] == '1' || forced[0] == '2') && forced[1] == '\0')
         return forced[0] == '2' && height >= 2 ? 2 : 1;
-    return sysconf(_SC_NPROCESSORS_ONLN) >= 2 && height >= 128 ? 2 : 1;
+    const int cpus = threads > 0 ? threads : sim_cpu_count();
+    return cpus >= 2 && height >= 128 ? 2 : 1;
 }

@@ -51,6 +51,7 @@ struct RenderMovie {
     int range_fixed; /* render_color_lock has fixed the style's colour range */
     RenderDrawer drawer;
     int width, height; ///< pixels
+    int threads;       ///< the drawing's (RenderMovieDef)
     int quiet;
     long frames_expected;
     char *path, *temp_path;
@@ -329,6 +330,7 @@ static RenderMovie *movie_create(const RenderMovieDef *def, const RenderStyle *s
     movie->sync_ready = 1;
     movie->style = *style;
     movie->drawer = def->drawer;
+    movie->threads = def->threads;
     movie->width = style->width;
     movie->height = style->height;
     movie->quiet = def->quiet;
@@ -513,7 +515,7 @@ static int alloc_slots(RenderMovie *movie, const RenderStyle *style)
     }
     if (movie->drawer != RENDER_DRAWER_OSMESA) {
         /* Cairo: the lower half of each frame in a helper thread (none given: one band) */
-        if (render_band_count(movie->height) == 2)
+        if (render_band_count(movie->height, movie->threads) == 2)
             movie->helper = render_helper_create();
         return 0;
     }
@@ -528,7 +530,8 @@ static int alloc_slots(RenderMovie *movie, const RenderStyle *style)
         }
     }
     char message[256];
-    movie->gl = render_gl_create(movie->width, movie->height, message, sizeof message);
+    movie->gl =
+        render_gl_create(movie->width, movie->height, movie->threads, message, sizeof message);
     if (!movie->gl) {
         fail(movie, "%s: %s", movie->path, message);
         return -1;

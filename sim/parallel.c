@@ -18,12 +18,14 @@
  * futex sleep and wake-up that cost more than the pass; spinning without a bound or a yield, as
  * OpenMP's default policy does, was measured 20-35x slower than one thread on a shared, loaded
  * machine, where a spinning thread burns the time slice its partner needs. */
+#define _GNU_SOURCE /* sched_getaffinity, CPU_COUNT */
 #include "internal.h"
 
 #include <pthread.h>
 #include <sched.h>
 #include <stdatomic.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 /* Below this many indices per thread a loop runs on one thread: the hand-over would cost more
  * than the work (the split does not change the results either way). */
@@ -310,4 +312,14 @@ void sim_parallel_free(SimWorld *world)
     world->pool = NULL;
     world->pool_slots = NULL;
     world->threads = 1;
+}
+
+int sim_cpu_count(void)
+{
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0)
+        return CPU_COUNT(&set);
+    const long online = sysconf(_SC_NPROCESSORS_ONLN);
+    return online > 0 ? (int)(online < 1024 ? online : 1024) : 1;
 }

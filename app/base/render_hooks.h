@@ -147,6 +147,10 @@ typedef struct AppRender {
     /// Reduced units (units = "reduced"): the scales that force and speed colour bars are drawn
     /// in from now on, m g in N and sqrt(g d) in m/s (0, 0: SI). NULL = not drawn in them.
     void (*reduced_units)(void *context, double force_unit, double speed_unit);
+    /// The run's thread count (`--threads N`; 0 = auto, the CPUs of the affinity mask): the
+    /// movies opened from now on draw their frames within it (one band on one thread). NULL =
+    /// the CPUs of the affinity mask.
+    void (*threads)(void *context, int threads);
 } AppRender;
 
 #endif

@@ -200,6 +200,7 @@ typedef struct Renderer {
 
     int series_count;
     double force_unit, speed_unit; /* reduced units: m g (N) and sqrt(g d) (m/s); 0 = SI */
+    int threads;                   /* the movies' drawing threads (RenderMovieDef); 0 = the CPUs */
 } Renderer;
 
 static void hook_reduced_units(void *context, double force_unit, double speed_unit)
@@ -207,6 +208,12 @@ static void hook_reduced_units(void *context, double force_unit, double speed_un
     Renderer *renderer = context;
     renderer->force_unit = force_unit;
     renderer->speed_unit = speed_unit;
+}
+
+static void hook_threads(void *context, int threads)
+{
+    Renderer *renderer = context;
+    renderer->threads = threads > 0 ? threads : 0;
 }
 
 static void hook_provenance(void *context, const char *comment)
@@ -305,6 +312,7 @@ static int hook_movie_open(void *context, const Scene *scene, int stage, const c
         .crf = scene->output.crf,
         .quiet = 1,
         .meta = {.scene = scene->name, .seed = scene->seed},
+        .threads = renderer->threads,
     };
     const double *own =
         stage >= 0 && stage < scene->stage_count ? scene->stages[stage].movie_view : NULL;
@@ -866,6 +874,7 @@ const AppRender *app_render_glue(void)
         .map = hook_map,
         .provenance = hook_provenance,
         .reduced_units = hook_reduced_units,
+        .threads = hook_threads,
     };
     return &render;
 }

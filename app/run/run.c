@@ -1383,6 +1383,8 @@ static int run_files(Run *run, double wall_start)
         app_provenance_comment(&options->provenance, scene->sha256, comment, sizeof comment);
         options->render->provenance(options->render->context, comment);
     }
+    if (options->render && options->render->threads)
+        options->render->threads(options->render->context, options->threads);
     struct sigaction saved[2];
     app_run_signal_catch(saved, 0);
     run->status = open_csv(run);
@@ -1443,7 +1445,7 @@ int app_run(const Scene *scene, const AppRunOptions *options)
     run->resume_stage = -1;
     run->checkpoint_wall = wall_start;
     app_threads_init(&run->threads, options->threads, options->threads_switch_every,
-                     app_cpu_count(), options->grains_per_thread, options->threads_block_seconds);
+                     sim_cpu_count(), options->grains_per_thread, options->threads_block_seconds);
     if (options->world)
         *options->world = NULL;
     int status = 2;

@@ -72,7 +72,7 @@ AppRunOptions app_run_options_default(void);
 /// Default of AppRunOptions.progress_every, s.
 #define APP_PROGRESS_EVERY 60.0
 
-/* APP_THREADS_AUTO, app_cpu_count and app_step_threads: thread_tuner.h */
+/* APP_THREADS_AUTO and app_step_threads: thread_tuner.h; the CPUs: sim_cpu_count (sim.h) */
 
 /// Exit statuses of app_run besides 0 (ok), 1 (simulation failed) and 2 (bad input, I/O):
 /// 128 + the signal for a run interrupted by SIGINT (130) or SIGTERM (143), which finishes its

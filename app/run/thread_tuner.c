@@ -6,25 +6,12 @@
  * climb over the count, one neighbour at a time, with an exponential back-off between tries
  * while the count in use keeps winning, so that trying a slower count costs a few percent of the
  * run at most (one block in APP_TUNER_MAX_INTERVAL). */
-#define _GNU_SOURCE /* sched_getaffinity, CPU_COUNT */
 #include "run/thread_tuner.h"
 
 #include "output/provenance.h"
 
-#include <sched.h>
 #include <stdio.h>
 #include <string.h>
-#include <unistd.h>
-
-int app_cpu_count(void)
-{
-    cpu_set_t set;
-    CPU_ZERO(&set);
-    if (sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0)
-        return CPU_COUNT(&set);
-    const long online = sysconf(_SC_NPROCESSORS_ONLN);
-    return online > 0 ? (int)(online < 1024 ? online : 1024) : 1;
-}
 
 int app_step_threads(int mobile, int cpus, int grains_per_thread)
 {

@@ -9,8 +9,9 @@
  * winning (the blocks between two tries double up to APP_TUNER_MAX_INTERVAL), and at once when
  * the number of grains changes by more than APP_TUNER_GRAIN_FACTOR or a block runs much slower
  * than the one before it (another process took a core); a try much slower than the count it has
- * ends early. The counts stay within the CPUs of the affinity mask (app_cpu_count). The results
- * are the same bits on any count (README.md, Determinism), so the count may change at any step.
+ * ends early. The counts stay within the CPUs of the affinity mask (sim_cpu_count, sim.h). The
+ * results are the same bits on any count (README.md, Determinism), so the count may change at any
+ * step.
  *
  * The decision (AppThreadTuner) is pure: it is fed each block's steps and seconds and answers the
  * count of the next block, with no clock and no world, so that tests drive it with made-up rates.
@@ -19,7 +20,7 @@
  * record that summary.json's "thread_choices" prints.
  *
  *     AppThreads t;
- *     app_threads_init(&t, options.threads, options.threads_switch_every, app_cpu_count(), 0, 0);
+ *     app_threads_init(&t, options.threads, options.threads_switch_every, sim_cpu_count(), 0, 0);
  *     for (...) {
  *         sim_world_set_threads(world, app_threads_want(&t, mobile));
  *         long steps = app_threads_chunk(&t, wanted_steps);
@@ -31,10 +32,6 @@
 #define APP_THREAD_TUNER_H
 
 #include <stddef.h>
-
-/// The CPUs this process may run on (its affinity mask: taskset, a Slurm or cgroup CPU set),
-/// at least 1.
-int app_cpu_count(void);
 
 /// The count APP_THREADS_AUTO tries first on a world of `mobile` grains on `cpus` CPUs: one per
 /// `grains_per_thread` grains (0: APP_GRAINS_PER_THREAD), at least 1, at most `cpus`.

@@ -2,7 +2,7 @@
 /* test_movie_pace.c: the frames a stage's movie gets for output.movie_speed,
  * output.movie_duration and frame_rate (docs/scenes.md#output): a one-grain scene (dt = 1e-3 s,
  * time.end = 1 s, fps 25) run with a renderer whose movie only counts the frames it is given and
- * their times. */
+ * their times; and the thread count the renderer is told before the movie opens. */
 #include "test.h"
 
 #include "run/run.h"
@@ -16,8 +16,15 @@
 
 typedef struct Counter {
     int frames;
-    double first, last; ///< simulated times of the first and last frame, s
+    double first, last;  ///< simulated times of the first and last frame, s
+    int threads;         ///< what the run told the renderer (AppRender.threads), -1: nothing
+    int threads_at_open; ///< that count when the movie opened
 } Counter;
+
+static void counting_threads(void *context, int threads)
+{
+    ((Counter *)context)->threads = threads;
+}
 
 static int count_frame(void *context, const SimFrame *frame)
 {
@@ -32,6 +39,7 @@ static int counting_open(void *context, const struct Scene *scene, int stage, co
                          SimFrameSink *sink, char *err, size_t err_size)
 {
     (void)scene, (void)stage, (void)path, (void)err, (void)err_size;
+    ((Counter *)context)->threads_at_open = ((Counter *)context)->threads;
     *sink = (SimFrameSink){.consume = count_frame, .context = context};
     return 0;
 }
@@ -42,8 +50,9 @@ static int counting_close(void *context, char *err, size_t err_size)
     return 0;
 }
 
-/* Runs the one-grain scene with `output_keys` in its output group; the movie's frames in c. */
-static int run_paced(const char *output_keys, Counter *c)
+/* Runs the one-grain scene with `output_keys` in its output group on `threads` (--threads); the
+ * movie's frames in c. */
+static int run_threads(const char *output_keys, int threads, Counter *c)
 {
     char scene_path[256], dir[256];
     snprintf(scene_path, sizeof scene_path, "/tmp/sablier_test_movie_pace_%ld.scene",
@@ -68,8 +77,13 @@ static int run_paced(const char *output_keys, Counter *c)
         return -1;
     }
     memset(c, 0, sizeof *c);
-    AppRender render = {.context = c, .movie_open = counting_open, .movie_close = counting_close};
+    c->threads = c->threads_at_open = -1;
+    AppRender render = {.context = c,
+                        .movie_open = counting_open,
+                        .movie_close = counting_close,
+                        .threads = counting_threads};
     AppRunOptions options = app_run_options_default();
+    options.threads = threads;
     options.out_dir = dir;
     options.quiet = 1;
     options.render = &render;
@@ -80,6 +94,11 @@ static int run_paced(const char *output_keys, Counter *c)
     if (system(command) != 0)
         return -1;
     return status;
+}
+
+static int run_paced(const char *output_keys, Counter *c)
+{
+    return run_threads(output_keys, 1, c);
 }
 
 /* movie_speed = 0.1 at 25 fps: a frame every 0.004 s, 251 frames over the second (10 s of
@@ -118,5 +137,18 @@ static int frame_rate_unchanged(void)
     return 0;
 }
 
-TEST_MAIN(TEST_CASE(movie_speed_frames), TEST_CASE(movie_duration_frames),
-          TEST_CASE(frame_rate_unchanged))
+/* The movie is told the run's thread count before it opens (its frames' drawing stays within
+ * it: render.mp4.mp4_threads_bound_drawing): `--threads 3` gives 3, `--threads auto` 0 (the
+ * CPUs of the affinity mask). */
+static int movie_told_threads(void)
+{
+    Counter c;
+    TEST_ASSERT(run_threads("", 3, &c) == 0);
+    TEST_ASSERT(c.frames == 26 && c.threads == 3 && c.threads_at_open == 3);
+    TEST_ASSERT(run_threads("", APP_THREADS_AUTO, &c) == 0);
+    TEST_ASSERT(c.frames == 26 && c.threads == 0 && c.threads_at_open == 0);
+    return 0;
+}
+
+TEST_MAIN(TEST_CASE(movie_told_threads), TEST_CASE(movie_speed_frames),
+          TEST_CASE(movie_duration_frames), TEST_CASE(frame_rate_unchanged))

@@ -8,12 +8,10 @@
  * `--threads-switch-every`). APP_THREADS_AUTO (`sablier run`'s default): the first count it
  * chooses, the CPUs it counts, and a tuned run (app/run/thread_tuner.h), with the one-thread run's
  * outputs. No rendering. */
-#define _GNU_SOURCE /* sched_setaffinity */
 #include "app_test_run.h"
 #include "test.h"
 
 #include <dirent.h>
-#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -172,7 +170,7 @@ static int switching_threads_same_bytes(void)
 }
 
 /* APP_THREADS_AUTO: one thread per APP_GRAINS_PER_THREAD mobile grains, at least 1, at most the
- * CPUs; the CPUs are those of the process's affinity mask (what taskset or Slurm gives it). */
+ * CPUs (sim_cpu_count: tests/sim/test_cpus.c). */
 static int auto_count(void)
 {
     TEST_ASSERT(app_step_threads(0, 8, 0) == 1);
@@ -181,18 +179,6 @@ static int auto_count(void)
     TEST_ASSERT(app_step_threads(70000, 8, 0) == 8);
     TEST_ASSERT(app_step_threads(70000, 1, 0) == 1);
     TEST_ASSERT(app_step_threads(350, 16, 100) == 3);
-    cpu_set_t all, one;
-    TEST_ASSERT(sched_getaffinity(0, sizeof all, &all) == 0);
-    TEST_ASSERT(app_cpu_count() == CPU_COUNT(&all));
-    int first = 0;
-    while (!CPU_ISSET(first, &all))
-        ++first;
-    CPU_ZERO(&one);
-    CPU_SET(first, &one);
-    TEST_ASSERT(sched_setaffinity(0, sizeof one, &one) == 0);
-    const int pinned = app_cpu_count();
-    TEST_ASSERT(sched_setaffinity(0, sizeof all, &all) == 0);
-    TEST_ASSERT(pinned == 1);
     return 0;
 }
 
@@ -216,14 +202,14 @@ static int auto_follows_the_grains(void)
     const long probes = summary_int(autod, "probes");
     printf("%d files compared; auto ran on up to %ld threads (%d CPUs, %ld mobile grains), "
            "%ld tries\n",
-           compared, most, app_cpu_count(), mobile, probes);
+           compared, most, sim_cpu_count(), mobile, probes);
     app_test_remove_dir(one);
     app_test_remove_dir(autod);
     TEST_ASSERT(compared >= 6 && mismatched == 0);
     /* the bed's grains (before the dig) are more than the collapse's */
-    TEST_ASSERT(mobile > 100 && most >= app_step_threads((int)mobile, app_cpu_count(), 50));
-    TEST_ASSERT(most <= app_cpu_count() && (app_cpu_count() < 2 || most >= 2));
-    TEST_ASSERT(app_cpu_count() < 2 || probes >= 2);
+    TEST_ASSERT(mobile > 100 && most >= app_step_threads((int)mobile, sim_cpu_count(), 50));
+    TEST_ASSERT(most <= sim_cpu_count() && (sim_cpu_count() < 2 || most >= 2));
+    TEST_ASSERT(sim_cpu_count() < 2 || probes >= 2);
     return 0;
 }
 

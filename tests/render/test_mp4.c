@@ -1,15 +1,19 @@
 /* SPDX-License-Identifier: MIT */
 /* test_mp4.c: MP4 movies read back with libavformat/libavcodec: codec, frame count, duration,
  * size, yuv420p, BT.709 tags and colours, faststart, odd sizes, path.tmp then rename, sticky
- * errors, the mpeg4 encoder, both drawers. Outputs under out/render-tests/. */
+ * errors, the mpeg4 encoder, both drawers, the drawing's threads. Outputs under out/render-tests/.
+ */
+#define _GNU_SOURCE /* sched_getaffinity, sched_setaffinity, CPU_COUNT */
 #include "fixture.h"
 #include "test.h"
 
 #include "render/internal.h"
 
+#include <dirent.h>
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
 #include <math.h>
+#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <sys/stat.h>
@@ -594,6 +598,75 @@ static int mp4_cairo_bands_same_bytes(void)
     return 0;
 }
 
+/* The threads of this process (/proc/self/task), -1 when they cannot be read. */
+static int task_count(void)
+{
+    DIR *d = opendir("/proc/self/task");
+    if (!d)
+        return -1;
+    int n = 0;
+    for (struct dirent *e; (e = readdir(d));)
+        n += e->d_name[0] != '.';
+    closedir(d);
+    return n;
+}
+
+/* The frames' drawing stays within the movie's threads (RenderMovieDef.threads, `sablier run
+ * --threads N`) and the CPUs of the affinity mask: one band on one thread, two from two threads
+ * on, the CPUs when 0; too few rows for two bands, one; SABLIER_BANDS still chooses. */
+static int band_count_within_threads(void)
+{
+    unsetenv("SABLIER_BANDS");
+    TEST_ASSERT(render_band_count(1080, 1) == 1);
+    TEST_ASSERT(render_band_count(1080, 2) == 2 && render_band_count(1080, 16) == 2);
+    TEST_ASSERT(render_band_count(100, 16) == 1);
+    TEST_ASSERT(render_band_count(1080, 0) == (sim_cpu_count() >= 2 ? 2 : 1));
+    cpu_set_t all, one;
+    TEST_ASSERT(sched_getaffinity(0, sizeof all, &all) == 0);
+    int first = 0;
+    while (!CPU_ISSET(first, &all))
+        ++first;
+    CPU_ZERO(&one);
+    CPU_SET(first, &one);
+    TEST_ASSERT(sched_setaffinity(0, sizeof one, &one) == 0);
+    const int pinned = render_band_count(1080, 0);
+    TEST_ASSERT(sched_setaffinity(0, sizeof all, &all) == 0);
+    TEST_ASSERT(pinned == 1);
+    setenv("SABLIER_BANDS", "2", 1);
+    const int forced = render_band_count(1080, 1);
+    unsetenv("SABLIER_BANDS");
+    TEST_ASSERT(forced == 2);
+    return 0;
+}
+
+/* A movie opened with `threads` = 1 draws on the calling thread alone: it starts one thread fewer
+ * than the same movie with 2 (the lower band's helper); the encoder's threads are the same. */
+static int mp4_threads_bound_drawing(void)
+{
+    make_out_dir();
+    unsetenv("SABLIER_BANDS");
+    int tasks[2];
+    for (int k = 0; k < 2; ++k) {
+        RenderStyle style = small_style(320, 242);
+        RenderMovieDef def = movie_def(OUT_DIR "/mp4_threads.mp4", RENDER_DRAWER_CAIRO);
+        def.threads = k + 1;
+        char err[512];
+        const int before = task_count();
+        RenderMovie *movie = render_movie_open(&def, &style, err, sizeof err);
+        TEST_ASSERT(movie != NULL);
+        tasks[k] = task_count() - before;
+        Scene scene;
+        scene_init(&scene, 0.0);
+        TEST_ASSERT(render_movie_frame(movie, &scene.frame) == 0);
+        TEST_ASSERT(render_movie_close(movie, err, sizeof err) == 0);
+        TEST_ASSERT(before > 0);
+    }
+    fprintf(stderr, "threads a movie starts: %d drawing on one thread, %d on two\n", tasks[0],
+            tasks[1]);
+    TEST_ASSERT(tasks[1] == tasks[0] + 1);
+    return 0;
+}
+
 /* The encoder used when libx264 is absent still gives a playable, tagged MP4. */
 static int mp4_mpeg4_encoder(void)
 {
@@ -681,4 +754,5 @@ TEST_MAIN(TEST_CASE(mp4_properties), TEST_CASE(mp4_colour_roundtrip),
           TEST_CASE(mp4_temp_then_rename), TEST_CASE(mp4_errors_sticky),
           TEST_CASE(mp4_mpeg4_encoder), TEST_CASE(mp4_cairo_drawer), TEST_CASE(mp4_high_profile),
           TEST_CASE(mp4_crf_size), TEST_CASE(mp4_same_bytes), TEST_CASE(mp4_one_colour_scale),
-          TEST_CASE(mp4_cairo_bands_same_bytes))
+          TEST_CASE(mp4_cairo_bands_same_bytes), TEST_CASE(band_count_within_threads),
+          TEST_CASE(mp4_threads_bound_drawing))
