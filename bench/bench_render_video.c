@@ -184,7 +184,7 @@ static Rate draw_rate(Bench *b, enum Stage stage, int frames)
     RenderImage image = {0};
     Rate rate = {0.0, 0.0, 0.0};
     if (stage != STAGE_CAIRO) {
-        gl = render_gl_create(WIDTH, HEIGHT, 0, err, sizeof err);
+        gl = render_gl_create(WIDTH, HEIGHT, err, sizeof err);
         if (!gl) {
             fprintf(stderr, "%s\n", err);
             return rate;

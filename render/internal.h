@@ -206,9 +206,11 @@ void render_set_err(char *err, size_t size, const char *fmt, ...)
 /// SABLIER_BANDS=1 keeps all drawing in the calling thread, =2 forces the helper).
 typedef struct RenderGl RenderGl;
 
-/// Creates a drawer for width x height pixels whose drawing may use `threads` (RenderMovieDef's
-/// threads: 0 = the CPUs of the affinity mask). NULL on failure with a message in err.
-RenderGl *render_gl_create(int width, int height, int threads, char *err, size_t err_size);
+/// Creates a drawer for width x height pixels, in two bands on two CPUs or more of the affinity
+/// mask (render_band_count(height, 0); not the run's --threads: its bands agree with one band
+/// only up to the rounding of the segment quads' vertices, and a movie's bytes must not depend
+/// on --threads). NULL on failure with a message in err.
+RenderGl *render_gl_create(int width, int height, char *err, size_t err_size);
 void render_gl_destroy(RenderGl *gl);
 /// Draws one frame (style->width/height must equal the drawer's size). On success *out views the
 /// drawer's own BGRA buffer (RENDER_PIXEL_BGRA_PREMUL, rows top-down, opaque), valid until the

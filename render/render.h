@@ -224,10 +224,12 @@ typedef struct RenderMovieDef {
     long frames_expected; ///< frames the run will give, for the progress ETA (0 = unknown)
     const char *preset;   ///< libx264 preset, NULL = RENDER_MOVIE_PRESET
     const char *encoder;  ///< libavcodec encoder; NULL = "libx264" ("mpeg4" + warning if absent)
-    /// Threads the frames' drawing may use: 1 draws each frame on the calling thread alone, 2 or
-    /// more in two bands (the lower one on a helper thread; the same pixels either way); 0 = the
-    /// CPUs of the affinity mask (sim_cpu_count). The encoder keeps RENDER_MOVIE_THREADS whatever
-    /// this is: x264's bytes depend on its thread count.
+    /// Threads the Cairo drawer's frames may use: 1 draws each frame on the calling thread alone,
+    /// 2 or more in two bands (the lower one on a helper thread; the same pixels either way); 0 =
+    /// the CPUs of the affinity mask (sim_cpu_count). The OSMesa drawer's bands follow the
+    /// affinity mask alone (they agree with one band only up to rounding, and a movie's bytes
+    /// must not depend on the run's threads); the encoder keeps RENDER_MOVIE_THREADS whatever
+    /// this is (x264's bytes depend on its thread count).
     int threads;
 } RenderMovieDef;
 

@@ -768,7 +768,7 @@ static void band1_release(void *context)
     context_release();
 }
 
-RenderGl *render_gl_create(int width, int height, int threads, char *err, size_t err_size)
+RenderGl *render_gl_create(int width, int height, char *err, size_t err_size)
 {
     if (width <= 0 || height <= 0 || width > 16384 || height > 16384) {
         snprintf(err, err_size, "GL: image size %dx%d outside 1..16384", width, height);
@@ -787,7 +787,7 @@ RenderGl *render_gl_create(int width, int height, int threads, char *err, size_t
         free(r);
         return NULL;
     }
-    r->band_count = render_band_count(height, threads);
+    r->band_count = render_band_count(height, 0);
     int rows = r->band_count == 2 ? height / 2 : height;
     r->bands[0].height = rows;
     r->bands[1].y0 = rows;
@@ -1483,7 +1483,7 @@ int render_gl_draw(const SimFrame *frame, const RenderStyle *style, RenderImage 
     if (!style || !out)
         return -1;
     out->pixels = NULL;
-    RenderGl *r = render_gl_create(style->width, style->height, 0, err, sizeof err);
+    RenderGl *r = render_gl_create(style->width, style->height, err, sizeof err);
     if (!r)
         return -1;
     RenderImage view;

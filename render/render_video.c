@@ -530,8 +530,7 @@ static int alloc_slots(RenderMovie *movie, const RenderStyle *style)
         }
     }
     char message[256];
-    movie->gl =
-        render_gl_create(movie->width, movie->height, movie->threads, message, sizeof message);
+    movie->gl = render_gl_create(movie->width, movie->height, message, sizeof message);
     if (!movie->gl) {
         fail(movie, "%s: %s", movie->path, message);
         return -1;

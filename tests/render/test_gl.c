@@ -341,7 +341,7 @@ static int gl_repeatable_and_sized(void)
     static Pack pack;
     pack_init(&pack, 60, 40, 0.01);
     char err[256];
-    RenderGl *gl = render_gl_create(640, 360, 0, err, sizeof err);
+    RenderGl *gl = render_gl_create(640, 360, err, sizeof err);
     TEST_ASSERT(gl != NULL);
     printf("GL renderer: %s\n", render_gl_renderer(gl));
     RenderStyle style = plain_style(640, 360, 0.0, 0.0); /* fit all grains */
@@ -367,7 +367,7 @@ static int gl_repeatable_and_sized(void)
     TEST_ASSERT(render_gl_frame(gl, &pack.frame, &style, &b, err, sizeof err) != 0);
     TEST_ASSERT(strstr(err, "320x360") != NULL);
     render_gl_destroy(gl);
-    TEST_ASSERT(render_gl_create(0, 10, 0, err, sizeof err) == NULL);
+    TEST_ASSERT(render_gl_create(0, 10, err, sizeof err) == NULL);
     return 0;
 }
 
@@ -543,7 +543,7 @@ static int gl_large_edge_and_clipped(void)
     TEST_ASSERT(px < 0.0 && px + view.scale * t.r[0] > view.plot_x + 5.0); /* partly visible */
     TEST_ASSERT(view.scale * t.r[0] * 2.0 < 255.0);                        /* still sprites */
     char err[256];
-    RenderGl *gl = render_gl_create(400, 300, 0, err, sizeof err);
+    RenderGl *gl = render_gl_create(400, 300, err, sizeof err);
     TEST_ASSERT(gl != NULL);
     RenderImage target = {0}, cairo = {0};
     TEST_ASSERT(render_image_alloc(&target, 400, 300, RENDER_PIXEL_RGBA) == 0);
