@@ -37,7 +37,8 @@ stop() {
   local out=$1 signal=$2
   ensemble "$out"
   local pid=$!
-  for _ in $(seq 1 2400); do # up to 2 min (sanitizers, a busy machine)
+  local deadline=$((SECONDS + 600)) # 10 min: sanitizers on a busy machine take minutes
+  while [ "$SECONDS" -lt "$deadline" ]; do
     # in this order: a finished member's energy.csv is renamed before its summary.json is
     # written, so two under way after two finished are members started after those ended
     [ "$(finished "$out")" -ge 2 ] && [ "$(running "$out")" -ge 2 ] &&
