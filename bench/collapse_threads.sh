@@ -19,6 +19,8 @@
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+# shellcheck source=bench/lib.sh
+source "$root/bench/lib.sh" # now, stats
 rounds=2
 seconds=2.0
 state=""
@@ -43,7 +45,6 @@ done
 [ -x "$sablier" ] || { echo "collapse_threads.sh: no sablier at $sablier (--sablier PATH)" >&2; exit 2; }
 mkdir -p "$work"
 trap 'rm -rf "$work"' EXIT
-now() { date +%s.%N; }
 
 if [ -z "$state" ]; then
     echo "collapse_threads.sh: the bed (deposit and dig on $threads_b threads) into $work/bed"
@@ -69,8 +70,6 @@ run() {
     awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.3f\n", b - a }'
 }
 
-# stats: min and median of the numbers on stdin
-stats() { sort -g | awk '{ v[NR] = $1 } END { m = NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2; printf "%.3f / %.3f", v[1], m }'; }
 
 echo "collapse_threads.sh: $seconds s of the collapse from $(basename "$state"), $rounds rounds," \
     "$(nproc) CPUs in the mask, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')," \

@@ -19,6 +19,8 @@
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+# shellcheck source=bench/lib.sh
+source "$root/bench/lib.sh" # now, stats
 repeats=3
 deposit=0.5
 sablier="$root/build/sablier"
@@ -47,8 +49,6 @@ cleanup() {
 }
 trap cleanup EXIT
 
-now() { date +%s.%N; }
-
 # run LABEL THREADS: one run; prints its wall seconds and the deposit stage's
 run() {
     local out="$work/$1" t0 t1
@@ -63,9 +63,6 @@ run() {
     stage=$(sed -n 's/.*"name": "deposit", .*"wall_seconds": \([0-9.e+-]*\),.*/\1/p' "$out/summary.json")
     awk -v a="$t0" -v b="$t1" -v s="$stage" 'BEGIN { printf "%.3f %.3f\n", b - a, s }'
 }
-
-# stats: min and median of the numbers on stdin
-stats() { sort -g | awk '{ v[NR] = $1 } END { m = NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2; printf "%.3f / %.3f", v[1], m }'; }
 
 # auto's step seconds on each count, from its summary.json: "1: 3.2 s, 2: 0.4 s"
 auto_counts() {

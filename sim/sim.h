@@ -495,8 +495,8 @@ long sim_world_list_entries(const SimWorld *world);
 void sim_world_set_threads(SimWorld *world, int threads);
 int sim_world_threads(const SimWorld *world);
 /// The CPUs this process may run on: its affinity mask's count (taskset, a batch system's
-/// cgroup), else the online CPUs; at least 1. What `--threads auto` and a movie's drawing and
-/// encoding threads stay within.
+/// cgroup), else the online CPUs; at least 1. What `--threads auto`, a movie's drawing bands
+/// and llvmpipe's threads stay within.
 int sim_cpu_count(void);
 
 /// The clocks a run, a renderer or a benchmark times itself with.

@@ -6,8 +6,8 @@
  * differs (wall times and the "threads" it reports). So does a run whose count switches every
  * few steps (AppRunOptions.threads_switch_every, the testing aid behind
  * `--threads-switch-every`). APP_THREADS_AUTO (`sablier run`'s default): the first count it
- * chooses, the CPUs it counts, and a tuned run (app/run/thread_tuner.h), with the one-thread run's
- * outputs. No rendering. */
+ * chooses and a tuned run (app/run/thread_tuner.h), with the one-thread run's outputs (the CPUs
+ * it counts: tests/sim/test_cpus.c). No rendering. */
 #include "app_test_run.h"
 #include "test.h"
 

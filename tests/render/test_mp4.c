@@ -3,8 +3,9 @@
  * size, yuv420p, BT.709 tags and colours, faststart, odd sizes, path.tmp then rename, sticky
  * errors, the mpeg4 encoder, both drawers, the drawing's threads. Outputs under out/render-tests/.
  */
-#define _GNU_SOURCE /* sched_getaffinity, sched_setaffinity, CPU_COUNT */
+#define _GNU_SOURCE /* pin.h: sched_setaffinity */
 #include "fixture.h"
+#include "pin.h"
 #include "test.h"
 
 #include "render/internal.h"
@@ -13,7 +14,6 @@
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
 #include <math.h>
-#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <sys/stat.h>
@@ -611,6 +611,11 @@ static int task_count(void)
     return n;
 }
 
+static int bands_of_1080_rows(void)
+{
+    return render_band_count(1080, 0);
+}
+
 /* The frames' drawing stays within the movie's threads (RenderMovieDef.threads, `sablier run
  * --threads N`) and the CPUs of the affinity mask: one band on one thread, two from two threads
  * on, the CPUs when 0; too few rows for two bands, one; SABLIER_BANDS still chooses. */
@@ -621,17 +626,7 @@ static int band_count_within_threads(void)
     TEST_ASSERT(render_band_count(1080, 2) == 2 && render_band_count(1080, 16) == 2);
     TEST_ASSERT(render_band_count(100, 16) == 1);
     TEST_ASSERT(render_band_count(1080, 0) == (sim_cpu_count() >= 2 ? 2 : 1));
-    cpu_set_t all, one;
-    TEST_ASSERT(sched_getaffinity(0, sizeof all, &all) == 0);
-    int first = 0;
-    while (!CPU_ISSET(first, &all))
-        ++first;
-    CPU_ZERO(&one);
-    CPU_SET(first, &one);
-    TEST_ASSERT(sched_setaffinity(0, sizeof one, &one) == 0);
-    const int pinned = render_band_count(1080, 0);
-    TEST_ASSERT(sched_setaffinity(0, sizeof all, &all) == 0);
-    TEST_ASSERT(pinned == 1);
+    TEST_ASSERT(test_on_one_cpu(bands_of_1080_rows) == 1);
     setenv("SABLIER_BANDS", "2", 1);
     const int forced = render_band_count(1080, 1);
     unsetenv("SABLIER_BANDS");
