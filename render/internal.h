@@ -75,10 +75,16 @@ int render_band_count(int height, int threads);
 
 /* ---- the Cairo drawer and the annotations (render_cairo.c) ---- */
 
-/// render_cairo_draw with the rows below the middle drawn by `helper` (render_helper.c) while the
-/// calling thread draws those above: the same pixels as render_cairo_draw (each band is the whole
-/// scene on a surface over its rows, moved by whole pixels), in about half the time on two
-/// cores. NULL helper: drawn in one band by the calling thread.
+/// render_cairo_draw with the rows from render_cairo_split_row on drawn by `helper`
+/// (render_helper.c) while the calling thread draws those above: the same pixels as
+/// render_cairo_draw (each band is the whole scene on a surface over its rows, moved by whole
+/// pixels), in about half the time on two cores. NULL helper: drawn in one band by the calling
+/// thread.
+/// The first row of the lower band: the row that halves the grains' drawing cost (each grain
+/// weighs r^2 + 1, r its radius in pixels, at its centre's row), so that neither band waits on
+/// the other when the grains fill part of the image; in [1, height - 1], the middle when no grain
+/// is in view. `view` is the frame's fitted view (render_view_fit).
+int render_cairo_split_row(const SimFrame *frame, const RenderView *view, int height);
 int render_cairo_draw_split(const SimFrame *frame, const RenderStyle *style, RenderImage *out,
                             RenderHelper *helper);
 /// Draws the annotations of render_cairo_draw (velocity field and arrows, arch highlights and

@@ -269,13 +269,32 @@ static void clip_world(cairo_t *cr, const DrawScene *sc, const RenderView *v)
     cairo_clip(cr);
 }
 
+/* The part of the plot the surface shows, a pixel wider on each side: a band of a movie frame
+ * (render_cairo_draw_split) is a surface over some rows, and a shape wholly outside them leaves no
+ * mark there (antialiasing reaches no further than the shape's own extent), so its path need not be
+ * built. */
+static void visible_box(cairo_t *cr, const RenderView *v, double box[4])
+{
+    double x0, y0, x1, y1;
+    cairo_clip_extents(cr, &x0, &y0, &x1, &y1);
+    if (!(x1 > x0 && y1 > y0)) { /* an unbounded surface without a clip */
+        x0 = y0 = -INFINITY;
+        x1 = y1 = INFINITY;
+    }
+    box[0] = fmax(v->plot_x, x0 - 1);
+    box[1] = fmin(v->plot_x + v->plot_w, x1 + 1);
+    box[2] = fmax(v->plot_y, y0 - 1);
+    box[3] = fmin(v->plot_y + v->plot_h, y1 + 1);
+}
+
 static void draw_disks(cairo_t *cr, const DrawScene *sc, const RenderView *v)
 {
     const SimFrame *f = sc->frame;
     const RenderStyle *s = &sc->style;
     uint32_t current = 0xffffffffu;
-    double xmin = v->plot_x, xmax = v->plot_x + v->plot_w;
-    double ymin = v->plot_y, ymax = v->plot_y + v->plot_h;
+    double box[4];
+    visible_box(cr, v, box);
+    const double xmin = box[0], xmax = box[1], ymin = box[2], ymax = box[3];
     for (int i = 0; i < f->count; ++i) {
         uint32_t rgb = render_grain_rgb(f, s, i, sc->lo, sc->hi);
         double r = f->radius[i] * v->scale;
@@ -364,6 +383,8 @@ static void draw_chains(cairo_t *cr, const DrawScene *sc, const RenderView *v)
     const SimFrame *f = sc->frame;
     /* Widths are scaled with the view so the inset magnifies chains like the grains. */
     double zoom = v->scale / sc->view.scale;
+    double box[4];
+    visible_box(cr, v, box);
     cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
     for (int k = 0; k < sc->chain_count; ++k) {
         const SimContact *c = &f->contacts[sc->chains[k]];
@@ -381,12 +402,17 @@ static void draw_chains(cairo_t *cr, const DrawScene *sc, const RenderView *v)
         double dx = bx - ax;
         if (sc->period > 0) /* minimum image across the seam */
             dx -= sc->period * floor(dx / sc->period + 0.5);
-        /* Chains use the upper 65 % of the map: the pale end would vanish on light grains. */
-        render_set_rgb(cr, render_colormap_rgb(RENDER_CMAP_YELLOW_RED, 0.35 + 0.65 * t));
-        cairo_set_line_width(cr, fmax(0.8, sc->style.chain_width_max * t) * zoom);
+        const double width = fmax(0.8, sc->style.chain_width_max * t) * zoom;
         double px, py, qx, qy;
         render_view_to_pixel(v, ax, ay, &px, &py);
         render_view_to_pixel(v, ax + dx, by, &qx, &qy);
+        const double reach = 0.5 * width; /* the round caps' and the sides' reach */
+        if (sc->period <= 0 && (fmax(py, qy) + reach < box[2] || fmin(py, qy) - reach > box[3] ||
+                                fmax(px, qx) + reach < box[0] || fmin(px, qx) - reach > box[1]))
+            continue;
+        /* Chains use the upper 65 % of the map: the pale end would vanish on light grains. */
+        render_set_rgb(cr, render_colormap_rgb(RENDER_CMAP_YELLOW_RED, 0.35 + 0.65 * t));
+        cairo_set_line_width(cr, width);
         cairo_move_to(cr, px, py);
         cairo_line_to(cr, qx, qy);
         if (sc->period > 0 && (ax + dx < f->domain_x0 || ax + dx > f->domain_x1)) {
@@ -1038,6 +1064,37 @@ static void draw_rows(void *context)
     cairo_surface_destroy(surface);
 }
 
+/* Cairo fills a disk of radius r px in about 0.3 (r^2 + 1) us (docs/dev/scaling.md, "Frames"),
+ * hence the weights; the chains lie among the grains and follow them. Any row gives the same
+ * pixels (render.cairo.split_same_pixels). */
+int render_cairo_split_row(const SimFrame *f, const RenderView *v, int height)
+{
+    if (height < 2)
+        return height;
+    double *rows = calloc((size_t)height, sizeof *rows);
+    if (!rows)
+        return height / 2;
+    double total = 0;
+    for (int i = 0; i < f->count; ++i) {
+        double px, py, r = f->radius[i] * v->scale;
+        render_view_to_pixel(v, f->x[i], f->y[i], &px, &py);
+        if (!(py + r >= v->plot_y && py - r <= v->plot_y + v->plot_h && px + r >= v->plot_x &&
+              px - r <= v->plot_x + v->plot_w))
+            continue;
+        const int row = py < 0 ? 0 : py >= height ? height - 1 : (int)py;
+        rows[row] += r * r + 1;
+        total += r * r + 1;
+    }
+    int split = height / 2;
+    if (total > 0) {
+        double sum = 0;
+        for (split = 0; split < height - 1 && sum + rows[split] < 0.5 * total; ++split)
+            sum += rows[split];
+    }
+    free(rows);
+    return split < 1 ? 1 : split;
+}
+
 int render_cairo_draw_split(const SimFrame *frame, const RenderStyle *style, RenderImage *out,
                             RenderHelper *helper)
 {
@@ -1051,7 +1108,8 @@ int render_cairo_draw_split(const SimFrame *frame, const RenderStyle *style, Ren
     if (rc == 0 && cairo_format_stride_for_width(CAIRO_FORMAT_ARGB32, out->width) != out->stride)
         rc = -1;
     if (rc == 0) { /* no helper: one band, the whole image */
-        const int middle = helper ? style->height / 2 : style->height;
+        const int middle =
+            helper ? render_cairo_split_row(frame, &sc.view, style->height) : style->height;
         Rows lower = {&sc, out, middle, style->height, 0}, upper = {&sc, out, 0, middle, 0};
         if (helper)
             render_helper_start(helper, draw_rows, &lower);

@@ -486,10 +486,18 @@ static int arrow_key_length(void)
     return 0;
 }
 
+/* The view of a bed of `rows` rows of grains of radius r in a square box twice its height. */
+static void view_box(RenderStyle *s, int rows, double r)
+{
+    s->view_x0 = s->view_y0 = 0;
+    s->view_x1 = s->view_y1 = 2 * (2 * r + rows * r * sqrt(3.0));
+}
+
 /* A frame drawn in two bands, the lower one by the helper thread (render_cairo_draw_split), has
  * every pixel of the one-band drawing: force chains, outlines, arrows and the field, colour bar,
  * time stamp, scale bar and title, at an even and an odd height (the bands' edge cuts disks,
- * chains and text). */
+ * chains and text), and with the grains in the lower half of the image, where the bands meet
+ * below the middle. */
 static int split_same_pixels(void)
 {
     Fixture f;
@@ -497,7 +505,7 @@ static int split_same_pixels(void)
     fixture_find_contacts(&f, 0.2 * 0.01, 1.0);
     RenderHelper *helper = render_helper_create();
     TEST_ASSERT(helper != NULL);
-    for (int odd = 0; odd < 2; ++odd) {
+    for (int odd = 0; odd < 3; ++odd) {
         RenderStyle s = render_style_default();
         s.width = 480;
         s.height = 360 + odd;
@@ -506,6 +514,8 @@ static int split_same_pixels(void)
         s.velocity_arrows = odd;
         s.velocity_field = !odd;
         s.title = "bands";
+        if (odd == 2)
+            view_box(&s, 14, 0.01);
         RenderImage one, two;
         TEST_ASSERT(render_cairo_draw(&f.frame, &s, &one) == 0);
         TEST_ASSERT(render_cairo_draw_split(&f.frame, &s, &two, helper) == 0);
@@ -524,6 +534,38 @@ static int split_same_pixels(void)
         render_image_free(&two);
     }
     render_helper_destroy(helper);
+    fixture_free(&f);
+    return 0;
+}
+
+/* The bands meet where the grains' drawing cost is halved: with a bed in the lower half of a
+ * square box, below the middle, with as many grains (of one size, give or take 4 %) above the
+ * edge as below it; with no grain in view, at the middle. */
+static int split_row_halves_grains(void)
+{
+    Fixture f;
+    TEST_ASSERT(fixture_bed(&f, 40, 20, 0.01, 5) == 0);
+    RenderStyle s = render_style_default();
+    s.width = s.height = 400;
+    view_box(&s, 20, 0.01);
+    RenderView v;
+    render_view_fit(&f.frame, &s, &v);
+    const int row = render_cairo_split_row(&f.frame, &v, s.height);
+    int above = 0, below = 0;
+    for (int i = 0; i < f.frame.count; ++i) {
+        double px, py;
+        render_view_to_pixel(&v, f.frame.x[i], f.frame.y[i], &px, &py);
+        above += py < row;
+        below += py >= row;
+    }
+    fprintf(stderr, "bands meet at row %d of %d: %d grains above, %d below\n", row, s.height, above,
+            below);
+    TEST_ASSERT(row > 0.6 * s.height);
+    TEST_ASSERT(abs(above - below) <= 0.04 * f.frame.count + 30); /* a row of grains: 40 */
+    s.view_y0 = 10;
+    s.view_y1 = s.view_y0 + s.view_x1;
+    render_view_fit(&f.frame, &s, &v);
+    TEST_ASSERT(render_cairo_split_row(&f.frame, &v, s.height) == s.height / 2);
     fixture_free(&f);
     return 0;
 }
@@ -572,4 +614,4 @@ TEST_MAIN(TEST_CASE(grains_fixed), TEST_CASE(grains_force_viridis), TEST_CASE(fo
           TEST_CASE(chain_selection), TEST_CASE(colormaps), TEST_CASE(color_range),
           TEST_CASE(default_font_in_points), TEST_CASE(colorbar_extend), TEST_CASE(color_lock),
           TEST_CASE(arrows_below_key), TEST_CASE(arrow_key_length), TEST_CASE(split_same_pixels),
-          TEST_CASE(helper_runs_jobs_in_one_thread))
+          TEST_CASE(split_row_halves_grains), TEST_CASE(helper_runs_jobs_in_one_thread))
