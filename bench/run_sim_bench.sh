@@ -3,7 +3,8 @@
 # run_sim_bench.sh: the physics speed benchmark in one command.
 #
 #   bench/run_sim_bench.sh [--with-lammps] [--grains N] [--steps M] [--repeats K]
-#                          [--warmup W] [--rounds R] [--machine NAME] [--build-dir DIR] [--fresh]
+#                          [--warmup W] [--rounds R] [--pin CPU|none] [--machine NAME]
+#                          [--build-dir DIR] [--fresh]
 #
 # 1. Builds bench_sim in Release (default build dir: build-bench).
 # 2. Runs bench_sim: settled pile of N polydisperse disks (built once, cached in /tmp), one
@@ -18,6 +19,9 @@
 # (wall clock); the "cpu" columns divide by CPU time instead (less disturbed on a shared
 # machine); ratio = sablier / LAMMPS. The 1-minute load average before and after is printed and stored: other work on
 # the machine lowers the figures.
+# Both codes run on one CPU (`taskset -c`, --pin; default the first CPU of the affinity mask;
+# --pin none leaves them to the scheduler): on a guest whose two vCPUs ran at 52-58 and 71 M
+# particle-steps/s, an unpinned LAMMPS landed on either and its figure moved by a third.
 # --rounds R (default 1) runs steps 2 and 3 R times in turn, sablier then LAMMPS, so that a drift
 # of a shared host reaches both codes alike: the table and the CSV hold each code's best round,
 # and a line per law gives the R ratios taken within a round and their median (quote that one on
@@ -31,6 +35,7 @@ grains=7000
 steps=2000
 repeats=5
 rounds=1
+pin=""
 warmup=500
 machine=""
 build_dir="$root/build-bench"
@@ -43,6 +48,7 @@ while [ $# -gt 0 ]; do
     --steps) steps=$2; shift ;;
     --repeats) repeats=$2; shift ;;
     --rounds) rounds=$2; shift ;;
+    --pin) pin=$2; shift ;;
     --warmup) warmup=$2; shift ;;
     --machine) machine=$2; shift ;;
     --build-dir) build_dir=$2; shift ;;
@@ -63,6 +69,14 @@ load() { cut -d' ' -f1 /proc/loadavg; }
 echo "== build ($build_dir, Release)"
 cmake -S "$root" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DSABLIER_BUILD_TESTS=ON >/dev/null
 cmake --build "$build_dir" -j2 --target bench_sim >/dev/null
+
+# The CPU both codes run on: the first of the affinity mask unless --pin names one (or none).
+on_cpu=()
+if [ "$pin" != none ] && command -v taskset >/dev/null 2>&1; then
+    [ -n "$pin" ] || pin=$(taskset -pc $$ | sed 's/.*: *//; s/[-,].*//')
+    on_cpu=(taskset -c "$pin")
+    echo "== both codes pinned to CPU $pin (--pin)"
+fi
 
 work=$(mktemp -d /tmp/sablier-bench.XXXXXX)
 trap 'rm -rf "$work"' EXIT
@@ -88,7 +102,7 @@ lammps_row() { # model law log
 # One round: bench_sim's laws into $work/round-R.csv, then LAMMPS's on the pile it wrote.
 one_round() { # round
     echo "== sablier bench_sim, round $1 of $rounds (load $(load))"
-    "$build_dir/bench/bench_sim" --grains "$grains" --steps "$steps" --repeats "$repeats" \
+    "${on_cpu[@]}" "$build_dir/bench/bench_sim" --grains "$grains" --steps "$steps" --repeats "$repeats" \
         --warmup "$warmup" --machine "$machine" --csv "$work/round-$1.csv" \
         --lammps-data "$work/pile.data" "${fresh[@]}" | tee "$work/sablier.txt"
     fresh=()
@@ -99,7 +113,7 @@ one_round() { # round
     for pair in hooke:regularised hist:spring nofric:frictionless; do
         model=${pair%%:*}
         law=${pair##*:}
-        (cd "$work" && lmp -in "$root/bench/lammps/pile.in" -var data "$work/pile.data" \
+        (cd "$work" && "${on_cpu[@]}" lmp -in "$root/bench/lammps/pile.in" -var data "$work/pile.data" \
             -var model "$model" -var dt "$dt" -var steps "$steps" -var repeats "$repeats" \
             -var warmup "$warmup" -log "$work/lammps-$model.log" -screen none)
         lammps_row "$model" "$law" "$work/lammps-$model.log" >>"$work/round-$1.csv"
