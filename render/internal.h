@@ -73,6 +73,22 @@ void render_helper_destroy(RenderHelper *helper);
 /// (tests and A/B timing). The pixels are the same either way.
 int render_band_count(int height, int threads);
 
+/* ---- opaque disks straight into an image's pixels (render_disks.c) ---- */
+
+/// Premultiplied 32-bit pixels (Cairo's ARGB32 or RGB24) and where user coordinates land in them:
+/// device = user + offset, whole pixels.
+typedef struct RenderDiskTarget {
+    uint8_t *data;
+    int width, height, stride;
+    int offset_x, offset_y;
+} RenderDiskTarget;
+
+/// Fills the disk of centre (cx, cy) and radius r (user pixels) with the opaque colour 0xRRGGBB
+/// over the target, antialiased by its exact coverage of each pixel along 16 sub-rows (Cairo's
+/// OVER in 8 bits; positions in 1/256 pixel, as Cairo's), clipped to the target's pixels only: the
+/// caller keeps Cairo for a disk that a clip cuts.
+void render_disk_fill(const RenderDiskTarget *t, double cx, double cy, double r, uint32_t rgb);
+
 /* ---- the Cairo drawer and the annotations (render_cairo.c) ---- */
 
 /// render_cairo_draw with the rows from render_cairo_split_row on drawn by `helper`
