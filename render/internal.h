@@ -88,6 +88,10 @@ typedef struct RenderDiskTarget {
 /// OVER in 8 bits; positions in 1/256 pixel, as Cairo's), clipped to the target's pixels only: the
 /// caller keeps Cairo for a disk that a clip cuts.
 void render_disk_fill(const RenderDiskTarget *t, double cx, double cy, double r, uint32_t rgb);
+/// Fills the capsule of the segment from (px, py) to (qx, qy) with radius r (a line of width 2 r
+/// with round caps, as Cairo strokes it) in the same way.
+void render_capsule_fill(const RenderDiskTarget *t, double px, double py, double qx, double qy,
+                         double r, uint32_t rgb);
 
 /* ---- the Cairo drawer and the annotations (render_cairo.c) ---- */
 

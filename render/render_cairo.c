@@ -345,20 +345,37 @@ static DiskPen disk_pen(cairo_t *cr)
     return pen;
 }
 
+/* The shape with box [x0, x1] x [y0, y1] (user pixels) may go straight into the pixels. */
+static int pen_inside(const DiskPen *pen, double x0, double x1, double y0, double y1)
+{
+    return pen->direct && x0 >= pen->clip[0] && x1 <= pen->clip[1] && y0 >= pen->clip[2] &&
+           y1 <= pen->clip[3];
+}
+
+/* Before the filler writes pixels: Cairo's drawing so far is in them. */
+static void pen_to_pixels(DiskPen *pen)
+{
+    if (!pen->dirty)
+        cairo_surface_flush(cairo_get_target(pen->cr));
+    pen->dirty = 1;
+}
+
+/* Before Cairo draws: it reads what the filler wrote. */
+static void pen_to_cairo(DiskPen *pen)
+{
+    if (pen->dirty)
+        cairo_surface_mark_dirty(cairo_get_target(pen->cr));
+    pen->dirty = 0;
+}
+
 static void pen_fill(DiskPen *pen, double px, double py, double r, uint32_t rgb)
 {
-    if (pen->direct && px - r >= pen->clip[0] && px + r <= pen->clip[1] && py - r >= pen->clip[2] &&
-        py + r <= pen->clip[3]) {
-        if (!pen->dirty)
-            cairo_surface_flush(cairo_get_target(pen->cr));
+    if (pen_inside(pen, px - r, px + r, py - r, py + r)) {
+        pen_to_pixels(pen);
         render_disk_fill(&pen->target, px, py, r, rgb);
-        pen->dirty = 1;
         return;
     }
-    if (pen->dirty) { /* Cairo reads what the filler wrote */
-        cairo_surface_mark_dirty(cairo_get_target(pen->cr));
-        pen->dirty = 0;
-    }
+    pen_to_cairo(pen);
     if (pen->current != rgb)
         render_set_rgb(pen->cr, pen->current = rgb);
     cairo_new_path(pen->cr);
@@ -368,9 +385,7 @@ static void pen_fill(DiskPen *pen, double px, double py, double r, uint32_t rgb)
 
 static void pen_done(DiskPen *pen)
 {
-    if (pen->dirty)
-        cairo_surface_mark_dirty(cairo_get_target(pen->cr));
-    pen->dirty = 0;
+    pen_to_cairo(pen);
 }
 
 static void draw_disks(cairo_t *cr, const DrawScene *sc, const RenderView *v)
@@ -463,6 +478,7 @@ static void draw_chains(cairo_t *cr, const DrawScene *sc, const RenderView *v)
     double zoom = v->scale / sc->view.scale;
     double box[4];
     visible_box(cr, v, box);
+    DiskPen pen = disk_pen(cr);
     cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
     for (int k = 0; k < sc->chain_count; ++k) {
         const SimContact *c = &f->contacts[sc->chains[k]];
@@ -485,16 +501,24 @@ static void draw_chains(cairo_t *cr, const DrawScene *sc, const RenderView *v)
         render_view_to_pixel(v, ax, ay, &px, &py);
         render_view_to_pixel(v, ax + dx, by, &qx, &qy);
         const double reach = 0.5 * width; /* the round caps' and the sides' reach */
-        if (sc->period <= 0 && (fmax(py, qy) + reach < box[2] || fmin(py, qy) - reach > box[3] ||
-                                fmax(px, qx) + reach < box[0] || fmin(px, qx) - reach > box[1]))
+        const double x0 = fmin(px, qx) - reach, x1 = fmax(px, qx) + reach;
+        const double y0 = fmin(py, qy) - reach, y1 = fmax(py, qy) + reach;
+        if (sc->period <= 0 && (y1 < box[2] || y0 > box[3] || x1 < box[0] || x0 > box[1]))
             continue;
         /* Chains use the upper 65 % of the map: the pale end would vanish on light grains. */
-        render_set_rgb(cr, render_colormap_rgb(RENDER_CMAP_YELLOW_RED, 0.35 + 0.65 * t));
+        const uint32_t rgb = render_colormap_rgb(RENDER_CMAP_YELLOW_RED, 0.35 + 0.65 * t);
+        const int seam = sc->period > 0 && (ax + dx < f->domain_x0 || ax + dx > f->domain_x1);
+        if (!seam && pen_inside(&pen, x0, x1, y0, y1)) {
+            pen_to_pixels(&pen);
+            render_capsule_fill(&pen.target, px, py, qx, qy, reach, rgb);
+            continue;
+        }
+        pen_to_cairo(&pen);
+        render_set_rgb(cr, rgb);
         cairo_set_line_width(cr, width);
         cairo_move_to(cr, px, py);
         cairo_line_to(cr, qx, qy);
-        if (sc->period > 0 && (ax + dx < f->domain_x0 || ax + dx > f->domain_x1)) {
-            /* The other half, seen from the partner's side of the seam. */
+        if (seam) { /* the other half, seen from the partner's side of the seam */
             double rx, ry, sx, sy;
             render_view_to_pixel(v, bx, by, &rx, &ry);
             render_view_to_pixel(v, bx - dx, ay, &sx, &sy);
@@ -503,6 +527,7 @@ static void draw_chains(cairo_t *cr, const DrawScene *sc, const RenderView *v)
         }
         cairo_stroke(cr);
     }
+    pen_done(&pen);
 }
 
 /* Adds an arrow from (x, y) along (dx, dy) pixels: shaft into `cr`'s path, head into `heads`. */
