@@ -1167,9 +1167,10 @@ static void draw_rows(void *context)
     cairo_surface_destroy(surface);
 }
 
-/* Cairo fills a disk of radius r px in about 0.3 (r^2 + 1) us (docs/dev/scaling.md, "Frames"),
- * hence the weights; the chains lie among the grains and follow them. Any row gives the same
- * pixels (render.cairo.split_same_pixels). */
+/* A disk's cost grows with its area on top of a fixed part, in Cairo's fill (about 0.3 (r^2 + 1)
+ * us, docs/dev/scaling.md, "Frames") as in render_disk_fill, hence the weights; the chains lie
+ * among the grains and follow them. Any row gives the same pixels
+ * (render.draw.split_same_pixels). */
 int render_cairo_split_row(const SimFrame *f, const RenderView *v, int height)
 {
     if (height < 2)
