@@ -18,7 +18,6 @@
 
 #include <math.h>
 #include <stdint.h>
-#include <string.h>
 
 enum { DISK_SUBROWS = 16 };
 
